@@ -1,0 +1,108 @@
+// Helpers shared by client.js and bench_client.js (node-opcua public API only).
+"use strict";
+
+require("./log_to_stderr"); // before node-opcua: keep stdout clean
+const os = require("os");
+const path = require("path");
+const {
+    OPCUAClient,
+    OPCUACertificateManager,
+    MessageSecurityMode,
+    SecurityPolicy,
+    AttributeIds,
+    StatusCodes,
+    NodeId,
+    NodeIdType
+} = require("node-opcua");
+
+const DEMO_NAMESPACE_URI = "urn:skillcell:demo";
+const NAMESPACE_ARRAY = "ns=0;i=2255"; // Server_NamespaceArray
+
+function pkiRoot() {
+    return process.env.SKILLCELL_INTEROP_PKI || path.join(os.tmpdir(), "skillcell-interop-pki");
+}
+
+function checkEndpointUrl(url, usage) {
+    if (typeof url !== "string" || !/^opc\.tcp:\/\/[^/:]+:\d+\/?.*$/.test(url)) {
+        process.stderr.write(`${usage}\n`);
+        process.exit(2);
+    }
+}
+
+// Creates a client (SecurityPolicy None, mode None), connects and opens an
+// anonymous session. Returns { client, session }.
+async function connect(endpointUrl, applicationName) {
+    const clientCertificateManager = new OPCUACertificateManager({
+        automaticallyAcceptUnknownCertificate: true,
+        rootFolder: path.join(pkiRoot(), "client")
+    });
+    const client = OPCUAClient.create({
+        applicationName,
+        applicationUri: `urn:skillcell:interop:${applicationName}`,
+        securityMode: MessageSecurityMode.None,
+        securityPolicy: SecurityPolicy.None,
+        endpointMustExist: false,
+        keepSessionAlive: false,
+        clientCertificateManager,
+        // fail fast: the scripts are bounded by their own overall timeout
+        connectionStrategy: { maxRetry: 2, initialDelay: 250, maxDelay: 1000 },
+        requestedSessionTimeout: 60000
+    });
+    await client.connect(endpointUrl);
+    const session = await client.createSession(); // anonymous
+    return { client, session };
+}
+
+async function disconnect(client, session) {
+    let firstError = null;
+    if (session) {
+        try {
+            await session.close();
+        } catch (err) {
+            firstError = firstError || err;
+        }
+    }
+    if (client) {
+        try {
+            await client.disconnect();
+        } catch (err) {
+            firstError = firstError || err;
+        }
+    }
+    if (firstError) throw firstError;
+}
+
+// Reads Server.NamespaceArray (i=2255) and returns { index, namespaces }.
+// index is -1 when the uri is not there.
+async function resolveNamespaceIndex(session, uri) {
+    const dv = await session.read({ nodeId: NAMESPACE_ARRAY, attributeId: AttributeIds.Value });
+    if (dv.statusCode.isNotGood()) {
+        throw new Error(`reading NamespaceArray (i=2255) returned ${dv.statusCode.toString()}`);
+    }
+    const namespaces = Array.from((dv.value && dv.value.value) || []);
+    return { index: namespaces.indexOf(uri), namespaces };
+}
+
+// A string NodeId in namespace nsIndex, built explicitly (no string parsing,
+// so identifiers containing '.' or ';' are taken literally).
+function stringNodeId(nsIndex, identifier) {
+    return new NodeId(NodeIdType.STRING, identifier, nsIndex);
+}
+
+// Nearest-rank percentile over an already sorted array.
+function percentile(sorted, p) {
+    if (sorted.length === 0) return NaN;
+    const rank = Math.ceil((p / 100) * sorted.length);
+    return sorted[Math.min(sorted.length, Math.max(1, rank)) - 1];
+}
+
+module.exports = {
+    DEMO_NAMESPACE_URI,
+    StatusCodes,
+    checkEndpointUrl,
+    connect,
+    disconnect,
+    resolveNamespaceIndex,
+    stringNodeId,
+    percentile
+};

@@ -1,0 +1,197 @@
+#!/usr/bin/env node
+// node-opcua reference server for the skillcell interop tests.
+//
+// usage: node server.js [--port N]      (N = 0 or omitted: pick a free port)
+//
+// Exposes, in namespace "urn:skillcell:demo", the object ns=<idx>;s=Demo
+// (organized by Objects) with the Demo.* variables and the Demo.Add method.
+// Prints exactly one line "READY opc.tcp://127.0.0.1:PORT" on stdout once it
+// is listening, and shuts down cleanly on SIGTERM / SIGINT.
+"use strict";
+
+require("./log_to_stderr"); // before node-opcua: keep stdout clean
+const net = require("net");
+const os = require("os");
+const path = require("path");
+const {
+    OPCUAServer,
+    OPCUACertificateManager,
+    SecurityPolicy,
+    MessageSecurityMode,
+    DataType,
+    Variant,
+    VariantArrayType,
+    StatusCodes,
+    nodesets
+} = require("node-opcua");
+
+const NAMESPACE_URI = "urn:skillcell:demo";
+const HOST = "127.0.0.1";
+
+function parseArgs(argv) {
+    const opts = { port: 0 };
+    for (let i = 0; i < argv.length; i++) {
+        const a = argv[i];
+        if (a === "--port" && i + 1 < argv.length) {
+            opts.port = Number(argv[++i]);
+        } else if (a.startsWith("--port=")) {
+            opts.port = Number(a.slice("--port=".length));
+        } else if (a === "-h" || a === "--help") {
+            process.stdout.write("usage: node server.js [--port N]\n");
+            process.exit(0);
+        } else {
+            process.stderr.write(`server.js: unknown argument '${a}'\n`);
+            process.exit(2);
+        }
+    }
+    if (!Number.isInteger(opts.port) || opts.port < 0 || opts.port > 65535) {
+        process.stderr.write("server.js: --port needs an integer in 0..65535\n");
+        process.exit(2);
+    }
+    return opts;
+}
+
+// Bind a throw-away TCP server to port 0 on loopback, read the port the
+// kernel chose, then release it.
+function pickFreePort() {
+    return new Promise((resolve, reject) => {
+        const srv = net.createServer();
+        srv.unref();
+        srv.on("error", reject);
+        srv.listen({ port: 0, host: HOST, exclusive: true }, () => {
+            const { port } = srv.address();
+            srv.close(() => resolve(port));
+        });
+    });
+}
+
+function populate(addressSpace) {
+    const ns = addressSpace.registerNamespace(NAMESPACE_URI);
+
+    const demo = ns.addObject({
+        nodeId: "s=Demo",
+        browseName: "Demo",
+        organizedBy: addressSpace.rootFolder.objects
+    });
+
+    const rw = { accessLevel: "CurrentRead | CurrentWrite", userAccessLevel: "CurrentRead | CurrentWrite" };
+    const ro = { accessLevel: "CurrentRead", userAccessLevel: "CurrentRead" };
+
+    const scalar = (name, dataType, value, access) =>
+        ns.addVariable({
+            componentOf: demo,
+            nodeId: `s=Demo.${name}`,
+            browseName: name,
+            dataType,
+            valueRank: -1,
+            minimumSamplingInterval: 0,
+            ...access,
+            value: new Variant({ dataType: DataType[dataType], value })
+        });
+
+    scalar("Double", "Double", 1.5, rw);
+    scalar("Int32", "Int32", 42, rw);
+    scalar("String", "String", "hello", rw);
+    scalar("Boolean", "Boolean", true, rw);
+    scalar("ReadOnly", "UInt32", 7, ro);
+
+    ns.addVariable({
+        componentOf: demo,
+        nodeId: "s=Demo.DoubleArray",
+        browseName: "DoubleArray",
+        dataType: "Double",
+        valueRank: 1,
+        arrayDimensions: [0],
+        minimumSamplingInterval: 0,
+        ...rw,
+        value: new Variant({
+            dataType: DataType.Double,
+            arrayType: VariantArrayType.Array,
+            value: [1, 2, 3]
+        })
+    });
+
+    const add = ns.addMethod(demo, {
+        nodeId: "s=Demo.Add",
+        browseName: "Add",
+        inputArguments: [
+            { name: "a", description: { text: "first addend" }, dataType: DataType.Double, valueRank: -1 },
+            { name: "b", description: { text: "second addend" }, dataType: DataType.Double, valueRank: -1 }
+        ],
+        outputArguments: [{ name: "sum", description: { text: "a + b" }, dataType: DataType.Double, valueRank: -1 }]
+    });
+    // node-opcua validates argument count and types against the
+    // InputArguments property before this callback is invoked
+    // (BadArgumentsMissing / BadTooManyArguments / BadTypeMismatch).
+    // Note: bindMethod dispatches on Function.length, so an async handler
+    // must declare exactly two parameters (inputArguments, context).
+    // eslint-disable-next-line no-unused-vars
+    add.bindMethod(async (inputArguments, context) => {
+        const a = inputArguments[0].value;
+        const b = inputArguments[1].value;
+        return {
+            statusCode: StatusCodes.Good,
+            outputArguments: [new Variant({ dataType: DataType.Double, value: a + b })]
+        };
+    });
+}
+
+async function main() {
+    const opts = parseArgs(process.argv.slice(2));
+    const port = opts.port === 0 ? await pickFreePort() : opts.port;
+
+    // Keep the server's PKI (self-signed certificate, created on first run)
+    // out of the repository; it is reused by later runs.
+    const pkiRoot = process.env.SKILLCELL_INTEROP_PKI || path.join(os.tmpdir(), "skillcell-interop-pki");
+    const serverCertificateManager = new OPCUACertificateManager({
+        automaticallyAcceptUnknownCertificate: true,
+        rootFolder: path.join(pkiRoot, "server")
+    });
+    const userCertificateManager = new OPCUACertificateManager({
+        automaticallyAcceptUnknownCertificate: true,
+        rootFolder: path.join(pkiRoot, "server-users")
+    });
+
+    const server = new OPCUAServer({
+        port,
+        host: HOST,
+        hostname: HOST,
+        nodeset_filename: [nodesets.standard],
+        securityPolicies: [SecurityPolicy.None],
+        securityModes: [MessageSecurityMode.None],
+        allowAnonymous: true,
+        disableDiscovery: false,
+        serverCertificateManager,
+        userCertificateManager,
+        buildInfo: { productName: "skillcell-interop-node-opcua", softwareVersion: "1.0" },
+        serverInfo: { applicationUri: "urn:skillcell:interop:node-opcua-server", productUri: "urn:skillcell:interop" }
+    });
+
+    await server.initialize();
+    populate(server.engine.addressSpace);
+    await server.start();
+
+    let stopping = false;
+    const shutdown = async (sig) => {
+        if (stopping) return;
+        stopping = true;
+        const guard = setTimeout(() => process.exit(0), 5000);
+        guard.unref();
+        try {
+            await server.shutdown(0);
+        } catch (err) {
+            process.stderr.write(`server.js: shutdown error on ${sig}: ${err && err.message}\n`);
+        }
+        process.exit(0);
+    };
+    process.on("SIGTERM", () => shutdown("SIGTERM"));
+    process.on("SIGINT", () => shutdown("SIGINT"));
+
+    const url = `opc.tcp://${HOST}:${port}`;
+    process.stdout.write(`READY ${url}\n`);
+}
+
+main().catch((err) => {
+    process.stderr.write(`server.js: failed to start: ${err && err.stack ? err.stack : err}\n`);
+    process.exit(1);
+});
