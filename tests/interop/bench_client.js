@@ -50,7 +50,10 @@ async function main() {
         return 2;
     }
 
-    const { client, session } = await connect(url, "skillcell-interop-bench");
+    let problem = null;
+    const { client, session } = await connect(url, "skillcell-interop-bench", (msg) => {
+        problem = problem || msg;
+    });
     const { index: ns, namespaces } = await resolveNamespaceIndex(session, DEMO_NAMESPACE_URI);
     if (ns < 0) {
         throw new Error(`namespace ${DEMO_NAMESPACE_URI} not in NamespaceArray [${namespaces.join(", ")}]`);
@@ -93,6 +96,7 @@ async function main() {
     const calls = await time(doCall);
 
     await disconnect(client, session);
+    if (problem) throw new Error(problem);
     process.stdout.write(JSON.stringify({ read: summarize(reads), call: summarize(calls) }) + "\n");
     return 0;
 }

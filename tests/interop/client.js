@@ -484,7 +484,7 @@ async function checkDemoVariables(session, ns, found) {
     }
     const after = await readValue(session, ro);
     if (after.statusCode.isGood() && before.statusCode.isGood() && after.value.value !== before.value.value) {
-        fail(`Demo.ReadOnly changed from ${before.value.value} to ${after.value.value} after a refused write`);
+        fail(`Demo.ReadOnly changed from ${before.value.value} to ${after.value.value} although the write should have been refused`);
     }
 }
 
@@ -544,7 +544,7 @@ async function main() {
     let nodes = 0;
     let attributes = 0;
     try {
-        ({ client, session } = await connect(opts.url, "skillcell-interop-client"));
+        ({ client, session } = await connect(opts.url, "skillcell-interop-client", fail));
 
         const { index: ns, namespaces } = await resolveNamespaceIndex(session, DEMO_NAMESPACE_URI);
         if (ns < 0) fail(`namespace ${DEMO_NAMESPACE_URI} not in NamespaceArray [${namespaces.join(", ")}]`);

@@ -31,14 +31,19 @@ function checkEndpointUrl(url, usage) {
 
 // Creates a client (SecurityPolicy None, mode None), connects and opens an
 // anonymous session. Returns { client, session }.
-async function connect(endpointUrl, applicationName) {
+// onProblem(message) is called when the connection drops or the session is
+// closed behind our back: node-opcua would otherwise reconnect silently and
+// replay the request, hiding a protocol error of the server.
+const closingHooks = new WeakMap();
+async function connect(endpointUrl, applicationName, onProblem) {
     const clientCertificateManager = new OPCUACertificateManager({
         automaticallyAcceptUnknownCertificate: true,
         rootFolder: path.join(pkiRoot(), "client")
     });
     const client = OPCUAClient.create({
         applicationName,
-        applicationUri: `urn:skillcell:interop:${applicationName}`,
+        // one applicationUri for all scripts: they share one client certificate
+        applicationUri: "urn:skillcell:interop:node-opcua-client",
         securityMode: MessageSecurityMode.None,
         securityPolicy: SecurityPolicy.None,
         endpointMustExist: false,
@@ -48,12 +53,23 @@ async function connect(endpointUrl, applicationName) {
         connectionStrategy: { maxRetry: 2, initialDelay: 250, maxDelay: 1000 },
         requestedSessionTimeout: 60000
     });
+    const report = onProblem || ((msg) => process.stderr.write(`warning: ${msg}\n`));
+    let closing = false;
+    client.on("connection_lost", () => closing || report("connection lost"));
+    client.on("start_reconnection", (err) => closing || report(`client reconnecting${err ? `: ${err.message}` : ""}`));
+    client.on("close", (err) => err && !closing && report(`connection closed: ${err.message}`));
     await client.connect(endpointUrl);
     const session = await client.createSession(); // anonymous
+    session.on("session_closed", (sc) => closing || report(`session closed by the server: ${sc ? sc.toString() : "?"}`));
+    // disconnect() calls this before closing on purpose
+    closingHooks.set(client, () => {
+        closing = true;
+    });
     return { client, session };
 }
 
 async function disconnect(client, session) {
+    if (client && closingHooks.has(client)) closingHooks.get(client)();
     let firstError = null;
     if (session) {
         try {
