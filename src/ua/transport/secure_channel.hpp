@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "ua/messages/secure_channel.hpp"
@@ -36,6 +37,17 @@ struct SecureChannelConfig {
     std::uint32_t tokenLifetimeMs = 600'000;
     /// Server: lifetimes below this are raised to it.
     std::uint32_t minTokenLifetimeMs = 10'000;
+    /// Client: the mode asked for in OpenSecureChannel. Server: the mode required of a
+    /// policy other than None (None always requires MessageSecurityMode::None).
+    MessageSecurityMode securityMode = MessageSecurityMode::None;
+};
+
+/// An abort chunk ('A', OPC 10000-6, 6.7.3) as received: the message `requestId` was
+/// discarded by its sender because of `error`.
+struct ChannelAbort {
+    std::uint32_t requestId = 0;
+    StatusCode error;
+    String reason;
 };
 
 class SecureChannel {
@@ -48,30 +60,48 @@ public:
     /// Feeds one whole OPN/MSG/CLO frame. Returns the message once its final chunk arrived,
     /// std::nullopt after an intermediate chunk, or a StatusCode that is fatal for the
     /// channel (the connection sends ERR with it and closes): BadTcpMessageTooLarge when a
-    /// message exceeds maxMessageSize/maxChunkCount, BadSequenceNumberInvalid,
-    /// BadSecureChannelIdInvalid, BadSecureChannelTokenUnknown (unknown or expired token),
-    /// BadTcpMessageTypeInvalid (MSG before OPN), BadDecodingError (malformed headers),
-    /// BadSecurityChecksFailed. An abort chunk ('A') discards the message being
-    /// reassembled and yields std::nullopt.
+    /// frame exceeds receiveBufferSize or a message maxMessageSize/maxChunkCount,
+    /// BadSequenceNumberInvalid, BadTcpSecureChannelUnknown (a SecureChannelId that is not
+    /// this channel's: the transport error OPC 10000-6, 7.1.5 names for it),
+    /// BadSecureChannelTokenUnknown (unknown or expired token), BadTcpMessageTypeInvalid
+    /// (MSG/CLO before OPN, or a frame type other than OPN/MSG/CLO),
+    /// BadSecurityPolicyRejected (OPN for another policy), BadDecodingError (malformed
+    /// headers), BadSecurityChecksFailed (failed unprotect, or a chunk of another message
+    /// while one is being reassembled: OPC 10000-6, 6.7.6). An abort chunk ('A') discards
+    /// the message being reassembled, yields std::nullopt and is reported by lastAbort().
     [[nodiscard]] Result<std::optional<ChannelMessage>> receiveFrame(
         std::span<const std::uint8_t> frame, SteadyTime now);
 
     /// Splits `body` into frames no larger than the peer's receive buffer, each with the
     /// right security header and the next sequence number. BadResponseTooLarge (server) /
     /// BadRequestTooLarge (client) when the message would exceed the peer's limits.
+    /// OPN and CLO are always single-chunk (OPC 10000-6, 6.7.2.2). BadInvalidState for
+    /// MSG/CLO before the channel has a token.
     [[nodiscard]] Result<std::vector<std::vector<std::uint8_t>>> encodeMessage(
         MessageType type, std::uint32_t requestId, std::span<const std::uint8_t> body);
+
+    /// An abort chunk (MSG 'A') for `requestId`, for a sender that fails after it has sent
+    /// some chunks of a message. The reason is cut to 4096 bytes. BadInvalidState before
+    /// the channel has a token.
+    [[nodiscard]] Result<std::vector<std::uint8_t>> encodeAbort(std::uint32_t requestId,
+                                                                StatusCode error,
+                                                                std::string_view reason);
+    /// The abort chunk the last receiveFrame call consumed, if it consumed one.
+    [[nodiscard]] const std::optional<ChannelAbort>& lastAbort() const { return lastAbort_; }
 
     /// Server: handles a decoded OpenSecureChannelRequest (Issue or Renew): assigns the
     /// channel id on Issue, creates a new token, and returns the response to send.
     /// BadRequestTypeInvalid for Renew before Issue or Issue twice,
-    /// BadSecurityModeRejected for a mode the policy does not match.
+    /// BadSecurityModeRejected for a mode the policy does not match. createdAt in the token
+    /// is the only wall-clock value; lifetimes are measured on `now`.
     [[nodiscard]] Result<OpenSecureChannelResponse> openOrRenew(
         const OpenSecureChannelRequest& request, std::uint32_t channelId, SteadyTime now);
 
     /// Client: builds the request for a first open or a renewal.
     [[nodiscard]] OpenSecureChannelRequest makeOpenRequest(SecurityTokenRequestType type) const;
     /// Client: takes the server's answer; the new token is used for everything sent next.
+    /// The response's serviceResult if it is bad; BadSecureChannelIdInvalid when the token's
+    /// channel id is 0, differs from the OPN header's, or changes on renewal.
     [[nodiscard]] StatusCode acceptOpenResponse(const OpenSecureChannelResponse& response,
                                                 SteadyTime now);
 
@@ -91,6 +121,19 @@ private:
         SteadyTime expiresAt;
     };
 
+    [[nodiscard]] bool acceptsOpenChannelId(std::uint32_t channelId) const;
+    [[nodiscard]] StatusCode checkToken(std::uint32_t tokenId, SteadyTime now);
+    [[nodiscard]] StatusCode checkSequenceNumber(std::uint32_t sequenceNumber);
+    [[nodiscard]] Result<std::optional<ChannelMessage>> assemble(
+        MessageType type, ChunkType chunk, std::uint32_t requestId,
+        std::span<const std::uint8_t> body);
+    [[nodiscard]] Result<std::vector<std::uint8_t>> buildChunk(MessageType type, ChunkType chunk,
+                                                               std::uint32_t requestId,
+                                                               std::span<const std::uint8_t> body);
+    [[nodiscard]] std::size_t headerSize(MessageType type) const;
+    [[nodiscard]] std::uint32_t sendingTokenId() const;
+    [[nodiscard]] StatusCode tooLarge() const;
+
     Role role_;
     TransportLimits limits_;
     std::unique_ptr<SecurityPolicy> policy_;
@@ -102,6 +145,8 @@ private:
     std::uint32_t nextTokenId_ = 1;
     std::uint32_t sendSequenceNumber_ = 0;
     std::optional<std::uint32_t> lastReceivedSequenceNumber_;
+    std::uint32_t openResponseChannelId_ = 0;  // client: SecureChannelId of the last OPN frame
+    std::optional<ChannelAbort> lastAbort_;
 
     // Reassembly of the message in progress.
     std::optional<ChannelMessage> partial_;

@@ -36,7 +36,8 @@ struct MessageHeader {
 };
 
 /// Parses and validates the 8-byte header. BadTcpMessageTypeInvalid for an unknown type or
-/// a chunk type other than 'F' on HEL/ACK/ERR/RHE; BadTcpMessageTooLarge when size exceeds
+/// chunk byte, or a chunk type other than 'F' on anything but MSG (OPC 10000-6, 6.7.2.2:
+/// IsFinal is "always 'F' for other MessageTypes"); BadTcpMessageTooLarge when size exceeds
 /// maxFrameSize; BadDecodingError when size is below the header's own size.
 [[nodiscard]] Result<MessageHeader> parseMessageHeader(std::span<const std::uint8_t, 8> bytes,
                                                        std::uint32_t maxFrameSize);
@@ -45,12 +46,20 @@ void writeMessageHeader(BinaryWriter& w, MessageType type, ChunkType chunk);
 /// Patches the size field of a frame that starts at `frameStart` in w's buffer.
 void finishFrame(BinaryWriter& w, std::size_t frameStart);
 
-/// Sizes negotiated by Hello/Acknowledge; 0 for maxMessageSize/maxChunkCount means "no limit".
+/// Sizes negotiated by Hello/Acknowledge; 0 for the message size and chunk count limits means
+/// "no limit". Each direction has its own limits: what we accept (announced to the peer)
+/// and what we may send (bounded by what the peer announced).
 struct TransportLimits {
+    /// Largest chunk we accept / send.
     std::uint32_t receiveBufferSize = 65535;
     std::uint32_t sendBufferSize = 65535;
+    /// Largest message body and most chunks per message we accept.
     std::uint32_t maxMessageSize = 16u * 1024 * 1024;
     std::uint32_t maxChunkCount = 512;
+    /// Largest message body and most chunks per message we send: before negotiation our own
+    /// cap, after it the stricter of that cap and the peer's announced receive limits.
+    std::uint32_t sendMaxMessageSize = 16u * 1024 * 1024;
+    std::uint32_t sendMaxChunkCount = 512;
 };
 
 struct HelloMessage {
@@ -97,7 +106,16 @@ struct Negotiated {
 [[nodiscard]] Result<TransportLimits> negotiateAsClient(const TransportLimits& own,
                                                         const AcknowledgeMessage& ack);
 
-/// A whole frame (header included) for HEL, ACK or ERR.
+/// Decodes a whole HEL/ACK/ERR frame (header included, as read off the connection).
+/// BadTcpMessageTypeInvalid for a frame of another type, BadDecodingError when malformed or
+/// when the size field does not match the frame. An ERR reason longer than 4096 bytes is
+/// dropped (OPC 10000-6, 7.1.2.5: the client ignores it).
+[[nodiscard]] Result<HelloMessage> decodeHello(std::span<const std::uint8_t> frame);
+[[nodiscard]] Result<AcknowledgeMessage> decodeAcknowledge(std::span<const std::uint8_t> frame);
+[[nodiscard]] Result<ErrorMessage> decodeError(std::span<const std::uint8_t> frame);
+
+/// A whole frame (header included) for HEL, ACK or ERR. encodeError truncates the reason to
+/// 4096 bytes.
 [[nodiscard]] std::vector<std::uint8_t> encodeHello(const HelloMessage& m);
 [[nodiscard]] std::vector<std::uint8_t> encodeAcknowledge(const AcknowledgeMessage& m);
 [[nodiscard]] std::vector<std::uint8_t> encodeError(StatusCode error, std::string_view reason);
