@@ -1,0 +1,73 @@
+#pragma once
+// NodeSet2 loader (OPC 10000-6, Annex F): reads UANodeSet XML into an AddressSpace.
+//
+// Loading is two-phase, so that a bad file changes nothing:
+//   1. parseNodeSet: XML -> ParsedNodeSet (nodes with attributes, values and references,
+//      NodeIds already mapped from the file's namespace indices to the server's).
+//   2. commitNodeSet: checks every reference type and target against the parsed nodes and
+//      the address space, then registers the namespaces and adds nodes and references
+//      (both directions).
+// Part 2 grows here: RequiredModels checks, DataType definitions and instantiation of
+// types read the same ParsedNodeSet before commit.
+//
+// Errors are values: "<source>:<line>: <what>", never exceptions.
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ua/address_space/address_space.hpp"
+
+namespace skillcell::ua {
+
+struct ParsedReference {
+    NodeId referenceTypeId;
+    NodeId target;
+    bool isForward = true;
+    std::size_t line = 0;
+};
+
+struct ParsedNode {
+    Node node;  // attributes and value; references are kept apart until commit
+    std::vector<ParsedReference> references;
+    std::size_t line = 0;
+};
+
+struct ParsedNodeSet {
+    std::string source;                      // file name for messages
+    std::vector<std::string> namespaceUris;  // the file's NamespaceUris, file index 1..n
+    std::vector<ParsedNode> nodes;
+};
+
+/// The outcome of a parse or load: empty `error` on success.
+struct NodeSetStatus {
+    std::string error;
+    std::size_t nodes = 0;
+    std::size_t references = 0;
+    [[nodiscard]] bool ok() const { return error.empty(); }
+};
+
+/// Parses `xml`. The server's namespace indices are computed against `as` (without
+/// registering anything yet): a URI already known keeps its index, new URIs get the next
+/// free ones in file order.
+[[nodiscard]] NodeSetStatus parseNodeSet(const AddressSpace& as, std::string_view xml,
+                                         std::string_view sourceName, ParsedNodeSet& out);
+/// Adds a parsed node set to `as`. On error nothing has been added.
+[[nodiscard]] NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed);
+
+/// parseNodeSet + commitNodeSet.
+[[nodiscard]] NodeSetStatus loadNodeSet(AddressSpace& as, std::string_view xml,
+                                        std::string_view sourceName);
+/// Reads and loads a file; messages name the file as given.
+[[nodiscard]] NodeSetStatus loadNodeSetFile(AddressSpace& as, const std::filesystem::path& path);
+
+/// A NodeSet2 file from models/ compiled into the library ("Opc.Ua.NodeSet2.Base.xml");
+/// empty if there is no such file.
+[[nodiscard]] std::string_view embeddedModel(std::string_view fileName);
+/// Names of all embedded model files.
+[[nodiscard]] std::vector<std::string_view> embeddedModelNames();
+/// Loads namespace 0 (the embedded models/Opc.Ua.NodeSet2.Base.xml).
+[[nodiscard]] NodeSetStatus loadBaseNodeSet(AddressSpace& as);
+
+}  // namespace skillcell::ua

@@ -1,0 +1,129 @@
+#include "ua/server/server.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <asio/experimental/as_tuple.hpp>
+
+#include "ua/nodeset/nodeset_loader.hpp"
+#include "ua/server/services/register_services.hpp"
+#include "ua/server/services/session_service.hpp"
+
+namespace skillcell::ua {
+
+Server::Server(asio::io_context& io, ServerConfig config)
+    : io_(io),
+      config_(std::move(config)),
+      addressSpace_(config_.description.applicationUri),
+      sessions_(config_.limits),
+      acceptor_(io),
+      reaper_(io) {}
+
+Server::~Server() { stop(); }
+
+std::unique_ptr<Server> Server::create(asio::io_context& io, ServerConfig config,
+                                       std::string* error) {
+    std::unique_ptr<Server> server(new Server(io, std::move(config)));  // NOLINT: private ctor
+    const auto loaded = loadBaseNodeSet(server->addressSpace_);
+    if (!loaded.ok()) {
+        if (error != nullptr) *error = "namespace 0: " + loaded.error;
+        return nullptr;
+    }
+    ServerInfo info;
+    info.applicationUri = server->config_.description.applicationUri;
+    info.productUri = server->config_.description.productUri;
+    info.productName = server->config_.description.applicationName;
+    info.softwareVersion = server->config_.softwareVersion;
+    info.startTime = DateTime::now();
+    info.maxBrowseContinuationPoints =
+        static_cast<std::uint16_t>(server->config_.limits.maxBrowseContinuationPoints);
+    if (const StatusCode s = installServerObject(server->addressSpace_, info, &server->state_);
+        s.isBad()) {
+        if (error != nullptr) *error = "server object: " + std::string(statusName(s));
+        return nullptr;
+    }
+    auto& table = server->services_;
+    registerDiscoveryServices(table, server->config_.description);
+    registerSessionServices(table, server->sessions_, server->config_.description);
+    registerViewServices(table, server->addressSpace_);
+    registerAttributeServices(table, server->addressSpace_);
+    registerMethodServices(table, server->addressSpace_);
+    return server;
+}
+
+Result<std::uint16_t> Server::listen() {
+    asio::error_code ec;
+    const auto address = asio::ip::make_address(config_.bindAddress, ec);
+    if (ec) {
+        spdlog::error("invalid bind address '{}': {}", config_.bindAddress, ec.message());
+        return status::BadInvalidArgument;
+    }
+    const asio::ip::tcp::endpoint endpoint(address, config_.description.port);
+    acceptor_.open(endpoint.protocol(), ec);
+    if (!ec) acceptor_.set_option(asio::ip::tcp::acceptor::reuse_address(true), ec);
+    if (!ec) acceptor_.bind(endpoint, ec);
+    if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+    if (ec) {
+        spdlog::error("cannot listen on {}:{}: {}", config_.bindAddress, config_.description.port,
+                      ec.message());
+        return status::BadResourceUnavailable;
+    }
+    config_.description.port = acceptor_.local_endpoint().port();
+    asio::co_spawn(io_, acceptLoop(), asio::detached);
+    asio::co_spawn(io_, reapSessions(), asio::detached);
+    spdlog::info("listening on {}:{} as {}", config_.bindAddress, config_.description.port,
+                 config_.description.applicationUri);
+    return config_.description.port;
+}
+
+void Server::stop() {
+    if (stopped_) return;
+    stopped_ = true;
+    state_ = ServerState::Shutdown;
+    asio::error_code ignored;
+    acceptor_.close(ignored);
+    reaper_.cancel();
+    for (auto& [id, weak] : connections_) {
+        if (auto c = weak.lock()) c->close();
+    }
+}
+
+asio::awaitable<void> Server::acceptLoop() {
+    for (;;) {
+        auto [ec, socket] = co_await acceptor_.async_accept(asio::experimental::as_tuple(asio::use_awaitable));
+        if (ec == asio::error::operation_aborted || stopped_) co_return;
+        if (ec) {
+            spdlog::warn("accept failed: {}", ec.message());
+            continue;
+        }
+        std::erase_if(connections_, [](const auto& kv) { return kv.second.expired(); });
+        if (connections_.size() >= config_.limits.maxChannels) {
+            // Tell the client why before closing, so it does not retry blindly.
+            spdlog::warn("refusing connection: {} channels open (limit)", connections_.size());
+            auto frame = encodeError(status::BadTcpNotEnoughResources, "too many connections");
+            asio::error_code ignored;
+            asio::write(socket, asio::buffer(frame), ignored);
+            socket.close(ignored);
+            continue;
+        }
+        const std::uint32_t channelId = nextChannelId_++;
+        auto connection = std::make_shared<Connection>(
+            std::move(socket),
+            ConnectionEnvironment{services_, sessions_, config_.limits, config_.channel},
+            channelId);
+        connections_.emplace(channelId, connection);
+        asio::co_spawn(io_, connection->run(), asio::detached);
+    }
+}
+
+asio::awaitable<void> Server::reapSessions() {
+    while (!stopped_) {
+        reaper_.expires_after(std::chrono::seconds(1));
+        auto [ec] = co_await reaper_.async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        if (ec || stopped_) co_return;
+        if (const auto n = sessions_.expire(std::chrono::steady_clock::now()); n > 0) {
+            spdlog::info("closed {} timed-out session(s)", n);
+        }
+    }
+}
+
+}  // namespace skillcell::ua

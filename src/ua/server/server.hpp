@@ -1,0 +1,77 @@
+#pragma once
+// Server: an OPC UA server on one Asio io_context. It is composed of owned parts, each with
+// one job: the AddressSpace (nodes), the SessionManager (sessions), the ServiceTable
+// (service sets), and one Connection per socket (transport + secure channel). The server
+// only wires them together and runs the accept loop and the session reaper.
+//
+// Threading: everything runs on the io_context's thread. Application code on other threads
+// changes the address space through asio::post(io, ...).
+#include <asio.hpp>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <unordered_map>
+
+#include "ua/address_space/address_space.hpp"
+#include "ua/address_space/server_object.hpp"
+#include "ua/server/connection.hpp"
+#include "ua/server/server_description.hpp"
+#include "ua/server/server_limits.hpp"
+#include "ua/server/service_table.hpp"
+#include "ua/server/session_manager.hpp"
+#include "ua/transport/secure_channel.hpp"
+#include "ua/types/result.hpp"
+
+namespace skillcell::ua {
+
+struct ServerConfig {
+    ServerDescription description;
+    /// Address to listen on; the port is description.port (0: any free port).
+    std::string bindAddress = "0.0.0.0";
+    ServerLimits limits;
+    SecureChannelConfig channel;
+    std::string softwareVersion = "0.1.0";
+};
+
+class Server {
+public:
+    /// Builds the address space (namespace 0 from the embedded NodeSet2 model, the Server
+    /// object) and the service table. No socket is opened yet. On failure, `error` (if
+    /// given) receives a message naming the cause.
+    [[nodiscard]] static std::unique_ptr<Server> create(asio::io_context& io, ServerConfig config,
+                                                        std::string* error = nullptr);
+    Server(const Server&) = delete;
+    Server& operator=(const Server&) = delete;
+    ~Server();
+
+    /// Binds and starts accepting. Returns the port actually bound (useful with port 0);
+    /// BadResourceUnavailable if the address cannot be bound.
+    [[nodiscard]] Result<std::uint16_t> listen();
+    /// Stops accepting, closes every connection; the io_context then runs out of work.
+    void stop();
+
+    [[nodiscard]] AddressSpace& addressSpace() { return addressSpace_; }
+    [[nodiscard]] ServiceTable& services() { return services_; }
+    [[nodiscard]] const ServerConfig& config() const { return config_; }
+    [[nodiscard]] std::size_t connectionCount() const { return connections_.size(); }
+    [[nodiscard]] std::size_t sessionCount() const { return sessions_.size(); }
+
+private:
+    Server(asio::io_context& io, ServerConfig config);
+    asio::awaitable<void> acceptLoop();
+    asio::awaitable<void> reapSessions();
+
+    asio::io_context& io_;
+    ServerConfig config_;
+    AddressSpace addressSpace_;
+    SessionManager sessions_;
+    ServiceTable services_;
+    ServerState state_ = ServerState::Running;
+    asio::ip::tcp::acceptor acceptor_;
+    asio::steady_timer reaper_;
+    std::unordered_map<std::uint32_t, std::weak_ptr<Connection>> connections_;
+    std::uint32_t nextChannelId_ = 1;
+    bool stopped_ = false;
+};
+
+}  // namespace skillcell::ua

@@ -1,0 +1,29 @@
+#pragma once
+// ServerDescription: who this server is, and the endpoints it offers. Discovery
+// (GetEndpoints, FindServers) and CreateSession describe the server from this one place.
+#include <string>
+#include <vector>
+
+#include "ua/messages/discovery.hpp"
+
+namespace skillcell::ua {
+
+inline constexpr std::string_view kTransportProfileUaTcp =
+    "http://opcfoundation.org/UA-Profile/Transport/uatcp-uasc-uabinary";
+inline constexpr std::string_view kAnonymousPolicyId = "anonymous";
+
+struct ServerDescription {
+    String applicationUri = "urn:skillcell:server";
+    String productUri = "urn:skillcell";
+    String applicationName = "skillcell server";
+    /// Host name put into endpoint URLs when the client's own URL is not usable.
+    String advertisedHost = "localhost";
+    std::uint16_t port = 4840;
+
+    /// "opc.tcp://host:port": the host the client used if it named one, else advertisedHost.
+    [[nodiscard]] String endpointUrlFor(const std::string* clientUrl) const;
+    [[nodiscard]] ApplicationDescription application(const String& endpointUrl) const;
+    [[nodiscard]] std::vector<EndpointDescription> endpoints(const String& endpointUrl) const;
+};
+
+}  // namespace skillcell::ua

@@ -1,0 +1,69 @@
+#include "ua/server/session_manager.hpp"
+
+#include <algorithm>
+
+#include "ua/server/service_context.hpp"
+
+namespace skillcell::ua {
+
+SessionManager::SessionManager(const ServerLimits& limits) : limits_(limits) {
+    std::random_device rd;
+    std::seed_seq seed{rd(), rd(), rd(), rd(), rd(), rd(), rd(), rd()};
+    random_.seed(seed);
+}
+
+ByteString SessionManager::randomBytes(std::size_t n) {
+    ByteString out;
+    out.bytes.resize(n);
+    for (auto& b : out.bytes) b = static_cast<std::uint8_t>(random_() & 0xFF);
+    return out;
+}
+
+Result<Session*> SessionManager::create(const CreateSessionRequest& request,
+                                        std::uint32_t channelId, Clock::time_point now) {
+    if (sessions_.size() >= limits_.maxSessions) return status::BadTooManySessions;
+    double timeoutMs = request.requestedSessionTimeout;
+    if (!(timeoutMs >= limits_.minSessionTimeoutMs)) timeoutMs = limits_.minSessionTimeoutMs;
+    timeoutMs = std::min(timeoutMs, limits_.maxSessionTimeoutMs);
+
+    // The session id is public (it appears in diagnostics); the authentication token is a
+    // secret that proves ownership, so it is random and never derived from the id.
+    NodeId sessionId(1, nextSessionNumber_++);
+    NodeId token(0, randomBytes(32));
+    auto session = std::make_unique<Session>(
+        sessionId, token, request.sessionName,
+        std::chrono::milliseconds(static_cast<std::int64_t>(timeoutMs)), channelId, now,
+        limits_.maxBrowseContinuationPoints);
+    Session* raw = session.get();
+    sessions_.emplace(token, std::move(session));
+    return raw;
+}
+
+Session* SessionManager::find(const NodeId& authenticationToken) {
+    auto it = sessions_.find(authenticationToken);
+    return it == sessions_.end() ? nullptr : it->second.get();
+}
+
+Result<Session*> SessionManager::authorize(const NodeId& authenticationToken,
+                                           std::uint32_t channelId, Clock::time_point now) {
+    Session* s = find(authenticationToken);
+    if (s == nullptr || s->isExpired(now)) return status::BadSessionIdInvalid;
+    if (!s->isActivated()) return status::BadSessionNotActivated;
+    if (s->channelId() != channelId) return status::BadSecureChannelIdInvalid;
+    s->touch(now);
+    return s;
+}
+
+void SessionManager::close(const NodeId& authenticationToken) {
+    sessions_.erase(authenticationToken);
+}
+
+std::size_t SessionManager::expire(Clock::time_point now) {
+    return std::erase_if(sessions_, [now](const auto& kv) { return kv.second->isExpired(now); });
+}
+
+BrowseContinuationPoints& continuationPointsOf(ServiceContext& ctx) {
+    return ctx.session->browseContinuationPoints();
+}
+
+}  // namespace skillcell::ua

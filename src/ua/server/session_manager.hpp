@@ -1,0 +1,51 @@
+#pragma once
+// SessionManager: creates, activates, finds, closes and expires sessions. Knows nothing of
+// sockets; the Session service set and the connection call it.
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <random>
+#include <unordered_map>
+
+#include "ua/messages/session.hpp"
+#include "ua/server/server_limits.hpp"
+#include "ua/server/session.hpp"
+#include "ua/types/result.hpp"
+
+namespace skillcell::ua {
+
+class SessionManager {
+public:
+    using Clock = Session::Clock;
+
+    explicit SessionManager(const ServerLimits& limits);
+
+    /// A new, not yet activated session bound to `channelId`. BadTooManySessions at the
+    /// limit. The timeout is clamped to the server's limits.
+    [[nodiscard]] Result<Session*> create(const CreateSessionRequest& request,
+                                          std::uint32_t channelId, Clock::time_point now);
+    /// The session an authentication token names, or nullptr.
+    [[nodiscard]] Session* find(const NodeId& authenticationToken);
+    /// Looks up and checks a session for a request that needs an activated session on
+    /// `channelId`: BadSessionIdInvalid (unknown or closed), BadSessionNotActivated,
+    /// BadSecureChannelIdInvalid (activated on another channel). Restarts its timeout.
+    [[nodiscard]] Result<Session*> authorize(const NodeId& authenticationToken,
+                                             std::uint32_t channelId, Clock::time_point now);
+    void close(const NodeId& authenticationToken);
+    /// Closes the sessions whose timeout elapsed; returns how many.
+    std::size_t expire(Clock::time_point now);
+    /// A channel closed: its sessions stay (a client may reactivate them on a new channel)
+    /// until they time out.
+    [[nodiscard]] std::size_t size() const { return sessions_.size(); }
+
+    /// Random bytes for tokens and nonces; unpredictable (seeded from std::random_device).
+    [[nodiscard]] ByteString randomBytes(std::size_t n);
+
+private:
+    const ServerLimits& limits_;
+    std::unordered_map<NodeId, std::unique_ptr<Session>> sessions_;  // by auth token
+    std::mt19937_64 random_;
+    std::uint32_t nextSessionNumber_ = 1;
+};
+
+}  // namespace skillcell::ua
