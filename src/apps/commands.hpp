@@ -1,0 +1,17 @@
+#pragma once
+// The subcommands of the `skillcell` program. Each adds itself to the CLI and returns the
+// exit code when it was chosen.
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace skillcell::apps {
+
+struct Command {
+    CLI::App* cli = nullptr;    // the subcommand, to ask whether it was chosen
+    std::function<int()> run;  // its body; returns the process exit code
+};
+
+Command addServerCommand(CLI::App& app);
+Command addBrowseCommand(CLI::App& app);
+
+}  // namespace skillcell::apps

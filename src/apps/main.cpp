@@ -1,0 +1,35 @@
+// skillcell: one program, one subcommand per component (server, browse; later lds, device,
+// kb, mes, demo). Every component takes --port N for its OPC UA port.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <vector>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App app{"skillcell: a Plug & Produce system for robot work cells built on OPC UA skills"};
+    app.require_subcommand(1);
+    std::string logLevel = "info";
+    app.add_option("--log-level", logLevel, "trace, debug, info, warn, error, off")
+        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
+        ->capture_default_str();
+
+    const std::vector<skillcell::apps::Command> commands{
+        skillcell::apps::addServerCommand(app),
+        skillcell::apps::addBrowseCommand(app),
+    };
+
+    CLI11_PARSE(app, argc, argv);
+
+    // Logs go to stderr: stdout carries the commands' output (READY lines, browse trees).
+    auto logger = spdlog::stderr_color_mt("skillcell");
+    spdlog::set_default_logger(logger);
+    spdlog::set_level(spdlog::level::from_str(logLevel));
+
+    for (const auto& command : commands) {
+        if (command.cli->parsed()) return command.run();
+    }
+    return 2;
+}
