@@ -1,0 +1,117 @@
+#pragma once
+// BlockingClient: the Client's operations as plain blocking calls, for code that is not a
+// coroutine (command-line tools, tests, scripts).
+//
+// It owns an io_context and the thread that runs it; each call runs the Client coroutine on
+// that thread and waits for its result. Calls may come from any thread other than the
+// client's own (calling from inside a Client coroutine would deadlock); overlapping calls
+// from several threads are allowed and travel as concurrent requests. The destructor
+// disconnects (CloseSession, CloseSecureChannel) and joins the thread.
+#include <exception>
+#include <future>
+#include <memory>
+#include <thread>
+#include <type_traits>
+#include <utility>
+
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <asio/executor_work_guard.hpp>
+#include <asio/io_context.hpp>
+#include <asio/post.hpp>
+
+#include "ua/client/client.hpp"
+
+namespace skillcell::ua {
+
+class BlockingClient {
+public:
+    BlockingClient();
+    ~BlockingClient();
+    BlockingClient(const BlockingClient&) = delete;
+    BlockingClient& operator=(const BlockingClient&) = delete;
+
+    StatusCode connect(std::string endpointUrl, ClientConfig config = {});
+    StatusCode disconnect();
+    [[nodiscard]] bool isConnected();
+    /// The server's endpoints as returned by CreateSession (a copy).
+    [[nodiscard]] std::vector<EndpointDescription> serverEndpoints();
+
+    template <EncodableStructure Req, EncodableStructure Resp>
+    Result<Resp> request(Req req) {
+        return run([&req](Client& c) { return c.request<Req, Resp>(std::move(req)); });
+    }
+
+    Result<std::vector<EndpointDescription>> getEndpoints(std::string endpointUrl = {});
+    Result<std::vector<ApplicationDescription>> findServers(std::string endpointUrl = {});
+
+    Result<BrowseResponse> browse(BrowseRequest req);
+    Result<BrowseResult> browse(NodeId nodeId, BrowseDirection direction = BrowseDirection::Forward,
+                                NodeId referenceTypeId = NodeId(33), bool includeSubtypes = true,
+                                std::uint32_t nodeClassMask = 0);
+    Result<BrowseNextResponse> browseNext(BrowseNextRequest req);
+    Result<BrowseResult> browseNext(ByteString continuationPoint,
+                                    bool releaseContinuationPoint = false);
+    Result<TranslateBrowsePathsToNodeIdsResponse> translateBrowsePaths(
+        TranslateBrowsePathsToNodeIdsRequest req);
+    Result<NodeId> translateBrowsePath(NodeId start, std::vector<QualifiedName> path);
+    Result<std::vector<NodeId>> registerNodes(std::vector<NodeId> nodes);
+    StatusCode unregisterNodes(std::vector<NodeId> nodes);
+
+    Result<ReadResponse> read(ReadRequest req);
+    Result<DataValue> readAttribute(NodeId nodeId, AttributeId attribute);
+    Result<Variant> readValue(NodeId nodeId);
+    Result<WriteResponse> write(WriteRequest req);
+    StatusCode writeAttribute(NodeId nodeId, AttributeId attribute, DataValue value);
+    StatusCode writeValue(NodeId nodeId, Variant value);
+
+    Result<CallResponse> call(CallRequest req);
+    Result<std::vector<Variant>> call(NodeId objectId, NodeId methodId,
+                                      std::vector<Variant> inputs);
+
+    /// Runs `start(client)` (which returns an awaitable) on the client's thread and waits for
+    /// its result; the building block of every call above, and open for custom sequences.
+    template <class Start>
+    auto run(Start&& start) {
+        using Awaitable = std::invoke_result_t<Start&, Client&>;
+        using T = typename Awaitable::value_type;
+        static_assert(std::is_constructible_v<T, StatusCode>, "a Result<...> or a StatusCode");
+        std::promise<T> promise;
+        auto future = promise.get_future();
+        // The promise moves into the coroutine so that this thread never touches it again
+        // while the client's thread may still be inside set_value.
+        asio::co_spawn(
+            ctx_,
+            [&start, &client = *client_,
+             p = std::move(promise)]() mutable -> asio::awaitable<void> {
+                try {
+                    p.set_value(co_await start(client));
+                } catch (...) {
+                    // Client coroutines do not throw; this covers a throwing `start`.
+                    p.set_value(T(status::BadInternalError));
+                }
+            },
+            asio::detached);
+        return future.get();
+    }
+
+private:
+    /// Runs a plain (non-coroutine) function of the client on its thread.
+    template <class F>
+    auto runSync(F&& f) {
+        using T = std::invoke_result_t<F&, Client&>;
+        std::promise<T> promise;
+        auto future = promise.get_future();
+        asio::post(ctx_, [&f, &client = *client_, p = std::move(promise)]() mutable {
+            p.set_value(f(client));
+        });
+        return future.get();
+    }
+
+    asio::io_context ctx_;
+    std::unique_ptr<Client> client_;
+    asio::executor_work_guard<asio::io_context::executor_type> work_;
+    std::jthread thread_;
+};
+
+}  // namespace skillcell::ua

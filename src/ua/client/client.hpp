@@ -1,0 +1,218 @@
+#pragma once
+// Client: an OPC UA client over UA-TCP with SecurityPolicy None, as C++20 coroutines on an
+// Asio executor.
+//
+// One connection = one socket, one SecureChannel, at most one session. A reader coroutine
+// owns the receive side and hands each response to the request waiting for its requestId,
+// so any number of requests may be in flight at once. Every operation reports failure as a
+// StatusCode (see README.md for the mapping of network errors); no exception escapes.
+//
+// Threading: a Client and everything it starts run on the executor given to the
+// constructor, which must not run handlers concurrently (one thread, or a strand). Call
+// its coroutines from that executor only; BlockingClient does this for plain threads.
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <asio/any_io_executor.hpp>
+#include <asio/awaitable.hpp>
+
+#include "ua/encoding/codec.hpp"
+#include "ua/messages/attribute.hpp"
+#include "ua/messages/discovery.hpp"
+#include "ua/messages/method.hpp"
+#include "ua/messages/secure_channel.hpp"
+#include "ua/messages/session.hpp"
+#include "ua/messages/view.hpp"
+#include "ua/transport/tcp_framing.hpp"
+#include "ua/types/result.hpp"
+
+namespace skillcell::ua {
+
+struct ClientConfig {
+    // Not an aggregate on purpose: GCC 12 destroys a braced aggregate temporary twice when
+    // it appears inside a co_await expression (`co_await client.connect(url, {})`).
+    ClientConfig() = default;
+
+    /// Covers name resolution, the TCP connect and the Hello/Acknowledge exchange.
+    std::chrono::milliseconds connectTimeout{2000};
+    /// Per request, from sending until its response arrived (also sent as timeoutHint).
+    std::chrono::milliseconds requestTimeout{10000};
+    /// What we offer in Hello; the server's Acknowledge may lower it.
+    TransportLimits limits{};
+    std::uint32_t tokenLifetimeMs = 600'000;
+    double sessionTimeoutMs = 60'000;
+    /// false: open only a secure channel (enough for GetEndpoints and FindServers).
+    bool createSession = true;
+    std::string applicationUri = "urn:skillcell:client";
+    std::string productUri = "urn:skillcell";
+    std::string applicationName = "skillcell client";
+    std::string sessionName = "skillcell session";
+};
+
+/// The parts of "opc.tcp://host[:port][/path]"; host keeps no IPv6 brackets.
+struct EndpointAddress {
+    std::string host;
+    std::uint16_t port = 4840;
+    std::string path;  // with its leading '/', or empty
+};
+
+/// Parses an opc.tcp URL (scheme case-insensitive, port defaults to 4840, IPv6 hosts in
+/// brackets). BadTcpEndpointUrlInvalid for anything else.
+[[nodiscard]] Result<EndpointAddress> parseEndpointUrl(std::string_view url);
+
+namespace client_detail {
+
+struct Connection;  // client.cpp
+
+/// A service message body: the type's binary encoding NodeId, then the structure.
+template <EncodableStructure T>
+[[nodiscard]] Result<std::vector<std::uint8_t>> encodeBody(const T& message) {
+    std::vector<std::uint8_t> out;
+    BinaryWriter w(out);
+    encode(w, NodeId(T::kBinaryEncodingId));
+    encode(w, message);
+    if (!w.ok()) return w.status();
+    return out;
+}
+
+/// Decodes a response body into Resp. A ServiceFault, or a response whose serviceResult is
+/// Bad, gives that serviceResult; any other type gives BadUnknownResponse.
+template <EncodableStructure Resp>
+[[nodiscard]] Result<Resp> decodeBody(std::span<const std::uint8_t> body) {
+    BinaryReader r(body);
+    NodeId type;
+    decode(r, type);
+    if (!r.ok()) return status::BadDecodingError;
+    if (type == NodeId(ServiceFault::kBinaryEncodingId)) {
+        ServiceFault fault;
+        decode(r, fault);
+        if (!r.ok()) return status::BadDecodingError;
+        const StatusCode s = fault.responseHeader.serviceResult;
+        return s.isBad() ? s : status::BadUnknownResponse;
+    }
+    if (type != NodeId(Resp::kBinaryEncodingId)) return status::BadUnknownResponse;
+    Resp response{};
+    decode(r, response);
+    if (!r.ok()) return r.status();
+    if (r.remaining() != 0) return status::BadDecodingError;
+    if (response.responseHeader.serviceResult.isBad()) {
+        return response.responseHeader.serviceResult;
+    }
+    return response;
+}
+
+}  // namespace client_detail
+
+class Client {
+public:
+    explicit Client(asio::any_io_executor executor);
+    /// Aborts the connection without the closing handshake (use disconnect() for that).
+    ~Client();
+    Client(const Client&) = delete;
+    Client& operator=(const Client&) = delete;
+
+    [[nodiscard]] asio::any_io_executor executor() const { return executor_; }
+
+    /// Connects, opens the secure channel and, unless config.createSession is false, creates
+    /// and activates an anonymous session. Good, or why not (the client is then disconnected).
+    /// BadInvalidState when already connected.
+    asio::awaitable<StatusCode> connect(std::string endpointUrl, ClientConfig config = {});
+    /// CloseSession (if any), CloseSecureChannel, then closes the socket. Requests still in
+    /// flight fail with BadConnectionClosed. Returns the CloseSession outcome; disconnecting
+    /// a disconnected client is Good.
+    asio::awaitable<StatusCode> disconnect();
+    /// Drops the connection at once, without the closing handshake.
+    void abort();
+
+    [[nodiscard]] bool isConnected() const;
+    [[nodiscard]] bool hasSession() const { return !authenticationToken_.isNull(); }
+    [[nodiscard]] const std::string& endpointUrl() const { return endpointUrl_; }
+    /// The server's endpoints as returned by CreateSession.
+    [[nodiscard]] const std::vector<EndpointDescription>& serverEndpoints() const {
+        return serverEndpoints_;
+    }
+    [[nodiscard]] const NodeId& sessionId() const { return sessionId_; }
+
+    /// Sends any request and waits for its response: fills the request header
+    /// (authenticationToken, timestamp, requestHandle, timeoutHint), then maps every failure
+    /// to a StatusCode: BadServerNotConnected, BadTimeout, BadConnectionClosed (or the ERR
+    /// status the server sent), the ServiceFault's serviceResult, BadUnknownResponse,
+    /// BadDecodingError, BadRequestCancelledByClient (when the awaiting coroutine is cancelled).
+    template <EncodableStructure Req, EncodableStructure Resp>
+    asio::awaitable<Result<Resp>> request(Req req) {
+        fillRequestHeader(req.requestHeader);
+        auto body = client_detail::encodeBody(req);
+        if (!body) co_return body.status();
+        auto reply = co_await exchange(MessageType::Message, std::move(*body));
+        if (!reply) co_return reply.status();
+        co_return client_detail::decodeBody<Resp>(*reply);
+    }
+
+    // Discovery (need a secure channel only).
+    asio::awaitable<Result<std::vector<EndpointDescription>>> getEndpoints(
+        std::string endpointUrl = {});
+    asio::awaitable<Result<std::vector<ApplicationDescription>>> findServers(
+        std::string endpointUrl = {});
+
+    // View.
+    asio::awaitable<Result<BrowseResponse>> browse(BrowseRequest req);
+    /// Browses one node; a Bad BrowseResult status becomes the error.
+    /// referenceTypeId defaults to HierarchicalReferences (i=33).
+    asio::awaitable<Result<BrowseResult>> browse(
+        NodeId nodeId, BrowseDirection direction = BrowseDirection::Forward,
+        NodeId referenceTypeId = NodeId(33), bool includeSubtypes = true,
+        std::uint32_t nodeClassMask = 0);
+    asio::awaitable<Result<BrowseNextResponse>> browseNext(BrowseNextRequest req);
+    /// Continues one browse; releaseContinuationPoint frees it on the server instead.
+    asio::awaitable<Result<BrowseResult>> browseNext(ByteString continuationPoint,
+                                                     bool releaseContinuationPoint = false);
+    asio::awaitable<Result<TranslateBrowsePathsToNodeIdsResponse>> translateBrowsePaths(
+        TranslateBrowsePathsToNodeIdsRequest req);
+    /// Follows browse names along hierarchical references from `start`; the first target.
+    asio::awaitable<Result<NodeId>> translateBrowsePath(NodeId start,
+                                                        std::vector<QualifiedName> path);
+    asio::awaitable<Result<std::vector<NodeId>>> registerNodes(std::vector<NodeId> nodes);
+    asio::awaitable<StatusCode> unregisterNodes(std::vector<NodeId> nodes);
+
+    // Attribute.
+    asio::awaitable<Result<ReadResponse>> read(ReadRequest req);
+    /// One attribute; a Bad DataValue status becomes the error.
+    asio::awaitable<Result<DataValue>> readAttribute(NodeId nodeId, AttributeId attribute);
+    asio::awaitable<Result<Variant>> readValue(NodeId nodeId);
+    asio::awaitable<Result<WriteResponse>> write(WriteRequest req);
+    /// The per-node result of writing one attribute (or the request's failure).
+    asio::awaitable<StatusCode> writeAttribute(NodeId nodeId, AttributeId attribute,
+                                               DataValue value);
+    asio::awaitable<StatusCode> writeValue(NodeId nodeId, Variant value);
+
+    // Method.
+    asio::awaitable<Result<CallResponse>> call(CallRequest req);
+    /// Calls one method; its output arguments, or its Bad status.
+    asio::awaitable<Result<std::vector<Variant>>> call(NodeId objectId, NodeId methodId,
+                                                       std::vector<Variant> inputs);
+
+private:
+    using Connection = client_detail::Connection;
+
+    void fillRequestHeader(RequestHeader& header);
+    /// Sends one message body and waits for the reply body with the same requestId.
+    asio::awaitable<Result<std::vector<std::uint8_t>>> exchange(MessageType type,
+                                                                std::vector<std::uint8_t> body);
+    asio::awaitable<StatusCode> createAndActivateSession();
+    void resetSession();
+
+    asio::any_io_executor executor_;
+    std::shared_ptr<Connection> conn_;
+    ClientConfig config_;
+    std::string endpointUrl_;
+    NodeId authenticationToken_;
+    NodeId sessionId_;
+    std::vector<EndpointDescription> serverEndpoints_;
+    std::uint32_t nextRequestHandle_ = 1;
+};
+
+}  // namespace skillcell::ua
