@@ -153,14 +153,15 @@ function localTarget(expanded, namespaces) {
 async function browseAll(session, namespaces, opts, browseBatch) {
     session.requestedMaxReferencesPerNode = opts.maxRefs;
 
-    // key -> { nodeId, nodeClass, browseName } ; nodeClass/browseName as
+    // key -> { nodeId, nodeClass, browseName, parent }; nodeClass/browseName as
     // announced by the reference that led to the node (root: from nothing).
     const found = new Map();
     const rootId = resolveNodeId(ROOT_FOLDER);
     found.set(rootId.toString(), { nodeId: rootId, nodeClass: NodeClass.Object, browseName: null });
     let queue = [rootId];
     let capped = false;
-    const stats = { browseRequests: 0, browseNextRequests: 0, references: 0, continuationPoints: 0 };
+    const stats = { browseRequests: 0, browseNextRequests: 0, references: 0, continuationPoints: 0, vanished: 0 };
+    const browseSuspects = []; // nodes that Browse said BadNodeIdUnknown for
 
     const description = (nodeId) => ({
         nodeId,
@@ -171,7 +172,7 @@ async function browseAll(session, namespaces, opts, browseBatch) {
         resultMask: 0x3f
     });
 
-    const consume = (source, references) => {
+    const consume = (parent, source, references) => {
         for (const ref of references) {
             stats.references++;
             if (!ref.isForward) {
@@ -186,7 +187,7 @@ async function browseAll(session, namespaces, opts, browseBatch) {
                 capped = true;
                 continue;
             }
-            found.set(key, { nodeId: target, nodeClass: ref.nodeClass, browseName: ref.browseName });
+            found.set(key, { nodeId: target, nodeClass: ref.nodeClass, browseName: ref.browseName, parent });
             queue.push(target);
         }
     };
@@ -207,14 +208,18 @@ async function browseAll(session, namespaces, opts, browseBatch) {
                 retry.push(nodes[i]);
                 return;
             }
+            if (is(r.statusCode, StatusCodes.BadNodeIdUnknown) && nodes[i]) {
+                browseSuspects.push({ key: src, message: `Browse ${src}: ${scName(r.statusCode)}` });
+                return;
+            }
             if (r.statusCode.isNotGood()) {
                 fail(`Browse ${src}: ${scName(r.statusCode)}`);
                 return;
             }
-            consume(src, r.references || []);
+            consume(nodes[i], src, r.references || []);
             if (r.continuationPoint && r.continuationPoint.length > 0) {
                 stats.continuationPoints++;
-                pending.push({ src, cp: r.continuationPoint });
+                pending.push({ node: nodes[i], src, cp: r.continuationPoint });
             }
         });
         while (pending.length > 0) {
@@ -231,15 +236,16 @@ async function browseAll(session, namespaces, opts, browseBatch) {
             }
             const again = [];
             next.forEach((r, i) => {
-                const src = pending[i] ? pending[i].src : `#${i}`;
+                if (!pending[i]) return;
+                const { node, src } = pending[i];
                 if (r.statusCode.isNotGood()) {
                     fail(`BrowseNext ${src}: ${scName(r.statusCode)}`);
                     return;
                 }
-                consume(src, r.references || []);
+                consume(node, src, r.references || []);
                 if (r.continuationPoint && r.continuationPoint.length > 0) {
                     stats.continuationPoints++;
-                    again.push({ src, cp: r.continuationPoint });
+                    again.push({ node, src, cp: r.continuationPoint });
                 }
             });
             pending = again;
@@ -261,11 +267,50 @@ async function browseAll(session, namespaces, opts, browseBatch) {
             if (capped) break;
         }
     }
+    // see readAllAttributes: tolerated only if the node is really gone
+    for (const { key, message } of browseSuspects) {
+        const node = found.get(key);
+        if (node && node.parent && !(await parentStillReferences(session, node.parent, key))) {
+            stats.vanished++;
+        } else {
+            fail(message);
+        }
+    }
     return { found, capped, stats };
 }
 
 // ---------------------------------------------------------------------------
 // (b) read every attribute of every node
+
+// true when a forward hierarchical browse of `parent` still returns `key`.
+async function parentStillReferences(session, parent, key) {
+    const saved = session.requestedMaxReferencesPerNode;
+    session.requestedMaxReferencesPerNode = 0;
+    try {
+        let r = await session.browse({
+            nodeId: parent,
+            browseDirection: BrowseDirection.Forward,
+            referenceTypeId: HIERARCHICAL_REFERENCES,
+            includeSubtypes: true,
+            nodeClassMask: 0,
+            resultMask: 0
+        });
+        for (;;) {
+            if (r.statusCode.isNotGood()) return false;
+            const local = (e) => new NodeId(e.identifierType, e.value, e.namespace).toString();
+            if ((r.references || []).some((ref) => local(ref.nodeId) === key)) {
+                if (r.continuationPoint && r.continuationPoint.length > 0) {
+                    await session.browseNext(r.continuationPoint, true);
+                }
+                return true;
+            }
+            if (!r.continuationPoint || r.continuationPoint.length === 0) return false;
+            r = await session.browseNext(r.continuationPoint, false);
+        }
+    } finally {
+        session.requestedMaxReferencesPerNode = saved;
+    }
+}
 
 function sameQualifiedName(a, b) {
     return a && b && a.namespaceIndex === b.namespaceIndex && a.name === b.name;
@@ -279,7 +324,9 @@ async function readAllAttributes(session, found, opts, readBatch) {
             items.push({ node, attributeId });
         }
     }
-    const stats = { reads: 0, existing: 0, readRequests: 0, otherBad: new Map() };
+    const stats = { reads: 0, existing: 0, readRequests: 0, otherBad: new Map(), vanished: 0 };
+    // nodes whose mandatory attributes said BadNodeIdUnknown: key -> messages
+    const suspects = new Map();
     // per node: attributeId -> statusCode, for the --strict checks
     const perNode = new Map();
 
@@ -308,12 +355,15 @@ async function readAllAttributes(session, found, opts, readBatch) {
             }
             stats.existing++;
             if (sc.isNotGood()) {
-                if (attributeId <= 4) {
+                if (is(sc, StatusCodes.BadNodeIdUnknown) && (attributeId <= 4 || opts.strict)) {
+                    if (!suspects.has(key)) suspects.set(key, []);
+                    suspects.get(key).push(`Read ${where}: ${scName(sc)}`);
+                } else if (attributeId <= 4) {
                     fail(`Read ${where}: ${scName(sc)}`);
                 } else {
                     const k = `${ATTRIBUTE_NAMES[attributeId]}:${sc.name}`;
                     stats.otherBad.set(k, (stats.otherBad.get(k) || 0) + 1);
-                    if (opts.strict && (is(sc, StatusCodes.BadNodeIdUnknown) || is(sc, StatusCodes.BadNodeIdInvalid))) {
+                    if (opts.strict && is(sc, StatusCodes.BadNodeIdInvalid)) {
                         fail(`Read ${where}: ${scName(sc)} for a node returned by Browse`);
                     }
                 }
@@ -351,6 +401,21 @@ async function readAllAttributes(session, found, opts, readBatch) {
                     break;
             }
         });
+    }
+
+    // A node may legitimately disappear between Browse and Read (node-opcua,
+    // for one, exposes a diagnostics object per session, gone once that
+    // session closes). Such a node is only tolerated when browsing its
+    // parent again no longer returns it.
+    for (const [key, messages] of suspects) {
+        const node = found.get(key);
+        const stillThere = node.parent ? await parentStillReferences(session, node.parent, key) : true;
+        if (stillThere) {
+            messages.forEach(fail);
+        } else {
+            stats.vanished++;
+            perNode.delete(key);
+        }
     }
 
     if (opts.strict) {
@@ -559,13 +624,14 @@ async function main() {
         process.stdout.write(
             `browsed nodes=${nodes} references=${bs.references} browse_requests=${bs.browseRequests} ` +
                 `browse_next_requests=${bs.browseNextRequests} continuation_points=${bs.continuationPoints}` +
-                `${capped ? ` (capped at ${MAX_NODES})` : ""}\n`
+                `${bs.vanished ? ` vanished_nodes=${bs.vanished}` : ""}${capped ? ` (capped at ${MAX_NODES})` : ""}\n`
         );
 
         const rs = await readAllAttributes(session, found, opts, readBatch);
         attributes = rs.existing;
         process.stdout.write(
-            `read attribute_reads=${rs.reads} existing=${rs.existing} read_requests=${rs.readRequests}\n`
+            `read attribute_reads=${rs.reads} existing=${rs.existing} read_requests=${rs.readRequests}` +
+                `${rs.vanished ? ` vanished_nodes=${rs.vanished}` : ""}\n`
         );
         if (rs.otherBad.size > 0) {
             const parts = Array.from(rs.otherBad.entries()).map(([k, n]) => `${k}=${n}`);

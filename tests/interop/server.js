@@ -136,13 +136,7 @@ function populate(addressSpace) {
     });
 }
 
-async function main() {
-    const opts = parseArgs(process.argv.slice(2));
-    const port = opts.port === 0 ? await pickFreePort() : opts.port;
-
-    // Keep the server's PKI (self-signed certificate, created on first run)
-    // out of the repository; it is reused by later runs.
-    const pkiRoot = process.env.SKILLCELL_INTEROP_PKI || path.join(os.tmpdir(), "skillcell-interop-pki");
+function createServer(port, pkiRoot) {
     const serverCertificateManager = new OPCUACertificateManager({
         automaticallyAcceptUnknownCertificate: true,
         rootFolder: path.join(pkiRoot, "server")
@@ -151,26 +145,25 @@ async function main() {
         automaticallyAcceptUnknownCertificate: true,
         rootFolder: path.join(pkiRoot, "server-users")
     });
-
-    const server = new OPCUAServer({
+    return new OPCUAServer({
         port,
-        host: HOST,
-        hostname: HOST,
+        host: HOST, // listen on loopback only
+        hostname: HOST, // and advertise opc.tcp://127.0.0.1:PORT in the endpoints
         nodeset_filename: [nodesets.standard],
         securityPolicies: [SecurityPolicy.None],
         securityModes: [MessageSecurityMode.None],
         allowAnonymous: true,
-        disableDiscovery: false,
         serverCertificateManager,
         userCertificateManager,
         buildInfo: { productName: "skillcell-interop-node-opcua", softwareVersion: "1.0" },
         serverInfo: { applicationUri: "urn:skillcell:interop:node-opcua-server", productUri: "urn:skillcell:interop" }
     });
+}
 
-    await server.initialize();
-    populate(server.engine.addressSpace);
-    await server.start();
+async function main() {
+    const opts = parseArgs(process.argv.slice(2));
 
+    let server = null;
     let stopping = false;
     const shutdown = async (sig) => {
         if (stopping) return;
@@ -178,7 +171,7 @@ async function main() {
         const guard = setTimeout(() => process.exit(0), 5000);
         guard.unref();
         try {
-            await server.shutdown(0);
+            if (server) await server.shutdown(0);
         } catch (err) {
             process.stderr.write(`server.js: shutdown error on ${sig}: ${err && err.message}\n`);
         }
@@ -187,8 +180,37 @@ async function main() {
     process.on("SIGTERM", () => shutdown("SIGTERM"));
     process.on("SIGINT", () => shutdown("SIGINT"));
 
-    const url = `opc.tcp://${HOST}:${port}`;
-    process.stdout.write(`READY ${url}\n`);
+    // Keep the server's PKI (self-signed certificate, created on first run)
+    // out of the repository; it is reused by later runs.
+    const pkiRoot = process.env.SKILLCELL_INTEROP_PKI || path.join(os.tmpdir(), "skillcell-interop-pki");
+
+    // With --port 0 the port picked here could be taken by someone else
+    // before node-opcua binds it: pick another one and try again.
+    const attempts = opts.port === 0 ? 5 : 1;
+    let port = 0;
+    for (let attempt = 1; ; attempt++) {
+        port = opts.port === 0 ? await pickFreePort() : opts.port;
+        const candidate = createServer(port, pkiRoot);
+        try {
+            await candidate.initialize();
+            populate(candidate.engine.addressSpace);
+            await candidate.start();
+            server = candidate;
+            break;
+        } catch (err) {
+            const inUse = err && (err.code === "EADDRINUSE" || /EADDRINUSE/.test(String(err.message)));
+            try {
+                await candidate.shutdown(0);
+            } catch (_) {
+                // it never fully started
+            }
+            if (!inUse || attempt >= attempts) throw err;
+            process.stderr.write(`server.js: port ${port} taken, picking another one\n`);
+        }
+    }
+    if (stopping) return;
+
+    process.stdout.write(`READY opc.tcp://${HOST}:${port}\n`);
 }
 
 main().catch((err) => {
