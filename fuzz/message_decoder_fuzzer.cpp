@@ -59,6 +59,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             SecureChannel channel(SecureChannel::Role::Server, TransportLimits{},
                                   std::make_unique<SecurityPolicyNone>());
             const SteadyTime now{};
+            // Open the channel first (channel id 1, token 1) so that fuzzed MSG frames get
+            // past the state check and into reassembly and request decoding.
+            OpenSecureChannelRequest open;
+            open.requestedLifetime = 60'000;
+            if (!channel.openOrRenew(open, 1, now)) return 0;
             while (input.size() >= kMessageHeaderSize) {
                 auto header = parseMessageHeader(input.first<kMessageHeaderSize>(), 1u << 16);
                 if (!header || header->size > input.size()) break;

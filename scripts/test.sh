@@ -22,12 +22,16 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
 
 echo "== fuzz (short runs)"
 cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz -j "$jobs"
+cmake --build --preset fuzz -j "$jobs" --target fuzz_message_decoder
 for target in build-fuzz/fuzz/fuzz_*; do
   [ -x "$target" ] || continue
   corpus="fuzz/corpus/$(basename "$target")"
   mkdir -p "build-fuzz/corpus-$(basename "$target")"
-  "$target" -max_total_time="${SKILLCELL_FUZZ_SECONDS:-60}" -rss_limit_mb=1024 \
-    "build-fuzz/corpus-$(basename "$target")" "$corpus" 2>&1 | tail -n 3
+  log="build-fuzz/$(basename "$target").log"
+  if ! "$target" -max_total_time="${SKILLCELL_FUZZ_SECONDS:-60}" -rss_limit_mb=1024 \
+      "build-fuzz/corpus-$(basename "$target")" "$corpus" >"$log" 2>&1; then
+    tail -n 60 "$log"; echo "fuzz target $(basename "$target") found a failure" >&2; exit 1
+  fi
+  tail -n 1 "$log"
 done
 echo "== all tests passed"
