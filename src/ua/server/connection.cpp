@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include <spdlog/spdlog.h>
+
 #include <asio/experimental/as_tuple.hpp>
 
 #include "ua/messages/secure_channel.hpp"
@@ -36,6 +38,10 @@ asio::awaitable<void> Connection::run() {
     auto self = shared_from_this();
     asio::error_code ignored;
     socket_.set_option(asio::ip::tcp::no_delay(true), ignored);  // request/response latency
+    if (auto ep = socket_.remote_endpoint(ignored); !ignored) {
+        peer_ = ep.address().to_string() + ":" + std::to_string(ep.port());
+    }
+    spdlog::debug("channel {}: connection from {}", channelId_, peer_);
     setDeadline(steadyNow() + std::chrono::milliseconds(env_.limits.helloTimeoutMs));
     auto executor = co_await asio::this_coro::executor;
     asio::co_spawn(executor, [self] { return self->writer(); }, asio::detached);
@@ -93,7 +99,9 @@ asio::awaitable<StatusCode> Connection::serve() {
         switch (message.type) {
             case MessageType::OpenChannel: s = handleOpen(message, now); break;
             case MessageType::Message: s = handleMessage(message, now); break;
-            case MessageType::CloseChannel: co_return status::BadConnectionClosed;
+            case MessageType::CloseChannel:
+                spdlog::debug("channel {} ({}): closed by the client", channelId_, peer_);
+                co_return status::BadConnectionClosed;
             default: s = status::BadTcpMessageTypeInvalid; break;
         }
         if (s.isBad()) co_return s;
@@ -139,6 +147,8 @@ StatusCode Connection::handleHello(std::span<const std::uint8_t> frame) {
     if (!negotiated) return negotiated.status();
     limits_ = negotiated->limits;
     endpointUrl_ = hello.endpointUrl;
+    spdlog::debug("channel {} ({}): hello for '{}', buffers {}/{}", channelId_, peer_,
+                  endpointUrl_, limits_.receiveBufferSize, limits_.sendBufferSize);
     send(encodeAcknowledge(negotiated->ack));
     return status::Good;
 }
@@ -224,6 +234,8 @@ void Connection::send(std::vector<std::uint8_t> frame) {
 
 void Connection::fail(StatusCode status, std::string_view reason) {
     if (closing_) return;
+    spdlog::warn("channel {} ({}): closing with {}: {}", channelId_, peer_, statusName(status),
+                 reason);
     send(encodeError(status, reason));
     closing_ = true;
 }

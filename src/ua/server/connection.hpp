@@ -63,6 +63,7 @@ private:
     std::optional<SecureChannel> channel_;
     TransportLimits limits_;
     std::string endpointUrl_;
+    std::string peer_ = "?";  // "address:port", for logs
 
     std::vector<std::uint8_t> in_;
     std::size_t inBegin_ = 0;

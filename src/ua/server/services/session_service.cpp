@@ -1,5 +1,7 @@
 #include "ua/server/services/session_service.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 
 namespace skillcell::ua {
@@ -9,7 +11,13 @@ StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
                          const ServerDescription& description, const CreateSessionRequest& req,
                          CreateSessionResponse& resp) {
     auto session = sessions.create(req, ctx.channelId, ctx.now);
-    if (!session) return session.status();
+    if (!session) {
+        spdlog::warn("channel {}: CreateSession '{}' refused: {}", ctx.channelId, req.sessionName,
+                     statusName(session.status()));
+        return session.status();
+    }
+    spdlog::info("channel {}: session {} '{}' created (timeout {} ms)", ctx.channelId,
+                 (*session)->sessionId().toString(), req.sessionName, (*session)->timeout().count());
     const String url = description.endpointUrlFor(ctx.endpointUrl);
     resp.sessionId = (*session)->sessionId();
     resp.authenticationToken = (*session)->authenticationToken();
@@ -41,7 +49,11 @@ StatusCode activateSession(ServiceContext& ctx, SessionManager& sessions,
     // Moving a session to another channel needs the client's signature over the server
     // nonce, which needs a secure policy; with None only the creating channel may activate.
     if (session->channelId() != ctx.channelId) return status::BadSecureChannelIdInvalid;
-    if (const StatusCode s = checkIdentity(req.userIdentityToken); s.isBad()) return s;
+    if (const StatusCode s = checkIdentity(req.userIdentityToken); s.isBad()) {
+        spdlog::warn("session {}: identity token refused: {}", session->sessionId().toString(),
+                     statusName(s));
+        return s;
+    }
     session->activate(ctx.channelId);
     session->touch(ctx.now);
     resp.serverNonce = sessions.randomBytes(32);
@@ -70,6 +82,7 @@ void registerSessionServices(ServiceTable& table, SessionManager& sessions,
             Session* session = sessions.find(req.requestHeader.authenticationToken);
             if (session == nullptr) return status::BadSessionIdInvalid;
             if (session->channelId() != ctx.channelId) return status::BadSecureChannelIdInvalid;
+            spdlog::info("session {} '{}' closed", session->sessionId().toString(), session->name());
             sessions.close(req.requestHeader.authenticationToken);
             return status::Good;
         });
