@@ -136,6 +136,10 @@ TEST(Encoding, VariantRejectsInconsistentInput) {
                                      0, 0x03, 0, 0, 0}),
               status::BadDecodingError);
     EXPECT_EQ(decodeStatus<Variant>({0x80, 0x01, 0, 0, 0}), status::BadDecodingError);  // Null[1]
+    // Empty dimensions are fine for an empty array only.
+    EXPECT_EQ(decodeStatus<Variant>({0xD1, 0, 0, 0, 0, 0, 0, 0, 0}), status::Good);
+    EXPECT_EQ(decodeStatus<Variant>({0xC3, 0x01, 0, 0, 0, 7, 0, 0, 0, 0}),
+              status::BadDecodingError);
     // An array whose elements disagree with its type does not encode.
     std::vector<std::uint8_t> out;
     BinaryWriter w(out);

@@ -316,7 +316,9 @@ void decode(BinaryReader& r, Variant& v) {
             product *= static_cast<std::uint64_t>(d);
             if (product > n) break;
         }
-        if (r.ok() && (dims.empty() || product != n)) {
+        // An empty array may come with empty dimensions (node-opcua sends a matrix with no
+        // value that way); any other array's dimensions must multiply to its length.
+        if (r.ok() && (dims.empty() ? n != 0 : product != n)) {
             r.fail(status::BadDecodingError);
             return;
         }
