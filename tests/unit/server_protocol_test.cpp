@@ -71,6 +71,26 @@ std::vector<std::uint8_t> readRequestBody(std::uint32_t handle, const NodeId& to
     return body;
 }
 
+// Offsets of a MSG chunk's fields: header (8), channel id, token id, sequence number.
+constexpr std::size_t kChannelIdOffset = 8;
+constexpr std::size_t kTokenIdOffset = 12;
+constexpr std::size_t kSequenceNumberOffset = 16;
+
+/// A valid single-chunk Read request frame whose UInt32 at `offset` is replaced by
+/// `change(old value)`: how the tests forge one bad field at a time.
+template <class Change>
+std::vector<std::uint8_t> readFrameWithField(RawConnection& c, std::size_t offset, Change change) {
+    auto frames = c.channel().encodeMessage(MessageType::Message, c.nextRequestId(),
+                                            readRequestBody(7));
+    if (!frames || frames->size() != 1) return {};
+    auto frame = (*frames)[0];
+    std::uint32_t value = 0;
+    std::memcpy(&value, frame.data() + offset, 4);
+    value = change(value);
+    std::memcpy(frame.data() + offset, &value, 4);
+    return frame;
+}
+
 /// The ServiceFault status in a response body, or Good if it is not a ServiceFault.
 StatusCode faultStatus(const std::vector<std::uint8_t>& body, std::uint32_t* handle = nullptr) {
     BinaryReader r(body);
@@ -179,16 +199,8 @@ TEST_F(ServerProtocol, MessageBeforeOpenSecureChannelIsRejected) {
 TEST_F(ServerProtocol, BadSequenceNumberClosesTheChannel) {
     RawConnection c(server_.port());
     c.open();
-    auto frames = c.channel().encodeMessage(MessageType::Message, c.nextRequestId(),
-                                            readRequestBody(7));
-    ASSERT_TRUE(frames);
-    auto frame = (*frames)[0];
-    // Sequence number sits after header (8), channel id (4) and token id (4): skip ahead.
-    std::uint32_t seq = 0;
-    std::memcpy(&seq, frame.data() + 16, 4);
-    seq += 5;
-    std::memcpy(frame.data() + 16, &seq, 4);
-    c.send(frame);
+    // The sequence number skips ahead instead of following the OPN's.
+    c.send(readFrameWithField(c, kSequenceNumberOffset, [](std::uint32_t seq) { return seq + 5; }));
     EXPECT_EQ(c.readError(), status::BadSequenceNumberInvalid);
     EXPECT_TRUE(c.closedByPeer());
 }
@@ -196,26 +208,14 @@ TEST_F(ServerProtocol, BadSequenceNumberClosesTheChannel) {
 TEST_F(ServerProtocol, WrongSecureChannelIdIsRejected) {
     RawConnection c(server_.port());
     c.open();
-    auto frames = c.channel().encodeMessage(MessageType::Message, c.nextRequestId(),
-                                            readRequestBody(7));
-    ASSERT_TRUE(frames);
-    auto frame = (*frames)[0];
-    const std::uint32_t otherChannel = c.channel().channelId() + 1000;
-    std::memcpy(frame.data() + 8, &otherChannel, 4);
-    c.send(frame);
+    c.send(readFrameWithField(c, kChannelIdOffset, [](std::uint32_t id) { return id + 1000; }));
     EXPECT_EQ(c.readError(), status::BadTcpSecureChannelUnknown);
 }
 
 TEST_F(ServerProtocol, UnknownTokenIsRejected) {
     RawConnection c(server_.port());
     c.open();
-    auto frames = c.channel().encodeMessage(MessageType::Message, c.nextRequestId(),
-                                            readRequestBody(7));
-    ASSERT_TRUE(frames);
-    auto frame = (*frames)[0];
-    const std::uint32_t token = 999;
-    std::memcpy(frame.data() + 12, &token, 4);
-    c.send(frame);
+    c.send(readFrameWithField(c, kTokenIdOffset, [](std::uint32_t) { return 999u; }));
     EXPECT_EQ(c.readError(), status::BadSecureChannelTokenUnknown);
 }
 
