@@ -6,7 +6,7 @@ namespace skillcell::apps {
 
 using namespace ua;
 
-StatusCode addDemoNodes(AddressSpace& as) {
+StatusCode addDemoNodes(AddressSpace& as, DemoEventSink fireEvent) {
     const std::uint16_t ns = as.registerNamespace(kDemoNamespaceUri);
     auto id = [ns](const char* name) { return NodeId(ns, String(name)); };
     const NodeId demo = id("Demo");
@@ -66,7 +66,18 @@ StatusCode addDemoNodes(AddressSpace& as) {
                                 out.emplace_back(*in[0].get<double>() + *in[1].get<double>());
                                 return status::Good;
                             });
-    return add ? status::Good : add.status();
+    if (!add) return add.status();
+    if (!fireEvent) return status::Good;
+
+    if (Node* node = as.find(demo)) node->eventNotifier = 1;  // SubscribeToEvents
+    Argument message{"message", NodeId(ns0::String), value_rank::kScalar, {}, {"", "event text"}};
+    auto fire = as.addMethod(demo, id("Demo.FireEvent"), "Demo.FireEvent", {message}, {},
+                             [fireEvent, demo](const NodeId&, std::span<const Variant> in,
+                                               std::vector<Variant>&) -> StatusCode {
+                                 fireEvent(demo, *in[0].get<String>());
+                                 return status::Good;
+                             });
+    return fire ? status::Good : fire.status();
 }
 
 }  // namespace skillcell::apps

@@ -45,7 +45,14 @@ int runServer(const ServerOptions& options) {
         spdlog::critical("cannot build the server: {}", error);
         return 1;
     }
-    if (const auto s = addDemoNodes(server->addressSpace()); s.isBad()) {
+    auto fireDemoEvent = [&server](const ua::NodeId& source, ua::String message) {
+        ua::Event event;
+        event.sourceNode = source;
+        event.message = {"", std::move(message)};
+        event.severity = 500;
+        server->fireEvent(std::move(event));
+    };
+    if (const auto s = addDemoNodes(server->addressSpace(), fireDemoEvent); s.isBad()) {
         spdlog::critical("cannot add the demo nodes: {}", ua::statusName(s));
         return 1;
     }

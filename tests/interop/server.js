@@ -4,7 +4,8 @@
 // usage: node server.js [--port N]      (N = 0 or omitted: pick a free port)
 //
 // Exposes, in namespace "urn:skillcell:demo", the object ns=<idx>;s=Demo
-// (organized by Objects) with the Demo.* variables and the Demo.Add method.
+// (organized by Objects) with the Demo.* variables and the methods Demo.Add and
+// Demo.FireEvent (raises a BaseEventType event from the Server object).
 // Prints exactly one line "READY opc.tcp://127.0.0.1:PORT" on stdout once it
 // is listening, and shuts down cleanly on SIGTERM / SIGINT.
 "use strict";
@@ -133,6 +134,27 @@ function populate(addressSpace) {
             statusCode: StatusCodes.Good,
             outputArguments: [new Variant({ dataType: DataType.Double, value: a + b })]
         };
+    });
+
+    // Demo.FireEvent(message): raises a BaseEventType event from the Server object, so that
+    // event subscriptions (skillcell_subscriptions_vs_node_server.cpp) have something to see.
+    const fireEvent = ns.addMethod(demo, {
+        nodeId: "s=Demo.FireEvent",
+        browseName: "FireEvent",
+        inputArguments: [
+            { name: "message", description: { text: "the event's Message" }, dataType: DataType.String, valueRank: -1 }
+        ],
+        outputArguments: []
+    });
+    // eslint-disable-next-line no-unused-vars
+    fireEvent.bindMethod(async (inputArguments, context) => {
+        const text = inputArguments[0].value || "";
+        addressSpace.rootFolder.objects.server.raiseEvent("BaseEventType", {
+            message: { dataType: DataType.LocalizedText, value: { text } },
+            severity: { dataType: DataType.UInt16, value: 500 },
+            sourceName: { dataType: DataType.String, value: "Demo" }
+        });
+        return { statusCode: StatusCodes.Good, outputArguments: [] };
     });
 }
 

@@ -9,3 +9,14 @@ target_compile_definitions(test_nodeset PRIVATE
 
 skillcell_unit_test(test_services services_test.cpp)
 target_link_libraries(test_services PRIVATE skillcell_ua_services)
+
+skillcell_unit_test(test_instantiate instantiate_test.cpp)
+target_link_libraries(test_instantiate PRIVATE skillcell_ua_nodeset)
+
+skillcell_unit_test(test_dynamic_structure dynamic_structure_test.cpp)
+target_link_libraries(test_dynamic_structure PRIVATE skillcell_ua_nodeset)
+
+skillcell_unit_test(test_nodeset_roundtrip nodeset_roundtrip_test.cpp)
+target_link_libraries(test_nodeset_roundtrip PRIVATE skillcell_ua_nodeset skillcell_ua_server)
+target_compile_definitions(test_nodeset_roundtrip PRIVATE
+  SKILLCELL_MODELS_DIR="${PROJECT_SOURCE_DIR}/models")

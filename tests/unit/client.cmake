@@ -1,3 +1,5 @@
 # unit tests of src/ua/client
 skillcell_unit_test(test_client client_test.cpp)
 target_link_libraries(test_client PRIVATE skillcell_ua_client)
+skillcell_unit_test(test_client_subscription client_subscription_test.cpp)
+target_link_libraries(test_client_subscription PRIVATE skillcell_ua_client)

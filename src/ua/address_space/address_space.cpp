@@ -190,6 +190,7 @@ StatusCode AddressSpace::setValue(const NodeId& id, Variant value) {
     n->value = DataValue{};
     n->value.value = std::move(value);
     n->value.sourceTimestamp = DateTime::now();
+    notifyValueChanged(*n);
     return status::Good;
 }
 
@@ -326,6 +327,23 @@ Result<Node*> AddressSpace::addMethod(const NodeId& parent, const NodeId& id,
         if (!prop) return prop.status();
     }
     return find(id);
+}
+
+void AddressSpace::registerModel(Model model) {
+    for (auto& m : models_) {
+        if (m.uri == model.uri) {
+            m = std::move(model);
+            return;
+        }
+    }
+    models_.push_back(std::move(model));
+}
+
+const AddressSpace::Model* AddressSpace::findModel(std::string_view uri) const {
+    for (const auto& m : models_) {
+        if (m.uri == uri) return &m;
+    }
+    return nullptr;
 }
 
 NodeId AddressSpace::childNodeId(const NodeId& parent, std::string_view name) {

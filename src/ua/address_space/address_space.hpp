@@ -7,6 +7,7 @@
 // thread must post the change to that io_context (asio::post(io, [&]{ as.setValue(...); })).
 // Value sources, sinks and method callbacks are called on that thread too.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -39,6 +40,11 @@ public:
     [[nodiscard]] Node* find(const NodeId& id);
     [[nodiscard]] const Node* find(const NodeId& id) const;
     [[nodiscard]] std::size_t size() const { return nodes_.size(); }
+    /// Calls f(const Node&) for every node, in no particular order (exporters, checks).
+    template <class F>
+    void forEachNode(F&& f) const {
+        for (const auto& [id, node] : nodes_) f(node);
+    }
 
     /// Adds a node without references. BadNodeIdInvalid for the null NodeId,
     /// BadNodeIdExists when the id is taken. The returned pointer stays valid until the
@@ -77,6 +83,16 @@ public:
     /// node without a Value attribute, BadTypeMismatch for a value that does not fit.
     StatusCode setValue(const NodeId& id, Variant value);
     StatusCode setValueSource(const NodeId& id, ValueSource source);
+
+    /// Told after a variable's value changed through setValue() or the Write service, so
+    /// that subscriptions report the change at once instead of polling for it. One observer
+    /// (the server's subscription engine); values from a ValueSource are not observed (the
+    /// engine samples those). Runs on the address space's thread, inside the change.
+    using ValueObserver = std::function<void(const Node&)>;
+    void setValueObserver(ValueObserver observer) { valueObserver_ = std::move(observer); }
+    void notifyValueChanged(const Node& node) const {
+        if (valueObserver_) valueObserver_(node);
+    }
     StatusCode setValueSink(const NodeId& id, ValueSink sink);
     StatusCode setMethodCallback(const NodeId& id, MethodCallback callback);
 
@@ -108,6 +124,21 @@ public:
     /// ns=<parent's>;s=<parent id text>/<name>, e.g. "ns=1;s=Demo.Add/InputArguments".
     [[nodiscard]] static NodeId childNodeId(const NodeId& parent, std::string_view name);
 
+    // --- Data types and models -----------------------------------------------------------
+    /// The structured and enumerated data types known to this address space (filled by the
+    /// NodeSet2 loader from DataType nodes and their <Definition>), for DynamicStructure.
+    [[nodiscard]] const DataTypeRegistry& dataTypes() const { return dataTypes_; }
+    [[nodiscard]] DataTypeRegistry& dataTypes() { return dataTypes_; }
+
+    /// A loaded information model (a NodeSet2 <Model>), for RequiredModel checks.
+    struct Model {
+        String uri;
+        String version;
+        std::optional<DateTime> publicationDate;
+    };
+    void registerModel(Model model);
+    [[nodiscard]] const Model* findModel(std::string_view uri) const;
+
     /// The Argument list stored in a method's InputArguments or OutputArguments property;
     /// empty if it has none. BadDecodingError for a property that holds something else.
     [[nodiscard]] Result<std::vector<Argument>> methodArguments(
@@ -120,6 +151,9 @@ private:
 
     std::vector<String> namespaces_;
     std::unordered_map<NodeId, Node> nodes_;
+    DataTypeRegistry dataTypes_;
+    std::vector<Model> models_;
+    ValueObserver valueObserver_;
 };
 
 /// An ExtensionObject array value holding `arguments` (for InputArguments properties).

@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "ua/address_space/dynamic_structure.hpp"
 #include "ua/messages/common.hpp"
 #include "ua/types/variant.hpp"
 
@@ -87,6 +88,10 @@ struct Node {
     bool userExecutable = true;
     MethodCallback method;
 
+    // DataType: the DataTypeDefinition attribute (structure fields or enumeration values),
+    // read from the NodeSet2 <Definition>; monostate for types without one.
+    StructureOrEnumDefinition definition;
+
     /// Both directions, in insertion order (Browse returns them in this order).
     std::vector<Reference> references;
     /// The supertype (inverse HasSubtype target) of a type node, cached when the
@@ -97,6 +102,8 @@ struct Node {
 /// True when nodes of `nodeClass` have attribute `attributeId` (OPC 10000-3, Table 8
 /// onwards). Optional attributes skillcell does not keep (RolePermissions,
 /// UserRolePermissions, AccessRestrictions, DataTypeDefinition) count as absent.
+/// DataTypeDefinition is per node, not per class: the Read service answers it for the
+/// DataType nodes whose `definition` is set (structures and enumerations).
 [[nodiscard]] bool hasAttribute(NodeClass nodeClass, std::uint32_t attributeId);
 
 }  // namespace skillcell::ua

@@ -128,4 +128,63 @@ Result<std::vector<Variant>> BlockingClient::call(NodeId objectId, NodeId method
     });
 }
 
+Result<std::shared_ptr<Subscription>> BlockingClient::createSubscription(
+    SubscriptionSettings settings, Subscription::StatusCallback onStatusChange) {
+    return run([&](Client& c) {
+        return c.createSubscription(std::move(settings), std::move(onStatusChange));
+    });
+}
+
+Result<Subscription::MonitoredItem> BlockingClient::monitorDataChange(
+    const std::shared_ptr<Subscription>& sub, NodeId nodeId, AttributeId attribute,
+    double samplingInterval, std::uint32_t queueSize, std::optional<DataChangeFilter> filter,
+    Subscription::DataChangeCallback callback) {
+    return run([&](Client&) {
+        return sub->monitorDataChange(std::move(nodeId), attribute, samplingInterval, queueSize,
+                                      std::move(filter), std::move(callback));
+    });
+}
+
+Result<Subscription::MonitoredItem> BlockingClient::monitorEvents(
+    const std::shared_ptr<Subscription>& sub, NodeId notifier, EventFilter filter,
+    Subscription::EventCallback callback, std::uint32_t queueSize) {
+    return run([&](Client&) {
+        return sub->monitorEvents(std::move(notifier), std::move(filter), std::move(callback),
+                                  queueSize);
+    });
+}
+
+Result<Subscription::MonitoredItem> BlockingClient::modifyMonitoredItem(
+    const std::shared_ptr<Subscription>& sub, std::uint32_t monitoredItemId,
+    double samplingInterval, std::uint32_t queueSize) {
+    return run([&](Client&) {
+        return sub->modifyMonitoredItem(monitoredItemId, samplingInterval, queueSize);
+    });
+}
+
+Result<std::vector<StatusCode>> BlockingClient::setMonitoringMode(
+    const std::shared_ptr<Subscription>& sub, std::vector<std::uint32_t> monitoredItemIds,
+    MonitoringMode mode) {
+    return run([&](Client&) { return sub->setMonitoringMode(std::move(monitoredItemIds), mode); });
+}
+
+Result<std::vector<StatusCode>> BlockingClient::deleteMonitoredItems(
+    const std::shared_ptr<Subscription>& sub, std::vector<std::uint32_t> monitoredItemIds) {
+    return run([&](Client&) { return sub->deleteMonitoredItems(std::move(monitoredItemIds)); });
+}
+
+StatusCode BlockingClient::modifySubscription(const std::shared_ptr<Subscription>& sub,
+                                              SubscriptionSettings settings) {
+    return run([&](Client&) { return sub->modify(std::move(settings)); });
+}
+
+StatusCode BlockingClient::setPublishingMode(const std::shared_ptr<Subscription>& sub,
+                                             bool enabled) {
+    return run([&](Client&) { return sub->setPublishingMode(enabled); });
+}
+
+StatusCode BlockingClient::deleteSubscription(const std::shared_ptr<Subscription>& sub) {
+    return run([&](Client&) { return sub->remove(); });
+}
+
 }  // namespace skillcell::ua

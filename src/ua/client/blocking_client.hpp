@@ -69,6 +69,33 @@ public:
     Result<std::vector<Variant>> call(NodeId objectId, NodeId methodId,
                                       std::vector<Variant> inputs);
 
+    // Subscriptions (see Subscription). The callbacks given here run on the client's own
+    // thread, not the caller's: they must not block and must not call this BlockingClient
+    // (that would deadlock); hand what they receive to another thread instead. Use a
+    // Subscription only through these calls, and read its accessors only between them.
+    Result<std::shared_ptr<Subscription>> createSubscription(
+        SubscriptionSettings settings, Subscription::StatusCallback onStatusChange = {});
+    Result<Subscription::MonitoredItem> monitorDataChange(
+        const std::shared_ptr<Subscription>& sub, NodeId nodeId, AttributeId attribute,
+        double samplingInterval, std::uint32_t queueSize, std::optional<DataChangeFilter> filter,
+        Subscription::DataChangeCallback callback);
+    Result<Subscription::MonitoredItem> monitorEvents(const std::shared_ptr<Subscription>& sub,
+                                                      NodeId notifier, EventFilter filter,
+                                                      Subscription::EventCallback callback,
+                                                      std::uint32_t queueSize = 100);
+    Result<Subscription::MonitoredItem> modifyMonitoredItem(
+        const std::shared_ptr<Subscription>& sub, std::uint32_t monitoredItemId,
+        double samplingInterval, std::uint32_t queueSize);
+    Result<std::vector<StatusCode>> setMonitoringMode(const std::shared_ptr<Subscription>& sub,
+                                                      std::vector<std::uint32_t> monitoredItemIds,
+                                                      MonitoringMode mode);
+    Result<std::vector<StatusCode>> deleteMonitoredItems(
+        const std::shared_ptr<Subscription>& sub, std::vector<std::uint32_t> monitoredItemIds);
+    StatusCode modifySubscription(const std::shared_ptr<Subscription>& sub,
+                                  SubscriptionSettings settings);
+    StatusCode setPublishingMode(const std::shared_ptr<Subscription>& sub, bool enabled);
+    StatusCode deleteSubscription(const std::shared_ptr<Subscription>& sub);
+
     /// Runs `start(client)` (which returns an awaitable) on the client's thread and waits for
     /// its result; the building block of every call above, and open for custom sequences.
     template <class Start>

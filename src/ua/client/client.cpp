@@ -325,13 +325,14 @@ asio::awaitable<void> readLoop(std::shared_ptr<Connection> conn) {
 
 asio::awaitable<Result<std::vector<std::uint8_t>>> exchangeOn(std::shared_ptr<Connection> conn,
                                                               MessageType type,
-                                                              std::vector<std::uint8_t> body) {
+                                                              std::vector<std::uint8_t> body,
+                                                              std::chrono::milliseconds timeout) {
     if (conn->closed) co_return conn->closeReason;
     const auto requestId = conn->nextRequestId++;
     auto frames = conn->channel->encodeMessage(type, requestId, body);
     if (!frames) co_return frames.status();
     auto pending = std::make_shared<Connection::Pending>(conn->socket.get_executor());
-    pending->timer.expires_after(conn->requestTimeout);
+    pending->timer.expires_after(timeout);
     conn->pending.emplace(requestId, pending);
     enqueue(conn, std::move(*frames));
     while (!pending->reply) {
@@ -360,7 +361,8 @@ asio::awaitable<StatusCode> openChannel(std::shared_ptr<Connection> conn,
     req.requestHeader.timeoutHint = static_cast<std::uint32_t>(conn->requestTimeout.count());
     auto body = client_detail::encodeBody(req);
     if (!body) co_return body.status();
-    auto reply = co_await exchangeOn(conn, MessageType::OpenChannel, std::move(*body));
+    auto reply =
+        co_await exchangeOn(conn, MessageType::OpenChannel, std::move(*body), conn->requestTimeout);
     if (!reply) co_return reply.status();
     auto response = client_detail::decodeBody<OpenSecureChannelResponse>(*reply);
     if (!response) co_return response.status();
@@ -459,6 +461,8 @@ Client::~Client() {
 }
 
 void Client::abort() {
+    // Subscriptions end quietly: the caller chose to drop the connection.
+    endSubscriptions(status::BadConnectionClosed);
     if (conn_) conn_->close(status::BadConnectionClosed);
     conn_.reset();
     resetSession();
@@ -474,17 +478,21 @@ void Client::resetSession() {
 }
 
 void Client::fillRequestHeader(RequestHeader& header) {
+    fillRequestHeader(header, config_.requestTimeout);
+}
+
+void Client::fillRequestHeader(RequestHeader& header, std::chrono::milliseconds timeout) {
     header.authenticationToken = authenticationToken_;
     header.timestamp = DateTime::now();
     header.requestHandle = conn_ ? conn_->nextRequestHandle++ : 0;
-    header.timeoutHint = static_cast<std::uint32_t>(config_.requestTimeout.count());
+    header.timeoutHint = static_cast<std::uint32_t>(timeout.count());
 }
 
 asio::awaitable<Result<std::vector<std::uint8_t>>> Client::exchange(
-    MessageType type, std::vector<std::uint8_t> body) {
+    MessageType type, std::vector<std::uint8_t> body, std::chrono::milliseconds timeout) {
     if (!conn_ || !conn_->channel) co_return status::BadServerNotConnected;
     try {
-        co_return co_await exchangeOn(conn_, type, std::move(body));
+        co_return co_await exchangeOn(conn_, type, std::move(body), timeout);
     } catch (...) {
         co_return statusFromException(std::current_exception());
     }
@@ -553,6 +561,9 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
 }
 
 asio::awaitable<StatusCode> Client::disconnect() {
+    // Before CloseSession, so that the Publish requests it fails are not reported as a
+    // lost session: the caller ends the session on purpose.
+    endSubscriptions(status::BadSessionClosed);
     if (!conn_) co_return status::Good;
     auto conn = conn_;
     StatusCode result = status::Good;

@@ -20,6 +20,7 @@
 #include <asio/any_io_executor.hpp>
 #include <asio/awaitable.hpp>
 
+#include "ua/client/subscription.hpp"
 #include "ua/encoding/codec.hpp"
 #include "ua/messages/attribute.hpp"
 #include "ua/messages/discovery.hpp"
@@ -144,12 +145,21 @@ public:
     /// BadDecodingError, BadRequestCancelledByClient (when the awaiting coroutine is cancelled).
     template <EncodableStructure Req, EncodableStructure Resp>
     asio::awaitable<Result<Resp>> request(Req req) {
-        fillRequestHeader(req.requestHeader);
+        return requestWithin<Req, Resp>(std::move(req), config_.requestTimeout);
+    }
+    /// request() with its own deadline (also sent as timeoutHint) instead of
+    /// ClientConfig::requestTimeout: a Publish may rightly wait a whole keep-alive period.
+    template <EncodableStructure Req, EncodableStructure Resp>
+    asio::awaitable<Result<Resp>> requestWithin(Req req, std::chrono::milliseconds timeout) {
+        fillRequestHeader(req.requestHeader, timeout);
         auto body = client_detail::encodeBody(req);
         if (!body) co_return body.status();
-        auto reply = co_await exchange(MessageType::Message, std::move(*body));
+        auto reply = co_await exchange(MessageType::Message, std::move(*body), timeout);
         if (!reply) co_return reply.status();
         co_return client_detail::decodeBody<Resp>(*reply);
+    }
+    [[nodiscard]] std::chrono::milliseconds requestTimeout() const {
+        return config_.requestTimeout;
     }
 
     // Discovery (need a secure channel only).
@@ -195,13 +205,27 @@ public:
     asio::awaitable<Result<std::vector<Variant>>> call(NodeId objectId, NodeId methodId,
                                                        std::vector<Variant> inputs);
 
+    // Subscriptions (subscription.hpp; implemented in subscription.cpp).
+    /// CreateSubscription; the returned Subscription adds monitored items and receives their
+    /// notifications through a publish loop this Client runs while subscriptions exist.
+    /// `onStatusChange` hears what happens to the subscription: a StatusChangeNotification,
+    /// BadTimeout from the keep-alive watchdog (then Good when the server is heard again),
+    /// or the status with which the session or connection was lost (the last call).
+    asio::awaitable<Result<std::shared_ptr<Subscription>>> createSubscription(
+        SubscriptionSettings settings, Subscription::StatusCallback onStatusChange = {});
+
 private:
     using Connection = client_detail::Connection;
 
     void fillRequestHeader(RequestHeader& header);
-    /// Sends one message body and waits for the reply body with the same requestId.
+    void fillRequestHeader(RequestHeader& header, std::chrono::milliseconds timeout);
+    /// Sends one message body and waits (up to `timeout`) for the reply body with the same
+    /// requestId.
     asio::awaitable<Result<std::vector<std::uint8_t>>> exchange(MessageType type,
-                                                                std::vector<std::uint8_t> body);
+                                                                std::vector<std::uint8_t> body,
+                                                                std::chrono::milliseconds timeout);
+    /// Stops the publish loop without calling the status callbacks (disconnect, abort).
+    void endSubscriptions(StatusCode reason);
     asio::awaitable<StatusCode> createAndActivateSession();
     void resetSession();
 
@@ -213,6 +237,7 @@ private:
     NodeId sessionId_;
     std::vector<EndpointDescription> serverEndpoints_;
     std::uint32_t nextRequestHandle_ = 1;
+    std::shared_ptr<client_detail::SubscriptionEngine> subscriptions_;
 };
 
 }  // namespace skillcell::ua

@@ -111,6 +111,95 @@ std::optional<DateTime> parseDateTime(std::string_view s) {
     return DateTime{DateTime::kUnixEpochTicks + secs * 10'000'000 + ticks};
 }
 
+/// RFC 4648 base64 (the XML encoding of ByteString); whitespace is ignored.
+std::optional<std::vector<std::uint8_t>> decodeBase64(std::string_view text) {
+    std::vector<std::uint8_t> out;
+    out.reserve(text.size() * 3 / 4);
+    std::uint32_t acc = 0;
+    int bits = 0;
+    std::size_t padding = 0;
+    for (char c : text) {
+        int v = -1;
+        if (c >= 'A' && c <= 'Z')
+            v = c - 'A';
+        else if (c >= 'a' && c <= 'z')
+            v = c - 'a' + 26;
+        else if (c >= '0' && c <= '9')
+            v = c - '0' + 52;
+        else if (c == '+')
+            v = 62;
+        else if (c == '/')
+            v = 63;
+        else if (c == '=') {
+            ++padding;
+            continue;
+        } else if (c == ' ' || c == '\n' || c == '\r' || c == '\t') {
+            continue;
+        } else {
+            return std::nullopt;
+        }
+        if (padding != 0) return std::nullopt;  // data after padding
+        acc = (acc << 6) | static_cast<std::uint32_t>(v);
+        bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            out.push_back(static_cast<std::uint8_t>((acc >> bits) & 0xFF));
+        }
+    }
+    if (padding > 2) return std::nullopt;
+    return out;
+}
+
+/// "72962B91-FA75-4AE6-8D28-B404DC7DAF63"
+std::optional<Guid> parseGuid(std::string_view s) {
+    s = trim(s);
+    if (s.size() != 36 || s[8] != '-' || s[13] != '-' || s[18] != '-' || s[23] != '-') {
+        return std::nullopt;
+    }
+    const auto hex = [&](std::size_t at, std::size_t n) -> std::optional<std::uint32_t> {
+        std::uint32_t v = 0;
+        auto [p, ec] = std::from_chars(s.data() + at, s.data() + at + n, v, 16);
+        if (ec != std::errc{} || p != s.data() + at + n) return std::nullopt;
+        return v;
+    };
+    Guid g;
+    auto d1 = hex(0, 8);
+    auto d2 = hex(9, 4);
+    auto d3 = hex(14, 4);
+    if (!d1 || !d2 || !d3) return std::nullopt;
+    g.data1 = *d1;
+    g.data2 = static_cast<std::uint16_t>(*d2);
+    g.data3 = static_cast<std::uint16_t>(*d3);
+    static constexpr std::size_t kAt[8] = {19, 21, 24, 26, 28, 30, 32, 34};
+    for (std::size_t i = 0; i < 8; ++i) {
+        auto b = hex(kAt[i], 2);
+        if (!b) return std::nullopt;
+        g.data4[i] = static_cast<std::uint8_t>(*b);
+    }
+    return g;
+}
+
+/// Compares dotted versions ("1.05.03" vs "1.05") numerically, part by part; parts that
+/// are not numbers compare as text. Missing parts count as 0.
+int compareVersions(std::string_view a, std::string_view b) {
+    while (!a.empty() || !b.empty()) {
+        const auto da = a.find('.');
+        const auto db = b.find('.');
+        const auto pa = a.substr(0, da);
+        const auto pb = b.substr(0, db);
+        auto na = parseNumber<std::uint64_t>(pa.empty() ? "0" : pa);
+        auto nb = parseNumber<std::uint64_t>(pb.empty() ? "0" : pb);
+        if (na && nb) {
+            if (*na != *nb) return *na < *nb ? -1 : 1;
+        } else if (pa != pb) {
+            return pa < pb ? -1 : 1;
+        }
+        a = da == std::string_view::npos ? std::string_view{} : a.substr(da + 1);
+        b = db == std::string_view::npos ? std::string_view{} : b.substr(db + 1);
+    }
+    return 0;
+}
+
 class Parser {
 public:
     Parser(const AddressSpace& as, std::string_view xml, std::string_view source)
@@ -162,6 +251,27 @@ public:
                 aliases_[name] = *id;
             }
         }
+        if (auto models = child(root, "Models")) {
+            for (auto m : models.children()) {
+                if (m.type() != pugi::node_element || localName(m) != "Model") continue;
+                ParsedModel pm;
+                pm.line = lineOf(m);
+                pm.uri = m.attribute("ModelUri").value();
+                pm.version = m.attribute("Version").value();
+                if (!modelDate(m, pm.publicationDate)) return status_;
+                for (auto r : m.children()) {
+                    if (r.type() != pugi::node_element || localName(r) != "RequiredModel") continue;
+                    ParsedModel::Requirement req;
+                    req.uri = r.attribute("ModelUri").value();
+                    req.version = r.attribute("Version").value();
+                    if (!modelDate(r, req.publicationDate)) return status_;
+                    if (req.uri.empty()) return failAt(r, "RequiredModel without ModelUri");
+                    pm.required.push_back(std::move(req));
+                }
+                if (pm.uri.empty()) return failAt(m, "Model without ModelUri");
+                out.models.push_back(std::move(pm));
+            }
+        }
         // Pass 2: nodes.
         out.nodes.reserve(static_cast<std::size_t>(
             std::distance(root.children().begin(), root.children().end())));
@@ -177,6 +287,14 @@ public:
             ParsedNode pn;
             if (!parseNode(e, *nc, pn)) return status_;
             out.nodes.push_back(std::move(pn));
+        }
+        // Pass 3: data types (supertypes, encodings, definitions) into a registry layered
+        // over the address space's, then the values, which may be structures of those types.
+        if (!collectDataTypes(out)) return status_;
+        for (const auto& [index, valueElement] : pendingValues_) {
+            auto value = parseVariant(valueElement);
+            if (!value) return status_;
+            out.nodes[index].node.value.value = std::move(*value);
         }
         NodeSetStatus ok;
         ok.nodes = out.nodes.size();
@@ -339,17 +457,7 @@ private:
             n.dataType = std::move(*t);
         }
         if (auto ad = e.attribute("ArrayDimensions")) {
-            std::string_view rest = ad.value();
-            while (!trim(rest).empty()) {
-                const auto comma = rest.find(',');
-                auto d = parseNumber<std::uint32_t>(rest.substr(0, comma));
-                if (!d)
-                    return failAt(e, std::string("bad ArrayDimensions '") + ad.value() + "'"),
-                           false;
-                n.arrayDimensions.push_back(*d);
-                if (comma == std::string_view::npos) break;
-                rest.remove_prefix(comma + 1);
-            }
+            if (!parseDimensions(e, ad.value(), n.arrayDimensions)) return false;
         }
         if (auto refs = child(e, "References")) {
             for (auto r : refs.children()) {
@@ -379,11 +487,164 @@ private:
                     break;
                 }
             }
-            if (typed) {
-                auto value = parseVariant(typed);
-                if (!value) return false;
-                n.value.value = std::move(*value);
+            if (typed) pendingValues_.emplace_back(nodeIndex_, typed);
+        }
+        if (auto d = child(e, "Definition")) {
+            if (nc != NodeClass::DataType)
+                return failAt(d, "Definition on a node that is not a DataType"), false;
+            if (!parseDefinition(d, pn)) return false;
+        }
+        ++nodeIndex_;
+        return true;
+    }
+
+    /// <Definition>: enumerations (fields with Value, or a subtype of Enumeration) become
+    /// an EnumDefinition, everything else a StructureDefinition. Encoding ids and base type
+    /// are filled in by collectDataTypes once all references are known.
+    bool parseDefinition(const pugi::xml_node& d, ParsedNode& pn) {
+        bool isEnum = false;
+        for (const auto& r : pn.references) {
+            if (!r.isForward && r.referenceTypeId == NodeId(ns0::HasSubtype) &&
+                r.target == NodeId(ns0::Enumeration)) {
+                isEnum = true;
             }
+        }
+        for (auto f : d.children()) {
+            if (f.type() == pugi::node_element && localName(f) == "Field" && f.attribute("Value")) {
+                isEnum = true;
+            }
+        }
+        if (isEnum) {
+            EnumDefinition def;
+            for (auto f : d.children()) {
+                if (f.type() != pugi::node_element || localName(f) != "Field") continue;
+                EnumField ef;
+                ef.name = f.attribute("Name").value();
+                if (ef.name.empty()) return failAt(f, "Definition field without Name"), false;
+                if (!numberAttr(f, "Value", ef.value)) return false;
+                if (auto dn = child(f, "DisplayName")) {
+                    ef.displayName = localizedText(dn);
+                } else {
+                    ef.displayName.text = ef.name;
+                }
+                if (auto ds = child(f, "Description")) ef.description = localizedText(ds);
+                def.fields.push_back(std::move(ef));
+            }
+            pn.node.definition = std::move(def);
+            return true;
+        }
+        StructureDefinition def;
+        bool isUnion = false;
+        if (!boolAttr(d, "IsUnion", isUnion)) return false;
+        bool anyOptional = false;
+        for (auto f : d.children()) {
+            if (f.type() != pugi::node_element || localName(f) != "Field") continue;
+            StructureField sf;
+            sf.name = f.attribute("Name").value();
+            if (sf.name.empty()) return failAt(f, "Definition field without Name"), false;
+            const auto dt = f.attribute("DataType");
+            if (dt) {
+                auto t = parseNodeIdText(f, trim(dt.value()));
+                if (!t) return false;
+                sf.dataType = std::move(*t);
+            } else {
+                sf.dataType = NodeId(ns0::BaseDataType);
+            }
+            if (!numberAttr(f, "ValueRank", sf.valueRank) ||
+                !numberAttr(f, "MaxStringLength", sf.maxStringLength) ||
+                !boolAttr(f, "IsOptional", sf.isOptional)) {
+                return false;
+            }
+            if (auto ad = f.attribute("ArrayDimensions")) {
+                if (!parseDimensions(f, ad.value(), sf.arrayDimensions)) return false;
+            }
+            if (auto ds = child(f, "Description")) sf.description = localizedText(ds);
+            anyOptional = anyOptional || sf.isOptional;
+            def.fields.push_back(std::move(sf));
+        }
+        def.structureType = isUnion       ? StructureType::Union
+                            : anyOptional ? StructureType::StructureWithOptionalFields
+                                          : StructureType::Structure;
+        pn.node.definition = std::move(def);
+        return true;
+    }
+
+    bool parseDimensions(const pugi::xml_node& e, std::string_view text,
+                         std::vector<std::uint32_t>& out) {
+        std::string_view rest = text;
+        while (!trim(rest).empty()) {
+            const auto comma = rest.find(',');
+            auto d = parseNumber<std::uint32_t>(rest.substr(0, comma));
+            if (!d) return failAt(e, "bad ArrayDimensions '" + std::string(text) + "'"), false;
+            out.push_back(*d);
+            if (comma == std::string_view::npos) break;
+            rest.remove_prefix(comma + 1);
+        }
+        return true;
+    }
+
+    bool modelDate(const pugi::xml_node& e, std::optional<DateTime>& out) {
+        const auto a = e.attribute("PublicationDate");
+        if (!a) return true;
+        out = parseDateTime(a.value());
+        if (!out) return failAt(e, std::string("bad PublicationDate '") + a.value() + "'"), false;
+        return true;
+    }
+
+    /// Registers every DataType of the file in the parser's registry (supertype, encodings,
+    /// definition) and completes the definitions' base type and default encoding.
+    bool collectDataTypes(ParsedNodeSet& out) {
+        std::unordered_map<NodeId, std::size_t> byId;
+        for (std::size_t i = 0; i < out.nodes.size(); ++i)
+            byId.emplace(out.nodes[i].node.nodeId, i);
+        const auto browseNameOf = [&](const NodeId& id) -> const QualifiedName* {
+            auto it = byId.find(id);
+            if (it != byId.end()) return &out.nodes[it->second].node.browseName;
+            const Node* n = as_.find(id);
+            return n != nullptr ? &n->browseName : nullptr;
+        };
+        std::unordered_map<NodeId, DataTypeInfo> infos;
+        const auto infoFor = [&](const NodeId& id) -> DataTypeInfo* {
+            auto it = byId.find(id);
+            if (it == byId.end() || out.nodes[it->second].node.nodeClass != NodeClass::DataType) {
+                return nullptr;
+            }
+            auto& info = infos[id];
+            info.dataTypeId = id;
+            return &info;
+        };
+        const auto noteEncoding = [&](DataTypeInfo& info, const NodeId& encoding) {
+            const QualifiedName* name = browseNameOf(encoding);
+            if (name == nullptr) return;
+            if (name->name == "Default Binary") info.binaryEncodingId = encoding;
+            if (name->name == "Default XML") info.xmlEncodingId = encoding;
+        };
+        for (const auto& pn : out.nodes) {
+            if (pn.node.nodeClass == NodeClass::DataType) {
+                DataTypeInfo* info = infoFor(pn.node.nodeId);
+                info->browseName = pn.node.browseName;
+                info->definition = pn.node.definition;
+            }
+            for (const auto& r : pn.references) {
+                if (r.referenceTypeId == NodeId(ns0::HasSubtype)) {
+                    const NodeId& sub = r.isForward ? r.target : pn.node.nodeId;
+                    const NodeId& super = r.isForward ? pn.node.nodeId : r.target;
+                    if (DataTypeInfo* info = infoFor(sub)) info->superType = super;
+                } else if (r.referenceTypeId == NodeId(ns0::HasEncoding)) {
+                    const NodeId& type = r.isForward ? pn.node.nodeId : r.target;
+                    const NodeId& encoding = r.isForward ? r.target : pn.node.nodeId;
+                    if (DataTypeInfo* info = infoFor(type)) noteEncoding(*info, encoding);
+                }
+            }
+        }
+        for (auto& [id, info] : infos) {
+            if (auto* def = std::get_if<StructureDefinition>(&info.definition)) {
+                def->baseDataType = info.superType;
+                def->defaultEncodingId = info.binaryEncodingId;
+                out.nodes[byId[id]].node.definition = *def;
+            }
+            types_.add(info);
+            out.dataTypes.push_back(info);
         }
         return true;
     }
@@ -443,10 +704,38 @@ private:
             return Scalar(QualifiedName{*ns, String(trim(child(e, "Name").text().get()))});
         }
         if (type == "NodeId" || type == "ExpandedNodeId") {
-            auto id = parseNodeIdText(e, trim(child(e, "Identifier").text().get()), false);
+            // An alias is accepted where a NodeId is written (Argument DataTypes often are);
+            // an empty Identifier is the null NodeId.
+            const auto idText = trim(child(e, "Identifier").text().get());
+            if (idText.empty()) {
+                if (type == "NodeId") return Scalar(NodeId{});
+                return Scalar(ExpandedNodeId{});
+            }
+            auto id = parseNodeIdText(e, idText, true);
             if (!id) return std::nullopt;
             if (type == "NodeId") return Scalar(std::move(*id));
             return Scalar(ExpandedNodeId{std::move(*id), {}, 0});
+        }
+        if (type == "Guid") {
+            // <Guid><String>...</String></Guid>; a bare text body is accepted too.
+            const auto str = child(e, "String");
+            const std::string_view guidText = str ? str.text().get() : text;
+            auto g = parseGuid(guidText);
+            if (!g) {
+                failAt(e, "bad Guid value '" + std::string(trim(guidText)) + "'");
+                return std::nullopt;
+            }
+            return Scalar(*g);
+        }
+        if (type == "ByteString") {
+            auto b = decodeBase64(text);
+            if (!b) return bad();
+            return Scalar(ByteString(std::move(*b)));
+        }
+        if (type == "XmlElement") {
+            std::ostringstream xml;
+            for (auto c : e.children()) c.print(xml, "", pugi::format_raw);
+            return Scalar(XmlElement{std::move(xml).str()});
         }
         if (type == "ExtensionObject") return parseExtensionObject(e);
         failAt(e, "unsupported value type '" + std::string(type) + "'");
@@ -466,42 +755,148 @@ private:
             failAt(e, "ExtensionObject without a Body");
             return std::nullopt;
         }
-        // Bodies are decoded by element name and stored binary-encoded, the form the
-        // services hand out. Part 2 adds more structures to this dispatch.
-        if (localName(content) == "Argument") {
-            Argument a;
-            a.name = String(trim(child(content, "Name").text().get()));
-            const auto dt = child(child(content, "DataType"), "Identifier");
-            auto type = parseNodeIdText(content, trim(dt.text().get()), true);
-            if (!type) return std::nullopt;
-            a.dataType = std::move(*type);
-            if (auto vr = child(content, "ValueRank")) {
-                auto v = parseNumber<std::int32_t>(vr.text().get());
-                if (!v) {
-                    failAt(vr, "bad ValueRank '" + std::string(vr.text().get()) + "'");
+        // The TypeId names the XML encoding (sometimes the binary one or the data type); a
+        // file that leaves it out is understood by the body's element name.
+        const DataTypeInfo* info = nullptr;
+        const std::string_view typeText =
+            trim(child(child(e, "TypeId"), "Identifier").text().get());
+        if (!typeText.empty()) {
+            auto typeId = parseNodeIdText(e, typeText, true);
+            if (!typeId) return std::nullopt;
+            info = types_.findByEncoding(*typeId);
+            if (info == nullptr) info = types_.find(*typeId);
+        }
+        if (info == nullptr) info = types_.findByName(localName(content));
+        if (info == nullptr || types_.structureOf(info->dataTypeId) == nullptr) {
+            failAt(content,
+                   "unsupported ExtensionObject body '" + std::string(content.name()) +
+                       "' (no structure with a DataTypeDefinition of that type is loaded)");
+            return std::nullopt;
+        }
+        auto value = parseStructure(content, info->dataTypeId, 0);
+        if (!value) return std::nullopt;
+        // Stored binary-encoded, the form the services hand out.
+        auto eo = toExtensionObject(types_, *value);
+        if (!eo) {
+            failAt(content, "cannot encode " + std::string(content.name()) + ": " +
+                                std::string(statusName(eo.status())));
+            return std::nullopt;
+        }
+        return Scalar(std::move(*eo));
+    }
+
+    /// A structure in the XML encoding (OPC 10000-6, 5.3.6): one element per field, named
+    /// like the field; a missing field keeps its default (absent if optional).
+    std::optional<DynamicStructure> parseStructure(const pugi::xml_node& e, const NodeId& type,
+                                                   int depth) {
+        if (depth > static_cast<int>(DecodeLimits{}.maxDepth)) {
+            failAt(e, "structure nested too deeply");
+            return std::nullopt;
+        }
+        const StructureDefinition* def = types_.structureOf(type);
+        auto value = defaultStructure(types_, type);
+        if (def == nullptr || !value) {
+            failAt(e, "no usable definition for structure " + type.toString());
+            return std::nullopt;
+        }
+        const bool isUnion = def->structureType == StructureType::Union ||
+                             def->structureType == StructureType::UnionWithSubtypedValues;
+        for (std::size_t i = 0; i < def->fields.size(); ++i) {
+            const StructureField& f = def->fields[i];
+            const auto fe = child(e, f.name);
+            if (!fe) continue;
+            auto v = parseField(fe, f, depth);
+            if (!v) return std::nullopt;
+            value->fields[i].value = std::move(*v);
+        }
+        (void)isUnion;  // a union's one present field is parsed like any other
+        return std::move(*value);
+    }
+
+    std::optional<Variant> parseField(const pugi::xml_node& e, const StructureField& f, int depth) {
+        const bool isArray = f.valueRank >= 0;
+        if (types_.structureOf(f.dataType) != nullptr) {
+            const auto one = [&](const pugi::xml_node& el) -> std::optional<Scalar> {
+                auto s = parseStructure(el, f.dataType, depth + 1);
+                if (!s) return std::nullopt;
+                auto eo = toExtensionObject(types_, *s);
+                if (!eo) {
+                    failAt(el, "cannot encode field " + f.name);
                     return std::nullopt;
                 }
-                a.valueRank = *v;
+                return Scalar(std::move(*eo));
+            };
+            if (!isArray) {
+                auto s = one(e);
+                if (!s) return std::nullopt;
+                return Variant::fromScalar(std::move(*s));
             }
-            if (auto dims = child(content, "ArrayDimensions")) {
-                for (auto d : dims.children()) {
-                    if (d.type() != pugi::node_element) continue;
-                    auto v = parseNumber<std::uint32_t>(d.text().get());
-                    if (!v) {
-                        failAt(d, "bad array dimension '" + std::string(d.text().get()) + "'");
-                        return std::nullopt;
-                    }
-                    a.arrayDimensions.push_back(*v);
-                }
+            std::vector<Scalar> elements;
+            for (auto c : e.children()) {
+                if (c.type() != pugi::node_element) continue;
+                auto s = one(c);
+                if (!s) return std::nullopt;
+                elements.push_back(std::move(*s));
             }
-            if (auto desc = child(content, "Description")) {
-                a.description = LocalizedText{String(trim(child(desc, "Locale").text().get())),
-                                              String(child(desc, "Text").text().get())};
-            }
-            return Scalar(toExtensionObject(a));
+            return Variant::array(BuiltinType::ExtensionObject, std::move(elements));
         }
-        failAt(content, "unsupported ExtensionObject body '" + std::string(content.name()) + "'");
-        return std::nullopt;
+        const auto bt = types_.builtinTypeOf(f.dataType);
+        if (!bt) {
+            failAt(e, "field " + f.name + " has unknown data type " + f.dataType.toString());
+            return std::nullopt;
+        }
+        if (*bt == BuiltinType::Variant) {
+            // BaseDataType: <Field><Value><Int32>..</Int32></Value></Field> or the typed
+            // element directly.
+            pugi::xml_node typed = firstElement(e);
+            if (typed && localName(typed) == "Value") typed = firstElement(typed);
+            if (!typed) return Variant{};
+            return parseVariant(typed);
+        }
+        const std::string_view typeName = builtinName(*bt);
+        const bool isEnum = *bt == BuiltinType::Int32 && !isBuiltinId(f.dataType);
+        const auto one = [&](const pugi::xml_node& el) -> std::optional<Scalar> {
+            if (isEnum) return parseEnumValue(el);
+            return parseScalar(el, typeName);
+        };
+        if (!isArray) {
+            auto s = one(e);
+            if (!s) return std::nullopt;
+            return Variant::fromScalar(std::move(*s));
+        }
+        std::vector<Scalar> elements;
+        for (auto c : e.children()) {
+            if (c.type() != pugi::node_element) continue;
+            auto s = one(c);
+            if (!s) return std::nullopt;
+            elements.push_back(std::move(*s));
+        }
+        return Variant::array(*bt, std::move(elements));
+    }
+
+    /// Enumerations are written "Name_Value" ("Running_13") or as the bare number.
+    std::optional<Scalar> parseEnumValue(const pugi::xml_node& e) {
+        std::string_view text = trim(e.text().get());
+        const auto us = text.rfind('_');
+        auto v =
+            parseNumber<std::int32_t>(us == std::string_view::npos ? text : text.substr(us + 1));
+        if (!v) {
+            failAt(e, "bad enumeration value '" + std::string(text) + "'");
+            return std::nullopt;
+        }
+        return Scalar(*v);
+    }
+
+    static bool isBuiltinId(const NodeId& id) {
+        const auto* n = std::get_if<std::uint32_t>(&id.identifier());
+        return id.namespaceIndex() == 0 && n != nullptr && *n >= 1 && *n <= kMaxBuiltinType;
+    }
+
+    static pugi::xml_node firstElement(const pugi::xml_node& e) {
+        for (auto c : e.children()) {
+            if (c.type() == pugi::node_element) return c;
+        }
+        return {};
     }
 
     std::optional<Variant> parseVariant(const pugi::xml_node& e) {
@@ -531,22 +926,30 @@ private:
         return Variant::fromScalar(std::move(*s));
     }
 
+    static constexpr std::string_view kBuiltinNames[] = {
+        "Null",          "Boolean",       "SByte",           "Byte",           "Int16",
+        "UInt16",        "Int32",         "UInt32",          "Int64",          "UInt64",
+        "Float",         "Double",        "String",          "DateTime",       "Guid",
+        "ByteString",    "XmlElement",    "NodeId",          "ExpandedNodeId", "StatusCode",
+        "QualifiedName", "LocalizedText", "ExtensionObject", "DataValue",      "Variant",
+        "DiagnosticInfo"};
+    static std::string_view builtinName(BuiltinType t) {
+        return kBuiltinNames[static_cast<std::size_t>(t)];
+    }
+
     std::optional<BuiltinType> builtinTypeByName(const pugi::xml_node& e, std::string_view type) {
-        static constexpr std::string_view kNames[] = {
-            "Null",          "Boolean",       "SByte",           "Byte",           "Int16",
-            "UInt16",        "Int32",         "UInt32",          "Int64",          "UInt64",
-            "Float",         "Double",        "String",          "DateTime",       "Guid",
-            "ByteString",    "XmlElement",    "NodeId",          "ExpandedNodeId", "StatusCode",
-            "QualifiedName", "LocalizedText", "ExtensionObject", "DataValue",      "Variant",
-            "DiagnosticInfo"};
-        for (std::size_t i = 1; i < std::size(kNames); ++i) {
-            if (kNames[i] == type) return static_cast<BuiltinType>(i);
+        for (std::size_t i = 1; i < std::size(kBuiltinNames); ++i) {
+            if (kBuiltinNames[i] == type) return static_cast<BuiltinType>(i);
         }
         failAt(e, "unsupported value type '" + std::string(type) + "'");
         return std::nullopt;
     }
 
     const AddressSpace& as_;
+    // The file's data types over the address space's: values may use either.
+    DataTypeRegistry types_{&as_.dataTypes()};
+    std::vector<std::pair<std::size_t, pugi::xml_node>> pendingValues_;
+    std::size_t nodeIndex_ = 0;
     std::string_view xml_;
     std::string source_;
     std::vector<std::uint16_t> nsMap_;
@@ -605,7 +1008,46 @@ NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
         }
     }
 
+    // Required models: loaded before, or declared by this file, and recent enough.
+    for (const auto& m : parsed.models) {
+        for (const auto& req : m.required) {
+            const AddressSpace::Model* loaded = as.findModel(req.uri);
+            AddressSpace::Model sameFile;
+            if (loaded == nullptr) {
+                for (const auto& other : parsed.models) {
+                    if (other.uri == req.uri) {
+                        sameFile = {other.uri, other.version, other.publicationDate};
+                        loaded = &sameFile;
+                    }
+                }
+            }
+            const bool tooOld =
+                loaded != nullptr &&
+                ((!req.version.empty() && compareVersions(loaded->version, req.version) < 0) ||
+                 (req.publicationDate && loaded->publicationDate &&
+                  *loaded->publicationDate < *req.publicationDate));
+            if (loaded == nullptr || tooOld) {
+                std::string want = req.version.empty() ? "" : " version " + req.version;
+                if (req.publicationDate) {
+                    want += " of " + req.publicationDate->toIso8601().substr(0, 10);
+                }
+                std::string have = "none";
+                if (loaded != nullptr) {
+                    have = loaded->version.empty() ? "unversioned" : loaded->version;
+                    if (loaded->publicationDate) {
+                        have += " of " + loaded->publicationDate->toIso8601().substr(0, 10);
+                    }
+                }
+                st.error = lineText(parsed, m.line) + "requires model " + req.uri + want +
+                           " or later, loaded: " + have;
+                return st;
+            }
+        }
+    }
+
     for (const auto& uri : parsed.namespaceUris) (void)as.registerNamespace(uri);
+    for (const auto& m : parsed.models) as.registerModel({m.uri, m.version, m.publicationDate});
+    for (const auto& info : parsed.dataTypes) as.dataTypes().add(info);
     for (const auto& pn : parsed.nodes) {
         auto added = as.addNode(pn.node);
         if (!added) {  // checked above; kept so an invariant break is not silent

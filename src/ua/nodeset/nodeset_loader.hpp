@@ -7,12 +7,16 @@
 //   2. commitNodeSet: checks every reference type and target against the parsed nodes and
 //      the address space, then registers the namespaces and adds nodes and references
 //      (both directions).
-// Part 2 grows here: RequiredModels checks, DataType definitions and instantiation of
-// types read the same ParsedNodeSet before commit.
+// The parse also reads <Models> (checked against the loaded models at commit: a missing or
+// too old RequiredModel is an error naming it) and the <Definition> of data types, which
+// become DataTypeDefinition attributes and DataTypeRegistry entries. Values are read after
+// all nodes, so ExtensionObjects of structures defined in the same file (or in a model
+// loaded before) decode through DynamicStructure without hand-written code.
 //
 // Errors are values: "<source>:<line>: <what>", never exceptions.
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,10 +38,27 @@ struct ParsedNode {
     std::size_t line = 0;
 };
 
+/// A <Model> of the file and the models it requires (<RequiredModel>).
+struct ParsedModel {
+    struct Requirement {
+        std::string uri;
+        std::string version;  // empty: any version
+        std::optional<DateTime> publicationDate;
+    };
+    std::string uri;
+    std::string version;
+    std::optional<DateTime> publicationDate;
+    std::vector<Requirement> required;
+    std::size_t line = 0;
+};
+
 struct ParsedNodeSet {
     std::string source;                      // file name for messages
     std::vector<std::string> namespaceUris;  // the file's NamespaceUris, file index 1..n
+    std::vector<ParsedModel> models;
     std::vector<ParsedNode> nodes;
+    /// Every DataType of the file, for the address space's DataTypeRegistry.
+    std::vector<DataTypeInfo> dataTypes;
 };
 
 /// The outcome of a parse or load: empty `error` on success.

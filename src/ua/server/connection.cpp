@@ -208,9 +208,18 @@ StatusCode Connection::handleMessage(const ChannelMessage& message, SteadyTime n
         if (!session) return fault(session.status());
         ctx.session = *session;
     }
+    // A deferred service answers through this later; the weak reference makes an answer
+    // after the connection closed a no-op instead of keeping the connection alive.
+    if (entry->deferred) {
+        ctx.reply = [weak = weak_from_this(), requestId = message.requestId,
+                     handle](std::vector<std::uint8_t> body) {
+            if (auto self = weak.lock()) self->sendDeferred(requestId, handle, std::move(body));
+        };
+    }
     std::vector<std::uint8_t> body;
     const StatusCode s = entry->invoke(ctx, r, body);
     if (s.isBad()) return fault(s);
+    if (body.empty()) return status::Good;  // deferred: answered through ctx.reply
     return sendMessage(MessageType::Message, message.requestId, handle, std::move(body));
 }
 
@@ -225,6 +234,14 @@ StatusCode Connection::sendMessage(MessageType type, std::uint32_t requestId,
     if (!frames) return frames.status();
     for (auto& f : *frames) send(std::move(f));
     return status::Good;
+}
+
+void Connection::sendDeferred(std::uint32_t requestId, std::uint32_t requestHandle,
+                              std::vector<std::uint8_t> body) {
+    if (closing_ || !channel_ || !socket_.is_open()) return;
+    const StatusCode s =
+        sendMessage(MessageType::Message, requestId, requestHandle, std::move(body));
+    if (s.isBad()) fail(s, statusName(s));
 }
 
 void Connection::send(std::vector<std::uint8_t> frame) {

@@ -50,6 +50,9 @@ private:
     /// client becomes a ServiceFault.
     StatusCode sendMessage(MessageType type, std::uint32_t requestId, std::uint32_t requestHandle,
                            std::vector<std::uint8_t> body);
+    /// Sends the response of a deferred service; nothing once the connection is closing.
+    void sendDeferred(std::uint32_t requestId, std::uint32_t requestHandle,
+                      std::vector<std::uint8_t> body);
     void send(std::vector<std::uint8_t> frame);
     void fail(StatusCode status, std::string_view reason);
     void setDeadline(SteadyTime deadline);

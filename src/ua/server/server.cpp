@@ -5,8 +5,10 @@
 #include <asio/experimental/as_tuple.hpp>
 
 #include "ua/nodeset/nodeset_loader.hpp"
+#include "ua/server/services/monitored_item_service.hpp"
 #include "ua/server/services/register_services.hpp"
 #include "ua/server/services/session_service.hpp"
+#include "ua/server/services/subscription_service.hpp"
 
 namespace skillcell::ua {
 
@@ -15,8 +17,13 @@ Server::Server(asio::io_context& io, ServerConfig config)
       config_(std::move(config)),
       addressSpace_(config_.description.applicationUri),
       sessions_(config_.limits),
+      subscriptions_(addressSpace_, config_.limits),
       acceptor_(io),
-      reaper_(io) {}
+      reaper_(io),
+      subscriptionTimer_(io) {
+    sessions_.setOnClose([this](const Session& s) { subscriptions_.closeSession(s.sessionId()); });
+    subscriptions_.setWakeup([this] { subscriptionTimer_.cancel(); });
+}
 
 Server::~Server() { stop(); }
 
@@ -47,6 +54,8 @@ std::unique_ptr<Server> Server::create(asio::io_context& io, ServerConfig config
     registerViewServices(table, server->addressSpace_);
     registerAttributeServices(table, server->addressSpace_);
     registerMethodServices(table, server->addressSpace_);
+    registerSubscriptionServices(table, server->subscriptions_);
+    registerMonitoredItemServices(table, server->subscriptions_);
     return server;
 }
 
@@ -70,6 +79,7 @@ Result<std::uint16_t> Server::listen() {
     config_.description.port = acceptor_.local_endpoint().port();
     asio::co_spawn(io_, acceptLoop(), asio::detached);
     asio::co_spawn(io_, reapSessions(), asio::detached);
+    asio::co_spawn(io_, driveSubscriptions(), asio::detached);
     spdlog::info("listening on {}:{} as {}", config_.bindAddress, config_.description.port,
                  config_.description.applicationUri);
     return config_.description.port;
@@ -82,6 +92,7 @@ void Server::stop() {
     asio::error_code ignored;
     acceptor_.close(ignored);
     reaper_.cancel();
+    subscriptionTimer_.cancel();
     for (auto& [id, weak] : connections_) {
         if (auto c = weak.lock()) c->close();
     }
@@ -123,6 +134,17 @@ asio::awaitable<void> Server::reapSessions() {
         if (const auto n = sessions_.expire(std::chrono::steady_clock::now()); n > 0) {
             spdlog::info("closed {} timed-out session(s)", n);
         }
+    }
+}
+
+asio::awaitable<void> Server::driveSubscriptions() {
+    // One timer for the whole engine, armed for its earliest deadline; the engine cancels
+    // it (wakeup) when a new subscription or item needs an earlier one.
+    while (!stopped_) {
+        subscriptionTimer_.expires_at(subscriptions_.nextDeadline());
+        co_await subscriptionTimer_.async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        if (stopped_) co_return;
+        subscriptions_.tick(std::chrono::steady_clock::now());
     }
 }
 

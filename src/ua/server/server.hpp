@@ -19,6 +19,7 @@
 #include "ua/server/server_limits.hpp"
 #include "ua/server/service_table.hpp"
 #include "ua/server/session_manager.hpp"
+#include "ua/server/subscriptions/subscription_engine.hpp"
 #include "ua/transport/secure_channel.hpp"
 #include "ua/types/result.hpp"
 
@@ -55,20 +56,30 @@ public:
     [[nodiscard]] const ServerConfig& config() const { return config_; }
     [[nodiscard]] std::size_t connectionCount() const { return connections_.size(); }
     [[nodiscard]] std::size_t sessionCount() const { return sessions_.size(); }
+    [[nodiscard]] ServerSubscriptionEngine& subscriptions() { return subscriptions_; }
+
+    /// Fires an event from application code (on the io_context thread): delivered to the
+    /// event monitored items on its source, the notifiers above it and the Server object.
+    /// Returns its EventId.
+    ByteString fireEvent(Event event) { return subscriptions_.fireEvent(std::move(event)); }
 
 private:
     Server(asio::io_context& io, ServerConfig config);
     asio::awaitable<void> acceptLoop();
     asio::awaitable<void> reapSessions();
+    /// Runs the subscription engine: publishing cycles, sampling, Publish timeouts.
+    asio::awaitable<void> driveSubscriptions();
 
     asio::io_context& io_;
     ServerConfig config_;
     AddressSpace addressSpace_;
     SessionManager sessions_;
+    ServerSubscriptionEngine subscriptions_;  // after the address space and sessions it observes
     ServiceTable services_;
     ServerState state_ = ServerState::Running;
     asio::ip::tcp::acceptor acceptor_;
     asio::steady_timer reaper_;
+    asio::steady_timer subscriptionTimer_;
     std::unordered_map<std::uint32_t, std::weak_ptr<Connection>> connections_;
     std::uint32_t nextChannelId_ = 1;
     bool stopped_ = false;

@@ -2,7 +2,9 @@
 // ServiceContext: what a service operation may know about the request it serves.
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "ua/messages/common.hpp"
 #include "ua/server/server_limits.hpp"
@@ -10,6 +12,10 @@
 namespace skillcell::ua {
 
 class Session;
+
+/// Sends an encoded service body (type id + structure) as the response to the request being
+/// served, whenever that is. Set by the connection; harmless once the connection is gone.
+using ResponseSender = std::function<void(std::vector<std::uint8_t> body)>;
 
 struct ServiceContext {
     Session* session = nullptr;  // set for services that need an activated session
@@ -20,6 +26,8 @@ struct ServiceContext {
     std::chrono::steady_clock::time_point now{};
     /// The endpoint URL the client gave in its Hello (what it used to reach us).
     const std::string* endpointUrl = nullptr;
+    /// For deferred services (ServiceTable::addDeferred): answers this request later.
+    ResponseSender reply;
 };
 
 }  // namespace skillcell::ua

@@ -55,11 +55,18 @@ Result<Session*> SessionManager::authorize(const NodeId& authenticationToken,
 }
 
 void SessionManager::close(const NodeId& authenticationToken) {
-    sessions_.erase(authenticationToken);
+    auto it = sessions_.find(authenticationToken);
+    if (it == sessions_.end()) return;
+    if (onClose_) onClose_(*it->second);
+    sessions_.erase(it);
 }
 
 std::size_t SessionManager::expire(Clock::time_point now) {
-    return std::erase_if(sessions_, [now](const auto& kv) { return kv.second->isExpired(now); });
+    return std::erase_if(sessions_, [this, now](const auto& kv) {
+        if (!kv.second->isExpired(now)) return false;
+        if (onClose_) onClose_(*kv.second);
+        return true;
+    });
 }
 
 BrowseContinuationPoints& continuationPointsOf(ServiceContext& ctx) {

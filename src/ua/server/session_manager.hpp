@@ -32,6 +32,9 @@ public:
     [[nodiscard]] Result<Session*> authorize(const NodeId& authenticationToken,
                                              std::uint32_t channelId, Clock::time_point now);
     void close(const NodeId& authenticationToken);
+    /// Told about every session that goes (CloseSession or timeout) just before it is
+    /// destroyed, so that state kept elsewhere (subscriptions) goes with it.
+    void setOnClose(std::function<void(const Session&)> onClose) { onClose_ = std::move(onClose); }
     /// Closes the sessions whose timeout elapsed; returns how many.
     std::size_t expire(Clock::time_point now);
     /// A channel closed: its sessions stay (a client may reactivate them on a new channel)
@@ -46,6 +49,7 @@ private:
     std::unordered_map<NodeId, std::unique_ptr<Session>> sessions_;  // by auth token
     std::mt19937_64 random_;
     std::uint32_t nextSessionNumber_ = 1;
+    std::function<void(const Session&)> onClose_;
 };
 
 }  // namespace skillcell::ua

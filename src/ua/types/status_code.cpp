@@ -7,7 +7,7 @@ namespace skillcell::ua {
 
 std::string_view statusName(StatusCode s) {
     // One table, generated from the constants in status_code.hpp; lookups are rare (logs, CLI).
-    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 117> kNames{{
+    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 126> kNames{{
         {0x00000000, "Good"},
         {0x40000000, "Uncertain"},
         {0x80000000, "Bad"},
@@ -124,6 +124,15 @@ std::string_view statusName(StatusCode s) {
         {0x80B00000, "BadEndOfStream"},
         {0x80B60000, "BadSyntaxError"},
         {0x80B70000, "BadMaxConnectionsReached"},
+        {0x80DB0000, "BadTooManyMonitoredItems"},
+        {0x80470000, "BadEventFilterInvalid"},
+        {0x80480000, "BadContentFilterInvalid"},
+        {0x80490000, "BadFilterOperandInvalid"},
+        {0x80C10000, "BadFilterOperatorInvalid"},
+        {0x80C20000, "BadFilterOperatorUnsupported"},
+        {0x80C30000, "BadFilterOperandCountMismatch"},
+        {0x80C40000, "BadFilterElementInvalid"},
+        {0x80C50000, "BadFilterLiteralInvalid"},
         {0x00300000, "GoodClamped"},
     }};
     for (const auto& [code, name] : kNames) {

@@ -140,6 +140,15 @@ inline constexpr StatusCode BadInvalidState{0x80AF0000};
 inline constexpr StatusCode BadEndOfStream{0x80B00000};
 inline constexpr StatusCode BadSyntaxError{0x80B60000};
 inline constexpr StatusCode BadMaxConnectionsReached{0x80B70000};
+inline constexpr StatusCode BadTooManyMonitoredItems{0x80DB0000};
+inline constexpr StatusCode BadEventFilterInvalid{0x80470000};
+inline constexpr StatusCode BadContentFilterInvalid{0x80480000};
+inline constexpr StatusCode BadFilterOperandInvalid{0x80490000};
+inline constexpr StatusCode BadFilterOperatorInvalid{0x80C10000};
+inline constexpr StatusCode BadFilterOperatorUnsupported{0x80C20000};
+inline constexpr StatusCode BadFilterOperandCountMismatch{0x80C30000};
+inline constexpr StatusCode BadFilterElementInvalid{0x80C40000};
+inline constexpr StatusCode BadFilterLiteralInvalid{0x80C50000};
 inline constexpr StatusCode GoodClamped{0x00300000};
 // clang-format on
 }  // namespace status

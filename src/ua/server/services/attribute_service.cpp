@@ -108,6 +108,8 @@ Variant attributeValue(const Node& n, AttributeId id) {
             return n.executable && n.userExecutable;
         case A::AccessLevelEx:
             return std::uint32_t{n.accessLevel};
+        case A::DataTypeDefinition:
+            return dataTypeDefinitionValue(n.definition);
         default:
             return {};  // Value and the attributes hasAttribute() refuses
     }
@@ -157,8 +159,14 @@ DataValue readAttribute(const AddressSpace& as, const ReadValueId& item,
                         TimestampsToReturn timestamps) {
     const Node* n = as.find(item.nodeId);
     if (n == nullptr) return DataValue::withStatus(status::BadNodeIdUnknown);
+    // DataTypeDefinition is optional per node: structures and enumerations have one, the
+    // other data types (built-in, abstract, simple subtypes) do not.
+    const bool hasDefinition =
+        n->nodeClass == NodeClass::DataType &&
+        item.attributeId == static_cast<std::uint32_t>(AttributeId::DataTypeDefinition) &&
+        !std::holds_alternative<std::monostate>(n->definition);
     if (item.attributeId == 0 || item.attributeId > kMaxAttributeId ||
-        !hasAttribute(n->nodeClass, item.attributeId)) {
+        (!hasAttribute(n->nodeClass, item.attributeId) && !hasDefinition)) {
         return DataValue::withStatus(status::BadAttributeIdInvalid);
     }
     const auto attribute = static_cast<AttributeId>(item.attributeId);
@@ -251,6 +259,7 @@ StatusCode writeAttribute(AddressSpace& as, const WriteValue& item) {
     // A variable with a ValueSource reads its value from the application; storing it too
     // would only keep a stale copy.
     if (!n->valueSource) n->value = std::move(dv);
+    as.notifyValueChanged(*n);  // subscriptions report the write without polling
     return status::Good;
 }
 

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Interop: node-opcua's subscriptions (subscribe.js) against our server.
+# Usage: node_subscribe_vs_skillcell.sh PATH/TO/skillcell
+# Starts `skillcell server --port 0`, learns its port from the READY line, runs subscribe.js
+# (data change after a write, event after Demo.FireEvent), and
+# stops the server. Skips (exit 77) when node-opcua is not installed, unless
+# SKILLCELL_REQUIRE_NODE=1, as in CI, where that is a failure.
+set -euo pipefail
+skillcell=$1
+here=$(cd "$(dirname "$0")" && pwd)
+if ! command -v node >/dev/null || [ ! -d "$here/node_modules/node-opcua" ]; then
+  echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
+  [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
+  exit 77
+fi
+tmp=$(mktemp -d)
+pid=""
+cleanup() {
+  [ -n "$pid" ] && kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+mkfifo "$tmp/ready"
+"$skillcell" server --port 0 --host 127.0.0.1 >"$tmp/ready" 2>"$tmp/server.log" &
+pid=$!
+exec 3<"$tmp/ready"
+if ! read -r -t 20 word url <&3 || [ "$word" != READY ]; then
+  echo "server did not become ready:" >&2; cat "$tmp/server.log" >&2; exit 1
+fi
+echo "server ready at $url"
+status=0
+timeout 90 node "$here/subscribe.js" "$url" || status=$?
+if ! kill -0 "$pid" 2>/dev/null; then
+  echo "our server died during the test:" >&2; cat "$tmp/server.log" >&2; exit 1
+fi
+[ $status -eq 0 ] || { echo "server log:" >&2; tail -n 50 "$tmp/server.log" >&2; }
+exit $status
