@@ -188,7 +188,7 @@ struct ClientRun {
 
 /// The coroutine Client on an io_context run by this thread: no thread hop on our side.
 ClientRun runCoroutineClient(const std::string& url, const DemoIds& ids, std::size_t count) {
-    asio::io_context io;
+    asio::io_context io{1};  // one thread runs it
     ua::Client client(io.get_executor());
     ClientRun run;
     std::exception_ptr failure;

@@ -25,7 +25,7 @@ struct ServerOptions {
 };
 
 int runServer(const ServerOptions& options) {
-    asio::io_context io;
+    asio::io_context io{1};  // one thread runs it: no scheduler locking needed
     ua::ServerConfig config;
     config.bindAddress = options.host;
     config.description.port = options.port;

@@ -39,7 +39,7 @@ public:
     static ua::ServerConfig defaultConfig();
 
 private:
-    asio::io_context io_;
+    asio::io_context io_{1};  // run by one thread only
     std::unique_ptr<ua::Server> server_;
     std::uint16_t port_ = 0;
     std::thread thread_;

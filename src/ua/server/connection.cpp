@@ -31,7 +31,6 @@ Connection::Connection(asio::ip::tcp::socket socket, ConnectionEnvironment env,
       channelId_(channelId),
       limits_(env.limits.transport),
       in_(std::max<std::size_t>(env.limits.transport.receiveBufferSize, kMinBufferSize)),
-      writeSignal_(socket_.get_executor()),
       deadlineTimer_(socket_.get_executor()) {}
 
 asio::awaitable<void> Connection::run() {
@@ -44,7 +43,6 @@ asio::awaitable<void> Connection::run() {
     spdlog::debug("channel {}: connection from {}", channelId_, peer_);
     setDeadline(steadyNow() + std::chrono::milliseconds(env_.limits.helloTimeoutMs));
     auto executor = co_await asio::this_coro::executor;
-    asio::co_spawn(executor, [self] { return self->writer(); }, asio::detached);
     asio::co_spawn(executor, [self] { return self->watchdog(); }, asio::detached);
 
     const StatusCode result = co_await serve();
@@ -52,7 +50,7 @@ asio::awaitable<void> Connection::run() {
         fail(result, statusName(result));
     } else {
         closing_ = true;
-        writeSignal_.cancel();
+        if (!writing_) writeQueued();  // nothing in flight: close now
     }
 }
 
@@ -60,7 +58,6 @@ void Connection::close() {
     asio::error_code ignored;
     socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
     socket_.close(ignored);
-    writeSignal_.cancel();
     deadlineTimer_.cancel();
 }
 
@@ -246,15 +243,15 @@ void Connection::sendDeferred(std::uint32_t requestId, std::uint32_t requestHand
 
 void Connection::send(std::vector<std::uint8_t> frame) {
     out_.push_back(std::move(frame));
-    writeSignal_.cancel();
+    if (!writing_) writeQueued();
 }
 
 void Connection::fail(StatusCode status, std::string_view reason) {
     if (closing_) return;
     spdlog::warn("channel {} ({}): closing with {}: {}", channelId_, peer_, statusName(status),
                  reason);
+    closing_ = true;  // the write chain closes the socket once the ERR is out
     send(encodeError(status, reason));
-    closing_ = true;
 }
 
 void Connection::setDeadline(SteadyTime deadline) {
@@ -263,24 +260,31 @@ void Connection::setDeadline(SteadyTime deadline) {
     if (earlier) deadlineTimer_.cancel();
 }
 
-asio::awaitable<void> Connection::writer() {
-    while (socket_.is_open()) {
-        if (out_.empty()) {
-            if (closing_) break;
-            writeSignal_.expires_at(SteadyTime::max());
-            co_await writeSignal_.async_wait(kNoThrow);
-            continue;
-        }
-        // Everything queued goes out in one gathered write.
-        std::vector<asio::const_buffer> buffers;
-        buffers.reserve(out_.size());
-        for (const auto& f : out_) buffers.emplace_back(asio::buffer(f));
-        const std::size_t count = out_.size();
-        auto [ec, n] = co_await asio::async_write(socket_, buffers, kNoThrow);
-        if (ec) break;
-        out_.erase(out_.begin(), out_.begin() + static_cast<std::ptrdiff_t>(count));
+void Connection::writeQueued() {
+    if (out_.empty() || !socket_.is_open()) {
+        if (closing_) close();
+        return;
     }
-    close();
+    // Everything queued goes out in one gathered write. Initiating it here, not in a writer
+    // coroutine woken by a signal, lets Asio write at once when the socket takes it: the
+    // response leaves before the reader loop continues, without a trip through the
+    // scheduler.
+    writing_ = true;
+    const std::size_t count = out_.size();
+    writeBuffers_.clear();
+    for (const auto& f : out_) writeBuffers_.emplace_back(asio::buffer(f));
+    asio::async_write(socket_, writeBuffers_,
+                      [self = shared_from_this(), count](asio::error_code ec, std::size_t) {
+                          self->writing_ = false;
+                          if (ec) {
+                              self->close();
+                              return;
+                          }
+                          // Frames queued meanwhile sit behind these; deque keeps them put.
+                          self->out_.erase(self->out_.begin(),
+                                           self->out_.begin() + static_cast<std::ptrdiff_t>(count));
+                          self->writeQueued();
+                      });
 }
 
 asio::awaitable<void> Connection::watchdog() {

@@ -57,7 +57,8 @@ private:
     void fail(StatusCode status, std::string_view reason);
     void setDeadline(SteadyTime deadline);
 
-    asio::awaitable<void> writer();
+    /// Writes what is queued unless a write is in flight; closes once drained if closing.
+    void writeQueued();
     asio::awaitable<void> watchdog();
 
     asio::ip::tcp::socket socket_;
@@ -73,7 +74,8 @@ private:
     std::size_t inEnd_ = 0;
 
     std::deque<std::vector<std::uint8_t>> out_;
-    asio::steady_timer writeSignal_;
+    std::vector<asio::const_buffer> writeBuffers_;
+    bool writing_ = false;
     bool closing_ = false;  // flush what is queued, then close
 
     asio::steady_timer deadlineTimer_;
