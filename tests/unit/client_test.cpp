@@ -10,6 +10,8 @@
 #include <optional>
 #include <vector>
 
+#include <asio/bind_cancellation_slot.hpp>
+#include <asio/cancellation_signal.hpp>
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <asio/experimental/as_tuple.hpp>
@@ -568,6 +570,119 @@ TEST(ClientRequests, UnansweredRequestTimesOutAndLaterOnesStillWork) {
     EXPECT_GE(waited, 150ms);
     EXPECT_LT(waited, 2s);
     EXPECT_EQ(second, status::Good);
+}
+
+TEST(ClientRequests, CancelledRequestEndsWithBadRequestCancelledByClient) {
+    asio::io_context io;
+    asio::cancellation_signal cancel;
+    FakeServer server(io, [&cancel](FakeServer& s, FakeServer::Request r) {
+        if (readTarget(r) == NodeId(1)) {
+            // The request has reached the server: cancel its wait, then answer it anyway
+            // (that late reply must be dropped).
+            cancel.emit(asio::cancellation_type::terminal);
+            s.reply(r.requestId, readResponseWith(Variant(false)));
+            return;
+        }
+        s.reply(r.requestId, readResponseWith(Variant(true)));
+    });
+    Client client(io.get_executor());
+    std::optional<StatusCode> cancelled;
+    std::optional<StatusCode> later;
+    bool done = false;
+    asio::co_spawn(
+        io,
+        [&]() -> asio::awaitable<void> {
+            if (!(co_await client.connect(server.url(), {})).isGood()) {
+                done = true;
+                co_return;
+            }
+            // Its own coroutine, so that only this request sees the cancellation.
+            asio::co_spawn(
+                io,
+                [&]() -> asio::awaitable<void> {
+                    cancelled = (co_await client.readValue(NodeId(1))).status();
+                    asio::co_spawn(
+                        io,
+                        [&]() -> asio::awaitable<void> {
+                            later = (co_await client.readValue(NodeId(2))).status();
+                            done = true;
+                        },
+                        asio::detached);
+                },
+                asio::bind_cancellation_slot(cancel.slot(), asio::detached));
+        },
+        asio::detached);
+    runUntil(io, done);
+    EXPECT_EQ(cancelled, status::BadRequestCancelledByClient);
+    EXPECT_EQ(later, status::Good);
+}
+
+TEST(ClientRequests, ShortDeadlineExpiresWhileALongerOneWaits) {
+    // One timer serves all requests: an earlier deadline than the armed one must re-arm it.
+    asio::io_context io;
+    FakeServer server(io, [](FakeServer&, FakeServer::Request) {});  // never answers
+    Client client(io.get_executor());
+    std::optional<StatusCode> shortOne;
+    std::chrono::steady_clock::duration waited{};
+    bool done = false;
+    asio::co_spawn(
+        io,
+        [&]() -> asio::awaitable<void> {
+            if (!(co_await client.connect(server.url(), {})).isGood()) {
+                done = true;
+                co_return;
+            }
+            asio::co_spawn(  // waits for the default 10 s
+                io, [&]() -> asio::awaitable<void> { co_await client.readValue(NodeId(1)); },
+                asio::detached);
+            ReadRequest req;
+            ReadValueId id;
+            id.nodeId = NodeId(2);
+            req.nodesToRead.push_back(id);
+            const auto start = std::chrono::steady_clock::now();
+            shortOne =
+                (co_await client.requestWithin<ReadRequest, ReadResponse>(std::move(req), 200ms))
+                    .status();
+            waited = std::chrono::steady_clock::now() - start;
+            client.abort();
+            done = true;
+        },
+        asio::detached);
+    runUntil(io, done);
+    EXPECT_EQ(shortOne, status::BadTimeout);
+    EXPECT_GE(waited, 150ms);
+    EXPECT_LT(waited, 2s);
+}
+
+TEST(ClientRequests, LargeMultiChunkResponseArrivesWhole) {
+    // Larger than the client's read buffer and than one chunk: frames arrive in pieces
+    // and several at a time.
+    asio::io_context io;
+    ByteString big;
+    big.bytes.resize(300'000);
+    for (std::size_t i = 0; i < big.bytes.size(); ++i) {
+        big.bytes[i] = static_cast<std::uint8_t>(i * 7);
+    }
+    FakeServer server(io, [&big](FakeServer& s, FakeServer::Request r) {
+        s.reply(r.requestId, readResponseWith(Variant(big)));
+    });
+    Client client(io.get_executor());
+    std::optional<Result<Variant>> got;
+    bool done = false;
+    asio::co_spawn(
+        io,
+        [&]() -> asio::awaitable<void> {
+            if ((co_await client.connect(server.url(), {})).isGood()) {
+                got = co_await client.readValue(NodeId(1));
+            }
+            done = true;
+        },
+        asio::detached);
+    runUntil(io, done);
+    ASSERT_TRUE(got && *got) << (got ? statusName(got->status()) : "no result");
+    const auto* bytes = (*got)->get<ByteString>();
+    ASSERT_NE(bytes, nullptr);
+    EXPECT_EQ(bytes->bytes, big.bytes);
 }
 
 TEST(ClientRequests, DroppedConnectionFailsPendingRequests) {

@@ -2,6 +2,11 @@
 
 namespace skillcell::ua {
 
+const std::shared_ptr<blocking_detail::CallSignal>& blocking_detail::callSignal() {
+    thread_local const auto signal = std::make_shared<CallSignal>();
+    return signal;
+}
+
 BlockingClient::BlockingClient()
     : client_(std::make_unique<Client>(ctx_.get_executor())),
       work_(asio::make_work_guard(ctx_)),

@@ -7,9 +7,11 @@
 // client's own (calling from inside a Client coroutine would deadlock); overlapping calls
 // from several threads are allowed and travel as concurrent requests. The destructor
 // disconnects (CloseSession, CloseSecureChannel) and joins the thread.
+#include <condition_variable>
 #include <exception>
-#include <future>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <thread>
 #include <type_traits>
 #include <utility>
@@ -23,6 +25,39 @@
 #include "ua/client/client.hpp"
 
 namespace skillcell::ua {
+
+namespace blocking_detail {
+
+/// Wakes a thread blocked in a BlockingClient call. Each calling thread has one and reuses
+/// it for every call (a thread waits for one call at a time), so that a call allocates no
+/// shared state. Held by shared_ptr because the client's thread may still be inside
+/// notify() when the caller has already returned.
+class CallSignal {
+public:
+    void notify() {
+        {
+            std::lock_guard lock(mutex_);
+            done_ = true;
+        }
+        // After unlocking: the woken caller does not then block on the mutex again.
+        cv_.notify_one();
+    }
+    void wait() {
+        std::unique_lock lock(mutex_);
+        cv_.wait(lock, [this] { return done_; });
+        done_ = false;  // ready for this thread's next call
+    }
+
+private:
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    bool done_ = false;
+};
+
+/// The calling thread's CallSignal.
+[[nodiscard]] const std::shared_ptr<CallSignal>& callSignal();
+
+}  // namespace blocking_detail
 
 class BlockingClient {
 public:
@@ -103,23 +138,23 @@ public:
         using Awaitable = std::invoke_result_t<Start&, Client&>;
         using T = typename Awaitable::value_type;
         static_assert(std::is_constructible_v<T, StatusCode>, "a Result<...> or a StatusCode");
-        std::promise<T> promise;
-        auto future = promise.get_future();
-        // The promise moves into the coroutine so that this thread never touches it again
-        // while the client's thread may still be inside set_value.
+        // Written by the client's thread before it signals, read here after the wait.
+        std::optional<T> result;
+        const auto& signal = blocking_detail::callSignal();
         asio::co_spawn(
             ctx_,
-            [&start, &client = *client_,
-             p = std::move(promise)]() mutable -> asio::awaitable<void> {
+            [&start, &result, &client = *client_, signal = signal]() -> asio::awaitable<void> {
                 try {
-                    p.set_value(co_await start(client));
+                    result.emplace(co_await start(client));
                 } catch (...) {
                     // Client coroutines do not throw; this covers a throwing `start`.
-                    p.set_value(T(status::BadInternalError));
+                    result.emplace(T(status::BadInternalError));
                 }
+                signal->notify();
             },
             asio::detached);
-        return future.get();
+        signal->wait();
+        return std::move(*result);
     }
 
 private:
@@ -127,15 +162,18 @@ private:
     template <class F>
     auto runSync(F&& f) {
         using T = std::invoke_result_t<F&, Client&>;
-        std::promise<T> promise;
-        auto future = promise.get_future();
-        asio::post(ctx_, [&f, &client = *client_, p = std::move(promise)]() mutable {
-            p.set_value(f(client));
+        std::optional<T> result;
+        const auto& signal = blocking_detail::callSignal();
+        asio::post(ctx_, [&f, &result, &client = *client_, signal = signal] {
+            result.emplace(f(client));
+            signal->notify();
         });
-        return future.get();
+        signal->wait();
+        return std::move(*result);
     }
 
-    asio::io_context ctx_;
+    // Concurrency hint 1: only the client's own thread runs it.
+    asio::io_context ctx_{1};
     std::unique_ptr<Client> client_;
     asio::executor_work_guard<asio::io_context::executor_type> work_;
     std::jthread thread_;

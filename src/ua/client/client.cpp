@@ -3,22 +3,27 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <deque>
+#include <cstring>
 #include <exception>
 #include <new>
 #include <optional>
 #include <random>
+#include <span>
 #include <unordered_map>
 #include <utility>
 
+#include <asio/associated_cancellation_slot.hpp>
+#include <asio/associated_executor.hpp>
+#include <asio/async_result.hpp>
+#include <asio/cancellation_signal.hpp>
 #include <asio/co_spawn.hpp>
 #include <asio/connect.hpp>
 #include <asio/detached.hpp>
+#include <asio/dispatch.hpp>
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/ip/tcp.hpp>
-#include <asio/read.hpp>
+#include <asio/post.hpp>
 #include <asio/steady_timer.hpp>
-#include <asio/this_coro.hpp>
 #include <asio/use_awaitable.hpp>
 #include <asio/write.hpp>
 
@@ -104,11 +109,6 @@ String anonymousPolicyId(const std::vector<EndpointDescription>& endpoints) {
     return fallback != nullptr ? *fallback : String("anonymous");
 }
 
-struct Frame {
-    MessageHeader header;
-    std::vector<std::uint8_t> bytes;  // header included
-};
-
 }  // namespace
 
 Result<EndpointAddress> parseEndpointUrl(std::string_view url) {
@@ -159,15 +159,61 @@ Result<EndpointAddress> parseEndpointUrl(std::string_view url) {
     return out;
 }
 
-// Everything tied to one socket. Coroutines that outlive a call (reader, writer, token
-// renewal) hold it by shared_ptr and never touch the Client, which may be gone by then.
+// Everything tied to one socket. Callbacks and coroutines that outlive a call (reader,
+// write completions, timers, token renewal) hold it by shared_ptr and never touch the
+// Client, which may be gone by then.
 struct client_detail::Connection {
+    using Reply = Result<std::vector<std::uint8_t>>;
+
+    /// The completion handler of a request coroutine waiting for its reply, type-erased so
+    /// that the pending map can hold any of them. Asio 1.22 has no any_completion_handler.
+    class Waiter {
+    public:
+        Waiter() = default;
+        template <class Handler>
+        Waiter(Handler handler, const asio::any_io_executor& fallback)
+            : impl_(std::make_unique<Impl<Handler>>(std::move(handler), fallback)) {}
+
+        /// Resumes the waiting coroutine inside this call when we run on its executor:
+        /// the reader uses it so that the next request is sent before the event loop polls
+        /// again (a post would cost one more epoll_wait per request).
+        void dispatch(Reply reply) { std::exchange(impl_, {})->complete(std::move(reply), false); }
+        /// Resumes it later, from the event loop: for completions that come from places
+        /// (timer, cancellation, close) that must not run the caller's code re-entrantly.
+        void post(Reply reply) { std::exchange(impl_, {})->complete(std::move(reply), true); }
+
+    private:
+        struct Base {
+            virtual ~Base() = default;
+            virtual void complete(Reply reply, bool deferred) = 0;
+        };
+        template <class Handler>
+        struct Impl final : Base {
+            Impl(Handler h, const asio::any_io_executor& fallback)
+                : handler(std::move(h)),
+                  executor(asio::get_associated_executor(handler, fallback)) {}
+            void complete(Reply reply, bool deferred) override {
+                auto f = [h = std::move(handler), r = std::move(reply)]() mutable {
+                    std::move(h)(std::move(r));
+                };
+                if (deferred) {
+                    asio::post(executor, std::move(f));
+                } else {
+                    asio::dispatch(executor, std::move(f));
+                }
+            }
+            Handler handler;
+            asio::associated_executor_t<Handler, asio::any_io_executor> executor;
+        };
+        std::unique_ptr<Base> impl_;
+    };
+
     struct Pending {
-        explicit Pending(const asio::any_io_executor& ex) : timer(ex) {}
-        // Doubles as the wake-up: the reader cancels it once `reply` is set, and its expiry
-        // is the request's deadline.
-        asio::steady_timer timer;
-        std::optional<Result<std::vector<std::uint8_t>>> reply;
+        SteadyTime deadline;
+        Waiter waiter;
+        // The awaiting coroutine's cancellation slot (may be unconnected); cleared before
+        // the waiter completes so that a later cancellation cannot reach a finished request.
+        asio::cancellation_slot cancelSlot;
     };
 
     Connection(const asio::any_io_executor& ex, const ClientConfig& config)
@@ -175,23 +221,37 @@ struct client_detail::Connection {
           resolver(ex),
           watchdog(ex),
           renewTimer(ex),
+          requestTimer(ex),
           drained(ex),
           requestTimeout(config.requestTimeout) {}
 
     tcp::socket socket;
     tcp::resolver resolver;
-    asio::steady_timer watchdog;    // connect timeout
-    asio::steady_timer renewTimer;  // next token renewal
-    asio::steady_timer drained;     // cancelled whenever the write queue runs empty
+    asio::steady_timer watchdog;      // connect timeout
+    asio::steady_timer renewTimer;    // next token renewal
+    asio::steady_timer requestTimer;  // the earliest request deadline (or earlier)
+    asio::steady_timer drained;       // cancelled whenever an async write drains the queue
     std::optional<SecureChannel> channel;
-    std::unordered_map<std::uint32_t, std::shared_ptr<Pending>> pending;
-    std::deque<std::vector<std::uint8_t>> writeQueue;
+    std::unordered_map<std::uint32_t, Pending> pending;
+    // Received bytes not yet cut into frames: [inBegin, inEnd) of `in`.
+    std::vector<std::uint8_t> in;
+    std::size_t inBegin = 0;
+    std::size_t inEnd = 0;
+    // Frames waiting for the write in flight to finish, in sequence-number order.
+    std::vector<std::vector<std::uint8_t>> writeQueue;
+    // The frames of the write in flight; owned here, not by the queue, because close()
+    // clears the queue while the kernel may still be reading these buffers. Only the write
+    // completion releases them.
+    std::vector<std::vector<std::uint8_t>> inFlight;
     std::chrono::milliseconds requestTimeout;
     SteadyTime tokenAcceptedAt{};
+    // When the armed requestTimer wait fires; nullopt when no wait is armed.
+    std::optional<SteadyTime> requestTimerAt;
+    std::uint64_t requestTimerGeneration = 0;  // tells a superseded wait from the armed one
     StatusCode closeReason = status::BadConnectionClosed;
     std::uint32_t nextRequestId = 1;
     std::uint32_t nextRequestHandle = 1;
-    bool writing = false;
+    bool writing = false;  // an async write is in flight (then frames go to writeQueue)
     bool closed = false;
     bool timedOut = false;  // the connect watchdog fired
 
@@ -205,12 +265,14 @@ struct client_detail::Connection {
         resolver.cancel();
         watchdog.cancel();
         renewTimer.cancel();
+        requestTimer.cancel();
+        requestTimerAt.reset();
         drained.cancel();
-        for (auto& [id, p] : pending) {
-            p->reply.emplace(reason);
-            p->timer.cancel();
+        auto failed = std::exchange(pending, {});
+        for (auto& [id, p] : failed) {
+            p.cancelSlot.clear();
+            p.waiter.post(reason);
         }
-        pending.clear();
         writeQueue.clear();
     }
 };
@@ -219,62 +281,174 @@ namespace {
 
 using client_detail::Connection;
 
-asio::awaitable<Result<Frame>> readFrame(Connection& conn, std::uint32_t maxFrameSize) {
-    Frame frame;
-    frame.bytes.resize(kMessageHeaderSize);
-    auto [ec, n] = co_await asio::async_read(conn.socket, asio::buffer(frame.bytes), kNoThrow);
-    if (ec) co_return conn.closed ? conn.closeReason : statusFromError(ec);
-    auto header = parseMessageHeader(
-        std::span<const std::uint8_t, kMessageHeaderSize>(frame.bytes.data(), kMessageHeaderSize),
-        maxFrameSize);
-    if (!header) co_return header.status();
-    frame.header = *header;
-    frame.bytes.resize(frame.header.size);
-    auto [ec2, n2] = co_await asio::async_read(conn.socket,
-                                               asio::buffer(frame.bytes.data() + kMessageHeaderSize,
-                                                            frame.header.size - kMessageHeaderSize),
-                                               kNoThrow);
-    if (ec2) co_return conn.closed ? conn.closeReason : statusFromError(ec2);
-    co_return frame;
+/// A frame cut out of Connection::in; valid until the next readFrame on that connection.
+struct FrameView {
+    MessageHeader header;
+    std::span<const std::uint8_t> bytes;  // header included
+};
+
+/// Room for many small frames per read system call; grows to the frame size for larger ones.
+constexpr std::size_t kInitialReadBuffer = 64 * 1024;
+
+/// The next frame: cut out of what is buffered, reading more only when it holds no whole
+/// frame. Reading into a large buffer takes whatever the socket has in one call, and a
+/// read that leaves the buffer partly empty tells Asio the socket is drained, so that the
+/// next read waits for readiness instead of trying (and failing) a speculative recv.
+asio::awaitable<Result<FrameView>> readFrame(Connection& conn, std::uint32_t maxFrameSize) {
+    if (conn.in.empty()) conn.in.resize(kInitialReadBuffer);
+    std::optional<MessageHeader> header;
+    for (;;) {
+        const std::size_t buffered = conn.inEnd - conn.inBegin;
+        if (!header && buffered >= kMessageHeaderSize) {
+            auto parsed = parseMessageHeader(std::span<const std::uint8_t, kMessageHeaderSize>(
+                                                 conn.in.data() + conn.inBegin, kMessageHeaderSize),
+                                             maxFrameSize);
+            if (!parsed) co_return parsed.status();
+            header = *parsed;
+        }
+        const std::size_t need = header ? header->size : kMessageHeaderSize;
+        if (header && buffered >= need) {
+            FrameView frame{*header, std::span(conn.in.data() + conn.inBegin, need)};
+            conn.inBegin += need;
+            co_return frame;
+        }
+        if (buffered == 0 || conn.in.size() - conn.inBegin < need || conn.inEnd == conn.in.size()) {
+            // Move the partial frame to the front (the previous frame's view is dead now).
+            std::memmove(conn.in.data(), conn.in.data() + conn.inBegin, buffered);
+            conn.inBegin = 0;
+            conn.inEnd = buffered;
+            if (conn.in.size() < need) conn.in.resize(need);
+        }
+        auto [ec, n] = co_await conn.socket.async_read_some(
+            asio::buffer(conn.in.data() + conn.inEnd, conn.in.size() - conn.inEnd), kNoThrow);
+        if (ec) co_return conn.closed ? conn.closeReason : statusFromError(ec);
+        conn.inEnd += n;
+    }
 }
 
 /// The status an ERR frame carries (BadCommunicationError if it carries none).
-StatusCode errorFrameStatus(const Frame& frame) {
+StatusCode errorFrameStatus(const FrameView& frame) {
     auto err = decodeError(frame.bytes);
     if (!err || !err->error.isBad()) return status::BadCommunicationError;
     return err->error;
 }
 
-asio::awaitable<void> writeLoop(std::shared_ptr<Connection> conn) {
-    while (!conn->closed && !conn->writeQueue.empty()) {
-        // Owned here, not by the queue: close() clears the queue while a write may still
-        // be using the buffer.
-        auto frame = std::move(conn->writeQueue.front());
-        conn->writeQueue.pop_front();
-        auto [ec, n] = co_await asio::async_write(conn->socket, asio::buffer(frame), kNoThrow);
-        if (ec) conn->close(conn->closed ? conn->closeReason : statusFromError(ec));
+std::size_t totalSize(const std::vector<std::vector<std::uint8_t>>& frames) {
+    std::size_t n = 0;
+    for (const auto& f : frames) n += f.size();
+    return n;
+}
+
+void startWrite(const std::shared_ptr<Connection>& conn, std::size_t skip);
+
+/// Completion of an async write: frees its frames, then writes whatever queued up meanwhile.
+void writeDone(const std::shared_ptr<Connection>& conn, const std::error_code& ec) {
+    conn->inFlight.clear();
+    if (ec) conn->close(conn->closed ? conn->closeReason : statusFromError(ec));
+    if (conn->closed || conn->writeQueue.empty()) {
+        conn->writing = false;
+        conn->drained.cancel();
+        return;
     }
-    conn->writing = false;
-    conn->drained.cancel();
+    conn->inFlight = std::exchange(conn->writeQueue, {});
+    startWrite(conn, 0);
 }
 
-/// Queues frames in sequence-number order; one writer coroutine drains the queue so that
-/// concurrent requests never interleave their chunks.
-void enqueue(const std::shared_ptr<Connection>& conn,
-             std::vector<std::vector<std::uint8_t>> frames) {
-    for (auto& f : frames) conn->writeQueue.push_back(std::move(f));
-    if (conn->writing) return;
+/// Writes conn->inFlight, less its first `skip` bytes (already sent), asynchronously.
+void startWrite(const std::shared_ptr<Connection>& conn, std::size_t skip) {
+    std::vector<asio::const_buffer> buffers;
+    buffers.reserve(conn->inFlight.size());
+    for (const auto& f : conn->inFlight) {
+        if (skip >= f.size()) {
+            skip -= f.size();
+            continue;
+        }
+        buffers.emplace_back(f.data() + skip, f.size() - skip);
+        skip = 0;
+    }
+    asio::async_write(conn->socket, buffers,
+                      [conn](const std::error_code& ec, std::size_t) { writeDone(conn, ec); });
+}
+
+/// Sends frames in sequence-number order without interleaving the chunks of concurrent
+/// requests. With no write in flight, the frames go to the kernel right here (the socket is
+/// non-blocking): usually all of them, and then nothing is posted and no coroutine wakes.
+/// Whatever the kernel does not take goes to an async write; frames arriving while it is
+/// in flight queue behind it.
+void send(const std::shared_ptr<Connection>& conn, std::vector<std::vector<std::uint8_t>> frames) {
+    if (conn->closed || frames.empty()) return;
+    if (conn->writing) {
+        for (auto& f : frames) conn->writeQueue.push_back(std::move(f));
+        return;
+    }
+    std::error_code ec;
+    std::size_t sent = 0;
+    if (frames.size() == 1) {
+        sent = conn->socket.write_some(asio::buffer(frames.front()), ec);
+    } else {
+        std::vector<asio::const_buffer> buffers;
+        buffers.reserve(frames.size());
+        for (const auto& f : frames) buffers.emplace_back(asio::buffer(f));
+        sent = conn->socket.write_some(buffers, ec);
+    }
+    if (ec && ec != asio::error::would_block && ec != asio::error::try_again) {
+        conn->close(statusFromError(ec));
+        return;
+    }
+    if (sent == totalSize(frames)) return;
     conn->writing = true;
-    asio::co_spawn(conn->socket.get_executor(), writeLoop(conn), asio::detached);
+    conn->inFlight = std::move(frames);
+    startWrite(conn, sent);
 }
 
-/// Completes the request waiting for `requestId`, if it still waits (it may have timed out).
-void complete(Connection& conn, std::uint32_t requestId, Result<std::vector<std::uint8_t>> reply) {
+void armRequestTimer(const std::shared_ptr<Connection>& conn, SteadyTime deadline);
+
+/// The request timer fired: fails every request whose deadline passed, then waits for the
+/// earliest remaining deadline.
+void onRequestTimer(const std::shared_ptr<Connection>& conn, std::uint64_t generation,
+                    const std::error_code& ec) {
+    // Cancelled (close) or superseded by an earlier deadline: that wait is in charge now.
+    if (ec || conn->closed || generation != conn->requestTimerGeneration) return;
+    conn->requestTimerAt.reset();
+    const auto now = std::chrono::steady_clock::now();
+    std::optional<SteadyTime> next;
+    for (auto it = conn->pending.begin(); it != conn->pending.end();) {
+        if (it->second.deadline <= now) {
+            auto p = std::move(it->second);
+            it = conn->pending.erase(it);
+            p.cancelSlot.clear();
+            p.waiter.post(status::BadTimeout);
+        } else {
+            if (!next || it->second.deadline < *next) next = it->second.deadline;
+            ++it;
+        }
+    }
+    if (next) armRequestTimer(conn, *next);
+}
+
+/// Makes sure the request timer fires no later than `deadline`. One timer serves all
+/// requests, and it is re-armed only when a deadline is earlier than the armed one, so
+/// that a request usually costs no timer system call: with equal timeouts, deadlines only
+/// grow, and a timer firing before the earliest live deadline (its request was answered)
+/// just re-arms for that one.
+void armRequestTimer(const std::shared_ptr<Connection>& conn, SteadyTime deadline) {
+    if (conn->requestTimerAt && *conn->requestTimerAt <= deadline) return;
+    conn->requestTimerAt = deadline;
+    const auto generation = ++conn->requestTimerGeneration;
+    conn->requestTimer.expires_at(deadline);  // cancels a later wait; its handler returns
+    conn->requestTimer.async_wait(
+        [conn, generation](const std::error_code& ec) { onRequestTimer(conn, generation, ec); });
+}
+
+/// Completes the request waiting for `requestId`, if it still waits (it may have timed
+/// out or been cancelled). The waiter runs inside this call.
+void complete(Connection& conn, std::uint32_t requestId, Connection::Reply reply) {
     auto it = conn.pending.find(requestId);
     if (it == conn.pending.end()) return;
-    it->second->reply.emplace(std::move(reply));
-    it->second->timer.cancel();
+    auto p = std::move(it->second);
     conn.pending.erase(it);
+    p.cancelSlot.clear();
+    p.waiter.dispatch(std::move(reply));
 }
 
 asio::awaitable<void> readLoop(std::shared_ptr<Connection> conn) {
@@ -323,6 +497,27 @@ asio::awaitable<void> readLoop(std::shared_ptr<Connection> conn) {
     }
 }
 
+/// Cancellation of a waiting request (per-operation cancellation of its coroutine).
+struct CancelPending {
+    std::weak_ptr<Connection> conn;
+    std::uint32_t requestId;
+    void operator()(asio::cancellation_type type) const {
+        if ((type & (asio::cancellation_type::terminal | asio::cancellation_type::partial |
+                     asio::cancellation_type::total)) == asio::cancellation_type::none) {
+            return;
+        }
+        auto c = conn.lock();
+        if (!c) return;
+        auto it = c->pending.find(requestId);
+        if (it == c->pending.end()) return;
+        // Not clearing the slot: this handler lives in it. It stays harmless there, since
+        // it finds no pending request under this id any more.
+        auto p = std::move(it->second);
+        c->pending.erase(it);
+        p.waiter.post(status::BadRequestCancelledByClient);
+    }
+};
+
 asio::awaitable<Result<std::vector<std::uint8_t>>> exchangeOn(std::shared_ptr<Connection> conn,
                                                               MessageType type,
                                                               std::vector<std::uint8_t> body,
@@ -331,24 +526,24 @@ asio::awaitable<Result<std::vector<std::uint8_t>>> exchangeOn(std::shared_ptr<Co
     const auto requestId = conn->nextRequestId++;
     auto frames = conn->channel->encodeMessage(type, requestId, body);
     if (!frames) co_return frames.status();
-    auto pending = std::make_shared<Connection::Pending>(conn->socket.get_executor());
-    pending->timer.expires_after(timeout);
-    conn->pending.emplace(requestId, pending);
-    enqueue(conn, std::move(*frames));
-    while (!pending->reply) {
-        auto [ec] = co_await pending->timer.async_wait(kNoThrow);
-        if (pending->reply) break;
-        if (!ec) {
-            conn->pending.erase(requestId);
-            co_return status::BadTimeout;
+    const auto deadline = steadyNow() + timeout;
+    // The request waits in `pending` with its completion handler; the reader, the request
+    // timer, a cancellation or close() takes it out and completes it exactly once.
+    auto initiate = [&conn, &frames, requestId, deadline](auto handler) {
+        const auto ex = conn->socket.get_executor();
+        if (conn->closed) {
+            Connection::Waiter(std::move(handler), ex).post(conn->closeReason);
+            return;
         }
-        auto cancelled = (co_await asio::this_coro::cancellation_state).cancelled();
-        if (cancelled != asio::cancellation_type::none) {
-            conn->pending.erase(requestId);
-            co_return status::BadRequestCancelledByClient;
-        }
-    }
-    co_return std::move(*pending->reply);
+        auto slot = asio::get_associated_cancellation_slot(handler);
+        Connection::Pending p{deadline, Connection::Waiter(std::move(handler), ex), slot};
+        if (slot.is_connected()) slot.assign(CancelPending{conn, requestId});
+        conn->pending.emplace(requestId, std::move(p));
+        armRequestTimer(conn, deadline);
+        send(conn, std::move(*frames));
+    };
+    co_return co_await asio::async_initiate<decltype(asio::use_awaitable), void(Connection::Reply)>(
+        initiate, asio::use_awaitable);
 }
 
 /// Opens (Issue) or renews the channel. Touches only `conn`, so that the renewal coroutine
@@ -422,6 +617,11 @@ asio::awaitable<StatusCode> handshake(std::shared_ptr<Connection> conn,
     if (cec) co_return failed(cec);
     std::error_code ignored;
     conn->socket.set_option(tcp::no_delay(true), ignored);
+    // send() writes synchronously first and must not block: what the kernel does not take
+    // goes to an async write instead. Async operations are unaffected by this mode.
+    std::error_code nbec;
+    conn->socket.non_blocking(true, nbec);
+    if (nbec) co_return failed(nbec);
 
     HelloMessage hello;
     hello.receiveBufferSize = config.limits.receiveBufferSize;
@@ -583,7 +783,7 @@ asio::awaitable<StatusCode> Client::disconnect() {
                                                               conn->nextRequestId++, *body)
                                : Result<std::vector<std::vector<std::uint8_t>>>(body.status());
             if (frames) {
-                enqueue(conn, std::move(*frames));
+                send(conn, std::move(*frames));
                 // No response to CLO: wait (briefly) until it is on the wire, then hang up.
                 conn->drained.expires_after(std::chrono::seconds(1));
                 while (conn->writing && !conn->closed) {
