@@ -205,7 +205,7 @@ public:
             case StructureType::Structure:
             case StructureType::StructureWithSubtypedValues:
                 for (std::size_t i = 0; i < def->fields.size(); ++i) {
-                    auto st = encodeField(w, def->fields[i], value.fields[i].value, depth);
+                    auto st = encodeField(w, def->fields[i], value.fields[i].value);
                     if (st.isBad()) return st;
                 }
                 return status::Good;
@@ -222,7 +222,7 @@ public:
                 w.write(mask);
                 for (std::size_t i = 0; i < def->fields.size(); ++i) {
                     if (def->fields[i].isOptional && value.fields[i].value.isEmpty()) continue;
-                    auto st = encodeField(w, def->fields[i], value.fields[i].value, depth);
+                    auto st = encodeField(w, def->fields[i], value.fields[i].value);
                     if (st.isBad()) return st;
                 }
                 return status::Good;
@@ -237,8 +237,7 @@ public:
                 }
                 w.write(chosen);
                 if (chosen == 0) return status::Good;
-                return encodeField(w, def->fields[chosen - 1], value.fields[chosen - 1].value,
-                                   depth);
+                return encodeField(w, def->fields[chosen - 1], value.fields[chosen - 1].value);
             }
         }
         return status::BadEncodingError;
@@ -338,7 +337,7 @@ public:
     }
 
 private:
-    StatusCode encodeField(BinaryWriter& w, const StructureField& f, const Variant& v, int depth) {
+    StatusCode encodeField(BinaryWriter& w, const StructureField& f, const Variant& v) {
         const StructureDefinition* nested = types_.structureOf(f.dataType);
         const auto bt = nested != nullptr ? std::optional(BuiltinType::ExtensionObject)
                                           : types_.builtinTypeOf(f.dataType);
@@ -359,18 +358,17 @@ private:
             }
             w.write(el.empty() ? std::int32_t{-1} : static_cast<std::int32_t>(el.size()));
             for (const auto& e : el) {
-                auto st = encodeElement(w, f, nested, *bt, e, depth);
+                auto st = encodeElement(w, f, nested, *bt, e);
                 if (st.isBad()) return st;
             }
             return status::Good;
         }
         if (v.isArray()) return status::BadEncodingError;
-        return encodeElement(w, f, nested, *bt, v.scalar(), depth);
+        return encodeElement(w, f, nested, *bt, v.scalar());
     }
 
     StatusCode encodeElement(BinaryWriter& w, const StructureField& f,
-                             const StructureDefinition* nested, BuiltinType bt, const Scalar& s,
-                             int depth) {
+                             const StructureDefinition* nested, BuiltinType bt, const Scalar& s) {
         if (static_cast<BuiltinType>(s.index()) != bt) return status::BadEncodingError;
         if (nested != nullptr) {
             // A field of a concrete structured type is the structure's body, inline: the
@@ -385,7 +383,6 @@ private:
             DynamicStructure inner;
             decodeBody(check, f.dataType, inner);
             if (!check.ok() || check.remaining() != 0) return status::BadEncodingError;
-            (void)depth;
             w.writeBytes(eo.body.bytes);
             return status::Good;
         }

@@ -799,8 +799,6 @@ private:
             failAt(e, "no usable definition for structure " + type.toString());
             return std::nullopt;
         }
-        const bool isUnion = def->structureType == StructureType::Union ||
-                             def->structureType == StructureType::UnionWithSubtypedValues;
         for (std::size_t i = 0; i < def->fields.size(); ++i) {
             const StructureField& f = def->fields[i];
             const auto fe = child(e, f.name);
@@ -809,7 +807,6 @@ private:
             if (!v) return std::nullopt;
             value->fields[i].value = std::move(*v);
         }
-        (void)isUnion;  // a union's one present field is parsed like any other
         return std::move(*value);
     }
 
