@@ -408,12 +408,12 @@ int run(const Options& options) {
         // top of it is what it costs. When the floor is high on a machine, the plain ratio
         // above cannot reach 10x however little a stack adds.
         auto above = [&raw](double us) { return std::max(us - raw.medianUs, 0.1); };
-        std::printf("  time above raw TCP, node-opcua / coroutine: Read %.1fx  Call %.1fx "
-                    "(%.1f vs %.1f us, %.1f vs %.1f us)\n",
-                    above(node->read.medianUs) / above(ours.read.medianUs),
-                    above(node->call.medianUs) / above(ours.call.medianUs),
-                    above(node->read.medianUs), above(ours.read.medianUs),
-                    above(node->call.medianUs), above(ours.call.medianUs));
+        std::printf(
+            "  time above raw TCP, node-opcua / coroutine: Read %.1fx  Call %.1fx "
+            "(%.1f vs %.1f us, %.1f vs %.1f us)\n",
+            above(node->read.medianUs) / above(ours.read.medianUs),
+            above(node->call.medianUs) / above(ours.call.medianUs), above(node->read.medianUs),
+            above(ours.read.medianUs), above(node->call.medianUs), above(ours.call.medianUs));
     }
 
     auto verdict = [](bool met) { return met ? "MET" : "NOT MET"; };

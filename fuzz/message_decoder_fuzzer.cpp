@@ -28,20 +28,42 @@ void decodeRequest(std::span<const std::uint8_t> body) {
     if (!r.ok() || !typeId.isNumeric()) return;
     const auto rest = body.subspan(r.position());
     switch (typeId.numeric()) {
-        case OpenSecureChannelRequest::kBinaryEncodingId: decodeAs<OpenSecureChannelRequest>(rest); break;
-        case GetEndpointsRequest::kBinaryEncodingId: decodeAs<GetEndpointsRequest>(rest); break;
-        case FindServersRequest::kBinaryEncodingId: decodeAs<FindServersRequest>(rest); break;
-        case CreateSessionRequest::kBinaryEncodingId: decodeAs<CreateSessionRequest>(rest); break;
-        case ActivateSessionRequest::kBinaryEncodingId: decodeAs<ActivateSessionRequest>(rest); break;
-        case BrowseRequest::kBinaryEncodingId: decodeAs<BrowseRequest>(rest); break;
-        case BrowseNextRequest::kBinaryEncodingId: decodeAs<BrowseNextRequest>(rest); break;
+        case OpenSecureChannelRequest::kBinaryEncodingId:
+            decodeAs<OpenSecureChannelRequest>(rest);
+            break;
+        case GetEndpointsRequest::kBinaryEncodingId:
+            decodeAs<GetEndpointsRequest>(rest);
+            break;
+        case FindServersRequest::kBinaryEncodingId:
+            decodeAs<FindServersRequest>(rest);
+            break;
+        case CreateSessionRequest::kBinaryEncodingId:
+            decodeAs<CreateSessionRequest>(rest);
+            break;
+        case ActivateSessionRequest::kBinaryEncodingId:
+            decodeAs<ActivateSessionRequest>(rest);
+            break;
+        case BrowseRequest::kBinaryEncodingId:
+            decodeAs<BrowseRequest>(rest);
+            break;
+        case BrowseNextRequest::kBinaryEncodingId:
+            decodeAs<BrowseNextRequest>(rest);
+            break;
         case TranslateBrowsePathsToNodeIdsRequest::kBinaryEncodingId:
             decodeAs<TranslateBrowsePathsToNodeIdsRequest>(rest);
             break;
-        case ReadRequest::kBinaryEncodingId: decodeAs<ReadRequest>(rest); break;
-        case WriteRequest::kBinaryEncodingId: decodeAs<WriteRequest>(rest); break;
-        case CallRequest::kBinaryEncodingId: decodeAs<CallRequest>(rest); break;
-        default: decodeAs<Variant>(rest); break;
+        case ReadRequest::kBinaryEncodingId:
+            decodeAs<ReadRequest>(rest);
+            break;
+        case WriteRequest::kBinaryEncodingId:
+            decodeAs<WriteRequest>(rest);
+            break;
+        case CallRequest::kBinaryEncodingId:
+            decodeAs<CallRequest>(rest);
+            break;
+        default:
+            decodeAs<Variant>(rest);
+            break;
     }
 }
 
@@ -53,7 +75,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint8_t selector = input[0];
     input = input.subspan(1);
     switch (selector % 3) {
-        case 0: decodeRequest(input); break;
+        case 0:
+            decodeRequest(input);
+            break;
         case 1: {
             // A stream of frames into a server-side channel, as a connection would feed it.
             SecureChannel channel(SecureChannel::Role::Server, TransportLimits{},
@@ -76,7 +100,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         default: {
             HelloMessage hello;
-            if (decodeFromBytes(input, hello).isGood()) (void)negotiateAsServer(TransportLimits{}, hello);
+            if (decodeFromBytes(input, hello).isGood())
+                (void)negotiateAsServer(TransportLimits{}, hello);
             break;
         }
     }

@@ -23,15 +23,24 @@ struct BrowseOptions {
 
 const char* nodeClassName(ua::NodeClass c) {
     switch (c) {
-        case ua::NodeClass::Object: return "Object";
-        case ua::NodeClass::Variable: return "Variable";
-        case ua::NodeClass::Method: return "Method";
-        case ua::NodeClass::ObjectType: return "ObjectType";
-        case ua::NodeClass::VariableType: return "VariableType";
-        case ua::NodeClass::ReferenceType: return "ReferenceType";
-        case ua::NodeClass::DataType: return "DataType";
-        case ua::NodeClass::View: return "View";
-        default: return "?";
+        case ua::NodeClass::Object:
+            return "Object";
+        case ua::NodeClass::Variable:
+            return "Variable";
+        case ua::NodeClass::Method:
+            return "Method";
+        case ua::NodeClass::ObjectType:
+            return "ObjectType";
+        case ua::NodeClass::VariableType:
+            return "VariableType";
+        case ua::NodeClass::ReferenceType:
+            return "ReferenceType";
+        case ua::NodeClass::DataType:
+            return "DataType";
+        case ua::NodeClass::View:
+            return "View";
+        default:
+            return "?";
     }
 }
 
@@ -82,7 +91,9 @@ public:
     }
 
 private:
-    static std::string indent(int depth) { return std::string(static_cast<std::size_t>(depth) * 2, ' '); }
+    static std::string indent(int depth) {
+        return std::string(static_cast<std::size_t>(depth) * 2, ' ');
+    }
 
     ua::BlockingClient& client_;
     const BrowseOptions& options_;
@@ -119,8 +130,9 @@ int runBrowse(const BrowseOptions& options) {
 Command addBrowseCommand(CLI::App& app) {
     auto options = std::make_shared<BrowseOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "browse", "Print the address space of an OPC UA server as a tree (forward hierarchical "
-                  "references from --start).");
+        "browse",
+        "Print the address space of an OPC UA server as a tree (forward hierarchical "
+        "references from --start).");
     cmd->add_option("url", options->url, "server endpoint, e.g. opc.tcp://localhost:4840")
         ->required();
     cmd->add_option("--start", options->start, "node to start from")->capture_default_str();

@@ -7,7 +7,7 @@
 namespace skillcell::apps {
 
 struct Command {
-    CLI::App* cli = nullptr;    // the subcommand, to ask whether it was chosen
+    CLI::App* cli = nullptr;   // the subcommand, to ask whether it was chosen
     std::function<int()> run;  // its body; returns the process exit code
 };
 

@@ -33,8 +33,8 @@ StatusCode addDemoNodes(AddressSpace& as, DemoEventSink fireEvent) {
          value_rank::kScalar},
     };
     for (const auto& v : variables) {
-        auto r = as.addVariable(demo, id(v.name), v.name, NodeId(v.dataType), v.value, v.access,
-                                v.rank);
+        auto r =
+            as.addVariable(demo, id(v.name), v.name, NodeId(v.dataType), v.value, v.access, v.rank);
         if (!r) return r.status();
     }
 
@@ -48,8 +48,8 @@ StatusCode addDemoNodes(AddressSpace& as, DemoEventSink fireEvent) {
     }
     StatusCode s = as.setValueSource(id("Demo.Uptime"), [start] {
         DataValue dv;
-        dv.value = Variant(std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-                               .count());
+        dv.value = Variant(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         dv.sourceTimestamp = DateTime::now();
         return dv;
     });
@@ -58,14 +58,14 @@ StatusCode addDemoNodes(AddressSpace& as, DemoEventSink fireEvent) {
     Argument a{"a", NodeId(ns0::Double), value_rank::kScalar, {}, {"", "first addend"}};
     Argument b{"b", NodeId(ns0::Double), value_rank::kScalar, {}, {"", "second addend"}};
     Argument sum{"sum", NodeId(ns0::Double), value_rank::kScalar, {}, {"", "a + b"}};
-    auto add = as.addMethod(demo, id("Demo.Add"), "Demo.Add", {a, b}, {sum},
-                            [](const NodeId&, std::span<const Variant> in,
-                               std::vector<Variant>& out) -> StatusCode {
-                                // Types and count are validated by the Call service against
-                                // InputArguments before this runs.
-                                out.emplace_back(*in[0].get<double>() + *in[1].get<double>());
-                                return status::Good;
-                            });
+    auto add = as.addMethod(
+        demo, id("Demo.Add"), "Demo.Add", {a, b}, {sum},
+        [](const NodeId&, std::span<const Variant> in, std::vector<Variant>& out) -> StatusCode {
+            // Types and count are validated by the Call service against
+            // InputArguments before this runs.
+            out.emplace_back(*in[0].get<double>() + *in[1].get<double>());
+            return status::Good;
+        });
     if (!add) return add.status();
     if (!fireEvent) return status::Good;
 

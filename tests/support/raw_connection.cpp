@@ -33,7 +33,9 @@ RawConnection::RawConnection(std::uint16_t port, std::chrono::milliseconds timeo
     }
 }
 
-RawConnection::~RawConnection() { ::close(fd_); }
+RawConnection::~RawConnection() {
+    ::close(fd_);
+}
 
 void RawConnection::send(std::span<const std::uint8_t> bytes) {
     std::size_t done = 0;
@@ -124,7 +126,8 @@ void RawConnection::open(const std::function<void(TransportLimits&)>& misbehave)
     decode(r, typeId);
     OpenSecureChannelResponse response;
     decode(r, response);
-    if (!r.ok() || channel_->acceptOpenResponse(response, std::chrono::steady_clock::now()).isBad()) {
+    if (!r.ok() ||
+        channel_->acceptOpenResponse(response, std::chrono::steady_clock::now()).isBad()) {
         throw std::runtime_error("OPN response rejected");
     }
 }

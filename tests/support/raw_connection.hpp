@@ -3,8 +3,8 @@
 // bytes a test builds (valid, truncated or garbage) and reads frames back with a bounded
 // wait, so a server that does not answer fails the test instead of hanging it.
 #include <chrono>
-#include <functional>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>

@@ -29,6 +29,8 @@ RunningServer::~RunningServer() {
     thread_.join();
 }
 
-std::string RunningServer::url() const { return "opc.tcp://127.0.0.1:" + std::to_string(port_); }
+std::string RunningServer::url() const {
+    return "opc.tcp://127.0.0.1:" + std::to_string(port_);
+}
 
 }  // namespace skillcell::test

@@ -21,8 +21,8 @@ void addPlant(Server& server) {
     ASSERT_TRUE(as.addFolder(NodeId(ns0::ObjectsFolder), kFolder, "Plant"));
     ASSERT_TRUE(as.addVariable(kFolder, kSpeed, "Speed", NodeId(ns0::Double), Variant(1.0),
                                access_level::kReadWrite));
-    ASSERT_TRUE(as.addVariable(kFolder, kFixed, "Fixed", NodeId(ns0::Int32),
-                               Variant(std::int32_t{3})));
+    ASSERT_TRUE(
+        as.addVariable(kFolder, kFixed, "Fixed", NodeId(ns0::Int32), Variant(std::int32_t{3})));
     for (int i = 0; i < 30; ++i) {
         const std::string name = "Item" + std::to_string(i);
         ASSERT_TRUE(as.addVariable(kFolder, NodeId(1, String("Plant." + name)), name,
@@ -31,12 +31,12 @@ void addPlant(Server& server) {
     Argument x{"x", NodeId(ns0::Double), -1, {}, {}};
     Argument factor{"factor", NodeId(ns0::Int32), -1, {}, {}};
     Argument y{"y", NodeId(ns0::Double), -1, {}, {}};
-    ASSERT_TRUE(as.addMethod(kFolder, kScale, "Scale", {x, factor}, {y},
-                             [](const NodeId&, std::span<const Variant> in,
-                                std::vector<Variant>& out) {
-                                 out.emplace_back(*in[0].get<double>() * *in[1].get<std::int32_t>());
-                                 return StatusCode(status::Good);
-                             }));
+    ASSERT_TRUE(
+        as.addMethod(kFolder, kScale, "Scale", {x, factor}, {y},
+                     [](const NodeId&, std::span<const Variant> in, std::vector<Variant>& out) {
+                         out.emplace_back(*in[0].get<double>() * *in[1].get<std::int32_t>());
+                         return StatusCode(status::Good);
+                     }));
 }
 
 class ClientServer : public ::testing::Test {

@@ -69,8 +69,8 @@ TEST(Encoding, DateTimeAndGuid) {
 }
 
 TEST(Encoding, NodeIdInAllItsEncodings) {
-    expectRoundTrip(NodeId(0, 72u), {0x00, 0x48});                                // two-byte
-    expectRoundTrip(NodeId(5, 1025u), {0x01, 0x05, 0x01, 0x04});                  // four-byte
+    expectRoundTrip(NodeId(0, 72u), {0x00, 0x48});                                   // two-byte
+    expectRoundTrip(NodeId(5, 1025u), {0x01, 0x05, 0x01, 0x04});                     // four-byte
     expectRoundTrip(NodeId(0, 70000u), {0x02, 0x00, 0x00, 0x70, 0x11, 0x01, 0x00});  // numeric
     expectRoundTrip(NodeId(300, 1u), {0x02, 0x2C, 0x01, 0x01, 0x00, 0x00, 0x00});
     expectRoundTrip(NodeId(1, String("Hot")),
@@ -81,12 +81,14 @@ TEST(Encoding, NodeIdInAllItsEncodings) {
 }
 
 TEST(Encoding, NodeIdTextForm) {
-    for (const char* text : {"i=85", "ns=1;s=Demo.Double", "ns=3;b=qrs=", "ns=65535;i=4294967295"}) {
+    for (const char* text :
+         {"i=85", "ns=1;s=Demo.Double", "ns=3;b=qrs=", "ns=65535;i=4294967295"}) {
         auto id = NodeId::parse(text);
         ASSERT_TRUE(id.has_value()) << text;
         EXPECT_EQ(id->toString(), text);
     }
-    for (const char* bad : {"", "i=", "x=1", "ns=1", "ns=a;i=1", "i=12z", "ns=70000;i=1", "g=1234"}) {
+    for (const char* bad :
+         {"", "i=", "x=1", "ns=1", "ns=a;i=1", "i=12z", "ns=70000;i=1", "g=1234"}) {
         EXPECT_FALSE(NodeId::parse(bad).has_value()) << bad;
     }
 }
@@ -121,19 +123,21 @@ TEST(Encoding, VariantScalarAndArrays) {
     expectRoundTrip(Variant(String("a")), {0x0C, 0x01, 0, 0, 0, 'a'});
     expectRoundTrip(Variant::array(std::vector<std::uint16_t>{1, 2}),
                     {0x85, 0x02, 0, 0, 0, 0x01, 0x00, 0x02, 0x00});
-    expectRoundTrip(Variant::array(BuiltinType::Byte, {std::uint8_t{1}, std::uint8_t{2},
-                                                       std::uint8_t{3}, std::uint8_t{4}},
-                                   {2, 2}),
-                    {0xC3, 0x04, 0, 0, 0, 1, 2, 3, 4, 0x02, 0, 0, 0, 0x02, 0, 0, 0, 0x02, 0, 0, 0});
+    expectRoundTrip(
+        Variant::array(BuiltinType::Byte,
+                       {std::uint8_t{1}, std::uint8_t{2}, std::uint8_t{3}, std::uint8_t{4}},
+                       {2, 2}),
+        {0xC3, 0x04, 0, 0, 0, 1, 2, 3, 4, 0x02, 0, 0, 0, 0x02, 0, 0, 0, 0x02, 0, 0, 0});
     expectRoundTrip(Variant(Box<Variant>(Variant(true))), {0x18, 0x01, 0x01});
 }
 
 TEST(Encoding, VariantRejectsInconsistentInput) {
     EXPECT_EQ(decodeStatus<Variant>({0x1A}), status::BadDecodingError);  // type id 26
-    EXPECT_EQ(decodeStatus<Variant>({0x46, 0, 0, 0, 0}), status::BadDecodingError);  // dims, no array
+    EXPECT_EQ(decodeStatus<Variant>({0x46, 0, 0, 0, 0}),
+              status::BadDecodingError);  // dims, no array
     // Dimensions 2x3 for 4 elements.
-    EXPECT_EQ(decodeStatus<Variant>({0xC3, 0x04, 0, 0, 0, 1, 2, 3, 4, 0x02, 0, 0, 0, 0x02, 0, 0,
-                                     0, 0x03, 0, 0, 0}),
+    EXPECT_EQ(decodeStatus<Variant>(
+                  {0xC3, 0x04, 0, 0, 0, 1, 2, 3, 4, 0x02, 0, 0, 0, 0x02, 0, 0, 0, 0x03, 0, 0, 0}),
               status::BadDecodingError);
     EXPECT_EQ(decodeStatus<Variant>({0x80, 0x01, 0, 0, 0}), status::BadDecodingError);  // Null[1]
     // Empty dimensions are fine for an empty array only.
@@ -156,9 +160,9 @@ TEST(Encoding, DataValue) {
     dv.sourcePicoseconds = 2;
     dv.serverTimestamp = DateTime{3};
     dv.serverPicoseconds = 4;
-    expectRoundTrip(dv, {0x3F, 0x0A, 0x00, 0x00, 0x80, 0x3F, 0x00, 0x00, 0x3A, 0x80,
-                         1,    0,    0,    0,    0,    0,    0,    0,    2,    0,
-                         3,    0,    0,    0,    0,    0,    0,    0,    4,    0});
+    expectRoundTrip(dv,
+                    {0x3F, 0x0A, 0x00, 0x00, 0x80, 0x3F, 0x00, 0x00, 0x3A, 0x80, 1, 0, 0, 0, 0,
+                     0,    0,    0,    2,    0,    3,    0,    0,    0,    0,    0, 0, 0, 4, 0});
 }
 
 TEST(Encoding, DiagnosticInfo) {
@@ -170,8 +174,8 @@ TEST(Encoding, DiagnosticInfo) {
     d.localizedText = 3;
     d.additionalInfo = "x";
     d.innerDiagnosticInfo = Box<DiagnosticInfo>(inner);
-    expectRoundTrip(d, {0x5D, 1, 0, 0, 0, 2, 0, 0, 0, 3, 0, 0, 0, 0x01, 0, 0, 0, 'x',
-                        0x20, 0x00, 0x00, 0x0A, 0x80});
+    expectRoundTrip(d, {0x5D, 1,    0, 0, 0, 2,   0,    0,    0,    3,    0,   0,
+                        0,    0x01, 0, 0, 0, 'x', 0x20, 0x00, 0x00, 0x0A, 0x80});
 }
 
 TEST(Encoding, TruncatedInputFailsCleanly) {

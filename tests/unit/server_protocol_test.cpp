@@ -24,16 +24,14 @@ const NodeId kValue(1, String("Test.Value"));
 
 void addTestNodes(Server& server) {
     auto& as = server.addressSpace();
-    ASSERT_TRUE(as.addVariable(NodeId(ns0::ObjectsFolder), kValue, "Test.Value", NodeId(ns0::Double),
-                               Variant(2.5), access_level::kReadWrite));
+    ASSERT_TRUE(as.addVariable(NodeId(ns0::ObjectsFolder), kValue, "Test.Value",
+                               NodeId(ns0::Double), Variant(2.5), access_level::kReadWrite));
 }
 
 /// A well-behaved client that must keep working while others misbehave.
 class Bystander {
 public:
-    explicit Bystander(const std::string& url) {
-        EXPECT_EQ(client_.connect(url), status::Good);
-    }
+    explicit Bystander(const std::string& url) { EXPECT_EQ(client_.connect(url), status::Good); }
     void expectServed() {
         auto v = client_.readValue(kValue);
         ASSERT_TRUE(v) << statusName(v.status());
@@ -59,7 +57,9 @@ protected:
     Bystander bystander_;
 };
 
-std::vector<std::uint8_t> bytes(std::string_view s) { return {s.begin(), s.end()}; }
+std::vector<std::uint8_t> bytes(std::string_view s) {
+    return {s.begin(), s.end()};
+}
 
 std::vector<std::uint8_t> readRequestBody(std::uint32_t handle, const NodeId& token = {}) {
     ReadRequest req;
@@ -80,8 +80,8 @@ constexpr std::size_t kSequenceNumberOffset = 16;
 /// `change(old value)`: how the tests forge one bad field at a time.
 template <class Change>
 std::vector<std::uint8_t> readFrameWithField(RawConnection& c, std::size_t offset, Change change) {
-    auto frames = c.channel().encodeMessage(MessageType::Message, c.nextRequestId(),
-                                            readRequestBody(7));
+    auto frames =
+        c.channel().encodeMessage(MessageType::Message, c.nextRequestId(), readRequestBody(7));
     if (!frames || frames->size() != 1) return {};
     auto frame = (*frames)[0];
     std::uint32_t value = 0;
@@ -177,7 +177,8 @@ TEST_F(ServerProtocol, HeaderSizeBelowEightBytesIsADecodingError) {
 TEST_F(ServerProtocol, TruncatedOpenSecureChannelIsADecodingError) {
     RawConnection c(server_.port());
     const auto limits = c.hello();
-    SecureChannel channel(SecureChannel::Role::Client, limits, std::make_unique<SecurityPolicyNone>());
+    SecureChannel channel(SecureChannel::Role::Client, limits,
+                          std::make_unique<SecurityPolicyNone>());
     std::vector<std::uint8_t> body;
     encodeServiceMessage(body, channel.makeOpenRequest(SecurityTokenRequestType::Issue));
     body.resize(body.size() / 2);  // the request ends in the middle

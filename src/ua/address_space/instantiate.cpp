@@ -58,7 +58,7 @@ public:
             if (!type.isNull())
                 references_.push_back({childId, NodeId(ns0::HasTypeDefinition), type});
             declarationToInstance_.emplace(d.node->nodeId, childId);
-            created_.push_back({d.node, childId});
+            created_.emplace_back(d.node, childId);
             nodes_.push_back(std::move(child));
 
             std::vector<NodeId> childSources{d.node->nodeId};

@@ -135,9 +135,8 @@ Result<std::vector<Variant>> BlockingClient::call(NodeId objectId, NodeId method
 
 Result<std::shared_ptr<Subscription>> BlockingClient::createSubscription(
     SubscriptionSettings settings, Subscription::StatusCallback onStatusChange) {
-    return run([&](Client& c) {
-        return c.createSubscription(std::move(settings), std::move(onStatusChange));
-    });
+    return run(
+        [&](Client& c) { return c.createSubscription(settings, std::move(onStatusChange)); });
 }
 
 Result<Subscription::MonitoredItem> BlockingClient::monitorDataChange(
@@ -146,7 +145,7 @@ Result<Subscription::MonitoredItem> BlockingClient::monitorDataChange(
     Subscription::DataChangeCallback callback) {
     return run([&](Client&) {
         return sub->monitorDataChange(std::move(nodeId), attribute, samplingInterval, queueSize,
-                                      std::move(filter), std::move(callback));
+                                      filter, std::move(callback));
     });
 }
 
@@ -180,7 +179,7 @@ Result<std::vector<StatusCode>> BlockingClient::deleteMonitoredItems(
 
 StatusCode BlockingClient::modifySubscription(const std::shared_ptr<Subscription>& sub,
                                               SubscriptionSettings settings) {
-    return run([&](Client&) { return sub->modify(std::move(settings)); });
+    return run([&](Client&) { return sub->modify(settings); });
 }
 
 StatusCode BlockingClient::setPublishingMode(const std::shared_ptr<Subscription>& sub,

@@ -288,7 +288,7 @@ struct FrameView {
 };
 
 /// Room for many small frames per read system call; grows to the frame size for larger ones.
-constexpr std::size_t kInitialReadBuffer = 64 * 1024;
+constexpr std::size_t kInitialReadBuffer = std::size_t{64} * 1024;
 
 /// The next frame: cut out of what is buffered, reading more only when it holds no whole
 /// frame. Reading into a large buffer takes whatever the socket has in one call, and a

@@ -28,8 +28,7 @@ public:
         : data_(data), limits_(limits) {}
 
     template <class T>
-        requires std::is_arithmetic_v<T>
-    T read() {
+    requires std::is_arithmetic_v<T> T read() {
         T value{};
         if (!require(sizeof(T))) return value;
         std::memcpy(&value, data_.data() + pos_, sizeof(T));

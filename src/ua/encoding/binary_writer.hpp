@@ -19,7 +19,7 @@ public:
     explicit BinaryWriter(std::vector<std::uint8_t>& out) : out_(out) {}
 
     template <class T>
-        requires std::is_arithmetic_v<T>
+    requires std::is_arithmetic_v<T>
     void write(T value) {
         const auto at = out_.size();
         out_.resize(at + sizeof(T));

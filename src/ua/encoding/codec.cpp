@@ -74,7 +74,8 @@ void encodeNodeId(BinaryWriter& w, const NodeId& v, std::uint8_t flags) {
 /// Decodes a NodeId whose encoding byte has been read already (flags stripped).
 NodeId decodeNodeIdBody(BinaryReader& r, std::uint8_t kind) {
     switch (kind) {
-        case kTwoByte: return NodeId(0, r.read<std::uint8_t>());
+        case kTwoByte:
+            return NodeId(0, r.read<std::uint8_t>());
         case kFourByte: {
             const auto ns = r.read<std::uint8_t>();
             return NodeId(ns, r.read<std::uint16_t>());
@@ -101,7 +102,9 @@ NodeId decodeNodeIdBody(BinaryReader& r, std::uint8_t kind) {
             decode(r, b);
             return NodeId(ns, std::move(b));
         }
-        default: r.fail(status::BadDecodingError); return {};
+        default:
+            r.fail(status::BadDecodingError);
+            return {};
     }
 }
 
@@ -143,26 +146,42 @@ Scalar decodeScalar(BinaryReader& r, std::uint8_t typeId) {
 
 }  // namespace
 
-void encode(BinaryWriter& w, bool v) { w.write<std::uint8_t>(v ? 1 : 0); }
-void decode(BinaryReader& r, bool& v) { v = r.read<std::uint8_t>() != 0; }
+void encode(BinaryWriter& w, bool v) {
+    w.write<std::uint8_t>(v ? 1 : 0);
+}
+void decode(BinaryReader& r, bool& v) {
+    v = r.read<std::uint8_t>() != 0;
+}
 
-void encode(BinaryWriter& w, const String& v) { encodeLengthPrefixed(w, asBytes(v)); }
+void encode(BinaryWriter& w, const String& v) {
+    encodeLengthPrefixed(w, asBytes(v));
+}
 void decode(BinaryReader& r, String& v) {
     auto bytes = decodeLengthPrefixed(r, r.limits().maxStringLength);
     v.assign(reinterpret_cast<const char*>(bytes.data()), bytes.size());
 }
 
-void encode(BinaryWriter& w, const ByteString& v) { encodeLengthPrefixed(w, v.bytes); }
+void encode(BinaryWriter& w, const ByteString& v) {
+    encodeLengthPrefixed(w, v.bytes);
+}
 void decode(BinaryReader& r, ByteString& v) {
     auto bytes = decodeLengthPrefixed(r, r.limits().maxByteStringLength);
     v.bytes.assign(bytes.begin(), bytes.end());
 }
 
-void encode(BinaryWriter& w, const XmlElement& v) { encode(w, v.xml); }
-void decode(BinaryReader& r, XmlElement& v) { decode(r, v.xml); }
+void encode(BinaryWriter& w, const XmlElement& v) {
+    encode(w, v.xml);
+}
+void decode(BinaryReader& r, XmlElement& v) {
+    decode(r, v.xml);
+}
 
-void encode(BinaryWriter& w, const DateTime& v) { w.write(v.ticks); }
-void decode(BinaryReader& r, DateTime& v) { v.ticks = r.read<std::int64_t>(); }
+void encode(BinaryWriter& w, const DateTime& v) {
+    w.write(v.ticks);
+}
+void decode(BinaryReader& r, DateTime& v) {
+    v.ticks = r.read<std::int64_t>();
+}
 
 void encode(BinaryWriter& w, const Guid& v) {
     w.write(v.data1);
@@ -178,7 +197,9 @@ void decode(BinaryReader& r, Guid& v) {
     if (b.size() == 8) std::copy(b.begin(), b.end(), v.data4.begin());
 }
 
-void encode(BinaryWriter& w, const NodeId& v) { encodeNodeId(w, v, 0); }
+void encode(BinaryWriter& w, const NodeId& v) {
+    encodeNodeId(w, v, 0);
+}
 void decode(BinaryReader& r, NodeId& v) {
     const auto kind = r.read<std::uint8_t>();
     if (!r.ok()) return;
@@ -207,8 +228,12 @@ void decode(BinaryReader& r, ExpandedNodeId& v) {
     if ((kind & kServerIndexFlag) != 0) v.serverIndex = r.read<std::uint32_t>();
 }
 
-void encode(BinaryWriter& w, StatusCode v) { w.write(v.code); }
-void decode(BinaryReader& r, StatusCode& v) { v.code = r.read<std::uint32_t>(); }
+void encode(BinaryWriter& w, StatusCode v) {
+    w.write(v.code);
+}
+void decode(BinaryReader& r, StatusCode& v) {
+    v.code = r.read<std::uint32_t>();
+}
 
 void encode(BinaryWriter& w, const QualifiedName& v) {
     w.write(v.namespaceIndex);

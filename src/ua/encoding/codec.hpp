@@ -31,12 +31,12 @@ void encode(BinaryWriter& w, bool v);
 void decode(BinaryReader& r, bool& v);
 
 template <class E>
-    requires std::is_enum_v<E>
+requires std::is_enum_v<E>
 void encode(BinaryWriter& w, E v) {
     w.write(static_cast<std::int32_t>(v));
 }
 template <class E>
-    requires std::is_enum_v<E>
+requires std::is_enum_v<E>
 void decode(BinaryReader& r, E& v) {
     v = static_cast<E>(r.read<std::int32_t>());
 }

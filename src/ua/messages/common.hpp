@@ -43,26 +43,75 @@ struct ServiceFault {
     static auto tie(auto& s) { return std::tie(s.responseHeader); }
 };
 
-enum class MessageSecurityMode : std::int32_t { Invalid = 0, None = 1, Sign = 2, SignAndEncrypt = 3 };
-enum class ApplicationType : std::int32_t { Server = 0, Client = 1, ClientAndServer = 2, DiscoveryServer = 3 };
-enum class UserTokenType : std::int32_t { Anonymous = 0, UserName = 1, Certificate = 2, IssuedToken = 3 };
+enum class MessageSecurityMode : std::int32_t {
+    Invalid = 0,
+    None = 1,
+    Sign = 2,
+    SignAndEncrypt = 3
+};
+enum class ApplicationType : std::int32_t {
+    Server = 0,
+    Client = 1,
+    ClientAndServer = 2,
+    DiscoveryServer = 3
+};
+enum class UserTokenType : std::int32_t {
+    Anonymous = 0,
+    UserName = 1,
+    Certificate = 2,
+    IssuedToken = 3
+};
 enum class BrowseDirection : std::int32_t { Forward = 0, Inverse = 1, Both = 2, Invalid = 3 };
-enum class TimestampsToReturn : std::int32_t { Source = 0, Server = 1, Both = 2, Neither = 3, Invalid = 4 };
+enum class TimestampsToReturn : std::int32_t {
+    Source = 0,
+    Server = 1,
+    Both = 2,
+    Neither = 3,
+    Invalid = 4
+};
 
 /// Node classes are bit values so that browse filters can combine them (OPC 10000-3, 8.29).
 enum class NodeClass : std::int32_t {
-    Unspecified = 0, Object = 1, Variable = 2, Method = 4, ObjectType = 8, VariableType = 16,
-    ReferenceType = 32, DataType = 64, View = 128
+    Unspecified = 0,
+    Object = 1,
+    Variable = 2,
+    Method = 4,
+    ObjectType = 8,
+    VariableType = 16,
+    ReferenceType = 32,
+    DataType = 64,
+    View = 128
 };
 
 /// Attribute ids (OPC 10000-6, A.1).
 enum class AttributeId : std::uint32_t {
-    NodeId = 1, NodeClass = 2, BrowseName = 3, DisplayName = 4, Description = 5, WriteMask = 6,
-    UserWriteMask = 7, IsAbstract = 8, Symmetric = 9, InverseName = 10, ContainsNoLoops = 11,
-    EventNotifier = 12, Value = 13, DataType = 14, ValueRank = 15, ArrayDimensions = 16,
-    AccessLevel = 17, UserAccessLevel = 18, MinimumSamplingInterval = 19, Historizing = 20,
-    Executable = 21, UserExecutable = 22, DataTypeDefinition = 23, RolePermissions = 24,
-    UserRolePermissions = 25, AccessRestrictions = 26, AccessLevelEx = 27
+    NodeId = 1,
+    NodeClass = 2,
+    BrowseName = 3,
+    DisplayName = 4,
+    Description = 5,
+    WriteMask = 6,
+    UserWriteMask = 7,
+    IsAbstract = 8,
+    Symmetric = 9,
+    InverseName = 10,
+    ContainsNoLoops = 11,
+    EventNotifier = 12,
+    Value = 13,
+    DataType = 14,
+    ValueRank = 15,
+    ArrayDimensions = 16,
+    AccessLevel = 17,
+    UserAccessLevel = 18,
+    MinimumSamplingInterval = 19,
+    Historizing = 20,
+    Executable = 21,
+    UserExecutable = 22,
+    DataTypeDefinition = 23,
+    RolePermissions = 24,
+    UserRolePermissions = 25,
+    AccessRestrictions = 26,
+    AccessLevelEx = 27
 };
 inline constexpr std::uint32_t kMaxAttributeId = 27;
 

@@ -530,7 +530,7 @@ private:
             if (bt && *bt == BuiltinType::Variant) {
                 out += "\n" + fi + "  <uax:Value>\n";
                 if (!variant(out, v, fi + "    ")) return false;
-                out += fi + "  </uax:Value>\n" + fi;
+                out.append(fi).append("  </uax:Value>\n").append(fi);
             } else if (!scalarBody(out, v.scalar(), fi + "  ")) {
                 return false;
             }

@@ -101,13 +101,13 @@ std::optional<DateTime> parseDateTime(std::string_view s) {
             auto oh = parseNumber<int>(s.substr(i + 1, 2));
             auto om = parseNumber<int>(s.substr(i + 4, 2));
             if (!oh || !om) return std::nullopt;
-            offsetMinutes = (*oh * 60 + *om) * (s[i] == '+' ? 1 : -1);
+            offsetMinutes = (std::int64_t{*oh} * 60 + *om) * (s[i] == '+' ? 1 : -1);
         } else {
             return std::nullopt;
         }
     }
-    const std::int64_t secs =
-        daysFromCivil(*y, *mo, *d) * 86400 + *h * 3600 + *mi * 60 + *se - offsetMinutes * 60;
+    const std::int64_t secs = daysFromCivil(*y, *mo, *d) * 86400 + std::int64_t{*h} * 3600 +
+                              std::int64_t{*mi} * 60 + *se - offsetMinutes * 60;
     return DateTime{DateTime::kUnixEpochTicks + secs * 10'000'000 + ticks};
 }
 
@@ -1035,8 +1035,12 @@ NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
                         have += " of " + loaded->publicationDate->toIso8601().substr(0, 10);
                     }
                 }
-                st.error = lineText(parsed, m.line) + "requires model " + req.uri + want +
-                           " or later, loaded: " + have;
+                st.error = lineText(parsed, m.line);
+                st.error.append("requires model ")
+                    .append(req.uri)
+                    .append(want)
+                    .append(" or later, loaded: ")
+                    .append(have);
                 return st;
             }
         }

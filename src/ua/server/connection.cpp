@@ -20,7 +20,9 @@ struct Frame {
     std::span<const std::uint8_t> bytes;
 };
 
-SteadyTime steadyNow() { return std::chrono::steady_clock::now(); }
+SteadyTime steadyNow() {
+    return std::chrono::steady_clock::now();
+}
 
 }  // namespace
 
@@ -43,7 +45,8 @@ asio::awaitable<void> Connection::run() {
     spdlog::debug("channel {}: connection from {}", channelId_, peer_);
     setDeadline(steadyNow() + std::chrono::milliseconds(env_.limits.helloTimeoutMs));
     auto executor = co_await asio::this_coro::executor;
-    asio::co_spawn(executor, [self] { return self->watchdog(); }, asio::detached);
+    asio::co_spawn(
+        executor, [self] { return self->watchdog(); }, asio::detached);
 
     const StatusCode result = co_await serve();
     if (result.isBad() && result != status::BadConnectionClosed) {
@@ -94,18 +97,25 @@ asio::awaitable<StatusCode> Connection::serve() {
         const ChannelMessage& message = **received;
         StatusCode s = status::Good;
         switch (message.type) {
-            case MessageType::OpenChannel: s = handleOpen(message, now); break;
-            case MessageType::Message: s = handleMessage(message, now); break;
+            case MessageType::OpenChannel:
+                s = handleOpen(message, now);
+                break;
+            case MessageType::Message:
+                s = handleMessage(message, now);
+                break;
             case MessageType::CloseChannel:
                 spdlog::debug("channel {} ({}): closed by the client", channelId_, peer_);
                 co_return status::BadConnectionClosed;
-            default: s = status::BadTcpMessageTypeInvalid; break;
+            default:
+                s = status::BadTcpMessageTypeInvalid;
+                break;
         }
         if (s.isBad()) co_return s;
     }
 }
 
-asio::awaitable<Result<std::span<const std::uint8_t>>> Connection::readFrame(std::uint32_t maxSize) {
+asio::awaitable<Result<std::span<const std::uint8_t>>> Connection::readFrame(
+    std::uint32_t maxSize) {
     // Reads as much as the socket has into one buffer and cuts frames out of it, so that a
     // request usually costs one read system call.
     auto fill = [this](std::size_t need) -> asio::awaitable<bool> {
@@ -124,10 +134,9 @@ asio::awaitable<Result<std::span<const std::uint8_t>>> Connection::readFrame(std
         co_return true;
     };
     if (!co_await fill(kMessageHeaderSize)) co_return status::BadConnectionClosed;
-    auto header = parseMessageHeader(
-        std::span<const std::uint8_t, kMessageHeaderSize>(in_.data() + inBegin_,
-                                                          kMessageHeaderSize),
-        maxSize);
+    auto header = parseMessageHeader(std::span<const std::uint8_t, kMessageHeaderSize>(
+                                         in_.data() + inBegin_, kMessageHeaderSize),
+                                     maxSize);
     if (!header) co_return header.status();
     if (!co_await fill(header->size)) co_return status::BadConnectionClosed;
     std::span<const std::uint8_t> frame(in_.data() + inBegin_, header->size);
@@ -144,8 +153,8 @@ StatusCode Connection::handleHello(std::span<const std::uint8_t> frame) {
     if (!negotiated) return negotiated.status();
     limits_ = negotiated->limits;
     endpointUrl_ = hello.endpointUrl;
-    spdlog::debug("channel {} ({}): hello for '{}', buffers {}/{}", channelId_, peer_,
-                  endpointUrl_, limits_.receiveBufferSize, limits_.sendBufferSize);
+    spdlog::debug("channel {} ({}): hello for '{}', buffers {}/{}", channelId_, peer_, endpointUrl_,
+                  limits_.receiveBufferSize, limits_.sendBufferSize);
     send(encodeAcknowledge(negotiated->ack));
     return status::Good;
 }
@@ -166,8 +175,9 @@ StatusCode Connection::handleOpen(const ChannelMessage& message, SteadyTime now)
     response->responseHeader.requestHandle = request.requestHeader.requestHandle;
     // A channel whose token expires without renewal is closed (OPC 10000-6, 6.7.4: the
     // token stays valid for 125% of its lifetime).
-    setDeadline(now + std::chrono::milliseconds(
-                          static_cast<std::int64_t>(response->securityToken.revisedLifetime) * 5 / 4));
+    setDeadline(now +
+                std::chrono::milliseconds(
+                    static_cast<std::int64_t>(response->securityToken.revisedLifetime) * 5 / 4));
     std::vector<std::uint8_t> body;
     encodeServiceMessage(body, *response);
     return sendMessage(MessageType::OpenChannel, message.requestId,
@@ -189,9 +199,9 @@ StatusCode Connection::handleMessage(const ChannelMessage& message, SteadyTime n
         return sendMessage(MessageType::Message, message.requestId, handle,
                            encodeServiceFault(handle, s));
     };
-    const ServiceTable::Entry* entry =
-        typeId.isNumeric() && typeId.namespaceIndex() == 0 ? env_.services.find(typeId.numeric())
-                                                           : nullptr;
+    const ServiceTable::Entry* entry = typeId.isNumeric() && typeId.namespaceIndex() == 0
+                                           ? env_.services.find(typeId.numeric())
+                                           : nullptr;
     if (entry == nullptr) return fault(status::BadServiceUnsupported);
     if (!peek.ok()) return fault(status::BadDecodingError);
 

@@ -25,7 +25,9 @@ Server::Server(asio::io_context& io, ServerConfig config)
     subscriptions_.setWakeup([this] { subscriptionTimer_.cancel(); });
 }
 
-Server::~Server() { stop(); }
+Server::~Server() {
+    stop();
+}
 
 std::unique_ptr<Server> Server::create(asio::io_context& io, ServerConfig config,
                                        std::string* error) {
@@ -100,7 +102,8 @@ void Server::stop() {
 
 asio::awaitable<void> Server::acceptLoop() {
     for (;;) {
-        auto [ec, socket] = co_await acceptor_.async_accept(asio::experimental::as_tuple(asio::use_awaitable));
+        auto [ec, socket] =
+            co_await acceptor_.async_accept(asio::experimental::as_tuple(asio::use_awaitable));
         if (ec == asio::error::operation_aborted || stopped_) co_return;
         if (ec) {
             spdlog::warn("accept failed: {}", ec.message());

@@ -10,7 +10,7 @@ String ServerDescription::endpointUrlFor(const std::string* clientUrl) const {
     std::string host = advertisedHost;
     if (clientUrl != nullptr && clientUrl->starts_with("opc.tcp://")) {
         std::string_view rest = std::string_view(*clientUrl).substr(10);
-        const auto end = rest.find_first_of("/");
+        const auto end = rest.find_first_of('/');
         rest = rest.substr(0, end);
         const auto colon = rest.rfind(':');
         const auto bracket = rest.rfind(']');

@@ -92,23 +92,24 @@ public:
     /// Registers a typed handler. A Bad status returned by it becomes a ServiceFault.
     template <EncodableStructure Request, EncodableStructure Response>
     void add(Access access, Handler<Request, Response> handler) {
-        entries_[Request::kBinaryEncodingId] = Entry{
-            access, [h = std::move(handler)](ServiceContext& ctx, BinaryReader& r,
-                                             std::vector<std::uint8_t>& out) -> StatusCode {
-                Request request{};
-                decode(r, request);
-                if (!r.ok()) return r.status();
-                if (r.remaining() != 0) return status::BadDecodingError;
-                ctx.requestHandle = request.requestHeader.requestHandle;
-                ctx.requestHeader = &request.requestHeader;
-                Response response{};
-                const StatusCode s = h(ctx, request, response);
-                if (s.isBad()) return s;
-                response.responseHeader.timestamp = DateTime::now();
-                response.responseHeader.requestHandle = request.requestHeader.requestHandle;
-                encodeServiceMessage(out, response);
-                return status::Good;
-            }};
+        entries_[Request::kBinaryEncodingId] =
+            Entry{access,
+                  [h = std::move(handler)](ServiceContext& ctx, BinaryReader& r,
+                                           std::vector<std::uint8_t>& out) -> StatusCode {
+                      Request request{};
+                      decode(r, request);
+                      if (!r.ok()) return r.status();
+                      if (r.remaining() != 0) return status::BadDecodingError;
+                      ctx.requestHandle = request.requestHeader.requestHandle;
+                      ctx.requestHeader = &request.requestHeader;
+                      Response response{};
+                      const StatusCode s = h(ctx, request, response);
+                      if (s.isBad()) return s;
+                      response.responseHeader.timestamp = DateTime::now();
+                      response.responseHeader.requestHandle = request.requestHeader.requestHandle;
+                      encodeServiceMessage(out, response);
+                      return status::Good;
+                  }};
     }
 
     template <EncodableStructure Request, EncodableStructure Response>

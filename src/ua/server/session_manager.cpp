@@ -30,10 +30,10 @@ Result<Session*> SessionManager::create(const CreateSessionRequest& request,
     // secret that proves ownership, so it is random and never derived from the id.
     NodeId sessionId(1, nextSessionNumber_++);
     NodeId token(0, randomBytes(32));
-    auto session = std::make_unique<Session>(
-        sessionId, token, request.sessionName,
-        std::chrono::milliseconds(static_cast<std::int64_t>(timeoutMs)), channelId, now,
-        limits_.maxBrowseContinuationPoints);
+    auto session =
+        std::make_unique<Session>(sessionId, token, request.sessionName,
+                                  std::chrono::milliseconds(static_cast<std::int64_t>(timeoutMs)),
+                                  channelId, now, limits_.maxBrowseContinuationPoints);
     Session* raw = session.get();
     sessions_.emplace(token, std::move(session));
     return raw;

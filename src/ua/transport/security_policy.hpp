@@ -48,8 +48,8 @@ public:
                                           bool /*asymmetric*/) const override {
         return chunkSize > headerSize ? chunkSize - headerSize : 0;
     }
-    [[nodiscard]] StatusCode protect(std::vector<std::uint8_t>& /*chunk*/, std::size_t /*headerSize*/,
-                                     bool /*asymmetric*/) override {
+    [[nodiscard]] StatusCode protect(std::vector<std::uint8_t>& /*chunk*/,
+                                     std::size_t /*headerSize*/, bool /*asymmetric*/) override {
         return status::Good;
     }
     [[nodiscard]] StatusCode unprotect(std::vector<std::uint8_t>& /*chunk*/,

@@ -70,8 +70,8 @@ struct HelloMessage {
     std::uint32_t maxChunkCount = 0;
     String endpointUrl;
     static auto tie(auto& s) {
-        return std::tie(s.protocolVersion, s.receiveBufferSize, s.sendBufferSize,
-                        s.maxMessageSize, s.maxChunkCount, s.endpointUrl);
+        return std::tie(s.protocolVersion, s.receiveBufferSize, s.sendBufferSize, s.maxMessageSize,
+                        s.maxChunkCount, s.endpointUrl);
     }
 };
 
@@ -82,8 +82,8 @@ struct AcknowledgeMessage {
     std::uint32_t maxMessageSize = 0;
     std::uint32_t maxChunkCount = 0;
     static auto tie(auto& s) {
-        return std::tie(s.protocolVersion, s.receiveBufferSize, s.sendBufferSize,
-                        s.maxMessageSize, s.maxChunkCount);
+        return std::tie(s.protocolVersion, s.receiveBufferSize, s.sendBufferSize, s.maxMessageSize,
+                        s.maxChunkCount);
     }
 };
 

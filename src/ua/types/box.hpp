@@ -11,7 +11,8 @@ template <class T>
 class Box {
 public:
     Box() : p_(std::make_unique<T>()) {}
-    Box(T value) : p_(std::make_unique<T>(std::move(value))) {}  // NOLINT(google-explicit-constructor)
+    // NOLINTNEXTLINE(google-explicit-constructor)
+    Box(T value) : p_(std::make_unique<T>(std::move(value))) {}
     Box(const Box& o) : p_(std::make_unique<T>(*o.p_)) {}
     Box(Box&& o) noexcept : p_(std::move(o.p_)) {}
     Box& operator=(const Box& o) {

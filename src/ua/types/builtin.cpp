@@ -1,7 +1,7 @@
 #include "ua/types/builtin.hpp"
 
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 
 namespace skillcell::ua {
 

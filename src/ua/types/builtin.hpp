@@ -23,6 +23,7 @@ struct ByteString {
     explicit ByteString(std::vector<std::uint8_t> b) : bytes(std::move(b)) {}
     [[nodiscard]] bool empty() const { return bytes.empty(); }
     [[nodiscard]] std::size_t size() const { return bytes.size(); }
+    // NOLINTNEXTLINE(modernize-use-nullptr): clang-tidy 14 flags the literal 0 of the defaulted <=>
     friend auto operator<=>(const ByteString&, const ByteString&) = default;
 };
 
@@ -36,6 +37,7 @@ struct Guid {
     std::uint16_t data2 = 0;
     std::uint16_t data3 = 0;
     std::array<std::uint8_t, 8> data4{};
+    // NOLINTNEXTLINE(modernize-use-nullptr): clang-tidy 14 flags the literal 0 of the defaulted <=>
     friend auto operator<=>(const Guid&, const Guid&) = default;
 };
 
@@ -51,6 +53,7 @@ struct DateTime {
     [[nodiscard]] std::int64_t unixNanoseconds() const { return (ticks - kUnixEpochTicks) * 100; }
     /// ISO 8601 in UTC, e.g. "2026-11-22T11:23:25.123Z".
     [[nodiscard]] std::string toIso8601() const;
+    // NOLINTNEXTLINE(modernize-use-nullptr): clang-tidy 14 flags the literal 0 of the defaulted <=>
     friend auto operator<=>(const DateTime&, const DateTime&) = default;
 };
 

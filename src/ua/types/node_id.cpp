@@ -87,10 +87,14 @@ std::string NodeId::toString() const {
     std::string out;
     if (ns_ != 0) out = "ns=" + std::to_string(ns_) + ";";
     switch (idType()) {
-        case IdType::Numeric: return out + "i=" + std::to_string(numeric());
-        case IdType::Text: return out + "s=" + std::get<String>(id_);
-        case IdType::Uuid: return out + "g=" + guidToString(std::get<Guid>(id_));
-        case IdType::Opaque: return out + "b=" + base64Encode(std::get<ByteString>(id_).bytes);
+        case IdType::Numeric:
+            return out + "i=" + std::to_string(numeric());
+        case IdType::Text:
+            return out + "s=" + std::get<String>(id_);
+        case IdType::Uuid:
+            return out + "g=" + guidToString(std::get<Guid>(id_));
+        case IdType::Opaque:
+            return out + "b=" + base64Encode(std::get<ByteString>(id_).bytes);
     }
     return out;
 }
@@ -116,7 +120,8 @@ std::optional<NodeId> NodeId::parse(std::string_view text) {
             }
             return NodeId(ns, v);
         }
-        case 's': return NodeId(ns, String(body));
+        case 's':
+            return NodeId(ns, String(body));
         case 'g': {
             auto g = parseGuid(body);
             if (!g) return std::nullopt;
@@ -127,7 +132,8 @@ std::optional<NodeId> NodeId::parse(std::string_view text) {
             if (!b) return std::nullopt;
             return NodeId(ns, ByteString(std::move(*b)));
         }
-        default: return std::nullopt;
+        default:
+            return std::nullopt;
     }
 }
 

@@ -17,7 +17,8 @@ public:
     enum class IdType : std::uint8_t { Numeric = 0, Text = 1, Uuid = 2, Opaque = 3 };
 
     constexpr NodeId() = default;
-    constexpr NodeId(std::uint32_t numeric) : id_(numeric) {}  // NOLINT: ns=0 numeric is the common case
+    // NOLINTNEXTLINE: implicit on purpose, ns=0 numeric is the common case
+    constexpr NodeId(std::uint32_t numeric) : id_(numeric) {}
     constexpr NodeId(std::uint16_t ns, std::uint32_t numeric) : ns_(ns), id_(numeric) {}
     NodeId(std::uint16_t ns, String s) : ns_(ns), id_(std::move(s)) {}
     NodeId(std::uint16_t ns, Guid g) : ns_(ns), id_(g) {}
@@ -37,6 +38,7 @@ public:
     [[nodiscard]] static std::optional<NodeId> parse(std::string_view text);
 
     friend bool operator==(const NodeId&, const NodeId&) = default;
+    // NOLINTNEXTLINE(modernize-use-nullptr): clang-tidy 14 flags the literal 0 of the defaulted <=>
     friend auto operator<=>(const NodeId&, const NodeId&) = default;
 
 private:

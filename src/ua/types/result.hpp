@@ -13,15 +13,13 @@ namespace skillcell::ua {
 template <class T>
 class [[nodiscard]] Result {
 public:
-    Result(T value) : v_(std::move(value)) {}          // NOLINT(google-explicit-constructor)
+    Result(T value) : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
     Result(StatusCode error) : v_(error) { assert(error.isBad()); }  // NOLINT
 
     [[nodiscard]] bool ok() const { return v_.index() == 0; }
     explicit operator bool() const { return ok(); }
     /// The failure; Good when there is a value.
-    [[nodiscard]] StatusCode status() const {
-        return ok() ? status::Good : std::get<1>(v_);
-    }
+    [[nodiscard]] StatusCode status() const { return ok() ? status::Good : std::get<1>(v_); }
     T& value() & { return std::get<0>(v_); }
     const T& value() const& { return std::get<0>(v_); }
     T&& value() && { return std::get<0>(std::move(v_)); }

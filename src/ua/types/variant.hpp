@@ -20,10 +20,31 @@ namespace skillcell::ua {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wshadow"
 enum class BuiltinType : std::uint8_t {
-    Null = 0, Boolean = 1, SByte = 2, Byte = 3, Int16 = 4, UInt16 = 5, Int32 = 6, UInt32 = 7,
-    Int64 = 8, UInt64 = 9, Float = 10, Double = 11, String = 12, DateTime = 13, Guid = 14,
-    ByteString = 15, XmlElement = 16, NodeId = 17, ExpandedNodeId = 18, StatusCode = 19,
-    QualifiedName = 20, LocalizedText = 21, ExtensionObject = 22, DataValue = 23, Variant = 24,
+    Null = 0,
+    Boolean = 1,
+    SByte = 2,
+    Byte = 3,
+    Int16 = 4,
+    UInt16 = 5,
+    Int32 = 6,
+    UInt32 = 7,
+    Int64 = 8,
+    UInt64 = 9,
+    Float = 10,
+    Double = 11,
+    String = 12,
+    DateTime = 13,
+    Guid = 14,
+    ByteString = 15,
+    XmlElement = 16,
+    NodeId = 17,
+    ExpandedNodeId = 18,
+    StatusCode = 19,
+    QualifiedName = 20,
+    LocalizedText = 21,
+    ExtensionObject = 22,
+    DataValue = 23,
+    Variant = 24,
     DiagnosticInfo = 25
 };
 #pragma GCC diagnostic pop
@@ -47,11 +68,10 @@ class Variant;
 
 // The alternatives are in built-in type id order: index() == type id.
 using Scalar = std::variant<std::monostate, bool, std::int8_t, std::uint8_t, std::int16_t,
-                            std::uint16_t, std::int32_t, std::uint32_t, std::int64_t,
-                            std::uint64_t, float, double, String, DateTime, Guid, ByteString,
-                            XmlElement, NodeId, ExpandedNodeId, StatusCode, QualifiedName,
-                            LocalizedText, ExtensionObject, Box<DataValue>, Box<Variant>,
-                            Box<DiagnosticInfo>>;
+                            std::uint16_t, std::int32_t, std::uint32_t, std::int64_t, std::uint64_t,
+                            float, double, String, DateTime, Guid, ByteString, XmlElement, NodeId,
+                            ExpandedNodeId, StatusCode, QualifiedName, LocalizedText,
+                            ExtensionObject, Box<DataValue>, Box<Variant>, Box<DiagnosticInfo>>;
 
 template <class T, class V = Scalar>
 struct IsScalarAlternative;
@@ -71,7 +91,7 @@ public:
     Variant() = default;
     template <ScalarType T>
     Variant(T value) : scalar_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
-    Variant(const char* s) : scalar_(String(s)) {}  // NOLINT(google-explicit-constructor)
+    Variant(const char* s) : scalar_(String(s)) {}   // NOLINT(google-explicit-constructor)
 
     /// A scalar from a decoded alternative (monostate gives the empty Variant).
     static Variant fromScalar(Scalar s) {

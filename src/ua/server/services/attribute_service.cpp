@@ -23,8 +23,9 @@ Result<Variant> applyRange(const Variant& v, const std::vector<IndexRange>& rang
         const auto& el = v.elements();
         if (v.dimensions().size() > 1 || r.first >= el.size()) return status::BadIndexRangeNoData;
         const std::size_t last = std::min<std::size_t>(r.last, el.size() - 1);
-        return Variant::array(v.type(),
-                              std::vector<Scalar>(el.begin() + r.first, el.begin() + last + 1));
+        return Variant::array(
+            v.type(), std::vector<Scalar>(el.begin() + r.first,
+                                          el.begin() + static_cast<std::ptrdiff_t>(last) + 1));
     }
     if (const auto* s = v.get<String>()) {
         if (r.first >= s->size()) return status::BadIndexRangeNoData;
@@ -33,8 +34,8 @@ Result<Variant> applyRange(const Variant& v, const std::vector<IndexRange>& rang
     if (const auto* b = v.get<ByteString>()) {
         if (r.first >= b->size()) return status::BadIndexRangeNoData;
         const std::size_t last = std::min<std::size_t>(r.last, b->size() - 1);
-        return Variant(ByteString(
-            std::vector<std::uint8_t>(b->bytes.begin() + r.first, b->bytes.begin() + last + 1)));
+        return Variant(ByteString(std::vector<std::uint8_t>(
+            b->bytes.begin() + r.first, b->bytes.begin() + static_cast<std::ptrdiff_t>(last) + 1)));
     }
     return status::BadIndexRangeNoData;
 }

@@ -17,7 +17,8 @@ StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
         return session.status();
     }
     spdlog::info("channel {}: session {} '{}' created (timeout {} ms)", ctx.channelId,
-                 (*session)->sessionId().toString(), req.sessionName, (*session)->timeout().count());
+                 (*session)->sessionId().toString(), req.sessionName,
+                 (*session)->timeout().count());
     const String url = description.endpointUrlFor(ctx.endpointUrl);
     resp.sessionId = (*session)->sessionId();
     resp.authenticationToken = (*session)->authenticationToken();
@@ -82,7 +83,8 @@ void registerSessionServices(ServiceTable& table, SessionManager& sessions,
             Session* session = sessions.find(req.requestHeader.authenticationToken);
             if (session == nullptr) return status::BadSessionIdInvalid;
             if (session->channelId() != ctx.channelId) return status::BadSecureChannelIdInvalid;
-            spdlog::info("session {} '{}' closed", session->sessionId().toString(), session->name());
+            spdlog::info("session {} '{}' closed", session->sessionId().toString(),
+                         session->name());
             sessions.close(req.requestHeader.authenticationToken);
             return status::Good;
         });

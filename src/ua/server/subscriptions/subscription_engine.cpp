@@ -452,7 +452,7 @@ ByteString ServerSubscriptionEngine::fireEvent(Event event) {
     for (int i = 0; i < 8; ++i) {
         record.eventId.bytes[static_cast<std::size_t>(i)] =
             static_cast<std::uint8_t>(rnd >> (8 * i));
-        record.eventId.bytes[static_cast<std::size_t>(8 + i)] =
+        record.eventId.bytes[8 + static_cast<std::size_t>(i)] =
             static_cast<std::uint8_t>(seq >> (8 * i));
     }
     record.receiveTime = DateTime::now();
