@@ -162,47 +162,9 @@ std::string statusText(ua::StatusCode s) {
     return std::string(ua::statusName(s));
 }
 
-/// Our Server on loopback, port 0, on its own io_context thread (like test::RunningServer,
-/// whose io_context is private: the producers here post work to it).
-class ServerThread {
-public:
-    ServerThread(ua::ServerConfig config, const std::function<void(ua::Server&)>& prepare) {
-        std::string error;
-        server_ = ua::Server::create(io_, std::move(config), &error);
-        if (!server_) throw std::runtime_error("server: " + error);
-        prepare(*server_);
-        auto port = server_->listen();
-        if (!port) throw std::runtime_error("listen failed");
-        url_ = "opc.tcp://127.0.0.1:" + std::to_string(*port);
-        thread_ = std::thread([this] { io_.run(); });
-    }
-    ServerThread(const ServerThread&) = delete;
-    ServerThread& operator=(const ServerThread&) = delete;
-    ~ServerThread() {
-        asio::post(io_, [this] { server_->stop(); });
-        thread_.join();
-    }
-
-    [[nodiscard]] const std::string& url() const { return url_; }
-    [[nodiscard]] asio::io_context& io() { return io_; }
-    [[nodiscard]] ua::Server& server() { return *server_; }  // on the server thread only
-
-    /// Runs `f` on the server's thread and waits for its result.
-    template <class F>
-    auto inServer(F f) -> decltype(f(std::declval<ua::Server&>())) {
-        std::packaged_task<decltype(f(std::declval<ua::Server&>()))()> task(
-            [this, &f] { return f(*server_); });
-        auto result = task.get_future();
-        asio::post(io_, [&task] { task(); });
-        return result.get();
-    }
-
-private:
-    asio::io_context io_{1};
-    std::unique_ptr<ua::Server> server_;
-    std::string url_;
-    std::thread thread_;
-};
+/// Our Server on loopback, port 0, on its own io_context thread; the producers post work to
+/// its io_context.
+using ServerThread = test::RunningServer;
 
 ua::ServerConfig serverConfig(double minPublishingIntervalMs) {
     ua::ServerConfig config = test::RunningServer::defaultConfig();
@@ -420,15 +382,14 @@ ThroughputResult runThroughput(ServerThread& server, std::uint16_t ns, bool pace
         }
 
         // The server's next sequence number before and after: the NotificationMessages
-        // with data it sent (keep-alives do not use one). keepAlive() only reads it here
-        // (and resets the keep-alive counter, which does not matter between runs).
+        // with data it sent (keep-alives do not use one).
         const auto sessionId = client.sessionId();
         const auto subId = sub->id();
         auto nextSequence = [&] {
             return server.inServer([&](ua::Server& s) -> std::uint32_t {
                 auto* ss = s.subscriptions().find(sessionId, subId);
                 if (ss == nullptr) throw std::runtime_error("subscription not found on the server");
-                return ss->keepAlive(ua::DateTime::now()).sequenceNumber;
+                return ss->nextSequenceNumber();
             });
         };
         const std::uint32_t seqBefore = nextSequence();

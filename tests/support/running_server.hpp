@@ -22,6 +22,10 @@ public:
     ~RunningServer();
 
     [[nodiscard]] std::uint16_t port() const { return port_; }
+    /// The server's io_context, to post work onto its thread (benchmarks drive values so).
+    [[nodiscard]] asio::io_context& io() { return io_; }
+    /// The server; touch it on its own thread only (from work posted to io()).
+    [[nodiscard]] ua::Server& server() { return *server_; }
     [[nodiscard]] std::string url() const;
 
     /// Runs `f` on the server's thread and waits for its result (the server is

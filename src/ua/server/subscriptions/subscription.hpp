@@ -57,6 +57,8 @@ public:
     /// A publishing cycle passed without a Publish request while something was due: the
     /// next Publish request is answered at once.
     [[nodiscard]] bool isLate() const { return late_; }
+    /// The sequence number the next NotificationMessage with data will carry.
+    [[nodiscard]] std::uint32_t nextSequenceNumber() const { return nextSequenceNumber_; }
     [[nodiscard]] bool hasNotifications() const;
 
     void modify(const ServerSubscriptionSettings& settings, TimePoint now);
