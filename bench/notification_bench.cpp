@@ -58,6 +58,7 @@
 
 #include "apps/demo_nodes.hpp"
 #include "child_process.hpp"
+#include "latency_stats.hpp"
 #include "running_server.hpp"
 #include "ua/client/client.hpp"
 #include "ua/client/subscription.hpp"
@@ -72,7 +73,6 @@ namespace {
 using namespace skillcell;
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
-using Samples = std::vector<Clock::duration>;
 
 constexpr std::size_t kItems = 100;           // throughput: variables / monitored items
 constexpr std::uint32_t kQueueSize = 100;     // throughput: item queue size
@@ -130,29 +130,9 @@ Options parseOptions(int argc, char** argv) {
     return o;
 }
 
-struct Stats {
-    double medianUs = NAN;
-    double p99Us = NAN;
-    double maxUs = NAN;
-    std::size_t n = 0;
-};
-
-/// Nearest-rank percentiles, as in roundtrip_bench.cpp.
-Stats summarize(Samples samples) {
-    Stats s;
-    s.n = samples.size();
-    if (samples.empty()) return s;
-    std::sort(samples.begin(), samples.end());
-    auto pct = [&](double p) {
-        auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * double(samples.size())));
-        rank = std::clamp<std::size_t>(rank, 1, samples.size());
-        return std::chrono::duration<double, std::micro>(samples[rank - 1]).count();
-    };
-    s.medianUs = pct(50);
-    s.p99Us = pct(99);
-    s.maxUs = std::chrono::duration<double, std::micro>(samples.back()).count();
-    return s;
-}
+using bench::Samples;
+using bench::summarize;
+using Stats = bench::LatencyStats;
 
 double seconds(Clock::duration d) {
     return std::chrono::duration<double>(d).count();

@@ -35,6 +35,7 @@
 
 #include "apps/demo_nodes.hpp"
 #include "child_process.hpp"
+#include "latency_stats.hpp"
 #include "running_server.hpp"
 #include "tcp_ping_pong.hpp"
 #include "ua/client/blocking_client.hpp"
@@ -48,7 +49,6 @@ namespace {
 
 using namespace skillcell;
 using namespace std::chrono_literals;
-using Samples = std::vector<std::chrono::nanoseconds>;
 using Clock = std::chrono::steady_clock;
 
 constexpr std::size_t kWarmup = 200;  // as bench_client.js
@@ -61,27 +61,9 @@ struct Options {
     bool node = true;
 };
 
-struct Stats {
-    double medianUs = NAN;
-    double p99Us = NAN;
-    std::size_t n = 0;
-};
-
-/// Nearest-rank percentiles, the definition bench_client.js uses.
-Stats summarize(Samples samples) {
-    Stats s;
-    s.n = samples.size();
-    if (samples.empty()) return s;
-    std::sort(samples.begin(), samples.end());
-    auto pct = [&](double p) {
-        auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * double(samples.size())));
-        rank = std::clamp<std::size_t>(rank, 1, samples.size());
-        return std::chrono::duration<double, std::micro>(samples[rank - 1]).count();
-    };
-    s.medianUs = pct(50);
-    s.p99Us = pct(99);
-    return s;
-}
+using bench::Samples;
+using bench::summarize;
+using Stats = bench::LatencyStats;
 
 struct Row {
     std::string name;
@@ -315,8 +297,9 @@ std::optional<Row> runNode(std::size_t count, std::string& why) {
         why = "cannot parse bench_client.js output: " + *line;
         return std::nullopt;
     }
-    row.read = {*rm, *rp, static_cast<std::size_t>(*rn)};
-    row.call = {*cm, *cp, static_cast<std::size_t>(*rn)};
+    // bench_client.js runs as many Calls as Reads; it reports n once per kind.
+    row.read = {.medianUs = *rm, .p99Us = *rp, .n = static_cast<std::size_t>(*rn)};
+    row.call = {.medianUs = *cm, .p99Us = *cp, .n = static_cast<std::size_t>(*rn)};
     return row;
 }
 

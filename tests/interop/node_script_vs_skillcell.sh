@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# Interop: node-opcua's subscriptions (subscribe.js) against our server.
-# Usage: node_subscribe_vs_skillcell.sh PATH/TO/skillcell
-# Starts `skillcell server --port 0`, learns its port from the READY line, runs subscribe.js
-# (data change after a write, event after Demo.FireEvent), and
-# stops the server. Skips (exit 77) when node-opcua is not installed, unless
+# Interop: a node-opcua client script against our server.
+# Usage: node_script_vs_skillcell.sh PATH/TO/skillcell SCRIPT.js
+# Starts `skillcell server --port 0`, learns its port from the READY line, runs the script
+# with the server's URL (client.js: browse from Root, read every attribute of every node,
+# write + read back, call; subscribe.js: data change after a write, event after
+# Demo.FireEvent), and stops the server. Skips (exit 77) when node-opcua is not installed, unless
 # SKILLCELL_REQUIRE_NODE=1, as in CI, where that is a failure.
 set -euo pipefail
 skillcell=$1
+script=$2
 here=$(cd "$(dirname "$0")" && pwd)
 if ! command -v node >/dev/null || [ ! -d "$here/node_modules/node-opcua" ]; then
   echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
@@ -29,7 +31,7 @@ if ! read -r -t 20 word url <&3 || [ "$word" != READY ]; then
 fi
 echo "server ready at $url"
 status=0
-timeout 90 node "$here/subscribe.js" "$url" || status=$?
+timeout 90 node "$here/$script" "$url" || status=$?
 if ! kill -0 "$pid" 2>/dev/null; then
   echo "our server died during the test:" >&2; cat "$tmp/server.log" >&2; exit 1
 fi
