@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "node_server_suite.hpp"
 #include "ua/client/blocking_client.hpp"
 #include "ua/types/to_string.hpp"
 
@@ -61,70 +62,15 @@ struct BrowsedNode {
 };
 
 /// The node-opcua server, shared by all tests of the suite.
-class NodeServerTest : public ::testing::Test {
+class NodeServerTest : public test::NodeServerSuite {
 protected:
-    static void SetUpTestSuite() {
-        const std::filesystem::path dir = SKILLCELL_INTEROP_DIR;
-        const bool required = [] {
-            const char* v = std::getenv("SKILLCELL_REQUIRE_NODE");
-            return v != nullptr && std::string_view(v) == "1";
-        }();
-        if (bench::findInPath("node").empty() ||
-            !std::filesystem::is_directory(dir / "node_modules" / "node-opcua")) {
-            unavailable_ = "node or " + (dir / "node_modules" / "node-opcua").string() +
-                           " missing (npm ci in tests/interop)";
-            std::cerr << "\n!!! " << (required ? "FAILING" : "SKIPPING")
-                      << " node-opcua interop: " << unavailable_ << " !!!\n\n";
-            unavailableIsFailure_ = required;
-            return;
-        }
-        try {
-            server_ = std::make_unique<ChildProcess>(
-                std::vector<std::string>{"node", (dir / "server.js").string(), "--port", "0"});
-        } catch (const std::exception& e) {
-            startError_ = e.what();
-            return;
-        }
-        // node-opcua needs several seconds to load the standard nodeset; read with a bound
-        // instead of sleeping. Anything before READY would be a protocol breach of server.js.
-        const auto line = server_->readLine(30s);
-        if (!line || line->rfind("READY ", 0) != 0) {
-            startError_ = "server.js did not print READY within 30 s (got: '" +
-                          line.value_or("<nothing>") + "', " +
-                          (server_->waitExit(0ms) ? "it exited" : "still running") + ")";
-            server_->stop();
-            return;
-        }
-        url_ = line->substr(6);
-        std::cerr << "node-opcua server (pid " << server_->pid() << ") at " << url_ << "\n";
-    }
-
-    static void TearDownTestSuite() {
-        if (server_) {
-            const int s = server_->stop(5s);
-            std::cerr << "node-opcua server stopped: " << bench::describeWaitStatus(s) << "\n";
-            server_.reset();
-        }
-    }
-
-    void SetUp() override {
-        if (!unavailable_.empty()) {
-            if (unavailableIsFailure_) {
-                FAIL() << "SKILLCELL_REQUIRE_NODE=1 but " << unavailable_;
-            }
-            GTEST_SKIP() << "!!! node-opcua interop skipped: " << unavailable_ << " !!!";
-        }
-        ASSERT_TRUE(startError_.empty()) << startError_;
-        ASSERT_FALSE(server_->waitExit(0ms).has_value()) << "node-opcua server died";
-    }
-
     /// A client with a session on the node-opcua server.
     static std::unique_ptr<BlockingClient> connected() {
         auto client = std::make_unique<BlockingClient>();
         ua::ClientConfig config;
         config.requestTimeout = 20s;
-        const auto s = client->connect(url_, config);
-        EXPECT_TRUE(s.isGood()) << "connect " << url_ << ": " << name(s);
+        const auto s = client->connect(url(), config);
+        EXPECT_TRUE(s.isGood()) << "connect " << url() << ": " << name(s);
         return s.isGood() ? std::move(client) : nullptr;
     }
 
@@ -216,19 +162,13 @@ protected:
         EXPECT_LE(visited.size(), kMaxNodes) << "browse did not end within the node bound";
         return visited;
     }
-
-    static inline std::unique_ptr<ChildProcess> server_;
-    static inline std::string url_;
-    static inline std::string unavailable_;
-    static inline bool unavailableIsFailure_ = false;
-    static inline std::string startError_;
 };
 
 TEST_F(NodeServerTest, GetEndpointsAndFindServers) {
     BlockingClient c;
     ua::ClientConfig config;
     config.createSession = false;
-    ASSERT_TRUE(c.connect(url_, config).isGood());
+    ASSERT_TRUE(c.connect(url(), config).isGood());
 
     auto endpoints = c.getEndpoints();
     ASSERT_TRUE(endpoints.ok()) << name(endpoints.status());

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "node_server_suite.hpp"
 #include "ua/client/blocking_client.hpp"
 
 #ifndef SKILLCELL_INTEROP_DIR
@@ -75,64 +76,16 @@ private:
     std::vector<T> items_;
 };
 
-class NodeServerSubscriptionTest : public ::testing::Test {
+class NodeServerSubscriptionTest : public test::NodeServerSuite {
 protected:
-    static void SetUpTestSuite() {
-        const std::filesystem::path dir = SKILLCELL_INTEROP_DIR;
-        const bool required = [] {
-            const char* v = std::getenv("SKILLCELL_REQUIRE_NODE");
-            return v != nullptr && std::string_view(v) == "1";
-        }();
-        if (bench::findInPath("node").empty() ||
-            !std::filesystem::is_directory(dir / "node_modules" / "node-opcua")) {
-            unavailable_ = "node or " + (dir / "node_modules" / "node-opcua").string() +
-                           " missing (npm ci in tests/interop)";
-            std::cerr << "\n!!! " << (required ? "FAILING" : "SKIPPING")
-                      << " node-opcua interop: " << unavailable_ << " !!!\n\n";
-            unavailableIsFailure_ = required;
-            return;
-        }
-        try {
-            server_ = std::make_unique<ChildProcess>(
-                std::vector<std::string>{"node", (dir / "server.js").string(), "--port", "0"});
-        } catch (const std::exception& e) {
-            startError_ = e.what();
-            return;
-        }
-        // node-opcua loads the standard nodeset for several seconds: a bounded read.
-        const auto line = server_->readLine(30s);
-        if (!line || line->rfind("READY ", 0) != 0) {
-            startError_ = "server.js did not print READY within 30 s (got: '" +
-                          line.value_or("<nothing>") + "')";
-            server_->stop();
-            return;
-        }
-        url_ = line->substr(6);
-        std::cerr << "node-opcua server (pid " << server_->pid() << ") at " << url_ << "\n";
-    }
-
-    static void TearDownTestSuite() {
-        if (server_) {
-            const int s = server_->stop(5s);
-            std::cerr << "node-opcua server stopped: " << bench::describeWaitStatus(s) << "\n";
-            server_.reset();
-        }
-    }
-
     void SetUp() override {
-        if (!unavailable_.empty()) {
-            if (unavailableIsFailure_) {
-                FAIL() << "SKILLCELL_REQUIRE_NODE=1 but " << unavailable_;
-            }
-            GTEST_SKIP() << "!!! node-opcua interop skipped: " << unavailable_ << " !!!";
-        }
-        ASSERT_TRUE(startError_.empty()) << startError_;
-        ASSERT_FALSE(server_->waitExit(0ms).has_value()) << "node-opcua server died";
+        NodeServerSuite::SetUp();
+        if (notReady()) return;
         client_ = std::make_unique<BlockingClient>();
         ua::ClientConfig config;
         config.requestTimeout = 10s;
-        const auto s = client_->connect(url_, config);
-        ASSERT_TRUE(s.isGood()) << "connect " << url_ << ": " << name(s);
+        const auto s = client_->connect(url(), config);
+        ASSERT_TRUE(s.isGood()) << "connect " << url() << ": " << name(s);
         auto ns = client_->readValue(NodeId(kNamespaceArray));
         ASSERT_TRUE(ns.ok()) << name(ns.status());
         ASSERT_TRUE(ns->isArray());
@@ -150,11 +103,6 @@ protected:
         }
     }
 
-    static inline std::unique_ptr<ChildProcess> server_;
-    static inline std::string url_;
-    static inline std::string unavailable_;
-    static inline bool unavailableIsFailure_ = false;
-    static inline std::string startError_;
     std::unique_ptr<BlockingClient> client_;
     std::uint16_t ns_ = 0;
     Mailbox<StatusCode> statuses_;

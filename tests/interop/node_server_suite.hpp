@@ -1,0 +1,91 @@
+#pragma once
+// NodeServerSuite: a GoogleTest fixture base whose suite shares one node-opcua server
+// (server.js, ~6 s to start). It skips loudly when node or node-opcua is missing, and fails
+// instead when SKILLCELL_REQUIRE_NODE=1 (CI). Derived fixtures call NodeServerSuite::SetUp()
+// first and use url().
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "child_process.hpp"
+
+namespace skillcell::test {
+
+class NodeServerSuite : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        using namespace std::chrono_literals;
+        const std::filesystem::path dir = SKILLCELL_INTEROP_DIR;
+        const char* require = std::getenv("SKILLCELL_REQUIRE_NODE");
+        const bool required = require != nullptr && std::string_view(require) == "1";
+        if (bench::findInPath("node").empty() ||
+            !std::filesystem::is_directory(dir / "node_modules" / "node-opcua")) {
+            unavailable_ = "node or " + (dir / "node_modules" / "node-opcua").string() +
+                           " missing (npm ci in tests/interop)";
+            std::cerr << "\n!!! " << (required ? "FAILING" : "SKIPPING")
+                      << " node-opcua interop: " << unavailable_ << " !!!\n\n";
+            unavailableIsFailure_ = required;
+            return;
+        }
+        try {
+            server_ = std::make_unique<bench::ChildProcess>(
+                std::vector<std::string>{"node", (dir / "server.js").string(), "--port", "0"});
+        } catch (const std::exception& e) {
+            startError_ = e.what();
+            return;
+        }
+        // node-opcua needs several seconds to load the standard nodeset; read with a bound
+        // instead of sleeping. Anything before READY would be a protocol breach of server.js.
+        const auto line = server_->readLine(30s);
+        if (!line || line->rfind("READY ", 0) != 0) {
+            startError_ = "server.js did not print READY within 30 s (got: '" +
+                          line.value_or("<nothing>") + "', " +
+                          (server_->waitExit(0ms) ? "it exited" : "still running") + ")";
+            server_->stop();
+            return;
+        }
+        url_ = line->substr(6);
+        std::cerr << "node-opcua server (pid " << server_->pid() << ") at " << url_ << "\n";
+    }
+
+    static void TearDownTestSuite() {
+        using namespace std::chrono_literals;
+        if (server_) {
+            const int s = server_->stop(5s);
+            std::cerr << "node-opcua server stopped: " << bench::describeWaitStatus(s) << "\n";
+            server_.reset();
+        }
+    }
+
+    void SetUp() override {
+        using namespace std::chrono_literals;
+        if (!unavailable_.empty()) {
+            if (unavailableIsFailure_) {
+                FAIL() << "SKILLCELL_REQUIRE_NODE=1 but " << unavailable_;
+            }
+            GTEST_SKIP() << "!!! node-opcua interop skipped: " << unavailable_ << " !!!";
+        }
+        ASSERT_TRUE(startError_.empty()) << startError_;
+        ASSERT_FALSE(server_->waitExit(0ms).has_value()) << "node-opcua server died";
+    }
+
+    /// True when SetUp() skipped or failed: a derived SetUp() returns then.
+    [[nodiscard]] bool notReady() const { return IsSkipped() || HasFatalFailure() || HasFailure(); }
+    [[nodiscard]] static const std::string& url() { return url_; }
+
+private:
+    static inline std::unique_ptr<bench::ChildProcess> server_;
+    static inline std::string url_;
+    static inline std::string unavailable_;
+    static inline bool unavailableIsFailure_ = false;
+    static inline std::string startError_;
+};
+
+}  // namespace skillcell::test
