@@ -88,6 +88,22 @@ std::string urlFor(const tcp::acceptor& a) {
     return "opc.tcp://127.0.0.1:" + std::to_string(a.local_endpoint().port());
 }
 
+/// Runs a Client's connect() to the fake server behind `acceptor` and returns its status
+/// (std::nullopt if it never finished within runUntil's bound).
+std::optional<StatusCode> connectTo(asio::io_context& io, Client& client, tcp::acceptor& acceptor) {
+    std::optional<StatusCode> result;
+    bool done = false;
+    asio::co_spawn(
+        io,
+        [&]() -> asio::awaitable<void> {
+            result = co_await client.connect(urlFor(acceptor), {});
+            done = true;
+        },
+        asio::detached);
+    runUntil(io, done);
+    return result;
+}
+
 asio::awaitable<std::vector<std::uint8_t>> readRawFrame(tcp::socket& s) {
     std::vector<std::uint8_t> frame(kMessageHeaderSize);
     auto [ec, n] = co_await asio::async_read(s, asio::buffer(frame), kNoThrow);
@@ -215,16 +231,7 @@ TEST(ClientConnect, ErrInsteadOfAckIsReported) {
         },
         asio::detached);
     Client client(io.get_executor());
-    std::optional<StatusCode> result;
-    bool done = false;
-    asio::co_spawn(
-        io,
-        [&]() -> asio::awaitable<void> {
-            result = co_await client.connect(urlFor(acceptor), {});
-            done = true;
-        },
-        asio::detached);
-    runUntil(io, done);
+    const std::optional<StatusCode> result = connectTo(io, client, acceptor);
     EXPECT_EQ(result, status::BadTcpServerTooBusy);
 }
 
@@ -248,16 +255,7 @@ TEST(ClientConnect, ErrAfterAckIsReported) {
         },
         asio::detached);
     Client client(io.get_executor());
-    std::optional<StatusCode> result;
-    bool done = false;
-    asio::co_spawn(
-        io,
-        [&]() -> asio::awaitable<void> {
-            result = co_await client.connect(urlFor(acceptor), {});
-            done = true;
-        },
-        asio::detached);
-    runUntil(io, done);
+    const std::optional<StatusCode> result = connectTo(io, client, acceptor);
     EXPECT_TRUE(sawOpn);
     EXPECT_EQ(result, status::BadSecurityChecksFailed);
     EXPECT_FALSE(client.isConnected());
