@@ -13,5 +13,7 @@ struct Command {
 
 Command addServerCommand(CLI::App& app);
 Command addBrowseCommand(CLI::App& app);
+Command addLdsCommand(CLI::App& app);
+Command addDiscoverCommand(CLI::App& app);
 
 }  // namespace skillcell::apps

@@ -1,5 +1,5 @@
-// skillcell: one program, one subcommand per component (server, browse; later lds, device,
-// kb, mes, demo). Every component takes --port N for its OPC UA port.
+// skillcell: one program, one subcommand per component (server, lds, browse, discover;
+// later device, kb, mes, demo). Every component takes --port N for its OPC UA port.
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
     const std::vector<skillcell::apps::Command> commands{
         skillcell::apps::addServerCommand(app),
         skillcell::apps::addBrowseCommand(app),
+        skillcell::apps::addLdsCommand(app),
+        skillcell::apps::addDiscoverCommand(app),
     };
 
     CLI11_PARSE(app, argc, argv);

@@ -1,5 +1,6 @@
 #pragma once
-// Discovery service set (OPC 10000-4, 5.4): FindServers, GetEndpoints.
+// Discovery service set (OPC 10000-4, 5.4): FindServers, GetEndpoints, and the services of a
+// Local Discovery Server: RegisterServer, RegisterServer2, FindServersOnNetwork (OPC 10000-12).
 #include "ua/messages/common.hpp"
 
 namespace skillcell::ua {
@@ -80,6 +81,99 @@ struct FindServersResponse {
     ResponseHeader responseHeader;
     std::vector<ApplicationDescription> servers;
     static auto tie(auto& s) { return std::tie(s.responseHeader, s.servers); }
+};
+
+/// A server's registration with a discovery server (OPC 10000-4, 7.32).
+struct RegisteredServer {
+    static constexpr std::uint32_t kBinaryEncodingId = 434;
+    String serverUri;
+    String productUri;
+    std::vector<LocalizedText> serverNames;
+    ApplicationType serverType = ApplicationType::Server;
+    String gatewayServerUri;
+    std::vector<String> discoveryUrls;
+    String semaphoreFilePath;
+    bool isOnline = true;
+    static auto tie(auto& s) {
+        return std::tie(s.serverUri, s.productUri, s.serverNames, s.serverType,
+                        s.gatewayServerUri, s.discoveryUrls, s.semaphoreFilePath, s.isOnline);
+    }
+};
+
+struct RegisterServerRequest {
+    static constexpr std::uint32_t kBinaryEncodingId = 437;
+    RequestHeader requestHeader;
+    RegisteredServer server;
+    static auto tie(auto& s) { return std::tie(s.requestHeader, s.server); }
+};
+
+struct RegisterServerResponse {
+    static constexpr std::uint32_t kBinaryEncodingId = 440;
+    ResponseHeader responseHeader;
+    static auto tie(auto& s) { return std::tie(s.responseHeader); }
+};
+
+/// The only discovery configuration the standard defines: how an LDS-ME announces the
+/// registered server by mDNS.
+struct MdnsDiscoveryConfiguration {
+    static constexpr std::uint32_t kBinaryEncodingId = 12901;
+    String mdnsServerName;
+    std::vector<String> serverCapabilities;
+    static auto tie(auto& s) { return std::tie(s.mdnsServerName, s.serverCapabilities); }
+};
+
+struct RegisterServer2Request {
+    static constexpr std::uint32_t kBinaryEncodingId = 12211;
+    RequestHeader requestHeader;
+    RegisteredServer server;
+    std::vector<ExtensionObject> discoveryConfiguration;
+    static auto tie(auto& s) {
+        return std::tie(s.requestHeader, s.server, s.discoveryConfiguration);
+    }
+};
+
+struct RegisterServer2Response {
+    static constexpr std::uint32_t kBinaryEncodingId = 12212;
+    ResponseHeader responseHeader;
+    std::vector<StatusCode> configurationResults;
+    std::vector<DiagnosticInfo> diagnosticInfos;
+    static auto tie(auto& s) {
+        return std::tie(s.responseHeader, s.configurationResults, s.diagnosticInfos);
+    }
+};
+
+/// One server seen on the network by an LDS-ME (OPC 10000-4, 7.33).
+struct ServerOnNetwork {
+    static constexpr std::uint32_t kBinaryEncodingId = 12207;
+    std::uint32_t recordId = 0;
+    String serverName;
+    String discoveryUrl;
+    std::vector<String> serverCapabilities;
+    static auto tie(auto& s) {
+        return std::tie(s.recordId, s.serverName, s.discoveryUrl, s.serverCapabilities);
+    }
+};
+
+struct FindServersOnNetworkRequest {
+    static constexpr std::uint32_t kBinaryEncodingId = 12208;
+    RequestHeader requestHeader;
+    std::uint32_t startingRecordId = 0;
+    std::uint32_t maxRecordsToReturn = 0;
+    std::vector<String> serverCapabilityFilter;
+    static auto tie(auto& s) {
+        return std::tie(s.requestHeader, s.startingRecordId, s.maxRecordsToReturn,
+                        s.serverCapabilityFilter);
+    }
+};
+
+struct FindServersOnNetworkResponse {
+    static constexpr std::uint32_t kBinaryEncodingId = 12209;
+    ResponseHeader responseHeader;
+    DateTime lastCounterResetTime;
+    std::vector<ServerOnNetwork> servers;
+    static auto tie(auto& s) {
+        return std::tie(s.responseHeader, s.lastCounterResetTime, s.servers);
+    }
 };
 
 }  // namespace skillcell::ua

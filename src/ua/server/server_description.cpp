@@ -28,7 +28,7 @@ ApplicationDescription ServerDescription::application(const String& endpointUrl)
     app.applicationUri = applicationUri;
     app.productUri = productUri;
     app.applicationName = LocalizedText{"en", applicationName};
-    app.applicationType = ApplicationType::Server;
+    app.applicationType = applicationType;
     app.discoveryUrls = {endpointUrl};
     return app;
 }

@@ -16,6 +16,8 @@ struct ServerDescription {
     String applicationUri = "urn:skillcell:server";
     String productUri = "urn:skillcell";
     String applicationName = "skillcell server";
+    /// DiscoveryServer for a stand-alone Local Discovery Server.
+    ApplicationType applicationType = ApplicationType::Server;
     /// Host name put into endpoint URLs when the client's own URL is not usable.
     String advertisedHost = "localhost";
     std::uint16_t port = 4840;

@@ -7,7 +7,7 @@ namespace skillcell::ua {
 
 std::string_view statusName(StatusCode s) {
     // One table, generated from the constants in status_code.hpp; lookups are rare (logs, CLI).
-    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 126> kNames{{
+    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 127> kNames{{
         {0x00000000, "Good"},
         {0x40000000, "Uncertain"},
         {0x80000000, "Bad"},
@@ -77,6 +77,7 @@ std::string_view statusName(StatusCode s) {
         {0x804F0000, "BadServerUriInvalid"},
         {0x80500000, "BadServerNameMissing"},
         {0x80510000, "BadDiscoveryUrlMissing"},
+        {0x80520000, "BadSemaphoreFileMissing"},
         {0x80530000, "BadRequestTypeInvalid"},
         {0x80540000, "BadSecurityModeRejected"},
         {0x80550000, "BadSecurityPolicyRejected"},

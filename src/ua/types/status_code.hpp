@@ -93,6 +93,7 @@ inline constexpr StatusCode BadNodeNotInView{0x804E0000};
 inline constexpr StatusCode BadServerUriInvalid{0x804F0000};
 inline constexpr StatusCode BadServerNameMissing{0x80500000};
 inline constexpr StatusCode BadDiscoveryUrlMissing{0x80510000};
+inline constexpr StatusCode BadSemaphoreFileMissing{0x80520000};
 inline constexpr StatusCode BadRequestTypeInvalid{0x80530000};
 inline constexpr StatusCode BadSecurityModeRejected{0x80540000};
 inline constexpr StatusCode BadSecurityPolicyRejected{0x80550000};

@@ -1,0 +1,87 @@
+#include "server_process.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <asio.hpp>
+#include <iostream>
+
+namespace skillcell::apps {
+
+void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& o) {
+    cmd->add_option("--port,-p", o.port, "OPC UA TCP port (0: any free port)")->capture_default_str();
+    cmd->add_option("--host", o.host, "address to listen on")->capture_default_str();
+    cmd->add_option("--advertised-host", o.advertisedHost,
+                    "host name put into endpoint URLs (default: the name the client used)");
+    cmd->add_option("--application-uri", o.applicationUri, "the server's ApplicationUri")
+        ->capture_default_str();
+    cmd->add_option("--max-sessions", o.maxSessions, "session limit")
+        ->check(CLI::Range(1u, 100000u))
+        ->capture_default_str();
+    cmd->add_option("--max-channels", o.maxChannels, "connection limit")
+        ->check(CLI::Range(1u, 100000u))
+        ->capture_default_str();
+}
+
+int runServerProcess(const ServerProcessOptions& options,
+                     const std::function<ua::StatusCode(ua::Server&)>& populate) {
+    asio::io_context io{1};  // one thread runs it: no scheduler locking needed
+    ua::ServerConfig config;
+    config.bindAddress = options.host;
+    config.description.port = options.port;
+    config.description.applicationUri = options.applicationUri;
+    config.description.applicationName = options.applicationName;
+    config.description.applicationType = options.applicationType;
+    if (!options.advertisedHost.empty()) {
+        config.description.advertisedHost = options.advertisedHost;
+    } else if (options.host != "0.0.0.0" && options.host != "::") {
+        config.description.advertisedHost = options.host;
+    }
+    config.limits.maxSessions = options.maxSessions;
+    config.limits.maxChannels = options.maxChannels;
+
+    std::string error;
+    auto server = ua::Server::create(io, config, &error);
+    if (!server) {
+        spdlog::critical("cannot build the server: {}", error);
+        return 1;
+    }
+    if (populate) {
+        if (const auto s = populate(*server); s.isBad()) {
+            spdlog::critical("cannot add the component's nodes: {}", ua::statusName(s));
+            return 1;
+        }
+    }
+    auto port = server->listen();
+    if (!port) return 1;  // listen() logged why
+
+    std::unique_ptr<ComponentDiscovery> discovery;
+    if (options.discovery.enabled || options.isLds) {
+        discovery = ComponentDiscovery::start(io, *server, *port, options.discovery,
+                                              options.isLds, &error);
+        if (!discovery) {
+            spdlog::critical("discovery: {} (run with --no-discovery to serve without it)",
+                             error);
+            return 1;
+        }
+    }
+
+    asio::signal_set signals(io, SIGINT, SIGTERM);
+    signals.async_wait([&](const asio::error_code& ec, int signal) {
+        if (ec) return;
+        spdlog::info("signal {}: shutting down", signal);
+        asio::co_spawn(
+            io,
+            [&]() -> asio::awaitable<void> {
+                if (discovery) co_await discovery->stop();
+                server->stop();
+                io.stop();
+            },
+            asio::detached);
+    });
+    std::cout << "READY opc.tcp://" << server->config().description.advertisedHost << ":" << *port
+              << std::endl;  // flushed: scripts wait for this line
+    io.run();
+    return 0;
+}
+
+}  // namespace skillcell::apps

@@ -1,0 +1,253 @@
+#include "ua/discovery/local_discovery_server.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <asio/experimental/as_tuple.hpp>
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <asio/ip/address_v4.hpp>
+#include <asio/use_awaitable.hpp>
+
+#include "ua/client/client.hpp"
+
+namespace skillcell::ua::lds {
+
+namespace {
+
+std::string firstOpcTcpUrl(const RegisteredServer& s) {
+    for (const auto& url : s.discoveryUrls) {
+        if (mdns::foldCase(url).starts_with("opc.tcp://")) return url;
+    }
+    return {};
+}
+
+}  // namespace
+
+std::shared_ptr<LocalDiscoveryServer> LocalDiscoveryServer::create(
+    Server& server, std::shared_ptr<mdns::MdnsResponder> responder, LdsConfig config) {
+    return std::shared_ptr<LocalDiscoveryServer>(
+        new LocalDiscoveryServer(server, std::move(responder), std::move(config)));
+}
+
+LocalDiscoveryServer::LocalDiscoveryServer(Server& server,
+                                           std::shared_ptr<mdns::MdnsResponder> responder,
+                                           LdsConfig config)
+    : server_(server),
+      responder_(std::move(responder)),
+      config_(std::move(config)),
+      table_(config_.registrationTimeout, config_.limits),
+      directory_(DateTime::now()) {}
+
+LocalDiscoveryServer::~LocalDiscoveryServer() {
+    if (responder_ && subscription_ != 0) responder_->unsubscribe(subscription_);
+}
+
+void LocalDiscoveryServer::start(asio::any_io_executor executor) {
+    std::weak_ptr<LocalDiscoveryServer> weak = weak_from_this();
+    auto& table = server_.services();
+    using Access = ServiceTable::Access;
+
+    table.add<RegisterServerRequest, RegisterServerResponse>(
+        Access::NoSession,
+        [weak](ServiceContext&, const RegisterServerRequest& req, RegisterServerResponse&) {
+            auto self = weak.lock();
+            if (!self || self->stopped_) return status::BadShutdown;
+            return self->registerServer(req.server, std::nullopt);
+        });
+
+    table.add<RegisterServer2Request, RegisterServer2Response>(
+        Access::NoSession,
+        [weak](ServiceContext&, const RegisterServer2Request& req, RegisterServer2Response& resp) {
+            auto self = weak.lock();
+            if (!self || self->stopped_) return status::BadShutdown;
+            if (req.discoveryConfiguration.size() > 16) return status::BadTooManyOperations;
+            std::optional<MdnsDiscoveryConfiguration> mdns;
+            for (const auto& eo : req.discoveryConfiguration) {
+                MdnsDiscoveryConfiguration config;
+                if (fromExtensionObject(eo, config).isBad()) {
+                    // The standard defines no other configuration: not supported, per entry.
+                    resp.configurationResults.push_back(status::BadNotSupported);
+                    continue;
+                }
+                const bool nameOk =
+                    config.mdnsServerName.empty() ||
+                    mdns::validateServerName(config.mdnsServerName).isGood();
+                const bool capsOk =
+                    config.serverCapabilities.size() <= 32 &&
+                    std::all_of(config.serverCapabilities.begin(), config.serverCapabilities.end(),
+                                [](const String& c) {
+                                    return !c.empty() && c.size() <= 32 &&
+                                           c.find(',') == std::string::npos;
+                                });
+                if (!nameOk || !capsOk) {
+                    resp.configurationResults.push_back(status::BadInvalidArgument);
+                    continue;
+                }
+                resp.configurationResults.push_back(status::Good);
+                if (!mdns) mdns = std::move(config);
+            }
+            return self->registerServer(req.server, std::move(mdns));
+        });
+
+    const ServerDescription& description = server_.config().description;
+    table.add<FindServersRequest, FindServersResponse>(
+        Access::NoSession,
+        [weak, &description](ServiceContext& ctx, const FindServersRequest& req,
+                             FindServersResponse& resp) {
+            auto self = weak.lock();
+            if (!self) return status::BadShutdown;
+            const String url = description.endpointUrlFor(
+                req.endpointUrl.empty() ? ctx.endpointUrl : &req.endpointUrl);
+            if (req.serverUris.empty() ||
+                std::find(req.serverUris.begin(), req.serverUris.end(),
+                          description.applicationUri) != req.serverUris.end()) {
+                resp.servers.push_back(description.application(url));
+            }
+            auto others = self->table_.describe(req.serverUris, req.localeIds);
+            resp.servers.insert(resp.servers.end(), others.begin(), others.end());
+            return status::Good;
+        });
+
+    table.add<FindServersOnNetworkRequest, FindServersOnNetworkResponse>(
+        Access::NoSession,
+        [weak](ServiceContext&, const FindServersOnNetworkRequest& req,
+               FindServersOnNetworkResponse& resp) {
+            auto self = weak.lock();
+            if (!self) return status::BadShutdown;
+            if (!self->responder_) return status::BadServiceUnsupported;
+            if (req.serverCapabilityFilter.size() > 64) return status::BadTooManyOperations;
+            resp.lastCounterResetTime = self->directory_.lastCounterResetTime();
+            resp.servers = self->directory_.find(req);
+            return status::Good;
+        });
+
+    if (responder_) {
+        subscription_ = responder_->subscribe([weak](const mdns::ServiceEvent& e) {
+            if (auto self = weak.lock()) self->onMdnsEvent(e);
+        });
+        for (const auto& s : responder_->services()) {
+            directory_.apply({mdns::ServiceEvent::Kind::Announced, s, {}});
+        }
+    }
+    timer_ = std::make_unique<asio::steady_timer>(executor);
+    asio::co_spawn(executor, expiryLoop(), asio::detached);
+}
+
+void LocalDiscoveryServer::stop() {
+    if (stopped_) return;
+    stopped_ = true;
+    for (const auto& [uri, name] : announcedFor_) {
+        if (responder_) responder_->withdraw(name);
+    }
+    announcedFor_.clear();
+    if (timer_) timer_->cancel();
+}
+
+StatusCode LocalDiscoveryServer::registerServer(const RegisteredServer& server,
+                                                std::optional<MdnsDiscoveryConfiguration> mdns) {
+    if (const StatusCode s = table_.validate(server); s.isBad()) {
+        spdlog::warn("LDS: registration of '{}' refused: {}", server.serverUri, statusName(s));
+        return s;
+    }
+    const bool withMdns = mdns.has_value();
+    auto change = table_.apply(server, std::move(mdns), Clock::now());
+    if (!change) {
+        spdlog::warn("LDS: registration of '{}' refused: {}", server.serverUri,
+                     statusName(change.status()));
+        return change.status();
+    }
+    const std::string url = server.discoveryUrls.empty() ? "" : server.discoveryUrls.front();
+    switch (*change) {
+        case RegisteredServerTable::Change::Added:
+        case RegisteredServerTable::Change::Updated: {
+            spdlog::info("LDS: {} '{}' at {}{}",
+                         *change == RegisteredServerTable::Change::Added ? "registered" : "updated",
+                         server.serverUri, url, withMdns ? " (with mDNS)" : "");
+            const Registration* r = table_.find(server.serverUri);
+            if (r != nullptr && r->mdns) announceFor(*r);
+            break;
+        }
+        case RegisteredServerTable::Change::Renewed:
+            spdlog::debug("LDS: '{}' renewed its registration", server.serverUri);
+            break;
+        case RegisteredServerTable::Change::Removed:
+            spdlog::info("LDS: '{}' unregistered", server.serverUri);
+            withdrawFor(server.serverUri);
+            break;
+        case RegisteredServerTable::Change::NotFound: break;
+    }
+    return status::Good;
+}
+
+void LocalDiscoveryServer::announceFor(const Registration& r) {
+    if (!responder_) return;
+    const std::string name = mdnsNameOf(r);
+    if (name.empty()) return;
+    // A server that announces itself is left to speak for itself.
+    const std::string key = mdns::foldCase(name);
+    const bool ours = announcedFor_.contains(r.server.serverUri);
+    for (const auto& s : responder_->services()) {
+        if (!ours && mdns::foldCase(s.name) == key) {
+            spdlog::debug("LDS: '{}' announces itself as '{}'", r.server.serverUri, name);
+            return;
+        }
+    }
+    const std::string url = firstOpcTcpUrl(r.server);
+    auto address = parseEndpointUrl(url);
+    if (!address) {
+        spdlog::info("LDS: '{}' has no opc.tcp discovery URL to announce", r.server.serverUri);
+        return;
+    }
+    mdns::ServiceAnnouncement a;
+    a.name = name;
+    a.port = address->port;
+    a.path = address->path;
+    a.capabilities = r.mdns->serverCapabilities;
+    asio::error_code ec;
+    const auto ip = asio::ip::make_address_v4(address->host, ec);
+    // An address literal other than loopback is announced as it is; a host name, or
+    // loopback, is this host: an LDS serves the servers on its own host (OPC 10000-12, 4.3).
+    if (!ec && !ip.is_loopback()) a.address = ip.to_bytes();
+    if (auto previous = announcedFor_.find(r.server.serverUri);
+        previous != announcedFor_.end() && mdns::foldCase(previous->second) != key) {
+        responder_->withdraw(previous->second);
+    }
+    if (const StatusCode s = responder_->announce(a); s.isBad()) {
+        spdlog::warn("LDS: cannot announce '{}' for '{}': {}", name, r.server.serverUri,
+                     statusName(s));
+        return;
+    }
+    announcedFor_[r.server.serverUri] = name;
+}
+
+void LocalDiscoveryServer::withdrawFor(const std::string& serverUri) {
+    auto it = announcedFor_.find(serverUri);
+    if (it == announcedFor_.end()) return;
+    if (responder_) responder_->withdraw(it->second);
+    announcedFor_.erase(it);
+}
+
+void LocalDiscoveryServer::onMdnsEvent(const mdns::ServiceEvent& e) {
+    directory_.apply(e);
+    if (e.kind != mdns::ServiceEvent::Kind::Gone || stopped_) return;
+    const Registration* r = table_.findByMdnsName(e.instance.name);
+    if (r == nullptr || announcedFor_.contains(r->server.serverUri)) return;
+    const std::string uri = r->server.serverUri;
+    spdlog::info("LDS: registration of '{}' ends with its mDNS presence ({})", uri,
+                 mdns::toString(e.reason));
+    table_.remove(uri);
+}
+
+asio::awaitable<void> LocalDiscoveryServer::expiryLoop() {
+    auto self = shared_from_this();
+    while (!stopped_) {
+        for (const auto& r : table_.expire(Clock::now())) {
+            spdlog::info("LDS: registration of '{}' expired", r.server.serverUri);
+            withdrawFor(r.server.serverUri);
+        }
+        timer_->expires_after(std::chrono::seconds(1));
+        co_await timer_->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+    }
+}
+
+}  // namespace skillcell::ua::lds

@@ -1,0 +1,73 @@
+#pragma once
+// LocalDiscoveryServer: turns a Server into a Local Discovery Server with the multicast
+// extension (LDS-ME, OPC 10000-12, 4.3): RegisterServer, RegisterServer2, FindServers
+// (this server and the registered ones) and FindServersOnNetwork (what mDNS sees).
+//
+// Servers that register with RegisterServer2 and an MdnsDiscoveryConfiguration are
+// announced by mDNS on their behalf, unless they already announce themselves (every
+// skillcell server does): then the LDS leaves their announcement to them, and their
+// registration ends with their mDNS presence (a goodbye or an expiry), so FindServers never
+// lists a server that the network has seen go.
+//
+// Threading: on the server's io_context thread, like the Server.
+#include <asio/any_io_executor.hpp>
+#include <asio/awaitable.hpp>
+#include <asio/steady_timer.hpp>
+#include <memory>
+#include <set>
+
+#include "ua/discovery/mdns_responder.hpp"
+#include "ua/discovery/registered_server_table.hpp"
+#include "ua/discovery/server_on_network_directory.hpp"
+#include "ua/server/server.hpp"
+
+namespace skillcell::ua::lds {
+
+struct LdsConfig {
+    LdsConfig() = default;
+    /// A registration not renewed for this long ends (the standard's re-registration period
+    /// is 10 minutes; a minute of grace).
+    std::chrono::seconds registrationTimeout{660};
+    RegistrationLimits limits;
+};
+
+class LocalDiscoveryServer : public std::enable_shared_from_this<LocalDiscoveryServer> {
+public:
+    /// `responder` may be null: an LDS without the multicast extension (FindServersOnNetwork
+    /// then answers BadServiceUnsupported).
+    [[nodiscard]] static std::shared_ptr<LocalDiscoveryServer> create(
+        Server& server, std::shared_ptr<mdns::MdnsResponder> responder, LdsConfig config = {});
+    ~LocalDiscoveryServer();
+    LocalDiscoveryServer(const LocalDiscoveryServer&) = delete;
+    LocalDiscoveryServer& operator=(const LocalDiscoveryServer&) = delete;
+
+    /// Installs the services and starts expiring registrations.
+    void start(asio::any_io_executor executor);
+    /// Withdraws what it announced for others and stops its timer.
+    void stop();
+
+    [[nodiscard]] const RegisteredServerTable& registrations() const { return table_; }
+    [[nodiscard]] const ServerOnNetworkDirectory& directory() const { return directory_; }
+
+private:
+    LocalDiscoveryServer(Server& server, std::shared_ptr<mdns::MdnsResponder> responder,
+                         LdsConfig config);
+    StatusCode registerServer(const RegisteredServer& server,
+                              std::optional<MdnsDiscoveryConfiguration> mdns);
+    void onMdnsEvent(const mdns::ServiceEvent& event);
+    void announceFor(const Registration& r);
+    void withdrawFor(const std::string& serverUri);
+    asio::awaitable<void> expiryLoop();
+
+    Server& server_;
+    std::shared_ptr<mdns::MdnsResponder> responder_;
+    LdsConfig config_;
+    RegisteredServerTable table_;
+    ServerOnNetworkDirectory directory_;
+    std::map<std::string, std::string> announcedFor_;  // serverUri -> mDNS name we announce
+    std::size_t subscription_ = 0;
+    std::unique_ptr<asio::steady_timer> timer_;
+    bool stopped_ = false;
+};
+
+}  // namespace skillcell::ua::lds

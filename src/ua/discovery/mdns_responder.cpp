@@ -1,0 +1,438 @@
+#include "ua/discovery/mdns_responder.hpp"
+
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include "libmdnsd_adapter/libmdnsd_adapter.h"
+
+#include <algorithm>
+#include <asio/experimental/as_tuple.hpp>
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <asio/ip/multicast.hpp>
+#include <asio/use_awaitable.hpp>
+#include <cstring>
+#include <thread>
+
+namespace skillcell::ua::mdns {
+
+namespace {
+
+constexpr auto kGroup = "224.0.0.251";
+// What we let libmdnsd put into one datagram: an Ethernet MTU less the IP and UDP headers.
+constexpr int kFrameBytes = 1472;
+// libmdnsd's parser gets only datagrams small enough that its fixed 4 KiB name area cannot
+// run out (see libmdnsd_adapter.h).
+constexpr std::size_t kLibmdnsdMaxInput = MDNS_ADAPTER_MAX_INPUT;
+
+std::string fqdn(std::string_view name) { return std::string(name) + "."; }
+
+std::string instanceName(std::string_view serverName) {
+    return std::string(serverName) + "." + std::string(kOpcUaServiceType);
+}
+
+std::uint32_t toNetworkOrder(const Ipv4& ip) {
+    std::uint32_t a = 0;
+    std::memcpy(&a, ip.data(), 4);
+    return a;
+}
+
+/// TXT rdata for OPC 10000-12: "path=..." and "caps=a,b".
+std::string txtRdata(const ServiceAnnouncement& a) {
+    std::string caps;
+    for (const auto& c : a.capabilities) caps += (caps.empty() ? "" : ",") + c;
+    std::string out;
+    for (const std::string& s : {"path=" + a.path, "caps=" + caps}) {
+        out.push_back(static_cast<char>(std::min<std::size_t>(s.size(), 255)));
+        out.append(s, 0, 255);
+    }
+    return out;
+}
+
+std::string sanitizeLabel(std::string_view s) {
+    std::string out;
+    for (char c : s) {
+        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+        out.push_back(ok ? c : '-');
+    }
+    if (out.size() > 63) out.resize(63);
+    return out.empty() ? std::string("skillcell") : out;
+}
+
+}  // namespace
+
+StatusCode validateServerName(std::string_view name) {
+    if (name.empty() || name.size() > 63) return status::BadInvalidArgument;
+    for (char c : name) {
+        if (c == '.' || static_cast<unsigned char>(c) < 0x20 || c == 0x7F) {
+            return status::BadInvalidArgument;
+        }
+    }
+    return status::Good;
+}
+
+void MdnsResponder::AdapterDeleter::operator()(mdns_adapter* a) const { mdns_adapter_free(a); }
+
+MdnsResponder::MdnsResponder(asio::any_io_executor executor, MdnsConfig config)
+    : executor_(std::move(executor)),
+      config_(std::move(config)),
+      socket_(executor_),
+      timer_(executor_) {}
+
+MdnsResponder::~MdnsResponder() = default;
+
+Result<std::shared_ptr<MdnsResponder>> MdnsResponder::create(asio::any_io_executor executor,
+                                                             MdnsConfig config,
+                                                             std::string* error) {
+    auto fail = [error](std::string why) -> Result<std::shared_ptr<MdnsResponder>> {
+        if (error != nullptr) *error = std::move(why);
+        return status::BadResourceUnavailable;
+    };
+    if (config.recordTtl.count() < 1 || config.recordTtl.count() > 86400) {
+        return fail("the record TTL must be 1..86400 s");
+    }
+    if (config.queryPeriod < std::chrono::milliseconds(100)) {
+        return fail("the query period must be at least 100 ms");
+    }
+    std::shared_ptr<MdnsResponder> r(new MdnsResponder(std::move(executor), std::move(config)));
+    r->nics_ = chooseMdnsInterfaces(listIpv4Interfaces(), r->config_.interfaces);
+    if (r->nics_.empty()) {
+        return fail(r->config_.interfaces.empty()
+                        ? "no multicast-capable IPv4 interface"
+                        : "none of the named interfaces has an IPv4 address");
+    }
+    if (r->config_.hostName.empty()) {
+        char buf[256] = {};
+        if (gethostname(buf, sizeof buf - 1) != 0) std::strcpy(buf, "skillcell");
+        r->hostName_ = sanitizeLabel(buf);
+    } else {
+        r->hostName_ = sanitizeLabel(r->config_.hostName);
+    }
+    r->mdnsd_.reset(mdns_adapter_new(kFrameBytes));
+    if (!r->mdnsd_) return fail("out of memory for libmdnsd");
+
+    asio::error_code ec;
+    auto& s = r->socket_;
+    const auto group = asio::ip::make_address_v4(kGroup);
+    s.open(asio::ip::udp::v4(), ec);
+    if (!ec) s.set_option(asio::ip::udp::socket::reuse_address(true), ec);
+    if (!ec) {
+        // Several processes on one host (an LDS and servers) share port 5353.
+        const int one = 1;
+        if (setsockopt(s.native_handle(), SOL_SOCKET, SO_REUSEPORT, &one, sizeof one) != 0) {
+            ec = asio::error_code(errno, asio::system_category());
+        }
+    }
+    if (!ec) s.bind(asio::ip::udp::endpoint(asio::ip::address_v4::any(), r->config_.port), ec);
+    if (!ec) s.set_option(asio::ip::multicast::enable_loopback(true), ec);
+    if (!ec) s.set_option(asio::ip::multicast::hops(255), ec);  // RFC 6762 11
+    if (ec) return fail("mDNS socket on port " + std::to_string(r->config_.port) + ": " + ec.message());
+    std::size_t joined = 0;
+    for (const auto& nic : r->nics_) {
+        asio::error_code jec;
+        s.set_option(asio::ip::multicast::join_group(group, asio::ip::address_v4(nic.address)), jec);
+        if (jec) {
+            spdlog::warn("mDNS: cannot join {} on {} ({}): {}", kGroup, nic.name,
+                         toString(nic.address), jec.message());
+        } else {
+            ++joined;
+        }
+    }
+    if (joined == 0) return fail("could not join the mDNS group on any interface");
+    return r;
+}
+
+void MdnsResponder::start() {
+    if (started_ || closed_) return;
+    started_ = true;
+    std::string names;
+    for (const auto& nic : nics_) names += (names.empty() ? "" : ", ") + nic.name + " " + toString(nic.address);
+    spdlog::info("mDNS on {} (host {}.local, TTL {} s, query period {} ms)", names, hostName_,
+                 config_.recordTtl.count(), config_.queryPeriod.count());
+    nextBrowse_ = Clock::now();  // the first query goes out at once
+    asio::co_spawn(executor_, receiveLoop(), asio::detached);
+    asio::co_spawn(executor_, timerLoop(), asio::detached);
+}
+
+std::size_t MdnsResponder::subscribe(Listener listener) {
+    const std::size_t id = nextListener_++;
+    listeners_.emplace(id, std::move(listener));
+    return id;
+}
+
+void MdnsResponder::unsubscribe(std::size_t id) { listeners_.erase(id); }
+
+void MdnsResponder::dispatch(const std::vector<ServiceEvent>& events) {
+    for (const auto& e : events) {
+        spdlog::debug("mDNS: {} {} at {}", e.kind == ServiceEvent::Kind::Announced ? "announced" : "gone",
+                      e.instance.name, e.instance.discoveryUrl());
+        const auto listeners = listeners_;  // a listener may unsubscribe
+        for (const auto& [id, l] : listeners) l(e);
+    }
+}
+
+void MdnsResponder::ensureHostRecords() {
+    if (!hostRecords_.empty()) return;
+    const std::string host = fqdn(hostName_ + ".local");
+    for (const auto& nic : nics_) {
+        mdns_adapter_record* a =
+            mdns_adapter_shared(mdnsd_.get(), host.c_str(), MDNS_ADAPTER_A,
+                                static_cast<unsigned long>(config_.recordTtl.count()));
+        mdns_adapter_set_ip(mdnsd_.get(), a, toNetworkOrder(nic.address));
+        hostRecords_.push_back(a);
+    }
+}
+
+StatusCode MdnsResponder::announce(const ServiceAnnouncement& a) {
+    if (closed_) return status::BadInvalidState;
+    if (auto s = validateServerName(a.name); s.isBad()) return s;
+    if (a.port == 0 || a.path.size() > 200) return status::BadInvalidArgument;
+    for (const auto& c : a.capabilities) {
+        if (c.empty() || c.find(',') != std::string::npos || c.size() > 32) {
+            return status::BadInvalidArgument;
+        }
+    }
+    const std::string key = foldCase(a.name);
+    if (auto it = published_.find(key); it != published_.end()) {
+        if (it->second.announcement.port == a.port && it->second.announcement.path == a.path &&
+            it->second.announcement.capabilities == a.capabilities &&
+            it->second.announcement.address == a.address) {
+            return status::Good;  // unchanged
+        }
+        withdrawRecords(it->second);
+        published_.erase(it);
+    }
+    auto* d = mdnsd_.get();
+    const auto ttl = static_cast<unsigned long>(config_.recordTtl.count());
+    Published p;
+    p.announcement = a;
+    std::string instance = fqdn(instanceName(a.name));
+    if (a.address) {
+        const auto& ip = *a.address;
+        p.hostFqdn = fqdn("ip-" + std::to_string(ip[0]) + "-" + std::to_string(ip[1]) + "-" +
+                          std::to_string(ip[2]) + "-" + std::to_string(ip[3]) + ".local");
+        mdns_adapter_record* rec = mdns_adapter_shared(d, p.hostFqdn.c_str(), MDNS_ADAPTER_A, ttl);
+        mdns_adapter_set_ip(d, rec, toNetworkOrder(ip));
+        p.records.push_back(rec);
+    } else {
+        ensureHostRecords();
+        p.hostFqdn = fqdn(hostName_ + ".local");
+    }
+    mdns_adapter_record* ptr =
+        mdns_adapter_shared(d, fqdn(kOpcUaServiceType).c_str(), MDNS_ADAPTER_PTR, ttl);
+    mdns_adapter_set_host(d, ptr, instance.c_str());
+    mdns_adapter_record* srv = mdns_adapter_shared(d, instance.c_str(), MDNS_ADAPTER_SRV, ttl);
+    mdns_adapter_set_srv(d, srv, a.port, p.hostFqdn.c_str());
+    mdns_adapter_record* txt = mdns_adapter_shared(d, instance.c_str(), MDNS_ADAPTER_TXT, ttl);
+    const std::string rdata = txtRdata(a);
+    mdns_adapter_set_raw(d, txt, rdata.data(), static_cast<unsigned short>(rdata.size()));
+    p.records.insert(p.records.end(), {ptr, srv, txt});
+    published_.emplace(key, std::move(p));
+    spdlog::info("mDNS: announcing '{}' port {} path '{}'", a.name, a.port, a.path);
+    wake();
+    return status::Good;
+}
+
+void MdnsResponder::withdrawRecords(Published& p) {
+    // mdnsd_done() turns a record into its goodbye (TTL 0); libmdnsd frees it once sent.
+    for (mdns_adapter_record* r : p.records) mdns_adapter_done(mdnsd_.get(), r);
+    p.records.clear();
+}
+
+void MdnsResponder::withdraw(std::string_view name) {
+    auto it = published_.find(foldCase(name));
+    if (it == published_.end() || closed_) return;
+    spdlog::info("mDNS: withdrawing '{}'", it->second.announcement.name);
+    withdrawRecords(it->second);
+    published_.erase(it);
+    flushOutput();
+}
+
+void MdnsResponder::shutdown() {
+    if (closed_) return;
+    if (mdnsd_ && !published_.empty()) {
+        spdlog::info("mDNS: goodbye for {} announcement(s)", published_.size());
+        // Goodbyes for the services only, not for the host's address records: other
+        // processes on this host share them, and a goodbye would take their address away
+        // from every peer. Our address records simply expire.
+        for (auto& [key, p] : published_) withdrawRecords(p);
+        // libmdnsd holds shared answers back for up to ~120 us (RFC 6762 6): wait for them,
+        // a bounded number of times, so the goodbyes leave before the socket closes.
+        for (int i = 0; i < 16; ++i) {
+            flushOutput();
+            const auto us = mdns_adapter_sleep_us(mdnsd_.get());
+            if (us > 100'000) break;
+            std::this_thread::sleep_for(std::chrono::microseconds(us + 1));
+        }
+    }
+    closed_ = true;
+    published_.clear();
+    hostRecords_.clear();
+    asio::error_code ec;
+    socket_.close(ec);
+    timer_.cancel();
+}
+
+void MdnsResponder::queryNow() {
+    nextBrowse_ = Clock::now();
+    wake();
+}
+
+void MdnsResponder::wake() {
+    if (started_) timer_.cancel();
+}
+
+asio::awaitable<void> MdnsResponder::receiveLoop() {
+    auto self = shared_from_this();
+    std::vector<std::uint8_t> buf(65536);
+    while (!closed_) {
+        asio::ip::udp::endpoint from;
+        auto [ec, n] = co_await socket_.async_receive_from(asio::buffer(buf), from,
+                                                           asio::experimental::as_tuple(asio::use_awaitable));
+        if (closed_ || ec == asio::error::operation_aborted) co_return;
+        if (ec) {
+            spdlog::debug("mDNS receive: {}", ec.message());
+            continue;
+        }
+        if (!from.address().is_v4()) continue;
+        handleDatagram(std::span(buf.data(), n), from.address().to_v4().to_bytes(), from.port());
+    }
+}
+
+void MdnsResponder::handleDatagram(std::span<const std::uint8_t> bytes, const Ipv4& source,
+                                   std::uint16_t sourcePort) {
+    ++stats_.received;
+    std::string why;
+    auto msg = parseDnsMessage(bytes, &why);
+    if (!msg) {
+        ++stats_.malformed;
+        spdlog::debug("mDNS: dropped a datagram of {} bytes from {}: {}", bytes.size(),
+                      toString(source), why);
+        return;
+    }
+    if (msg->isResponse) {
+        dispatch(cache_.ingest(*msg, source, Clock::now()));
+        wake();  // new records: new deadlines
+        return;
+    }
+    if (published_.empty() || closed_) return;  // nothing of ours to answer with
+    if (bytes.size() <= kLibmdnsdMaxInput) feedLibmdnsd(bytes, source, sourcePort);
+    answerWithAdditionals(*msg, source);
+    flushOutput();
+    wake();
+}
+
+void MdnsResponder::feedLibmdnsd(std::span<const std::uint8_t> bytes, const Ipv4& source,
+                                 std::uint16_t sourcePort) {
+    // parseDnsMessage() accepted it: its names and lengths are within the datagram.
+    mdns_adapter_in(mdnsd_.get(), bytes.data(), bytes.size(), toNetworkOrder(source), sourcePort);
+}
+
+void MdnsResponder::answerWithAdditionals(const DnsMessage& query, const Ipv4& source) {
+    // libmdnsd answers a PTR question with the PTR record only, so a browser would need a
+    // second round trip for SRV, TXT and A; several browsers (node-opcua's among them)
+    // expect them in the same response (RFC 6763, 12.1). We ask libmdnsd those questions
+    // too, so its next datagram carries them all.
+    const std::string typeKey = foldCase(kOpcUaServiceType);
+    std::vector<DnsQuestion> extra;
+    for (const auto& q : query.questions) {
+        const std::string name = foldCase(q.name);
+        const bool browse = name == typeKey && (q.type == static_cast<std::uint16_t>(DnsType::Ptr) ||
+                                                q.type == static_cast<std::uint16_t>(DnsType::Any));
+        for (const auto& [key, p] : published_) {
+            const std::string instance = instanceName(p.announcement.name);
+            if (!browse && name != foldCase(instance)) continue;
+            if (browse) {
+                extra.push_back({instance + ".", static_cast<std::uint16_t>(DnsType::Srv), kClassIn});
+                extra.push_back({instance + ".", static_cast<std::uint16_t>(DnsType::Txt), kClassIn});
+            }
+            extra.push_back({p.hostFqdn, static_cast<std::uint16_t>(DnsType::A), kClassIn});
+        }
+    }
+    if (extra.empty()) return;
+    DnsMessage synthetic;
+    synthetic.questions = std::move(extra);
+    // Names here carry libmdnsd's trailing dot; our encoder wants them without.
+    for (auto& q : synthetic.questions) q.name.pop_back();
+    auto bytes = encodeDnsMessage(synthetic);
+    if (!bytes || bytes->size() > kLibmdnsdMaxInput) return;
+    feedLibmdnsd(*bytes, source, config_.port);
+}
+
+void MdnsResponder::flushOutput() {
+    if (!mdnsd_) return;
+    const unsigned char* data = nullptr;
+    int multicast = 0;
+    std::uint32_t ip = 0;
+    unsigned short port = 0;
+    // Bounded: libmdnsd produces a handful of datagrams per call; more means a bug.
+    for (int i = 0; i < 64; ++i) {
+        const std::size_t len = mdns_adapter_out(mdnsd_.get(), &data, &multicast, &ip, &port);
+        if (len == 0) break;
+        const std::span<const std::uint8_t> packet(data, len);
+        if (multicast != 0) {
+            sendMulticast(packet);
+            continue;
+        }
+        // An answer to a legacy unicast query (one sent from a port other than 5353).
+        asio::error_code ec;
+        Ipv4 to{};
+        std::memcpy(to.data(), &ip, 4);
+        socket_.send_to(asio::buffer(packet.data(), packet.size()),
+                        asio::ip::udp::endpoint(asio::ip::address_v4(to), port), 0, ec);
+        ec ? ++stats_.sendErrors : ++stats_.sent;
+    }
+}
+
+void MdnsResponder::sendMulticast(std::span<const std::uint8_t> bytes) {
+    if (!socket_.is_open()) return;
+    const asio::ip::udp::endpoint group(asio::ip::make_address_v4(kGroup), config_.port);
+    for (const auto& nic : nics_) {
+        asio::error_code ec;
+        socket_.set_option(asio::ip::multicast::outbound_interface(asio::ip::address_v4(nic.address)), ec);
+        if (!ec) socket_.send_to(asio::buffer(bytes.data(), bytes.size()), group, 0, ec);
+        if (ec) {
+            // A link that is down (a cable pulled) fails here until it is back: not an error
+            // worth more than a debug line.
+            ++stats_.sendErrors;
+            spdlog::debug("mDNS send on {}: {}", nic.name, ec.message());
+        } else {
+            ++stats_.sent;
+        }
+    }
+}
+
+void MdnsResponder::sendQuestions(std::vector<DnsQuestion> questions) {
+    DnsMessage m;
+    m.questions = std::move(questions);
+    auto bytes = encodeDnsMessage(m);
+    if (!bytes) return;
+    sendMulticast(*bytes);
+}
+
+asio::awaitable<void> MdnsResponder::timerLoop() {
+    auto self = shared_from_this();
+    while (!closed_) {
+        const auto now = Clock::now();
+        flushOutput();
+        dispatch(cache_.expire(now));
+        auto questions = cache_.refreshQueries(now);
+        if (now >= nextBrowse_) {
+            questions.push_back({std::string(kOpcUaServiceType),
+                                 static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
+            nextBrowse_ = now + config_.queryPeriod;
+        }
+        if (!questions.empty()) sendQuestions(std::move(questions));
+
+        auto wakeAt = nextBrowse_;
+        if (auto d = cache_.nextDeadline(); d && *d < wakeAt) wakeAt = *d;
+        const auto sleep = std::chrono::microseconds(mdns_adapter_sleep_us(mdnsd_.get()));
+        if (now + sleep < wakeAt) wakeAt = now + std::chrono::duration_cast<Clock::duration>(sleep);
+        // Never spin: at least a millisecond between rounds.
+        wakeAt = std::max(wakeAt, now + std::chrono::milliseconds(1));
+        timer_.expires_at(wakeAt);
+        co_await timer_.async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+    }
+}
+
+}  // namespace skillcell::ua::mdns

@@ -1,0 +1,151 @@
+#pragma once
+// MdnsResponder: one process's mDNS presence (RFC 6762 / DNS-SD, as OPC 10000-12 uses it),
+// on Asio UDP multicast 224.0.0.251:5353.
+//
+// - Publishing is libmdnsd's job: it holds our records (PTR, SRV, TXT, A), announces them,
+//   answers queries for them, re-announces them before their TTL runs out, and sends the
+//   goodbyes (TTL 0) on withdraw() and shutdown().
+// - What others announce goes into our ServiceCache (TTL-honouring, see service_cache.hpp),
+//   whose changes reach subscribers as "announced" / "gone" events.
+// - Every datagram is checked by parseDnsMessage() first; a malformed one is counted and
+//   dropped, and never reaches libmdnsd.
+//
+// Threading: everything runs on the executor given to create(), which must not run handlers
+// concurrently. Listeners are called on it. The responder lives while its loops run
+// (they hold a shared_ptr); shutdown() ends them.
+#include <asio/any_io_executor.hpp>
+#include <asio/awaitable.hpp>
+#include <asio/ip/udp.hpp>
+#include <asio/steady_timer.hpp>
+#include <chrono>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ua/discovery/dns_message.hpp"
+#include "ua/discovery/network_interfaces.hpp"
+#include "ua/discovery/service_cache.hpp"
+#include "ua/types/result.hpp"
+
+struct mdns_adapter;
+struct mdns_adapter_record;
+
+namespace skillcell::ua::mdns {
+
+struct MdnsConfig {
+    MdnsConfig() = default;  // not an aggregate: see ClientConfig
+    /// TTL of the records we publish; peers drop us this long after our last word.
+    std::chrono::seconds recordTtl{120};
+    /// How often we ask the network for every OPC UA server (records about to expire are
+    /// asked for on their own schedule, at 80-95 % of their TTL).
+    std::chrono::milliseconds queryPeriod{std::chrono::seconds(30)};
+    /// Interface names; empty: see chooseMdnsInterfaces().
+    std::vector<std::string> interfaces;
+    /// Our host name, without ".local"; empty: gethostname().
+    std::string hostName;
+    std::uint16_t port = 5353;
+};
+
+/// A server to announce.
+struct ServiceAnnouncement {
+    std::string name;  // the mDNS server name: one DNS label (1..63 bytes, no dots)
+    std::uint16_t port = 0;
+    std::string path;  // the discovery URL's path, e.g. "/" or ""
+    std::vector<std::string> capabilities;
+    /// For a server announced on its behalf by an LDS: its address. Empty: this host.
+    std::optional<Ipv4> address;
+};
+
+/// Checks an mDNS server name: BadInvalidArgument unless it is one DNS label.
+[[nodiscard]] StatusCode validateServerName(std::string_view name);
+
+class MdnsResponder : public std::enable_shared_from_this<MdnsResponder> {
+public:
+    using Listener = std::function<void(const ServiceEvent&)>;
+
+    struct Stats {
+        std::uint64_t received = 0;
+        std::uint64_t malformed = 0;
+        std::uint64_t sent = 0;
+        std::uint64_t sendErrors = 0;
+    };
+
+    /// Opens and binds the socket and joins the group on the chosen interfaces.
+    /// BadResourceUnavailable (with `error` saying why) when that is not possible.
+    [[nodiscard]] static Result<std::shared_ptr<MdnsResponder>> create(
+        asio::any_io_executor executor, MdnsConfig config, std::string* error = nullptr);
+    ~MdnsResponder();
+    MdnsResponder(const MdnsResponder&) = delete;
+    MdnsResponder& operator=(const MdnsResponder&) = delete;
+
+    /// Starts receiving and sends the first query at once, so that servers started earlier
+    /// are found now, not at their next announcement.
+    void start();
+    /// Publishes (or republishes) a server. BadInvalidArgument for a bad name or port.
+    StatusCode announce(const ServiceAnnouncement& announcement);
+    /// Withdraws one server with a goodbye.
+    void withdraw(std::string_view name);
+    /// Goodbyes for everything published, then closes the socket. Idempotent.
+    void shutdown();
+    /// Asks the network for every OPC UA server now.
+    void queryNow();
+
+    std::size_t subscribe(Listener listener);
+    void unsubscribe(std::size_t id);
+
+    [[nodiscard]] std::vector<ServiceInstance> services() const { return cache_.services(); }
+    [[nodiscard]] const std::vector<NetworkInterface>& interfaces() const { return nics_; }
+    [[nodiscard]] const std::string& hostName() const { return hostName_; }
+    [[nodiscard]] const MdnsConfig& config() const { return config_; }
+    [[nodiscard]] Stats stats() const { return stats_; }
+
+    /// Handles one received datagram (public for tests and the fuzzer).
+    void handleDatagram(std::span<const std::uint8_t> bytes, const Ipv4& source,
+                        std::uint16_t sourcePort);
+
+private:
+    struct AdapterDeleter {
+        void operator()(mdns_adapter* a) const;
+    };
+    struct Published {
+        ServiceAnnouncement announcement;
+        std::vector<mdns_adapter_record*> records;  // PTR, SRV, TXT (and A when on behalf)
+        std::string hostFqdn;
+    };
+
+    MdnsResponder(asio::any_io_executor executor, MdnsConfig config);
+    asio::awaitable<void> receiveLoop();
+    asio::awaitable<void> timerLoop();
+    void wake();
+    void feedLibmdnsd(std::span<const std::uint8_t> bytes, const Ipv4& source,
+                      std::uint16_t sourcePort);
+    void answerWithAdditionals(const DnsMessage& query, const Ipv4& source);
+    void flushOutput();
+    void sendMulticast(std::span<const std::uint8_t> bytes);
+    void sendQuestions(std::vector<DnsQuestion> questions);
+    void dispatch(const std::vector<ServiceEvent>& events);
+    void ensureHostRecords();
+    void withdrawRecords(Published& p);
+
+    asio::any_io_executor executor_;
+    MdnsConfig config_;
+    asio::ip::udp::socket socket_;
+    asio::steady_timer timer_;
+    std::vector<NetworkInterface> nics_;
+    std::string hostName_;
+    std::unique_ptr<mdns_adapter, AdapterDeleter> mdnsd_;  // libmdnsd
+    std::vector<mdns_adapter_record*> hostRecords_;      // our A records
+    std::map<std::string, Published> published_;  // folded name -> records
+    ServiceCache cache_;
+    std::map<std::size_t, Listener> listeners_;
+    std::size_t nextListener_ = 1;
+    Clock::time_point nextBrowse_{};
+    Stats stats_;
+    bool started_ = false;
+    bool closed_ = false;
+};
+
+}  // namespace skillcell::ua::mdns

@@ -1,0 +1,116 @@
+#pragma once
+// ServiceCache: what mDNS says about the `_opcua-tcp._tcp` services on the network, with
+// the TTL of every record honoured. Pure logic with the time passed in: the responder feeds
+// it the messages it receives and asks it what expired and which refresh queries are due;
+// tests drive it with a fake clock.
+//
+// A service instance is "announced" once its PTR, SRV, TXT and at least one A record are all
+// known, and "gone" when one of them is withdrawn (a goodbye: TTL 0) or expires. Before a
+// record expires the cache asks for it again at 80, 85, 90 and 95 % of its TTL (RFC 6762,
+// 5.2), so a live server is kept and a vanished one is dropped when its TTL runs out.
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ua/discovery/dns_message.hpp"
+
+namespace skillcell::ua::mdns {
+
+inline constexpr std::string_view kOpcUaServiceType = "_opcua-tcp._tcp.local";
+
+using Clock = std::chrono::steady_clock;
+using Ipv4 = std::array<std::uint8_t, 4>;
+
+[[nodiscard]] std::string toString(const Ipv4& address);
+
+/// One OPC UA server as mDNS describes it (OPC 10000-12, 4.3.4).
+struct ServiceInstance {
+    std::string name;  // the instance label: the server's mDNS name
+    std::string host;  // the SRV target
+    std::uint16_t port = 0;
+    std::string path;  // TXT path=, with its leading '/' (or empty)
+    std::vector<std::string> capabilities;  // TXT caps=
+    /// The address to reach it by: the A record that matches the sender of the records when
+    /// there is one (so a peer on another host gets an address it can route to).
+    Ipv4 address{};
+
+    /// "opc.tcp://a.b.c.d:port/path": an address, never a host name that the peer might not
+    /// be able to resolve.
+    [[nodiscard]] std::string discoveryUrl() const;
+    [[nodiscard]] bool hasCapability(std::string_view cap) const;
+    bool operator==(const ServiceInstance&) const = default;
+};
+
+enum class RemovalReason : std::uint8_t { Goodbye, Expired };
+[[nodiscard]] std::string_view toString(RemovalReason reason);
+
+struct ServiceEvent {
+    enum class Kind : std::uint8_t { Announced, Gone };
+    Kind kind = Kind::Announced;
+    ServiceInstance instance;  // for Gone: as it was last announced
+    RemovalReason reason = RemovalReason::Expired;
+};
+
+class ServiceCache {
+public:
+    explicit ServiceCache(std::string serviceType = std::string(kOpcUaServiceType));
+
+    /// Takes in every record of a received message (answers and additional records alike).
+    /// `source` is the sender's address. Returns what changed.
+    std::vector<ServiceEvent> ingest(const DnsMessage& message, const Ipv4& source,
+                                     Clock::time_point now);
+    /// Drops what expired by `now`.
+    std::vector<ServiceEvent> expire(Clock::time_point now);
+    /// The questions due by `now` to refresh records before they expire; each is asked once
+    /// per threshold.
+    std::vector<DnsQuestion> refreshQueries(Clock::time_point now);
+    /// The next time expire() or refreshQueries() has something to do.
+    [[nodiscard]] std::optional<Clock::time_point> nextDeadline() const;
+
+    [[nodiscard]] std::vector<ServiceInstance> services() const;
+    [[nodiscard]] std::size_t size() const { return announced_.size(); }
+    [[nodiscard]] const std::string& serviceType() const { return serviceType_; }
+
+private:
+    struct Timed {
+        Clock::time_point received;
+        std::chrono::seconds ttl{0};
+        int refreshesAsked = 0;
+        [[nodiscard]] Clock::time_point expiry() const { return received + ttl; }
+        [[nodiscard]] std::optional<Clock::time_point> nextRefresh() const;
+    };
+    struct Pointer : Timed {
+        std::string instance;  // full instance name, case kept
+    };
+    struct Srv : Timed {
+        std::string host;  // folded
+        std::uint16_t port = 0;
+        Ipv4 sender{};  // who sent it
+    };
+    struct Txt : Timed {
+        std::vector<std::string> strings;
+    };
+    struct Address : Timed {
+        Ipv4 ip{};
+    };
+
+    void store(const DnsRecord& rr, const Ipv4& source, Clock::time_point now,
+               std::vector<std::string>& goodbyes);
+    /// Compares what is complete now with what was announced; emits the differences.
+    void reconcile(std::vector<ServiceEvent>& events, const std::vector<std::string>& goodbyes);
+    [[nodiscard]] std::optional<ServiceInstance> complete(const std::string& key) const;
+
+    std::string serviceType_;
+    std::string serviceTypeKey_;
+    std::map<std::string, Pointer> pointers_;  // folded instance name -> PTR
+    std::map<std::string, Srv> srvs_;
+    std::map<std::string, Txt> txts_;
+    std::map<std::string, std::vector<Address>> addresses_;  // folded host -> A records
+    std::map<std::string, ServiceInstance> announced_;       // folded instance name
+};
+
+}  // namespace skillcell::ua::mdns
