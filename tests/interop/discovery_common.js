@@ -8,7 +8,7 @@ require("./log_to_stderr"); // before node-opcua: keep stdout clean
 const net = require("net");
 const os = require("os");
 const path = require("path");
-const { OPCUAClient, OPCUACertificateManager, MessageSecurityMode, SecurityPolicy } = require("node-opcua");
+// node-opcua is required where it is used: mdns_sniff.js must start fast without it
 
 const HOST = "127.0.0.1";
 
@@ -112,6 +112,7 @@ function isAddressInUse(err) {
 
 // A client without session (discovery services need none), SecurityPolicy None.
 function createDiscoveryClient() {
+    const { OPCUAClient, OPCUACertificateManager, MessageSecurityMode, SecurityPolicy } = require("node-opcua");
     return OPCUAClient.create({
         applicationName: "skillcell-interop-discovery-client",
         // the applicationUri of client.js & co: they share one client certificate

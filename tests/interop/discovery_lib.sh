@@ -162,20 +162,20 @@ dl_dump_logs() {
     for f in "$DL_TMP/$name.out" "$DL_TMP/$name.err"; do
       [ -s "$f" ] || continue
       echo "----- $(basename "$f") (last 60 lines; node-opcua's timestamped traces left out) -----"
-      grep -v -E '^[0-9]{2}:[0-9]{2}:[0-9]{2}\.[0-9]{3}Z :' "$f" | tail -n 60
+      grep -v -E '^[0-9]{2}:[0-9]{2}:[0-9]{2}\.[0-9]{3}Z :' "$f" | tail -n 60 || true
     done
   done
   f="$DL_TMP/node-scripts.err"
   if [ -s "$f" ]; then
     echo "----- $(basename "$f") (last 80 lines) -----"
-    grep -v -E '^[0-9]{2}:[0-9]{2}:[0-9]{2}\.[0-9]{3}Z :' "$f" | tail -n 80
+    grep -v -E '^[0-9]{2}:[0-9]{2}:[0-9]{2}\.[0-9]{3}Z :' "$f" | tail -n 80 || true
   fi
 }
 
 dl_fail() {
   echo "FAILED: $*" >&2
-  dl_dump_logs >&2
   DL_DUMPED=1
+  dl_dump_logs >&2 || true
   exit 1
 }
 
@@ -190,7 +190,7 @@ dl_cleanup() {
   done
   if [ $status -ne 0 ] && [ "${DL_DUMPED:-0}" != 1 ] && [ -n "$DL_TMP" ]; then
     echo "exit status $status; logs:" >&2
-    dl_dump_logs >&2
+    dl_dump_logs >&2 || true
   fi
   if [ -n "$DL_TMP" ]; then
     if [ "${SKILLCELL_INTEROP_KEEP_LOGS:-0}" = 1 ]; then

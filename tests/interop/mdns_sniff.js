@@ -5,6 +5,7 @@
 //     answer     PTR  _opcua-tcp._tcp.local ttl=28800 -> ours-under-test._opcua-tcp._tcp.local
 //     additional SRV  ours-under-test._opcua-tcp._tcp.local ttl=120 -> host.local:4840
 // Listens only (sends nothing); inside a private network namespace it sees all the traffic.
+// The first stdout line, "READY mdns 224.0.0.251:5353", says that it has joined the group.
 //
 // usage: node mdns_sniff.js [--duration S]     (default: until SIGTERM/SIGINT)
 "use strict";
@@ -48,6 +49,7 @@ mdns.on("packet", (packet, rinfo) => {
     }
     process.stdout.write(lines.join("\n") + "\n");
 });
+mdns.on("ready", () => process.stdout.write("READY mdns 224.0.0.251:5353\n"));
 mdns.on("warning", (err) => process.stderr.write(`mdns_sniff.js: warning: ${err.message}\n`));
 mdns.on("error", (err) => {
     process.stderr.write(`mdns_sniff.js: ${err.message}\n`);

@@ -17,13 +17,17 @@ here=$(cd "$(dirname "$0")" && pwd)
 . "$here/lib.sh"
 
 BIN=${1:?usage: discovery_three_hosts.sh SKILLCELL_BINARY}
-BIN=$(cd "$(dirname "$BIN")" && pwd)/$(basename "$BIN")
-[ -x "$BIN" ] || { echo "FAIL: $BIN is not an executable"; exit 1; }
+if ! [ -f "$BIN" ] || ! [ -x "$BIN" ]; then
+  echo "FAIL: $BIN is not an executable"
+  exit 1
+fi
+BIN=$(realpath -- "$BIN")
 
 TTL=3   # --mdns-ttl of every announcing component
 QP=1    # --mdns-query-period of everyone
 LDS_URL=opc.tcp://198.18.0.1:4840
 T_START=$(now_ms)
+T0=$T_START # start of the current step (mark_watchers)
 STEP="setup"
 declare -A NAME=() # component -> mDNS name, as the watchers report it
 declare -A FROM=() # watcher -> first line to look at for the current step
@@ -60,10 +64,13 @@ addr_of() { echo "198.18.0.${HOST[$1]#h}"; }
 url_re() { echo "opc\\.tcp://$(re_escape "$(addr_of "$1")"):${PORT[$1]}(/[^ ]*)?"; }
 
 watcher_file() { echo "$NETNS_DIR/watch-$1.out"; }
+# Starts a step: watchers are read from their next line on, latencies are counted from T0 (now).
 mark_watchers() {
   local h
   for h in h1 h2 h3; do FROM[$h]=$(($(line_count "$(watcher_file "$h")") + 1)); done
+  T0=$(now_ms)
 }
+since_t0() { echo "+$(($(now_ms) - T0)) ms"; }
 
 # wait_announced COMPONENT DEADLINE_MS HOSTS...: every watcher on HOSTS shows ANNOUNCED for the
 # component (from FROM[host] on) with its URL and applicationUri. Records the mDNS name and
@@ -82,7 +89,7 @@ wait_announced() {
     elif [ "${NAME[$c]}" != "$name" ]; then
       fail "watcher on $h reports $c as '$name', another watcher as '${NAME[$c]}'"
     fi
-    say "   $h: $line"
+    say "   $h ($(since_t0)): $line"
   done
 }
 
@@ -94,7 +101,7 @@ wait_gone() {
     line=$(wait_for_line_until "$(watcher_file "$h")" "^GONE $(re_escape "${NAME[$c]}") " "$deadline" "${FROM[$h]}") ||
       fail "watcher on $h shows no 'GONE ${NAME[$c]} $reason' for $c in time"
     [ "$line" = "GONE ${NAME[$c]} $reason" ] || fail "watcher on $h: '$line', expected 'GONE ${NAME[$c]} $reason'"
-    say "   $h: $line"
+    say "   $h ($(since_t0)): $line"
   done
 }
 
@@ -180,6 +187,19 @@ check_sanitizers() {
   done
 }
 
+# Every watcher's events alternate per name: no ANNOUNCED of a name already announced (a refresh
+# is not an event), no GONE of a name not announced.
+check_event_sequences() {
+  local h errors
+  for h in h1 h2 h3; do
+    errors=$(awk '
+      $1 == "ANNOUNCED" { if ($2 in up) print "line " NR ": ANNOUNCED " $2 " again without GONE"; up[$2] = 1 }
+      $1 == "GONE" { if (!($2 in up)) print "line " NR ": GONE " $2 " that was not announced"; delete up[$2] }
+    ' "$(watcher_file "$h")")
+    [ -z "$errors" ] || fail "watcher on $h: inconsistent events:"$'\n'"$errors"
+  done
+}
+
 all_running() {
   local p
   for p in "$@"; do proc_running "$p" || fail "$p died unexpectedly"; done
@@ -238,7 +258,7 @@ all_running watch-h1 watch-h2 watch-h3 server2 server3 lds
 
 STEP="e: graceful stop of h3's server"
 mark_watchers
-t0=$(now_ms)
+t0=$T0
 stop_gracefully server3
 wait_gone srv3 goodbye $((t0 + 2000)) h1 h2 h3
 ok "SIGTERM on h3's server: exit 0, every watcher shows 'GONE ${NAME[srv3]} goodbye' within 2 s"
@@ -258,7 +278,7 @@ poll_lds records $(($(now_ms) + 10000)) "srv2 srv3 lds" ""
 poll_lds registered $(($(now_ms) + 10000)) "srv2 srv3" ""
 ok "the LDS lists and has registered h3's server again"
 mark_watchers
-t0=$(now_ms)
+t0=$T0
 { proc_signal server3b KILL && proc_wait_exit server3b 5; } 2>/dev/null || # (no "Killed" notice)
   fail "server3b did not die on SIGKILL"
 wait_gone srv3 expired $((t0 + (TTL + 3) * 1000)) h1 h2 h3
@@ -273,7 +293,7 @@ all_running watch-h1 watch-h2 watch-h3 server2 lds
 
 STEP="g: link of h2 down and up"
 mark_watchers
-t0=$(now_ms)
+t0=$T0
 link_down h2 || fail "link_down h2"
 wait_gone srv2 expired $((t0 + (TTL + 3) * 1000)) h1 h3
 ok "link of h2 down: watchers on h1 and h3 show 'GONE ${NAME[srv2]} expired' within TTL+3 s"
@@ -284,7 +304,7 @@ ok "the LDS no longer has urn:test:h2 registered"
 expect_not_gone lds h1 h3
 all_running watch-h1 watch-h2 watch-h3 server2 lds
 mark_watchers
-t0=$(now_ms)
+t0=$T0
 link_up h2 || fail "link_up h2"
 wait_announced srv2 $((t0 + 5000)) h1 h3
 ok "link of h2 up: watchers on h1 and h3 show h2's server ANNOUNCED within 5 s"
@@ -297,13 +317,15 @@ all_running watch-h1 watch-h2 watch-h3 server2 lds
 
 STEP="h: shutdown"
 mark_watchers
-t0=$(now_ms)
+t0=$T0
 stop_gracefully lds
 wait_gone lds goodbye $((t0 + 2000)) h1 h2 h3
 ok "SIGTERM on the LDS: exit 0, every watcher shows 'GONE ${NAME[lds]} goodbye' within 2 s"
 stop_gracefully server2
 for h in h1 h2 h3; do stop_gracefully "watch-$h"; done
 ok "h2's server and the watchers exit 0 on SIGTERM"
+check_event_sequences
+ok "every watcher's ANNOUNCED/GONE lines alternate per name (no duplicate events)"
 check_sanitizers
 
 say "PASS: discovery across three hosts"

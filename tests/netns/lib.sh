@@ -23,10 +23,12 @@
 #   now_ms                     milliseconds since the epoch.
 #   link_down HOST, link_up HOST   take HOST's side of its veth down or up (link_up restores the
 #                              multicast route that going down removed).
-#   netns_reap_stale           (called by netns_setup) removes namespaces left by killed runs.
 #   netns_cleanup              kills every process started here and every process still inside
 #                              the namespaces, deletes the veths, the bridge and the namespaces.
 #                              Idempotent; netns_trap installs it on EXIT, INT and TERM.
+#   For when no trap can run (SIGKILL, e.g. a ctest timeout): netns_setup starts a watchdog (in
+#   a session of its own) that does the same once this shell is gone, and first removes what
+#   earlier killed runs left behind (netns_reap_stale: sc<pid>... namespaces whose pid is gone).
 #
 # Names carry the caller's pid ($$), so that concurrent runs (ctest -j) do not collide. Addresses
 # come only from 198.18.0.0/15 (RFC 2544 benchmarking range).
@@ -57,9 +59,9 @@ _netns_ns() { echo "${NETNS_ID}$1"; }
 
 netns_log() { echo "[netns $(date +%T.%3N)] $*" >&2; }
 
-# Namespaces of earlier runs that were killed (SIGKILL, e.g. a ctest timeout) so that their trap
-# could not run: names of this scheme (sc<pid>br, sc<pid>h<k>) whose pid is gone. Kills what
-# still runs inside and deletes them.
+# Namespaces of earlier runs that were killed so that neither their trap nor their watchdog could
+# clean up: names of this scheme (sc<pid>br, sc<pid>h<k>) whose pid is gone. Kills what still
+# runs inside and deletes them; also their log directories, unless kept (NETNS_KEEP_LOGS=1).
 netns_reap_stale() {
   local ns pid
   for ns in $(ip netns list 2>/dev/null | awk '{print $1}'); do
@@ -71,6 +73,38 @@ netns_reap_stale() {
     ip netns pids "$ns" 2>/dev/null | xargs -r kill -9 2>/dev/null
     ip netns del "$ns" 2>/dev/null
   done
+  local dir
+  for dir in "${TMPDIR:-/tmp}"/skillcell-netns.sc*; do
+    if ! [[ $dir =~ /skillcell-netns\.sc([0-9]+)\.[^/]*$ ]] || [ -e "$dir/.kept" ]; then continue; fi
+    pid=${BASH_REMATCH[1]}
+    [ "$pid" = $$ ] && continue
+    kill -0 "$pid" 2>/dev/null || rm -rf "$dir"
+  done
+}
+
+# A watchdog, orphaned (so that a kill of our process tree, as ctest does on a timeout, does not
+# reach it) and in a session of its own: once this shell is gone without having cleaned up, it
+# kills what still runs in our namespaces and deletes them. netns_cleanup stops it. Bounded: it
+# gives up after 2 h. Silent, and holds none of our output pipes (ctest waits for them to close).
+NETNS_WATCHDOG_PID=""
+_netns_start_watchdog() {
+  local n=$1 k names=("$NETNS_BR")
+  for ((k = 1; k <= n; k++)); do names+=("$(_netns_ns "h$k")"); done
+  # $( ... & ) returns once the watchdog has printed its pid and closed stdout; the subshell that
+  # started it exits at once, so the watchdog is reparented away from us.
+  NETNS_WATCHDOG_PID=$(
+    setsid bash -c '
+      echo $$
+      exec >/dev/null 2>&1
+      parent=$1 dir=$2 keep=$3
+      shift 3
+      end=$((SECONDS + 7200))
+      while kill -0 "$parent" && [ "$SECONDS" -lt "$end" ]; do sleep 0.5; done
+      for ns in "$@"; do ip netns pids "$ns" | xargs -r kill -9; done
+      for ns in "$@"; do [ -e "/run/netns/$ns" ] && ip netns del "$ns"; done
+      if [ "$keep" = 1 ]; then touch "$dir/.kept"; else rm -rf "$dir"; fi
+    ' netns-watchdog "$$" "$NETNS_DIR" "${NETNS_KEEP_LOGS:-0}" "${names[@]}" </dev/null 2>/dev/null &
+  )
 }
 
 netns_setup() {
@@ -85,6 +119,7 @@ netns_setup() {
   fi
   NETNS_CREATED+=("$NETNS_BR")
   NETNS_DIR=$(mktemp -d "${TMPDIR:-/tmp}/skillcell-netns.${NETNS_ID}.XXXXXX") || return 1
+  _netns_start_watchdog "$n"
   ip -n "$NETNS_BR" link add br0 type bridge stp_state 0 mcast_snooping 0 || return 1
   ip -n "$NETNS_BR" link set br0 up || return 1
   for ((k = 1; k <= n; k++)); do
@@ -234,8 +269,13 @@ netns_cleanup() {
     ip netns del "$ns" 2>/dev/null || netns_log "warning: could not delete namespace $ns"
   done
   NETNS_CREATED=()
+  if [ -n "$NETNS_WATCHDOG_PID" ]; then
+    kill "$NETNS_WATCHDOG_PID" 2>/dev/null # not our child (orphaned on purpose): nothing to wait for
+    NETNS_WATCHDOG_PID=""
+  fi
   if [ -n "$NETNS_DIR" ] && [ -d "$NETNS_DIR" ]; then
     if [ "${NETNS_KEEP_LOGS:-0}" = 1 ]; then
+      touch "$NETNS_DIR/.kept"
       netns_log "logs kept in $NETNS_DIR"
     else
       rm -rf "$NETNS_DIR"

@@ -122,4 +122,22 @@ done
 _pid_running "$stray" && fail "stray process $stray survived cleanup" # (a zombie is fine)
 [ -d "$NETNS_DIR" ] && [ "${NETNS_KEEP_LOGS:-0}" != 1 ] && fail "temp dir $NETNS_DIR still exists"
 ok "netns_cleanup removed namespaces, processes and logs"
+
+# A run killed by SIGKILL (no trap runs): its watchdog removes its namespaces and processes.
+nested_out=$(mktemp)
+bash -c '. "$1"; netns_setup 1 || exit 1; start_in h1 sleeper sleep 300
+  echo "READY $NETNS_ID $(proc_pid sleeper)"; exec sleep 300' nested "$here/lib.sh" >"$nested_out" 2>&1 &
+nested=$!
+line=$(wait_for_line "$nested_out" '^READY ' 10) || { cat "$nested_out"; rm -f "$nested_out"; fail "nested run did not start"; }
+rm -f "$nested_out"
+read -r _ nested_id nested_sleeper <<<"$line"
+ip netns list | grep -qw "${nested_id}h1" || fail "nested run has no namespace ${nested_id}h1"
+{ kill -9 "$nested" && wait "$nested"; } 2>/dev/null
+deadline=$(($(now_ms) + 10000))
+while ip netns list | grep -Eq "^${nested_id}(br|h1)( |$)"; do
+  [ "$(now_ms)" -ge "$deadline" ] && fail "the watchdog did not remove ${nested_id}br/h1 within 10 s"
+  sleep 0.1
+done
+_pid_running "$nested_sleeper" && fail "process $nested_sleeper of the killed run survived"
+ok "after SIGKILL of a run, its watchdog removed its namespaces and processes"
 echo "PASS: netns lib self-test"

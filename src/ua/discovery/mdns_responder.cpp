@@ -311,6 +311,8 @@ void MdnsResponder::handleDatagram(std::span<const std::uint8_t> bytes, const Ip
         return;
     }
     if (msg->isResponse) {
+        // RFC 6762 6: a response from any port but 5353 is not mDNS; ignore it.
+        if (sourcePort != config_.port) return;
         dispatch(cache_.ingest(*msg, source, Clock::now()));
         wake();  // new records: new deadlines
         return;

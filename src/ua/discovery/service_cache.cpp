@@ -47,6 +47,25 @@ bool roomFor(const Map& map, const std::string& key) {
 
 }  // namespace
 
+std::optional<Ipv4> parseIpv4Literal(std::string_view name) {
+    Ipv4 out{};
+    for (std::size_t i = 0; i < 4; ++i) {
+        const auto dot = name.find('.');
+        if ((dot == std::string_view::npos) != (i == 3)) return std::nullopt;
+        const std::string_view part = name.substr(0, dot);
+        if (part.empty() || part.size() > 3) return std::nullopt;
+        unsigned value = 0;
+        for (char c : part) {
+            if (c < '0' || c > '9') return std::nullopt;
+            value = value * 10 + static_cast<unsigned>(c - '0');
+        }
+        if (value > 255) return std::nullopt;
+        out[i] = static_cast<std::uint8_t>(value);
+        name = dot == std::string_view::npos ? std::string_view{} : name.substr(dot + 1);
+    }
+    return out;
+}
+
 std::string toString(const Ipv4& a) {
     return std::to_string(a[0]) + "." + std::to_string(a[1]) + "." + std::to_string(a[2]) + "." +
            std::to_string(a[3]);
@@ -75,79 +94,112 @@ std::optional<Clock::time_point> ServiceCache::Timed::nextRefresh() const {
 ServiceCache::ServiceCache(std::string serviceType)
     : serviceType_(std::move(serviceType)), serviceTypeKey_(foldCase(serviceType_)) {}
 
-void ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_point now,
+bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_point now,
                          std::vector<std::string>& goodbyes) {
     const std::string key = foldCase(rr.name);
     const Timed timed{now, std::chrono::seconds(rr.ttl), 0};
     const bool goodbye = rr.ttl == 0;
     switch (static_cast<DnsType>(rr.type)) {
         case DnsType::Ptr: {
-            if (key != serviceTypeKey_) return;
+            if (key != serviceTypeKey_) return false;
             const std::string instance = foldCase(rr.target);
-            if (!endsWith(instance, "." + serviceTypeKey_)) return;
+            if (!endsWith(instance, "." + serviceTypeKey_)) return false;
             if (goodbye) {
                 pointers_.erase(instance);
                 goodbyes.push_back(instance);
             } else if (roomFor(pointers_, instance)) {
                 pointers_[instance] = Pointer{timed, rr.target};
             }
-            return;
+            return false;
         }
         case DnsType::Srv:
-            if (!endsWith(key, "." + serviceTypeKey_)) return;
+            if (!endsWith(key, "." + serviceTypeKey_)) return false;
             if (goodbye) {
                 srvs_.erase(key);
                 goodbyes.push_back(key);
             } else if (roomFor(srvs_, key)) {
-                srvs_[key] = Srv{timed, foldCase(rr.target), rr.port, source};
+                const std::string host = foldCase(rr.target);
+                const bool known = srvs_.contains(key) && srvs_[key].host == host;
+                srvs_[key] = Srv{timed, host, rr.port, source};
+                // A target without an address (yet): ask for it, once per new target. The
+                // A record often comes in the same message; asking then costs one datagram.
+                if (!known && !parseIpv4Literal(host) && pending_.size() < 64) {
+                    pending_.push_back({rr.target, static_cast<std::uint16_t>(DnsType::A), kClassIn});
+                }
             }
-            return;
+            return false;
         case DnsType::Txt:
-            if (!endsWith(key, "." + serviceTypeKey_)) return;
+            if (!endsWith(key, "." + serviceTypeKey_)) return false;
             if (goodbye) {
                 txts_.erase(key);
                 goodbyes.push_back(key);
             } else if (roomFor(txts_, key)) {
                 txts_[key] = Txt{timed, rr.txt};
             }
-            return;
+            return false;
         case DnsType::A: {
-            if (!roomFor(addresses_, key)) return;
+            if (!roomFor(addresses_, key)) return false;
             auto& list = addresses_[key];
+            const std::size_t before = list.size();
+            bool changed = false;
             if (rr.cacheFlush() && !goodbye) {
                 // RFC 6762 10.2: a cache-flush record replaces those older than a second.
                 std::erase_if(list, [&](const Address& a) {
                     return a.ip != rr.ipv4 && now - a.received > std::chrono::seconds(1);
                 });
+                changed = list.size() != before;
             }
             auto it = std::find_if(list.begin(), list.end(),
                                    [&](const Address& a) { return a.ip == rr.ipv4; });
             if (goodbye) {
-                if (it != list.end()) list.erase(it);
+                if (it != list.end()) {
+                    list.erase(it);
+                    changed = true;
+                }
                 goodbyes.push_back(key);
             } else if (it != list.end()) {
                 static_cast<Timed&>(*it) = timed;
             } else if (list.size() < 16) {
                 list.push_back(Address{timed, rr.ipv4});
+                changed = true;
             }
             if (list.empty()) addresses_.erase(key);
-            return;
+            return changed;
         }
         case DnsType::Aaaa:
         case DnsType::Any:
-        default: return;
+        default: return false;
     }
 }
 
 std::vector<ServiceEvent> ServiceCache::ingest(const DnsMessage& message, const Ipv4& source,
                                                Clock::time_point now) {
     std::vector<std::string> goodbyes;
+    // Only the instances this message touched are looked at again: a flood of records
+    // costs in proportion to its size, not to the size of the cache.
+    std::set<std::string> touched;
+    std::set<std::string> hosts;
     for (const auto& rr : message.records) {
         if ((rr.rrclass & ~kClassTopBit) != kClassIn) continue;
-        store(rr, source, now, goodbyes);
+        const bool addressesChanged = store(rr, source, now, goodbyes);
+        if (rr.type == static_cast<std::uint16_t>(DnsType::A)) {
+            if (addressesChanged) hosts.insert(foldCase(rr.name));
+        } else if (rr.type == static_cast<std::uint16_t>(DnsType::Ptr)) {
+            touched.insert(foldCase(rr.target));
+        } else {
+            touched.insert(foldCase(rr.name));
+        }
+    }
+    if (!hosts.empty()) {
+        for (const auto& [key, srv] : srvs_) {
+            if (hosts.contains(srv.host)) touched.insert(key);
+        }
+        for (const auto& [key, s] : announced_) {
+            if (hosts.contains(s.host)) touched.insert(key);
+        }
     }
     std::vector<ServiceEvent> events;
-    reconcile(events, goodbyes);
+    reconcile(events, goodbyes, touched);
     return events;
 }
 
@@ -161,7 +213,7 @@ std::vector<ServiceEvent> ServiceCache::expire(Clock::time_point now) {
         it = it->second.empty() ? addresses_.erase(it) : std::next(it);
     }
     std::vector<ServiceEvent> events;
-    reconcile(events, {});
+    reconcile(events, {}, allKeys());
     return events;
 }
 
@@ -171,7 +223,8 @@ std::optional<ServiceInstance> ServiceCache::complete(const std::string& key) co
     const auto txt = txts_.find(key);
     if (ptr == pointers_.end() || srv == srvs_.end() || txt == txts_.end()) return std::nullopt;
     const auto addrs = addresses_.find(srv->second.host);
-    if (addrs == addresses_.end() || addrs->second.empty()) return std::nullopt;
+    const auto literal = parseIpv4Literal(srv->second.host);
+    if ((addrs == addresses_.end() || addrs->second.empty()) && !literal) return std::nullopt;
 
     ServiceInstance s;
     s.name = firstLabel(ptr->second.instance);
@@ -181,6 +234,10 @@ std::optional<ServiceInstance> ServiceCache::complete(const std::string& key) co
         s.path = path->front() == '/' ? *path : "/" + *path;
     }
     if (auto caps = txtValue(txt->second.strings, "caps")) s.capabilities = splitCaps(*caps);
+    if (literal) {
+        s.address = *literal;
+        return s;
+    }
     // The address the SRV record came from, when the host claims it: that one routes back.
     const auto& list = addrs->second;
     auto viaSender = std::find_if(list.begin(), list.end(),
@@ -189,11 +246,16 @@ std::optional<ServiceInstance> ServiceCache::complete(const std::string& key) co
     return s;
 }
 
-void ServiceCache::reconcile(std::vector<ServiceEvent>& events,
-                             const std::vector<std::string>& goodbyes) {
+std::set<std::string> ServiceCache::allKeys() const {
     std::set<std::string> keys;
     for (const auto& [k, v] : pointers_) keys.insert(k);
     for (const auto& [k, v] : announced_) keys.insert(k);
+    return keys;
+}
+
+void ServiceCache::reconcile(std::vector<ServiceEvent>& events,
+                             const std::vector<std::string>& goodbyes,
+                             const std::set<std::string>& keys) {
     for (const auto& key : keys) {
         auto now = complete(key);
         auto was = announced_.find(key);
@@ -215,6 +277,11 @@ void ServiceCache::reconcile(std::vector<ServiceEvent>& events,
 
 std::vector<DnsQuestion> ServiceCache::refreshQueries(Clock::time_point now) {
     std::vector<DnsQuestion> out;
+    for (auto& q : pending_) {
+        const auto addrs = addresses_.find(foldCase(q.name));
+        if (addrs == addresses_.end() || addrs->second.empty()) out.push_back(std::move(q));
+    }
+    pending_.clear();
     auto ask = [&](std::string name, DnsType type) {
         const auto t = static_cast<std::uint16_t>(type);
         const bool dup = std::any_of(out.begin(), out.end(), [&](const DnsQuestion& q) {

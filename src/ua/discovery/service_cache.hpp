@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,10 @@ using Clock = std::chrono::steady_clock;
 using Ipv4 = std::array<std::uint8_t, 4>;
 
 [[nodiscard]] std::string toString(const Ipv4& address);
+
+/// The address a host name spells when it is an IPv4 literal ("127.0.0.1"): some
+/// responders (node-opcua's) put one into the SRV target and send no A record.
+[[nodiscard]] std::optional<Ipv4> parseIpv4Literal(std::string_view name);
 
 /// One OPC UA server as mDNS describes it (OPC 10000-12, 4.3.4).
 struct ServiceInstance {
@@ -65,8 +70,8 @@ public:
                                      Clock::time_point now);
     /// Drops what expired by `now`.
     std::vector<ServiceEvent> expire(Clock::time_point now);
-    /// The questions due by `now` to refresh records before they expire; each is asked once
-    /// per threshold.
+    /// The questions due by `now`: refreshes of records before they expire (each asked once
+    /// per threshold), and the address of an SRV target that came without one.
     std::vector<DnsQuestion> refreshQueries(Clock::time_point now);
     /// The next time expire() or refreshQueries() has something to do.
     [[nodiscard]] std::optional<Clock::time_point> nextDeadline() const;
@@ -98,10 +103,14 @@ private:
         Ipv4 ip{};
     };
 
-    void store(const DnsRecord& rr, const Ipv4& source, Clock::time_point now,
+    /// Returns whether an address record was added or removed (else a refresh, or another type).
+    bool store(const DnsRecord& rr, const Ipv4& source, Clock::time_point now,
                std::vector<std::string>& goodbyes);
-    /// Compares what is complete now with what was announced; emits the differences.
-    void reconcile(std::vector<ServiceEvent>& events, const std::vector<std::string>& goodbyes);
+    /// Compares what is complete now with what was announced, for the instances `keys`;
+    /// emits the differences.
+    void reconcile(std::vector<ServiceEvent>& events, const std::vector<std::string>& goodbyes,
+                   const std::set<std::string>& keys);
+    [[nodiscard]] std::set<std::string> allKeys() const;
     [[nodiscard]] std::optional<ServiceInstance> complete(const std::string& key) const;
 
     std::string serviceType_;
@@ -111,6 +120,7 @@ private:
     std::map<std::string, Txt> txts_;
     std::map<std::string, std::vector<Address>> addresses_;  // folded host -> A records
     std::map<std::string, ServiceInstance> announced_;       // folded instance name
+    std::vector<DnsQuestion> pending_;  // A questions for SRV targets we have no address for
 };
 
 }  // namespace skillcell::ua::mdns

@@ -1,0 +1,194 @@
+// ServiceCache with a fake clock: when a server counts as announced, how goodbyes and TTL
+// expiry remove it, when refresh queries go out, which address is chosen.
+#include <gtest/gtest.h>
+
+#include "ua/discovery/service_cache.hpp"
+
+namespace skillcell::ua::mdns {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr Ipv4 kHostA{198, 18, 0, 1};
+constexpr Ipv4 kHostB{198, 18, 0, 2};
+
+DnsRecord record(std::string name, DnsType type, std::uint32_t ttl) {
+    DnsRecord r;
+    r.name = std::move(name);
+    r.type = static_cast<std::uint16_t>(type);
+    r.ttl = ttl;
+    return r;
+}
+
+/// The four records of one announcement, as a responder sends them.
+DnsMessage announcement(const std::string& server, const std::string& host, Ipv4 address,
+                        std::uint16_t port, std::uint32_t ttl = 120,
+                        std::vector<std::string> txt = {"path=/", "caps=LDS"}) {
+    const std::string instance = server + "._opcua-tcp._tcp.local";
+    DnsMessage m;
+    m.isResponse = true;
+    auto ptr = record("_opcua-tcp._tcp.local", DnsType::Ptr, ttl);
+    ptr.target = instance;
+    auto srv = record(instance, DnsType::Srv, ttl);
+    srv.target = host;
+    srv.port = port;
+    auto t = record(instance, DnsType::Txt, ttl);
+    t.txt = std::move(txt);
+    auto a = record(host, DnsType::A, ttl);
+    a.ipv4 = address;
+    m.records = {ptr, srv, t, a};
+    return m;
+}
+
+class ServiceCacheTest : public testing::Test {
+protected:
+    Clock::time_point t0 = Clock::time_point{} + 1000s;
+    ServiceCache cache;
+};
+
+TEST_F(ServiceCacheTest, AnnouncesACompleteServiceOnce) {
+    auto events = cache.ingest(announcement("pump", "host-a.local", kHostA, 4840), kHostA, t0);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, ServiceEvent::Kind::Announced);
+    const auto& s = events[0].instance;
+    EXPECT_EQ(s.name, "pump");
+    EXPECT_EQ(s.discoveryUrl(), "opc.tcp://198.18.0.1:4840/");
+    EXPECT_TRUE(s.hasCapability("lds"));
+    // The same records again (a re-announcement) change nothing.
+    EXPECT_TRUE(cache.ingest(announcement("pump", "host-a.local", kHostA, 4840), kHostA, t0 + 1s).empty());
+    EXPECT_EQ(cache.size(), 1u);
+}
+
+TEST_F(ServiceCacheTest, WaitsForEveryRecordBeforeAnnouncing) {
+    auto m = announcement("pump", "host-a.local", kHostA, 4840);
+    DnsMessage partial = m;
+    partial.records.pop_back();  // no A record yet
+    EXPECT_TRUE(cache.ingest(partial, kHostA, t0).empty());
+    DnsMessage rest;
+    rest.isResponse = true;
+    rest.records = {m.records.back()};
+    EXPECT_EQ(cache.ingest(rest, kHostA, t0).size(), 1u);
+}
+
+TEST_F(ServiceCacheTest, AGoodbyeRemovesAtOnce) {
+    cache.ingest(announcement("pump", "host-a.local", kHostA, 4840), kHostA, t0);
+    auto bye = announcement("pump", "host-a.local", kHostA, 4840, 0);
+    bye.records.pop_back();  // services say goodbye; the host's address stays
+    auto events = cache.ingest(bye, kHostA, t0 + 1s);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, ServiceEvent::Kind::Gone);
+    EXPECT_EQ(events[0].reason, RemovalReason::Goodbye);
+    EXPECT_EQ(cache.size(), 0u);
+}
+
+TEST_F(ServiceCacheTest, ExpiresWhenTheTtlRunsOutAndNotBefore) {
+    cache.ingest(announcement("pump", "host-a.local", kHostA, 4840, 3), kHostA, t0);
+    EXPECT_TRUE(cache.expire(t0 + 2999ms).empty());
+    auto events = cache.expire(t0 + 3s);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, ServiceEvent::Kind::Gone);
+    EXPECT_EQ(events[0].reason, RemovalReason::Expired);
+}
+
+TEST_F(ServiceCacheTest, AsksAgainAt80To95PercentOfTheTtl) {
+    cache.ingest(announcement("pump", "host-a.local", kHostA, 4840, 10), kHostA, t0);
+    EXPECT_TRUE(cache.refreshQueries(t0 + 7s).empty());
+    EXPECT_EQ(*cache.nextDeadline(), t0 + 8s);
+    auto q = cache.refreshQueries(t0 + 8s);
+    auto asks = [&](const std::string& name, DnsType type) {
+        return std::any_of(q.begin(), q.end(), [&](const DnsQuestion& x) {
+            return x.name == name && x.type == static_cast<std::uint16_t>(type);
+        });
+    };
+    EXPECT_TRUE(asks("pump._opcua-tcp._tcp.local", DnsType::Srv));
+    EXPECT_TRUE(asks("pump._opcua-tcp._tcp.local", DnsType::Txt));
+    EXPECT_TRUE(asks("host-a.local", DnsType::A));
+    EXPECT_TRUE(asks("_opcua-tcp._tcp.local", DnsType::Ptr));
+    EXPECT_TRUE(cache.refreshQueries(t0 + 8s).empty());  // asked once per threshold
+    EXPECT_FALSE(cache.refreshQueries(t0 + 8500ms).empty());
+    // The answer renews the records: no expiry at the old TTL.
+    cache.ingest(announcement("pump", "host-a.local", kHostA, 4840, 10), kHostA, t0 + 9s);
+    EXPECT_TRUE(cache.expire(t0 + 10s).empty());
+    EXPECT_EQ(cache.size(), 1u);
+}
+
+TEST_F(ServiceCacheTest, PicksTheAddressTheServiceWasAnnouncedFrom) {
+    // Two hosts with the same host name (network namespaces share one UTS name), each
+    // announcing its own address: each service gets the address of its own sender.
+    cache.ingest(announcement("a", "twin.local", kHostA, 4840), kHostA, t0);
+    cache.ingest(announcement("b", "twin.local", kHostB, 4841), kHostB, t0);
+    for (const auto& s : cache.services()) {
+        EXPECT_EQ(s.address, s.name == "a" ? kHostA : kHostB) << s.name;
+    }
+}
+
+TEST_F(ServiceCacheTest, ReadsPathAndCapabilitiesFromTxt) {
+    auto events = cache.ingest(
+        announcement("x", "h.local", kHostA, 4840, 120, {"PATH=UA/Server", "caps=DA,HD,,"}),
+        kHostA, t0);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].instance.path, "/UA/Server");
+    EXPECT_EQ(events[0].instance.capabilities, (std::vector<std::string>{"DA", "HD"}));
+}
+
+TEST_F(ServiceCacheTest, AChangedPortIsAnnouncedAgain) {
+    cache.ingest(announcement("pump", "host-a.local", kHostA, 4840), kHostA, t0);
+    auto events = cache.ingest(announcement("pump", "host-a.local", kHostA, 4841), kHostA, t0 + 1s);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, ServiceEvent::Kind::Announced);
+    EXPECT_EQ(events[0].instance.port, 4841);
+}
+
+TEST_F(ServiceCacheTest, IgnoresOtherServiceTypesAndClasses) {
+    auto m = announcement("pump", "host-a.local", kHostA, 4840);
+    for (auto& r : m.records) {
+        if (r.name.find("_opcua-tcp") != std::string::npos) {
+            r.name = "x._http._tcp.local";
+        }
+    }
+    EXPECT_TRUE(cache.ingest(m, kHostA, t0).empty());
+    auto chaos = announcement("pump", "host-a.local", kHostA, 4840);
+    for (auto& r : chaos.records) r.rrclass = 3;  // CHAOS
+    EXPECT_TRUE(cache.ingest(chaos, kHostA, t0).empty());
+}
+
+TEST_F(ServiceCacheTest, AFloodOfAnnouncementsIsBounded) {
+    for (int i = 0; i < 3000; ++i) {
+        cache.ingest(announcement("s" + std::to_string(i), "h.local", kHostA, 4840), kHostA, t0);
+    }
+    EXPECT_LE(cache.size(), 1024u);
+    EXPECT_GT(cache.size(), 0u);
+}
+
+}  // namespace
+}  // namespace skillcell::ua::mdns
+
+namespace skillcell::ua::mdns {
+namespace {
+
+TEST(ServiceCacheLiteral, AnIpv4LiteralTargetNeedsNoAddressRecord) {
+    // node-opcua on loopback: SRV target "127.0.0.1", no A record.
+    ServiceCache cache;
+    auto m = announcement("node-lds", "127.0.0.1", {127, 0, 0, 1}, 4840);
+    m.records.pop_back();
+    auto events = cache.ingest(m, {127, 0, 0, 1}, Clock::now());
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].instance.discoveryUrl(), "opc.tcp://127.0.0.1:4840/");
+    EXPECT_FALSE(parseIpv4Literal("127.0.0.256"));
+    EXPECT_FALSE(parseIpv4Literal("1.2.3"));
+    EXPECT_FALSE(parseIpv4Literal("a.b.c.d"));
+}
+
+TEST(ServiceCacheLiteral, AsksForTheAddressOfATargetThatCameWithout) {
+    ServiceCache cache;
+    auto m = announcement("pump", "far.local", {198, 18, 0, 1}, 4840);
+    m.records.pop_back();
+    EXPECT_TRUE(cache.ingest(m, {198, 18, 0, 1}, Clock::now()).empty());
+    auto q = cache.refreshQueries(Clock::now());
+    ASSERT_EQ(q.size(), 1u);
+    EXPECT_EQ(q[0].name, "far.local");
+    EXPECT_EQ(q[0].type, static_cast<std::uint16_t>(DnsType::A));
+}
+
+}  // namespace
+}  // namespace skillcell::ua::mdns
