@@ -23,3 +23,24 @@ for name, data in {"read_body": b"\x00" + read_request, "read_frame": b"\x01" + 
                    "hello": b"\x02" + hello}.items():
     with open(os.path.join(out, name), "wb") as f:
         f.write(data)
+
+# fuzz_mdns_datagram: an mDNS query for the OPC UA service and an announcement of one.
+def dns_name(name):
+    return b"".join(bytes([len(p)]) + p.encode() for p in name.split(".")) + b"\x00"
+
+def rr(name, rtype, ttl, rdata):
+    return dns_name(name) + struct.pack(">HHIH", rtype, 1, ttl, len(rdata)) + rdata
+
+mdns_out = os.path.join(here, "corpus", "fuzz_mdns_datagram")
+os.makedirs(mdns_out, exist_ok=True)
+query = struct.pack(">HHHHHH", 0, 0, 1, 0, 0, 0) + dns_name("_opcua-tcp._tcp.local") + struct.pack(">HH", 12, 1)
+instance = "pump._opcua-tcp._tcp.local"
+txt = b"".join(bytes([len(s)]) + s for s in (b"path=/", b"caps=LDS"))
+answer = (struct.pack(">HHHHHH", 0, 0x8400, 0, 4, 0, 0)
+          + rr("_opcua-tcp._tcp.local", 12, 120, dns_name(instance))
+          + rr(instance, 33, 120, struct.pack(">HHH", 0, 0, 4840) + dns_name("host.local"))
+          + rr(instance, 16, 120, txt)
+          + rr("host.local", 1, 120, bytes([127, 0, 0, 1])))
+for name, data in {"query": query, "announcement": answer}.items():
+    with open(os.path.join(mdns_out, name), "wb") as f:
+        f.write(data)

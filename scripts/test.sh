@@ -25,7 +25,7 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
 
 echo "== fuzz (short runs)"
 cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz -j "$jobs" --target fuzz_message_decoder
+cmake --build --preset fuzz -j "$jobs" --target fuzz_message_decoder fuzz_mdns_datagram
 for target in build-fuzz/fuzz/fuzz_*; do
   [ -x "$target" ] || continue
   corpus="fuzz/corpus/$(basename "$target")"

@@ -4,6 +4,10 @@
 
 #include <asio.hpp>
 #include <iostream>
+#include <unistd.h>
+
+#include "ua/discovery/network_interfaces.hpp"
+#include "ua/pki/own_certificate.hpp"
 
 namespace skillcell::apps {
 
@@ -14,6 +18,10 @@ void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& o) {
                     "host name put into endpoint URLs (default: the name the client used)");
     cmd->add_option("--application-uri", o.applicationUri, "the server's ApplicationUri")
         ->capture_default_str();
+    cmd->add_option("--pki-dir", o.pkiDir,
+                    "PKI directory (own/, trusted/, rejected/, issuers/); the application "
+                    "certificate is created there on first start (default: $SKILLCELL_PKI_DIR, "
+                    "else ~/.local/share/skillcell/pki/<application URI>)");
     cmd->add_option("--max-sessions", o.maxSessions, "session limit")
         ->check(CLI::Range(1u, 100000u))
         ->capture_default_str();
@@ -40,6 +48,26 @@ int runServerProcess(const ServerProcessOptions& options,
     config.limits.maxChannels = options.maxChannels;
 
     std::string error;
+    const auto pkiDir = options.pkiDir.empty() ? ua::pki::defaultPkiDirectory(options.applicationUri)
+                                               : std::filesystem::path(options.pkiDir);
+    ua::pki::CertificateSubject subject;
+    subject.applicationUri = options.applicationUri;
+    subject.commonName = options.applicationName;
+    char hostname[256] = {};
+    if (gethostname(hostname, sizeof hostname - 1) == 0) subject.dnsNames.emplace_back(hostname);
+    subject.dnsNames.emplace_back("localhost");
+    for (const auto& nic : ua::mdns::listIpv4Interfaces()) {
+        subject.ipAddresses.push_back(ua::mdns::toString(nic.address));
+    }
+    auto certificate = ua::pki::loadOrCreateOwnCertificate(pkiDir, subject, &error);
+    if (!certificate) {
+        spdlog::critical("application certificate in {}: {}", pkiDir.string(), error);
+        return 1;
+    }
+    spdlog::info("{} application certificate {}", certificate->created ? "created" : "using",
+                 certificate->certificateFile.string());
+    config.description.certificate = certificate->der;
+
     auto server = ua::Server::create(io, config, &error);
     if (!server) {
         spdlog::critical("cannot build the server: {}", error);

@@ -23,9 +23,11 @@ struct ServerProcessOptions {
     std::uint32_t maxChannels = 100;
     DiscoveryOptions discovery;
     bool isLds = false;
+    std::string pkiDir;  // empty: ua::pki::defaultPkiDirectory()
 };
 
-/// --port, --host, --advertised-host, --application-uri, --max-sessions, --max-channels.
+/// --port, --host, --advertised-host, --application-uri, --pki-dir, --max-sessions,
+/// --max-channels.
 void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& options);
 
 /// Runs until a signal. `populate` adds the component's nodes (may be empty).

@@ -37,6 +37,7 @@ std::vector<EndpointDescription> ServerDescription::endpoints(const String& endp
     EndpointDescription ep;
     ep.endpointUrl = endpointUrl;
     ep.server = application(endpointUrl);
+    ep.serverCertificate = certificate;
     ep.securityMode = MessageSecurityMode::None;
     ep.securityPolicyUri = String(kSecurityPolicyNoneUri);
     UserTokenPolicy anonymous;

@@ -21,6 +21,9 @@ struct ServerDescription {
     /// Host name put into endpoint URLs when the client's own URL is not usable.
     String advertisedHost = "localhost";
     std::uint16_t port = 4840;
+    /// The application instance certificate (DER), offered in every endpoint even with
+    /// SecurityPolicy None: peers expect one (ua/pki/own_certificate.hpp).
+    ByteString certificate;
 
     /// "opc.tcp://host:port": the host the client used if it named one, else advertisedHost.
     [[nodiscard]] String endpointUrlFor(const std::string* clientUrl) const;

@@ -7,7 +7,7 @@ namespace skillcell::ua {
 
 std::string_view statusName(StatusCode s) {
     // One table, generated from the constants in status_code.hpp; lookups are rare (logs, CLI).
-    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 127> kNames{{
+    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 128> kNames{{
         {0x00000000, "Good"},
         {0x40000000, "Uncertain"},
         {0x80000000, "Bad"},
@@ -19,6 +19,7 @@ std::string_view statusName(StatusCode s) {
         {0x80060000, "BadEncodingError"},
         {0x80070000, "BadDecodingError"},
         {0x80080000, "BadEncodingLimitsExceeded"},
+        {0x80890000, "BadConfigurationError"},
         {0x80B80000, "BadRequestTooLarge"},
         {0x80B90000, "BadResponseTooLarge"},
         {0x80090000, "BadUnknownResponse"},

@@ -35,6 +35,7 @@ inline constexpr StatusCode BadCommunicationError{0x80050000};
 inline constexpr StatusCode BadEncodingError{0x80060000};
 inline constexpr StatusCode BadDecodingError{0x80070000};
 inline constexpr StatusCode BadEncodingLimitsExceeded{0x80080000};
+inline constexpr StatusCode BadConfigurationError{0x80890000};
 inline constexpr StatusCode BadRequestTooLarge{0x80B80000};
 inline constexpr StatusCode BadResponseTooLarge{0x80B90000};
 inline constexpr StatusCode BadUnknownResponse{0x80090000};

@@ -25,6 +25,7 @@ StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
     resp.revisedSessionTimeout = static_cast<double>((*session)->timeout().count());
     resp.serverNonce = sessions.randomBytes(32);
     resp.serverEndpoints = description.endpoints(url);
+    resp.serverCertificate = description.certificate;
     resp.maxRequestMessageSize = ctx.limits->transport.maxMessageSize;
     return status::Good;
 }
