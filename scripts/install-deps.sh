@@ -7,9 +7,9 @@ cd "$(dirname "$0")/.."
 
 packages=(
   build-essential cmake ninja-build ccache clang clang-format clang-tidy libclang-rt-14-dev
-  libasio-dev libspdlog-dev libfmt-dev libcli11-dev libpugixml-dev
+  libasio-dev libspdlog-dev libfmt-dev libcli11-dev libpugixml-dev libmdnsd-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  iproute2
+  iproute2 util-linux procps
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -19,6 +19,7 @@ done
 # commands, not the package names.
 command -v node >/dev/null || missing+=(nodejs)
 command -v npm >/dev/null || missing+=(npm)
+command -v python3 >/dev/null || missing+=(python3)  # the netns test harness and fuzz seeds
 if ((${#missing[@]})); then
   echo "install-deps: installing ${missing[*]}"
   SUDO=""

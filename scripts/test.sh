@@ -7,6 +7,7 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 
 export SKILLCELL_REQUIRE_NODE=1   # interop tests fail (not skip) when node-opcua is missing
+export SKILLCELL_REQUIRE_NETNS=1  # and network-namespace tests when namespaces cannot be made
 jobs=$(nproc)
 
 echo "== build and test (RelWithDebInfo)"
@@ -31,7 +32,7 @@ for target in build-fuzz/fuzz/fuzz_*; do
   corpus="fuzz/corpus/$(basename "$target")"
   mkdir -p "build-fuzz/corpus-$(basename "$target")"
   log="build-fuzz/$(basename "$target").log"
-  if ! "$target" -max_total_time="${SKILLCELL_FUZZ_SECONDS:-45}" -rss_limit_mb=1024 \
+  if ! "$target" -max_total_time="${SKILLCELL_FUZZ_SECONDS:-30}" -rss_limit_mb=1024 \
       "build-fuzz/corpus-$(basename "$target")" "$corpus" >"$log" 2>&1; then
     tail -n 60 "$log"; echo "fuzz target $(basename "$target") found a failure" >&2; exit 1
   fi
