@@ -72,11 +72,21 @@ ua::mdns::MdnsConfig mdnsConfigFrom(const DiscoveryOptions& o) {
 std::unique_ptr<ComponentDiscovery> ComponentDiscovery::start(asio::io_context& io,
                                                               ua::Server& server,
                                                               std::uint16_t port,
+                                                              const std::string& bindAddress,
                                                               const DiscoveryOptions& options,
                                                               bool isLds, std::string* error) {
     auto d = std::make_unique<ComponentDiscovery>();
-    auto responder = ua::mdns::MdnsResponder::create(io.get_executor(), mdnsConfigFrom(options),
-                                                     error);
+    auto config = mdnsConfigFrom(options);
+    if (config.interfaces.empty() && bindAddress != "0.0.0.0" && bindAddress != "::") {
+        for (const auto& nic : ua::mdns::listIpv4Interfaces()) {
+            if (ua::mdns::toString(nic.address) == bindAddress) config.interfaces.push_back(nic.name);
+        }
+        if (config.interfaces.empty()) {
+            if (error != nullptr) *error = "no interface has the address " + bindAddress;
+            return nullptr;
+        }
+    }
+    auto responder = ua::mdns::MdnsResponder::create(io.get_executor(), config, error);
     if (!responder) return nullptr;
     d->responder_ = *responder;
     const auto& description = server.config().description;
@@ -99,9 +109,9 @@ std::unique_ptr<ComponentDiscovery> ComponentDiscovery::start(asio::io_context& 
     }
 
     if (isLds) {
-        ua::lds::LdsConfig config;
-        config.registrationTimeout = std::chrono::seconds(options.registrationTimeoutSeconds);
-        d->lds_ = ua::lds::LocalDiscoveryServer::create(server, d->responder_, config);
+        ua::lds::LdsConfig ldsConfig;
+        ldsConfig.registrationTimeout = std::chrono::seconds(options.registrationTimeoutSeconds);
+        d->lds_ = ua::lds::LocalDiscoveryServer::create(server, d->responder_, ldsConfig);
         d->lds_->start(io.get_executor());
     }
     d->responder_->start();

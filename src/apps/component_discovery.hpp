@@ -38,10 +38,13 @@ void addListenerOptions(CLI::App* cmd, DiscoveryOptions& options);
 class ComponentDiscovery {
 public:
     /// Announces `server` (listening on `port`), installs the LDS services when `isLds`,
-    /// and starts registering with discovered LDSs. nullptr with `error` set on failure.
+    /// and starts registering with discovered LDSs. A server bound to one address announces
+    /// on that address's interface only (unless --mdns-interface says otherwise): one bound
+    /// to loopback is not announced to the network. nullptr with `error` set on failure.
     [[nodiscard]] static std::unique_ptr<ComponentDiscovery> start(asio::io_context& io,
                                                                    ua::Server& server,
                                                                    std::uint16_t port,
+                                                                   const std::string& bindAddress,
                                                                    const DiscoveryOptions& options,
                                                                    bool isLds, std::string* error);
     /// Unregisters, withdraws the announcement with a goodbye, closes the mDNS socket.

@@ -84,12 +84,15 @@ int runServerProcess(const ServerProcessOptions& options,
 
     std::unique_ptr<ComponentDiscovery> discovery;
     if (options.discovery.enabled || options.isLds) {
-        discovery = ComponentDiscovery::start(io, *server, *port, options.discovery,
+        discovery = ComponentDiscovery::start(io, *server, *port, options.host, options.discovery,
                                               options.isLds, &error);
-        if (!discovery) {
-            spdlog::critical("discovery: {} (run with --no-discovery to serve without it)",
-                             error);
+        if (!discovery && options.isLds) {
+            spdlog::critical("LDS-ME: {}", error);
             return 1;
+        }
+        if (!discovery) {
+            // Still a working server, reachable by its address; say loudly what is missing.
+            spdlog::error("discovery is off: {} (--no-discovery silences this)", error);
         }
     }
 

@@ -5,7 +5,7 @@
 // interface exists.
 //
 // usage: node lds.js [--port N] [--application-uri URI] [--refuse-unsecured-registration]
-//                    [--none-only] [--add-a-record]
+//                    [--none-only]
 //
 //   --port N    0 or omitted: pick a free port
 //   --application-uri URI   the LDS's applicationUri, also its mDNS service name
@@ -15,10 +15,6 @@
 //               FindServersOnNetwork can only list what the LDS learnt by mDNS.
 //   --none-only offer only the SecurityPolicy None endpoint (default: node-opcua's default
 //               endpoints, None + Sign + SignAndEncrypt)
-//   --add-a-record  test-only workaround: node-opcua sends A/AAAA records only for non-internal
-//               interfaces, so inside a loopback-only namespace its announcements carry none; this
-//               adds "A <SRV target> -> 127.0.0.1" to each announcement whose SRV target is an
-//               IPv4 literal (as 127.0.0.1 here), for peers that insist on an address record.
 //
 // Prints exactly one stdout line "READY opc.tcp://127.0.0.1:PORT" once it listens and has
 // published its own mDNS announcement; logs every RegisterServer(2) it receives to stderr
@@ -33,20 +29,7 @@ const { OPCUADiscoveryServer } = require("node-opcua-server-discovery");
 const { HOST, pkiRoot, parseArgs, requirePrivateNetwork, pickFreePort, isAddressInUse } = require("./discovery_common");
 
 const USAGE =
-    "usage: node lds.js [--port N] [--application-uri URI] [--refuse-unsecured-registration] [--none-only] [--add-a-record]";
-
-// --add-a-record: every mDNS service node-opcua publishes goes through Service#records().
-function addAddressRecords() {
-    const { Service } = require("sterfive-bonjour-service");
-    const records = Service.prototype.records;
-    Service.prototype.records = function () {
-        const rrs = records.call(this);
-        if (/^\d+\.\d+\.\d+\.\d+$/.test(this.host) && !rrs.some((rr) => rr.type === "A")) {
-            rrs.push({ name: this.host, type: "A", ttl: 120, data: this.host });
-        }
-        return rrs;
-    };
-}
+    "usage: node lds.js [--port N] [--application-uri URI] [--refuse-unsecured-registration] [--none-only]";
 
 function createLds(port, opts) {
     const serverCertificateManager = new OPCUACertificateManager({
@@ -98,8 +81,7 @@ async function main() {
             "--port": "int",
             "--application-uri": "string",
             "--refuse-unsecured-registration": "flag",
-            "--none-only": "flag",
-            "--add-a-record": "flag"
+            "--none-only": "flag"
         },
         USAGE,
         0
@@ -109,7 +91,6 @@ async function main() {
         process.exit(2);
     }
     requirePrivateNetwork("lds.js");
-    if (opts.addARecord) addAddressRecords();
 
     let lds = null;
     let stopping = false;

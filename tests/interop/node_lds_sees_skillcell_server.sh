@@ -11,12 +11,13 @@
 #  3. node LDS accepting unsecured registration: our server finds it by mDNS (its record:
 #     SRV target 127.0.0.1, TXT path=/DiscoveryServer caps=LDS) and registers; node's
 #     FindServers must list urn:test:ours; after SIGTERM (unregistration) it must go away.
-#     (node's LDS sends no A record in a loopback-only namespace; see
-#     SKILLCELL_INTEROP_NODE_LDS_A_RECORD below.)
+#     (node's LDS sends no A record in a loopback-only namespace: our server must use the IPv4
+#     literal SRV target directly.)
 # Skips (exit 77) without node-opcua or without the rights to make a network namespace,
 # unless SKILLCELL_REQUIRE_NODE=1 / SKILLCELL_REQUIRE_NETNS=1 (CI). Set
 # SKILLCELL_INTEROP_PHASES="1 3" to run some phases only, SKILLCELL_INTEROP_KEEP_LOGS=1 to keep
-# the logs.
+# the logs. Each of our servers keeps its PKI (application certificate) in the test's temporary
+# directory ($DL_TMP/pki-ours1 ...), never under $HOME.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=discovery_lib.sh
@@ -29,11 +30,6 @@ OUR_URI=urn:test:ours
 OUR_MDNS=ours-under-test
 server_args=(server --port 0 --host 127.0.0.1 --application-uri "$OUR_URI" --mdns-name "$OUR_MDNS")
 phases=${SKILLCELL_INTEROP_PHASES:-1 2 3}
-# In a loopback-only namespace node-opcua's announcements carry no A record (it sends them only for
-# non-internal interfaces); SKILLCELL_INTEROP_NODE_LDS_A_RECORD=1 adds one (test-only workaround,
-# lds.js --add-a-record) for a peer that needs it to find the node LDS (phase 3).
-lds_extra=()
-[ "${SKILLCELL_INTEROP_NODE_LDS_A_RECORD:-0}" = 1 ] && lds_extra=(--add-a-record)
 
 # FindServersOnNetwork on node's LDS must list our record, with our port in its URL.
 expect_record() {
@@ -58,10 +54,10 @@ stop_our_server() {
 
 if [[ " $phases " == *" 1 "* ]]; then
   dl_step "phase 1: node LDS first (registration refused), our server second"
-  dl_start lds1 node "$here/lds.js" --port 0 --refuse-unsecured-registration "${lds_extra[@]}"
+  dl_start lds1 node "$here/lds.js" --port 0 --refuse-unsecured-registration
   dl_wait_ready lds1 60
   lds_url=$DL_URL
-  dl_start ours1 "$skillcell" "${server_args[@]}"
+  dl_start ours1 "$skillcell" "${server_args[@]}" --pki-dir "$DL_TMP/pki-ours1"
   dl_wait_ready ours1 20
   expect_record "$lds_url" "$DL_PORT"
   stop_our_server ours1
@@ -73,7 +69,7 @@ if [[ " $phases " == *" 2 "* ]]; then
   dl_step "phase 2: our server first, node LDS second (its start-up query)"
   dl_start sniff2 node "$here/mdns_sniff.js"
   dl_wait_ready sniff2 20
-  dl_start ours2 "$skillcell" "${server_args[@]}"
+  dl_start ours2 "$skillcell" "${server_args[@]}" --pki-dir "$DL_TMP/pki-ours2"
   dl_wait_ready ours2 20
   our_port=$DL_PORT
   # let our start-up announcements (RFC 6762 8.3: at least two) pass first, so that what
@@ -86,7 +82,7 @@ if [[ " $phases " == *" 2 "* ]]; then
     [ $(( $(date +%s%3N) - $(date -r "$2" +%s%3N) )) -ge 1500 ] && echo quiet' _ "$ptr_re" "$DL_TMP/sniff2.out" \
     >/dev/null || dl_fail "mdns_sniff.js did not see two announcements of $OUR_MDNS followed by 1.5 s of silence"
   sniff_mark=$(wc -l <"$DL_TMP/sniff2.out")
-  dl_start lds2 node "$here/lds.js" --port 0 --refuse-unsecured-registration "${lds_extra[@]}"
+  dl_start lds2 node "$here/lds.js" --port 0 --refuse-unsecured-registration
   dl_wait_ready lds2 60
   expect_record "$DL_URL" "$our_port"
   # On the wire, after the LDS started: a PTR query for _opcua-tcp._tcp.local, then within 1.5 s
@@ -108,15 +104,15 @@ fi
 
 if [[ " $phases " == *" 3 "* ]]; then
   dl_step "phase 3: node LDS accepting unsecured registration; our server registers with it"
-  dl_start lds3 node "$here/lds.js" --port 0 "${lds_extra[@]}"
+  dl_start lds3 node "$here/lds.js" --port 0
   dl_wait_ready lds3 60
   lds_url=$DL_URL
-  dl_start ours3 "$skillcell" "${server_args[@]}"
+  dl_start ours3 "$skillcell" "${server_args[@]}" --pki-dir "$DL_TMP/pki-ours3"
   dl_wait_ready ours3 20
   out=$(dl_node find_servers.js "$lds_url" "$OUR_URI" --timeout 40) ||
     dl_fail "node's LDS does not list $OUR_URI (FindServers): our server did not register: $out" \
-      "(node's LDS announces SRV target 127.0.0.1 with no A record here; a peer that waits for one" \
-      "never finds it: SKILLCELL_INTEROP_NODE_LDS_A_RECORD=1 adds one)"
+      "(node's LDS announces SRV target 127.0.0.1 with no A record here: our server must use the" \
+      "IPv4 literal directly)"
   dl_step "$out"
   dl_step "node LDS: $(grep -m1 "lds.js: registered $OUR_URI" "$DL_TMP/lds3.err" || echo "no registration line")"
   expect_record "$lds_url" "$DL_PORT"

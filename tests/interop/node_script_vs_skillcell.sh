@@ -4,7 +4,8 @@
 # Starts `skillcell server --port 0`, learns its port from the READY line, runs the script
 # with the server's URL (client.js: browse from Root, read every attribute of every node,
 # write + read back, call; subscribe.js: data change after a write, event after
-# Demo.FireEvent), and stops the server. Skips (exit 77) when node-opcua is not installed, unless
+# Demo.FireEvent), and stops the server. The server's PKI (application certificate) goes to the
+# temporary directory ($tmp/pki), never under $HOME. Skips (exit 77) when node-opcua is not installed, unless
 # SKILLCELL_REQUIRE_NODE=1, as in CI, where that is a failure.
 set -euo pipefail
 skillcell=$1
@@ -23,7 +24,7 @@ cleanup() {
 }
 trap cleanup EXIT
 mkfifo "$tmp/ready"
-"$skillcell" server --port 0 --host 127.0.0.1 >"$tmp/ready" 2>"$tmp/server.log" &
+"$skillcell" server --port 0 --host 127.0.0.1 --no-discovery --pki-dir "$tmp/pki" >"$tmp/ready" 2>"$tmp/server.log" &
 pid=$!
 exec 3<"$tmp/ready"
 if ! read -r -t 20 word url <&3 || [ "$word" != READY ]; then

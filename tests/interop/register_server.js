@@ -3,16 +3,11 @@
 // discovery interop tests (registerServerMethod LDS, so it sends no mDNS itself).
 //
 // usage: node register_server.js LDS_URL [--port N] [--application-uri URI] [--caps A,B]
-//                                [--fill-empty-lds-certificate]
 //
 //   --port N               0 or omitted: pick a free port
 //   --application-uri URI  default urn:skillcell:interop:node-registered-server; node-opcua also
 //                          uses it as the mdnsServerName of its RegisterServer2 request
 //   --caps A,B             serverCapabilities announced for mDNS (node-opcua's default: NA)
-//   --fill-empty-lds-certificate   test-only workaround: when the LDS's endpoints carry no
-//                          serverCertificate, put this server's own certificate there before
-//                          node-opcua looks at them (without it: "FAILED ..." at once, since
-//                          node-opcua would never send RegisterServer(2) to such an LDS)
 //
 // node-opcua's RegisterServerManager connects to LDS_URL, calls GetEndpoints, picks the most
 // secure endpoint (it needs the endpoint's serverCertificate to be set, even for
@@ -20,8 +15,10 @@
 // fails). Its "serverRegistered" event fires even when both were refused, so this script
 // watches the responses itself: it prints "READY opc.tcp://127.0.0.1:PORT" on stdout only
 // once a RegisterServer(2) with isOnline=true was answered without a fault, and
-// "FAILED ..." (exit 1) when it was refused. Every registration request and its outcome is
-// logged to stderr ("register: RegisterServer2Request isOnline=true -> Good").
+// "FAILED ..." (exit 1) when it was refused, or at once when none of the LDS's endpoints
+// carries a serverCertificate (node-opcua would then never send RegisterServer(2)). Every
+// registration request and its outcome is logged to stderr
+// ("register: RegisterServer2Request isOnline=true -> Good").
 // SIGTERM/SIGINT: shutdown, which unregisters (isOnline=false), then exit 0.
 "use strict";
 
@@ -46,15 +43,15 @@ const {
 } = require("./discovery_common");
 
 const USAGE =
-    "usage: node register_server.js LDS_URL [--port N] [--application-uri URI] [--caps A,B] [--fill-empty-lds-certificate]";
+    "usage: node register_server.js LDS_URL [--port N] [--application-uri URI] [--caps A,B]";
 const log = (msg) => process.stderr.write(`register_server.js: ${msg}\n`);
 
 // Outcomes of the registration requests sent by node-opcua's RegisterServerManager, observed
 // by wrapping the clients it creates (OPCUAClientBase.create is looked up at each call).
 const outcomes = []; // { online, request, ok, status }
 let lastEndpointListing = null;
-// set by main(): fillCertificate() -> Buffer (with --fill-empty-lds-certificate), noCertificate()
-const hooks = { fillCertificate: null, filledOnce: false, noCertificate: () => {} };
+// set by main(): called when none of the LDS's endpoints carries a serverCertificate
+const hooks = { noCertificate: () => {} };
 function instrumentRegistrationClients() {
     const create = OPCUAClientBase.create;
     OPCUAClientBase.create = (options) => {
@@ -93,15 +90,7 @@ function instrumentRegistrationClients() {
                         for (const line of listing.split("\n")) log(line);
                     }
                     const withoutCertificate = endpoints.filter((e) => !(e.serverCertificate && e.serverCertificate.length));
-                    if (withoutCertificate.length > 0 && hooks.fillCertificate) {
-                        // test-only workaround (--fill-empty-lds-certificate): SecurityPolicy None
-                        // never uses the certificate, node-opcua only insists on its presence
-                        for (const e of withoutCertificate) e.serverCertificate = hooks.fillCertificate();
-                        if (!hooks.filledOnce) {
-                            hooks.filledOnce = true;
-                            log(`workaround: filled the empty serverCertificate of ${withoutCertificate.length} LDS endpoint(s) with our own certificate`);
-                        }
-                    } else if (endpoints.length > 0 && withoutCertificate.length === endpoints.length) {
+                    if (endpoints.length > 0 && withoutCertificate.length === endpoints.length) {
                         hooks.noCertificate();
                     }
                 }
@@ -153,7 +142,7 @@ function createServer(port, ldsUrl, opts) {
 async function main() {
     const { positional, opts } = parseArgs(
         process.argv.slice(2),
-        { "--port": "int", "--application-uri": "string", "--caps": "string", "--fill-empty-lds-certificate": "flag" },
+        { "--port": "int", "--application-uri": "string", "--caps": "string" },
         USAGE,
         1
     );
@@ -183,19 +172,15 @@ async function main() {
         process.exit(code);
     };
     process.on("SIGTERM", () => shutdown("SIGTERM", 0));
-    if (opts.fillEmptyLdsCertificate) {
-        hooks.fillCertificate = () => server.getCertificate();
-    } else {
-        hooks.noCertificate = () => {
-            if (stopping) return;
-            process.stdout.write(
-                `FAILED the endpoints of ${ldsUrl} carry no serverCertificate: node-opcua's RegisterServerManager ` +
-                    "then has no selected endpoint and never sends RegisterServer(2), even for SecurityPolicy None " +
-                    "(--fill-empty-lds-certificate works around it)\n"
-            );
-            shutdown("LDS without certificate", 1);
-        };
-    }
+    hooks.noCertificate = () => {
+        if (stopping) return;
+        process.stdout.write(
+            `FAILED the endpoints of ${ldsUrl} carry no serverCertificate: node-opcua's RegisterServerManager ` +
+                "then has no selected endpoint and never sends RegisterServer(2), even for SecurityPolicy None " +
+                "(the LDS needs an application instance certificate)\n"
+        );
+        shutdown("LDS without certificate", 1);
+    };
     process.on("SIGINT", () => shutdown("SIGINT", 0));
 
     const wanted = opts.port || 0;

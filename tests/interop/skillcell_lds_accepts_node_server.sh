@@ -16,8 +16,9 @@
 # Skips (exit 77) without node-opcua or without the rights to make a network namespace, unless
 # SKILLCELL_REQUIRE_NODE=1 / SKILLCELL_REQUIRE_NETNS=1 (CI). SKILLCELL_INTEROP_KEEP_LOGS=1 keeps the
 # logs. node-opcua registers only with an LDS whose endpoints carry a serverCertificate (even for
-# SecurityPolicy None); SKILLCELL_INTEROP_FILL_LDS_CERTIFICATE=1 makes register_server.js fill in an
-# empty one (a test-only workaround) so that the rest can be checked meanwhile.
+# SecurityPolicy None): register_server.js prints FAILED at once when ours carry none. Our LDS
+# keeps its PKI (application certificate) in the test's temporary directory ($DL_TMP/pki-lds),
+# never under $HOME.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=discovery_lib.sh
@@ -31,7 +32,8 @@ OUR_LDS_MDNS=ours-lds
 
 dl_start sniff node "$here/mdns_sniff.js" # only for the logs
 dl_wait_ready sniff 20
-dl_start ours "$skillcell" lds --port 0 --host 127.0.0.1 --mdns-name "$OUR_LDS_MDNS"
+dl_start ours "$skillcell" lds --port 0 --host 127.0.0.1 --mdns-name "$OUR_LDS_MDNS" \
+  --pki-dir "$DL_TMP/pki-lds"
 dl_wait_ready ours 20
 lds_url=$DL_URL
 dl_start observer node "$here/lds.js" --port 0 --refuse-unsecured-registration \
@@ -39,11 +41,7 @@ dl_start observer node "$here/lds.js" --port 0 --refuse-unsecured-registration \
 dl_wait_ready observer 60
 observer_url=$DL_URL
 
-workaround=()
-# Until our LDS's endpoints carry a certificate: node-opcua refuses to register with such an LDS.
-[ "${SKILLCELL_INTEROP_FILL_LDS_CERTIFICATE:-0}" = 1 ] && workaround=(--fill-empty-lds-certificate)
-dl_start nodesrv node "$here/register_server.js" "$lds_url" --port 0 --application-uri "$NODE_URI" \
-  "${workaround[@]}"
+dl_start nodesrv node "$here/register_server.js" "$lds_url" --port 0 --application-uri "$NODE_URI"
 dl_wait_ready nodesrv 60
 node_port=$DL_PORT
 dl_step "node server: $(grep -m1 'register: RegisterServer' "$DL_TMP/nodesrv.err" || true)"

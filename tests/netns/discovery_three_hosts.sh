@@ -10,7 +10,9 @@
 # a one-shot 'discover' lists everyone; everything exits 0 on SIGTERM without sanitizer reports.
 # Usage: discovery_three_hosts.sh SKILLCELL_BINARY
 # Needs root; otherwise exit 77 (exit 1 if SKILLCELL_REQUIRE_NETNS=1).
-# NETNS_KEEP_LOGS=1 keeps the component logs (path printed at the end).
+# NETNS_KEEP_LOGS=1 keeps the component logs (path printed at the end). Each component keeps its
+# PKI (application certificate) in the run's directory ($NETNS_DIR/pki-<component>; a restarted
+# server reuses its own), never under $HOME.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=lib.sh
@@ -159,12 +161,12 @@ poll_lds() {
   done
 }
 
-# start_component COMPONENT PROCNAME
+# start_component COMPONENT PROCNAME (PKI: $NETNS_DIR/pki-COMPONENT)
 start_component() {
   local c=$1 p=$2 sub=server
   [ "$c" = lds ] && sub=lds
   start_in "${HOST[$c]}" "$p" "$BIN" "$sub" --port "${PORT[$c]}" --application-uri "${URI[$c]}" \
-    --mdns-ttl "$TTL" --mdns-query-period "$QP"
+    --mdns-ttl "$TTL" --mdns-query-period "$QP" --pki-dir "$NETNS_DIR/pki-$c"
   local line
   line=$(wait_for_line "$NETNS_DIR/$p.out" '^READY ' 15) || fail "$c ($p) did not print READY"
   say "   $c on ${HOST[$c]}: $line"

@@ -99,7 +99,11 @@ Result<std::shared_ptr<MdnsResponder>> MdnsResponder::create(asio::any_io_execut
     if (r->nics_.empty()) {
         return fail(r->config_.interfaces.empty()
                         ? "no multicast-capable IPv4 interface"
-                        : "none of the named interfaces has an IPv4 address");
+                        : "none of the interfaces " + [&] {
+                              std::string names;
+                              for (const auto& n : r->config_.interfaces) names += (names.empty() ? "" : ", ") + n;
+                              return names;
+                          }() + " has an IPv4 address and multicast");
     }
     if (r->config_.hostName.empty()) {
         char buf[256] = {};

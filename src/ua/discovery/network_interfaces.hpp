@@ -18,7 +18,7 @@ struct NetworkInterface {
 /// Every interface address of the host (getifaddrs), IPv4 only.
 [[nodiscard]] std::vector<NetworkInterface> listIpv4Interfaces();
 
-/// The interfaces to run mDNS on: those named in `wanted` (which must exist), or else every
+/// The interfaces to run mDNS on: those named in `wanted` that can multicast, or else every
 /// up, multicast-capable interface except loopback, or loopback when it is the only one
 /// (a private network namespace in tests). Empty when there is none.
 [[nodiscard]] std::vector<NetworkInterface> chooseMdnsInterfaces(
