@@ -51,9 +51,11 @@ public:
         seen_.emplace(key, Clock::now());
         changed_.notify_all();
     }
-    std::optional<Clock::time_point> waitFor(const std::string& key, std::chrono::milliseconds timeout) {
+    std::optional<Clock::time_point> waitFor(const std::string& key,
+                                             std::chrono::milliseconds timeout) {
         std::unique_lock lock(mutex_);
-        if (!changed_.wait_for(lock, timeout, [&] { return seen_.contains(key); })) return std::nullopt;
+        if (!changed_.wait_for(lock, timeout, [&] { return seen_.contains(key); }))
+            return std::nullopt;
         return seen_.at(key);
     }
 
@@ -94,9 +96,11 @@ int run(const Options& o) {
     mdns::MdnsConfig config;
     config.queryPeriod = 30s;
     std::string error;
-    auto responder = asio::post(io, asio::use_future([&] {
-                         return mdns::MdnsResponder::create(io.get_executor(), config, &error);
-                     })).get();
+    auto responder =
+        asio::post(io, asio::use_future([&] {
+                       return mdns::MdnsResponder::create(io.get_executor(), config, &error);
+                   }))
+            .get();
     if (!responder) {
         std::fprintf(stderr, "mDNS: %s\n", error.c_str());
         work.reset();
@@ -105,17 +109,21 @@ int run(const Options& o) {
         return 1;
     }
     lds::ServerWatcher::Callbacks callbacks;
-    callbacks.announced = [&](const lds::AnnouncedServer& s) { timeline.record("described " + s.instance.name); };
+    callbacks.announced = [&](const lds::AnnouncedServer& s) {
+        timeline.record("described " + s.instance.name);
+    };
     std::shared_ptr<lds::ServerWatcher> watcher;
     asio::post(io, asio::use_future([&] {
-        (*responder)->subscribe([&](const mdns::ServiceEvent& e) {
-            timeline.record((e.kind == mdns::ServiceEvent::Kind::Announced ? "announced " : "gone ") +
-                            e.instance.name);
-        });
-        watcher = lds::ServerWatcher::create(io.get_executor(), *responder, callbacks);
-        (*responder)->start();
-        watcher->start();
-    })).get();
+                   (*responder)->subscribe([&](const mdns::ServiceEvent& e) {
+                       timeline.record((e.kind == mdns::ServiceEvent::Kind::Announced ? "announced "
+                                                                                      : "gone ") +
+                                       e.instance.name);
+                   });
+                   watcher = lds::ServerWatcher::create(io.get_executor(), *responder, callbacks);
+                   (*responder)->start();
+                   watcher->start();
+               }))
+        .get();
 
     Samples ready, announced, described, goodbye, expired;
     const std::string log = (tmp / "server.log").string();
@@ -123,11 +131,11 @@ int run(const Options& o) {
     for (int i = 0; i <= o.count; ++i) {
         const std::string name = "bench-" + std::to_string(i);
         const auto t0 = Clock::now();
-        ChildProcess child({o.skillcell, "--log-level", "warn", "server", "--port", "0", "--host",
-                            "127.0.0.1", "--application-uri", "urn:skillcell:bench", "--mdns-name",
-                            name, "--mdns-ttl", std::to_string(o.ttl), "--pki-dir",
-                            (tmp / "pki").string()},
-                           log);
+        ChildProcess child(
+            {o.skillcell, "--log-level", "warn", "server", "--port", "0", "--host", "127.0.0.1",
+             "--application-uri", "urn:skillcell:bench", "--mdns-name", name, "--mdns-ttl",
+             std::to_string(o.ttl), "--pki-dir", (tmp / "pki").string()},
+            log);
         auto line = child.readLine(20s);
         const auto tReady = Clock::now();
         auto tAnnounced = timeline.waitFor("announced " + name, 10s);
@@ -157,9 +165,10 @@ int run(const Options& o) {
         (kill ? expired : goodbye).push_back(*tGone - tStop);
     }
     asio::post(io, asio::use_future([&] {
-        watcher->stop();
-        (*responder)->shutdown();
-    })).get();
+                   watcher->stop();
+                   (*responder)->shutdown();
+               }))
+        .get();
     work.reset();
     thread.join();
     std::filesystem::remove_all(tmp);

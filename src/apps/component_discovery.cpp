@@ -33,8 +33,7 @@ void addListenerOptions(CLI::App* cmd, DiscoveryOptions& o) {
 
 void addDiscoveryOptions(CLI::App* cmd, DiscoveryOptions& o, bool registers, bool isLds) {
     if (!isLds) {
-        cmd->add_flag("!--no-discovery", o.enabled,
-                      "no mDNS announcement and no LDS registration");
+        cmd->add_flag("!--no-discovery", o.enabled, "no mDNS announcement and no LDS registration");
     }
     cmd->add_option("--mdns-name", o.mdnsName,
                     "mDNS server name, one DNS label (default: application name, address and "
@@ -69,17 +68,15 @@ ua::mdns::MdnsConfig mdnsConfigFrom(const DiscoveryOptions& o) {
     return c;
 }
 
-std::unique_ptr<ComponentDiscovery> ComponentDiscovery::start(asio::io_context& io,
-                                                              ua::Server& server,
-                                                              std::uint16_t port,
-                                                              const std::string& bindAddress,
-                                                              const DiscoveryOptions& options,
-                                                              bool isLds, std::string* error) {
+std::unique_ptr<ComponentDiscovery> ComponentDiscovery::start(
+    asio::io_context& io, ua::Server& server, std::uint16_t port, const std::string& bindAddress,
+    const DiscoveryOptions& options, bool isLds, std::string* error) {
     auto d = std::make_unique<ComponentDiscovery>();
     auto config = mdnsConfigFrom(options);
     if (config.interfaces.empty() && bindAddress != "0.0.0.0" && bindAddress != "::") {
         for (const auto& nic : ua::mdns::listIpv4Interfaces()) {
-            if (ua::mdns::toString(nic.address) == bindAddress) config.interfaces.push_back(nic.name);
+            if (ua::mdns::toString(nic.address) == bindAddress)
+                config.interfaces.push_back(nic.name);
         }
         if (config.interfaces.empty()) {
             if (error != nullptr) *error = "no interface has the address " + bindAddress;
@@ -104,7 +101,8 @@ std::unique_ptr<ComponentDiscovery> ComponentDiscovery::start(asio::io_context& 
     }
     if (announcement.capabilities.empty()) announcement.capabilities.push_back("NA");
     if (ua::mdns::validateServerName(d->mdnsName_).isBad()) {
-        if (error != nullptr) *error = "bad mDNS name '" + d->mdnsName_ + "': one label of 1..63 bytes, no dots";
+        if (error != nullptr)
+            *error = "bad mDNS name '" + d->mdnsName_ + "': one label of 1..63 bytes, no dots";
         return nullptr;
     }
 

@@ -72,15 +72,16 @@ asio::awaitable<int> askLds(asio::any_io_executor executor, const DiscoverOption
         req.startingRecordId = o.startingRecordId;
         req.maxRecordsToReturn = o.maxRecords;
         req.serverCapabilityFilter = o.caps;
-        auto resp = co_await client.request<ua::FindServersOnNetworkRequest,
-                                            ua::FindServersOnNetworkResponse>(req);
+        auto resp =
+            co_await client
+                .request<ua::FindServersOnNetworkRequest, ua::FindServersOnNetworkResponse>(req);
         if (!resp) {
             std::cerr << "FindServersOnNetwork failed: " << ua::statusName(resp.status()) << "\n";
             rc = 1;
         } else {
             for (const auto& r : resp->servers) {
-                std::cout << "RECORD " << r.recordId << " " << r.serverName << " "
-                          << r.discoveryUrl << " caps=" << joined(r.serverCapabilities) << "\n";
+                std::cout << "RECORD " << r.recordId << " " << r.serverName << " " << r.discoveryUrl
+                          << " caps=" << joined(r.serverCapabilities) << "\n";
             }
         }
     }
@@ -93,13 +94,14 @@ int runDiscover(const DiscoverOptions& o) {
     asio::io_context io{1};
     if (!o.lds.empty()) {
         int rc = 1;
-        asio::co_spawn(io, askLds(io.get_executor(), o), [&](std::exception_ptr, int r) { rc = r; });
+        asio::co_spawn(io, askLds(io.get_executor(), o),
+                       [&](std::exception_ptr, int r) { rc = r; });
         io.run();
         return rc;
     }
     std::string error;
-    auto responder = ua::mdns::MdnsResponder::create(io.get_executor(), mdnsConfigFrom(o.discovery),
-                                                     &error);
+    auto responder =
+        ua::mdns::MdnsResponder::create(io.get_executor(), mdnsConfigFrom(o.discovery), &error);
     if (!responder) {
         std::cerr << "cannot listen to mDNS: " << error << "\n";
         return 1;
@@ -129,11 +131,13 @@ int runDiscover(const DiscoverOptions& o) {
     });
     asio::steady_timer deadline(io);
     if (!o.watch || o.durationSeconds > 0) {
-        deadline.expires_after(std::chrono::milliseconds(static_cast<long>(o.durationSeconds * 1000)));
+        deadline.expires_after(
+            std::chrono::milliseconds(static_cast<long>(o.durationSeconds * 1000)));
         deadline.async_wait([&](const asio::error_code& ec) {
             if (ec) return;
             if (!o.watch) {
-                for (const auto& s : watcher->servers()) std::cout << "SERVER " << describe(s) << "\n";
+                for (const auto& s : watcher->servers())
+                    std::cout << "SERVER " << describe(s) << "\n";
                 std::cout.flush();
             }
             finish();

@@ -2,9 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <unistd.h>
 #include <asio.hpp>
 #include <iostream>
-#include <unistd.h>
 
 #include "ua/discovery/network_interfaces.hpp"
 #include "ua/pki/own_certificate.hpp"
@@ -12,7 +12,8 @@
 namespace skillcell::apps {
 
 void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& o) {
-    cmd->add_option("--port,-p", o.port, "OPC UA TCP port (0: any free port)")->capture_default_str();
+    cmd->add_option("--port,-p", o.port, "OPC UA TCP port (0: any free port)")
+        ->capture_default_str();
     cmd->add_option("--host", o.host, "address to listen on")->capture_default_str();
     cmd->add_option("--advertised-host", o.advertisedHost,
                     "host name put into endpoint URLs (default: the name the client used)");
@@ -48,8 +49,9 @@ int runServerProcess(const ServerProcessOptions& options,
     config.limits.maxChannels = options.maxChannels;
 
     std::string error;
-    const auto pkiDir = options.pkiDir.empty() ? ua::pki::defaultPkiDirectory(options.applicationUri)
-                                               : std::filesystem::path(options.pkiDir);
+    const auto pkiDir = options.pkiDir.empty()
+                            ? ua::pki::defaultPkiDirectory(options.applicationUri)
+                            : std::filesystem::path(options.pkiDir);
     ua::pki::CertificateSubject subject;
     subject.applicationUri = options.applicationUri;
     subject.commonName = options.applicationName;

@@ -22,7 +22,8 @@ TEST(DnsMessage, RoundTripsQuestionsAndEveryRecordType) {
     DnsMessage m;
     m.id = 0;
     m.isResponse = true;
-    m.questions.push_back({"_opcua-tcp._tcp.local", static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
+    m.questions.push_back(
+        {"_opcua-tcp._tcp.local", static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
     DnsRecord ptr;
     ptr.name = "_opcua-tcp._tcp.local";
     ptr.type = static_cast<std::uint16_t>(DnsType::Ptr);
@@ -131,11 +132,11 @@ std::vector<Malformed> malformedCases() {
     cases.push_back({"opcode STATUS", opcode});
     // A record with 5 bytes of rdata.
     std::vector<std::uint8_t> badA = {0, 0, 0x84, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 'h', 0,
-                                      0, 1, 0, 1, 0, 0, 0, 1, 0, 5, 1, 2, 3, 4, 5};
+                                      0, 1, 0,    1, 0, 0, 0, 1, 0, 5, 1, 2, 3, 4,   5};
     cases.push_back({"A record of 5 bytes", badA});
     // TXT string longer than its rdata.
-    std::vector<std::uint8_t> badTxt = {0, 0, 0x84, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 'h', 0,
-                                        0, 16, 0, 1, 0, 0, 0, 1, 0, 3, 9, 'a', 'b'};
+    std::vector<std::uint8_t> badTxt = {0, 0, 0x84, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,   'h',
+                                        0, 0, 16,   0, 1, 0, 0, 0, 1, 0, 3, 9, 'a', 'b'};
     cases.push_back({"TXT overrun", badTxt});
     // A label of 64 bytes.
     std::vector<std::uint8_t> longLabel = {0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 64};

@@ -109,8 +109,7 @@ TEST(RegisteredServerTable, IsBoundedAndDescribesInTheAskedLocale) {
     EXPECT_EQ(table.describe({}, {}).size(), 2u);
 }
 
-mdns::ServiceEvent announced(std::string name, std::uint16_t port,
-                             std::vector<std::string> caps) {
+mdns::ServiceEvent announced(std::string name, std::uint16_t port, std::vector<std::string> caps) {
     mdns::ServiceEvent e;
     e.instance.name = std::move(name);
     e.instance.port = port;

@@ -162,9 +162,16 @@ TEST(Mdns, AResponderSeesAnotherAnnounceAndSayGoodbye) {
     ASSERT_TRUE(announcer && listener);
     ASSERT_EQ(loop.run([&] { return announcer->announce(pump()); }), status::Good);
     EXPECT_TRUE(log.waitFor("announced pump opc.tcp://127.0.0.1:4840/ua"));
-    loop.run([&] { announcer->withdraw("pump"); return 0; });
+    loop.run([&] {
+        announcer->withdraw("pump");
+        return 0;
+    });
     EXPECT_TRUE(log.waitFor("gone pump goodbye"));
-    loop.run([&] { announcer->shutdown(); listener->shutdown(); return 0; });
+    loop.run([&] {
+        announcer->shutdown();
+        listener->shutdown();
+        return 0;
+    });
 }
 
 TEST(Mdns, AListenerStartedLaterFindsEarlierServersByItsFirstQuery) {
@@ -180,7 +187,11 @@ TEST(Mdns, AListenerStartedLaterFindsEarlierServersByItsFirstQuery) {
     // libmdnsd repeats an announcement 2 s after the first one; finding it well before that
     // means the listener's own query was answered.
     EXPECT_TRUE(log.waitFor("announced pump opc.tcp://127.0.0.1:4840/ua", 1500ms));
-    loop.run([&] { announcer->shutdown(); listener->shutdown(); return 0; });
+    loop.run([&] {
+        announcer->shutdown();
+        listener->shutdown();
+        return 0;
+    });
 }
 
 TEST(Mdns, AServerThatVanishesWithoutGoodbyeExpiresAfterItsTtl) {
@@ -194,7 +205,10 @@ TEST(Mdns, AServerThatVanishesWithoutGoodbyeExpiresAfterItsTtl) {
     const auto seen = std::chrono::steady_clock::now();
     ASSERT_TRUE(log.waitFor("gone ghost expired", 5s));
     EXPECT_GE(std::chrono::steady_clock::now() - seen, 1500ms);  // not before its TTL
-    loop.run([&] { listener->shutdown(); return 0; });
+    loop.run([&] {
+        listener->shutdown();
+        return 0;
+    });
 }
 
 TEST(Mdns, MalformedAndOversizedDatagramsAreDroppedAndCountedWithoutHarm) {
@@ -227,7 +241,11 @@ TEST(Mdns, MalformedAndOversizedDatagramsAreDroppedAndCountedWithoutHarm) {
     EXPECT_FALSE(log.has("announced evil opc.tcp://127.0.0.1:4999"));
     EXPECT_GE(loop.run([&] { return listener->stats().malformed; }), bad.size());
     EXPECT_GE(loop.run([&] { return announcer->stats().malformed; }), bad.size());
-    loop.run([&] { announcer->shutdown(); listener->shutdown(); return 0; });
+    loop.run([&] {
+        announcer->shutdown();
+        listener->shutdown();
+        return 0;
+    });
 }
 
 TEST(Mdns, BadAnnouncementsAreRefused) {
@@ -244,7 +262,10 @@ TEST(Mdns, BadAnnouncementsAreRefused) {
     bad = pump();
     bad.capabilities = {"A,B"};
     EXPECT_EQ(loop.run([&] { return r->announce(bad); }), status::BadInvalidArgument);
-    loop.run([&] { r->shutdown(); return 0; });
+    loop.run([&] {
+        r->shutdown();
+        return 0;
+    });
 }
 
 TEST(Mdns, TheWatcherDescribesAnnouncedServersAndReportsThemGone) {
@@ -273,9 +294,17 @@ TEST(Mdns, TheWatcherDescribesAnnouncedServersAndReportsThemGone) {
     a.port = server.port();
     loop.run([&] { return announcer->announce(a); });
     EXPECT_TRUE(log.waitFor("announced watched urn:test:watched"));
-    loop.run([&] { announcer->withdraw("watched"); return 0; });
+    loop.run([&] {
+        announcer->withdraw("watched");
+        return 0;
+    });
     EXPECT_TRUE(log.waitFor("gone urn:test:watched goodbye"));
-    loop.run([&] { watcher->stop(); announcer->shutdown(); listener->shutdown(); return 0; });
+    loop.run([&] {
+        watcher->stop();
+        announcer->shutdown();
+        listener->shutdown();
+        return 0;
+    });
 }
 
 /// An LDS with mDNS, on its RunningServer's thread.
@@ -350,12 +379,16 @@ TEST(Mdns, AServerRegistersWithTheLdsItDiscoversAndUnregistersOnStop) {
 
     std::promise<void> stopped;
     loop.run([&] {
-        asio::co_spawn(loop.io(), registrar->stop(), [&](std::exception_ptr) { stopped.set_value(); });
+        asio::co_spawn(loop.io(), registrar->stop(),
+                       [&](std::exception_ptr) { stopped.set_value(); });
         return 0;
     });
     ASSERT_EQ(stopped.get_future().wait_for(10s), std::future_status::ready);
     EXPECT_FALSE(lds.registered("urn:test:pump"));
-    loop.run([&] { responder->shutdown(); return 0; });
+    loop.run([&] {
+        responder->shutdown();
+        return 0;
+    });
 }
 
 TEST(Mdns, TheLdsAnnouncesARegisteredServerOnItsBehalfUntilItUnregisters) {
@@ -382,7 +415,10 @@ TEST(Mdns, TheLdsAnnouncesARegisteredServerOnItsBehalfUntilItUnregisters) {
     ASSERT_TRUE((client.request<RegisterServer2Request, RegisterServer2Response>(req).ok()));
     EXPECT_TRUE(log.waitFor("gone silent goodbye"));
     client.disconnect();
-    loop.run([&] { listener->shutdown(); return 0; });
+    loop.run([&] {
+        listener->shutdown();
+        return 0;
+    });
 }
 
 }  // namespace

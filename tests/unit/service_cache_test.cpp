@@ -55,7 +55,8 @@ TEST_F(ServiceCacheTest, AnnouncesACompleteServiceOnce) {
     EXPECT_EQ(s.discoveryUrl(), "opc.tcp://198.18.0.1:4840/");
     EXPECT_TRUE(s.hasCapability("lds"));
     // The same records again (a re-announcement) change nothing.
-    EXPECT_TRUE(cache.ingest(announcement("pump", "host-a.local", kHostA, 4840), kHostA, t0 + 1s).empty());
+    EXPECT_TRUE(
+        cache.ingest(announcement("pump", "host-a.local", kHostA, 4840), kHostA, t0 + 1s).empty());
     EXPECT_EQ(cache.size(), 1u);
 }
 
@@ -124,8 +125,8 @@ TEST_F(ServiceCacheTest, PicksTheAddressTheServiceWasAnnouncedFrom) {
 
 TEST_F(ServiceCacheTest, ReadsPathAndCapabilitiesFromTxt) {
     auto events = cache.ingest(
-        announcement("x", "h.local", kHostA, 4840, 120, {"PATH=UA/Server", "caps=DA,HD,,"}),
-        kHostA, t0);
+        announcement("x", "h.local", kHostA, 4840, 120, {"PATH=UA/Server", "caps=DA,HD,,"}), kHostA,
+        t0);
     ASSERT_EQ(events.size(), 1u);
     EXPECT_EQ(events[0].instance.path, "/UA/Server");
     EXPECT_EQ(events[0].instance.capabilities, (std::vector<std::string>{"DA", "HD"}));

@@ -16,7 +16,8 @@ public:
         : bytes_(bytes), error_(error) {}
 
     bool fail(const char* what) {
-        if (ok_ && error_ != nullptr) *error_ = std::string(what) + " at byte " + std::to_string(pos_);
+        if (ok_ && error_ != nullptr)
+            *error_ = std::string(what) + " at byte " + std::to_string(pos_);
         ok_ = false;
         return false;
     }
@@ -251,8 +252,12 @@ Result<std::vector<std::uint8_t>> encodeDnsMessage(const DnsMessage& message) {
         const std::size_t lengthAt = out.size();
         putU16(out, 0);
         switch (static_cast<DnsType>(rr.type)) {
-            case DnsType::A: out.insert(out.end(), rr.ipv4.begin(), rr.ipv4.end()); break;
-            case DnsType::Aaaa: out.insert(out.end(), rr.ipv6.begin(), rr.ipv6.end()); break;
+            case DnsType::A:
+                out.insert(out.end(), rr.ipv4.begin(), rr.ipv4.end());
+                break;
+            case DnsType::Aaaa:
+                out.insert(out.end(), rr.ipv6.begin(), rr.ipv6.end());
+                break;
             case DnsType::Ptr:
                 if (!putName(out, rr.target)) return status::BadEncodingError;
                 break;
@@ -270,7 +275,9 @@ Result<std::vector<std::uint8_t>> encodeDnsMessage(const DnsMessage& message) {
                 }
                 break;
             case DnsType::Any:
-            default: out.insert(out.end(), rr.rdata.begin(), rr.rdata.end()); break;
+            default:
+                out.insert(out.end(), rr.rdata.begin(), rr.rdata.end());
+                break;
         }
         const std::size_t rdlength = out.size() - lengthAt - 2;
         if (rdlength > 0xFFFF) return status::BadEncodingError;

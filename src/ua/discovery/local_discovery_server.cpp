@@ -2,9 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
-#include <asio/experimental/as_tuple.hpp>
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
+#include <asio/experimental/as_tuple.hpp>
 #include <asio/ip/address_v4.hpp>
 #include <asio/use_awaitable.hpp>
 
@@ -69,9 +69,8 @@ void LocalDiscoveryServer::start(asio::any_io_executor executor) {
                     resp.configurationResults.push_back(status::BadNotSupported);
                     continue;
                 }
-                const bool nameOk =
-                    config.mdnsServerName.empty() ||
-                    mdns::validateServerName(config.mdnsServerName).isGood();
+                const bool nameOk = config.mdnsServerName.empty() ||
+                                    mdns::validateServerName(config.mdnsServerName).isGood();
                 const bool capsOk =
                     config.serverCapabilities.size() <= 32 &&
                     std::all_of(config.serverCapabilities.begin(), config.serverCapabilities.end(),
@@ -91,9 +90,8 @@ void LocalDiscoveryServer::start(asio::any_io_executor executor) {
 
     const ServerDescription& description = server_.config().description;
     table.add<FindServersRequest, FindServersResponse>(
-        Access::NoSession,
-        [weak, &description](ServiceContext& ctx, const FindServersRequest& req,
-                             FindServersResponse& resp) {
+        Access::NoSession, [weak, &description](ServiceContext& ctx, const FindServersRequest& req,
+                                                FindServersResponse& resp) {
             auto self = weak.lock();
             if (!self) return status::BadShutdown;
             const String url = description.endpointUrlFor(
@@ -109,9 +107,8 @@ void LocalDiscoveryServer::start(asio::any_io_executor executor) {
         });
 
     table.add<FindServersOnNetworkRequest, FindServersOnNetworkResponse>(
-        Access::NoSession,
-        [weak](ServiceContext&, const FindServersOnNetworkRequest& req,
-               FindServersOnNetworkResponse& resp) {
+        Access::NoSession, [weak](ServiceContext&, const FindServersOnNetworkRequest& req,
+                                  FindServersOnNetworkResponse& resp) {
             auto self = weak.lock();
             if (!self) return status::BadShutdown;
             if (!self->responder_) return status::BadServiceUnsupported;
@@ -174,7 +171,8 @@ StatusCode LocalDiscoveryServer::registerServer(const RegisteredServer& server,
             spdlog::info("LDS: '{}' unregistered", server.serverUri);
             withdrawFor(server.serverUri);
             break;
-        case RegisteredServerTable::Change::NotFound: break;
+        case RegisteredServerTable::Change::NotFound:
+            break;
     }
     return status::Good;
 }

@@ -6,9 +6,9 @@
 #include "libmdnsd_adapter/libmdnsd_adapter.h"
 
 #include <algorithm>
-#include <asio/experimental/as_tuple.hpp>
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
+#include <asio/experimental/as_tuple.hpp>
 #include <asio/ip/multicast.hpp>
 #include <asio/use_awaitable.hpp>
 #include <cstring>
@@ -25,7 +25,9 @@ constexpr int kFrameBytes = 1472;
 // run out (see libmdnsd_adapter.h).
 constexpr std::size_t kLibmdnsdMaxInput = MDNS_ADAPTER_MAX_INPUT;
 
-std::string fqdn(std::string_view name) { return std::string(name) + "."; }
+std::string fqdn(std::string_view name) {
+    return std::string(name) + ".";
+}
 
 std::string instanceName(std::string_view serverName) {
     return std::string(serverName) + "." + std::string(kOpcUaServiceType);
@@ -71,7 +73,9 @@ StatusCode validateServerName(std::string_view name) {
     return status::Good;
 }
 
-void MdnsResponder::AdapterDeleter::operator()(mdns_adapter* a) const { mdns_adapter_free(a); }
+void MdnsResponder::AdapterDeleter::operator()(mdns_adapter* a) const {
+    mdns_adapter_free(a);
+}
 
 MdnsResponder::MdnsResponder(asio::any_io_executor executor, MdnsConfig config)
     : executor_(std::move(executor)),
@@ -99,11 +103,14 @@ Result<std::shared_ptr<MdnsResponder>> MdnsResponder::create(asio::any_io_execut
     if (r->nics_.empty()) {
         return fail(r->config_.interfaces.empty()
                         ? "no multicast-capable IPv4 interface"
-                        : "none of the interfaces " + [&] {
-                              std::string names;
-                              for (const auto& n : r->config_.interfaces) names += (names.empty() ? "" : ", ") + n;
-                              return names;
-                          }() + " has an IPv4 address and multicast");
+                        : "none of the interfaces " +
+                              [&] {
+                                  std::string names;
+                                  for (const auto& n : r->config_.interfaces)
+                                      names += (names.empty() ? "" : ", ") + n;
+                                  return names;
+                              }() +
+                              " has an IPv4 address and multicast");
     }
     if (r->config_.hostName.empty()) {
         char buf[256] = {};
@@ -130,11 +137,13 @@ Result<std::shared_ptr<MdnsResponder>> MdnsResponder::create(asio::any_io_execut
     if (!ec) s.bind(asio::ip::udp::endpoint(asio::ip::address_v4::any(), r->config_.port), ec);
     if (!ec) s.set_option(asio::ip::multicast::enable_loopback(true), ec);
     if (!ec) s.set_option(asio::ip::multicast::hops(255), ec);  // RFC 6762 11
-    if (ec) return fail("mDNS socket on port " + std::to_string(r->config_.port) + ": " + ec.message());
+    if (ec)
+        return fail("mDNS socket on port " + std::to_string(r->config_.port) + ": " + ec.message());
     std::size_t joined = 0;
     for (const auto& nic : r->nics_) {
         asio::error_code jec;
-        s.set_option(asio::ip::multicast::join_group(group, asio::ip::address_v4(nic.address)), jec);
+        s.set_option(asio::ip::multicast::join_group(group, asio::ip::address_v4(nic.address)),
+                     jec);
         if (jec) {
             spdlog::warn("mDNS: cannot join {} on {} ({}): {}", kGroup, nic.name,
                          toString(nic.address), jec.message());
@@ -150,7 +159,8 @@ void MdnsResponder::start() {
     if (started_ || closed_) return;
     started_ = true;
     std::string names;
-    for (const auto& nic : nics_) names += (names.empty() ? "" : ", ") + nic.name + " " + toString(nic.address);
+    for (const auto& nic : nics_)
+        names += (names.empty() ? "" : ", ") + nic.name + " " + toString(nic.address);
     spdlog::info("mDNS on {} (host {}.local, TTL {} s, query period {} ms)", names, hostName_,
                  config_.recordTtl.count(), config_.queryPeriod.count());
     nextBrowse_ = Clock::now();  // the first query goes out at once
@@ -164,11 +174,14 @@ std::size_t MdnsResponder::subscribe(Listener listener) {
     return id;
 }
 
-void MdnsResponder::unsubscribe(std::size_t id) { listeners_.erase(id); }
+void MdnsResponder::unsubscribe(std::size_t id) {
+    listeners_.erase(id);
+}
 
 void MdnsResponder::dispatch(const std::vector<ServiceEvent>& events) {
     for (const auto& e : events) {
-        spdlog::debug("mDNS: {} {} at {}", e.kind == ServiceEvent::Kind::Announced ? "announced" : "gone",
+        spdlog::debug("mDNS: {} {} at {}",
+                      e.kind == ServiceEvent::Kind::Announced ? "announced" : "gone",
                       e.instance.name, e.instance.discoveryUrl());
         const auto listeners = listeners_;  // a listener may unsubscribe
         for (const auto& [id, l] : listeners) l(e);
@@ -291,8 +304,8 @@ asio::awaitable<void> MdnsResponder::receiveLoop() {
     std::vector<std::uint8_t> buf(65536);
     while (!closed_) {
         asio::ip::udp::endpoint from;
-        auto [ec, n] = co_await socket_.async_receive_from(asio::buffer(buf), from,
-                                                           asio::experimental::as_tuple(asio::use_awaitable));
+        auto [ec, n] = co_await socket_.async_receive_from(
+            asio::buffer(buf), from, asio::experimental::as_tuple(asio::use_awaitable));
         if (closed_ || ec == asio::error::operation_aborted) co_return;
         if (ec) {
             spdlog::debug("mDNS receive: {}", ec.message());
@@ -343,14 +356,17 @@ void MdnsResponder::answerWithAdditionals(const DnsMessage& query, const Ipv4& s
     std::vector<DnsQuestion> extra;
     for (const auto& q : query.questions) {
         const std::string name = foldCase(q.name);
-        const bool browse = name == typeKey && (q.type == static_cast<std::uint16_t>(DnsType::Ptr) ||
-                                                q.type == static_cast<std::uint16_t>(DnsType::Any));
+        const bool browse =
+            name == typeKey && (q.type == static_cast<std::uint16_t>(DnsType::Ptr) ||
+                                q.type == static_cast<std::uint16_t>(DnsType::Any));
         for (const auto& [key, p] : published_) {
             const std::string instance = instanceName(p.announcement.name);
             if (!browse && name != foldCase(instance)) continue;
             if (browse) {
-                extra.push_back({instance + ".", static_cast<std::uint16_t>(DnsType::Srv), kClassIn});
-                extra.push_back({instance + ".", static_cast<std::uint16_t>(DnsType::Txt), kClassIn});
+                extra.push_back(
+                    {instance + ".", static_cast<std::uint16_t>(DnsType::Srv), kClassIn});
+                extra.push_back(
+                    {instance + ".", static_cast<std::uint16_t>(DnsType::Txt), kClassIn});
             }
             extra.push_back({p.hostFqdn, static_cast<std::uint16_t>(DnsType::A), kClassIn});
         }
@@ -395,7 +411,8 @@ void MdnsResponder::sendMulticast(std::span<const std::uint8_t> bytes) {
     const asio::ip::udp::endpoint group(asio::ip::make_address_v4(kGroup), config_.port);
     for (const auto& nic : nics_) {
         asio::error_code ec;
-        socket_.set_option(asio::ip::multicast::outbound_interface(asio::ip::address_v4(nic.address)), ec);
+        socket_.set_option(
+            asio::ip::multicast::outbound_interface(asio::ip::address_v4(nic.address)), ec);
         if (!ec) socket_.send_to(asio::buffer(bytes.data(), bytes.size()), group, 0, ec);
         if (ec) {
             // A link that is down (a cable pulled) fails here until it is back: not an error

@@ -137,8 +137,8 @@ private:
     std::vector<NetworkInterface> nics_;
     std::string hostName_;
     std::unique_ptr<mdns_adapter, AdapterDeleter> mdnsd_;  // libmdnsd
-    std::vector<mdns_adapter_record*> hostRecords_;      // our A records
-    std::map<std::string, Published> published_;  // folded name -> records
+    std::vector<mdns_adapter_record*> hostRecords_;        // our A records
+    std::map<std::string, Published> published_;           // folded name -> records
     ServiceCache cache_;
     std::map<std::size_t, Listener> listeners_;
     std::size_t nextListener_ = 1;

@@ -35,7 +35,8 @@ std::vector<NetworkInterface> chooseMdnsInterfaces(const std::vector<NetworkInte
     std::vector<NetworkInterface> out;
     if (!wanted.empty()) {
         for (const auto& nic : all) {
-            if (nic.multicast && std::find(wanted.begin(), wanted.end(), nic.name) != wanted.end()) {
+            if (nic.multicast &&
+                std::find(wanted.begin(), wanted.end(), nic.name) != wanted.end()) {
                 out.push_back(nic);
             }
         }

@@ -37,7 +37,8 @@ StatusCode RegisteredServerTable::validate(const RegisteredServer& s) const {
     }
     if (!s.isOnline) return status::Good;
     if (s.serverType == ApplicationType::Client) return status::BadInvalidArgument;
-    if (static_cast<std::int32_t>(s.serverType) < 0 || static_cast<std::int32_t>(s.serverType) > 3) {
+    if (static_cast<std::int32_t>(s.serverType) < 0 ||
+        static_cast<std::int32_t>(s.serverType) > 3) {
         return status::BadInvalidArgument;
     }
     if (s.serverNames.size() > limits_.maxNames || s.discoveryUrls.size() > limits_.maxUrls ||

@@ -2,9 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
-#include <asio/experimental/as_tuple.hpp>
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
+#include <asio/experimental/as_tuple.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
 
@@ -16,8 +16,8 @@ std::shared_ptr<ServerWatcher> ServerWatcher::create(asio::any_io_executor execu
                                                      std::shared_ptr<mdns::MdnsResponder> responder,
                                                      Callbacks callbacks,
                                                      std::chrono::milliseconds timeout) {
-    return std::shared_ptr<ServerWatcher>(
-        new ServerWatcher(std::move(executor), std::move(responder), std::move(callbacks), timeout));
+    return std::shared_ptr<ServerWatcher>(new ServerWatcher(
+        std::move(executor), std::move(responder), std::move(callbacks), timeout));
 }
 
 ServerWatcher::ServerWatcher(asio::any_io_executor executor,

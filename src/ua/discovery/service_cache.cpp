@@ -124,7 +124,8 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
                 // A target without an address (yet): ask for it, once per new target. The
                 // A record often comes in the same message; asking then costs one datagram.
                 if (!known && !parseIpv4Literal(host) && pending_.size() < 64) {
-                    pending_.push_back({rr.target, static_cast<std::uint16_t>(DnsType::A), kClassIn});
+                    pending_.push_back(
+                        {rr.target, static_cast<std::uint16_t>(DnsType::A), kClassIn});
                 }
             }
             return false;
@@ -168,7 +169,8 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
         }
         case DnsType::Aaaa:
         case DnsType::Any:
-        default: return false;
+        default:
+            return false;
     }
 }
 

@@ -37,7 +37,7 @@ struct ServiceInstance {
     std::string name;  // the instance label: the server's mDNS name
     std::string host;  // the SRV target
     std::uint16_t port = 0;
-    std::string path;  // TXT path=, with its leading '/' (or empty)
+    std::string path;                       // TXT path=, with its leading '/' (or empty)
     std::vector<std::string> capabilities;  // TXT caps=
     /// The address to reach it by: the A record that matches the sender of the records when
     /// there is one (so a peer on another host gets an address it can route to).

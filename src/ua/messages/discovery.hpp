@@ -95,8 +95,8 @@ struct RegisteredServer {
     String semaphoreFilePath;
     bool isOnline = true;
     static auto tie(auto& s) {
-        return std::tie(s.serverUri, s.productUri, s.serverNames, s.serverType,
-                        s.gatewayServerUri, s.discoveryUrls, s.semaphoreFilePath, s.isOnline);
+        return std::tie(s.serverUri, s.productUri, s.serverNames, s.serverType, s.gatewayServerUri,
+                        s.discoveryUrls, s.semaphoreFilePath, s.isOnline);
     }
 };
 

@@ -172,7 +172,8 @@ Result<OwnCertificate> loadOrCreateOwnCertificate(const fs::path& pkiDir,
     for (const char* sub : {"own/certs", "own/private", "trusted/certs", "trusted/crl",
                             "rejected/certs", "issuers/certs", "issuers/crl"}) {
         fs::create_directories(pkiDir / sub, ec);
-        if (ec) return fail(error, "cannot create " + (pkiDir / sub).string() + ": " + ec.message());
+        if (ec)
+            return fail(error, "cannot create " + (pkiDir / sub).string() + ": " + ec.message());
     }
     ::chmod((pkiDir / "own/private").c_str(), 0700);
     const fs::path certFile = pkiDir / "own/certs/cert.der";
@@ -205,8 +206,8 @@ fs::path defaultPkiDirectory(const std::string& applicationUri) {
     }
     std::string file;
     for (char c : applicationUri) {
-        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                        c == '-' || c == '_' || c == '.';
+        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                        (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.';
         file.push_back(ok ? c : '_');
     }
     return base / "skillcell/pki" / (file.empty() ? std::string("default") : file);

@@ -7,9 +7,9 @@
 
 struct mdns_adapter {
     mdns_daemon_t* daemon;
-    struct message in;                     /* libmdnsd's parse state (~70 KiB) */
-    struct message out;                    /* and its output message */
-    unsigned char packet[MAX_PACKET_LEN];  /* zero-padded input: its parser has no length */
+    struct message in;                    /* libmdnsd's parse state (~70 KiB) */
+    struct message out;                   /* and its output message */
+    unsigned char packet[MAX_PACKET_LEN]; /* zero-padded input: its parser has no length */
 };
 
 mdns_adapter* mdns_adapter_new(int frame) {
@@ -59,7 +59,9 @@ void mdns_adapter_done(mdns_adapter* a, mdns_adapter_record* r) {
     mdnsd_done(a->daemon, (mdns_record_t*)r);
 }
 
-void mdns_adapter_shutdown(mdns_adapter* a) { mdnsd_shutdown(a->daemon); }
+void mdns_adapter_shutdown(mdns_adapter* a) {
+    mdnsd_shutdown(a->daemon);
+}
 
 void mdns_adapter_in(mdns_adapter* a, const unsigned char* data, size_t len, uint32_t ip,
                      unsigned short port) {
@@ -73,8 +75,8 @@ void mdns_adapter_in(mdns_adapter* a, const unsigned char* data, size_t len, uin
     mdnsd_in(a->daemon, &a->in, from, port);
 }
 
-size_t mdns_adapter_out(mdns_adapter* a, const unsigned char** data, int* multicast,
-                        uint32_t* ip, unsigned short* port) {
+size_t mdns_adapter_out(mdns_adapter* a, const unsigned char** data, int* multicast, uint32_t* ip,
+                        unsigned short* port) {
     struct in_addr to;
     unsigned short p = 0;
     to.s_addr = 0;

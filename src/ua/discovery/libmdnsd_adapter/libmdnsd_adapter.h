@@ -46,8 +46,8 @@ void mdns_adapter_in(mdns_adapter* a, const unsigned char* data, size_t len, uin
                      unsigned short port);
 /* The next datagram to send: its length (0: nothing to send now); *data stays valid until
  * the next call. *multicast is 1 for the mDNS group, else *ip / *port (host order) say where. */
-size_t mdns_adapter_out(mdns_adapter* a, const unsigned char** data, int* multicast,
-                        uint32_t* ip, unsigned short* port);
+size_t mdns_adapter_out(mdns_adapter* a, const unsigned char** data, int* multicast, uint32_t* ip,
+                        unsigned short* port);
 /* Microseconds until mdns_adapter_out() has something again. */
 long long mdns_adapter_sleep_us(mdns_adapter* a);
 
