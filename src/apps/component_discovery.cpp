@@ -97,9 +97,9 @@ std::unique_ptr<ComponentDiscovery> ComponentDiscovery::start(
     announcement.capabilities = options.capabilities;
     if (isLds && std::find(announcement.capabilities.begin(), announcement.capabilities.end(),
                            "LDS") == announcement.capabilities.end()) {
-        announcement.capabilities.push_back("LDS");
+        announcement.capabilities.emplace_back("LDS");
     }
-    if (announcement.capabilities.empty()) announcement.capabilities.push_back("NA");
+    if (announcement.capabilities.empty()) announcement.capabilities.emplace_back("NA");
     if (ua::mdns::validateServerName(d->mdnsName_).isBad()) {
         if (error != nullptr)
             *error = "bad mDNS name '" + d->mdnsName_ + "': one label of 1..63 bytes, no dots";

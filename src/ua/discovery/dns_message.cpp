@@ -207,7 +207,7 @@ Result<DnsMessage> parseDnsMessage(std::span<const std::uint8_t> bytes, std::str
     }
     // Every question takes at least 5 bytes and every record at least 11: a count that
     // cannot fit is refused before anything is reserved for it.
-    if (counts[0] * 5U + (entries - counts[0]) * 11U > p.remaining()) {
+    if (std::size_t{counts[0]} * 5 + (entries - counts[0]) * 11 > p.remaining()) {
         p.fail("counts larger than the message");
         return status::BadDecodingError;
     }

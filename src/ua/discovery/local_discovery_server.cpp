@@ -26,7 +26,7 @@ std::string firstOpcTcpUrl(const RegisteredServer& s) {
 std::shared_ptr<LocalDiscoveryServer> LocalDiscoveryServer::create(
     Server& server, std::shared_ptr<mdns::MdnsResponder> responder, LdsConfig config) {
     return std::shared_ptr<LocalDiscoveryServer>(
-        new LocalDiscoveryServer(server, std::move(responder), std::move(config)));
+        new LocalDiscoveryServer(server, std::move(responder), config));
 }
 
 LocalDiscoveryServer::LocalDiscoveryServer(Server& server,
@@ -34,7 +34,7 @@ LocalDiscoveryServer::LocalDiscoveryServer(Server& server,
                                            LdsConfig config)
     : server_(server),
       responder_(std::move(responder)),
-      config_(std::move(config)),
+      config_(config),
       table_(config_.registrationTimeout, config_.limits),
       directory_(DateTime::now()) {}
 

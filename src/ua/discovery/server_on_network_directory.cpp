@@ -29,7 +29,8 @@ void ServerOnNetworkDirectory::apply(const mdns::ServiceEvent& event) {
 std::vector<ServerOnNetwork> ServerOnNetworkDirectory::find(
     const FindServersOnNetworkRequest& req) const {
     std::vector<ServerOnNetwork> out;
-    for (const auto& [key, r] : byName_) {
+    for (const auto& entry : byName_) {
+        const ServerOnNetwork& r = entry.second;
         if (r.recordId < req.startingRecordId) continue;
         const bool hasAll = std::all_of(
             req.serverCapabilityFilter.begin(), req.serverCapabilityFilter.end(),
