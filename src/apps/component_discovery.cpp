@@ -29,6 +29,11 @@ void addListenerOptions(CLI::App* cmd, DiscoveryOptions& o) {
     cmd->add_option("--mdns-interface", o.interfaces,
                     "network interface for mDNS (repeatable; default: every multicast-capable "
                     "one, loopback only when it is the only one)");
+    cmd->add_option("--mdns-ip", o.ipVersions,
+                    "IP versions that carry mDNS: 4 (224.0.0.251), 6 (ff02::fb) or both (IPv6 "
+                    "where an interface has it)")
+        ->check(CLI::IsMember({"4", "6", "both"}))
+        ->capture_default_str();
 }
 
 void addDiscoveryOptions(CLI::App* cmd, DiscoveryOptions& o, bool registers, bool isLds) {
@@ -65,6 +70,8 @@ ua::mdns::MdnsConfig mdnsConfigFrom(const DiscoveryOptions& o) {
     c.recordTtl = std::chrono::seconds(o.ttlSeconds);
     c.queryPeriod = std::chrono::milliseconds(static_cast<long>(o.queryPeriodSeconds * 1000));
     c.interfaces = o.interfaces;
+    c.ipv4 = o.ipVersions != "6";
+    c.ipv6 = o.ipVersions != "4";
     return c;
 }
 

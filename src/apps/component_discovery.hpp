@@ -25,13 +25,14 @@ struct DiscoveryOptions {
     int registrationTimeoutSeconds = 660;
     std::vector<std::string> interfaces;
     std::vector<std::string> capabilities;
+    std::string ipVersions = "both";  // "4", "6" or "both"
 };
 
 /// Adds --no-discovery, --mdns-name, --mdns-ttl, --mdns-query-period, --mdns-interface,
 /// --caps and (for servers that register) --register-period, (for an LDS)
 /// --registration-timeout.
 void addDiscoveryOptions(CLI::App* cmd, DiscoveryOptions& options, bool registers, bool isLds);
-/// Only the options a pure listener needs (--mdns-query-period, --mdns-interface).
+/// Only the options a pure listener needs (--mdns-query-period, --mdns-interface, --mdns-ip).
 void addListenerOptions(CLI::App* cmd, DiscoveryOptions& options);
 [[nodiscard]] ua::mdns::MdnsConfig mdnsConfigFrom(const DiscoveryOptions& options);
 

@@ -10,6 +10,7 @@
 #include <asio/detached.hpp>
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/ip/multicast.hpp>
+#include <asio/ip/v6_only.hpp>
 #include <asio/use_awaitable.hpp>
 #include <cstring>
 #include <thread>
@@ -19,6 +20,7 @@ namespace skillcell::ua::mdns {
 namespace {
 
 constexpr auto kGroup = "224.0.0.251";
+constexpr auto kGroup6 = "ff02::fb";
 // What we let libmdnsd put into one datagram: an Ethernet MTU less the IP and UDP headers.
 constexpr int kFrameBytes = 1472;
 // libmdnsd's parser gets only datagrams small enough that its fixed 4 KiB name area cannot
@@ -81,6 +83,7 @@ MdnsResponder::MdnsResponder(asio::any_io_executor executor, MdnsConfig config)
     : executor_(std::move(executor)),
       config_(std::move(config)),
       socket_(executor_),
+      socket6_(executor_),
       timer_(executor_) {}
 
 MdnsResponder::~MdnsResponder() = default;
@@ -122,37 +125,93 @@ Result<std::shared_ptr<MdnsResponder>> MdnsResponder::create(asio::any_io_execut
     r->mdnsd_.reset(mdns_adapter_new(kFrameBytes));
     if (!r->mdnsd_) return fail("out of memory for libmdnsd");
 
+    if (!r->config_.ipv4 && !r->config_.ipv6) return fail("neither IPv4 nor IPv6 enabled");
+    if (r->config_.ipv4) {
+        asio::error_code ec;
+        auto& s = r->socket_;
+        const auto group = asio::ip::make_address_v4(kGroup);
+        s.open(asio::ip::udp::v4(), ec);
+        if (!ec) s.set_option(asio::ip::udp::socket::reuse_address(true), ec);
+        if (!ec) {
+            // Several processes on one host (an LDS and servers) share port 5353.
+            const int one = 1;
+            if (setsockopt(s.native_handle(), SOL_SOCKET, SO_REUSEPORT, &one, sizeof one) != 0) {
+                ec = asio::error_code(errno, asio::system_category());
+            }
+        }
+        if (!ec) s.bind(asio::ip::udp::endpoint(asio::ip::address_v4::any(), r->config_.port), ec);
+        if (!ec) s.set_option(asio::ip::multicast::enable_loopback(true), ec);
+        if (!ec) s.set_option(asio::ip::multicast::hops(255), ec);  // RFC 6762 11
+        if (ec) {
+            return fail("mDNS socket on port " + std::to_string(r->config_.port) + ": " +
+                        ec.message());
+        }
+        std::size_t joined = 0;
+        for (const auto& nic : r->nics_) {
+            asio::error_code jec;
+            s.set_option(asio::ip::multicast::join_group(group, asio::ip::address_v4(nic.address)),
+                         jec);
+            if (jec) {
+                spdlog::warn("mDNS: cannot join {} on {} ({}): {}", kGroup, nic.name,
+                             toString(nic.address), jec.message());
+            } else {
+                ++joined;
+            }
+        }
+        if (joined == 0) return fail("could not join the mDNS group on any interface");
+    }
+    if (r->config_.ipv6) {
+        std::string why;
+        if (!r->openIpv6(why)) {
+            if (!r->config_.ipv4) return fail("mDNS over IPv6: " + why);
+            spdlog::info("mDNS over IPv4 only: {}", why);
+        }
+    }
+    return r;
+}
+
+bool MdnsResponder::openIpv6(std::string& why) {
     asio::error_code ec;
-    auto& s = r->socket_;
-    const auto group = asio::ip::make_address_v4(kGroup);
-    s.open(asio::ip::udp::v4(), ec);
+    auto& s = socket6_;
+    s.open(asio::ip::udp::v6(), ec);
+    if (!ec) s.set_option(asio::ip::v6_only(true), ec);
     if (!ec) s.set_option(asio::ip::udp::socket::reuse_address(true), ec);
     if (!ec) {
-        // Several processes on one host (an LDS and servers) share port 5353.
         const int one = 1;
         if (setsockopt(s.native_handle(), SOL_SOCKET, SO_REUSEPORT, &one, sizeof one) != 0) {
             ec = asio::error_code(errno, asio::system_category());
         }
     }
-    if (!ec) s.bind(asio::ip::udp::endpoint(asio::ip::address_v4::any(), r->config_.port), ec);
+    if (!ec) s.bind(asio::ip::udp::endpoint(asio::ip::address_v6::any(), config_.port), ec);
     if (!ec) s.set_option(asio::ip::multicast::enable_loopback(true), ec);
-    if (!ec) s.set_option(asio::ip::multicast::hops(255), ec);  // RFC 6762 11
-    if (ec)
-        return fail("mDNS socket on port " + std::to_string(r->config_.port) + ": " + ec.message());
-    std::size_t joined = 0;
-    for (const auto& nic : r->nics_) {
+    if (!ec) s.set_option(asio::ip::multicast::hops(255), ec);
+    if (ec) {
+        why = ec.message();
+        s.close(ec);
+        return false;
+    }
+    const auto group = asio::ip::make_address_v6(kGroup6);
+    std::vector<unsigned> joined;
+    for (const auto& nic : nics_) {
+        if (!nic.hasIpv6 || nic.index == 0 ||
+            std::find(joined.begin(), joined.end(), nic.index) != joined.end()) {
+            continue;
+        }
         asio::error_code jec;
-        s.set_option(asio::ip::multicast::join_group(group, asio::ip::address_v4(nic.address)),
-                     jec);
+        s.set_option(asio::ip::multicast::join_group(group, nic.index), jec);
         if (jec) {
-            spdlog::warn("mDNS: cannot join {} on {} ({}): {}", kGroup, nic.name,
-                         toString(nic.address), jec.message());
+            spdlog::debug("mDNS: cannot join {} on {}: {}", kGroup6, nic.name, jec.message());
         } else {
-            ++joined;
+            joined.push_back(nic.index);
         }
     }
-    if (joined == 0) return fail("could not join the mDNS group on any interface");
-    return r;
+    if (joined.empty()) {
+        why = "no interface with IPv6 multicast";
+        s.close(ec);
+        return false;
+    }
+    v6Interfaces_ = std::move(joined);
+    return true;
 }
 
 void MdnsResponder::start() {
@@ -164,7 +223,8 @@ void MdnsResponder::start() {
     spdlog::info("mDNS on {} (host {}.local, TTL {} s, query period {} ms)", names, hostName_,
                  config_.recordTtl.count(), config_.queryPeriod.count());
     nextBrowse_ = Clock::now();  // the first query goes out at once
-    asio::co_spawn(executor_, receiveLoop(), asio::detached);
+    if (socket_.is_open()) asio::co_spawn(executor_, receiveLoop(socket_), asio::detached);
+    if (socket6_.is_open()) asio::co_spawn(executor_, receiveLoop(socket6_), asio::detached);
     asio::co_spawn(executor_, timerLoop(), asio::detached);
 }
 
@@ -287,6 +347,7 @@ void MdnsResponder::shutdown() {
     hostRecords_.clear();
     asio::error_code ec;
     socket_.close(ec);
+    socket6_.close(ec);
     timer_.cancel();
 }
 
@@ -299,20 +360,28 @@ void MdnsResponder::wake() {
     if (started_) timer_.cancel();
 }
 
-asio::awaitable<void> MdnsResponder::receiveLoop() {
+asio::awaitable<void> MdnsResponder::receiveLoop(asio::ip::udp::socket& socket) {
     auto self = shared_from_this();
     std::vector<std::uint8_t> buf(65536);
     while (!closed_) {
         asio::ip::udp::endpoint from;
-        auto [ec, n] = co_await socket_.async_receive_from(
+        auto [ec, n] = co_await socket.async_receive_from(
             asio::buffer(buf), from, asio::experimental::as_tuple(asio::use_awaitable));
         if (closed_ || ec == asio::error::operation_aborted) co_return;
         if (ec) {
             spdlog::debug("mDNS receive: {}", ec.message());
             continue;
         }
-        if (!from.address().is_v4()) continue;
-        handleDatagram(std::span(buf.data(), n), from.address().to_v4().to_bytes(), from.port());
+        // Over IPv6 the sender has no IPv4 address to match records against: the cache then
+        // takes the first address record (see ServiceCache).
+        Ipv4 source{};
+        if (from.address().is_v4()) {
+            source = from.address().to_v4().to_bytes();
+        } else if (from.address().to_v6().is_v4_mapped()) {
+            source =
+                asio::ip::make_address_v4(asio::ip::v4_mapped, from.address().to_v6()).to_bytes();
+        }
+        handleDatagram(std::span(buf.data(), n), source, from.port());
     }
 }
 
@@ -407,20 +476,37 @@ void MdnsResponder::flushOutput() {
 }
 
 void MdnsResponder::sendMulticast(std::span<const std::uint8_t> bytes) {
-    if (!socket_.is_open()) return;
-    const asio::ip::udp::endpoint group(asio::ip::make_address_v4(kGroup), config_.port);
-    for (const auto& nic : nics_) {
-        asio::error_code ec;
-        socket_.set_option(
-            asio::ip::multicast::outbound_interface(asio::ip::address_v4(nic.address)), ec);
-        if (!ec) socket_.send_to(asio::buffer(bytes.data(), bytes.size()), group, 0, ec);
+    auto sent = [this](const asio::error_code& ec, const std::string& where) {
         if (ec) {
-            // A link that is down (a cable pulled) fails here until it is back: not an error
-            // worth more than a debug line.
+            // A link that is down (a cable pulled) fails here until it is back: not an
+            // error worth more than a debug line.
             ++stats_.sendErrors;
-            spdlog::debug("mDNS send on {}: {}", nic.name, ec.message());
+            spdlog::debug("mDNS send on {}: {}", where, ec.message());
         } else {
             ++stats_.sent;
+        }
+    };
+    if (socket_.is_open()) {
+        const asio::ip::udp::endpoint group(asio::ip::make_address_v4(kGroup), config_.port);
+        for (const auto& nic : nics_) {
+            asio::error_code ec;
+            socket_.set_option(
+                asio::ip::multicast::outbound_interface(asio::ip::address_v4(nic.address)), ec);
+            if (!ec) socket_.send_to(asio::buffer(bytes.data(), bytes.size()), group, 0, ec);
+            sent(ec, nic.name);
+        }
+    }
+    if (socket6_.is_open()) {
+        for (const unsigned index : v6Interfaces_) {
+            asio::error_code ec;
+            auto group = asio::ip::make_address_v6(kGroup6);
+            group.scope_id(index);
+            socket6_.set_option(asio::ip::multicast::outbound_interface(index), ec);
+            if (!ec) {
+                socket6_.send_to(asio::buffer(bytes.data(), bytes.size()),
+                                 asio::ip::udp::endpoint(group, config_.port), 0, ec);
+            }
+            sent(ec, "IPv6 interface " + std::to_string(index));
         }
     }
 }

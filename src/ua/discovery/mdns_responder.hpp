@@ -1,6 +1,6 @@
 #pragma once
 // MdnsResponder: one process's mDNS presence (RFC 6762 / DNS-SD, as OPC 10000-12 uses it),
-// on Asio UDP multicast 224.0.0.251:5353.
+// on Asio UDP multicast 224.0.0.251:5353 and [ff02::fb]:5353.
 //
 // - Publishing is libmdnsd's job: it holds our records (PTR, SRV, TXT, A), announces them,
 //   answers queries for them, re-announces them before their TTL runs out, and sends the
@@ -9,6 +9,8 @@
 //   whose changes reach subscribers as "announced" / "gone" events.
 // - Every datagram is checked by parseDnsMessage() first; a malformed one is counted and
 //   dropped, and never reaches libmdnsd.
+// - IPv4 (224.0.0.251) always, and IPv6 (ff02::fb) on the interfaces that have it: every
+//   datagram goes out on both, and both are listened to.
 //
 // Threading: everything runs on the executor given to create(), which must not run handlers
 // concurrently. Listeners are called on it. The responder lives while its loops run
@@ -47,6 +49,10 @@ struct MdnsConfig {
     /// Our host name, without ".local"; empty: gethostname().
     std::string hostName;
     std::uint16_t port = 5353;
+    /// Which IP versions carry mDNS: IPv4 (224.0.0.251) and, where an interface has IPv6,
+    /// IPv6 (ff02::fb). The records are the same on both; discovery URLs use IPv4 addresses.
+    bool ipv4 = true;
+    bool ipv6 = true;
 };
 
 /// A server to announce.
@@ -117,7 +123,9 @@ private:
     };
 
     MdnsResponder(asio::any_io_executor executor, MdnsConfig config);
-    asio::awaitable<void> receiveLoop();
+    asio::awaitable<void> receiveLoop(asio::ip::udp::socket& socket);
+    /// Opens the IPv6 socket and joins ff02::fb where interfaces have IPv6; why not, if not.
+    bool openIpv6(std::string& why);
     asio::awaitable<void> timerLoop();
     void wake();
     void feedLibmdnsd(std::span<const std::uint8_t> bytes, const Ipv4& source,
@@ -132,9 +140,11 @@ private:
 
     asio::any_io_executor executor_;
     MdnsConfig config_;
-    asio::ip::udp::socket socket_;
+    asio::ip::udp::socket socket_;   // IPv4
+    asio::ip::udp::socket socket6_;  // IPv6, when available
     asio::steady_timer timer_;
     std::vector<NetworkInterface> nics_;
+    std::vector<unsigned> v6Interfaces_;  // interface indices that joined ff02::fb
     std::string hostName_;
     std::unique_ptr<mdns_adapter, AdapterDeleter> mdnsd_;  // libmdnsd
     std::vector<mdns_adapter_record*> hostRecords_;        // our A records

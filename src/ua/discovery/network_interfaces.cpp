@@ -25,7 +25,14 @@ std::vector<NetworkInterface> listIpv4Interfaces() {
         nic.up = (it->ifa_flags & IFF_UP) != 0 && (it->ifa_flags & IFF_RUNNING) != 0;
         nic.loopback = (it->ifa_flags & IFF_LOOPBACK) != 0;
         nic.multicast = (it->ifa_flags & IFF_MULTICAST) != 0;
+        nic.index = if_nametoindex(it->ifa_name);
         out.push_back(std::move(nic));
+    }
+    for (const ifaddrs* it = list; it != nullptr; it = it->ifa_next) {
+        if (it->ifa_addr == nullptr || it->ifa_addr->sa_family != AF_INET6) continue;
+        for (auto& nic : out) {
+            if (nic.name == it->ifa_name) nic.hasIpv6 = true;
+        }
     }
     return out;
 }

@@ -9,13 +9,16 @@ namespace skillcell::ua::mdns {
 
 struct NetworkInterface {
     std::string name;
+    unsigned index = 0;  // if_nametoindex
     Ipv4 address{};
+    bool hasIpv6 = false;  // the interface also has an IPv6 address (mDNS on ff02::fb)
     bool up = false;
     bool loopback = false;
     bool multicast = false;
 };
 
-/// Every interface address of the host (getifaddrs), IPv4 only.
+/// Every IPv4 interface address of the host (getifaddrs), with whether that interface also
+/// has IPv6.
 [[nodiscard]] std::vector<NetworkInterface> listIpv4Interfaces();
 
 /// The interfaces to run mDNS on: those named in `wanted` that can multicast, or else every

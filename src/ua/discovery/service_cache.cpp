@@ -120,7 +120,9 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
             } else if (roomFor(srvs_, key)) {
                 const std::string host = foldCase(rr.target);
                 const bool known = srvs_.contains(key) && srvs_[key].host == host;
-                srvs_[key] = Srv{timed, host, rr.port, source};
+                // A copy that came over IPv6 has no IPv4 sender: keep the one we know.
+                const Ipv4 sender = (source == Ipv4{} && known) ? srvs_[key].sender : source;
+                srvs_[key] = Srv{timed, host, rr.port, sender};
                 // A target without an address (yet): ask for it, once per new target. The
                 // A record often comes in the same message; asking then costs one datagram.
                 if (!known && !parseIpv4Literal(host) && pending_.size() < 64) {
