@@ -20,3 +20,6 @@ skillcell_unit_test(test_nodeset_roundtrip nodeset_roundtrip_test.cpp)
 target_link_libraries(test_nodeset_roundtrip PRIVATE skillcell_ua_nodeset skillcell_ua_server)
 target_compile_definitions(test_nodeset_roundtrip PRIVATE
   SKILLCELL_MODELS_DIR="${PROJECT_SOURCE_DIR}/models")
+
+skillcell_unit_test(test_skill_models skill_models_test.cpp)
+target_link_libraries(test_skill_models PRIVATE skillcell_ua_nodeset)

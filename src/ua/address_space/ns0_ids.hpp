@@ -72,6 +72,17 @@ inline constexpr std::uint32_t ServerType = 2004;
 inline constexpr std::uint32_t ServerCapabilitiesType = 2013;
 inline constexpr std::uint32_t ServerStatusType = 2138;
 inline constexpr std::uint32_t BuildInfoType = 3051;
+inline constexpr std::uint32_t ProgramTransitionEventType = 2378;
+inline constexpr std::uint32_t ProgramStateMachineType = 2391;
+inline constexpr std::uint32_t BaseAnalogType = 15318;
+inline constexpr std::uint32_t ThreeDFrameType = 18791;
+
+// Structures of the companion models' parameters.
+inline constexpr std::uint32_t Range = 884;
+inline constexpr std::uint32_t EUInformation = 887;
+inline constexpr std::uint32_t ThreeDCartesianCoordinates = 18810;
+inline constexpr std::uint32_t ThreeDOrientation = 18812;
+inline constexpr std::uint32_t ThreeDFrame = 18814;
 
 // Encodings.
 inline constexpr std::uint32_t Argument_Encoding_DefaultBinary = 298;

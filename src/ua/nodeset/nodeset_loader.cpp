@@ -971,41 +971,8 @@ NodeSetStatus parseNodeSet(const AddressSpace& as, std::string_view xml,
 NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
     NodeSetStatus st;
     // Check everything first: a failed load leaves the address space as it was.
-    std::unordered_map<NodeId, const ParsedNode*> inFile;
-    inFile.reserve(parsed.nodes.size());
-    for (const auto& pn : parsed.nodes) {
-        if (as.find(pn.node.nodeId) != nullptr) {
-            st.error = lineText(parsed, pn.line) + "node " + pn.node.nodeId.toString() +
-                       " already exists in the address space";
-            return st;
-        }
-        if (!inFile.emplace(pn.node.nodeId, &pn).second) {
-            st.error = lineText(parsed, pn.line) + "duplicate node " + pn.node.nodeId.toString();
-            return st;
-        }
-    }
-    const auto exists = [&](const NodeId& id) -> const Node* {
-        auto it = inFile.find(id);
-        if (it != inFile.end()) return &it->second->node;
-        return as.find(id);
-    };
-    for (const auto& pn : parsed.nodes) {
-        for (const auto& r : pn.references) {
-            const Node* type = exists(r.referenceTypeId);
-            if (type == nullptr || type->nodeClass != NodeClass::ReferenceType) {
-                st.error = lineText(parsed, r.line) + "unknown reference type " +
-                           r.referenceTypeId.toString();
-                return st;
-            }
-            if (exists(r.target) == nullptr) {
-                st.error =
-                    lineText(parsed, r.line) + "reference to unknown node " + r.target.toString();
-                return st;
-            }
-        }
-    }
-
-    // Required models: loaded before, or declared by this file, and recent enough.
+    // Required models first (loaded before, or declared by this file, and recent enough):
+    // a file loaded before its prerequisites is told so, not that a node is missing.
     for (const auto& m : parsed.models) {
         for (const auto& req : m.required) {
             const AddressSpace::Model* loaded = as.findModel(req.uri);
@@ -1041,6 +1008,40 @@ NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
                     .append(want)
                     .append(" or later, loaded: ")
                     .append(have);
+                return st;
+            }
+        }
+    }
+
+    std::unordered_map<NodeId, const ParsedNode*> inFile;
+    inFile.reserve(parsed.nodes.size());
+    for (const auto& pn : parsed.nodes) {
+        if (as.find(pn.node.nodeId) != nullptr) {
+            st.error = lineText(parsed, pn.line) + "node " + pn.node.nodeId.toString() +
+                       " already exists in the address space";
+            return st;
+        }
+        if (!inFile.emplace(pn.node.nodeId, &pn).second) {
+            st.error = lineText(parsed, pn.line) + "duplicate node " + pn.node.nodeId.toString();
+            return st;
+        }
+    }
+    const auto exists = [&](const NodeId& id) -> const Node* {
+        auto it = inFile.find(id);
+        if (it != inFile.end()) return &it->second->node;
+        return as.find(id);
+    };
+    for (const auto& pn : parsed.nodes) {
+        for (const auto& r : pn.references) {
+            const Node* type = exists(r.referenceTypeId);
+            if (type == nullptr || type->nodeClass != NodeClass::ReferenceType) {
+                st.error = lineText(parsed, r.line) + "unknown reference type " +
+                           r.referenceTypeId.toString();
+                return st;
+            }
+            if (exists(r.target) == nullptr) {
+                st.error =
+                    lineText(parsed, r.line) + "reference to unknown node " + r.target.toString();
                 return st;
             }
         }

@@ -1,0 +1,47 @@
+#include "ua/nodeset/companion_models.hpp"
+
+#include <string>
+
+namespace skillcell::ua {
+
+NodeSetStatus loadCompanionModels(AddressSpace& as) {
+    NodeSetStatus total;
+    for (const auto& model : kCompanionModels) {
+        if (as.findModel(model.uri) != nullptr) continue;
+        const std::string_view xml = embeddedModel(model.fileName);
+        if (xml.empty()) {
+            total.error = std::string(model.fileName) + ": not embedded";
+            return total;
+        }
+        const auto st = loadNodeSet(as, xml, model.fileName);
+        total.nodes += st.nodes;
+        total.references += st.references;
+        if (!st.ok()) {
+            total.error = st.error;
+            return total;
+        }
+    }
+    return total;
+}
+
+std::optional<NodeId> skillsNodeId(const AddressSpace& as, std::uint32_t id) {
+    const auto ns = as.namespaceIndex(companion::kSkillsUri);
+    if (!ns) return std::nullopt;
+    return NodeId(*ns, id);
+}
+
+std::optional<NodeId> findTypeByName(const AddressSpace& as, std::string_view uri,
+                                     std::string_view name) {
+    const auto ns = as.namespaceIndex(uri);
+    if (!ns) return std::nullopt;
+    std::optional<NodeId> found;
+    as.forEachNode([&](const Node& n) {
+        if (found || n.browseName.namespaceIndex != *ns || n.browseName.name != name) return;
+        if (n.nodeClass == NodeClass::ObjectType || n.nodeClass == NodeClass::DataType) {
+            found = n.nodeId;
+        }
+    });
+    return found;
+}
+
+}  // namespace skillcell::ua
