@@ -214,12 +214,10 @@ class Model:
         all_params = inherited + params
         self.params[sym] = all_params
         di = MODELS["DI"].uri
-        ps = self.obj(f"{sym}.ParameterSet", "ParameterSet", sym, BASE_OBJECT_TYPE,
-                      MANDATORY, desc="The skill's parameters, written before Start.",
-                      name_uri=di)
+        self.obj(f"{sym}.ParameterSet", "ParameterSet", sym, BASE_OBJECT_TYPE, MANDATORY,
+                 desc="The skill's parameters, written before Start.", name_uri=di)
         for p in all_params:
             self.parameter(f"{sym}.ParameterSet", p)
-        del ps
 
     def parameter(self, parent: str, p: dict) -> None:
         name, kind = p["name"], p["kind"]
@@ -230,9 +228,8 @@ class Model:
         if kind == "frame":
             self.var(sym, name, parent, FRAME_DT, FRAME_VT, MANDATORY, value=ZERO_FRAME,
                      access=access, desc=desc, name_uri=uri)
-            cart = self.var(f"{sym}.CartesianCoordinates", "CartesianCoordinates", sym,
-                            "i=18810", CART_VT, MANDATORY, bn_ns0=True)
-            del cart
+            self.var(f"{sym}.CartesianCoordinates", "CartesianCoordinates", sym, "i=18810",
+                     CART_VT, MANDATORY, bn_ns0=True)
             self.prop(f"{sym}.CartesianCoordinates.LengthUnit", "LengthUnit",
                       f"{sym}.CartesianCoordinates", EU_INFORMATION, eu_value("m"))
             self.var(f"{sym}.Orientation", "Orientation", sym, "i=18812", ORIENT_VT, MANDATORY,
@@ -250,8 +247,9 @@ class Model:
                 self.prop(f"{sym}.EURange", "EURange", sym, RANGE, range_value(*p["range"]),
                           rule=OPTIONAL)
         elif kind == "ranges":
-            self.var(sym, name, parent, RANGE, BASE_ANALOG, MANDATORY, rank=1, access=access,
-                     desc=desc, name_uri=uri)
+            # Range is no Number, so not an analog item: a data variable with units.
+            self.var(sym, name, parent, RANGE, BASE_DATA_VARIABLE, MANDATORY, rank=1,
+                     access=access, desc=desc, name_uri=uri)
             self.prop(f"{sym}.EngineeringUnits", "EngineeringUnits", sym, EU_INFORMATION,
                       eu_value(p["unit"]))
         elif kind == "string":
@@ -501,7 +499,7 @@ PARAM_DOC = {
     "frame": "3DFrame (3DFrameType): X, Y, Z in m (LengthUnit MTR), A, B, C in rad "
              "(AngleUnit C81)",
     "string": "String",
-    "ranges": "Range[] (BaseAnalogType)",
+    "ranges": "Range[] (BaseDataVariableType with an EngineeringUnits property)",
 }
 
 
