@@ -549,7 +549,9 @@ def docs(m: Model) -> str:
 
         for base in dict.fromkeys(t[2] for t in m.types if t[2] not in
                                   {x[0] for x in m.types}):
-            label = base if not base.startswith("i=") else {
+            owner = next((k for k, x in MODELS.items() if SYMBOLS.get(base, ("",))[0] == x.uri),
+                         "")
+            label = f"{base} ({owner}, i={SYMBOLS[base][1]})" if owner else {
                 BASE_OBJECT_TYPE: "BaseObjectType (i=58)",
                 PROGRAM_STATE_MACHINE: "ProgramStateMachineType (i=2391)",
                 PROGRAM_TRANSITION_EVENT: "ProgramTransitionEventType (i=2378)"}.get(base, base)
