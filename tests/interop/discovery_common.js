@@ -206,8 +206,38 @@ async function pollUntil({ url, what, expected, absent, timeoutS, periodMs, quer
     }
 }
 
+// The command line of find_servers.js / find_servers_on_network.js: LDS_URL
+// EXPECTED_SUBSTRING [--absent] [--timeout S] [--period MS], then pollUntil() with the
+// script's own query. `spec`: { usage, what, query(client, url), matches(item, expected),
+// describe(item) }.
+function runPollScript(spec) {
+    const { positional, opts } = parseArgs(
+        process.argv.slice(2),
+        { "--absent": "flag", "--timeout": "number", "--period": "int" },
+        spec.usage,
+        2
+    );
+    const [url, expected] = positional;
+    checkEndpointUrl(url, spec.usage);
+    pollUntil({
+        url,
+        what: spec.what,
+        expected,
+        absent: !!opts.absent,
+        timeoutS: opts.timeout !== undefined ? opts.timeout : 30,
+        periodMs: opts.period || 500,
+        query: (client) => spec.query(client, url),
+        matches: (item) => spec.matches(item, expected),
+        describe: spec.describe
+    }).catch((err) => {
+        process.stdout.write(`FAILED ${err && err.stack ? err.stack : err}\n`);
+        process.exit(1);
+    });
+}
+
 module.exports = {
     HOST,
+    runPollScript,
     pkiRoot,
     parseArgs,
     checkEndpointUrl,

@@ -12,7 +12,7 @@
 "use strict";
 
 const { ApplicationType } = require("node-opcua");
-const { parseArgs, checkEndpointUrl, pollUntil } = require("./discovery_common");
+const { runPollScript } = require("./discovery_common");
 
 const USAGE = "usage: node find_servers.js URL EXPECTED_SUBSTRING [--absent] [--timeout S] [--period MS]";
 
@@ -22,29 +22,13 @@ function describeServer(s) {
     return `server ${s.applicationUri} type=${ApplicationType[s.applicationType]} name=${name} urls=${urls}`;
 }
 
-const { positional, opts } = parseArgs(
-    process.argv.slice(2),
-    { "--absent": "flag", "--timeout": "number", "--period": "int" },
-    USAGE,
-    2
-);
-const [url, expected] = positional;
-checkEndpointUrl(url, USAGE);
-
-pollUntil({
-    url,
+runPollScript({
+    usage: USAGE,
     what: "FindServers",
-    expected,
-    absent: !!opts.absent,
-    timeoutS: opts.timeout !== undefined ? opts.timeout : 30,
-    periodMs: opts.period || 500,
-    query: (client) => client.findServers({ endpointUrl: url, localeIds: [], serverUris: [] }),
-    matches: (s) =>
+    query: (client, url) => client.findServers({ endpointUrl: url, localeIds: [], serverUris: [] }),
+    matches: (s, expected) =>
         `${s.applicationUri || ""}`.includes(expected) ||
         `${(s.applicationName && s.applicationName.text) || ""}`.includes(expected) ||
         (s.discoveryUrls || []).some((u) => `${u}`.includes(expected)),
     describe: describeServer
-}).catch((err) => {
-    process.stdout.write(`FAILED ${err && err.stack ? err.stack : err}\n`);
-    process.exit(1);
 });

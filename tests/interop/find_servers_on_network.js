@@ -12,7 +12,7 @@
 // (default 30), "FAILED ..." (exit 1). No session is created: the service needs none.
 "use strict";
 
-const { parseArgs, checkEndpointUrl, pollUntil } = require("./discovery_common");
+const { runPollScript } = require("./discovery_common");
 
 const USAGE =
     "usage: node find_servers_on_network.js LDS_URL EXPECTED_SUBSTRING [--absent] [--timeout S] [--period MS]";
@@ -22,27 +22,12 @@ function describeRecord(r) {
     return `record ${r.recordId} ${r.serverName} ${r.discoveryUrl} caps=${caps}`;
 }
 
-const { positional, opts } = parseArgs(
-    process.argv.slice(2),
-    { "--absent": "flag", "--timeout": "number", "--period": "int" },
-    USAGE,
-    2
-);
-const [url, expected] = positional;
-checkEndpointUrl(url, USAGE);
-
-pollUntil({
-    url,
+runPollScript({
+    usage: USAGE,
     what: "FindServersOnNetwork",
-    expected,
-    absent: !!opts.absent,
-    timeoutS: opts.timeout !== undefined ? opts.timeout : 30,
-    periodMs: opts.period || 500,
     query: (client) =>
         client.findServersOnNetwork({ startingRecordId: 0, maxRecordsToReturn: 0, serverCapabilityFilter: [] }),
-    matches: (r) => `${r.serverName || ""}`.includes(expected) || `${r.discoveryUrl || ""}`.includes(expected),
+    matches: (r, expected) =>
+        `${r.serverName || ""}`.includes(expected) || `${r.discoveryUrl || ""}`.includes(expected),
     describe: describeRecord
-}).catch((err) => {
-    process.stdout.write(`FAILED ${err && err.stack ? err.stack : err}\n`);
-    process.exit(1);
 });

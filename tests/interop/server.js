@@ -11,7 +11,6 @@
 "use strict";
 
 require("./log_to_stderr"); // before node-opcua: keep stdout clean
-const net = require("net");
 const os = require("os");
 const path = require("path");
 const {
@@ -27,7 +26,7 @@ const {
 } = require("node-opcua");
 
 const NAMESPACE_URI = "urn:skillcell:demo";
-const HOST = "127.0.0.1";
+const { HOST, pickFreePort } = require("./discovery_common");
 
 function parseArgs(argv) {
     const opts = { port: 0 };
@@ -50,20 +49,6 @@ function parseArgs(argv) {
         process.exit(2);
     }
     return opts;
-}
-
-// Bind a throw-away TCP server to port 0 on loopback, read the port the
-// kernel chose, then release it.
-function pickFreePort() {
-    return new Promise((resolve, reject) => {
-        const srv = net.createServer();
-        srv.unref();
-        srv.on("error", reject);
-        srv.listen({ port: 0, host: HOST, exclusive: true }, () => {
-            const { port } = srv.address();
-            srv.close(() => resolve(port));
-        });
-    });
 }
 
 function populate(addressSpace) {
