@@ -53,6 +53,31 @@ std::string txtRdata(const ServiceAnnouncement& a) {
     return out;
 }
 
+/// Opens `s` for mDNS on `local` (any address, port 5353): shared with the other processes of
+/// the host (an LDS and servers bind the same port), our own datagrams looped back to us,
+/// hop limit 255 (RFC 6762, 11). IPv6 sockets carry IPv6 only; IPv4 has its own socket.
+asio::error_code openMulticastSocket(asio::ip::udp::socket& s,
+                                     const asio::ip::udp::endpoint& local) {
+    asio::error_code ec;
+    s.open(local.protocol(), ec);
+    if (!ec && local.address().is_v6()) s.set_option(asio::ip::v6_only(true), ec);
+    if (!ec) s.set_option(asio::ip::udp::socket::reuse_address(true), ec);
+    if (!ec) {
+        const int one = 1;
+        if (setsockopt(s.native_handle(), SOL_SOCKET, SO_REUSEPORT, &one, sizeof one) != 0) {
+            ec = asio::error_code(errno, asio::system_category());
+        }
+    }
+    if (!ec) s.bind(local, ec);
+    if (!ec) s.set_option(asio::ip::multicast::enable_loopback(true), ec);
+    if (!ec) s.set_option(asio::ip::multicast::hops(255), ec);
+    if (ec) {
+        asio::error_code ignored;
+        s.close(ignored);
+    }
+    return ec;
+}
+
 std::string sanitizeLabel(std::string_view s) {
     std::string out;
     for (char c : s) {
@@ -127,21 +152,10 @@ Result<std::shared_ptr<MdnsResponder>> MdnsResponder::create(asio::any_io_execut
 
     if (!r->config_.ipv4 && !r->config_.ipv6) return fail("neither IPv4 nor IPv6 enabled");
     if (r->config_.ipv4) {
-        asio::error_code ec;
         auto& s = r->socket_;
         const auto group = asio::ip::make_address_v4(kGroup);
-        s.open(asio::ip::udp::v4(), ec);
-        if (!ec) s.set_option(asio::ip::udp::socket::reuse_address(true), ec);
-        if (!ec) {
-            // Several processes on one host (an LDS and servers) share port 5353.
-            const int one = 1;
-            if (setsockopt(s.native_handle(), SOL_SOCKET, SO_REUSEPORT, &one, sizeof one) != 0) {
-                ec = asio::error_code(errno, asio::system_category());
-            }
-        }
-        if (!ec) s.bind(asio::ip::udp::endpoint(asio::ip::address_v4::any(), r->config_.port), ec);
-        if (!ec) s.set_option(asio::ip::multicast::enable_loopback(true), ec);
-        if (!ec) s.set_option(asio::ip::multicast::hops(255), ec);  // RFC 6762 11
+        const asio::error_code ec = openMulticastSocket(
+            s, asio::ip::udp::endpoint(asio::ip::address_v4::any(), r->config_.port));
         if (ec) {
             return fail("mDNS socket on port " + std::to_string(r->config_.port) + ": " +
                         ec.message());
@@ -171,23 +185,11 @@ Result<std::shared_ptr<MdnsResponder>> MdnsResponder::create(asio::any_io_execut
 }
 
 bool MdnsResponder::openIpv6(std::string& why) {
-    asio::error_code ec;
     auto& s = socket6_;
-    s.open(asio::ip::udp::v6(), ec);
-    if (!ec) s.set_option(asio::ip::v6_only(true), ec);
-    if (!ec) s.set_option(asio::ip::udp::socket::reuse_address(true), ec);
-    if (!ec) {
-        const int one = 1;
-        if (setsockopt(s.native_handle(), SOL_SOCKET, SO_REUSEPORT, &one, sizeof one) != 0) {
-            ec = asio::error_code(errno, asio::system_category());
-        }
-    }
-    if (!ec) s.bind(asio::ip::udp::endpoint(asio::ip::address_v6::any(), config_.port), ec);
-    if (!ec) s.set_option(asio::ip::multicast::enable_loopback(true), ec);
-    if (!ec) s.set_option(asio::ip::multicast::hops(255), ec);
+    asio::error_code ec =
+        openMulticastSocket(s, asio::ip::udp::endpoint(asio::ip::address_v6::any(), config_.port));
     if (ec) {
         why = ec.message();
-        s.close(ec);
         return false;
     }
     const auto group = asio::ip::make_address_v6(kGroup6);
