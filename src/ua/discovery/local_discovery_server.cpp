@@ -94,12 +94,8 @@ void LocalDiscoveryServer::start(asio::any_io_executor executor) {
                                                 FindServersResponse& resp) {
             auto self = weak.lock();
             if (!self) return status::BadShutdown;
-            const String url = description.endpointUrlFor(
-                req.endpointUrl.empty() ? ctx.endpointUrl : &req.endpointUrl);
-            if (req.serverUris.empty() ||
-                std::find(req.serverUris.begin(), req.serverUris.end(),
-                          description.applicationUri) != req.serverUris.end()) {
-                resp.servers.push_back(description.application(url));
+            if (auto own = description.findServersEntry(req, ctx.endpointUrl)) {
+                resp.servers.push_back(std::move(*own));
             }
             auto others = self->table_.describe(req.serverUris, req.localeIds);
             resp.servers.insert(resp.servers.end(), others.begin(), others.end());

@@ -1,5 +1,7 @@
 #include "ua/server/server_description.hpp"
 
+#include <algorithm>
+
 #include "ua/transport/security_policy.hpp"
 
 namespace skillcell::ua {
@@ -47,6 +49,15 @@ std::vector<EndpointDescription> ServerDescription::endpoints(const String& endp
     ep.transportProfileUri = String(kTransportProfileUaTcp);
     ep.securityLevel = 0;
     return {ep};
+}
+
+std::optional<ApplicationDescription> ServerDescription::findServersEntry(
+    const FindServersRequest& req, const std::string* clientUrl) const {
+    if (!req.serverUris.empty() && std::find(req.serverUris.begin(), req.serverUris.end(),
+                                             applicationUri) == req.serverUris.end()) {
+        return std::nullopt;  // filtered out: an empty list, not an error
+    }
+    return application(endpointUrlFor(req.endpointUrl.empty() ? clientUrl : &req.endpointUrl));
 }
 
 }  // namespace skillcell::ua

@@ -1,6 +1,7 @@
 #pragma once
 // ServerDescription: who this server is, and the endpoints it offers. Discovery
 // (GetEndpoints, FindServers) and CreateSession describe the server from this one place.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,10 @@ struct ServerDescription {
     [[nodiscard]] String endpointUrlFor(const std::string* clientUrl) const;
     [[nodiscard]] ApplicationDescription application(const String& endpointUrl) const;
     [[nodiscard]] std::vector<EndpointDescription> endpoints(const String& endpointUrl) const;
+    /// This server's entry in a FindServers answer (its URL as the request or the client's
+    /// Hello named it), or nothing when the request's serverUris leave it out.
+    [[nodiscard]] std::optional<ApplicationDescription> findServersEntry(
+        const FindServersRequest& req, const std::string* clientUrl) const;
 };
 
 }  // namespace skillcell::ua

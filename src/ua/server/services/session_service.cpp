@@ -113,14 +113,9 @@ void registerDiscoveryServices(ServiceTable& table, const ServerDescription& des
         ServiceTable::Access::NoSession,
         [&description](ServiceContext& ctx, const FindServersRequest& req,
                        FindServersResponse& resp) {
-            const String url = description.endpointUrlFor(
-                req.endpointUrl.empty() ? ctx.endpointUrl : &req.endpointUrl);
-            if (!req.serverUris.empty() &&
-                std::find(req.serverUris.begin(), req.serverUris.end(),
-                          description.applicationUri) == req.serverUris.end()) {
-                return status::Good;  // filtered out: an empty list, not an error
+            if (auto self = description.findServersEntry(req, ctx.endpointUrl)) {
+                resp.servers.push_back(std::move(*self));
             }
-            resp.servers = {description.application(url)};
             return status::Good;
         });
 }
