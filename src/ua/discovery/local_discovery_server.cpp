@@ -118,9 +118,6 @@ void LocalDiscoveryServer::start(asio::any_io_executor executor) {
         subscription_ = responder_->subscribe([weak](const mdns::ServiceEvent& e) {
             if (auto self = weak.lock()) self->onMdnsEvent(e);
         });
-        for (const auto& s : responder_->services()) {
-            directory_.apply({mdns::ServiceEvent::Kind::Announced, s, {}});
-        }
     }
     timer_ = std::make_unique<asio::steady_timer>(executor);
     asio::co_spawn(executor, expiryLoop(), asio::detached);

@@ -232,6 +232,8 @@ void MdnsResponder::start() {
 
 std::size_t MdnsResponder::subscribe(Listener listener) {
     const std::size_t id = nextListener_++;
+    // A late subscriber first hears what is already known, as if it had just been announced.
+    for (const auto& s : cache_.services()) listener({ServiceEvent::Kind::Announced, s, {}});
     listeners_.emplace(id, std::move(listener));
     return id;
 }

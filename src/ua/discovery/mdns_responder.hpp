@@ -99,6 +99,8 @@ public:
     /// Asks the network for every OPC UA server now.
     void queryNow();
 
+    /// Calls `listener` with an Announced event for every server known now, then with every
+    /// change. Returns the id for unsubscribe().
     std::size_t subscribe(Listener listener);
     void unsubscribe(std::size_t id);
 

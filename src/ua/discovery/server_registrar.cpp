@@ -37,9 +37,6 @@ void ServerRegistrar::start() {
     subscription_ = responder_->subscribe([weak](const mdns::ServiceEvent& e) {
         if (auto self = weak.lock()) self->onMdnsEvent(e);
     });
-    for (const auto& s : responder_->services()) {
-        onMdnsEvent({mdns::ServiceEvent::Kind::Announced, s, {}});
-    }
 }
 
 void ServerRegistrar::onMdnsEvent(const mdns::ServiceEvent& e) {
