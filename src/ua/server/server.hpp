@@ -56,6 +56,10 @@ public:
     [[nodiscard]] const ServerConfig& config() const { return config_; }
     [[nodiscard]] std::size_t connectionCount() const { return connections_.size(); }
     [[nodiscard]] std::size_t sessionCount() const { return sessions_.size(); }
+    /// True while the session with this SessionId exists (not closed, not timed out).
+    [[nodiscard]] bool hasSession(const NodeId& sessionId) const {
+        return sessions_.contains(sessionId);
+    }
     [[nodiscard]] ServerSubscriptionEngine& subscriptions() { return subscriptions_; }
 
     /// Fires an event from application code (on the io_context thread): delivered to the
