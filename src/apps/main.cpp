@@ -1,5 +1,5 @@
-// skillcell: one program, one subcommand per component (server, lds, browse, discover;
-// later device, kb, mes, demo). Every component takes --port N for its OPC UA port.
+// skillcell: one program, one subcommand per component (server, lds, browse, discover,
+// check; later device, kb, mes, demo). Every component takes --port N for its OPC UA port.
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -17,13 +17,18 @@ int main(int argc, char** argv) {
         ->capture_default_str();
 
     const std::vector<skillcell::apps::Command> commands{
-        skillcell::apps::addServerCommand(app),
-        skillcell::apps::addBrowseCommand(app),
-        skillcell::apps::addLdsCommand(app),
-        skillcell::apps::addDiscoverCommand(app),
+        skillcell::apps::addServerCommand(app), skillcell::apps::addBrowseCommand(app),
+        skillcell::apps::addLdsCommand(app),    skillcell::apps::addDiscoverCommand(app),
+        skillcell::apps::addCheckCommand(app),
     };
 
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // --help exits 0; every usage error exits 2, the usual code that scripts (and
+        // `skillcell check`'s contract) expect, instead of CLI11's own 100+ codes.
+        return app.exit(e) == 0 ? 0 : 2;
+    }
 
     // Logs go to stderr: stdout carries the commands' output (READY lines, browse trees).
     auto logger = spdlog::stderr_color_mt("skillcell");
