@@ -52,6 +52,8 @@ public:
     void stop();
 
     [[nodiscard]] AddressSpace& addressSpace() { return addressSpace_; }
+    /// The executor of the io_context the server runs on (for timers of application code).
+    [[nodiscard]] asio::any_io_executor executor() { return io_.get_executor(); }
     [[nodiscard]] ServiceTable& services() { return services_; }
     [[nodiscard]] const ServerConfig& config() const { return config_; }
     [[nodiscard]] std::size_t connectionCount() const { return connections_.size(); }
