@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "client_thread.hpp"
 #include "running_server.hpp"
 #include "skills/noop_behaviour.hpp"
 #include "skills/skill_client.hpp"
@@ -24,6 +25,7 @@ namespace skillcell::skills {
 namespace {
 
 using namespace std::chrono_literals;
+using test::ClientThread;
 using test::RunningServer;
 using ua::NodeId;
 using ua::Variant;
@@ -39,51 +41,6 @@ public:
 class EndlessBehaviour final : public SkillBehaviour {
 public:
     void start(const SkillParameters&, SkillRun) override {}
-};
-
-/// A client on its own io_context thread; run() executes a coroutine there and waits.
-class ClientThread {
-public:
-    ClientThread()
-        : work_(io_.get_executor()), thread_([this] { io_.run(); }), client_(io_.get_executor()) {}
-    ~ClientThread() {
-        asio::co_spawn(
-            io_, [this]() -> asio::awaitable<void> { (void)co_await client_.disconnect(); },
-            asio::use_future)
-            .get();
-        work_.reset();
-        thread_.join();
-    }
-    ClientThread(const ClientThread&) = delete;
-    ClientThread& operator=(const ClientThread&) = delete;
-
-    template <class F>
-    auto run(F f) {
-        return asio::co_spawn(io_, f(), asio::use_future).get();
-    }
-    ua::Client& client() { return client_; }
-    asio::io_context& io() { return io_; }
-
-    std::shared_ptr<SkillClient> attach(const std::string& url, const NodeId& skill) {
-        return run([&]() -> asio::awaitable<std::shared_ptr<SkillClient>> {
-            if ((co_await client_.connect(url)).isBad()) co_return nullptr;
-            auto sc = co_await SkillClient::attach(client_, skill);
-            co_return sc ? *sc : nullptr;
-        });
-    }
-    SkillOutcome invoke(const std::shared_ptr<SkillClient>& sc,
-                        std::map<std::string, Variant> parameters,
-                        std::chrono::milliseconds timeout) {
-        return run([&]() -> asio::awaitable<SkillOutcome> {
-            co_return co_await sc->run(parameters, timeout);
-        });
-    }
-
-private:
-    asio::io_context io_{1};
-    asio::executor_work_guard<asio::io_context::executor_type> work_;
-    std::thread thread_;
-    ua::Client client_;
 };
 
 /// A server with one skill of each behaviour.
