@@ -3,16 +3,17 @@
 // another client halting the run, the server stopping and the server process killed.
 #include <gtest/gtest.h>
 
+#include <spawn.h>
+#include <sys/wait.h>
 #include <asio/co_spawn.hpp>
 #include <asio/executor_work_guard.hpp>
 #include <asio/use_future.hpp>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <thread>
 
+#include "client_thread.hpp"
 #include "running_server.hpp"
 #include "skills/noop_behaviour.hpp"
 #include "skills/skill_client.hpp"
@@ -24,6 +25,7 @@ namespace skillcell::skills {
 namespace {
 
 using namespace std::chrono_literals;
+using test::ClientThread;
 using test::RunningServer;
 using ua::NodeId;
 using ua::Variant;
@@ -41,50 +43,6 @@ public:
     void start(const SkillParameters&, SkillRun) override {}
 };
 
-/// A client on its own io_context thread; run() executes a coroutine there and waits.
-class ClientThread {
-public:
-    ClientThread() : work_(io_.get_executor()), thread_([this] { io_.run(); }), client_(io_.get_executor()) {}
-    ~ClientThread() {
-        run([this]() -> asio::awaitable<int> {
-            (void)co_await client_.disconnect();
-            co_return 0;
-        });
-        work_.reset();
-        thread_.join();
-    }
-    ClientThread(const ClientThread&) = delete;
-    ClientThread& operator=(const ClientThread&) = delete;
-
-    template <class F>
-    auto run(F f) {
-        return asio::co_spawn(io_, f(), asio::use_future).get();
-    }
-    ua::Client& client() { return client_; }
-    asio::io_context& io() { return io_; }
-
-    std::shared_ptr<SkillClient> attach(const std::string& url, const NodeId& skill) {
-        return run([&]() -> asio::awaitable<std::shared_ptr<SkillClient>> {
-            if ((co_await client_.connect(url)).isBad()) co_return nullptr;
-            auto sc = co_await SkillClient::attach(client_, skill);
-            co_return sc ? *sc : nullptr;
-        });
-    }
-    SkillOutcome invoke(const std::shared_ptr<SkillClient>& sc,
-                        std::map<std::string, Variant> parameters,
-                        std::chrono::milliseconds timeout) {
-        return run([&]() -> asio::awaitable<SkillOutcome> {
-            co_return co_await sc->run(parameters, timeout);
-        });
-    }
-
-private:
-    asio::io_context io_{1};
-    asio::executor_work_guard<asio::io_context::executor_type> work_;
-    std::thread thread_;
-    ua::Client client_;
-};
-
 /// A server with one skill of each behaviour.
 class Cell {
 public:
@@ -95,8 +53,8 @@ public:
               const auto move = skills_->findSkillType("CartesianLinearMoveSkillType");
               const auto grasp = skills_->findSkillType("GraspGripperSkillType");
               ASSERT_TRUE(move && grasp);
-              ASSERT_TRUE(skills_->add(*move, "Move",
-                                       std::make_unique<NoOpBehaviour>(s.executor(), 5ms)));
+              ASSERT_TRUE(
+                  skills_->add(*move, "Move", std::make_unique<NoOpBehaviour>(s.executor(), 5ms)));
               ASSERT_TRUE(skills_->add(*grasp, "Grasp", std::make_unique<FailingBehaviour>()));
               ASSERT_TRUE(skills_->add(*move, "Endless", std::make_unique<EndlessBehaviour>()));
           }) {}
@@ -107,6 +65,14 @@ public:
                 if (s->name() == skill) return s->state();
             }
             return SkillState::Halted;
+        });
+    }
+    void fault(const std::string& skill, const std::string& reason) {
+        server_.inServer([&](ua::Server&) {
+            for (const auto& s : skills_->skills()) {
+                if (s->name() == skill) s->fault(reason);
+            }
+            return 0;
         });
     }
     static NodeId id(const std::string& skill) { return NodeId(1, ua::String("Skills/" + skill)); }
@@ -183,7 +149,8 @@ TEST(SkillClient, CancelHaltsTheSkill) {
     auto endless = t.attach(cell.url(), Cell::id("Endless"));
     ASSERT_TRUE(endless);
     auto future = asio::co_spawn(
-        t.io(), [&]() -> asio::awaitable<SkillOutcome> { co_return co_await endless->run({}, 30s); },
+        t.io(),
+        [&]() -> asio::awaitable<SkillOutcome> { co_return co_await endless->run({}, 30s); },
         asio::use_future);
     // Cancel once the run is under way (the server says Running).
     for (int i = 0; i < 2000 && cell.state("Endless") != SkillState::Running; ++i) {
@@ -196,13 +163,14 @@ TEST(SkillClient, CancelHaltsTheSkill) {
     EXPECT_EQ(cell.state("Endless"), SkillState::Halted);
 }
 
-TEST(SkillClient, ReportsAHaltByAnotherClientAsFailed) {
+TEST(SkillClient, ReportsAHaltByTheComponentAsFailed) {
     Cell cell;
     ClientThread owner, other;
     auto endless = owner.attach(cell.url(), Cell::id("Endless"));
     ASSERT_TRUE(endless);
     auto future = asio::co_spawn(
-        owner.io(), [&]() -> asio::awaitable<SkillOutcome> { co_return co_await endless->run({}, 30s); },
+        owner.io(),
+        [&]() -> asio::awaitable<SkillOutcome> { co_return co_await endless->run({}, 30s); },
         asio::use_future);
     for (int i = 0; i < 2000 && cell.state("Endless") != SkillState::Running; ++i) {
         std::this_thread::sleep_for(1ms);
@@ -211,10 +179,14 @@ TEST(SkillClient, ReportsAHaltByAnotherClientAsFailed) {
     auto view = other.attach(cell.url(), Cell::id("Endless"));
     ASSERT_TRUE(view);
     EXPECT_EQ(other.run([&]() -> asio::awaitable<ua::StatusCode> {
-                  co_return co_await view->call(SkillMethod::Halt);
-              }),
+        co_return co_await view->call(SkillMethod::Halt);
+    }),
               status::BadUserAccessDenied);
-    EXPECT_EQ(future.wait_for(50ms), std::future_status::timeout);
+    cell.fault("Endless", "light curtain interrupted");
+    ASSERT_EQ(future.wait_for(5s), std::future_status::ready);
+    const auto outcome = future.get();
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_EQ(outcome.reason, "light curtain interrupted");
 }
 
 TEST(SkillClient, ReportsAStoppedServerAsLost) {
@@ -223,7 +195,8 @@ TEST(SkillClient, ReportsAStoppedServerAsLost) {
     auto endless = t.attach(cell->url(), Cell::id("Endless"));
     ASSERT_TRUE(endless);
     auto future = asio::co_spawn(
-        t.io(), [&]() -> asio::awaitable<SkillOutcome> { co_return co_await endless->run({}, 60s); },
+        t.io(),
+        [&]() -> asio::awaitable<SkillOutcome> { co_return co_await endless->run({}, 60s); },
         asio::use_future);
     for (int i = 0; i < 2000 && cell->state("Endless") != SkillState::Running; ++i) {
         std::this_thread::sleep_for(1ms);
@@ -248,10 +221,19 @@ public:
         posix_spawn_file_actions_init(&actions);
         posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
         posix_spawn_file_actions_addclose(&actions, fds[0]);
-        std::vector<std::string> args = {SKILLCELL_BINARY, "server", "--port", "0", "--host",
-                                         "127.0.0.1", "--no-discovery", "--pki-dir", pkiDir,
-                                         "--noop-skill", "JointPtpMoveSkillType=Slow",
-                                         "--noop-skill-ms", "60000"};
+        std::vector<std::string> args = {SKILLCELL_BINARY,
+                                         "server",
+                                         "--port",
+                                         "0",
+                                         "--host",
+                                         "127.0.0.1",
+                                         "--no-discovery",
+                                         "--pki-dir",
+                                         pkiDir,
+                                         "--noop-skill",
+                                         "JointPtpMoveSkillType=Slow",
+                                         "--noop-skill-ms",
+                                         "60000"};
         std::vector<char*> argv;
         for (auto& a : args) argv.push_back(a.data());
         argv.push_back(nullptr);
@@ -304,9 +286,8 @@ TEST(SkillClient, ReportsAKilledServerProcessAsLost) {
         asio::use_future);
     // Kill once the run is under way (the client has seen ReadyToRunning).
     for (int i = 0; i < 2000; ++i) {
-        const bool running = t.run([&]() -> asio::awaitable<bool> {
-            co_return slow->state() == SkillState::Running;
-        });
+        const bool running = t.run(
+            [&]() -> asio::awaitable<bool> { co_return slow->state() == SkillState::Running; });
         if (running) break;
         std::this_thread::sleep_for(1ms);
     }
