@@ -161,6 +161,19 @@ Path parentOf(const Path& p) {
     return Path(p.begin(), p.end() - 1);
 }
 
+/// A browse path as a map key ("0:CurrentState\n0:Id\n"). Keys are strings rather than
+/// Paths so that no QualifiedName ordering is needed.
+std::string keyOf(const Path& p) {
+    std::string key;
+    for (const auto& q : p) {
+        key += std::to_string(q.namespaceIndex);
+        key += ':';
+        key += q.name;
+        key += '\n';
+    }
+    return key;
+}
+
 struct FoundSkill {
     ua::NodeId nodeId;
     ua::NodeId type;
@@ -445,13 +458,13 @@ private:
         }
 
         // Find the instance's node for each declaration, parents first.
-        std::map<Path, ua::ReferenceDescription> nodes;
+        std::map<std::string, ua::ReferenceDescription> nodes;  // by keyOf(path)
         std::vector<Present> present;
         for (std::size_t i = 0; i < decls.size(); ++i) {
             const auto& d = decls[i];
             ua::NodeId parent = skill.nodeId;
             if (d.path.size() > 1) {
-                auto it = nodes.find(parentOf(d.path));
+                auto it = nodes.find(keyOf(parentOf(d.path)));
                 if (it == nodes.end()) continue;  // the parent is missing: reported already
                 parent = it->second.nodeId.nodeId;
             }
@@ -473,7 +486,7 @@ private:
                 }
                 continue;
             }
-            nodes.emplace(d.path, **child);
+            nodes.emplace(keyOf(d.path), **child);
             present.push_back({i, **child, {}});
         }
 
@@ -512,9 +525,9 @@ private:
         }
         const ua::DataValue eventNotifier = (*values)[next];
 
-        std::map<Path, const Present*> byPath;
+        std::map<std::string, const Present*> byPath;  // by keyOf(path)
         for (const auto& p : present) {
-            byPath[decls[p.declaration].path] = &p;
+            byPath[keyOf(decls[p.declaration].path)] = &p;
             co_await checkChild(subject, decls[p.declaration], p);
         }
         co_await checkRanges(subject, decls, byPath);
@@ -525,13 +538,13 @@ private:
         t.path = skill.path;
         t.nodeId = skill.nodeId;
         for (const auto method : kAllMethods) {
-            auto it = byPath.find(Path{ua::QualifiedName{0, std::string(name(method))}});
+            auto it = byPath.find(keyOf(Path{ua::QualifiedName{0, std::string(name(method))}}));
             if (it != byPath.end() && it->second->ref.nodeClass == ua::NodeClass::Method) {
                 t.methods.at(static_cast<std::size_t>(method)) = it->second->ref.nodeId.nodeId;
             }
         }
         auto nodeAt = [&byPath](const Path& p) -> std::optional<ua::NodeId> {
-            auto it = byPath.find(p);
+            auto it = byPath.find(keyOf(p));
             if (it == byPath.end()) return std::nullopt;
             return it->second->ref.nodeId.nodeId;
         };
@@ -732,12 +745,12 @@ private:
     /// A declared EURange: Low <= High and the parameter's value inside.
     asio::awaitable<void> checkRanges(const std::string& subject,
                                       const std::vector<InstanceDeclaration>& decls,
-                                      const std::map<Path, const Present*>& byPath) {
+                                      const std::map<std::string, const Present*>& byPath) {
         const ua::QualifiedName euRange{0, "EURange"};
         for (const auto& d : decls) {
             if (d.path.size() < 2 || d.path.back() != euRange) continue;
-            auto range = byPath.find(d.path);
-            auto owner = byPath.find(parentOf(d.path));
+            auto range = byPath.find(keyOf(d.path));
+            auto owner = byPath.find(keyOf(parentOf(d.path)));
             if (range == byPath.end() || owner == byPath.end()) continue;
             const Present& r = *range->second;
             const Present& o = *owner->second;
@@ -781,9 +794,10 @@ private:
     }
 
     /// CurrentState is a state of the table with its Id and Number; LastTransition ends there.
-    void checkStates(const std::string& subject, const std::map<Path, const Present*>& byPath) {
+    void checkStates(const std::string& subject,
+                     const std::map<std::string, const Present*>& byPath) {
         auto valueAt = [&byPath](const Path& p) -> const ua::Variant* {
-            auto it = byPath.find(p);
+            auto it = byPath.find(keyOf(p));
             if (it == byPath.end() || it->second->attributes.size() != 3) return nullptr;
             const auto& dv = it->second->attributes[2];
             if (dv.statusOrGood().isBad() || !dv.value) return nullptr;
@@ -834,7 +848,7 @@ private:
 
         const ua::Variant* lastId = valueAt({last, id});
         const auto* lastNode = lastId != nullptr ? lastId->get<ua::NodeId>() : nullptr;
-        if (byPath.find(Path{last}) == byPath.end()) return;  // missing: reported already
+        if (byPath.find(keyOf(Path{last})) == byPath.end()) return;  // missing: reported already
         if (lastNode == nullptr || lastNode->isNull()) {
             report_.pass(subject, "LastTransition value", "none yet");
             return;

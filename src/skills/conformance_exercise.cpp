@@ -48,13 +48,21 @@ public:
     }
     [[nodiscard]] ua::StatusCode lost() const { return lost_; }
 
-    /// The next event, or nullopt once `deadline` passed (or the subscription was lost).
-    asio::awaitable<std::optional<TransitionEvent>> next(Clock::time_point deadline) {
+    [[nodiscard]] bool empty() const { return events_.empty(); }
+
+    /// Waits until an event is there (true) or `deadline` passed (false); takes nothing.
+    asio::awaitable<bool> wait(Clock::time_point deadline) {
         while (events_.empty()) {
-            if (lost_.isBad() || Clock::now() >= deadline) co_return std::nullopt;
+            if (lost_.isBad() || Clock::now() >= deadline) co_return false;
             signal_.expires_at(deadline);
             (void)co_await signal_.async_wait(asio::experimental::as_tuple(asio::use_awaitable));
         }
+        co_return true;
+    }
+
+    /// The next event, or nullopt once `deadline` passed (or the subscription was lost).
+    asio::awaitable<std::optional<TransitionEvent>> next(Clock::time_point deadline) {
+        if (!co_await wait(deadline)) co_return std::nullopt;
         TransitionEvent e = std::move(events_.front());
         events_.pop_front();
         co_return e;
@@ -190,7 +198,18 @@ private:
         }
         report_.pass(skill_.path, "Start in Ready", "Good, event ReadyToRunning");
 
-        const auto deadline = started + options_.runTimeout;
+        // Suspend and Resume while the run lasts; a run that has already ended (its event
+        // is waiting) is too short for that, which is no fault of the skill.
+        auto deadline = started + options_.runTimeout;
+        std::string note = " (too short to try Suspend)";
+        if (inbox_->empty()) {
+            const SuspendOutcome outcome = co_await suspendAndResume();
+            if (outcome == SuspendOutcome::Failed) co_return;
+            if (outcome == SuspendOutcome::Done) {
+                note.clear();
+                deadline = Clock::now() + options_.runTimeout;
+            }
+        }
         for (;;) {
             auto e = co_await inbox_->next(deadline);
             if (!e) {
@@ -205,7 +224,7 @@ private:
                 const auto took = std::chrono::duration_cast<milliseconds>(Clock::now() - started);
                 if (!co_await expectState(*t)) co_return;
                 report_.pass(skill_.path, "run",
-                             std::string(name(*t)) + " after " + msText(took) +
+                             std::string(name(*t)) + " after " + msText(took) + note +
                                  (*t == SkillTransition::RunningToHalted
                                       ? " (it could not do its job with its current parameters)"
                                       : ""));
@@ -213,6 +232,47 @@ private:
             }
             fail("run", "RunningToReady or RunningToHalted", "event " + eventText(*e));
         }
+    }
+
+    enum class SuspendOutcome : std::uint8_t { Done, EndedFirst, Failed };
+
+    /// Running: Suspend, the refusals of Suspended, Resume.
+    asio::awaitable<SuspendOutcome> suspendAndResume() {
+        ua::StatusCode s = co_await call(SkillMethod::Suspend);
+        if (s == ua::status::BadInvalidState) {
+            // Right if the run ended meanwhile: its end event shows that.
+            if (co_await inbox_->wait(Clock::now() + options_.eventTimeout)) {
+                co_return SuspendOutcome::EndedFirst;
+            }
+            fail("Suspend in Running", "Good (Running allows Suspend), or the run's end event",
+                 "BadInvalidState and no event");
+            co_return SuspendOutcome::Failed;
+        }
+        if (s.isBad()) {
+            fail("Suspend in Running", "Good (Running allows Suspend)", statusText(s));
+            co_return SuspendOutcome::Failed;
+        }
+        if (!co_await expectEvent(SkillTransition::RunningToSuspended,
+                                  Clock::now() + options_.eventTimeout) ||
+            !co_await expectState(SkillTransition::RunningToSuspended)) {
+            co_return SuspendOutcome::Failed;
+        }
+        report_.pass(skill_.path, "Suspend in Running",
+                     "Good, event RunningToSuspended, CurrentState Suspended");
+        if (!co_await refusals(SkillState::Suspended)) co_return SuspendOutcome::Failed;
+        s = co_await call(SkillMethod::Resume);
+        if (s.isBad()) {
+            fail("Resume in Suspended", "Good and the transition SuspendedToRunning",
+                 statusText(s));
+            co_return SuspendOutcome::Failed;
+        }
+        // No state check after it: the run may end at once.
+        if (!co_await expectEvent(SkillTransition::SuspendedToRunning,
+                                  Clock::now() + options_.eventTimeout)) {
+            co_return SuspendOutcome::Failed;
+        }
+        report_.pass(skill_.path, "Resume in Suspended", "Good, event SuspendedToRunning");
+        co_return SuspendOutcome::Done;
     }
 
     /// Leaves the skill in Ready: Halt if it still runs, Reset if it is Halted.

@@ -9,9 +9,11 @@
 // - Halt: event ReadyToHalted, CurrentState Halted, LastTransition ReadyToHalted;
 // - in Halted, Start, Suspend, Resume and Halt must answer BadInvalidState;
 // - Reset: HaltedToReady, Ready again;
-// - Start with the parameters as they are: ReadyToRunning, then RunningToReady or
-//   RunningToHalted within the run timeout (a skill that cannot do its job with its
-//   current parameters may halt: that is conformant);
+// - Start with the parameters as they are: ReadyToRunning; while the run lasts, Suspend
+//   (RunningToSuspended), the refusals of Suspended (Start, Suspend, Reset), Resume
+//   (SuspendedToRunning) — a run that ends before Suspend is tried is not a fault; then
+//   RunningToReady or RunningToHalted within the run timeout (a skill that cannot do its
+//   job with its current parameters may halt: that is conformant);
 // - every event: a SkillTransitionEventType (or subtype) from the skill, Transition/Id,
 //   FromState/Id and ToState/Id the namespace-0 nodes of one transition of the table, the
 //   texts their names, a Time; CurrentState and LastTransition agree with it afterwards.

@@ -13,7 +13,8 @@
 //                        and a state machine behind the methods (interlocking with
 //                        BadInvalidState, CurrentState/LastTransition, a
 //                        SkillTransitionEventType event per transition with Transition,
-//                        FromState, ToState and their Ids); a run ends in Ready at once.
+//                        FromState, ToState and their Ids); a run ends in Ready after
+//                        300 ms of Running (Suspend pauses it).
 //   Objects/Bad/Broken   the same type without the Suspend method and with CurrentState
 //                        "Idle".
 // Prints "READY opc.tcp://127.0.0.1:PORT GOOD_FOLDER_ID BAD_FOLDER_ID" on stdout once it
@@ -127,11 +128,16 @@ function addSkill(addressSpace, ns, folder, name, { methods, eventNotifier }) {
     return skill;
 }
 
-// The state machine behind the methods of a conforming skill.
+// The state machine behind the methods of a conforming skill. A run takes RUN_MS, long
+// enough for the checker to Suspend and Resume it; Suspend keeps the time that remains.
+const RUN_MS = 300;
 function runStateMachine(addressSpace, skill) {
     const eventType = addressSpace.findEventType("SkillTransitionEventType",
                                                  addressSpace.getNamespaceIndex(uri("Skills")));
     let state = "Ready";
+    let timer = null;
+    let remaining = 0;
+    let armedAt = 0;
     const enter = (transition) => {
         const [number, id, from, to] = TRANSITIONS[transition];
         state = to;
@@ -151,6 +157,19 @@ function runStateMachine(addressSpace, skill) {
             "toState.id": nodeId(STATES[to][1])
         });
     };
+    const arm = (ms) => {
+        armedAt = Date.now();
+        remaining = ms;
+        timer = setTimeout(() => {
+            timer = null;
+            if (state === "Running") enter("RunningToReady");
+        }, ms);
+    };
+    const disarm = () => {
+        if (timer) clearTimeout(timer);
+        timer = null;
+        remaining = Math.max(0, remaining - (Date.now() - armedAt));
+    };
     for (const name of Object.keys(METHODS)) {
         const method = skill.getMethodByName(name);
         // bindMethod dispatches on Function.length: two parameters for an async handler.
@@ -159,9 +178,9 @@ function runStateMachine(addressSpace, skill) {
             const transition = METHODS[name][state];
             if (!transition) return { statusCode: StatusCodes.BadInvalidState };
             enter(transition);
-            if (transition === "ReadyToRunning") {
-                setTimeout(() => state === "Running" && enter("RunningToReady"), 20);
-            }
+            if (transition === "ReadyToRunning") arm(RUN_MS);
+            if (transition === "RunningToSuspended" || TRANSITIONS[transition][3] === "Halted") disarm();
+            if (transition === "SuspendedToRunning") arm(remaining);
             return { statusCode: StatusCodes.Good, outputArguments: [] };
         });
     }

@@ -4,7 +4,8 @@
 # node-opcua, a CartesianLinearMoveSkillType with a state machine behind its methods, and a
 # broken one next to it).
 #   1. the conforming skill passes the static checks       (exit 0)
-#   2. and --exercise: interlocking, transitions, events     (exit 0)
+#   2. and --exercise: interlocking, transitions (Suspend and Resume during the run),
+#      events                                                 (exit 0)
 #   3. the broken skill fails, with the precise findings     (exit 1)
 #   4. --json over the whole server is one valid document   (exit 1: the broken skill)
 #   5. an endpoint nobody listens on                         (exit 2)
@@ -58,6 +59,9 @@ check 0 "$url" --start "$good" --exercise --timeout 5000
 expect_line "PASS  Good/Move  Resume in Ready: BadInvalidState"
 expect_line "PASS  Good/Move  Halt in Ready: Good, event ReadyToHalted, CurrentState Halted"
 expect_line "PASS  Good/Move  Reset in Halted: Good, event HaltedToReady, CurrentState Ready"
+expect_line "PASS  Good/Move  Suspend in Running: Good, event RunningToSuspended, CurrentState Suspended"
+expect_line "PASS  Good/Move  Reset in Suspended: BadInvalidState"
+expect_line "PASS  Good/Move  Resume in Suspended: Good, event SuspendedToRunning"
 expect_line "PASS  Good/Move  run: RunningToReady"
 expect_line "PASS  Good/Move  exercise end: left in Ready"
 

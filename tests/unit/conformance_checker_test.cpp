@@ -6,7 +6,10 @@
 // --exercise runs against FakeSkill, a protocol-level skill written here (method callbacks
 // that follow the state-machine table, transition events): a conforming one passes, one
 // that answers Good in the wrong state, one without events, one whose run never ends each
-// fail, and the skill is left in Ready. The report's text and JSON forms are checked too.
+// fail, and the skill is left in Ready; and against skills::Skill with a NoOpBehaviour (what
+// `skillcell server --noop-skill` offers): it passes, also Suspend/Resume during a longer
+// run, and fails when a device's own callback answers Good in the wrong state. The
+// report's text and JSON forms are checked too.
 #include <gtest/gtest.h>
 
 #include <asio/co_spawn.hpp>
@@ -21,6 +24,8 @@
 #include "running_server.hpp"
 #include "skills/conformance_checker.hpp"
 #include "skills/conformance_report.hpp"
+#include "skills/noop_behaviour.hpp"
+#include "skills/skill_server.hpp"
 #include "skills/skill_state_machine.hpp"
 #include "ua/address_space/instantiate.hpp"
 #include "ua/nodeset/companion_models.hpp"
@@ -629,6 +634,97 @@ TEST_F(ConformanceExercise, HaltedSkillIsResetFirst) {
     EXPECT_EQ(report.count(Verdict::Fail), 0u) << dump(report);
     EXPECT_EQ(findings(report, Verdict::Pass, "Reset in Halted").size(), 2u) << dump(report);
     EXPECT_EQ(currentState(), "Ready");
+}
+
+// --- --exercise against skills::Skill, the component side of the skill layer ------------
+
+class ConformanceOfSkill : public ConformanceChecker {
+protected:
+    /// A server whose SkillServer offers a CartesianLinearMoveSkillType with a no-op run of
+    /// `runMs` (the same skill `skillcell server --noop-skill` offers).
+    std::shared_ptr<Skill> startSkillServer(int runMs) {
+        server_ = std::make_unique<test::RunningServer>(test::RunningServer::defaultConfig());
+        auto& srv = *server_;
+        return srv.inServer([&srv, this, runMs](ua::Server& s) -> std::shared_ptr<Skill> {
+            std::string error;
+            skillServer_ = SkillServer::create(s, srv.io().get_executor(), &error);
+            if (!skillServer_) {
+                ADD_FAILURE() << error;
+                return nullptr;
+            }
+            auto type = skillServer_->findSkillType("CartesianLinearMoveSkillType");
+            if (!type) return nullptr;
+            auto skill =
+                skillServer_->add(*type, "Move",
+                                  std::make_unique<NoOpBehaviour>(
+                                      srv.io().get_executor(), std::chrono::milliseconds(runMs)));
+            return skill ? *skill : nullptr;
+        });
+    }
+    static CheckOptions exercise() {
+        CheckOptions options;
+        options.exercise = true;
+        options.eventTimeout = 2s;
+        options.runTimeout = 5s;
+        return options;
+    }
+
+    std::unique_ptr<SkillServer> skillServer_;
+};
+
+TEST_F(ConformanceOfSkill, InstantNoOpSkillPasses) {
+    const auto skill = startSkillServer(0);
+    ASSERT_NE(skill, nullptr);
+    const auto report = run(exercise());
+    EXPECT_EQ(report.count(Verdict::Fail), 0u) << dump(report);
+    EXPECT_EQ(report.count(Verdict::Warn), 0u) << dump(report);
+    ASSERT_EQ(report.skills().size(), 1u);
+    EXPECT_EQ(report.skills()[0].path, "Objects/Skills/Move");
+    EXPECT_EQ(findings(report, Verdict::Pass, "run").size(), 1u) << dump(report);
+    EXPECT_EQ(findings(report, Verdict::Pass, "exercise end").size(), 1u) << dump(report);
+    EXPECT_EQ(skill->state(), SkillState::Ready);
+}
+
+TEST_F(ConformanceOfSkill, RunLongEnoughIsSuspendedAndResumed) {
+    const auto skill = startSkillServer(400);
+    ASSERT_NE(skill, nullptr);
+    const auto report = run(exercise());
+    EXPECT_EQ(report.count(Verdict::Fail), 0u) << dump(report);
+    for (const char* checkName :
+         {"Suspend in Running", "Start in Suspended", "Suspend in Suspended", "Reset in Suspended",
+          "Resume in Suspended", "run"}) {
+        EXPECT_EQ(findings(report, Verdict::Pass, checkName).size(), 1u) << checkName << "\n"
+                                                                         << dump(report);
+    }
+    EXPECT_EQ(skill->state(), SkillState::Ready);
+}
+
+TEST_F(ConformanceOfSkill, HaltAnsweredGoodInHaltedFails) {
+    const auto skill = startSkillServer(0);
+    ASSERT_NE(skill, nullptr);
+    // A device maker's mistake on top of a correct skill: its own Halt callback that says
+    // Good where the state machine does not allow Halt.
+    server_->inServer([&skill](ua::Server& s) {
+        auto& as = s.addressSpace();
+        const ua::NodeId halt = childAt(as, skill->nodeId(), {"Halt"});
+        ASSERT_FALSE(halt.isNull());
+        std::weak_ptr<Skill> weak = skill;
+        as.setMethodCallback(halt, [weak](const ua::Caller& caller, const ua::NodeId&,
+                                          std::span<const ua::Variant>, std::vector<ua::Variant>&) {
+            auto self = weak.lock();
+            if (!self) return ua::status::BadInternalError;
+            if (self->state() == SkillState::Halted) return ua::status::Good;
+            return self->invoke(SkillMethod::Halt, caller);
+        });
+    });
+    const auto report = run(exercise());
+    const auto f = findings(report, Verdict::Fail, "Halt in Halted");
+    ASSERT_EQ(f.size(), 1u) << dump(report);
+    EXPECT_EQ(f[0].expected, "BadInvalidState (Halted does not allow Halt)");
+    EXPECT_EQ(f[0].found, "Good");
+    EXPECT_EQ(report.count(Verdict::Fail), 1u) << dump(report);
+    EXPECT_EQ(report.exitCode(), 1);
+    EXPECT_EQ(skill->state(), SkillState::Ready);
 }
 
 // --- The report -------------------------------------------------------------------------
