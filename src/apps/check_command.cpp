@@ -4,7 +4,9 @@
 // Exit code: 0 all passed, 1 a check failed, 2 usage or connection error.
 #include <asio/co_spawn.hpp>
 #include <asio/io_context.hpp>
+#include <asio/signal_set.hpp>
 #include <chrono>
+#include <csignal>
 #include <exception>
 #include <iostream>
 #include <memory>
@@ -77,10 +79,28 @@ int runCheck(const CheckCommandOptions& options) {
 
     asio::io_context io(1);
     ua::Client client(io.get_executor());
+    // Ctrl-C during --exercise must not leave a skill Halted or Running: the first signal
+    // asks the check to stop after the step under way (the skill is put back in Ready),
+    // a second one quits at once.
+    asio::signal_set signals(io, SIGINT, SIGTERM);
+    bool stopRequested = false;
+    signals.async_wait([&](const asio::error_code& ec, int) {
+        if (ec) return;
+        stopRequested = true;
+        std::cerr << "stopping after the current step (the skill is left in Ready); again to "
+                     "quit at once\n";
+        signals.async_wait([&io](const asio::error_code& again, int) {
+            if (!again) io.stop();
+        });
+    });
+    checkOptions.stopRequested = [&stopRequested] { return stopRequested; };
     int exitCode = 2;
     bool crashed = false;
     asio::co_spawn(io, check(client, options, std::move(checkOptions), report, exitCode),
-                   [&crashed](const std::exception_ptr& e) { crashed = e != nullptr; });
+                   [&crashed, &signals](const std::exception_ptr& e) {
+                       crashed = e != nullptr;
+                       signals.cancel();  // the last work: io.run() returns
+                   });
     io.run();
     if (crashed) {
         std::cerr << "the check stopped on an internal error\n";

@@ -199,6 +199,7 @@ public:
         co_await findSkills();
         std::vector<SkillUnderTest> tested;
         for (const auto& skill : skills_) {
+            if (stopped("checked")) co_return;
             if (!remote_.client().isConnected()) {
                 report_.fail(std::string(kServer), "connection", "the connection to stay open",
                              "it was lost");
@@ -211,13 +212,22 @@ public:
         exercise.skillTransitionEventType = skillEventType_;
         exercise.eventTimeout = options_.eventTimeout;
         exercise.runTimeout = options_.runTimeout;
+        exercise.stopRequested = options_.stopRequested;
         for (const auto& t : tested) {
-            if (!remote_.client().isConnected()) break;
+            if (stopped("exercised") || !remote_.client().isConnected()) break;
             co_await exerciseSkill(remote_, t, exercise, report_);
         }
     }
 
 private:
+    /// A stop was asked for: says what is left undone.
+    bool stopped(const char* undone) {
+        if (!options_.stopRequested || !options_.stopRequested()) return false;
+        report_.fail(std::string(kServer), "check", "to run to its end",
+                     std::string("interrupted: the skills that remain were not ") + undone);
+        return true;
+    }
+
     // --- The server's model -----------------------------------------------------------
 
     /// Namespaces, SkillType and its event type, the skill types. False when no skill can

@@ -28,6 +28,7 @@
 // a server's strange answers become findings, not crashes or hangs.
 #include <chrono>
 #include <cstddef>
+#include <functional>
 
 #include <asio/awaitable.hpp>
 
@@ -57,6 +58,9 @@ struct CheckOptions {
     /// --exercise: how long a run (Start until Ready or Halted) may take.
     std::chrono::milliseconds runTimeout{10000};
     RemoteLimits limits;
+    /// Asked between steps: true ends the check early (the exercise first puts the skill
+    /// back in Ready), with a failure saying so. The CLI's SIGINT handler sets it.
+    std::function<bool()> stopRequested;
 };
 
 /// Checks every skill of the server `client` is connected to (with a session) and adds

@@ -129,10 +129,11 @@ private:
             !co_await step(SkillMethod::Reset, SkillState::Halted)) {
             co_return;
         }
-        if (!co_await refusals(SkillState::Ready)) co_return;
-        if (!co_await step(SkillMethod::Halt, SkillState::Ready)) co_return;
-        if (!co_await refusals(SkillState::Halted)) co_return;
-        if (!co_await step(SkillMethod::Reset, SkillState::Halted)) co_return;
+        if (stopped() || !co_await refusals(SkillState::Ready)) co_return;
+        if (stopped() || !co_await step(SkillMethod::Halt, SkillState::Ready)) co_return;
+        if (stopped() || !co_await refusals(SkillState::Halted)) co_return;
+        if (stopped() || !co_await step(SkillMethod::Reset, SkillState::Halted)) co_return;
+        if (stopped()) co_return;
         co_await startRun();
     }
 
@@ -202,7 +203,7 @@ private:
         // is waiting) is too short for that, which is no fault of the skill.
         auto deadline = started + options_.runTimeout;
         std::string note = " (too short to try Suspend)";
-        if (inbox_->empty()) {
+        if (inbox_->empty() && !stopped()) {
             const SuspendOutcome outcome = co_await suspendAndResume();
             if (outcome == SuspendOutcome::Failed) co_return;
             if (outcome == SuspendOutcome::Done) {
@@ -507,6 +508,16 @@ private:
 
     bool connected() { return remote_.client().isConnected(); }
 
+    /// A stop was asked for: reported once, and the steps that remain are skipped.
+    bool stopped() {
+        if (!options_.stopRequested || !options_.stopRequested()) return false;
+        if (!stopReported_) {
+            stopReported_ = true;
+            fail("exercise", "every step", "interrupted: the remaining steps were skipped");
+        }
+        return true;
+    }
+
     void fail(const std::string& check, std::string expected, std::string found) {
         report_.fail(skill_.path, check, std::move(expected), std::move(found));
     }
@@ -517,6 +528,7 @@ private:
     ConformanceReport& report_;
     std::shared_ptr<EventInbox> inbox_;
     std::shared_ptr<ua::Subscription> subscription_;
+    bool stopReported_ = false;
 };
 
 }  // namespace

@@ -21,6 +21,7 @@
 // A skill found Running or Suspended (in use by someone else) is not touched.
 #include <array>
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -54,6 +55,8 @@ struct ExerciseOptions {
     ua::NodeId skillTransitionEventType;
     std::chrono::milliseconds eventTimeout{3000};
     std::chrono::milliseconds runTimeout{10000};
+    /// True ends the exercise after the step under way; the skill is still left in Ready.
+    std::function<bool()> stopRequested;
 };
 
 /// Drives `skill` through its state machine and adds the findings to `report`.

@@ -16,6 +16,7 @@
 #include <asio/detached.hpp>
 #include <asio/io_context.hpp>
 #include <asio/post.hpp>
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <string>
@@ -125,6 +126,9 @@ public:
     FakeSkill(ua::Server& server, asio::io_context& io, ua::NodeId node, Flaw flaw)
         : server_(server), io_(io), node_(std::move(node)), flaw_(flaw) {}
 
+    /// Set (from the server's thread) once a method has been called while Halted.
+    [[nodiscard]] const std::atomic<bool>& calledInHalted() const { return calledInHalted_; }
+
     void install() {
         auto& as = server_.addressSpace();
         eventType_ = *ua::skillsNodeId(as, cm::kSkillTransitionEventType);
@@ -143,6 +147,7 @@ public:
 
 private:
     ua::StatusCode onMethod(SkillMethod m) {
+        if (state_ == SkillState::Halted) calledInHalted_ = true;
         if (flaw_ == Flaw::ResetGoodInReady && m == SkillMethod::Reset &&
             state_ == SkillState::Ready) {
             return ua::status::Good;  // the flaw: accepts Reset where Ready does not allow it
@@ -201,6 +206,7 @@ private:
     Flaw flaw_;
     ua::NodeId eventType_;
     SkillState state_ = SkillState::Ready;
+    std::atomic<bool> calledInHalted_{false};
 };
 
 // --- Running the checker --------------------------------------------------------------
@@ -402,6 +408,38 @@ TEST_F(ConformanceChecker, InvalidCurrentStateFails) {
     ASSERT_EQ(f.size(), 1u) << dump(report);
     EXPECT_EQ(f[0].expected, "one of Halted, Ready, Running, Suspended");
     EXPECT_EQ(f[0].found, "'Idle'");
+}
+
+TEST_F(ConformanceChecker, UnreadableValueFails) {
+    start([](ua::AddressSpace& as) {
+        const auto skill = addSkill(as);
+        const auto velocity = childAt(as, skill, {"ParameterSet", "MaxVelocity"});
+        ASSERT_TRUE(as.setValueSource(velocity, [] {
+                          return ua::DataValue::withStatus(ua::status::BadNotReadable);
+                      }).isGood());
+    });
+    const auto report = run();
+    const auto f = findings(report, Verdict::Fail, "ParameterSet/MaxVelocity");
+    ASSERT_EQ(f.size(), 1u) << dump(report);
+    EXPECT_EQ(f[0].expected, "a readable value");
+    EXPECT_EQ(f[0].found, "BadNotReadable");
+}
+
+TEST_F(ConformanceChecker, ChildOfTheWrongNodeClassFails) {
+    start([](ua::AddressSpace& as) {
+        SkillSpec spec;
+        std::erase(spec.optional, "Start");
+        const auto skill = addSkill(as, spec);
+        auto start = as.addVariable(skill, ua::NodeId(1, "Cell.Move/Start"), "Start",
+                                    ua::NodeId(ns0::Boolean), ua::Variant(true));
+        ASSERT_TRUE(start.ok());
+        (*start)->browseName = q0("Start");
+    });
+    const auto report = run();
+    const auto f = findings(report, Verdict::Fail, "Start");
+    ASSERT_EQ(f.size(), 1u) << dump(report);
+    EXPECT_EQ(f[0].expected, "Method");
+    EXPECT_EQ(f[0].found, "a Variable ns=1;s=Cell.Move/Start");
 }
 
 TEST_F(ConformanceChecker, CurrentStateIdAndNumberMustMatchItsName) {
@@ -606,6 +644,21 @@ TEST_F(ConformanceExercise, RunThatNeverEndsFailsAndIsHalted) {
     EXPECT_EQ(f[0].expected, "RunningToReady or RunningToHalted within 1000 ms");
     EXPECT_EQ(f[0].found, "no event; CurrentState Running");
     EXPECT_EQ(findings(report, Verdict::Pass, "exercise end").size(), 1u) << dump(report);
+    EXPECT_EQ(currentState(), "Ready");
+}
+
+TEST_F(ConformanceExercise, StopRequestedLeavesTheSkillReady) {
+    startWithFake(Flaw::None);
+    auto options = exercise();
+    // As if Ctrl-C came once the skill was Halted: the exercise ends, and Resets it.
+    options.stopRequested = [fake = fake_] { return fake->calledInHalted().load(); };
+    const auto report = run(options);
+    const auto f = findings(report, Verdict::Fail, "exercise");
+    ASSERT_EQ(f.size(), 1u) << dump(report);
+    EXPECT_EQ(f[0].found, "interrupted: the remaining steps were skipped");
+    EXPECT_EQ(findings(report, Verdict::Pass, "Start in Ready").size(), 0u) << dump(report);
+    EXPECT_EQ(findings(report, Verdict::Pass, "exercise end").size(), 1u) << dump(report);
+    EXPECT_EQ(report.exitCode(), 1);
     EXPECT_EQ(currentState(), "Ready");
 }
 
