@@ -105,36 +105,37 @@ public:
             co_return;
         }
         if (!co_await subscribe()) co_return;
-        co_await drive();
-        co_await restore();
+        if (co_await drive()) co_await restore();
         if (subscription_) (void)co_await subscription_->remove();
     }
 
 private:
     // --- Steps ------------------------------------------------------------------------
 
-    asio::awaitable<void> drive() {
+    /// The steps; false when the skill was left alone (not readable, or in use), so that
+    /// nothing needs restoring.
+    asio::awaitable<bool> drive() {
         const StateSnapshot start = co_await readState();
         if (start.status.isBad() || !start.state) {
             fail("exercise", "a readable CurrentState to begin with",
                  start.status.isBad() ? statusText(start.status) : "'" + start.text + "'");
-            co_return;
+            co_return false;
         }
         if (*start.state == SkillState::Running || *start.state == SkillState::Suspended) {
             report_.warn(skill_.path, "exercise", "the skill Ready or Halted to begin with",
                          stateText(start.state) + " (in use by someone else?): not exercised");
-            co_return;
+            co_return false;
         }
         if (*start.state == SkillState::Halted &&
             !co_await step(SkillMethod::Reset, SkillState::Halted)) {
-            co_return;
+            co_return true;
         }
-        if (stopped() || !co_await refusals(SkillState::Ready)) co_return;
-        if (stopped() || !co_await step(SkillMethod::Halt, SkillState::Ready)) co_return;
-        if (stopped() || !co_await refusals(SkillState::Halted)) co_return;
-        if (stopped() || !co_await step(SkillMethod::Reset, SkillState::Halted)) co_return;
-        if (stopped()) co_return;
-        co_await startRun();
+        if (stopped() || !co_await refusals(SkillState::Ready)) co_return true;
+        if (stopped() || !co_await step(SkillMethod::Halt, SkillState::Ready)) co_return true;
+        if (stopped() || !co_await refusals(SkillState::Halted)) co_return true;
+        if (stopped() || !co_await step(SkillMethod::Reset, SkillState::Halted)) co_return true;
+        if (!stopped()) co_await startRun();
+        co_return true;
     }
 
     /// Every method `state` does not allow answers BadInvalidState and changes nothing.

@@ -566,6 +566,24 @@ protected:
         options.runTimeout = 1s;
         return options;
     }
+    /// Calls one of the skill's methods from a client of its own (someone else).
+    void callAsAnotherClient(const std::string& method) {
+        const ua::NodeId id = server_->inServer(
+            [this, &method](ua::Server& s) { return childAt(s.addressSpace(), skill_, {method}); });
+        asio::io_context io(1);
+        ua::Client client(io.get_executor());
+        asio::co_spawn(
+            io,
+            [](ua::Client& c, std::string url, ua::NodeId skill,
+               ua::NodeId methodId) -> asio::awaitable<void> {
+                if ((co_await c.connect(url)).isBad()) co_return;
+                std::vector<ua::Variant> inputs;
+                (void)co_await c.call(skill, methodId, std::move(inputs));
+                (void)co_await c.disconnect();
+            }(client, server_->url(), skill_, id),
+            asio::detached);
+        io.run_for(10s);
+    }
     /// CurrentState's text on the server now.
     std::string currentState() {
         return server_->inServer([this](ua::Server& s) {
@@ -664,29 +682,24 @@ TEST_F(ConformanceExercise, StopRequestedLeavesTheSkillReady) {
 
 TEST_F(ConformanceExercise, HaltedSkillIsResetFirst) {
     startWithFake(Flaw::None);
-    // Halted through the protocol, as a client would leave it.
-    {
-        asio::io_context io(1);
-        ua::Client client(io.get_executor());
-        const ua::NodeId halt = server_->inServer(
-            [this](ua::Server& s) { return childAt(s.addressSpace(), skill_, {"Halt"}); });
-        asio::co_spawn(
-            io,
-            [](ua::Client& c, std::string url, ua::NodeId skill,
-               ua::NodeId method) -> asio::awaitable<void> {
-                if ((co_await c.connect(url)).isBad()) co_return;
-                std::vector<ua::Variant> inputs;
-                (void)co_await c.call(skill, method, std::move(inputs));
-                (void)co_await c.disconnect();
-            }(client, server_->url(), skill_, halt),
-            asio::detached);
-        io.run_for(10s);
-    }
+    callAsAnotherClient("Halt");  // Halted through the protocol, as a client would leave it
     ASSERT_EQ(currentState(), "Halted");
     const auto report = run(exercise());
     EXPECT_EQ(report.count(Verdict::Fail), 0u) << dump(report);
     EXPECT_EQ(findings(report, Verdict::Pass, "Reset in Halted").size(), 2u) << dump(report);
     EXPECT_EQ(currentState(), "Ready");
+}
+
+TEST_F(ConformanceExercise, SkillInUseIsLeftAlone) {
+    startWithFake(Flaw::RunNeverEnds);
+    callAsAnotherClient("Start");  // someone else's run
+    ASSERT_EQ(currentState(), "Running");
+    const auto report = run(exercise());
+    EXPECT_EQ(report.count(Verdict::Fail), 0u) << dump(report);
+    const auto f = findings(report, Verdict::Warn, "exercise");
+    ASSERT_EQ(f.size(), 1u) << dump(report);
+    EXPECT_EQ(f[0].found, "Running (in use by someone else?): not exercised");
+    EXPECT_EQ(currentState(), "Running") << "not halted by the checker";
 }
 
 // --- --exercise against skills::Skill, the component side of the skill layer ------------
