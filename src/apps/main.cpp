@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
         skillcell::apps::addBrowseCommand(app),
         skillcell::apps::addLdsCommand(app),
         skillcell::apps::addDiscoverCommand(app),
+        skillcell::apps::addSkillCommand(app),
     };
 
     CLI11_PARSE(app, argc, argv);
