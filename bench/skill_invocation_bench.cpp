@@ -72,13 +72,9 @@ Measurement measure(const Options& options, double minPublishingIntervalMs,
     });
     test::ClientThread t;
     const ua::NodeId skillId(1, ua::String("Skills/Move"));
-    const auto sc = t.run([&]() -> asio::awaitable<std::shared_ptr<skills::SkillClient>> {
-        if ((co_await t.client().connect(server.url())).isBad()) co_return nullptr;
-        skills::SkillClientOptions o;
-        o.publishingIntervalMs = clientIntervalMs;
-        auto attached = co_await skills::SkillClient::attach(t.client(), skillId, o);
-        co_return attached ? *attached : nullptr;
-    });
+    skills::SkillClientOptions o;
+    o.publishingIntervalMs = clientIntervalMs;
+    const auto sc = t.attach(server.url(), skillId, o);
     if (!sc) {
         m.failures = options.count;
         return m;
@@ -102,6 +98,10 @@ Measurement measure(const Options& options, double minPublishingIntervalMs,
         }
         co_await sc->detach();
         co_return 0;
+    });
+    server.inServer([&](ua::Server&) {  // skills before the server's io_context
+        skillServer.reset();
+        return 0;
     });
     m.read = bench::summarize(reads);
     m.invocation = bench::summarize(invocations);
