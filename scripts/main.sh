@@ -3,8 +3,9 @@
 # and shows Plug & Produce discovery and the OPC UA stack at work on one machine:
 #   a Local Discovery Server (LDS-ME) and a demo server find each other by mDNS, the server
 #   registers with the LDS, our `discover` lists both, our client browses the server,
-#   node-opcua's client browses, reads, writes and calls on it, and when the server stops its
-#   goodbye removes it from the LDS.
+#   node-opcua's client browses, reads, writes and calls on it, a skill of the server runs
+#   (our SkillClient, then node-opcua finding it through the type hierarchy), and when the
+#   server stops its goodbye removes it from the LDS.
 # mDNS stays inside a private network namespace (multicast on loopback only), so nothing is
 # sent to the machine's real network; that needs root. Without it, the job runs without
 # discovery.
@@ -41,10 +42,15 @@ start() {
   fi
 }
 
+# Skills that do nothing, successfully, for 200 ms: stand-ins until the device adapters exist.
+skill_args=(--noop-skill CartesianLinearMoveSkillType=Move --noop-skill GraspGripperSkillType=Grasp
+            --noop-skill-ms 200)
+
 if [ "${SKILLCELL_MAIN_IN_NETNS:-0}" = 1 ]; then
   start lds lds --port 4840 --mdns-ttl 5 --mdns-query-period 1
   lds_url=$url
-  start server server --port 4841 --mdns-ttl 5 --mdns-query-period 1 --mdns-name demo-server
+  start server server --port 4841 --mdns-ttl 5 --mdns-query-period 1 --mdns-name demo-server \
+    "${skill_args[@]}"
   server_url=$url
   echo "== mDNS: the servers on the network (skillcell discover)"
   "$skillcell" discover --duration 1
@@ -58,7 +64,7 @@ if [ "${SKILLCELL_MAIN_IN_NETNS:-0}" = 1 ]; then
   "$skillcell" discover --lds "$lds_url" --registered
 else
   echo "(no network namespace: running without discovery; run as root to see it)"
-  start server server --port 4841 --host 127.0.0.1 --no-discovery
+  start server server --port 4841 --host 127.0.0.1 --no-discovery "${skill_args[@]}"
   server_url=$url
 fi
 
@@ -68,6 +74,12 @@ echo "== our client browses $server_url"
 echo
 echo "== node-opcua's client against our server"
 node tests/interop/client.js "$server_url"
+echo
+echo "== a skill runs: our SkillClient writes MaxVelocity, starts Move, follows its events"
+"$skillcell" skill "$server_url" Move --set MaxVelocity=0.5 --timeout 10
+echo
+echo "== node-opcua finds the skill through the type hierarchy, runs it, reads its state"
+node tests/interop/skill.js "$server_url" Move
 
 if [ "${SKILLCELL_MAIN_IN_NETNS:-0}" = 1 ]; then
   echo

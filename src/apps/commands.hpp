@@ -15,6 +15,7 @@ Command addServerCommand(CLI::App& app);
 Command addBrowseCommand(CLI::App& app);
 Command addLdsCommand(CLI::App& app);
 Command addDiscoverCommand(CLI::App& app);
+Command addSkillCommand(CLI::App& app);
 Command addCheckCommand(CLI::App& app);
 
 }  // namespace skillcell::apps

@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
     const std::vector<skillcell::apps::Command> commands{
         skillcell::apps::addServerCommand(app), skillcell::apps::addBrowseCommand(app),
         skillcell::apps::addLdsCommand(app),    skillcell::apps::addDiscoverCommand(app),
-        skillcell::apps::addCheckCommand(app),
+        skillcell::apps::addSkillCommand(app),  skillcell::apps::addCheckCommand(app),
     };
 
     try {

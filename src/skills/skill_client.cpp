@@ -137,18 +137,22 @@ asio::awaitable<StatusCode> SkillClient::resolve() {
 
 asio::awaitable<StatusCode> SkillClient::subscribe(SkillClientOptions options) {
     std::weak_ptr<SkillClient> weak = weak_from_this();
+    // Named, not temporaries inside the co_await expressions: GCC 12 destroys such
+    // temporaries twice, which would drop the weak references twice.
+    ua::Subscription::StatusCallback onStatus = [weak](StatusCode s) {
+        if (auto self = weak.lock()) self->onSubscriptionStatus(s);
+    };
+    ua::Subscription::EventCallback onEvents = [weak](const std::vector<Variant>& fields) {
+        if (auto self = weak.lock()) self->onEvent(fields);
+    };
     ua::SubscriptionSettings settings(options.publishingIntervalMs, 3 * options.maxKeepAliveCount,
                                       options.maxKeepAliveCount);
-    auto sub = co_await client_.createSubscription(settings, [weak](StatusCode s) {
-        if (auto self = weak.lock()) self->onSubscriptionStatus(s);
-    });
+    auto sub = co_await client_.createSubscription(settings, std::move(onStatus));
     if (!sub) co_return sub.status();
     subscription_ = *sub;
-    auto item = co_await subscription_->monitorEvents(skill_, transitionEventFilter(),
-                                                      [weak](const std::vector<Variant>& fields) {
-                                                          if (auto self = weak.lock())
-                                                              self->onEvent(fields);
-                                                      });
+    ua::EventFilter filter = transitionEventFilter();
+    auto item =
+        co_await subscription_->monitorEvents(skill_, std::move(filter), std::move(onEvents));
     if (!item) co_return item.status();
     co_return ua::status::Good;
 }

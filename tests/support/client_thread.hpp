@@ -18,9 +18,15 @@ class ClientThread {
 public:
     ClientThread()
         : work_(io_.get_executor()), thread_([this] { io_.run(); }), client_(io_.get_executor()) {}
+    /// SkillClients live on the client's executor: the ones attach() made are released
+    /// there (after the test's copies), before the client disconnects.
     ~ClientThread() {
         asio::co_spawn(
-            io_, [this]() -> asio::awaitable<void> { (void)co_await client_.disconnect(); },
+            io_,
+            [this]() -> asio::awaitable<void> {
+                attached_.clear();
+                (void)co_await client_.disconnect();
+            },
             asio::use_future)
             .get();
         work_.reset();
@@ -36,11 +42,17 @@ public:
     ua::Client& client() { return client_; }
     asio::io_context& io() { return io_; }
 
-    std::shared_ptr<skills::SkillClient> attach(const std::string& url, const ua::NodeId& skill) {
+    /// Connects (if not yet connected) and attaches to `skill`; nullptr on failure.
+    std::shared_ptr<skills::SkillClient> attach(const std::string& url, const ua::NodeId& skill,
+                                                skills::SkillClientOptions options = {}) {
         return run([&]() -> asio::awaitable<std::shared_ptr<skills::SkillClient>> {
-            if ((co_await client_.connect(url)).isBad()) co_return nullptr;
-            auto sc = co_await skills::SkillClient::attach(client_, skill);
-            co_return sc ? *sc : nullptr;
+            if (!client_.isConnected() && (co_await client_.connect(url)).isBad()) {
+                co_return nullptr;
+            }
+            auto sc = co_await skills::SkillClient::attach(client_, skill, options);
+            if (!sc) co_return nullptr;
+            attached_.push_back(*sc);
+            co_return *sc;
         });
     }
     skills::SkillOutcome invoke(const std::shared_ptr<skills::SkillClient>& sc,
@@ -56,6 +68,7 @@ private:
     asio::executor_work_guard<asio::io_context::executor_type> work_;
     std::thread thread_;
     ua::Client client_;
+    std::vector<std::shared_ptr<skills::SkillClient>> attached_;
 };
 
 }  // namespace skillcell::test

@@ -58,6 +58,15 @@ public:
               ASSERT_TRUE(skills_->add(*grasp, "Grasp", std::make_unique<FailingBehaviour>()));
               ASSERT_TRUE(skills_->add(*move, "Endless", std::make_unique<EndlessBehaviour>()));
           }) {}
+    /// Skills (their behaviours' timers) go before the server's io_context, on its thread.
+    ~Cell() {
+        server_.inServer([this](ua::Server&) {
+            skills_.reset();
+            return 0;
+        });
+    }
+    Cell(const Cell&) = delete;
+    Cell& operator=(const Cell&) = delete;
     std::string url() const { return server_.url(); }
     SkillState state(const std::string& skill) {
         return server_.inServer([&](ua::Server&) {

@@ -137,6 +137,14 @@ protected:
         id_ = skill_->nodeId();
     }
 
+    ~SkillTest() override {
+        server_.inServer([this](ua::Server&) {
+            skill_.reset();
+            skills_.reset();
+            return 0;
+        });
+    }
+
     StatusCode call(BlockingClient& c, SkillMethod m) {
         auto r = c.call(id_, child(id_, std::string(name(m))), {});
         return r ? StatusCode(status::Good) : r.status();
