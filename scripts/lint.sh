@@ -29,7 +29,7 @@ start=$SECONDS
 echo "== clang-format ($("$clang_format" --version | head -n1))"
 mapfile -d '' cxx_files < <(git ls-files -z -- \
     'src/*.cpp' 'src/*.hpp' 'src/*.c' 'src/*.h' 'tests/*.cpp' 'tests/*.hpp' \
-    'bench/*.cpp' 'bench/*.hpp' 'fuzz/*.cpp' 'fuzz/*.hpp')
+    'bench/*.cpp' 'bench/*.hpp' 'fuzz/*.cpp' 'fuzz/*.hpp' 'examples/*.cpp' 'examples/*.hpp')
 if ! "$clang_format" --dry-run --Werror "${cxx_files[@]}"; then
     echo "clang-format: files above need formatting" >&2
     status=1

@@ -2,8 +2,9 @@
 
 namespace skillcell::skills {
 
-NoOpBehaviour::NoOpBehaviour(asio::any_io_executor executor, std::chrono::milliseconds duration)
-    : timer_(std::move(executor)), duration_(duration) {}
+NoOpBehaviour::NoOpBehaviour(const asio::any_io_executor& executor,
+                             std::chrono::milliseconds duration)
+    : timer_(executor), duration_(duration) {}
 
 void NoOpBehaviour::start(const SkillParameters& parameters, SkillRun run) {
     last_ = parameters;

@@ -14,7 +14,7 @@ namespace skillcell::skills {
 
 class NoOpBehaviour final : public SkillBehaviour {
 public:
-    explicit NoOpBehaviour(asio::any_io_executor executor,
+    explicit NoOpBehaviour(const asio::any_io_executor& executor,
                            std::chrono::milliseconds duration = std::chrono::milliseconds(0));
 
     void start(const SkillParameters& parameters, SkillRun run) override;

@@ -45,7 +45,7 @@ std::optional<ua::NodeId> SkillServer::findSkillType(std::string_view typeName) 
     const auto skillType = ua::skillsNodeId(as, ua::companion::kSkillType);
     if (!skillType) return std::nullopt;
     for (const auto& model : ua::kCompanionModels) {
-        const auto id = ua::findTypeByName(as, model.uri, typeName);
+        auto id = ua::findTypeByName(as, model.uri, typeName);
         if (id && as.isSubtypeOf(*id, *skillType)) return id;
     }
     return std::nullopt;
