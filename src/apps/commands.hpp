@@ -15,5 +15,6 @@ Command addServerCommand(CLI::App& app);
 Command addBrowseCommand(CLI::App& app);
 Command addLdsCommand(CLI::App& app);
 Command addDiscoverCommand(CLI::App& app);
+Command addDetectCommand(CLI::App& app);
 
 }  // namespace skillcell::apps

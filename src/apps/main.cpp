@@ -1,4 +1,4 @@
-// skillcell: one program, one subcommand per component (server, lds, browse, discover;
+// skillcell: one program, one subcommand per component (server, lds, browse, discover, detect;
 // later device, kb, mes, demo). Every component takes --port N for its OPC UA port.
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
         skillcell::apps::addBrowseCommand(app),
         skillcell::apps::addLdsCommand(app),
         skillcell::apps::addDiscoverCommand(app),
+        skillcell::apps::addDetectCommand(app),
     };
 
     CLI11_PARSE(app, argc, argv);
