@@ -58,25 +58,26 @@ StatusCode addDemoNodes(AddressSpace& as, DemoEventSink fireEvent) {
     Argument a{"a", NodeId(ns0::Double), value_rank::kScalar, {}, {"", "first addend"}};
     Argument b{"b", NodeId(ns0::Double), value_rank::kScalar, {}, {"", "second addend"}};
     Argument sum{"sum", NodeId(ns0::Double), value_rank::kScalar, {}, {"", "a + b"}};
-    auto add = as.addMethod(
-        demo, id("Demo.Add"), "Demo.Add", {a, b}, {sum},
-        [](const NodeId&, std::span<const Variant> in, std::vector<Variant>& out) -> StatusCode {
-            // Types and count are validated by the Call service against
-            // InputArguments before this runs.
-            out.emplace_back(*in[0].get<double>() + *in[1].get<double>());
-            return status::Good;
-        });
+    auto add = as.addMethod(demo, id("Demo.Add"), "Demo.Add", {a, b}, {sum},
+                            [](const Caller&, const NodeId&, std::span<const Variant> in,
+                               std::vector<Variant>& out) -> StatusCode {
+                                // Types and count are validated by the Call service against
+                                // InputArguments before this runs.
+                                out.emplace_back(*in[0].get<double>() + *in[1].get<double>());
+                                return status::Good;
+                            });
     if (!add) return add.status();
     if (!fireEvent) return status::Good;
 
     if (Node* node = as.find(demo)) node->eventNotifier = 1;  // SubscribeToEvents
     Argument message{"message", NodeId(ns0::String), value_rank::kScalar, {}, {"", "event text"}};
-    auto fire = as.addMethod(demo, id("Demo.FireEvent"), "Demo.FireEvent", {message}, {},
-                             [fireEvent, demo](const NodeId&, std::span<const Variant> in,
-                                               std::vector<Variant>&) -> StatusCode {
-                                 fireEvent(demo, *in[0].get<String>());
-                                 return status::Good;
-                             });
+    auto fire =
+        as.addMethod(demo, id("Demo.FireEvent"), "Demo.FireEvent", {message}, {},
+                     [fireEvent, demo](const Caller&, const NodeId&, std::span<const Variant> in,
+                                       std::vector<Variant>&) -> StatusCode {
+                         fireEvent(demo, *in[0].get<String>());
+                         return status::Good;
+                     });
     return fire ? status::Good : fire.status();
 }
 

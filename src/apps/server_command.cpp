@@ -1,36 +1,97 @@
 // `skillcell server`: a demo OPC UA server (namespace 0, the Server object, a Demo object
 // with variables and a method) that announces itself by mDNS and registers with the LDSs
-// it discovers. Prints "READY opc.tcp://HOST:PORT" on stdout once it accepts connections,
+// it discovers. With --noop-skill it also offers skills of any concrete skill type that do
+// nothing, successfully: stand-ins for real components in discovery and skill tests and
+// benchmarks. Prints "READY opc.tcp://HOST:PORT" on stdout once it accepts connections,
 // so scripts wait for that line instead of sleeping.
+#include <spdlog/spdlog.h>
+
 #include "commands.hpp"
 #include "demo_nodes.hpp"
 #include "server_process.hpp"
+#include "skills/noop_behaviour.hpp"
+#include "skills/skill_server.hpp"
 
 namespace skillcell::apps {
+namespace {
+
+struct ServerCommandOptions {
+    ServerProcessOptions process;
+    std::vector<std::string> noopSkills;  // "<SkillTypeBrowseName>=<InstanceName>"
+    int noopSkillMs = 0;
+};
+
+ua::Result<ComponentContent> populate(const ServerCommandOptions& options, ua::Server& server,
+                                      asio::io_context& io) {
+    auto fireDemoEvent = [&server](const ua::NodeId& source, ua::String message) {
+        ua::Event event;
+        event.sourceNode = source;
+        event.message = {"", std::move(message)};
+        event.severity = 500;
+        server.fireEvent(std::move(event));
+    };
+    if (const auto s = addDemoNodes(server.addressSpace(), fireDemoEvent); s.isBad()) return s;
+    if (options.noopSkills.empty()) return ComponentContent{};
+
+    std::string error;
+    std::shared_ptr<skills::SkillServer> skillServer =
+        skills::SkillServer::create(server, io.get_executor(), &error);
+    if (!skillServer) {
+        spdlog::critical("{}", error);
+        return ua::status::BadConfigurationError;
+    }
+    for (const auto& spec : options.noopSkills) {
+        const auto eq = spec.find('=');
+        const std::string typeName = spec.substr(0, eq);
+        const std::string name = eq == std::string::npos ? typeName : spec.substr(eq + 1);
+        const auto type = skillServer->findSkillType(typeName);
+        if (!type || name.empty()) {
+            spdlog::critical(
+                "--noop-skill {}: '{}' is not a skill type of the companion models "
+                "(see docs/models/)",
+                spec, typeName);
+            return ua::status::BadTypeDefinitionInvalid;
+        }
+        auto behaviour = std::make_unique<skills::NoOpBehaviour>(
+            io.get_executor(), std::chrono::milliseconds(options.noopSkillMs));
+        auto skill = skillServer->add(*type, name, std::move(behaviour));
+        if (!skill) {
+            spdlog::critical("--noop-skill {}: {}", spec, ua::statusName(skill.status()));
+            return skill.status();
+        }
+        spdlog::info("skill {} ({}) at {}", name, typeName, (*skill)->nodeId().toString());
+    }
+    return ComponentContent(skillServer);
+}
+
+}  // namespace
 
 Command addServerCommand(CLI::App& app) {
-    auto options = std::make_shared<ServerProcessOptions>();
-    options->applicationName = "skillcell demo server";
+    auto options = std::make_shared<ServerCommandOptions>();
+    options->process.applicationName = "skillcell demo server";
     CLI::App* cmd = app.add_subcommand(
         "server",
         "Run a demo OPC UA server: namespace 0, the Server object, and Objects/Demo with "
         "variables (Demo.Double, Demo.Int32, Demo.String, Demo.Boolean, Demo.DoubleArray, "
-        "Demo.ReadOnly, Demo.Uptime) and a method Demo.Add(a, b). It announces itself by mDNS "
-        "and registers with every LDS it discovers; SIGTERM unregisters it and sends the mDNS "
-        "goodbye. Prints 'READY <url>' on stdout when it accepts connections.");
-    addServerProcessOptions(cmd, *options);
-    addDiscoveryOptions(cmd, options->discovery, /*registers=*/true, /*isLds=*/false);
+        "Demo.ReadOnly, Demo.Uptime) and a method Demo.Add(a, b); with --noop-skill, skills "
+        "in Objects/Skills. It announces itself by mDNS and registers with every LDS it "
+        "discovers; SIGTERM unregisters it and sends the mDNS goodbye. Prints 'READY <url>' "
+        "on stdout when it accepts connections.");
+    addServerProcessOptions(cmd, options->process);
+    addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--noop-skill", options->noopSkills,
+                    "offer a skill that does nothing, successfully: TYPE=NAME with TYPE a "
+                    "concrete skill type of the companion models, e.g. "
+                    "CartesianLinearMoveSkillType=Move (repeatable)");
+    cmd->add_option("--noop-skill-ms", options->noopSkillMs,
+                    "how long a no-op skill runs before it finishes")
+        ->check(CLI::Range(0, 3'600'000))
+        ->capture_default_str();
     return {cmd, [options] {
-                return runServerProcess(*options, [](ua::Server& server) {
-                    auto fireDemoEvent = [&server](const ua::NodeId& source, ua::String message) {
-                        ua::Event event;
-                        event.sourceNode = source;
-                        event.message = {"", std::move(message)};
-                        event.severity = 500;
-                        server.fireEvent(std::move(event));
-                    };
-                    return addDemoNodes(server.addressSpace(), fireDemoEvent);
-                });
+                return runServerProcess(options->process,
+                                        [options](ua::Server& server, asio::io_context& io) {
+                                            return populate(*options, server, io);
+                                        });
             }};
 }
 

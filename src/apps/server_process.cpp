@@ -36,8 +36,7 @@ void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& o) {
                   "and print SKILL ADDED/REMOVED lines on stdout, and SNAPSHOT..END on exit");
 }
 
-int runServerProcess(const ServerProcessOptions& options,
-                     const std::function<ua::StatusCode(ua::Server&)>& populate) {
+int runServerProcess(const ServerProcessOptions& options, const PopulateServer& populate) {
     asio::io_context io{1};  // one thread runs it: no scheduler locking needed
     ua::ServerConfig config;
     config.bindAddress = options.host;
@@ -80,11 +79,15 @@ int runServerProcess(const ServerProcessOptions& options,
         spdlog::critical("cannot build the server: {}", error);
         return 1;
     }
+    ComponentContent content;  // after the server: destroyed before it
     if (populate) {
-        if (const auto s = populate(*server); s.isBad()) {
-            spdlog::critical("cannot add the component's nodes: {}", ua::statusName(s));
+        auto populated = populate(*server, io);
+        if (!populated) {
+            spdlog::critical("cannot add the component's nodes: {}",
+                             ua::statusName(populated.status()));
             return 1;
         }
+        content = std::move(*populated);
     }
     auto port = server->listen();
     if (!port) return 1;  // listen() logged why

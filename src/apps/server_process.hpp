@@ -31,8 +31,13 @@ struct ServerProcessOptions {
 /// --max-channels, --detect.
 void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& options);
 
+/// What a component adds to its server (skills, device adapters): kept alive while the
+/// server runs and destroyed before the server and its io_context. May be null.
+using ComponentContent = std::shared_ptr<void>;
+/// Adds the component's nodes; runs on the io_context's thread before the server listens.
+using PopulateServer = std::function<ua::Result<ComponentContent>(ua::Server&, asio::io_context&)>;
+
 /// Runs until a signal. `populate` adds the component's nodes (may be empty).
-int runServerProcess(const ServerProcessOptions& options,
-                     const std::function<ua::StatusCode(ua::Server&)>& populate);
+int runServerProcess(const ServerProcessOptions& options, const PopulateServer& populate);
 
 }  // namespace skillcell::apps

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Interop: a node-opcua client script against our server.
-# Usage: node_script_vs_skillcell.sh PATH/TO/skillcell SCRIPT.js
-# Starts `skillcell server --port 0`, learns its port from the READY line, runs the script
+# Usage: node_script_vs_skillcell.sh PATH/TO/skillcell SCRIPT.js [-- SERVER ARGS... [-- SCRIPT ARGS...]]
+# Starts `skillcell server --port 0` (with the extra server arguments), learns its port from the READY line, runs the script
 # with the server's URL (client.js: browse from Root, read every attribute of every node,
 # write + read back, call; subscribe.js: data change after a write, event after
 # Demo.FireEvent), and stops the server. The server's PKI (application certificate) goes to the
@@ -10,6 +10,15 @@
 set -euo pipefail
 skillcell=$1
 script=$2
+shift 2
+server_args=()
+script_args=()
+if [ "${1:-}" = -- ]; then
+  shift
+  while [ $# -gt 0 ] && [ "$1" != -- ]; do server_args+=("$1"); shift; done
+  [ "${1:-}" = -- ] && shift
+  script_args=("$@")
+fi
 here=$(cd "$(dirname "$0")" && pwd)
 if ! command -v node >/dev/null || [ ! -d "$here/node_modules/node-opcua" ]; then
   echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
@@ -24,7 +33,8 @@ cleanup() {
 }
 trap cleanup EXIT
 mkfifo "$tmp/ready"
-"$skillcell" server --port 0 --host 127.0.0.1 --no-discovery --pki-dir "$tmp/pki" >"$tmp/ready" 2>"$tmp/server.log" &
+"$skillcell" server --port 0 --host 127.0.0.1 --no-discovery --pki-dir "$tmp/pki" \
+  ${server_args[@]+"${server_args[@]}"} >"$tmp/ready" 2>"$tmp/server.log" &
 pid=$!
 exec 3<"$tmp/ready"
 if ! read -r -t 20 word url <&3 || [ "$word" != READY ]; then
@@ -32,7 +42,7 @@ if ! read -r -t 20 word url <&3 || [ "$word" != READY ]; then
 fi
 echo "server ready at $url"
 status=0
-timeout 90 node "$here/$script" "$url" || status=$?
+timeout 90 node "$here/$script" "$url" ${script_args[@]+"${script_args[@]}"} || status=$?
 if ! kill -0 "$pid" 2>/dev/null; then
   echo "our server died during the test:" >&2; cat "$tmp/server.log" >&2; exit 1
 fi

@@ -149,9 +149,8 @@ TEST(AddressSpace, MethodsGetArgumentProperties) {
                              {"b", NodeId(ns0::Double), -1, {}, {}}};
     std::vector<Argument> out{{"sum", NodeId(ns0::Double), -1, {}, {"", "a+b"}}};
     auto m = as.addMethod(NodeId(1, "Calc"), NodeId(1, "Calc.Add"), "Add", in, out,
-                          [](const NodeId&, std::span<const Variant>, std::vector<Variant>&) {
-                              return status::Good;
-                          });
+                          [](const Caller&, const NodeId&, std::span<const Variant>,
+                             std::vector<Variant>&) { return status::Good; });
     ASSERT_TRUE(m.ok());
     const Node* calc = as.find(NodeId(1, "Calc"));
     EXPECT_TRUE(hasRef(*calc, ns0::HasComponent, NodeId(1, "Calc.Add"), true));

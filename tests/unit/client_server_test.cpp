@@ -31,12 +31,12 @@ void addPlant(Server& server) {
     Argument x{"x", NodeId(ns0::Double), -1, {}, {}};
     Argument factor{"factor", NodeId(ns0::Int32), -1, {}, {}};
     Argument y{"y", NodeId(ns0::Double), -1, {}, {}};
-    ASSERT_TRUE(
-        as.addMethod(kFolder, kScale, "Scale", {x, factor}, {y},
-                     [](const NodeId&, std::span<const Variant> in, std::vector<Variant>& out) {
-                         out.emplace_back(*in[0].get<double>() * *in[1].get<std::int32_t>());
-                         return StatusCode(status::Good);
-                     }));
+    ASSERT_TRUE(as.addMethod(
+        kFolder, kScale, "Scale", {x, factor}, {y},
+        [](const Caller&, const NodeId&, std::span<const Variant> in, std::vector<Variant>& out) {
+            out.emplace_back(*in[0].get<double>() * *in[1].get<std::int32_t>());
+            return StatusCode(status::Good);
+        }));
 }
 
 class ClientServer : public ::testing::Test {

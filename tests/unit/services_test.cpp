@@ -59,17 +59,17 @@ protected:
         std::vector<Argument> in{{"a", NodeId(ns0::Double), -1, {}, {}},
                                  {"b", NodeId(ns0::Double), -1, {}, {}}};
         std::vector<Argument> out{{"sum", NodeId(ns0::Double), -1, {}, {}}};
-        ASSERT_TRUE(as.addMethod(kCell, kAdd, "Add", in, out,
-                                 [this](const NodeId& obj, std::span<const Variant> args,
-                                        std::vector<Variant>& outputs) {
-                                     lastObject = obj;
-                                     outputs.emplace_back(*args[0].get<double>() +
-                                                          *args[1].get<double>());
-                                     return status::Good;
-                                 })
-                        .ok());
+        ASSERT_TRUE(
+            as.addMethod(kCell, kAdd, "Add", in, out,
+                         [this](const Caller&, const NodeId& obj, std::span<const Variant> args,
+                                std::vector<Variant>& outputs) {
+                             lastObject = obj;
+                             outputs.emplace_back(*args[0].get<double>() + *args[1].get<double>());
+                             return status::Good;
+                         })
+                .ok());
         ASSERT_TRUE(as.addMethod(kCell, kStop, "Stop", {}, {},
-                                 [](const NodeId&, std::span<const Variant>,
+                                 [](const Caller&, const NodeId&, std::span<const Variant>,
                                     std::vector<Variant>&) { return status::BadInvalidState; })
                         .ok());
         ctx.session = &session;
@@ -475,7 +475,7 @@ TEST_F(Services, WriteValues) {
 
     std::vector<double> seen;
     ASSERT_EQ(as.setValueSink(kSpeed,
-                              [&seen](const DataValue& dv) {
+                              [&seen](const Caller&, const DataValue& dv) {
                                   const double v = *dv.value->get<double>();
                                   if (v < 0) return StatusCode(status::BadOutOfRange);
                                   seen.push_back(v);
@@ -542,13 +542,14 @@ TEST_F(Services, MethodDeclaredOnTheTypeIsCallableOnInstances) {
     ASSERT_EQ(as.addReference(NodeId(ns0::BaseObjectType), NodeId(ns0::HasSubtype),
                               NodeId(1, "MachineType")),
               status::Good);
-    ASSERT_TRUE(
-        as.addMethod(NodeId(1, "MachineType"), NodeId(1, "MachineType.Reset"), "Reset", {}, {},
-                     [](const NodeId&, std::span<const Variant>, std::vector<Variant>& out) {
-                         out.emplace_back(true);
-                         return status::Good;
-                     })
-            .ok());
+    ASSERT_TRUE(as.addMethod(NodeId(1, "MachineType"), NodeId(1, "MachineType.Reset"), "Reset", {},
+                             {},
+                             [](const Caller&, const NodeId&, std::span<const Variant>,
+                                std::vector<Variant>& out) {
+                                 out.emplace_back(true);
+                                 return status::Good;
+                             })
+                    .ok());
     ASSERT_TRUE(
         as.addObject(NodeId(ns0::ObjectsFolder), NodeId(1, "M1"), "M1", NodeId(1, "MachineType"))
             .ok());

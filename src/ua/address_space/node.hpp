@@ -42,13 +42,21 @@ struct Reference {
     friend bool operator==(const Reference&, const Reference&) = default;
 };
 
+/// Who asked for a write or a method call: the session the request came on (null for
+/// application code). Callbacks use it for per-session rules such as a skill's
+/// reservation by the session that started it.
+struct Caller {
+    NodeId sessionId;
+};
+
 /// Produces the current value of a variable on every read (Value attribute).
 using ValueSource = std::function<DataValue()>;
 /// Receives a value written by a client; a Bad status refuses the write.
-using ValueSink = std::function<StatusCode(const DataValue&)>;
+using ValueSink = std::function<StatusCode(const Caller& caller, const DataValue&)>;
 /// Runs a method. `outputs` is empty on entry; fill it in OutputArguments order.
-using MethodCallback = std::function<StatusCode(
-    const NodeId& objectId, std::span<const Variant> inputs, std::vector<Variant>& outputs)>;
+using MethodCallback =
+    std::function<StatusCode(const Caller& caller, const NodeId& objectId,
+                             std::span<const Variant> inputs, std::vector<Variant>& outputs)>;
 
 struct Node {
     // Base attributes: every node class.

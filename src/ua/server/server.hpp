@@ -52,10 +52,16 @@ public:
     void stop();
 
     [[nodiscard]] AddressSpace& addressSpace() { return addressSpace_; }
+    /// The executor of the io_context the server runs on (for timers of application code).
+    [[nodiscard]] asio::any_io_executor executor() { return io_.get_executor(); }
     [[nodiscard]] ServiceTable& services() { return services_; }
     [[nodiscard]] const ServerConfig& config() const { return config_; }
     [[nodiscard]] std::size_t connectionCount() const { return connections_.size(); }
     [[nodiscard]] std::size_t sessionCount() const { return sessions_.size(); }
+    /// True while the session with this SessionId exists (not closed, not timed out).
+    [[nodiscard]] bool hasSession(const NodeId& sessionId) const {
+        return sessions_.contains(sessionId);
+    }
     [[nodiscard]] ServerSubscriptionEngine& subscriptions() { return subscriptions_; }
 
     /// Fires an event from application code (on the io_context thread): delivered to the

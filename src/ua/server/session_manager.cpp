@@ -73,4 +73,11 @@ BrowseContinuationPoints& continuationPointsOf(ServiceContext& ctx) {
     return ctx.session->browseContinuationPoints();
 }
 
+bool SessionManager::contains(const NodeId& sessionId) const {
+    for (const auto& [token, session] : sessions_) {
+        if (session->sessionId() == sessionId) return true;
+    }
+    return false;
+}
+
 }  // namespace skillcell::ua

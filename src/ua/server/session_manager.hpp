@@ -40,6 +40,8 @@ public:
     /// A channel closed: its sessions stay (a client may reactivate them on a new channel)
     /// until they time out.
     [[nodiscard]] std::size_t size() const { return sessions_.size(); }
+    /// True while the session with this SessionId (not its token) exists.
+    [[nodiscard]] bool contains(const NodeId& sessionId) const;
 
     /// Random bytes for tokens and nonces; unpredictable (seeded from std::random_device).
     [[nodiscard]] ByteString randomBytes(std::size_t n);

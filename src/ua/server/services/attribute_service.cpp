@@ -219,7 +219,7 @@ StatusCode read(const AddressSpace& as, const ServerLimits& limits, const ReadRe
                             [&](const ReadValueId& item) { return readAttribute(as, item, t); });
 }
 
-StatusCode writeAttribute(AddressSpace& as, const WriteValue& item) {
+StatusCode writeAttribute(AddressSpace& as, const WriteValue& item, const Caller& caller) {
     Node* n = as.find(item.nodeId);
     if (n == nullptr) return status::BadNodeIdUnknown;
     if (item.attributeId == 0 || item.attributeId > kMaxAttributeId ||
@@ -254,7 +254,7 @@ StatusCode writeAttribute(AddressSpace& as, const WriteValue& item) {
     // A value the application computes cannot take a write it has no sink for.
     if (n->valueSource && !n->valueSink) return status::BadNotWritable;
     if (n->valueSink) {
-        const StatusCode s = n->valueSink(dv);
+        const StatusCode s = n->valueSink(caller, dv);
         if (s.isBad()) return s;
     }
     // A variable with a ValueSource reads its value from the application; storing it too
@@ -265,9 +265,10 @@ StatusCode writeAttribute(AddressSpace& as, const WriteValue& item) {
 }
 
 StatusCode write(AddressSpace& as, const ServerLimits& limits, const WriteRequest& request,
-                 WriteResponse& response) {
-    return forEachOperation(limits, request.nodesToWrite, response.results,
-                            [&](const WriteValue& item) { return writeAttribute(as, item); });
+                 WriteResponse& response, const Caller& caller) {
+    return forEachOperation(
+        limits, request.nodesToWrite, response.results,
+        [&](const WriteValue& item) { return writeAttribute(as, item, caller); });
 }
 
 void registerAttributeServices(ServiceTable& table, AddressSpace& as) {
@@ -276,10 +277,10 @@ void registerAttributeServices(ServiceTable& table, AddressSpace& as) {
                                          [&as](ServiceContext& ctx, const auto& req, auto& resp) {
                                              return read(as, limitsOf(ctx), req, resp);
                                          });
-    table.add<WriteRequest, WriteResponse>(A::ActivatedSession,
-                                           [&as](ServiceContext& ctx, const auto& req, auto& resp) {
-                                               return write(as, limitsOf(ctx), req, resp);
-                                           });
+    table.add<WriteRequest, WriteResponse>(
+        A::ActivatedSession, [&as](ServiceContext& ctx, const auto& req, auto& resp) {
+            return write(as, limitsOf(ctx), req, resp, callerOf(ctx));
+        });
 }
 
 }  // namespace skillcell::ua

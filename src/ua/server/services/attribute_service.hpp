@@ -24,8 +24,10 @@ struct IndexRange {
 StatusCode read(const AddressSpace& as, const ServerLimits& limits, const ReadRequest& request,
                 ReadResponse& response);
 
-[[nodiscard]] StatusCode writeAttribute(AddressSpace& as, const WriteValue& item);
+/// `caller` is handed to the variable's ValueSink.
+[[nodiscard]] StatusCode writeAttribute(AddressSpace& as, const WriteValue& item,
+                                        const Caller& caller = {});
 StatusCode write(AddressSpace& as, const ServerLimits& limits, const WriteRequest& request,
-                 WriteResponse& response);
+                 WriteResponse& response, const Caller& caller = {});
 
 }  // namespace skillcell::ua

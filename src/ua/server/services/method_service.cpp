@@ -33,7 +33,8 @@ bool belongsTo(const AddressSpace& as, const Node& object, const NodeId& method)
 
 }  // namespace
 
-CallMethodResult callMethod(AddressSpace& as, const CallMethodRequest& request) {
+CallMethodResult callMethod(AddressSpace& as, const CallMethodRequest& request,
+                            const Caller& caller) {
     CallMethodResult result;
     const Node* object = as.find(request.objectId);
     if (object == nullptr) {
@@ -89,21 +90,22 @@ CallMethodResult callMethod(AddressSpace& as, const CallMethodRequest& request) 
     }
     // Copy the callback: it may change the address space (and so move this node's fields).
     const MethodCallback callback = method->method;
-    result.statusCode = callback(request.objectId, inputs, result.outputArguments);
+    result.statusCode = callback(caller, request.objectId, inputs, result.outputArguments);
     if (result.statusCode.isBad()) result.outputArguments.clear();
     return result;
 }
 
 StatusCode call(AddressSpace& as, const ServerLimits& limits, const CallRequest& request,
-                CallResponse& response) {
+                CallResponse& response, const Caller& caller) {
     return forEachOperation(limits, request.methodsToCall, response.results,
-                            [&](const CallMethodRequest& r) { return callMethod(as, r); });
+                            [&](const CallMethodRequest& r) { return callMethod(as, r, caller); });
 }
 
 void registerMethodServices(ServiceTable& table, AddressSpace& as) {
     table.add<CallRequest, CallResponse>(ServiceTable::Access::ActivatedSession,
                                          [&as](ServiceContext& ctx, const auto& req, auto& resp) {
-                                             return call(as, limitsOf(ctx), req, resp);
+                                             return call(as, limitsOf(ctx), req, resp,
+                                                         callerOf(ctx));
                                          });
 }
 

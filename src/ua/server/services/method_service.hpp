@@ -6,8 +6,10 @@
 
 namespace skillcell::ua {
 
-[[nodiscard]] CallMethodResult callMethod(AddressSpace& as, const CallMethodRequest& request);
+/// `caller` is handed to the method's callback (tests and application code may omit it).
+[[nodiscard]] CallMethodResult callMethod(AddressSpace& as, const CallMethodRequest& request,
+                                          const Caller& caller = {});
 StatusCode call(AddressSpace& as, const ServerLimits& limits, const CallRequest& request,
-                CallResponse& response);
+                CallResponse& response, const Caller& caller = {});
 
 }  // namespace skillcell::ua

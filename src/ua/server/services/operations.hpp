@@ -4,8 +4,10 @@
 // BadTooManyOperations, otherwise one result per operation in request order.
 #include <vector>
 
+#include "ua/address_space/node.hpp"
 #include "ua/server/server_limits.hpp"
 #include "ua/server/service_context.hpp"
+#include "ua/server/session.hpp"
 #include "ua/types/status_code.hpp"
 
 namespace skillcell::ua {
@@ -19,6 +21,11 @@ StatusCode forEachOperation(const ServerLimits& limits, const std::vector<In>& o
     results.reserve(operations.size());
     for (const auto& op : operations) results.push_back(operation(op));
     return status::Good;
+}
+
+/// The session a request came on, for callbacks that apply per-session rules.
+inline Caller callerOf(const ServiceContext& ctx) {
+    return Caller{ctx.session != nullptr ? ctx.session->sessionId() : NodeId{}};
 }
 
 /// The server's limits, or the defaults when a caller (a test) has none.

@@ -67,7 +67,22 @@ StatusCode checkOperand(const AddressSpace& as, const SimpleAttributeOperand& op
         return isBaseEventField(op.browsePath) ? status::Good : status::BadNodeIdUnknown;
     if (resolvesInType(as, op.typeDefinitionId, op.browsePath)) return status::Good;
     // Fields of BaseEventType are always filled in, whatever the model holds yet.
-    return isBaseEventField(op.browsePath) ? status::Good : status::BadNodeIdUnknown;
+    if (isBaseEventField(op.browsePath)) return status::Good;
+    // With BaseEventType the path is evaluated without regard to the type (OPC 10000-4,
+    // 7.22.4): clients (node-opcua's constructEventFilter) name subtype fields such as
+    // FromState/Id so. A path that no event type in the model has is still an error.
+    if (op.typeDefinitionId == kBaseEventType) {
+        bool known = false;
+        as.forEachNode([&](const Node& n) {
+            if (!known && n.nodeClass == NodeClass::ObjectType &&
+                isType(as, n.nodeId, kBaseEventType) &&
+                resolvesInType(as, n.nodeId, op.browsePath)) {
+                known = true;
+            }
+        });
+        if (known) return status::Good;
+    }
+    return status::BadNodeIdUnknown;
 }
 
 std::size_t operandCount(FilterOperator op) {

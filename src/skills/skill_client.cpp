@@ -1,0 +1,287 @@
+#include "skills/skill_client.hpp"
+
+#include <asio/experimental/as_tuple.hpp>
+#include <asio/use_awaitable.hpp>
+
+#include "ua/client/subscription.hpp"
+
+namespace skillcell::skills {
+namespace {
+
+using ua::NodeId;
+using ua::QualifiedName;
+using ua::StatusCode;
+using ua::Variant;
+
+constexpr std::uint32_t kTransitionEventType = 2311;
+constexpr std::uint32_t kBaseEventType = 2041;
+constexpr std::size_t kMaxTransitionsKept = 256;
+
+/// Select clauses, in the order onEvent reads them.
+ua::EventFilter transitionEventFilter() {
+    ua::EventFilter filter;
+    auto select = [&filter](std::uint32_t type, std::vector<QualifiedName> path) {
+        ua::SimpleAttributeOperand op;
+        op.typeDefinitionId = NodeId(type);
+        op.browsePath = std::move(path);
+        filter.selectClauses.push_back(std::move(op));
+    };
+    select(kBaseEventType, {{0, "Time"}});
+    select(kBaseEventType, {{0, "Message"}});
+    select(kTransitionEventType, {{0, "FromState"}, {0, "Id"}});
+    select(kTransitionEventType, {{0, "ToState"}, {0, "Id"}});
+    select(kTransitionEventType, {{0, "Transition"}, {0, "Id"}});
+    return filter;
+}
+
+/// "RunningToHalted: gripper jammed" -> "gripper jammed" (the reason without the
+/// transition's name that our skills put first).
+std::string reasonOf(const SkillTransitionRecord& r) {
+    if (r.transition) {
+        const std::string prefix = std::string(name(*r.transition)) + ": ";
+        if (r.message.starts_with(prefix)) return r.message.substr(prefix.size());
+        if (r.message == name(*r.transition)) return {};
+    }
+    return r.message;
+}
+
+}  // namespace
+
+std::string_view name(SkillOutcome::Kind kind) {
+    switch (kind) {
+        case SkillOutcome::Kind::Finished:
+            return "Finished";
+        case SkillOutcome::Kind::Failed:
+            return "Failed";
+        case SkillOutcome::Kind::Refused:
+            return "Refused";
+        case SkillOutcome::Kind::TimedOut:
+            return "TimedOut";
+        case SkillOutcome::Kind::Cancelled:
+            return "Cancelled";
+        case SkillOutcome::Kind::Lost:
+            return "Lost";
+    }
+    return "?";
+}
+
+SkillClient::SkillClient(Token, ua::Client& client, NodeId skill)
+    : client_(client), skill_(std::move(skill)), wakeUp_(client.executor()) {}
+
+SkillClient::~SkillClient() = default;
+
+asio::awaitable<ua::Result<std::shared_ptr<SkillClient>>> SkillClient::attach(
+    ua::Client& client, NodeId skill, SkillClientOptions options) {
+    auto self = std::make_shared<SkillClient>(Token{}, client, std::move(skill));
+    if (const auto s = co_await self->resolve(); s.isBad()) co_return s;
+    if (const auto s = co_await self->subscribe(options); s.isBad()) co_return s;
+    co_return self;
+}
+
+asio::awaitable<StatusCode> SkillClient::resolve() {
+    auto children = co_await client_.browse(skill_);
+    if (!children) co_return children.status();
+    NodeId parameterSet;
+    for (const auto& ref : children->references) {
+        if (!ref.nodeId.isLocal()) continue;
+        const auto& bn = ref.browseName;
+        if (bn.namespaceIndex == 0 && ref.nodeClass == ua::NodeClass::Method) {
+            if (const auto m = methodFromName(bn.name)) methods_[*m] = ref.nodeId.nodeId;
+        } else if (bn.namespaceIndex == 0 && bn.name == "CurrentState") {
+            currentStateId_ = ref.nodeId.nodeId;
+        } else if (bn.name == "ParameterSet" && ref.nodeClass == ua::NodeClass::Object) {
+            parameterSet = ref.nodeId.nodeId;
+        }
+    }
+    if (methods_.size() != kAllMethods.size() || currentStateId_.isNull()) {
+        co_return ua::status::BadNotSupported;
+    }
+
+    if (!parameterSet.isNull()) {
+        auto params = co_await client_.browse(parameterSet);
+        if (!params) co_return params.status();
+        ua::ReadRequest read;
+        for (const auto& ref : params->references) {
+            if (!ref.nodeId.isLocal() || ref.nodeClass != ua::NodeClass::Variable) continue;
+            RemoteParameter p;
+            p.name = ref.browseName.name;
+            p.nodeId = ref.nodeId.nodeId;
+            parameters_.push_back(std::move(p));
+            for (auto attribute : {ua::AttributeId::DataType, ua::AttributeId::ValueRank}) {
+                ua::ReadValueId item;
+                item.nodeId = ref.nodeId.nodeId;
+                item.attributeId = static_cast<std::uint32_t>(attribute);
+                read.nodesToRead.push_back(std::move(item));
+            }
+        }
+        if (!read.nodesToRead.empty()) {
+            auto values = co_await client_.read(std::move(read));
+            if (!values) co_return values.status();
+            for (std::size_t i = 0; i < parameters_.size() && 2 * i + 1 < values->results.size();
+                 ++i) {
+                const auto& type = values->results[2 * i].value;
+                const auto& rank = values->results[2 * i + 1].value;
+                if (type && type->get<NodeId>()) parameters_[i].dataType = *type->get<NodeId>();
+                if (rank && rank->get<std::int32_t>()) {
+                    parameters_[i].valueRank = *rank->get<std::int32_t>();
+                }
+            }
+        }
+    }
+
+    auto current = co_await client_.readValue(currentStateId_);
+    if (!current) co_return current.status();
+    if (const auto* text = current->get<ua::LocalizedText>()) state_ = stateFromName(text->text);
+    co_return ua::status::Good;
+}
+
+asio::awaitable<StatusCode> SkillClient::subscribe(SkillClientOptions options) {
+    std::weak_ptr<SkillClient> weak = weak_from_this();
+    ua::SubscriptionSettings settings(options.publishingIntervalMs, 3 * options.maxKeepAliveCount,
+                                      options.maxKeepAliveCount);
+    auto sub = co_await client_.createSubscription(settings, [weak](StatusCode s) {
+        if (auto self = weak.lock()) self->onSubscriptionStatus(s);
+    });
+    if (!sub) co_return sub.status();
+    subscription_ = *sub;
+    auto item = co_await subscription_->monitorEvents(skill_, transitionEventFilter(),
+                                                      [weak](const std::vector<Variant>& fields) {
+                                                          if (auto self = weak.lock())
+                                                              self->onEvent(fields);
+                                                      });
+    if (!item) co_return item.status();
+    co_return ua::status::Good;
+}
+
+void SkillClient::onEvent(const std::vector<Variant>& fields) {
+    if (fields.size() < 5) return;
+    SkillTransitionRecord r;
+    if (const auto* t = fields[0].get<ua::DateTime>()) r.time = *t;
+    if (const auto* m = fields[1].get<ua::LocalizedText>()) r.message = m->text;
+    if (const auto* id = fields[2].get<NodeId>()) r.from = stateFromNodeId(*id);
+    if (const auto* id = fields[3].get<NodeId>()) r.to = stateFromNodeId(*id);
+    if (const auto* id = fields[4].get<NodeId>()) r.transition = transitionFromNodeId(*id);
+    if (!r.to) return;  // not a transition of the skill state machine
+    state_ = r.to;
+    transitions_.push_back(std::move(r));
+    if (transitions_.size() > kMaxTransitionsKept) transitions_.pop_front();
+    wakeUp_.cancel();
+}
+
+void SkillClient::onSubscriptionStatus(StatusCode s) {
+    // Any Bad status ends the wait: the connection or session is gone, the server dropped
+    // the subscription, or it was silent for a whole keep-alive period (the watchdog).
+    if (s.isBad()) {
+        lost_ = s;
+        wakeUp_.cancel();
+    }
+}
+
+asio::awaitable<StatusCode> SkillClient::setParameter(std::string parameterName, Variant value) {
+    for (const auto& p : parameters_) {
+        if (p.name == parameterName)
+            co_return co_await client_.writeValue(p.nodeId, std::move(value));
+    }
+    co_return ua::status::BadNoMatch;
+}
+
+asio::awaitable<StatusCode> SkillClient::call(SkillMethod method) {
+    ua::CallRequest req;
+    req.methodsToCall.push_back(ua::CallMethodRequest{skill_, methods_.at(method), {}});
+    auto resp = co_await client_.request<ua::CallRequest, ua::CallResponse>(std::move(req));
+    if (!resp) co_return resp.status();
+    if (resp->results.size() != 1) co_return ua::status::BadUnknownResponse;
+    const StatusCode s = resp->results.front().statusCode;
+    if (method == SkillMethod::Start && s.isGood()) {
+        runStartedAt_ = resp->responseHeader.timestamp;
+        cancelled_ = false;
+    }
+    co_return s;
+}
+
+asio::awaitable<StatusCode> SkillClient::start() {
+    co_return co_await call(SkillMethod::Start);
+}
+
+std::optional<SkillOutcome> SkillClient::endOfRun() const {
+    if (!runStartedAt_) return std::nullopt;
+    for (const auto& r : transitions_) {
+        if (r.time < *runStartedAt_ || !r.from || !r.to) continue;
+        if (*r.from != SkillState::Running && *r.from != SkillState::Suspended) continue;
+        if (*r.to == SkillState::Ready) return SkillOutcome{SkillOutcome::Kind::Finished, {}, {}};
+        if (*r.to == SkillState::Halted) {
+            return SkillOutcome{SkillOutcome::Kind::Failed, ua::status::Good, reasonOf(r)};
+        }
+    }
+    return std::nullopt;
+}
+
+asio::awaitable<SkillOutcome> SkillClient::haltAfter(SkillOutcome::Kind kind) {
+    SkillOutcome outcome{kind, ua::status::Good, {}};
+    // Halt may race with the run's own end: BadInvalidState then just means it ended.
+    const StatusCode halted = co_await call(SkillMethod::Halt);
+    if (halted.isBad() && halted != ua::status::BadInvalidState) outcome.status = halted;
+    outcome.reason = kind == SkillOutcome::Kind::TimedOut ? "no end within the timeout; halted"
+                                                          : "cancelled; halted";
+    runStartedAt_.reset();
+    co_return outcome;
+}
+
+asio::awaitable<SkillOutcome> SkillClient::waitForEnd(std::chrono::milliseconds timeout) {
+    using asio::experimental::as_tuple;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    if (!runStartedAt_) {
+        co_return SkillOutcome{SkillOutcome::Kind::Refused, ua::status::BadInvalidState,
+                               "no run was started"};
+    }
+    for (;;) {
+        if (auto end = endOfRun()) {
+            runStartedAt_.reset();
+            co_return *end;
+        }
+        if (lost_.isBad()) {
+            co_return SkillOutcome{SkillOutcome::Kind::Lost, lost_,
+                                   "lost the skill's server before the run ended"};
+        }
+        if (cancelled_) co_return co_await haltAfter(SkillOutcome::Kind::Cancelled);
+        if (std::chrono::steady_clock::now() >= deadline) {
+            co_return co_await haltAfter(SkillOutcome::Kind::TimedOut);
+        }
+        wakeUp_.expires_at(deadline);
+        co_await wakeUp_.async_wait(as_tuple(asio::use_awaitable));
+    }
+}
+
+asio::awaitable<SkillOutcome> SkillClient::run(std::map<std::string, Variant> parameters,
+                                               std::chrono::milliseconds timeout) {
+    for (auto& [parameterName, value] : parameters) {
+        const StatusCode s = co_await setParameter(parameterName, std::move(value));
+        if (s.isBad()) {
+            co_return SkillOutcome{SkillOutcome::Kind::Refused, s,
+                                   "parameter " + parameterName + " refused"};
+        }
+    }
+    const StatusCode started = co_await start();
+    if (started.isBad()) {
+        const bool lost = started == ua::status::BadConnectionClosed ||
+                          started == ua::status::BadServerNotConnected ||
+                          started == ua::status::BadTimeout;
+        co_return SkillOutcome{lost ? SkillOutcome::Kind::Lost : SkillOutcome::Kind::Refused,
+                               started, "Start refused"};
+    }
+    co_return co_await waitForEnd(timeout);
+}
+
+void SkillClient::cancel() {
+    cancelled_ = true;
+    wakeUp_.cancel();
+}
+
+asio::awaitable<void> SkillClient::detach() {
+    if (subscription_) {
+        (void)co_await subscription_->remove();
+        subscription_.reset();
+    }
+}
+
+}  // namespace skillcell::skills

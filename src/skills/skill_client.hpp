@@ -1,0 +1,139 @@
+#pragma once
+// SkillClient: a typed proxy for one skill on a remote server. It writes parameters, calls
+// the methods, and learns how a run ended from the skill's transition events (an event
+// subscription on the skill object, never polling), with a timeout and cancellation
+// (both Halt the skill). A server that goes away, or stops answering for a keep-alive
+// period, ends a wait as Lost: a caller never hangs on a vanished component.
+//
+// Which end belongs to which run: events carry the server's Time. The end of the run this
+// client started is the first transition to Ready or Halted whose Time is not before the
+// Start call's response timestamp (both from the server's clock): transitions of earlier
+// runs happened before that Start could succeed, and the end of this run happens after the
+// Start call returned (skills report ends asynchronously).
+//
+// Threading: like ua::Client, use it from the client's executor only.
+#include <asio/awaitable.hpp>
+#include <asio/steady_timer.hpp>
+#include <chrono>
+#include <deque>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "skills/skill_state_machine.hpp"
+#include "ua/client/client.hpp"
+
+namespace skillcell::skills {
+
+/// How a run ended, as the client saw it.
+struct SkillOutcome {
+    enum class Kind : std::uint8_t {
+        Finished,   // the skill went back to Ready
+        Failed,     // the skill went to Halted; `reason` says why
+        Refused,    // a parameter write or Start was refused; `status` says why
+        TimedOut,   // no end within the timeout; the client halted the skill
+        Cancelled,  // cancel() was called; the client halted the skill
+        Lost,       // the connection, session or subscription was lost; `status` says how
+    };
+    Kind kind = Kind::Lost;
+    ua::StatusCode status = ua::status::Good;
+    std::string reason;
+    [[nodiscard]] bool ok() const { return kind == Kind::Finished; }
+};
+[[nodiscard]] std::string_view name(SkillOutcome::Kind kind);
+
+/// A parameter of the remote skill, as its ParameterSet declares it.
+struct RemoteParameter {
+    std::string name;
+    ua::NodeId nodeId;
+    ua::NodeId dataType;
+    std::int32_t valueRank = -1;
+};
+
+/// One transition event as received.
+struct SkillTransitionRecord {
+    ua::DateTime time;
+    std::optional<SkillState> from;
+    std::optional<SkillState> to;
+    std::optional<SkillTransition> transition;
+    std::string message;
+};
+
+struct SkillClientOptions {
+    SkillClientOptions() = default;  // not an aggregate: GCC 12 (see ua::ClientConfig)
+    /// Asked of the server for the event subscription; it may revise it upwards.
+    double publishingIntervalMs = 10;
+    std::uint32_t maxKeepAliveCount = 10;
+};
+
+class SkillClient : public std::enable_shared_from_this<SkillClient> {
+public:
+    /// Resolves the skill object's methods, CurrentState and parameters (by browsing it)
+    /// and subscribes to its events. BadNodeIdUnknown, or BadNotSupported for an object
+    /// that lacks the skill methods or CurrentState; the client's errors otherwise.
+    static asio::awaitable<ua::Result<std::shared_ptr<SkillClient>>> attach(
+        ua::Client& client, ua::NodeId skill, SkillClientOptions options = {});
+    ~SkillClient();
+    SkillClient(const SkillClient&) = delete;
+    SkillClient& operator=(const SkillClient&) = delete;
+
+    [[nodiscard]] const ua::NodeId& nodeId() const { return skill_; }
+    [[nodiscard]] const std::vector<RemoteParameter>& parameters() const { return parameters_; }
+    /// The state last learnt (read at attach, then from events).
+    [[nodiscard]] std::optional<SkillState> state() const { return state_; }
+    /// Every transition event received since attach, oldest first (at most 256 kept).
+    [[nodiscard]] const std::deque<SkillTransitionRecord>& transitions() const {
+        return transitions_;
+    }
+
+    /// Writes one parameter by name: BadNoMatch for a name the skill does not declare,
+    /// else the server's answer (BadOutOfRange, BadTypeMismatch, BadUserAccessDenied...).
+    asio::awaitable<ua::StatusCode> setParameter(std::string name, ua::Variant value);
+    /// Calls one method: Good, BadInvalidState, BadUserAccessDenied, ...
+    asio::awaitable<ua::StatusCode> call(SkillMethod method);
+    /// Start: Good (then await it with waitForEnd) or the refusal.
+    asio::awaitable<ua::StatusCode> start();
+    /// Waits for the end of the run start() began. On timeout or cancel() it calls Halt.
+    asio::awaitable<SkillOutcome> waitForEnd(std::chrono::milliseconds timeout);
+    /// Writes `parameters`, starts, waits for the end: the whole invocation.
+    asio::awaitable<SkillOutcome> run(std::map<std::string, ua::Variant> parameters,
+                                      std::chrono::milliseconds timeout);
+    /// Makes a pending waitForEnd/run halt the skill and return Cancelled (any thread of
+    /// the executor; safe when nothing waits).
+    void cancel();
+    /// Deletes the event subscription (the destructor cannot talk to the server).
+    asio::awaitable<void> detach();
+
+    struct Token {  // attach() only
+    private:
+        friend class SkillClient;
+        Token() = default;
+    };
+    SkillClient(Token, ua::Client& client, ua::NodeId skill);
+
+private:
+    asio::awaitable<ua::StatusCode> resolve();
+    asio::awaitable<ua::StatusCode> subscribe(SkillClientOptions options);
+    void onEvent(const std::vector<ua::Variant>& fields);
+    void onSubscriptionStatus(ua::StatusCode status);
+    /// The end of the current run among the transitions received, if it came.
+    [[nodiscard]] std::optional<SkillOutcome> endOfRun() const;
+    asio::awaitable<SkillOutcome> haltAfter(SkillOutcome::Kind kind);
+
+    ua::Client& client_;
+    ua::NodeId skill_;
+    std::map<SkillMethod, ua::NodeId> methods_;
+    ua::NodeId currentStateId_;
+    std::vector<RemoteParameter> parameters_;
+    std::shared_ptr<ua::Subscription> subscription_;
+    std::optional<SkillState> state_;
+    std::deque<SkillTransitionRecord> transitions_;
+    std::optional<ua::DateTime> runStartedAt_;  // the Start response's timestamp
+    ua::StatusCode lost_ = ua::status::Good;
+    bool cancelled_ = false;
+    asio::steady_timer wakeUp_;
+};
+
+}  // namespace skillcell::skills

@@ -1,0 +1,51 @@
+#pragma once
+// SkillServer: the skills of one component, served by its ua::Server. It loads the
+// companion models the skill types come from, keeps a "Skills" folder under Objects, and
+// creates each skill there from a type and a behaviour. A device adapter is a SkillServer
+// plus one SkillBehaviour per skill.
+#include <asio/any_io_executor.hpp>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "skills/skill.hpp"
+
+namespace skillcell::skills {
+
+class SkillServer {
+public:
+    /// Loads the companion models (if the address space lacks them) and adds the folder
+    /// Objects/Skills. On failure `error` (if given) says why.
+    [[nodiscard]] static std::unique_ptr<SkillServer> create(ua::Server& server,
+                                                             asio::any_io_executor executor,
+                                                             std::string* error = nullptr);
+
+    /// Adds a skill of `type` named `name` to the Skills folder.
+    [[nodiscard]] ua::Result<std::shared_ptr<Skill>> add(
+        const ua::NodeId& type, std::string name, std::unique_ptr<SkillBehaviour> behaviour,
+        SkillState initialState = SkillState::Ready);
+    /// The concrete skill type called `typeName` in one of the companion models (e.g.
+    /// "CartesianLinearMoveSkillType"), for command lines; nullopt if there is none.
+    [[nodiscard]] std::optional<ua::NodeId> findSkillType(std::string_view typeName) const;
+
+    [[nodiscard]] const ua::NodeId& folder() const { return folder_; }
+    [[nodiscard]] const std::vector<std::shared_ptr<Skill>>& skills() const { return skills_; }
+    [[nodiscard]] ua::Server& server() { return server_; }
+
+    struct Token {  // create() only
+    private:
+        friend class SkillServer;
+        Token() = default;
+    };
+    SkillServer(Token, ua::Server& server, asio::any_io_executor executor)
+        : server_(server), executor_(std::move(executor)) {}
+
+private:
+    ua::Server& server_;
+    asio::any_io_executor executor_;
+    ua::NodeId folder_;
+    std::vector<std::shared_ptr<Skill>> skills_;
+};
+
+}  // namespace skillcell::skills

@@ -1,0 +1,200 @@
+#!/usr/bin/env node
+// node-opcua client using a skillcell skill as any OPC UA client would, knowing only the
+// skill model (not skillcell's NodeIds):
+//   1. finds the skills by browsing from Objects for objects whose type definition is a
+//      subtype of SkillType (ns = index of http://skillcell.dev/UA/Skills/, i=1002), walking
+//      the type hierarchy on the server (inverse HasSubtype), and picks the one named
+//      by argv[3] (its browse name);
+//   2. writes its MaxVelocity parameter (and checks that an out-of-range value is refused
+//      with BadOutOfRange);
+//   3. subscribes to the skill's events (FromState/Id, ToState/Id, Transition/Id, Message),
+//      calls Start, and waits for ReadyToRunning and then RunningToReady;
+//   4. reads CurrentState (Ready) and LastTransition (RunningToReady); checks that Resume in
+//      Ready is refused with BadInvalidState.
+// usage: node skill.js opc.tcp://HOST:PORT SKILL_NAME
+// Prints "OK skill" and exits 0, or prints the failure on stderr and exits 1.
+"use strict";
+
+require("./log_to_stderr"); // before node-opcua: keep stdout clean
+const {
+    AttributeIds,
+    BrowseDirection,
+    ClientMonitoredItem,
+    ClientSubscription,
+    DataType,
+    NodeClassMask,
+    TimestampsToReturn,
+    constructEventFilter
+} = require("node-opcua");
+const { StatusCodes, checkEndpointUrl, connect, disconnect, resolveNamespaceIndex } =
+    require("./common");
+
+const SKILLS_URI = "http://skillcell.dev/UA/Skills/";
+const url = process.argv[2];
+const skillName = process.argv[3];
+checkEndpointUrl(url, "usage: node skill.js opc.tcp://HOST:PORT SKILL_NAME");
+if (!skillName) { process.stderr.write("usage: node skill.js URL SKILL_NAME\n"); process.exit(2); }
+
+async function browse(session, nodeId, options = {}) {
+    const result = await session.browse({
+        nodeId,
+        browseDirection: options.direction ?? BrowseDirection.Forward,
+        referenceTypeId: options.referenceTypeId ?? "HierarchicalReferences",
+        includeSubtypes: true,
+        nodeClassMask: options.nodeClassMask ?? 0,
+        resultMask: 63
+    });
+    if (result.statusCode !== StatusCodes.Good) {
+        throw new Error(`browse ${nodeId}: ${result.statusCode.toString()}`);
+    }
+    return result.references;
+}
+
+/// True when `type` is `superType` or one of its subtypes, asking the server.
+async function isSubtypeOf(session, type, superType, cache) {
+    const key = type.toString();
+    if (cache.has(key)) return cache.get(key);
+    let result = false;
+    let current = type;
+    for (let depth = 0; depth < 32 && current; ++depth) {
+        if (current.toString() === superType.toString()) { result = true; break; }
+        const parents = await browse(session, current,
+            { direction: BrowseDirection.Inverse, referenceTypeId: "HasSubtype" });
+        current = parents.length ? parents[0].nodeId : null;
+    }
+    cache.set(key, result);
+    return result;
+}
+
+async function findSkills(session, skillType) {
+    const found = [];
+    const cache = new Map();
+    const queue = [{ nodeId: "ns=0;i=85", depth: 0 }];
+    const seen = new Set();
+    while (queue.length) {
+        const { nodeId, depth } = queue.shift();
+        if (seen.has(nodeId.toString()) || depth > 6) continue;
+        seen.add(nodeId.toString());
+        for (const ref of await browse(session, nodeId, { nodeClassMask: NodeClassMask.Object })) {
+            if (ref.typeDefinition && await isSubtypeOf(session, ref.typeDefinition, skillType, cache)) {
+                found.push(ref);
+            } else {
+                queue.push({ nodeId: ref.nodeId, depth: depth + 1 });
+            }
+        }
+    }
+    return found;
+}
+
+function waitFor(emitter, event, accept, ms, what) {
+    return new Promise((resolve, reject) => {
+        const timer = setTimeout(() => {
+            emitter.removeListener(event, listener);
+            reject(new Error(`no ${what} within ${ms} ms`));
+        }, ms);
+        function listener(...args) {
+            const result = accept(...args);
+            if (result === undefined) return;
+            clearTimeout(timer);
+            emitter.removeListener(event, listener);
+            resolve(result);
+        }
+        emitter.on(event, listener);
+    });
+}
+
+async function childByName(session, nodeId, name) {
+    const refs = await browse(session, nodeId);
+    const ref = refs.find((r) => r.browseName.name === name);
+    if (!ref) throw new Error(`${nodeId.toString()} has no child ${name}`);
+    return ref.nodeId;
+}
+
+async function main() {
+    let problem = null;
+    const { client, session } = await connect(url, "skillcell-skill", (m) => { problem = m; });
+    try {
+        const { index: ns } = await resolveNamespaceIndex(session, SKILLS_URI);
+        if (ns < 0) throw new Error(`namespace ${SKILLS_URI} missing`);
+        const skills = await findSkills(session, `ns=${ns};i=1002`);
+        const names = skills.map((s) => s.browseName.name);
+        const skill = skills.find((s) => s.browseName.name === skillName);
+        if (!skill) throw new Error(`skill ${skillName} not found among [${names}]`);
+        const id = skill.nodeId;
+        process.stderr.write(`found skills [${names}]; using ${id.toString()}\n`);
+
+        const parameterSet = await childByName(session, id, "ParameterSet");
+        const maxVelocity = await childByName(session, parameterSet, "MaxVelocity");
+        const write = (v) => session.write({
+            nodeId: maxVelocity, attributeId: AttributeIds.Value,
+            value: { value: { dataType: DataType.Double, value: v } }
+        });
+        let status = await write(99);
+        if (status !== StatusCodes.BadOutOfRange) {
+            throw new Error(`MaxVelocity = 99: ${status.toString()}, expected BadOutOfRange`);
+        }
+        status = await write(0.5);
+        if (status !== StatusCodes.Good) throw new Error(`MaxVelocity = 0.5: ${status.toString()}`);
+
+        const subscription = ClientSubscription.create(session, {
+            requestedPublishingInterval: 20, requestedLifetimeCount: 600,
+            requestedMaxKeepAliveCount: 20, maxNotificationsPerPublish: 100,
+            publishingEnabled: true, priority: 1
+        });
+        await new Promise((resolve, reject) => {
+            subscription.once("started", resolve);
+            subscription.once("internal_error", reject);
+        });
+        const fields = ["FromState.Id", "ToState.Id", "Transition.Id", "Message", "EventType"];
+        const events = ClientMonitoredItem.create(
+            subscription, { nodeId: id, attributeId: AttributeIds.EventNotifier },
+            { samplingInterval: 0, queueSize: 100, discardOldest: true,
+              filter: constructEventFilter(fields) }, TimestampsToReturn.Both);
+        await new Promise((resolve, reject) => {
+            events.once("initialized", resolve);
+            events.once("err", (e) => reject(new Error(`event item: ${e}`)));
+        });
+        const received = [];
+        events.on("changed", (values) => received.push(values.map((v) => v.value)));
+        const transition = (name, number) => waitFor(events, "changed", () => {
+            const hit = received.find((v) => v[2] && v[2].toString() === `ns=0;i=${number}`);
+            return hit;
+        }, 5000, `${name} event`);
+
+        const ready = transition("RunningToReady", 2414);
+        const start = await session.call({ objectId: id, methodId: await childByName(session, id, "Start") });
+        if (start.statusCode !== StatusCodes.Good) throw new Error(`Start: ${start.statusCode.toString()}`);
+        await ready;
+        const started = received.find((v) => v[2] && v[2].toString() === "ns=0;i=2410");
+        if (!started) throw new Error("no ReadyToRunning event before RunningToReady");
+        if (started[0].toString() !== "ns=0;i=2400" || started[1].toString() !== "ns=0;i=2402") {
+            throw new Error(`ReadyToRunning event From/To ${started[0]} ${started[1]}`);
+        }
+        if (received.indexOf(started) > received.findIndex((v) => v[2].toString() === "ns=0;i=2414")) {
+            throw new Error("RunningToReady arrived before ReadyToRunning");
+        }
+
+        const current = await session.read({ nodeId: await childByName(session, id, "CurrentState"), attributeId: AttributeIds.Value });
+        if (current.value.value.text !== "Ready") throw new Error(`CurrentState ${current.value.value.text}`);
+        const last = await session.read({ nodeId: await childByName(session, id, "LastTransition"), attributeId: AttributeIds.Value });
+        if (last.value.value.text !== "RunningToReady") throw new Error(`LastTransition ${last.value.value.text}`);
+        const resume = await session.call({ objectId: id, methodId: await childByName(session, id, "Resume") });
+        if (resume.statusCode !== StatusCodes.BadInvalidState) {
+            throw new Error(`Resume in Ready: ${resume.statusCode.toString()}, expected BadInvalidState`);
+        }
+        await subscription.terminate();
+        if (problem) throw new Error(problem);
+        process.stdout.write("OK skill\n");
+    } finally {
+        await disconnect(client, session);
+    }
+}
+
+const overall = setTimeout(() => {
+    process.stderr.write("FAIL: timed out after 60 s\n");
+    process.exit(1);
+}, 60000);
+main().then(() => { clearTimeout(overall); process.exit(0); }, (err) => {
+    process.stderr.write(`FAIL: ${err && err.stack ? err.stack : err}\n`);
+    process.exit(1);
+});

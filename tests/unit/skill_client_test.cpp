@@ -1,0 +1,300 @@
+// SkillClient against real skills: a whole invocation, and every way one can go wrong:
+// Halted with a reason, a refused parameter, a refused Start, a timeout, a cancellation,
+// another client halting the run, the server stopping and the server process killed.
+#include <gtest/gtest.h>
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <asio/co_spawn.hpp>
+#include <asio/executor_work_guard.hpp>
+#include <asio/use_future.hpp>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+#include "client_thread.hpp"
+#include "running_server.hpp"
+#include "skills/noop_behaviour.hpp"
+#include "skills/skill_client.hpp"
+#include "skills/skill_server.hpp"
+
+extern char** environ;
+
+namespace skillcell::skills {
+namespace {
+
+using namespace std::chrono_literals;
+using test::ClientThread;
+using test::RunningServer;
+using ua::NodeId;
+using ua::Variant;
+namespace status = ua::status;
+using Kind = SkillOutcome::Kind;
+
+class FailingBehaviour final : public SkillBehaviour {
+public:
+    void start(const SkillParameters&, SkillRun run) override { run.failed("gripper jammed"); }
+};
+
+/// Runs until halted: a skill that never ends by itself.
+class EndlessBehaviour final : public SkillBehaviour {
+public:
+    void start(const SkillParameters&, SkillRun) override {}
+};
+
+/// A server with one skill of each behaviour.
+class Cell {
+public:
+    Cell()
+        : server_(RunningServer::defaultConfig(), [this](ua::Server& s) {
+              skills_ = SkillServer::create(s, s.executor());
+              ASSERT_TRUE(skills_);
+              const auto move = skills_->findSkillType("CartesianLinearMoveSkillType");
+              const auto grasp = skills_->findSkillType("GraspGripperSkillType");
+              ASSERT_TRUE(move && grasp);
+              ASSERT_TRUE(
+                  skills_->add(*move, "Move", std::make_unique<NoOpBehaviour>(s.executor(), 5ms)));
+              ASSERT_TRUE(skills_->add(*grasp, "Grasp", std::make_unique<FailingBehaviour>()));
+              ASSERT_TRUE(skills_->add(*move, "Endless", std::make_unique<EndlessBehaviour>()));
+          }) {}
+    std::string url() const { return server_.url(); }
+    SkillState state(const std::string& skill) {
+        return server_.inServer([&](ua::Server&) {
+            for (const auto& s : skills_->skills()) {
+                if (s->name() == skill) return s->state();
+            }
+            return SkillState::Halted;
+        });
+    }
+    void fault(const std::string& skill, const std::string& reason) {
+        server_.inServer([&](ua::Server&) {
+            for (const auto& s : skills_->skills()) {
+                if (s->name() == skill) s->fault(reason);
+            }
+            return 0;
+        });
+    }
+    static NodeId id(const std::string& skill) { return NodeId(1, ua::String("Skills/" + skill)); }
+
+private:
+    std::unique_ptr<SkillServer> skills_;
+    RunningServer server_;
+};
+
+TEST(SkillClient, RunsASkillToTheEnd) {
+    Cell cell;
+    ClientThread t;
+    auto move = t.attach(cell.url(), Cell::id("Move"));
+    ASSERT_TRUE(move);
+    EXPECT_EQ(move->state(), SkillState::Ready);
+    EXPECT_EQ(move->parameters().size(), 5u);
+    for (int i = 0; i < 3; ++i) {  // back to back: each run finds its own end
+        const auto outcome = t.invoke(move, {{"MaxVelocity", 0.25}}, 5s);
+        EXPECT_EQ(outcome.kind, Kind::Finished) << name(outcome.kind) << " " << outcome.reason;
+    }
+    EXPECT_EQ(cell.state("Move"), SkillState::Ready);
+    // The events came in order: ReadyToRunning, RunningToReady, three times.
+    const auto transitions = t.run([&]() -> asio::awaitable<std::deque<SkillTransitionRecord>> {
+        co_return move->transitions();
+    });
+    ASSERT_EQ(transitions.size(), 6u);
+    EXPECT_EQ(transitions[0].transition, SkillTransition::ReadyToRunning);
+    EXPECT_EQ(transitions[5].transition, SkillTransition::RunningToReady);
+}
+
+TEST(SkillClient, ReportsHaltedWithTheReason) {
+    Cell cell;
+    ClientThread t;
+    auto grasp = t.attach(cell.url(), Cell::id("Grasp"));
+    ASSERT_TRUE(grasp);
+    const auto outcome = t.invoke(grasp, {}, 5s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_EQ(outcome.reason, "gripper jammed");
+    EXPECT_EQ(cell.state("Grasp"), SkillState::Halted);
+    // Halted refuses Start until Reset.
+    const auto again = t.invoke(grasp, {}, 5s);
+    EXPECT_EQ(again.kind, Kind::Refused);
+    EXPECT_EQ(again.status, status::BadInvalidState);
+}
+
+TEST(SkillClient, ReportsARefusedParameter) {
+    Cell cell;
+    ClientThread t;
+    auto move = t.attach(cell.url(), Cell::id("Move"));
+    ASSERT_TRUE(move);
+    auto outcome = t.invoke(move, {{"MaxVelocity", 99.0}}, 5s);
+    EXPECT_EQ(outcome.kind, Kind::Refused);
+    EXPECT_EQ(outcome.status, status::BadOutOfRange);
+    outcome = t.invoke(move, {{"NoSuchParameter", 1.0}}, 5s);
+    EXPECT_EQ(outcome.kind, Kind::Refused);
+    EXPECT_EQ(outcome.status, status::BadNoMatch);
+    EXPECT_EQ(cell.state("Move"), SkillState::Ready);  // nothing started
+}
+
+TEST(SkillClient, HaltsTheSkillWhenTheTimeoutExpires) {
+    Cell cell;
+    ClientThread t;
+    auto endless = t.attach(cell.url(), Cell::id("Endless"));
+    ASSERT_TRUE(endless);
+    const auto outcome = t.invoke(endless, {}, 100ms);
+    EXPECT_EQ(outcome.kind, Kind::TimedOut);
+    EXPECT_EQ(outcome.status, status::Good);  // the Halt went through
+    EXPECT_EQ(cell.state("Endless"), SkillState::Halted);
+}
+
+TEST(SkillClient, CancelHaltsTheSkill) {
+    Cell cell;
+    ClientThread t;
+    auto endless = t.attach(cell.url(), Cell::id("Endless"));
+    ASSERT_TRUE(endless);
+    auto future = asio::co_spawn(
+        t.io(),
+        [&]() -> asio::awaitable<SkillOutcome> { co_return co_await endless->run({}, 30s); },
+        asio::use_future);
+    // Cancel once the run is under way (the server says Running).
+    for (int i = 0; i < 2000 && cell.state("Endless") != SkillState::Running; ++i) {
+        std::this_thread::sleep_for(1ms);
+    }
+    ASSERT_EQ(cell.state("Endless"), SkillState::Running);
+    asio::post(t.io(), [endless] { endless->cancel(); });
+    ASSERT_EQ(future.wait_for(5s), std::future_status::ready);
+    EXPECT_EQ(future.get().kind, Kind::Cancelled);
+    EXPECT_EQ(cell.state("Endless"), SkillState::Halted);
+}
+
+TEST(SkillClient, ReportsAHaltByTheComponentAsFailed) {
+    Cell cell;
+    ClientThread owner, other;
+    auto endless = owner.attach(cell.url(), Cell::id("Endless"));
+    ASSERT_TRUE(endless);
+    auto future = asio::co_spawn(
+        owner.io(),
+        [&]() -> asio::awaitable<SkillOutcome> { co_return co_await endless->run({}, 30s); },
+        asio::use_future);
+    for (int i = 0; i < 2000 && cell.state("Endless") != SkillState::Running; ++i) {
+        std::this_thread::sleep_for(1ms);
+    }
+    // The other client's session cannot halt it (reserved); the component itself can.
+    auto view = other.attach(cell.url(), Cell::id("Endless"));
+    ASSERT_TRUE(view);
+    EXPECT_EQ(other.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_return co_await view->call(SkillMethod::Halt);
+    }),
+              status::BadUserAccessDenied);
+    cell.fault("Endless", "light curtain interrupted");
+    ASSERT_EQ(future.wait_for(5s), std::future_status::ready);
+    const auto outcome = future.get();
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_EQ(outcome.reason, "light curtain interrupted");
+}
+
+TEST(SkillClient, ReportsAStoppedServerAsLost) {
+    auto cell = std::make_unique<Cell>();
+    ClientThread t;
+    auto endless = t.attach(cell->url(), Cell::id("Endless"));
+    ASSERT_TRUE(endless);
+    auto future = asio::co_spawn(
+        t.io(),
+        [&]() -> asio::awaitable<SkillOutcome> { co_return co_await endless->run({}, 60s); },
+        asio::use_future);
+    for (int i = 0; i < 2000 && cell->state("Endless") != SkillState::Running; ++i) {
+        std::this_thread::sleep_for(1ms);
+    }
+    cell.reset();  // the server goes away mid-run
+    ASSERT_EQ(future.wait_for(10s), std::future_status::ready);
+    const auto outcome = future.get();
+    EXPECT_EQ(outcome.kind, Kind::Lost) << name(outcome.kind);
+    EXPECT_TRUE(outcome.status.isBad());
+}
+
+/// A `skillcell server` process with a no-op skill that runs for a minute.
+class ServerProcess {
+public:
+    ServerProcess() {
+        pki_ = std::filesystem::temp_directory_path() /
+               ("skillcell-skill-client-" + std::to_string(::getpid()));
+        const std::string pkiDir = pki_.string();
+        int fds[2];
+        if (::pipe(fds) != 0) return;
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
+        posix_spawn_file_actions_addclose(&actions, fds[0]);
+        std::vector<std::string> args = {SKILLCELL_BINARY,
+                                         "server",
+                                         "--port",
+                                         "0",
+                                         "--host",
+                                         "127.0.0.1",
+                                         "--no-discovery",
+                                         "--pki-dir",
+                                         pkiDir,
+                                         "--noop-skill",
+                                         "JointPtpMoveSkillType=Slow",
+                                         "--noop-skill-ms",
+                                         "60000"};
+        std::vector<char*> argv;
+        for (auto& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        if (posix_spawn(&pid_, SKILLCELL_BINARY, &actions, nullptr, argv.data(), environ) != 0) {
+            pid_ = 0;
+        }
+        posix_spawn_file_actions_destroy(&actions);
+        ::close(fds[1]);
+        FILE* out = ::fdopen(fds[0], "r");
+        char line[256];
+        // The READY line, or EOF if the process died: bounded by the process itself.
+        while (out != nullptr && std::fgets(line, sizeof line, out) != nullptr) {
+            const std::string l(line);
+            if (l.starts_with("READY ")) {
+                url_ = l.substr(6, l.find_last_not_of("\r\n") - 5);
+                break;
+            }
+        }
+        if (out != nullptr) std::fclose(out);
+    }
+    ~ServerProcess() {
+        kill();
+        std::error_code ec;
+        std::filesystem::remove_all(pki_, ec);
+    }
+    ServerProcess(const ServerProcess&) = delete;
+    ServerProcess& operator=(const ServerProcess&) = delete;
+    void kill() {
+        if (pid_ == 0) return;
+        ::kill(pid_, SIGKILL);
+        ::waitpid(pid_, nullptr, 0);
+        pid_ = 0;
+    }
+    const std::string& url() const { return url_; }
+
+private:
+    std::filesystem::path pki_;
+    pid_t pid_ = 0;
+    std::string url_;
+};
+
+TEST(SkillClient, ReportsAKilledServerProcessAsLost) {
+    ServerProcess process;
+    ASSERT_FALSE(process.url().empty());
+    ClientThread t;
+    auto slow = t.attach(process.url(), Cell::id("Slow"));
+    ASSERT_TRUE(slow);
+    auto future = asio::co_spawn(
+        t.io(), [&]() -> asio::awaitable<SkillOutcome> { co_return co_await slow->run({}, 60s); },
+        asio::use_future);
+    // Kill once the run is under way (the client has seen ReadyToRunning).
+    for (int i = 0; i < 2000; ++i) {
+        const bool running = t.run(
+            [&]() -> asio::awaitable<bool> { co_return slow->state() == SkillState::Running; });
+        if (running) break;
+        std::this_thread::sleep_for(1ms);
+    }
+    process.kill();
+    ASSERT_EQ(future.wait_for(10s), std::future_status::ready);
+    EXPECT_EQ(future.get().kind, Kind::Lost);
+}
+
+}  // namespace
+}  // namespace skillcell::skills
