@@ -41,7 +41,8 @@ int runDetect(const DetectOptions& o) {
     skills::SkillDetectorConfig config;
     config.connectTimeout =
         std::chrono::milliseconds(static_cast<long>(o.connectTimeoutSeconds * 1000));
-    config.keepAlivePeriod = std::chrono::milliseconds(static_cast<long>(o.keepAliveSeconds * 1000));
+    config.keepAlivePeriod =
+        std::chrono::milliseconds(static_cast<long>(o.keepAliveSeconds * 1000));
     auto detector = skills::SkillDetector::create(io.get_executor(), config);
     if (o.watch) {
         detector->subscribe(

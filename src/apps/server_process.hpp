@@ -23,7 +23,7 @@ struct ServerProcessOptions {
     std::uint32_t maxChannels = 100;
     DiscoveryOptions discovery;
     bool isLds = false;
-    std::string pkiDir;  // empty: ua::pki::defaultPkiDirectory()
+    std::string pkiDir;   // empty: ua::pki::defaultPkiDirectory()
     bool detect = false;  // run a SkillDetector and print its SKILL lines (skill_report.hpp)
 };
 

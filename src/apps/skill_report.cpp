@@ -50,15 +50,15 @@ std::string jsonFields(const skills::SkillInstance& s) {
     }
     std::string parameters;
     for (const auto& p : s.parameters) {
-        parameters += std::string(parameters.empty() ? "" : ",") + "{\"name\":" +
-                      quoted(p.browseName.name) + ",\"namespace\":" +
-                      quoted(p.browseName.namespaceUri) + ",\"dataType\":" +
-                      quoted(p.dataType.toString()) +
+        parameters += std::string(parameters.empty() ? "" : ",") +
+                      "{\"name\":" + quoted(p.browseName.name) +
+                      ",\"namespace\":" + quoted(p.browseName.namespaceUri) +
+                      ",\"dataType\":" + quoted(p.dataType.toString()) +
                       ",\"valueRank\":" + std::to_string(p.valueRank) + "}";
     }
-    return "\"type\":" + quoted(s.type().browseName) + ",\"typeId\":" +
-           quoted(s.type().id.toString()) + ",\"types\":[" + types + "],\"typeNames\":[" +
-           typeNames + "],\"component\":" + quoted(s.componentUri) +
+    return "\"type\":" + quoted(s.type().browseName) +
+           ",\"typeId\":" + quoted(s.type().id.toString()) + ",\"types\":[" + types +
+           "],\"typeNames\":[" + typeNames + "],\"component\":" + quoted(s.componentUri) +
            ",\"endpoint\":" + quoted(s.endpointUrl) + ",\"nodeId\":" + quoted(s.nodeId.toString()) +
            ",\"browsePath\":" + quoted(s.browsePathString()) +
            ",\"startTime\":" + quoted(s.componentStartTime.toIso8601()) + ",\"parameters\":[" +

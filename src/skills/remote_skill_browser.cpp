@@ -105,8 +105,8 @@ asio::awaitable<Result<std::vector<std::vector<ua::ReferenceDescription>>>> brow
 
 /// Reads every item, `perRequest` at a time; one DataValue per item.
 asio::awaitable<Result<std::vector<ua::DataValue>>> readAll(ua::Client& client,
-                                                             const std::vector<ua::ReadValueId>& ids,
-                                                             std::size_t perRequest) {
+                                                            const std::vector<ua::ReadValueId>& ids,
+                                                            std::size_t perRequest) {
     std::vector<ua::DataValue> out;
     out.reserve(ids.size());
     for (std::size_t next = 0; next < ids.size(); next += perRequest) {
@@ -165,7 +165,9 @@ std::optional<GlobalNodeId> GlobalNodeId::from(const std::vector<std::string>& n
     return GlobalNodeId(namespaceArray[id.namespaceIndex()], id.identifier());
 }
 
-GlobalNodeId skillTypeId() { return {ua::companion::kSkillsUri, ua::companion::kSkillType}; }
+GlobalNodeId skillTypeId() {
+    return {ua::companion::kSkillsUri, ua::companion::kSkillType};
+}
 
 std::string RemoteSkill::browsePathString() const {
     std::string out;
@@ -212,7 +214,8 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(ua:
             ua::BrowseDescription d;
             d.nodeId = found[index].id;
             d.referenceTypeId = NodeId(ns0::HierarchicalReferences);
-            d.nodeClassMask = found[index].isParameterSet ? (kObjectMask | kVariableMask) : kObjectMask;
+            d.nodeClassMask =
+                found[index].isParameterSet ? (kObjectMask | kVariableMask) : kObjectMask;
             d.resultMask = ua::browse_result::kIsForward | ua::browse_result::kNodeClass |
                            ua::browse_result::kBrowseName | ua::browse_result::kTypeDefinition;
             descriptions.push_back(std::move(d));

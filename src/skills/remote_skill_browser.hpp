@@ -49,6 +49,7 @@ struct GlobalNodeId {
         const std::vector<std::string>& namespaceArray, const ua::NodeId& id);
 
     friend bool operator==(const GlobalNodeId&, const GlobalNodeId&) = default;
+    // NOLINTNEXTLINE(modernize-use-nullptr): clang-tidy 14 flags the literal 0 of the defaulted <=>
     friend auto operator<=>(const GlobalNodeId&, const GlobalNodeId&) = default;
 };
 

@@ -3,13 +3,13 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <optional>
-#include <set>
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
+#include <optional>
+#include <set>
 
 #include "ua/address_space/ns0_ids.hpp"
 #include "ua/discovery/dns_message.hpp"
@@ -89,16 +89,16 @@ struct SkillDetector::Watch {
     std::string urlKey;  // the sighting whose URL we use
     std::string url;     // where to connect next
     std::string applicationUri;
-    bool ended = false;             // gone or stopped: the coroutine only cleans up
-    bool recheck = false;           // seen again, or StartTime changed: compare StartTime
-    bool moved = false;             // url changed: reconnect there
-    bool busy = false;              // inside connect or a browse (ending it aborts them)
-    bool connected = false;         // browsed and watched: the current URL works
+    bool ended = false;              // gone or stopped: the coroutine only cleans up
+    bool recheck = false;            // seen again, or StartTime changed: compare StartTime
+    bool moved = false;              // url changed: reconnect there
+    bool busy = false;               // inside connect or a browse (ending it aborts them)
+    bool connected = false;          // browsed and watched: the current URL works
     StatusCode lost = status::Good;  // the keep-alive subscription reported a loss
-    asio::steady_timer wake;        // cancelled to wake the coroutine
+    asio::steady_timer wake;         // cancelled to wake the coroutine
     std::unique_ptr<ua::Client> client;
     RemoteSkillBrowser browser;
-    ua::DateTime startTime;  // of the server the skills were browsed from
+    ua::DateTime startTime;         // of the server the skills were browsed from
     std::uint64_t browses = 0;      // complete browses, over every connection
     std::uint64_t connections = 0;  // connection attempts: callbacks of older ones are ignored
 };
@@ -127,7 +127,8 @@ std::string_view toString(RemovalReason reason) {
 
 std::shared_ptr<SkillDetector> SkillDetector::create(asio::any_io_executor executor,
                                                      SkillDetectorConfig config) {
-    return std::shared_ptr<SkillDetector>(new SkillDetector(std::move(executor), std::move(config)));
+    return std::shared_ptr<SkillDetector>(
+        new SkillDetector(std::move(executor), std::move(config)));
 }
 
 SkillDetector::SkillDetector(asio::any_io_executor executor, SkillDetectorConfig config)
@@ -261,7 +262,7 @@ asio::awaitable<void> SkillDetector::run(std::shared_ptr<Watch> w) {
         if (w->ended) break;
         w->client->abort();
         // The connection is over, and the skills with it: the next connection browses again.
-        const RemovalReason reason = w->moved                    ? RemovalReason::Restarted
+        const RemovalReason reason = w->moved                  ? RemovalReason::Restarted
                                      : s == status::BadTimeout ? RemovalReason::Timeout
                                                                : RemovalReason::Disconnected;
         replaceSkills(w->componentId, {}, reason);
@@ -343,8 +344,8 @@ asio::awaitable<StatusCode> SkillDetector::serve(const std::shared_ptr<Watch>& w
     auto subscription = co_await client.createSubscription(settings, std::move(onStatus));
     bool polling = !subscription;
     if (subscription) {
-        ua::Subscription::DataChangeCallback onStartTime = [weak, connection](
-                                                               const ua::DataValue& dv) {
+        ua::Subscription::DataChangeCallback onStartTime = [weak,
+                                                            connection](const ua::DataValue& dv) {
             auto watch = weak.lock();
             const auto* t = dv.value ? dv.value->get<ua::DateTime>() : nullptr;
             if (!watch || watch->connections != connection || t == nullptr ||
@@ -356,8 +357,8 @@ asio::awaitable<StatusCode> SkillDetector::serve(const std::shared_ptr<Watch>& w
         const ua::NodeId startTime(ua::ns0::Server_ServerStatus_StartTime);
         const std::optional<ua::DataChangeFilter> noFilter;
         auto item = co_await (*subscription)
-                        ->monitorDataChange(startTime, ua::AttributeId::Value, period, 1,
-                                            noFilter, std::move(onStartTime));
+                        ->monitorDataChange(startTime, ua::AttributeId::Value, period, 1, noFilter,
+                                            std::move(onStartTime));
         if (!item && gaveUp(item.status())) {
             w->busy = false;
             co_return item.status();
@@ -519,7 +520,9 @@ std::size_t SkillDetector::subscribe(Listener listener) {
     return id;
 }
 
-void SkillDetector::unsubscribe(std::size_t id) { listeners_.erase(id); }
+void SkillDetector::unsubscribe(std::size_t id) {
+    listeners_.erase(id);
+}
 
 std::vector<SkillInstance> SkillDetector::find(const GlobalNodeId& type) const {
     std::lock_guard lock(mutex_);
@@ -549,8 +552,9 @@ std::vector<ComponentStatus> SkillDetector::components() const {
 
 // --- Sources -------------------------------------------------------------------------------
 
-std::shared_ptr<ua::lds::ServerWatcher> attachMdns(const std::shared_ptr<SkillDetector>& detector,
-                                                   std::shared_ptr<ua::mdns::MdnsResponder> responder) {
+std::shared_ptr<ua::lds::ServerWatcher> attachMdns(
+    const std::shared_ptr<SkillDetector>& detector,
+    std::shared_ptr<ua::mdns::MdnsResponder> responder) {
     const std::weak_ptr<SkillDetector> weak = detector;
     ua::lds::ServerWatcher::Callbacks callbacks;
     callbacks.announced = [weak](const ua::lds::AnnouncedServer& s) {

@@ -52,9 +52,9 @@ namespace skillcell::skills {
 
 /// A skill instance offered by a live component.
 struct SkillInstance : RemoteSkill {
-    std::string componentUri;          // the component's application URI
-    std::string endpointUrl;           // where the detector reached it
-    ua::DateTime componentStartTime;   // its ServerStatus.StartTime
+    std::string componentUri;         // the component's application URI
+    std::string endpointUrl;          // where the detector reached it
+    ua::DateTime componentStartTime;  // its ServerStatus.StartTime
     friend bool operator==(const SkillInstance&, const SkillInstance&) = default;
 
     /// The instance's own type (the first of `types`).
@@ -180,7 +180,7 @@ private:
 
     // Executor only.
     std::map<std::string, std::shared_ptr<Watch>> components_;  // by component id
-    std::map<std::string, std::string> keys_;      // source key -> component id
+    std::map<std::string, std::string> keys_;                   // source key -> component id
     std::map<std::size_t, Listener> listeners_;
     std::size_t nextListener_ = 1;
 

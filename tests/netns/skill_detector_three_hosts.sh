@@ -4,8 +4,10 @@
 #   h1: urn:test:robot    CartesianLinearMoveSkillType=Move, JointPtpMoveSkillType=Ptp
 #   h2: urn:test:gripper  GraspGripperSkillType=Grasp, ReleaseGripperSkillType=Release
 #   h3: urn:test:mes      ExecuteProcessSkillType=Execute
-# Each component's detector prints SKILL ADDED / SKILL REMOVED lines (src/apps/skill_report.hpp);
-# folding them gives that component's skill map.
+# and h1 also an LDS (`skillcell lds --detect`, no skills), whose detector hears every component
+# twice (mDNS and its registration) and must still show each skill once.
+# Each detector prints SKILL ADDED / SKILL REMOVED lines (src/apps/skill_report.hpp); folding them
+# gives that detector's skill map.
 # Checks: the components start in random order, all at once; every detector converges to the same
 # map of all five skills (its own included) with routable 198.18.0.x endpoints; kill -9 of one
 # removes its skills from the others' maps (the connection drops: well within the mDNS TTL); a
@@ -30,7 +32,6 @@ BIN=$(realpath -- "$BIN")
 
 TTL=3   # --mdns-ttl of every component
 QP=1    # --mdns-query-period
-PORT=4840
 T_START=$(now_ms)
 T0=$T_START
 STEP="setup"
@@ -57,14 +58,16 @@ fail() {
   exit 1
 }
 
-# Component table.
-COMPONENTS=(robot gripper mes)
-declare -A HOST=([robot]=h1 [gripper]=h2 [mes]=h3)
-declare -A URI=([robot]=urn:test:robot [gripper]=urn:test:gripper [mes]=urn:test:mes)
+# Component table (the LDS offers no skills).
+COMPONENTS=(robot gripper mes lds)
+declare -A HOST=([robot]=h1 [gripper]=h2 [mes]=h3 [lds]=h1)
+declare -A PORT=([robot]=4840 [gripper]=4840 [mes]=4840 [lds]=4841)
+declare -A URI=([robot]=urn:test:robot [gripper]=urn:test:gripper [mes]=urn:test:mes [lds]=urn:test:lds)
 declare -A SKILLS=(
   [robot]="CartesianLinearMoveSkillType=Move JointPtpMoveSkillType=Ptp"
   [gripper]="GraspGripperSkillType=Grasp ReleaseGripperSkillType=Release"
   [mes]="ExecuteProcessSkillType=Execute"
+  [lds]=""
 )
 declare -A PROC=() # component -> current process name (a restart gets a new one)
 declare -A FROM=() # process name -> first line of its output that counts (per step)
@@ -75,7 +78,7 @@ expected_map() {
   local c spec
   for c in "$@"; do
     for spec in ${SKILLS[$c]}; do
-      echo "${spec%%=*} ${URI[$c]} opc.tcp://$(addr_of "$c"):$PORT"
+      echo "${spec%%=*} ${URI[$c]} opc.tcp://$(addr_of "$c"):${PORT[$c]}"
     done
   done | sort
 }
@@ -88,8 +91,6 @@ skill_map() {
     $1 == "SKILL" && $2 == "REMOVED" { sub(/\/$/, "", $5); delete m[$3 " " $4 " " $5 " " $7] }
     END { for (k in m) print k }' "$1" | sort
 }
-# The same without node ids, to compare with expected_map.
-skill_types() { skill_map "$1" | awk '{ print $1 " " $2 " " $3 }' | sort; }
 
 # wait_converged DEADLINE_MS OBSERVERS -- COMPONENTS: the map of every observer (a component whose
 # detector is read) shows exactly the skills of COMPONENTS, and all of them show the same node ids.
@@ -104,8 +105,8 @@ wait_converged() {
     local good=1
     first=""
     for o in "${observers[@]}"; do
-      if [ "$(skill_types "$NETNS_DIR/${PROC[$o]}.out")" != "$want" ]; then good=0; break; fi
       map=$(skill_map "$NETNS_DIR/${PROC[$o]}.out")
+      if [ "$(awk '{ print $1 " " $2 " " $3 }' <<<"$map" | sort)" != "$want" ]; then good=0; break; fi
       if [ -z "$first" ]; then first=$map; elif [ "$map" != "$first" ]; then good=0; break; fi
     done
     if [ $good = 1 ]; then
@@ -142,9 +143,10 @@ mark() {
 }
 
 start_component() {
-  local c=$1 p=$2 spec args=()
+  local c=$1 p=$2 spec sub=server args=()
+  [ "$c" = lds ] && sub=lds
   for spec in ${SKILLS[$c]}; do args+=(--noop-skill "$spec"); done
-  start_in "${HOST[$c]}" "$p" "$BIN" server --port "$PORT" --application-uri "${URI[$c]}" \
+  start_in "${HOST[$c]}" "$p" "$BIN" "$sub" --port "${PORT[$c]}" --application-uri "${URI[$c]}" \
     --mdns-ttl "$TTL" --mdns-query-period "$QP" --pki-dir "$NETNS_DIR/pki-$c" --detect "${args[@]}"
   PROC[$c]=$p
 }
@@ -187,51 +189,58 @@ say "start order: ${order[*]}"
 T0=$(now_ms)
 for c in "${order[@]}"; do start_component "$c" "$c"; done
 for c in "${order[@]}"; do wait_ready "$c"; done
-wait_converged $((T0 + 15000)) robot gripper mes -- robot gripper mes
-ok "every detector shows the same five skills (its own included), endpoints on 198.18.0.x"
+wait_converged $((T0 + 15000)) robot gripper mes lds -- robot gripper mes
+ok "every detector (the LDS's too) shows the same five skills (its own included), endpoints on 198.18.0.x"
 
 STEP="b: kill -9 of h3's component"
 mark
 t0=$T0
 { proc_signal mes KILL && proc_wait_exit mes 5; } 2>/dev/null || fail "mes did not die on SIGKILL"
-wait_converged $((t0 + (TTL + 3) * 1000)) robot gripper -- robot gripper
-for o in robot gripper; do say "   $o: mes's skills removed ($(removal_reasons "$o" mes))"; done
+wait_converged $((t0 + (TTL + 3) * 1000)) robot gripper lds -- robot gripper
+for o in robot gripper lds; do say "   $o: mes's skills removed ($(removal_reasons "$o" mes))"; done
 ok "kill -9 of the MES component: its skill is gone from the other detectors within TTL+3 s"
-all_running robot gripper
+all_running robot gripper lds
 
 STEP="c: restart of h3's component"
 mark
 start_component mes mes2
 wait_ready mes
-wait_converged $((T0 + 10000)) robot gripper mes -- robot gripper mes
+wait_converged $((T0 + 10000)) robot gripper mes lds -- robot gripper mes
 ok "the restarted MES component is detected again everywhere, and detects everyone"
 
 STEP="d: link of h2 down and up"
 mark
 t0=$T0
 link_down h2 || fail "link_down h2"
-wait_converged $((t0 + (TTL + 3) * 1000)) robot mes -- robot mes
-for o in robot mes; do say "   $o: gripper's skills removed ($(removal_reasons "$o" gripper))"; done
+wait_converged $((t0 + (TTL + 3) * 1000)) robot mes lds -- robot mes
+for o in robot mes lds; do say "   $o: gripper's skills removed ($(removal_reasons "$o" gripper))"; done
 ok "link of h2 down: the gripper's skills are gone from h1 and h3 (keep-alive timeout or TTL)"
 mark
 link_up h2 || fail "link_up h2"
-wait_converged $((T0 + 10000)) robot gripper mes -- robot gripper mes
+wait_converged $((T0 + 10000)) robot gripper mes lds -- robot gripper mes
 ok "link of h2 up: every detector shows the five skills again"
-all_running robot gripper mes
+all_running robot gripper mes lds
 
 STEP="e: SIGTERM of h1's component"
 mark
 t0=$T0
 stop_gracefully robot
-wait_converged $((t0 + 2000)) gripper mes -- gripper mes
-for o in gripper mes; do say "   $o: robot's skills removed ($(removal_reasons "$o" robot))"; done
+wait_converged $((t0 + 4000)) gripper mes lds -- gripper mes
+for o in gripper mes lds; do
+  reasons=$(removal_reasons "$o" robot)
+  say "   $o: robot's skills removed ($reasons)"
+  # Its goodbye, its unregistration or its closed connection: at once, not at its TTL.
+  [[ $reasons =~ ^(goodbye|disconnected|unregistered)( (goodbye|disconnected|unregistered))*$ ]] ||
+    fail "$o removed the robot's skills for '$reasons', expected goodbye, unregistered or disconnected"
+done
 grep -q '^SNAPSHOT ' "$NETNS_DIR/robot.out" || fail "the robot component printed no SNAPSHOT on exit"
-ok "SIGTERM of the robot component: exit 0, its skills gone from h2 and h3 within 2 s"
+ok "SIGTERM of the robot component: exit 0, its skills gone everywhere by goodbye (not expiry)"
 
 STEP="f: shutdown"
 stop_gracefully gripper
 stop_gracefully mes2
-ok "the other components exit 0 on SIGTERM"
+stop_gracefully lds
+ok "the other components and the LDS exit 0 on SIGTERM"
 check_sanitizers
 
 say "PASS: skill detection across three hosts"

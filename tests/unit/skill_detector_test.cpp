@@ -55,8 +55,12 @@ GlobalNodeId typeId(std::string_view uri, std::string_view name) {
     return GlobalNodeId::from(as.namespaces(), id.value_or(NodeId())).value_or(GlobalNodeId());
 }
 
-GlobalNodeId robotic(std::string_view name) { return typeId(cm::kRoboticSkillsUri, name); }
-GlobalNodeId gripper(std::string_view name) { return typeId(cm::kGripperSkillsUri, name); }
+GlobalNodeId robotic(std::string_view name) {
+    return typeId(cm::kRoboticSkillsUri, name);
+}
+GlobalNodeId gripper(std::string_view name) {
+    return typeId(cm::kGripperSkillsUri, name);
+}
 
 /// A skill to put on a server: type (namespace URI, browse name) and instance name.
 struct SkillSpec {
@@ -81,8 +85,8 @@ void addSkills(ua::Server& server, const std::vector<SkillSpec>& skills,
     for (const auto& s : skills) {
         const auto type = ua::findTypeByName(as, s.uri, s.type);
         ASSERT_TRUE(type.has_value()) << s.type;
-        auto id = ua::instantiate(as, *type, parent, NodeId(ns0::HasComponent),
-                                  QualifiedName{1, s.name});
+        auto id =
+            ua::instantiate(as, *type, parent, NodeId(ns0::HasComponent), QualifiedName{1, s.name});
         ASSERT_TRUE(id.ok()) << s.name << ": " << ua::statusName(id.status());
     }
 }
@@ -97,8 +101,8 @@ ua::ServerConfig serverConfig(const std::string& uri, std::uint16_t port = 0) {
 std::unique_ptr<test::RunningServer> skillServer(const std::string& uri,
                                                  const std::vector<SkillSpec>& skills,
                                                  std::uint16_t port = 0) {
-    return std::make_unique<test::RunningServer>(
-        serverConfig(uri, port), [&](ua::Server& s) { addSkills(s, skills); });
+    return std::make_unique<test::RunningServer>(serverConfig(uri, port),
+                                                 [&](ua::Server& s) { addSkills(s, skills); });
 }
 
 ua::ApplicationDescription app(const std::string& uri) {
@@ -223,8 +227,7 @@ public:
     /// Waits until the detector holds `n` instances, and its listeners have heard of them
     /// (they are told after the map changed, in the same handler).
     bool waitForSkills(std::size_t n, std::chrono::milliseconds timeout = kDeadline) {
-        const bool ok =
-            log_.waitUntil([&] { return detector_->instances().size() == n; }, timeout);
+        const bool ok = log_.waitUntil([&] { return detector_->instances().size() == n; }, timeout);
         onDetector([](SkillDetector&) {});
         return ok;
     }
@@ -263,10 +266,10 @@ TEST(SkillDetector, FindsSkillsByTheirTypeAndEverySupertype) {
     ASSERT_TRUE(h.waitForSkills(4)) << h.detector().instances().size();
     auto& d = h.detector();
 
-    EXPECT_EQ(namesOf(d.find(skillTypeId())),
-              (std::set<std::string>{"urn:test:robot Robot/Move", "urn:test:robot Robot/Ptp",
-                                     "urn:test:gripper Robot/Grasp",
-                                     "urn:test:gripper Robot/Release"}));
+    EXPECT_EQ(
+        namesOf(d.find(skillTypeId())),
+        (std::set<std::string>{"urn:test:robot Robot/Move", "urn:test:robot Robot/Ptp",
+                               "urn:test:gripper Robot/Grasp", "urn:test:gripper Robot/Release"}));
     EXPECT_EQ(namesOf(d.find(robotic("MoveSkillType"))),
               (std::set<std::string>{"urn:test:robot Robot/Move", "urn:test:robot Robot/Ptp"}));
     EXPECT_EQ(namesOf(d.find(robotic("LinearMoveSkillType"))),
@@ -275,9 +278,9 @@ TEST(SkillDetector, FindsSkillsByTheirTypeAndEverySupertype) {
               (std::set<std::string>{"urn:test:robot Robot/Move"}));
     EXPECT_EQ(namesOf(d.find(robotic("PtpMoveSkillType"))),
               (std::set<std::string>{"urn:test:robot Robot/Ptp"}));
-    EXPECT_EQ(namesOf(d.find(gripper("GripperSkillType"))),
-              (std::set<std::string>{"urn:test:gripper Robot/Grasp",
-                                     "urn:test:gripper Robot/Release"}));
+    EXPECT_EQ(
+        namesOf(d.find(gripper("GripperSkillType"))),
+        (std::set<std::string>{"urn:test:gripper Robot/Grasp", "urn:test:gripper Robot/Release"}));
     EXPECT_TRUE(d.find(robotic("CartesianPtpMoveSkillType")).empty());
     EXPECT_TRUE(d.find(GlobalNodeId("http://opcfoundation.org/UA/", ns0::BaseObjectType)).empty());
 
@@ -291,9 +294,9 @@ TEST(SkillDetector, FindsSkillsByTheirTypeAndEverySupertype) {
     EXPECT_EQ(move.browsePath[1], (GlobalName{"urn:test:robot", "Move"}));
     std::vector<std::string> chain;
     for (const auto& t : move.types) chain.push_back(t.browseName);
-    EXPECT_EQ(chain, (std::vector<std::string>{"CartesianLinearMoveSkillType",
-                                               "LinearMoveSkillType", "MoveSkillType",
-                                               "SkillType"}));
+    EXPECT_EQ(chain,
+              (std::vector<std::string>{"CartesianLinearMoveSkillType", "LinearMoveSkillType",
+                                        "MoveSkillType", "SkillType"}));
     EXPECT_EQ(move.type().id, robotic("CartesianLinearMoveSkillType"));
     EXPECT_EQ(move.types.back().id, skillTypeId());
     EXPECT_TRUE(move.isA(robotic("MoveSkillType")));
@@ -349,13 +352,15 @@ TEST(SkillDetector, ReportsTheDeclaredParametersAsTheServerDefinesThem) {
     // Spot checks against the model (docs/models/RoboticSkills.md).
     const auto ptp = h.detector().find(robotic("JointPtpMoveSkillType"));
     ASSERT_EQ(ptp.size(), 1u);
-    auto target = std::find_if(ptp[0].parameters.begin(), ptp[0].parameters.end(),
-                               [](const auto& p) { return p.browseName.name == "TargetJointPosition"; });
+    auto target =
+        std::find_if(ptp[0].parameters.begin(), ptp[0].parameters.end(),
+                     [](const auto& p) { return p.browseName.name == "TargetJointPosition"; });
     ASSERT_NE(target, ptp[0].parameters.end());
     EXPECT_EQ(target->dataType, GlobalNodeId("http://opcfoundation.org/UA/", ns0::Double));
     EXPECT_EQ(target->valueRank, 1);
-    auto maxVelocity = std::find_if(ptp[0].parameters.begin(), ptp[0].parameters.end(),
-                                    [](const auto& p) { return p.browseName.name == "MaxVelocity"; });
+    auto maxVelocity =
+        std::find_if(ptp[0].parameters.begin(), ptp[0].parameters.end(),
+                     [](const auto& p) { return p.browseName.name == "MaxVelocity"; });
     ASSERT_NE(maxVelocity, ptp[0].parameters.end());
     EXPECT_EQ(maxVelocity->valueRank, -1);
 }
@@ -364,35 +369,33 @@ TEST(SkillDetector, ResolvesTypesThroughTheServersOwnHierarchyAndNamespaces) {
     // Namespace indices differ from the reference: two namespaces of its own come first.
     // A type of its own, "Widget", derives from GraspGripperSkillType: a skill. Another,
     // misleadingly named "CartesianLinearMoveSkillType", derives from BaseObjectType: not one.
-    auto server = std::make_unique<test::RunningServer>(
-        serverConfig("urn:test:odd"), [](ua::Server& s) {
-            auto& as = s.addressSpace();
-            as.registerNamespace("urn:test:first");
-            const std::uint16_t own = as.registerNamespace("urn:test:own-types");
-            ASSERT_TRUE(ua::loadCompanionModels(as).ok());
-            const auto addType = [&](std::uint32_t id, const std::string& name,
-                                     const NodeId& super) {
-                ua::Node type;
-                type.nodeId = NodeId(own, id);
-                type.nodeClass = ua::NodeClass::ObjectType;
-                type.browseName = {own, name};
-                type.displayName = {"", name};
-                ASSERT_TRUE(as.addNode(std::move(type)).ok());
-                ASSERT_EQ(as.addReference(super, NodeId(ns0::HasSubtype), NodeId(own, id)),
-                          ua::status::Good);
-            };
-            const auto grasp = ua::findTypeByName(as, cm::kGripperSkillsUri, "GraspGripperSkillType");
-            ASSERT_TRUE(grasp.has_value());
-            addType(1, "Widget", *grasp);
-            addType(2, "CartesianLinearMoveSkillType", NodeId(ns0::BaseObjectType));
-            ASSERT_TRUE(as.addObject(NodeId(ns0::ObjectsFolder), NodeId(1, "Cell"), "Cell").ok());
-            ASSERT_TRUE(ua::instantiate(as, NodeId(own, 1), NodeId(1, "Cell"),
-                                        NodeId(ns0::HasComponent), QualifiedName{1, "Hand"})
-                            .ok());
-            ASSERT_TRUE(as.addObject(NodeId(1, "Cell"), NodeId(1, "Cell/Fake"), "Fake",
-                                     NodeId(own, 2))
-                            .ok());
-        });
+    auto server = std::make_unique<test::RunningServer>(serverConfig("urn:test:odd"), [](ua::Server&
+                                                                                             s) {
+        auto& as = s.addressSpace();
+        as.registerNamespace("urn:test:first");
+        const std::uint16_t own = as.registerNamespace("urn:test:own-types");
+        ASSERT_TRUE(ua::loadCompanionModels(as).ok());
+        const auto addType = [&](std::uint32_t id, const std::string& name, const NodeId& super) {
+            ua::Node type;
+            type.nodeId = NodeId(own, id);
+            type.nodeClass = ua::NodeClass::ObjectType;
+            type.browseName = {own, name};
+            type.displayName = {"", name};
+            ASSERT_TRUE(as.addNode(std::move(type)).ok());
+            ASSERT_EQ(as.addReference(super, NodeId(ns0::HasSubtype), NodeId(own, id)),
+                      ua::status::Good);
+        };
+        const auto grasp = ua::findTypeByName(as, cm::kGripperSkillsUri, "GraspGripperSkillType");
+        ASSERT_TRUE(grasp.has_value());
+        addType(1, "Widget", *grasp);
+        addType(2, "CartesianLinearMoveSkillType", NodeId(ns0::BaseObjectType));
+        ASSERT_TRUE(as.addObject(NodeId(ns0::ObjectsFolder), NodeId(1, "Cell"), "Cell").ok());
+        ASSERT_TRUE(ua::instantiate(as, NodeId(own, 1), NodeId(1, "Cell"),
+                                    NodeId(ns0::HasComponent), QualifiedName{1, "Hand"})
+                        .ok());
+        ASSERT_TRUE(
+            as.addObject(NodeId(1, "Cell"), NodeId(1, "Cell/Fake"), "Fake", NodeId(own, 2)).ok());
+    });
     auto robot = skillServer("urn:test:robot", kRobotSkills);
     DetectorHarness h;
     h.appeared("mdns:odd", "urn:test:odd", server->url());
@@ -444,9 +447,9 @@ TEST(SkillDetector, RemovesSkillsWhenTheirComponentIsGone) {
 
     h.gone("mdns:robot", GoneReason::Goodbye);
     // At once, on the detector's thread: no waiting needed.
-    EXPECT_EQ(namesOf(h.detector().instances()),
-              (std::set<std::string>{"urn:test:gripper Robot/Grasp",
-                                     "urn:test:gripper Robot/Release"}));
+    EXPECT_EQ(
+        namesOf(h.detector().instances()),
+        (std::set<std::string>{"urn:test:gripper Robot/Grasp", "urn:test:gripper Robot/Release"}));
     EXPECT_EQ(h.log().count(SkillEvent::Kind::Removed, RemovalReason::Goodbye), 2u);
     EXPECT_FALSE(h.component("urn:test:robot").has_value());
 
@@ -497,15 +500,15 @@ TEST(SkillDetector, RemovesSkillsOnDisconnectAndBrowsesARestartedServerAgain) {
 
     // Restarted at the same address, with one more skill: the detector, still retrying
     // while the source lists it, connects and browses the new run.
-    robot = skillServer(
-        "urn:test:robot",
-        {kRobotSkills[0], kRobotSkills[1], {cm::kGripperSkillsUri, "MoveGripperSkillType", "Fingers"}},
-        port);
+    robot = skillServer("urn:test:robot",
+                        {kRobotSkills[0],
+                         kRobotSkills[1],
+                         {cm::kGripperSkillsUri, "MoveGripperSkillType", "Fingers"}},
+                        port);
     ASSERT_TRUE(h.waitForSkills(3));
     const auto all = h.detector().instances();
-    EXPECT_TRUE(std::all_of(all.begin(), all.end(), [&](const auto& s) {
-        return s.componentStartTime > firstStart;
-    }));
+    EXPECT_TRUE(std::all_of(all.begin(), all.end(),
+                            [&](const auto& s) { return s.componentStartTime > firstStart; }));
     EXPECT_EQ(h.log().count(SkillEvent::Kind::Added), 5u);
 }
 
@@ -548,12 +551,11 @@ TEST(SkillDetector, ANewStartTimeOnALiveConnectionMeansABrowseAgain) {
     robot->inServer([](ua::Server& s) {
         addSkills(s, {{cm::kGripperSkillsUri, "GraspGripperSkillType", "Grasp"}});
         const ua::DateTime later{ua::DateTime::now().ticks + 1};
-        return s.addressSpace().setValueSource(
-            NodeId(ns0::Server_ServerStatus_StartTime), [later] {
-                ua::DataValue dv;
-                dv.value = ua::Variant(later);
-                return dv;
-            });
+        return s.addressSpace().setValueSource(NodeId(ns0::Server_ServerStatus_StartTime), [later] {
+            ua::DataValue dv;
+            dv.value = ua::Variant(later);
+            return dv;
+        });
     });
     ASSERT_TRUE(h.waitForSkills(3));
     EXPECT_EQ(h.component("urn:test:robot")->browses, 2u);
@@ -614,7 +616,8 @@ TEST(SkillDetector, ListenersHearEveryChangeAndLateOnesTheCurrentSkills) {
 
     EventLog late;
     std::size_t id = 0;
-    h.onDetector([&](SkillDetector& d) { id = d.subscribe([&](const SkillEvent& e) { late.record(e); }); });
+    h.onDetector(
+        [&](SkillDetector& d) { id = d.subscribe([&](const SkillEvent& e) { late.record(e); }); });
     EXPECT_EQ(late.lines(), h.log().lines()) << "a late listener hears what is known";
 
     h.onDetector([&](SkillDetector& d) { d.unsubscribe(id); });
@@ -745,7 +748,8 @@ TEST(RemoteSkillBrowser, WalksEverythingThroughContinuationPoints) {
     io.run();
     ASSERT_TRUE(found.ok()) << ua::statusName(found.status());
     EXPECT_EQ(found->size(), 21u);
-    for (const auto& skill : *found) EXPECT_EQ(skill.parameters.size(), 2u) << skill.browsePathString();
+    for (const auto& skill : *found)
+        EXPECT_EQ(skill.parameters.size(), 2u) << skill.browsePathString();
     EXPECT_GT(cachedAfterFirst, 0u);
 }
 
@@ -755,7 +759,8 @@ TEST(GlobalNodeId, NamesANodeByNamespaceUri) {
     EXPECT_EQ(skillTypeId().toString(), "nsu=http://skillcell.dev/UA/Skills/;i=1002");
     EXPECT_EQ(skillTypeId().toNodeId(namespaces), NodeId(2, cm::kSkillType));
     EXPECT_EQ(GlobalNodeId::from(namespaces, NodeId(2, 1002)), skillTypeId());
-    EXPECT_EQ(GlobalNodeId::from(namespaces, NodeId(1, "x")), GlobalNodeId("urn:app", ua::String("x")));
+    EXPECT_EQ(GlobalNodeId::from(namespaces, NodeId(1, "x")),
+              GlobalNodeId("urn:app", ua::String("x")));
     EXPECT_FALSE(GlobalNodeId::from(namespaces, NodeId(3, 1)).has_value());
     EXPECT_FALSE(GlobalNodeId("urn:other", 1u).toNodeId(namespaces).has_value());
 }

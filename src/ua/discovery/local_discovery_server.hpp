@@ -62,9 +62,7 @@ public:
 
     /// One observer (a later call replaces it; an empty function removes it). The servers
     /// registered already are in registrations().describe({}, {}).
-    void setRegistrationObserver(RegistrationObserver observer) {
-        observer_ = std::move(observer);
-    }
+    void setRegistrationObserver(RegistrationObserver observer) { observer_ = std::move(observer); }
 
     [[nodiscard]] const RegisteredServerTable& registrations() const { return table_; }
     [[nodiscard]] const ServerOnNetworkDirectory& directory() const { return directory_; }
