@@ -17,5 +17,6 @@ Command addLdsCommand(CLI::App& app);
 Command addDiscoverCommand(CLI::App& app);
 Command addSkillCommand(CLI::App& app);
 Command addCheckCommand(CLI::App& app);
+Command addDetectCommand(CLI::App& app);
 
 }  // namespace skillcell::apps

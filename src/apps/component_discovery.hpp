@@ -52,6 +52,12 @@ public:
     asio::awaitable<void> stop();
 
     [[nodiscard]] const std::string& mdnsName() const { return mdnsName_; }
+    /// For more listeners on the same mDNS socket (a skill detector).
+    [[nodiscard]] const std::shared_ptr<ua::mdns::MdnsResponder>& responder() const {
+        return responder_;
+    }
+    /// The LDS services, when this component is a discovery server; else null.
+    [[nodiscard]] const std::shared_ptr<ua::lds::LocalDiscoveryServer>& lds() const { return lds_; }
 
 private:
     std::shared_ptr<ua::mdns::MdnsResponder> responder_;

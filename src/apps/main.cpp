@@ -1,5 +1,6 @@
-// skillcell: one program, one subcommand per component (server, lds, browse, discover,
-// check; later device, kb, mes, demo). Every component takes --port N for its OPC UA port.
+// skillcell: one program, one subcommand per component (server, lds, browse, discover, skill,
+// check, detect; later device, kb, mes, demo). Every component takes --port N for its OPC UA
+// port.
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -20,6 +21,7 @@ int main(int argc, char** argv) {
         skillcell::apps::addServerCommand(app), skillcell::apps::addBrowseCommand(app),
         skillcell::apps::addLdsCommand(app),    skillcell::apps::addDiscoverCommand(app),
         skillcell::apps::addSkillCommand(app),  skillcell::apps::addCheckCommand(app),
+        skillcell::apps::addDetectCommand(app),
     };
 
     try {

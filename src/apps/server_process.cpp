@@ -6,6 +6,8 @@
 #include <asio.hpp>
 #include <iostream>
 
+#include "skill_report.hpp"
+#include "skills/skill_detector.hpp"
 #include "ua/discovery/network_interfaces.hpp"
 #include "ua/pki/own_certificate.hpp"
 
@@ -29,6 +31,9 @@ void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& o) {
     cmd->add_option("--max-channels", o.maxChannels, "connection limit")
         ->check(CLI::Range(1u, 100000u))
         ->capture_default_str();
+    cmd->add_flag("--detect", o.detect,
+                  "detect the skills of every component discovery finds (this one included) "
+                  "and print SKILL ADDED/REMOVED lines on stdout, and SNAPSHOT..END on exit");
 }
 
 int runServerProcess(const ServerProcessOptions& options, const PopulateServer& populate) {
@@ -101,6 +106,19 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
         }
     }
 
+    // The skills of the cell, from what discovery finds (and what registers with our LDS).
+    std::shared_ptr<skills::SkillDetector> detector;
+    std::shared_ptr<ua::lds::ServerWatcher> detectorWatcher;
+    if (options.detect && discovery) {
+        detector = skills::SkillDetector::create(io.get_executor());
+        detector->subscribe(
+            [](const skills::SkillEvent& e) { printSkillEvent(std::cout, e, false); });
+        detectorWatcher = skills::attachMdns(detector, discovery->responder());
+        if (discovery->lds()) skills::attachLds(detector, *discovery->lds());
+    } else if (options.detect) {
+        spdlog::error("--detect needs discovery: no skills will be detected");
+    }
+
     asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&](const asio::error_code& ec, int signal) {
         if (ec) return;
@@ -108,6 +126,11 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
         asio::co_spawn(
             io,
             [&]() -> asio::awaitable<void> {
+                if (detector) {
+                    printSkillSnapshot(std::cout, detector->instances(), false);
+                    detectorWatcher->stop();
+                    detector->stop();
+                }
                 if (discovery) co_await discovery->stop();
                 server->stop();
                 io.stop();

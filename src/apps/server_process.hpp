@@ -1,8 +1,8 @@
 #pragma once
 // The life of a server process, shared by `skillcell server` and `skillcell lds` (and later
 // every component): build the server, let the caller add its nodes, listen, announce and
-// register (ComponentDiscovery), print "READY <url>", and on SIGINT/SIGTERM unregister,
-// send the mDNS goodbye and stop.
+// register (ComponentDiscovery), print "READY <url>", optionally detect the cell's skills
+// (--detect), and on SIGINT/SIGTERM unregister, send the mDNS goodbye and stop.
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
@@ -23,11 +23,12 @@ struct ServerProcessOptions {
     std::uint32_t maxChannels = 100;
     DiscoveryOptions discovery;
     bool isLds = false;
-    std::string pkiDir;  // empty: ua::pki::defaultPkiDirectory()
+    std::string pkiDir;   // empty: ua::pki::defaultPkiDirectory()
+    bool detect = false;  // run a SkillDetector and print its SKILL lines (skill_report.hpp)
 };
 
 /// --port, --host, --advertised-host, --application-uri, --pki-dir, --max-sessions,
-/// --max-channels.
+/// --max-channels, --detect.
 void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& options);
 
 /// What a component adds to its server (skills, device adapters): kept alive while the

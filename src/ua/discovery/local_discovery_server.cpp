@@ -155,6 +155,7 @@ StatusCode LocalDiscoveryServer::registerServer(const RegisteredServer& server,
                          server.serverUri, url, withMdns ? " (with mDNS)" : "");
             const Registration* r = table_.find(server.serverUri);
             if (r != nullptr && r->mdns) announceFor(*r);
+            if (r != nullptr) notify(RegistrationChange::Registered, r->server);
             break;
         }
         case RegisteredServerTable::Change::Renewed:
@@ -163,6 +164,7 @@ StatusCode LocalDiscoveryServer::registerServer(const RegisteredServer& server,
         case RegisteredServerTable::Change::Removed:
             spdlog::info("LDS: '{}' unregistered", server.serverUri);
             withdrawFor(server.serverUri);
+            notify(RegistrationChange::Unregistered, server);
             break;
         case RegisteredServerTable::Change::NotFound:
             break;
@@ -223,10 +225,17 @@ void LocalDiscoveryServer::onMdnsEvent(const mdns::ServiceEvent& e) {
     if (e.kind != mdns::ServiceEvent::Kind::Gone || stopped_) return;
     const Registration* r = table_.findByMdnsName(e.instance.name);
     if (r == nullptr || announcedFor_.contains(r->server.serverUri)) return;
-    const std::string uri = r->server.serverUri;
-    spdlog::info("LDS: registration of '{}' ends with its mDNS presence ({})", uri,
+    const RegisteredServer ended = r->server;
+    spdlog::info("LDS: registration of '{}' ends with its mDNS presence ({})", ended.serverUri,
                  mdns::toString(e.reason));
-    table_.remove(uri);
+    table_.remove(ended.serverUri);
+    notify(e.reason == mdns::RemovalReason::Goodbye ? RegistrationChange::Unregistered
+                                                    : RegistrationChange::Expired,
+           ended);
+}
+
+void LocalDiscoveryServer::notify(RegistrationChange change, const RegisteredServer& server) const {
+    if (observer_) observer_(change, server);
 }
 
 asio::awaitable<void> LocalDiscoveryServer::expiryLoop() {
@@ -235,6 +244,7 @@ asio::awaitable<void> LocalDiscoveryServer::expiryLoop() {
         for (const auto& r : table_.expire(Clock::now())) {
             spdlog::info("LDS: registration of '{}' expired", r.server.serverUri);
             withdrawFor(r.server.serverUri);
+            notify(RegistrationChange::Expired, r.server);
         }
         timer_->expires_after(std::chrono::seconds(1));
         co_await timer_->async_wait(asio::experimental::as_tuple(asio::use_awaitable));

@@ -13,6 +13,7 @@
 #include <asio/any_io_executor.hpp>
 #include <asio/awaitable.hpp>
 #include <asio/steady_timer.hpp>
+#include <functional>
 #include <memory>
 #include <set>
 
@@ -31,8 +32,21 @@ struct LdsConfig {
     RegistrationLimits limits;
 };
 
+/// What happened to a registration, for the observer (a skill detector in the component that
+/// hosts the LDS learns of servers that register without announcing themselves).
+enum class RegistrationChange : std::uint8_t {
+    Registered,    // added, or updated with new content (not a plain renewal)
+    Unregistered,  // isOnline = false, or its mDNS presence ended with a goodbye
+    Expired,       // not renewed in time, semaphore file gone, or its mDNS records expired
+};
+
 class LocalDiscoveryServer : public std::enable_shared_from_this<LocalDiscoveryServer> {
 public:
+    /// Called on the server's thread after each change; `server` is the registration as it
+    /// was last registered.
+    using RegistrationObserver =
+        std::function<void(RegistrationChange change, const RegisteredServer& server)>;
+
     /// `responder` may be null: an LDS without the multicast extension (FindServersOnNetwork
     /// then answers BadServiceUnsupported).
     [[nodiscard]] static std::shared_ptr<LocalDiscoveryServer> create(
@@ -46,6 +60,10 @@ public:
     /// Withdraws what it announced for others and stops its timer.
     void stop();
 
+    /// One observer (a later call replaces it; an empty function removes it). The servers
+    /// registered already are in registrations().describe({}, {}).
+    void setRegistrationObserver(RegistrationObserver observer) { observer_ = std::move(observer); }
+
     [[nodiscard]] const RegisteredServerTable& registrations() const { return table_; }
     [[nodiscard]] const ServerOnNetworkDirectory& directory() const { return directory_; }
 
@@ -57,6 +75,7 @@ private:
     void onMdnsEvent(const mdns::ServiceEvent& event);
     void announceFor(const Registration& r);
     void withdrawFor(const std::string& serverUri);
+    void notify(RegistrationChange change, const RegisteredServer& server) const;
     asio::awaitable<void> expiryLoop();
 
     Server& server_;
@@ -67,6 +86,7 @@ private:
     std::map<std::string, std::string> announcedFor_;  // serverUri -> mDNS name we announce
     std::size_t subscription_ = 0;
     std::unique_ptr<asio::steady_timer> timer_;
+    RegistrationObserver observer_;
     bool stopped_ = false;
 };
 

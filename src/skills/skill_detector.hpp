@@ -1,0 +1,206 @@
+#pragma once
+// SkillDetector: the skills the cell offers right now, as a map from skill type to the live
+// skill instances of that type (ARCHITECTURE.md, "The skill model"; issue 5, item 5).
+//
+// Sources tell it which servers exist: `appeared(key, application, discoveryUrl)` and
+// `gone(key, reason)`, where `key` names a server within its source ("mdns:<name>",
+// "lds:<serverUri>"). attachMdns() and attachLds() below are the adapters for multicast
+// discovery (ServerWatcher) and for the registrations of an LDS hosted in this process;
+// tests feed the detector directly.
+//
+// For each server (a *component*, identified by its application URI, so that two sources
+// reporting the same server give one component) the detector:
+//  - connects with a session (connect timeout 2 s), reads ServerStatus.StartTime and
+//    browses the whole address space for objects whose type is SkillType or a subtype of
+//    it, resolving the types through the server's own hierarchy (RemoteSkillBrowser);
+//  - keeps the connection, with a subscription that serves as keep-alive and watches
+//    StartTime: a lost connection or a silent server removes the component's skills (then it
+//    retries, backing off, while a source still lists the server); a new StartTime (a
+//    restarted server) re-browses;
+//  - removes the component's skills when the last source that listed it says it is gone
+//    (mDNS goodbye or expiry, LDS unregistration or expiry).
+// Seen again by a source (a new announcement, a new registration), a component is checked:
+// a new StartTime or a new address re-browses it.
+//
+// Lookup is by any type of a skill's chain, from its own type up to SkillType: find() of
+// MoveSkillType returns the CartesianLinearMoveSkillType instances too. Types are
+// GlobalNodeIds (namespace URI + identifier), the same for every server.
+//
+// Threading: the detector and every connection it makes run on the executor given to
+// create(), which must not run handlers concurrently (one thread or a strand).
+// appeared/gone/stop, subscribe/unsubscribe must be called there, and listeners are called
+// there. The queries (find, instances, components) may be called from any thread: the map
+// they read is guarded by a mutex. The detector starts no thread; its coroutines hold it
+// alive until they end, which stop() brings about promptly.
+#include <asio/any_io_executor.hpp>
+#include <asio/awaitable.hpp>
+#include <chrono>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "skills/remote_skill_browser.hpp"
+#include "ua/discovery/local_discovery_server.hpp"
+#include "ua/discovery/mdns_responder.hpp"
+#include "ua/discovery/server_watcher.hpp"
+
+namespace skillcell::skills {
+
+/// A skill instance offered by a live component.
+struct SkillInstance : RemoteSkill {
+    std::string componentUri;         // the component's application URI
+    std::string endpointUrl;          // where the detector reached it
+    ua::DateTime componentStartTime;  // its ServerStatus.StartTime
+    friend bool operator==(const SkillInstance&, const SkillInstance&) = default;
+
+    /// The instance's own type (the first of `types`).
+    [[nodiscard]] const SkillTypeRef& type() const { return types.front(); }
+    /// True if `type` is its type or one of its supertypes.
+    [[nodiscard]] bool isA(const GlobalNodeId& type) const;
+};
+
+/// Why a source says a server is gone.
+enum class GoneReason : std::uint8_t {
+    Goodbye,       // mDNS goodbye (a graceful stop)
+    Expired,       // mDNS records or an LDS registration expired
+    Unregistered,  // it unregistered from the LDS
+};
+
+/// Why skills were removed.
+enum class RemovalReason : std::uint8_t {
+    Goodbye,
+    Expired,
+    Unregistered,
+    Disconnected,  // the connection to the component was lost
+    Timeout,       // it stopped answering, or did not answer within the connect timeout
+    Restarted,     // it restarted (new StartTime) or moved: re-browsed, this one is no more
+};
+[[nodiscard]] std::string_view toString(RemovalReason reason);
+
+struct SkillEvent {
+    enum class Kind : std::uint8_t { Added, Removed };
+    Kind kind = Kind::Added;
+    SkillInstance instance;
+    RemovalReason reason = RemovalReason::Disconnected;  // for Removed
+};
+
+/// What the detector knows of a component (for diagnostics and tests).
+struct ComponentStatus {
+    /// Connected: browsed, and its liveness watched (keep-alive subscription, or polling of
+    /// StartTime where the server offers no subscriptions).
+    enum class State : std::uint8_t { Connecting, Connected, Unreachable };
+    std::string id;  // application URI, or "key:<source key>" when none was given
+    std::string endpointUrl;
+    State state = State::Connecting;
+    ua::StatusCode lastError;  // why it is Unreachable
+    ua::DateTime startTime;    // when Connected
+    std::size_t skills = 0;
+    std::uint64_t browses = 0;  // complete browses of it so far
+};
+
+struct SkillDetectorConfig {
+    SkillDetectorConfig() = default;  // not an aggregate: see ua::ClientConfig
+    /// Resolve, TCP connect and Hello/Acknowledge.
+    std::chrono::milliseconds connectTimeout{2000};
+    /// Each request of the session and the browse.
+    std::chrono::milliseconds requestTimeout{5000};
+    /// A connected component is heard from at least this often (subscription keep-alive);
+    /// silence for 1.5 times as long counts as a timeout.
+    std::chrono::milliseconds keepAlivePeriod{1000};
+    /// First delay before connecting again to a component a source still lists; doubles
+    /// up to maxRetryDelay.
+    std::chrono::milliseconds retryDelay{250};
+    std::chrono::milliseconds maxRetryDelay{5000};
+    RemoteBrowseLimits limits;
+    std::string applicationUri = "urn:skillcell:skill-detector";
+};
+
+class SkillDetector : public std::enable_shared_from_this<SkillDetector> {
+public:
+    using Listener = std::function<void(const SkillEvent&)>;
+
+    [[nodiscard]] static std::shared_ptr<SkillDetector> create(asio::any_io_executor executor,
+                                                               SkillDetectorConfig config = {});
+    ~SkillDetector();
+    SkillDetector(const SkillDetector&) = delete;
+    SkillDetector& operator=(const SkillDetector&) = delete;
+
+    [[nodiscard]] const asio::any_io_executor& executor() const { return executor_; }
+
+    // --- Sources (on the executor) ---------------------------------------------------------
+    /// A source lists the server `key` at `discoveryUrl`. A first sighting connects and
+    /// browses; another one checks StartTime and address, re-browsing if they changed.
+    void appeared(const std::string& key, const ua::ApplicationDescription& application,
+                  const std::string& discoveryUrl);
+    /// The source no longer lists `key`; a component no source lists any more loses its
+    /// skills at once.
+    void gone(const std::string& key, GoneReason reason);
+    /// Forgets every component and listener and ends every connection (no events).
+    void stop();
+
+    // --- Listeners (on the executor) -------------------------------------------------------
+    /// Calls `listener` with Added for every instance known now, then with every change.
+    std::size_t subscribe(Listener listener);
+    void unsubscribe(std::size_t id);
+
+    // --- Queries (any thread) --------------------------------------------------------------
+    /// The instances whose type is `type` or a subtype of it.
+    [[nodiscard]] std::vector<SkillInstance> find(const GlobalNodeId& type) const;
+    [[nodiscard]] std::vector<SkillInstance> instances() const;
+    [[nodiscard]] std::vector<ComponentStatus> components() const;
+
+private:
+    struct Watch;  // a component: its sightings, its connection and the coroutine keeping it
+    using InstanceKey = std::pair<std::string, ua::NodeId>;  // component id, skill node
+
+    SkillDetector(asio::any_io_executor executor, SkillDetectorConfig config);
+
+    asio::awaitable<void> run(std::shared_ptr<Watch> watch);
+    /// One connection's life after connect(): browse, then watch it. Returns why it ended
+    /// (Good when the watch was ended from outside).
+    asio::awaitable<ua::StatusCode> serve(const std::shared_ptr<Watch>& watch);
+    asio::awaitable<ua::StatusCode> browseInto(const std::shared_ptr<Watch>& watch,
+                                               ua::DateTime startTime, RemovalReason reason);
+    void endWatch(Watch& watch);
+    void dropSighting(const std::string& key, RemovalReason reason);
+
+    /// Makes the component's instances `next` (executor only); notifies the difference.
+    void replaceSkills(const std::string& componentId, std::vector<SkillInstance> next,
+                       RemovalReason reason);
+    void setStatus(const std::string& componentId, const std::function<void(ComponentStatus&)>& f);
+    void notify(const std::vector<SkillEvent>& events);
+
+    asio::any_io_executor executor_;
+    SkillDetectorConfig config_;
+    bool stopped_ = false;
+
+    // Executor only.
+    std::map<std::string, std::shared_ptr<Watch>> components_;  // by component id
+    std::map<std::string, std::string> keys_;                   // source key -> component id
+    std::map<std::size_t, Listener> listeners_;
+    std::size_t nextListener_ = 1;
+
+    // Guarded by mutex_: written on the executor, read from anywhere.
+    mutable std::mutex mutex_;
+    std::map<InstanceKey, SkillInstance> instances_;
+    std::map<GlobalNodeId, std::set<InstanceKey>> byType_;
+    std::map<std::string, ComponentStatus> status_;
+};
+
+/// Feeds `detector` from multicast discovery: a ServerWatcher on `responder` whose
+/// "announced" and "gone" become appeared("mdns:<name>") and gone(). Returns the started
+/// watcher; stop it before the responder shuts down. Call on the detector's executor.
+[[nodiscard]] std::shared_ptr<ua::lds::ServerWatcher> attachMdns(
+    const std::shared_ptr<SkillDetector>& detector,
+    std::shared_ptr<ua::mdns::MdnsResponder> responder);
+
+/// Feeds `detector` from the registrations of an LDS in this process (its registration
+/// observer; the servers registered already are reported at once): appeared("lds:<uri>"),
+/// gone() on unregistration and expiry. Call on the detector's (= the LDS's) executor.
+void attachLds(const std::shared_ptr<SkillDetector>& detector, ua::lds::LocalDiscoveryServer& lds);
+
+}  // namespace skillcell::skills
