@@ -4,65 +4,36 @@
 #include <cstdio>
 #include <string>
 
+#include "ua/types/to_string.hpp"
+
 namespace skillcell::apps {
 
 namespace {
-
-std::string quoted(std::string_view s) {
-    std::string out = "\"";
-    for (const char c : s) {
-        switch (c) {
-            case '"':
-                out += "\\\"";
-                break;
-            case '\\':
-                out += "\\\\";
-                break;
-            case '\n':
-                out += "\\n";
-                break;
-            case '\r':
-                out += "\\r";
-                break;
-            case '\t':
-                out += "\\t";
-                break;
-            default:
-                if (static_cast<unsigned char>(c) < 0x20) {
-                    char escaped[8];
-                    std::snprintf(escaped, sizeof escaped, "\\u%04x", static_cast<unsigned>(c));
-                    out += escaped;
-                } else {
-                    out += c;
-                }
-        }
-    }
-    return out + "\"";
-}
 
 /// `"key":value` pairs of one skill instance (no braces).
 std::string jsonFields(const skills::SkillInstance& s) {
     std::string types;
     std::string typeNames;
     for (const auto& t : s.types) {
-        types += (types.empty() ? "" : ",") + quoted(t.id.toString());
-        typeNames += (typeNames.empty() ? "" : ",") + quoted(t.browseName);
+        types += (types.empty() ? "" : ",") + ua::jsonQuoted(t.id.toString());
+        typeNames += (typeNames.empty() ? "" : ",") + ua::jsonQuoted(t.browseName);
     }
     std::string parameters;
     for (const auto& p : s.parameters) {
         parameters += std::string(parameters.empty() ? "" : ",") +
-                      "{\"name\":" + quoted(p.browseName.name) +
-                      ",\"namespace\":" + quoted(p.browseName.namespaceUri) +
-                      ",\"dataType\":" + quoted(p.dataType.toString()) +
+                      "{\"name\":" + ua::jsonQuoted(p.browseName.name) +
+                      ",\"namespace\":" + ua::jsonQuoted(p.browseName.namespaceUri) +
+                      ",\"dataType\":" + ua::jsonQuoted(p.dataType.toString()) +
                       ",\"valueRank\":" + std::to_string(p.valueRank) + "}";
     }
-    return "\"type\":" + quoted(s.type().browseName) +
-           ",\"typeId\":" + quoted(s.type().id.toString()) + ",\"types\":[" + types +
-           "],\"typeNames\":[" + typeNames + "],\"component\":" + quoted(s.componentUri) +
-           ",\"endpoint\":" + quoted(s.endpointUrl) + ",\"nodeId\":" + quoted(s.nodeId.toString()) +
-           ",\"browsePath\":" + quoted(s.browsePathString()) +
-           ",\"startTime\":" + quoted(s.componentStartTime.toIso8601()) + ",\"parameters\":[" +
-           parameters + "]";
+    return "\"type\":" + ua::jsonQuoted(s.type().browseName) +
+           ",\"typeId\":" + ua::jsonQuoted(s.type().id.toString()) + ",\"types\":[" + types +
+           "],\"typeNames\":[" + typeNames + "],\"component\":" + ua::jsonQuoted(s.componentUri) +
+           ",\"endpoint\":" + ua::jsonQuoted(s.endpointUrl) +
+           ",\"nodeId\":" + ua::jsonQuoted(s.nodeId.toString()) +
+           ",\"browsePath\":" + ua::jsonQuoted(s.browsePathString()) +
+           ",\"startTime\":" + ua::jsonQuoted(s.componentStartTime.toIso8601()) +
+           ",\"parameters\":[" + parameters + "]";
 }
 
 std::string textFields(const skills::SkillInstance& s) {
@@ -76,7 +47,7 @@ void printSkillEvent(std::ostream& out, const skills::SkillEvent& event, bool js
     const bool added = event.kind == skills::SkillEvent::Kind::Added;
     if (json) {
         out << "{\"event\":" << (added ? "\"added\"" : "\"removed\"");
-        if (!added) out << ",\"reason\":" << quoted(skills::toString(event.reason));
+        if (!added) out << ",\"reason\":" << ua::jsonQuoted(skills::toString(event.reason));
         out << "," << jsonFields(s) << "}\n";
     } else if (added) {
         out << "SKILL ADDED " << textFields(s) << " " << s.nodeId.toString() << "\n";

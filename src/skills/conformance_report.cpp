@@ -1,5 +1,7 @@
 #include "skills/conformance_report.hpp"
 
+#include "ua/types/to_string.hpp"
+
 #include <algorithm>
 #include <cstdio>
 
@@ -72,41 +74,6 @@ std::string plural(std::size_t n, std::string_view one, std::string_view many) {
     return std::to_string(n) + " " + std::string(n == 1 ? one : many);
 }
 
-/// A JSON string literal: quotes, backslashes and control characters escaped; other bytes
-/// (UTF-8 from the server) pass through.
-std::string jsonString(std::string_view s) {
-    std::string out = "\"";
-    for (const char c : s) {
-        switch (c) {
-            case '"':
-                out += "\\\"";
-                break;
-            case '\\':
-                out += "\\\\";
-                break;
-            case '\n':
-                out += "\\n";
-                break;
-            case '\r':
-                out += "\\r";
-                break;
-            case '\t':
-                out += "\\t";
-                break;
-            default:
-                if (static_cast<unsigned char>(c) < 0x20) {
-                    char buf[8];
-                    std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned char>(c));
-                    out += buf;
-                } else {
-                    out += c;
-                }
-        }
-    }
-    out += '"';
-    return out;
-}
-
 }  // namespace
 
 std::string formatSummary(const ConformanceReport& report, bool strict) {
@@ -123,7 +90,7 @@ std::string formatSummary(const ConformanceReport& report, bool strict) {
 }
 
 std::string toJson(const ConformanceReport& report, bool strict) {
-    std::string s = "{\n  \"endpoint\": " + jsonString(report.endpoint()) + ",\n";
+    std::string s = "{\n  \"endpoint\": " + ua::jsonQuoted(report.endpoint()) + ",\n";
     s += "  \"result\": ";
     s += report.passed(strict) ? "\"PASS\"" : "\"FAIL\"";
     s += ",\n  \"counts\": {\"pass\": " + std::to_string(report.count(Verdict::Pass)) +
@@ -133,9 +100,9 @@ std::string toJson(const ConformanceReport& report, bool strict) {
     const char* sep = "\n";
     for (const auto& skill : report.skills()) {
         s += sep;
-        s += "    {\"path\": " + jsonString(skill.path) +
-             ", \"nodeId\": " + jsonString(skill.nodeId) + ", \"type\": " + jsonString(skill.type) +
-             "}";
+        s += "    {\"path\": " + ua::jsonQuoted(skill.path) +
+             ", \"nodeId\": " + ua::jsonQuoted(skill.nodeId) +
+             ", \"type\": " + ua::jsonQuoted(skill.type) + "}";
         sep = ",\n";
     }
     s += report.skills().empty() ? "],\n" : "\n  ],\n";
@@ -143,10 +110,11 @@ std::string toJson(const ConformanceReport& report, bool strict) {
     sep = "\n";
     for (const auto& f : report.findings()) {
         s += sep;
-        s += "    {\"verdict\": " + jsonString(name(f.verdict)) +
-             ", \"subject\": " + jsonString(f.subject) + ", \"check\": " + jsonString(f.check) +
-             ", \"expected\": " + jsonString(f.expected) + ", \"found\": " + jsonString(f.found) +
-             "}";
+        s += "    {\"verdict\": " + ua::jsonQuoted(name(f.verdict)) +
+             ", \"subject\": " + ua::jsonQuoted(f.subject) +
+             ", \"check\": " + ua::jsonQuoted(f.check) +
+             ", \"expected\": " + ua::jsonQuoted(f.expected) +
+             ", \"found\": " + ua::jsonQuoted(f.found) + "}";
         sep = ",\n";
     }
     s += report.findings().empty() ? "]\n}\n" : "\n  ]\n}\n";

@@ -1,5 +1,7 @@
 #include "ua/types/to_string.hpp"
 
+#include <cstdio>
+
 #include <array>
 #include <charconv>
 #include <type_traits>
@@ -57,6 +59,39 @@ std::string toString(const Variant& v) {
         out += toString(v.elements()[i]);
     }
     return out + "]";
+}
+
+std::string jsonQuoted(std::string_view s) {
+    std::string out = "\"";
+    for (const char c : s) {
+        switch (c) {
+            case '"':
+                out += "\\\"";
+                break;
+            case '\\':
+                out += "\\\\";
+                break;
+            case '\n':
+                out += "\\n";
+                break;
+            case '\r':
+                out += "\\r";
+                break;
+            case '\t':
+                out += "\\t";
+                break;
+            default:
+                if (static_cast<unsigned char>(c) < 0x20) {
+                    char buf[8];
+                    std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned char>(c));
+                    out += buf;
+                } else {
+                    out += c;
+                }
+        }
+    }
+    out += '"';
+    return out;
 }
 
 }  // namespace skillcell::ua
