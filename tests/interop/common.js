@@ -105,6 +105,24 @@ function stringNodeId(nsIndex, identifier) {
     return new NodeId(NodeIdType.STRING, identifier, nsIndex);
 }
 
+/// Resolves with the first value `accept` returns non-undefined for, or rejects after ms.
+function waitFor(emitter, event, accept, ms, what) {
+    return new Promise((resolve, reject) => {
+        const timer = setTimeout(() => {
+            emitter.removeListener(event, listener);
+            reject(new Error(`no ${what} within ${ms} ms`));
+        }, ms);
+        function listener(...args) {
+            const result = accept(...args);
+            if (result === undefined) return;
+            clearTimeout(timer);
+            emitter.removeListener(event, listener);
+            resolve(result);
+        }
+        emitter.on(event, listener);
+    });
+}
+
 // Nearest-rank percentile over an already sorted array.
 function percentile(sorted, p) {
     if (sorted.length === 0) return NaN;
@@ -120,5 +138,6 @@ module.exports = {
     disconnect,
     resolveNamespaceIndex,
     stringNodeId,
-    percentile
+    percentile,
+    waitFor
 };

@@ -26,7 +26,7 @@ const {
     TimestampsToReturn,
     constructEventFilter
 } = require("node-opcua");
-const { StatusCodes, checkEndpointUrl, connect, disconnect, resolveNamespaceIndex } =
+const { StatusCodes, checkEndpointUrl, connect, disconnect, resolveNamespaceIndex, waitFor } =
     require("./common");
 
 const SKILLS_URI = "http://skillcell.dev/UA/Skills/";
@@ -84,23 +84,6 @@ async function findSkills(session, skillType) {
         }
     }
     return found;
-}
-
-function waitFor(emitter, event, accept, ms, what) {
-    return new Promise((resolve, reject) => {
-        const timer = setTimeout(() => {
-            emitter.removeListener(event, listener);
-            reject(new Error(`no ${what} within ${ms} ms`));
-        }, ms);
-        function listener(...args) {
-            const result = accept(...args);
-            if (result === undefined) return;
-            clearTimeout(timer);
-            emitter.removeListener(event, listener);
-            resolve(result);
-        }
-        emitter.on(event, listener);
-    });
 }
 
 async function childByName(session, nodeId, name) {

@@ -27,29 +27,12 @@ const {
     connect,
     disconnect,
     resolveNamespaceIndex,
-    stringNodeId
+    stringNodeId,
+    waitFor
 } = require("./common");
 
 const url = process.argv[2];
 checkEndpointUrl(url, "usage: node subscribe.js opc.tcp://HOST:PORT");
-
-/// Resolves with the first value `accept` returns non-undefined for, or rejects after ms.
-function waitFor(emitter, event, accept, ms, what) {
-    return new Promise((resolve, reject) => {
-        const timer = setTimeout(() => {
-            emitter.removeListener(event, listener);
-            reject(new Error(`no ${what} within ${ms} ms`));
-        }, ms);
-        function listener(...args) {
-            const result = accept(...args);
-            if (result === undefined) return;
-            clearTimeout(timer);
-            emitter.removeListener(event, listener);
-            resolve(result);
-        }
-        emitter.on(event, listener);
-    });
-}
 
 async function main() {
     let problem = null;
