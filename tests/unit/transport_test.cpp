@@ -117,12 +117,12 @@ public:
         return chunkSize > headerSize + 4 ? chunkSize - headerSize - 4 : 0;
     }
     [[nodiscard]] StatusCode protect(std::vector<std::uint8_t>& chunk, std::size_t headerSize,
-                                     bool /*asymmetric*/) override {
+                                     const SymmetricKeys* /*keys*/) override {
         putU32(chunk, sum(chunk, headerSize, chunk.size()));
         return status::Good;
     }
     [[nodiscard]] StatusCode unprotect(std::vector<std::uint8_t>& chunk, std::size_t headerSize,
-                                       bool /*asymmetric*/) override {
+                                       const SymmetricKeys* /*keys*/) override {
         if (chunk.size() < headerSize + 4) return status::BadSecurityChecksFailed;
         const auto end = chunk.size() - 4;
         if (getU32(chunk, end) != sum(chunk, headerSize, end)) {
@@ -1118,8 +1118,12 @@ TEST(SecureChannel, PolicyThatSignsPlugsIn) {
 }
 
 TEST(SecureChannel, SecuredPolicyRequiresSecuredMode) {
+    // The server's endpoints decide which modes go with a policy; this one offers
+    // SignAndEncrypt only.
     SecureChannelConfig config;
-    config.securityMode = MessageSecurityMode::SignAndEncrypt;
+    config.acceptsMode = [](std::string_view uri, MessageSecurityMode mode) {
+        return uri == ChecksumPolicy::kUri && mode == MessageSecurityMode::SignAndEncrypt;
+    };
     SecureChannel s(SecureChannel::Role::Server, {}, std::make_unique<ChecksumPolicy>(), config);
     OpenSecureChannelRequest r;
     r.securityMode = MessageSecurityMode::None;

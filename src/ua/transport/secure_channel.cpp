@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "ua/crypto/primitives.hpp"
 #include "ua/encoding/codec.hpp"
 
 namespace skillcell::ua {
@@ -23,6 +24,10 @@ constexpr std::uint32_t kWrappedBelow = 1024;
 
 bool isNonePolicy(const SecurityPolicy& p) {
     return p.uri() == kSecurityPolicyNoneUri;
+}
+
+bool isSecured(MessageSecurityMode mode) {
+    return mode == MessageSecurityMode::Sign || mode == MessageSecurityMode::SignAndEncrypt;
 }
 
 std::chrono::milliseconds ms(std::uint64_t v) {
@@ -51,7 +56,18 @@ SecureChannel::SecureChannel(Role role, TransportLimits limits,
     : role_(role), limits_(limits), policy_(std::move(policy)), config_(config) {
     // A channel without a policy would have nothing to call; None is the only safe default.
     if (!policy_) policy_ = std::make_unique<SecurityPolicyNone>();
+    if (role_ == Role::Client && !isNonePolicy(*policy_)) {
+        mode_ = config_.securityMode;
+        policy_->setSecurityMode(mode_);
+    }
 }
+
+SecureChannel::SecureChannel(TransportLimits limits, SecurityPolicySelector selector,
+                             SecureChannelConfig config)
+    : role_(Role::Server),
+      limits_(limits),
+      selector_(std::move(selector)),
+      config_(std::move(config)) {}
 
 // ---------------------------------------------------------------------------------------
 // Receiving
@@ -74,29 +90,30 @@ Result<std::optional<ChannelMessage>> SecureChannel::receiveFrame(
 
     BinaryReader r(frame.subspan(kMessageHeaderSize));
     const auto channelId = r.read<std::uint32_t>();
+    const SymmetricKeys* keys = nullptr;
     if (asymmetric) {
-        String policyUri;
-        ByteString senderCertificate;
-        ByteString receiverThumbprint;
-        decode(r, policyUri);
-        decode(r, senderCertificate);
-        decode(r, receiverThumbprint);
+        AsymmetricSecurityHeader security;
+        decode(r, security.securityPolicyUri);
+        decode(r, security.senderCertificate);
+        decode(r, security.receiverCertificateThumbprint);
         if (!r.ok()) return status::BadDecodingError;
-        if (policyUri != policy_->uri()) return status::BadSecurityPolicyRejected;
         if (!acceptsOpenChannelId(channelId)) return status::BadTcpSecureChannelUnknown;
+        if (const auto s = acceptAsymmetricHeader(security); s.isBad()) return s;
     } else {
         const auto tokenId = r.read<std::uint32_t>();
         if (!r.ok()) return status::BadDecodingError;
         // No channel yet: MSG/CLO are not acceptable message types in this state.
         if (!current_) return status::BadTcpMessageTypeInvalid;
         if (channelId != channelId_) return status::BadTcpSecureChannelUnknown;
-        if (const auto s = checkToken(tokenId, now); s.isBad()) return s;
+        auto tokenKeys = checkToken(tokenId, now);
+        if (!tokenKeys) return tokenKeys.status();
+        keys = *tokenKeys;
     }
     const std::size_t clearSize = kMessageHeaderSize + r.position();
 
     // Bounded by receiveBufferSize through parseMessageHeader above.
     std::vector<std::uint8_t> chunk(frame.begin(), frame.end());
-    if (const auto s = policy_->unprotect(chunk, clearSize, asymmetric); s.isBad()) return s;
+    if (const auto s = policy_->unprotect(chunk, clearSize, keys); s.isBad()) return s;
     if (chunk.size() < clearSize) return status::BadSecurityChecksFailed;
 
     const auto payload = std::span<const std::uint8_t>(chunk).subspan(clearSize);
@@ -121,7 +138,21 @@ bool SecureChannel::acceptsOpenChannelId(std::uint32_t channelId) const {
     return channelId == 0 || (channelId_ != 0 && channelId == channelId_);
 }
 
-StatusCode SecureChannel::checkToken(std::uint32_t tokenId, SteadyTime now) {
+StatusCode SecureChannel::acceptAsymmetricHeader(const AsymmetricSecurityHeader& header) {
+    if (!policy_) {
+        // Server, first OPN: the client chooses the policy; the selector checks that we offer
+        // it and trust the sender's certificate.
+        if (!selector_) return status::BadSecurityPolicyRejected;
+        auto chosen = selector_(header);
+        if (!chosen) return chosen.status();
+        policy_ = std::move(*chosen);
+        if (!policy_) return status::BadSecurityPolicyRejected;
+    }
+    if (header.securityPolicyUri != policy_->uri()) return status::BadSecurityPolicyRejected;
+    return policy_->checkAsymmetricHeader(header);
+}
+
+Result<const SymmetricKeys*> SecureChannel::checkToken(std::uint32_t tokenId, SteadyTime now) {
     if (previous_ && now > previous_->expiresAt) previous_.reset();
     if (tokenId == current_->tokenId) {
         if (now > acceptableUntil(currentCreated_, current_->revisedLifetime)) {
@@ -130,9 +161,9 @@ StatusCode SecureChannel::checkToken(std::uint32_t tokenId, SteadyTime now) {
         // The peer has switched to the new token: the old one is done (server: OPC 10000-4,
         // 5.5.2; client: the server only switches once the client has).
         previous_.reset();
-        return status::Good;
+        return &currentKeys_.receiving;
     }
-    if (previous_ && tokenId == previous_->token.tokenId) return status::Good;
+    if (previous_ && tokenId == previous_->token.tokenId) return &previous_->keys.receiving;
     return status::BadSecureChannelTokenUnknown;
 }
 
@@ -195,6 +226,7 @@ Result<std::optional<ChannelMessage>> SecureChannel::assemble(MessageType type, 
 
 std::size_t SecureChannel::headerSize(MessageType type) const {
     if (type != MessageType::OpenChannel) return kSymmetricSecurityHeaderEnd + kSequenceHeaderSize;
+    if (!policy_) return kMessageHeaderSize + 4 + 3 * encodedLength(0) + kSequenceHeaderSize;
     return kMessageHeaderSize + 4 + encodedLength(policy_->uri().size()) +
            encodedLength(policy_->localCertificate().size()) +
            encodedLength(policy_->remoteThumbprint().size()) + kSequenceHeaderSize;
@@ -205,6 +237,11 @@ std::uint32_t SecureChannel::sendingTokenId() const {
     // used the new one (OPC 10000-4, 5.5.2); the client switches at once.
     if (role_ == Role::Server && previous_) return previous_->token.tokenId;
     return current_->tokenId;
+}
+
+const SymmetricKeys& SecureChannel::sendingKeys() const {
+    if (role_ == Role::Server && previous_) return previous_->keys.sending;
+    return currentKeys_.sending;
 }
 
 StatusCode SecureChannel::tooLarge() const {
@@ -218,6 +255,7 @@ Result<std::vector<std::vector<std::uint8_t>>> SecureChannel::encodeMessage(
         return status::BadInvalidArgument;
     }
     if (type != MessageType::OpenChannel && !current_) return status::BadInvalidState;
+    if (!policy_) return status::BadInvalidState;  // server before the client's first OPN
     const bool asymmetric = type == MessageType::OpenChannel;
     const auto maxBody = policy_->maxBodySize(limits_.sendBufferSize, headerSize(type), asymmetric);
     if (maxBody == 0) return tooLarge();  // headers alone fill the peer's buffer
@@ -245,7 +283,7 @@ Result<std::vector<std::vector<std::uint8_t>>> SecureChannel::encodeMessage(
 Result<std::vector<std::uint8_t>> SecureChannel::encodeAbort(std::uint32_t requestId,
                                                              StatusCode error,
                                                              std::string_view reason) {
-    if (!current_) return status::BadInvalidState;
+    if (!current_ || !policy_) return status::BadInvalidState;
     const auto maxBody =
         policy_->maxBodySize(limits_.sendBufferSize, headerSize(MessageType::Message), false);
     const std::size_t fixed = 4 + 4;  // Error + reason length
@@ -284,7 +322,10 @@ Result<std::vector<std::uint8_t>> SecureChannel::buildChunk(MessageType type, Ch
     finishFrame(w, 0);
     if (!w.ok()) return w.status();
 
-    if (const auto s = policy_->protect(out, clearSize, asymmetric); s.isBad()) return s;
+    if (const auto s = policy_->protect(out, clearSize, asymmetric ? nullptr : &sendingKeys());
+        s.isBad()) {
+        return s;
+    }
     // A policy that overruns its own maxBodySize is a bug, not something to send.
     if (out.size() > limits_.sendBufferSize) return status::BadInternalError;
     BinaryWriter patch(out);
@@ -310,17 +351,14 @@ Result<OpenSecureChannelResponse> SecureChannel::openOrRenew(
             return status::BadRequestTypeInvalid;
     }
 
+    if (!policy_) return status::BadInvalidState;  // openOrRenew before any OPN chunk
     const auto mode = request.securityMode;
-    if (isNonePolicy(*policy_)) {
-        if (mode != MessageSecurityMode::None) return status::BadSecurityModeRejected;
-    } else {
-        const bool secured =
-            mode == MessageSecurityMode::Sign || mode == MessageSecurityMode::SignAndEncrypt;
-        const bool configured = config_.securityMode == MessageSecurityMode::Sign ||
-                                config_.securityMode == MessageSecurityMode::SignAndEncrypt;
-        if (!secured || (configured && mode != config_.securityMode)) {
-            return status::BadSecurityModeRejected;
-        }
+    if (!modeAccepted(mode)) return status::BadSecurityModeRejected;
+    // A renewal keeps the mode the channel was opened with.
+    if (current_ && mode != mode_) return status::BadSecurityModeRejected;
+    const std::size_t nonceLength = policy_->nonceLength();
+    if (nonceLength != 0 && request.clientNonce.bytes.size() != nonceLength) {
+        return status::BadNonceInvalid;
     }
 
     const auto maxLifetime = std::max(config_.tokenLifetimeMs, config_.minTokenLifetimeMs);
@@ -329,6 +367,7 @@ Result<OpenSecureChannelResponse> SecureChannel::openOrRenew(
             ? maxLifetime
             : std::clamp(request.requestedLifetime, config_.minTokenLifetimeMs, maxLifetime);
 
+    ByteString serverNonce(crypto::randomBytes(nonceLength));
     ChannelSecurityToken token;
     token.channelId = current_ ? channelId_ : channelId;
     token.tokenId = nextTokenId_++;
@@ -338,13 +377,17 @@ Result<OpenSecureChannelResponse> SecureChannel::openOrRenew(
 
     if (current_) {
         // The old token stays valid until the client uses the new one or it expires.
-        previous_ =
-            TokenState{*current_, acceptableUntil(currentCreated_, current_->revisedLifetime)};
+        previous_ = TokenState{*current_,
+                               acceptableUntil(currentCreated_, current_->revisedLifetime),
+                               std::move(currentKeys_)};
     } else {
         channelId_ = channelId;
+        mode_ = mode;
+        policy_->setSecurityMode(mode);
     }
     current_ = token;
     currentCreated_ = now;
+    currentKeys_ = policy_->deriveKeys(request.clientNonce.bytes, serverNonce.bytes, false);
 
     OpenSecureChannelResponse response;
     response.responseHeader.timestamp = token.createdAt;
@@ -352,10 +395,17 @@ Result<OpenSecureChannelResponse> SecureChannel::openOrRenew(
     response.responseHeader.serviceResult = status::Good;
     response.serverProtocolVersion = kProtocolVersion;
     response.securityToken = token;
+    response.serverNonce = std::move(serverNonce);
     return response;
 }
 
-OpenSecureChannelRequest SecureChannel::makeOpenRequest(SecurityTokenRequestType type) const {
+bool SecureChannel::modeAccepted(MessageSecurityMode mode) const {
+    if (config_.acceptsMode) return config_.acceptsMode(policy_->uri(), mode);
+    return isNonePolicy(*policy_) ? mode == MessageSecurityMode::None : isSecured(mode);
+}
+
+OpenSecureChannelRequest SecureChannel::makeOpenRequest(SecurityTokenRequestType type) {
+    ownNonce_ = ByteString(crypto::randomBytes(policy_->nonceLength()));
     OpenSecureChannelRequest request;
     request.requestHeader.timestamp = DateTime::now();
     request.clientProtocolVersion = kProtocolVersion;
@@ -363,6 +413,7 @@ OpenSecureChannelRequest SecureChannel::makeOpenRequest(SecurityTokenRequestType
     request.securityMode =
         isNonePolicy(*policy_) ? MessageSecurityMode::None : config_.securityMode;
     request.requestedLifetime = config_.tokenLifetimeMs;
+    request.clientNonce = ownNonce_;
     return request;
 }
 
@@ -374,18 +425,24 @@ StatusCode SecureChannel::acceptOpenResponse(const OpenSecureChannelResponse& re
     }
     const auto& token = response.securityToken;
     if (token.channelId == 0) return status::BadSecureChannelIdInvalid;
+    const std::size_t nonceLength = policy_->nonceLength();
+    if (nonceLength != 0 && response.serverNonce.bytes.size() != nonceLength) {
+        return status::BadNonceInvalid;
+    }
     if (openResponseChannelId_ != 0 && token.channelId != openResponseChannelId_) {
         return status::BadSecureChannelIdInvalid;
     }
     if (current_) {
         if (token.channelId != channelId_) return status::BadSecureChannelIdInvalid;
         // Server messages secured with the old token may still be on their way.
-        previous_ =
-            TokenState{*current_, acceptableUntil(currentCreated_, current_->revisedLifetime)};
+        previous_ = TokenState{*current_,
+                               acceptableUntil(currentCreated_, current_->revisedLifetime),
+                               std::move(currentKeys_)};
     }
     channelId_ = token.channelId;
     current_ = token;
     currentCreated_ = now;
+    currentKeys_ = policy_->deriveKeys(ownNonce_.bytes, response.serverNonce.bytes, true);
     return status::Good;
 }
 

@@ -9,6 +9,7 @@
 // is what lets tests drive it byte by byte with a fake clock.
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -37,10 +38,19 @@ struct SecureChannelConfig {
     std::uint32_t tokenLifetimeMs = 600'000;
     /// Server: lifetimes below this are raised to it.
     std::uint32_t minTokenLifetimeMs = 10'000;
-    /// Client: the mode asked for in OpenSecureChannel. Server: the mode required of a
-    /// policy other than None (None always requires MessageSecurityMode::None).
+    /// Client: the mode asked for in OpenSecureChannel (None with policy None).
     MessageSecurityMode securityMode = MessageSecurityMode::None;
+    /// Server: whether an endpoint offers this policy with this mode. Unset: None goes with
+    /// mode None only, any other policy with Sign or SignAndEncrypt.
+    std::function<bool(std::string_view policyUri, MessageSecurityMode mode)> acceptsMode;
 };
+
+/// Server: picks and builds the policy for a channel from its first OpenSecureChannel's
+/// security header: an unknown or disabled policy gives BadSecurityPolicyRejected, a
+/// certificate the server does not trust the validation's status (BadCertificateUntrusted,
+/// BadCertificateTimeInvalid, ...). Runs before the chunk is decrypted.
+using SecurityPolicySelector =
+    std::function<Result<std::unique_ptr<SecurityPolicy>>(const AsymmetricSecurityHeader&)>;
 
 /// An abort chunk ('A', OPC 10000-6, 6.7.3) as received: the message `requestId` was
 /// discarded by its sender because of `error`.
@@ -55,6 +65,9 @@ public:
     enum class Role : std::uint8_t { Client, Server };
 
     SecureChannel(Role role, TransportLimits limits, std::unique_ptr<SecurityPolicy> policy,
+                  SecureChannelConfig config = {});
+    /// A server channel whose policy the client chooses in its first OpenSecureChannel.
+    SecureChannel(TransportLimits limits, SecurityPolicySelector selector,
                   SecureChannelConfig config = {});
 
     /// Feeds one whole OPN/MSG/CLO frame. Returns the message once its final chunk arrived,
@@ -92,20 +105,26 @@ public:
     /// Server: handles a decoded OpenSecureChannelRequest (Issue or Renew): assigns the
     /// channel id on Issue, creates a new token, and returns the response to send.
     /// BadRequestTypeInvalid for Renew before Issue or Issue twice,
-    /// BadSecurityModeRejected for a mode the policy does not match. createdAt in the token
+    /// BadSecurityModeRejected for a mode the policy does not match (or a Renew that changes
+    /// it), BadNonceInvalid for a client nonce of the wrong length. createdAt in the token
     /// is the only wall-clock value; lifetimes are measured on `now`.
     [[nodiscard]] Result<OpenSecureChannelResponse> openOrRenew(
         const OpenSecureChannelRequest& request, std::uint32_t channelId, SteadyTime now);
 
-    /// Client: builds the request for a first open or a renewal.
-    [[nodiscard]] OpenSecureChannelRequest makeOpenRequest(SecurityTokenRequestType type) const;
+    /// Client: builds the request for a first open or a renewal, with a fresh nonce.
+    [[nodiscard]] OpenSecureChannelRequest makeOpenRequest(SecurityTokenRequestType type);
     /// Client: takes the server's answer; the new token is used for everything sent next.
     /// The response's serviceResult if it is bad; BadSecureChannelIdInvalid when the token's
-    /// channel id is 0, differs from the OPN header's, or changes on renewal.
+    /// channel id is 0, differs from the OPN header's, or changes on renewal;
+    /// BadNonceInvalid for a server nonce of the wrong length.
     [[nodiscard]] StatusCode acceptOpenResponse(const OpenSecureChannelResponse& response,
                                                 SteadyTime now);
 
     [[nodiscard]] std::uint32_t channelId() const { return channelId_; }
+    /// The channel's policy; nullptr on a server channel before its first OpenSecureChannel.
+    [[nodiscard]] const SecurityPolicy* policy() const { return policy_.get(); }
+    /// The mode agreed in OpenSecureChannel (None before).
+    [[nodiscard]] MessageSecurityMode securityMode() const { return mode_; }
     [[nodiscard]] bool isOpen() const { return current_.has_value(); }
     [[nodiscard]] const TransportLimits& limits() const { return limits_; }
     /// The current token, if any (its revisedLifetime tells a client when to renew).
@@ -119,10 +138,14 @@ private:
     struct TokenState {
         ChannelSecurityToken token;
         SteadyTime expiresAt;
+        ChannelKeys keys;
     };
 
     [[nodiscard]] bool acceptsOpenChannelId(std::uint32_t channelId) const;
-    [[nodiscard]] StatusCode checkToken(std::uint32_t tokenId, SteadyTime now);
+    [[nodiscard]] StatusCode acceptAsymmetricHeader(const AsymmetricSecurityHeader& header);
+    [[nodiscard]] bool modeAccepted(MessageSecurityMode mode) const;
+    /// The receiving keys of the token a chunk names, or the status that refuses it.
+    [[nodiscard]] Result<const SymmetricKeys*> checkToken(std::uint32_t tokenId, SteadyTime now);
     [[nodiscard]] StatusCode checkSequenceNumber(std::uint32_t sequenceNumber);
     [[nodiscard]] Result<std::optional<ChannelMessage>> assemble(
         MessageType type, ChunkType chunk, std::uint32_t requestId,
@@ -132,12 +155,17 @@ private:
                                                                std::span<const std::uint8_t> body);
     [[nodiscard]] std::size_t headerSize(MessageType type) const;
     [[nodiscard]] std::uint32_t sendingTokenId() const;
+    [[nodiscard]] const SymmetricKeys& sendingKeys() const;
     [[nodiscard]] StatusCode tooLarge() const;
 
     Role role_;
     TransportLimits limits_;
     std::unique_ptr<SecurityPolicy> policy_;
+    SecurityPolicySelector selector_;  // server: builds policy_ at the first OPN
     SecureChannelConfig config_;
+    MessageSecurityMode mode_ = MessageSecurityMode::None;
+    ChannelKeys currentKeys_;
+    ByteString ownNonce_;  // client: the nonce of the OPN request in flight
     std::uint32_t channelId_ = 0;
     std::optional<ChannelSecurityToken> current_;
     SteadyTime currentCreated_{};

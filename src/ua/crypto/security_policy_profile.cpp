@@ -1,0 +1,43 @@
+#include "ua/crypto/security_policy_profile.hpp"
+
+#include <array>
+
+namespace skillcell::ua::crypto {
+namespace {
+
+constexpr std::string_view kRsaSha256 = "http://www.w3.org/2001/04/xmldsig-more#rsa-sha256";
+constexpr std::string_view kRsaPssSha256 = "http://opcfoundation.org/UA/security/rsa-pss-sha2-256";
+constexpr std::string_view kRsaOaep = "http://www.w3.org/2001/04/xmlenc#rsa-oaep";
+constexpr std::string_view kRsaOaepSha256 =
+    "http://opcfoundation.org/UA/security/rsa-oaep-sha2-256";
+
+constexpr std::array<SecurityPolicyProfile, 3> kProfiles{{
+    {kPolicyAes128Sha256RsaOaep, "Aes128_Sha256_RsaOaep", RsaEncryption::OaepSha1,
+     RsaSignature::Pkcs1v15Sha256, kRsaSha256, kRsaOaep, 16, 32, 32, 32, 2048, 4096, 2},
+    {kPolicyBasic256Sha256, "Basic256Sha256", RsaEncryption::OaepSha1,
+     RsaSignature::Pkcs1v15Sha256, kRsaSha256, kRsaOaep, 32, 32, 32, 32, 2048, 4096, 3},
+    {kPolicyAes256Sha256RsaPss, "Aes256_Sha256_RsaPss", RsaEncryption::OaepSha256,
+     RsaSignature::PssSha256, kRsaPssSha256, kRsaOaepSha256, 32, 32, 32, 32, 2048, 4096, 4},
+}};
+
+}  // namespace
+
+std::span<const SecurityPolicyProfile> securityPolicyProfiles() {
+    return kProfiles;
+}
+
+const SecurityPolicyProfile* findSecurityPolicyProfile(std::string_view uri) {
+    for (const auto& p : kProfiles) {
+        if (p.uri == uri) return &p;
+    }
+    return nullptr;
+}
+
+const SecurityPolicyProfile* findSecurityPolicyProfileByName(std::string_view name) {
+    for (const auto& p : kProfiles) {
+        if (p.uri == name || p.shortName == name) return &p;
+    }
+    return nullptr;
+}
+
+}  // namespace skillcell::ua::crypto

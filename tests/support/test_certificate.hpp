@@ -1,0 +1,21 @@
+#pragma once
+// Certificates made on the spot for tests: an RSA key and a self-signed X.509 certificate
+// with the application URI in its subjectAltName, valid from `validFrom` to `validTo`
+// (seconds relative to now). No files are committed; every run makes its own.
+#include <string>
+
+#include "ua/crypto/primitives.hpp"
+#include "ua/types/builtin.hpp"
+
+namespace skillcell::test {
+
+struct TestCertificate {
+    ua::ByteString der;
+    ua::crypto::RsaKey key;
+};
+
+[[nodiscard]] TestCertificate makeTestCertificate(int bits, const std::string& applicationUri,
+                                                  long validFrom = -3600,
+                                                  long validTo = 3600L * 24 * 365);
+
+}  // namespace skillcell::test

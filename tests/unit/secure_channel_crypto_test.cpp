@@ -1,0 +1,327 @@
+// The RSA security policies on a client and a server SecureChannel wired back to back:
+// every policy with Sign and SignAndEncrypt, 2048- and 4096-bit keys (the latter need the
+// extra padding byte), multi-chunk messages, renewal, and the attacks a channel must refuse.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "test_certificate.hpp"
+#include "ua/crypto/security_policy_profile.hpp"
+#include "ua/encoding/codec.hpp"
+#include "ua/transport/rsa_security_policy.hpp"
+#include "ua/transport/secure_channel.hpp"
+
+using namespace skillcell::ua;
+using skillcell::test::makeTestCertificate;
+using skillcell::test::TestCertificate;
+using Bytes = std::vector<std::uint8_t>;
+
+namespace {
+
+constexpr std::uint32_t kChannelId = 42;
+
+template <class T>
+Bytes encodeService(const T& message) {
+    Bytes out;
+    BinaryWriter w(out);
+    encode(w, NodeId(T::kBinaryEncodingId));
+    encode(w, message);
+    return out;
+}
+
+template <class T>
+T decodeService(const Bytes& body) {
+    BinaryReader r(body);
+    NodeId id;
+    decode(r, id);
+    EXPECT_EQ(id, NodeId(T::kBinaryEncodingId));
+    T out{};
+    decode(r, out);
+    EXPECT_TRUE(r.ok());
+    return out;
+}
+
+/// Key generation is the slow part: each size is made once for the whole test program.
+const TestCertificate& certificate(int bits, int which) {
+    static const TestCertificate c2048a = makeTestCertificate(2048, "urn:test:client");
+    static const TestCertificate c2048b = makeTestCertificate(2048, "urn:test:server");
+    static const TestCertificate c4096 = makeTestCertificate(4096, "urn:test:big");
+    if (bits == 4096) return c4096;
+    return which == 0 ? c2048a : c2048b;
+}
+
+struct Case {
+    const crypto::SecurityPolicyProfile* profile;
+    MessageSecurityMode mode;
+    int clientBits;
+    int serverBits;
+};
+
+std::string caseName(const testing::TestParamInfo<Case>& info) {
+    std::string name(info.param.profile->shortName);
+    name += info.param.mode == MessageSecurityMode::Sign ? "_Sign" : "_SignAndEncrypt";
+    name += "_" + std::to_string(info.param.clientBits) + "_" +
+            std::to_string(info.param.serverBits);
+    return name;
+}
+
+struct SecuredPair {
+    TestCertificate clientCert;
+    TestCertificate serverCert;
+    std::optional<SecureChannel> client;
+    std::optional<SecureChannel> server;
+    SteadyTime t0{std::chrono::hours(1)};
+    std::string selectedUri;
+
+    SecuredPair(const Case& c, TransportLimits limits = {})
+        : clientCert(certificate(c.clientBits, 0)), serverCert(certificate(c.serverBits, 1)) {
+        SecureChannelConfig clientConfig;
+        clientConfig.securityMode = c.mode;
+        auto policy = RsaSecurityPolicy::create(*c.profile, clientCert.der, clientCert.key,
+                                                serverCert.der, c.mode);
+        EXPECT_TRUE(policy.ok()) << statusName(policy.status());
+        client.emplace(SecureChannel::Role::Client, limits, std::move(*policy), clientConfig);
+        auto selector = [this](const AsymmetricSecurityHeader& header)
+            -> Result<std::unique_ptr<SecurityPolicy>> {
+            selectedUri = header.securityPolicyUri;
+            const auto* profile = crypto::findSecurityPolicyProfile(header.securityPolicyUri);
+            if (profile == nullptr) return status::BadSecurityPolicyRejected;
+            auto p = RsaSecurityPolicy::create(*profile, serverCert.der, serverCert.key,
+                                               header.senderCertificate,
+                                               MessageSecurityMode::Invalid);
+            if (!p) return p.status();
+            return std::unique_ptr<SecurityPolicy>(std::move(*p));
+        };
+        server.emplace(limits, selector, SecureChannelConfig{});
+    }
+
+    static Result<ChannelMessage> deliver(SecureChannel& to, const std::vector<Bytes>& frames,
+                                          SteadyTime now) {
+        std::optional<ChannelMessage> got;
+        for (const auto& f : frames) {
+            auto r = to.receiveFrame(f, now);
+            if (!r) return r.status();
+            if (r->has_value()) got = std::move(**r);
+        }
+        if (!got) return status::BadInternalError;
+        return std::move(*got);
+    }
+
+    StatusCode handshake(SecurityTokenRequestType type, SteadyTime now) {
+        auto frames = client->encodeMessage(MessageType::OpenChannel, 1,
+                                            encodeService(client->makeOpenRequest(type)));
+        if (!frames) return frames.status();
+        auto request = deliver(*server, *frames, now);
+        if (!request) return request.status();
+        auto response = server->openOrRenew(
+            decodeService<OpenSecureChannelRequest>(request->body), kChannelId, now);
+        if (!response) return response.status();
+        auto back = server->encodeMessage(MessageType::OpenChannel, 1, encodeService(*response));
+        if (!back) return back.status();
+        auto reply = deliver(*client, *back, now);
+        if (!reply) return reply.status();
+        return client->acceptOpenResponse(decodeService<OpenSecureChannelResponse>(reply->body),
+                                          now);
+    }
+
+    static void roundTrip(SecureChannel& from, SecureChannel& to, const Bytes& body,
+                          SteadyTime now) {
+        auto frames = from.encodeMessage(MessageType::Message, 9, body);
+        ASSERT_TRUE(frames.ok()) << statusName(frames.status());
+        auto m = deliver(to, *frames, now);
+        ASSERT_TRUE(m.ok()) << statusName(m.status());
+        EXPECT_EQ(m->requestId, 9u);
+        EXPECT_EQ(m->body, body);
+    }
+};
+
+Bytes pattern(std::size_t n) {
+    Bytes b(n);
+    for (std::size_t i = 0; i < n; ++i) b[i] = static_cast<std::uint8_t>(i * 7 + 3);
+    return b;
+}
+
+class SecuredChannel : public testing::TestWithParam<Case> {};
+
+std::vector<Case> allCases() {
+    std::vector<Case> cases;
+    for (const auto& profile : crypto::securityPolicyProfiles()) {
+        for (auto mode : {MessageSecurityMode::Sign, MessageSecurityMode::SignAndEncrypt}) {
+            cases.push_back({&profile, mode, 2048, 2048});
+        }
+        // Mixed key sizes: 4096 bits on one side exercises ExtraPaddingSize and signatures
+        // of another length than the peer's blocks.
+        cases.push_back({&profile, MessageSecurityMode::SignAndEncrypt, 4096, 2048});
+        cases.push_back({&profile, MessageSecurityMode::Sign, 2048, 4096});
+    }
+    return cases;
+}
+
+}  // namespace
+
+INSTANTIATE_TEST_SUITE_P(AllPolicies, SecuredChannel, testing::ValuesIn(allCases()), caseName);
+
+TEST_P(SecuredChannel, OpensExchangesRenewsAndExchangesAgain) {
+    SecuredPair p(GetParam());
+    ASSERT_EQ(p.handshake(SecurityTokenRequestType::Issue, p.t0), status::Good);
+    EXPECT_EQ(p.selectedUri, GetParam().profile->uri);
+    EXPECT_EQ(p.server->securityMode(), GetParam().mode);
+    for (std::size_t size : {0u, 1u, 15u, 16u, 17u, 1000u, 200'000u}) {
+        SecuredPair::roundTrip(*p.client, *p.server, pattern(size), p.t0);
+        SecuredPair::roundTrip(*p.server, *p.client, pattern(size), p.t0);
+    }
+    const auto later = p.t0 + std::chrono::minutes(8);
+    ASSERT_EQ(p.handshake(SecurityTokenRequestType::Renew, later), status::Good);
+    // The server answers with the old token's keys until the client uses the new one.
+    SecuredPair::roundTrip(*p.server, *p.client, pattern(100), later);
+    SecuredPair::roundTrip(*p.client, *p.server, pattern(70'000), later);
+    SecuredPair::roundTrip(*p.server, *p.client, pattern(70'000), later);
+}
+
+TEST_P(SecuredChannel, EncryptsOnlyInSignAndEncrypt) {
+    SecuredPair p(GetParam());
+    ASSERT_EQ(p.handshake(SecurityTokenRequestType::Issue, p.t0), status::Good);
+    const std::string secret = "the quick brown robot jumps over the lazy gripper";
+    auto frames = p.client->encodeMessage(MessageType::Message, 3, Bytes(secret.begin(), secret.end()));
+    ASSERT_TRUE(frames.ok());
+    const auto& f = frames->front();
+    const bool visible = std::search(f.begin(), f.end(), secret.begin(), secret.end()) != f.end();
+    EXPECT_EQ(visible, GetParam().mode == MessageSecurityMode::Sign);
+}
+
+TEST_P(SecuredChannel, RefusesAnyFlippedByte) {
+    SecuredPair p(GetParam());
+    ASSERT_EQ(p.handshake(SecurityTokenRequestType::Issue, p.t0), status::Good);
+    auto frames = p.client->encodeMessage(MessageType::Message, 3, pattern(300));
+    ASSERT_TRUE(frames.ok());
+    // Every byte after the clear headers is covered by the signature: flipping one of them
+    // (sequence header, body, padding or signature) must fail the chunk.
+    const Bytes original = frames->front();
+    for (std::size_t i = 16; i < original.size(); i += 37) {
+        Bytes tampered = original;
+        tampered[i] ^= 0x01;
+        EXPECT_EQ(p.server->receiveFrame(tampered, p.t0).status(), status::BadSecurityChecksFailed)
+            << "byte " << i;
+    }
+    // The untouched chunk still goes through: failed chunks changed nothing.
+    EXPECT_TRUE(p.server->receiveFrame(original, p.t0).ok());
+}
+
+TEST_P(SecuredChannel, RefusesAReplayedChunk) {
+    SecuredPair p(GetParam());
+    ASSERT_EQ(p.handshake(SecurityTokenRequestType::Issue, p.t0), status::Good);
+    auto frames = p.client->encodeMessage(MessageType::Message, 3, pattern(10));
+    ASSERT_TRUE(frames.ok());
+    ASSERT_TRUE(p.server->receiveFrame(frames->front(), p.t0).ok());
+    EXPECT_EQ(p.server->receiveFrame(frames->front(), p.t0).status(),
+              status::BadSequenceNumberInvalid);
+}
+
+TEST(SecuredChannelHandshake, RefusesAnOpenForAnotherCertificate) {
+    const Case c{crypto::findSecurityPolicyProfile(crypto::kPolicyBasic256Sha256),
+                 MessageSecurityMode::SignAndEncrypt, 2048, 2048};
+    SecuredPair p(c);
+    // The client thinks the server has another certificate: its OPN names that one.
+    const auto& other = certificate(4096, 0);
+    auto policy = RsaSecurityPolicy::create(*c.profile, p.clientCert.der, p.clientCert.key,
+                                            other.der, c.mode);
+    ASSERT_TRUE(policy.ok());
+    SecureChannelConfig config;
+    config.securityMode = c.mode;
+    SecureChannel wrong(SecureChannel::Role::Client, {}, std::move(*policy), config);
+    auto frames = wrong.encodeMessage(
+        MessageType::OpenChannel, 1,
+        encodeService(wrong.makeOpenRequest(SecurityTokenRequestType::Issue)));
+    ASSERT_TRUE(frames.ok());
+    EXPECT_EQ(p.server->receiveFrame(frames->front(), p.t0).status(),
+              status::BadCertificateInvalid);
+}
+
+TEST(SecuredChannelHandshake, SelectorDecidesPolicyAndTrust) {
+    const Case c{crypto::findSecurityPolicyProfile(crypto::kPolicyAes256Sha256RsaPss),
+                 MessageSecurityMode::Sign, 2048, 2048};
+    SecuredPair p(c);
+    // A server whose selector does not trust the client.
+    SecureChannel distrustful({}, [](const AsymmetricSecurityHeader&)
+                                  -> Result<std::unique_ptr<SecurityPolicy>> {
+        return StatusCode(0x801A0000);  // BadCertificateUntrusted
+    });
+    auto frames = p.client->encodeMessage(
+        MessageType::OpenChannel, 1,
+        encodeService(p.client->makeOpenRequest(SecurityTokenRequestType::Issue)));
+    ASSERT_TRUE(frames.ok());
+    EXPECT_EQ(distrustful.receiveFrame(frames->front(), p.t0).status(), StatusCode(0x801A0000));
+    // Without a selector nothing is accepted, and nothing can be sent.
+    SecureChannel none({}, SecurityPolicySelector{});
+    EXPECT_EQ(none.receiveFrame(frames->front(), p.t0).status(),
+              status::BadSecurityPolicyRejected);
+    EXPECT_EQ(none.encodeMessage(MessageType::Message, 1, Bytes{1}).status(),
+              status::BadInvalidState);
+}
+
+TEST(SecuredChannelHandshake, RefusesWrongNonceAndModeChangeOnRenew) {
+    const Case c{crypto::findSecurityPolicyProfile(crypto::kPolicyAes128Sha256RsaOaep),
+                 MessageSecurityMode::SignAndEncrypt, 2048, 2048};
+    SecuredPair p(c);
+    auto request = p.client->makeOpenRequest(SecurityTokenRequestType::Issue);
+    auto frames =
+        p.client->encodeMessage(MessageType::OpenChannel, 1, encodeService(request));
+    ASSERT_TRUE(frames.ok());
+    ASSERT_TRUE(p.server->receiveFrame(frames->front(), p.t0).ok());
+    auto shortNonce = request;
+    shortNonce.clientNonce.bytes.resize(16);
+    EXPECT_EQ(p.server->openOrRenew(shortNonce, kChannelId, p.t0).status(),
+              status::BadNonceInvalid);
+    auto none = request;
+    none.securityMode = MessageSecurityMode::None;
+    EXPECT_EQ(p.server->openOrRenew(none, kChannelId, p.t0).status(),
+              status::BadSecurityModeRejected);
+    ASSERT_TRUE(p.server->openOrRenew(request, kChannelId, p.t0).ok());
+    auto renew = request;
+    renew.requestType = SecurityTokenRequestType::Renew;
+    renew.securityMode = MessageSecurityMode::Sign;
+    EXPECT_EQ(p.server->openOrRenew(renew, kChannelId, p.t0).status(),
+              status::BadSecurityModeRejected);
+}
+
+TEST(CryptoPrimitives, PSha256FollowsItsDefinition) {
+    const Bytes secret = pattern(32);
+    const Bytes seed = pattern(20);
+    // A(1) = HMAC(secret, seed); first block = HMAC(secret, A(1) + seed).
+    Bytes a1 = crypto::hmacSha256(secret, seed);
+    Bytes input = a1;
+    input.insert(input.end(), seed.begin(), seed.end());
+    const Bytes first = crypto::hmacSha256(secret, input);
+    const Bytes out = crypto::pSha256(secret, seed, 80);
+    ASSERT_EQ(out.size(), 80u);
+    EXPECT_TRUE(std::equal(first.begin(), first.end(), out.begin()));
+    const Bytes a2 = crypto::hmacSha256(secret, a1);
+    input = a2;
+    input.insert(input.end(), seed.begin(), seed.end());
+    const Bytes second = crypto::hmacSha256(secret, input);
+    EXPECT_TRUE(std::equal(second.begin(), second.end(), out.begin() + 32));
+}
+
+TEST(CryptoPrimitives, RsaRoundTripsAndRefusesForeignSignatures) {
+    const auto& a = certificate(2048, 0);
+    const auto& b = certificate(2048, 1);
+    auto pubA = crypto::RsaKey::fromCertificate(a.der.bytes);
+    ASSERT_TRUE(pubA.ok());
+    for (auto enc : {crypto::RsaEncryption::OaepSha1, crypto::RsaEncryption::OaepSha256}) {
+        const Bytes plain = pattern(700);  // several blocks
+        auto cipher = crypto::rsaEncrypt(*pubA, enc, plain);
+        ASSERT_TRUE(cipher.ok());
+        EXPECT_EQ(cipher->size() % 256, 0u);
+        auto back = crypto::rsaDecrypt(a.key, enc, *cipher);
+        ASSERT_TRUE(back.ok());
+        EXPECT_EQ(*back, plain);
+        EXPECT_FALSE(crypto::rsaDecrypt(b.key, enc, *cipher).ok());
+    }
+    for (auto sig : {crypto::RsaSignature::Pkcs1v15Sha256, crypto::RsaSignature::PssSha256}) {
+        auto s = crypto::rsaSign(b.key, sig, pattern(99));
+        ASSERT_TRUE(s.ok());
+        EXPECT_EQ(crypto::rsaVerify(*pubA, sig, pattern(99), *s), status::BadSecurityChecksFailed);
+        EXPECT_EQ(crypto::rsaVerify(b.key, sig, pattern(99), *s), status::Good);
+    }
+    EXPECT_FALSE(crypto::RsaKey::fromCertificate(pattern(50)).ok());
+}
