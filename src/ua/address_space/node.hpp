@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ua/address_space/dynamic_structure.hpp"
+#include "ua/address_space/role.hpp"
 #include "ua/messages/common.hpp"
 #include "ua/types/variant.hpp"
 
@@ -47,6 +48,9 @@ struct Reference {
 /// reservation by the session that started it.
 struct Caller {
     NodeId sessionId;
+    /// What the caller may do. Application code calling in directly acts with every right;
+    /// the services pass the session user's roles.
+    RoleSet roles{Role::Admin};
 };
 
 /// Produces the current value of a variable on every read (Value attribute).

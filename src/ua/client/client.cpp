@@ -27,6 +27,8 @@
 #include <asio/use_awaitable.hpp>
 #include <asio/write.hpp>
 
+#include "ua/crypto/security_policy_profile.hpp"
+#include "ua/transport/rsa_security_policy.hpp"
 #include "ua/transport/secure_channel.hpp"
 #include "ua/transport/security_policy.hpp"
 
@@ -87,26 +89,110 @@ std::string toLower(std::string_view s) {
 }
 
 ByteString randomNonce(std::size_t n) {
-    std::random_device rd;
-    ByteString nonce;
-    nonce.bytes.resize(n);
-    for (auto& b : nonce.bytes) b = static_cast<std::uint8_t>(rd());
-    return nonce;
+    return ByteString(crypto::randomBytes(n));
 }
 
-/// The policyId of an anonymous token the server offers, preferring SecurityPolicy None
-/// endpoints. node-opcua and others reject an Anonymous token with a policyId they do not
-/// know, so guessing is the last resort.
-String anonymousPolicyId(const std::vector<EndpointDescription>& endpoints) {
-    const String* fallback = nullptr;
+bool isSecured(const ClientConfig& config) {
+    return config.securityPolicyUri != kSecurityPolicyNoneUri;
+}
+
+/// The token policy of the given type the server offers, preferring the endpoint we are
+/// connected through. node-opcua and others reject a token with a policyId they do not
+/// know, so guessing ("anonymous") is the last resort for anonymous tokens only.
+std::optional<UserTokenPolicy> findTokenPolicy(const std::vector<EndpointDescription>& endpoints,
+                                               const ClientConfig& config, UserTokenType type) {
+    std::optional<UserTokenPolicy> fallback;
     for (const auto& ep : endpoints) {
         for (const auto& token : ep.userIdentityTokens) {
-            if (token.tokenType != UserTokenType::Anonymous) continue;
-            if (ep.securityPolicyUri == kSecurityPolicyNoneUri) return token.policyId;
-            if (fallback == nullptr) fallback = &token.policyId;
+            if (token.tokenType != type) continue;
+            if (ep.securityPolicyUri == config.securityPolicyUri &&
+                ep.securityMode == config.securityMode) {
+                return token;
+            }
+            if (!fallback) fallback = token;
         }
     }
-    return fallback != nullptr ? *fallback : String("anonymous");
+    if (!fallback && type == UserTokenType::Anonymous) {
+        UserTokenPolicy guess;
+        guess.policyId = "anonymous";
+        guess.tokenType = UserTokenType::Anonymous;
+        fallback = guess;
+    }
+    return fallback;
+}
+
+std::vector<std::uint8_t> concat(const ByteString& a, const ByteString& b) {
+    std::vector<std::uint8_t> out(a.bytes);
+    out.insert(out.end(), b.bytes.begin(), b.bytes.end());
+    return out;
+}
+
+/// The profile that secures a user token: its policy's own, else the channel's.
+const crypto::SecurityPolicyProfile* tokenProfile(const UserTokenPolicy& policy,
+                                                  const ClientConfig& config) {
+    return crypto::findSecurityPolicyProfile(policy.securityPolicyUri.empty()
+                                                 ? config.securityPolicyUri
+                                                 : policy.securityPolicyUri);
+}
+
+/// The user identity token for ActivateSession (OPC 10000-4, 7.41), with its signature for
+/// X.509 tokens. A password is encrypted for the server with the token policy's algorithm
+/// (legacy format: length, password, server nonce).
+Result<std::pair<ExtensionObject, SignatureData>> makeIdentityToken(
+    const std::vector<EndpointDescription>& endpoints, const ClientConfig& config,
+    const ByteString& serverCertificate, const ByteString& serverNonce) {
+    using Kind = UserCredentials::Kind;
+    const auto& user = config.user;
+    const UserTokenType type = user.kind == Kind::UserName      ? UserTokenType::UserName
+                               : user.kind == Kind::Certificate ? UserTokenType::Certificate
+                                                                : UserTokenType::Anonymous;
+    const auto policy = findTokenPolicy(endpoints, config, type);
+    if (!policy) return status::BadIdentityTokenRejected;  // the server does not take it
+    if (type == UserTokenType::Anonymous) {
+        return std::pair{toExtensionObject(AnonymousIdentityToken{policy->policyId}),
+                         SignatureData{}};
+    }
+    const auto* profile = tokenProfile(*policy, config);
+    if (type == UserTokenType::UserName) {
+        UserNameIdentityToken token;
+        token.policyId = policy->policyId;
+        token.userName = user.userName;
+        if (profile == nullptr) {
+            // A token without a policy of its own on a None channel: never send a password
+            // in clear text.
+            if (config.securityMode != MessageSecurityMode::SignAndEncrypt) {
+                return status::BadSecurityModeInsufficient;
+            }
+            token.password = ByteString(std::vector<std::uint8_t>(user.password.begin(),
+                                                                  user.password.end()));
+        } else {
+            auto key = crypto::RsaKey::fromCertificate(serverCertificate.bytes);
+            if (!key) return key.status();
+            const auto length = static_cast<std::uint32_t>(user.password.size() +
+                                                           serverNonce.bytes.size());
+            std::vector<std::uint8_t> plain{
+                static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8),
+                static_cast<std::uint8_t>(length >> 16), static_cast<std::uint8_t>(length >> 24)};
+            plain.insert(plain.end(), user.password.begin(), user.password.end());
+            plain.insert(plain.end(), serverNonce.bytes.begin(), serverNonce.bytes.end());
+            auto cipher = crypto::rsaEncrypt(*key, profile->asymmetricEncryption, plain);
+            if (!cipher) return cipher.status();
+            token.password = ByteString(std::move(*cipher));
+            token.encryptionAlgorithm = String(profile->asymmetricEncryptionUri);
+        }
+        return std::pair{toExtensionObject(token), SignatureData{}};
+    }
+    if (profile == nullptr) return status::BadSecurityPolicyRejected;
+    X509IdentityToken token;
+    token.policyId = policy->policyId;
+    token.certificateData = user.certificate;
+    auto signature = crypto::rsaSign(user.privateKey, profile->asymmetricSignature,
+                                     concat(serverCertificate, serverNonce));
+    if (!signature) return signature.status();
+    SignatureData data;
+    data.algorithm = String(profile->asymmetricSignatureUri);
+    data.signature = ByteString(std::move(*signature));
+    return std::pair{toExtensionObject(token), std::move(data)};
 }
 
 }  // namespace
@@ -646,9 +732,20 @@ asio::awaitable<StatusCode> handshake(std::shared_ptr<Connection> conn,
     if (!ack) co_return ack.status();
     auto limits = negotiateAsClient(config.limits, *ack);
     if (!limits) co_return limits.status();
-    conn->channel.emplace(SecureChannel::Role::Client, *limits,
-                          std::make_unique<SecurityPolicyNone>(),
-                          SecureChannelConfig{.tokenLifetimeMs = config.tokenLifetimeMs});
+    SecureChannelConfig channelConfig;
+    channelConfig.tokenLifetimeMs = config.tokenLifetimeMs;
+    std::unique_ptr<SecurityPolicy> policy = std::make_unique<SecurityPolicyNone>();
+    if (isSecured(config)) {
+        const auto* profile = crypto::findSecurityPolicyProfile(config.securityPolicyUri);
+        if (profile == nullptr) co_return status::BadSecurityPolicyRejected;
+        auto rsa = RsaSecurityPolicy::create(*profile, config.certificate, config.privateKey,
+                                             config.serverCertificate, config.securityMode);
+        if (!rsa) co_return rsa.status();
+        policy = std::move(*rsa);
+        channelConfig.securityMode = config.securityMode;
+    }
+    conn->channel.emplace(SecureChannel::Role::Client, *limits, std::move(policy),
+                          channelConfig);
     co_return status::Good;
 }
 
@@ -706,6 +803,9 @@ asio::awaitable<StatusCode> Client::connect(std::string endpointUrl, ClientConfi
     config_ = std::move(config);
     endpointUrl_ = std::move(endpointUrl);
     serverEndpoints_.clear();
+    if (isSecured(config_)) {
+        if (const StatusCode s = co_await prepareSecurity(); s.isBad()) co_return s;
+    }
     auto conn = std::make_shared<Connection>(executor_, config_);
     conn_ = conn;
 
@@ -730,6 +830,48 @@ asio::awaitable<StatusCode> Client::connect(std::string endpointUrl, ClientConfi
     co_return result;
 }
 
+asio::awaitable<StatusCode> Client::prepareSecurity() {
+    if (crypto::findSecurityPolicyProfile(config_.securityPolicyUri) == nullptr) {
+        co_return status::BadSecurityPolicyRejected;
+    }
+    if (config_.securityMode != MessageSecurityMode::Sign &&
+        config_.securityMode != MessageSecurityMode::SignAndEncrypt) {
+        co_return status::BadSecurityModeRejected;
+    }
+    if (!config_.privateKey.valid() || config_.certificate.empty()) {
+        co_return status::BadConfigurationError;
+    }
+    if (config_.serverCertificate.empty()) {
+        Client discovery(executor_);
+        ClientConfig discoveryConfig;
+        discoveryConfig.createSession = false;
+        discoveryConfig.connectTimeout = config_.connectTimeout;
+        discoveryConfig.requestTimeout = config_.requestTimeout;
+        discoveryConfig.limits = config_.limits;
+        const std::string url = endpointUrl_;
+        const StatusCode connected = co_await discovery.connect(url, discoveryConfig);
+        if (connected.isBad()) co_return connected;
+        auto endpoints = co_await discovery.getEndpoints(url);
+        co_await discovery.disconnect();
+        if (!endpoints) co_return endpoints.status();
+        for (const auto& ep : *endpoints) {
+            if (ep.securityPolicyUri == config_.securityPolicyUri &&
+                ep.securityMode == config_.securityMode && !ep.serverCertificate.empty()) {
+                config_.serverCertificate = ep.serverCertificate;
+                break;
+            }
+        }
+        if (config_.serverCertificate.empty()) co_return status::BadSecurityPolicyRejected;
+    }
+    if (config_.validateServerCertificate) {
+        std::string reason;
+        const StatusCode trusted = config_.validateServerCertificate(config_.serverCertificate,
+                                                                     &reason);
+        if (trusted.isBad()) co_return trusted;
+    }
+    co_return status::Good;
+}
+
 asio::awaitable<StatusCode> Client::createAndActivateSession() {
     CreateSessionRequest create;
     create.clientDescription.applicationUri = config_.applicationUri;
@@ -740,6 +882,8 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
     create.sessionName = config_.sessionName;
     // Some servers insist on a nonce of at least 32 bytes even without security.
     create.clientNonce = randomNonce(32);
+    const ByteString clientNonce = create.clientNonce;
+    if (isSecured(config_)) create.clientCertificate = config_.certificate;
     create.requestedSessionTimeout = config_.sessionTimeoutMs;
     create.maxResponseMessageSize = conn_->channel->limits().maxMessageSize;
     auto created = co_await request<CreateSessionRequest, CreateSessionResponse>(std::move(create));
@@ -747,10 +891,41 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
     authenticationToken_ = created->authenticationToken;
     sessionId_ = created->sessionId;
     serverEndpoints_ = std::move(created->serverEndpoints);
+    // With None the server's certificate is informational; the token encryption of a
+    // None endpoint still uses it.
+    const ByteString serverCertificate =
+        isSecured(config_) ? config_.serverCertificate : created->serverCertificate;
 
     ActivateSessionRequest activate;
-    activate.userIdentityToken =
-        toExtensionObject(AnonymousIdentityToken{anonymousPolicyId(serverEndpoints_)});
+    if (isSecured(config_)) {
+        // The server proves it holds its key by signing our certificate and nonce; we prove
+        // ours by signing its certificate and nonce (OPC 10000-4, 5.6.2 and 5.6.3).
+        const auto* profile = crypto::findSecurityPolicyProfile(config_.securityPolicyUri);
+        auto serverKey = crypto::RsaKey::fromCertificate(serverCertificate.bytes);
+        if (!serverKey || leafCertificate(created->serverCertificate.bytes) !=
+                              leafCertificate(serverCertificate.bytes) ||
+            created->serverSignature.algorithm != profile->asymmetricSignatureUri ||
+            crypto::rsaVerify(*serverKey, profile->asymmetricSignature,
+                              concat(config_.certificate, clientNonce),
+                              created->serverSignature.signature.bytes)
+                .isBad()) {
+            resetSession();
+            co_return status::BadApplicationSignatureInvalid;
+        }
+        auto signature = crypto::rsaSign(config_.privateKey, profile->asymmetricSignature,
+                                         concat(serverCertificate, created->serverNonce));
+        if (!signature) co_return signature.status();
+        activate.clientSignature.algorithm = String(profile->asymmetricSignatureUri);
+        activate.clientSignature.signature = ByteString(std::move(*signature));
+    }
+    auto token = makeIdentityToken(serverEndpoints_, config_, serverCertificate,
+                                   created->serverNonce);
+    if (!token) {
+        resetSession();
+        co_return token.status();
+    }
+    activate.userIdentityToken = std::move(token->first);
+    activate.userTokenSignature = std::move(token->second);
     auto activated =
         co_await request<ActivateSessionRequest, ActivateSessionResponse>(std::move(activate));
     if (!activated) {

@@ -1,6 +1,8 @@
 #pragma once
-// Client: an OPC UA client over UA-TCP with SecurityPolicy None, as C++20 coroutines on an
-// Asio executor.
+// Client: an OPC UA client over UA-TCP, as C++20 coroutines on an Asio executor. It speaks
+// SecurityPolicy None and the RSA policies (Basic256Sha256, Aes128_Sha256_RsaOaep,
+// Aes256_Sha256_RsaPss) with Sign or SignAndEncrypt, and authenticates its user anonymously,
+// by user name and password, or by an X.509 certificate.
 //
 // One connection = one socket, one SecureChannel, at most one session. A reader coroutine
 // owns the receive side and hands each response to the request waiting for its requestId,
@@ -28,10 +30,26 @@
 #include "ua/messages/secure_channel.hpp"
 #include "ua/messages/session.hpp"
 #include "ua/messages/view.hpp"
+#include "ua/crypto/primitives.hpp"
+#include "ua/transport/security_policy.hpp"
 #include "ua/transport/tcp_framing.hpp"
 #include "ua/types/result.hpp"
 
 namespace skillcell::ua {
+
+/// Good when the server's certificate (DER, possibly a chain) is trusted, else why not.
+using ServerCertificateValidator =
+    std::function<StatusCode(const ByteString& certificate, std::string* reason)>;
+
+/// The user a session acts for.
+struct UserCredentials {
+    enum class Kind : std::uint8_t { Anonymous, UserName, Certificate };
+    Kind kind = Kind::Anonymous;
+    std::string userName;
+    std::string password;
+    ByteString certificate;  // Certificate: the user's DER certificate
+    crypto::RsaKey privateKey;
+};
 
 struct ClientConfig {
     // Not an aggregate on purpose: GCC 12 destroys a braced aggregate temporary twice when
@@ -52,6 +70,18 @@ struct ClientConfig {
     std::string productUri = "urn:skillcell";
     std::string applicationName = "skillcell client";
     std::string sessionName = "skillcell session";
+
+    /// The secure channel: SecurityPolicy None by default. Any other policy needs our
+    /// certificate and key; the server's certificate is taken from its endpoint (fetched by
+    /// GetEndpoints on a None discovery channel first) unless given here.
+    std::string securityPolicyUri = std::string(kSecurityPolicyNoneUri);
+    MessageSecurityMode securityMode = MessageSecurityMode::None;
+    ByteString certificate;
+    crypto::RsaKey privateKey;
+    ByteString serverCertificate;
+    /// Decides whether to trust the server's certificate; unset: trusted (tests only).
+    ServerCertificateValidator validateServerCertificate;
+    UserCredentials user;
 };
 
 /// The parts of "opc.tcp://host[:port][/path]"; host keeps no IPv6 brackets.
@@ -119,8 +149,13 @@ public:
     [[nodiscard]] asio::any_io_executor executor() const { return executor_; }
 
     /// Connects, opens the secure channel and, unless config.createSession is false, creates
-    /// and activates an anonymous session. Good, or why not (the client is then disconnected).
-    /// BadInvalidState when already connected.
+    /// and activates a session for config.user. Good, or why not (the client is then
+    /// disconnected): BadCertificateUntrusted and the other certificate codes for a server
+    /// certificate the validator refuses, BadSecurityPolicyRejected when the server offers
+    /// no endpoint with the policy and mode asked for, BadApplicationSignatureInvalid when
+    /// the server cannot prove it holds its certificate's key, BadUserAccessDenied and
+    /// BadIdentityTokenRejected for a user the server refuses. BadInvalidState when already
+    /// connected.
     asio::awaitable<StatusCode> connect(std::string endpointUrl, ClientConfig config = {});
     /// CloseSession (if any), CloseSecureChannel, then closes the socket. Requests still in
     /// flight fail with BadConnectionClosed. Returns the CloseSession outcome; disconnecting
@@ -227,6 +262,10 @@ private:
     /// Stops the publish loop without calling the status callbacks (disconnect, abort).
     void endSubscriptions(StatusCode reason);
     asio::awaitable<StatusCode> createAndActivateSession();
+    /// Secured connects: checks our key, fetches the server's certificate from its
+    /// endpoints when not given (GetEndpoints on a None discovery channel) and asks the
+    /// validator whether to trust it.
+    asio::awaitable<StatusCode> prepareSecurity();
     void resetSession();
 
     asio::any_io_executor executor_;

@@ -109,4 +109,11 @@ struct UserNameIdentityToken {
     }
 };
 
+struct X509IdentityToken {
+    static constexpr std::uint32_t kBinaryEncodingId = 327;
+    String policyId;
+    ByteString certificateData;
+    static auto tie(auto& s) { return std::tie(s.policyId, s.certificateData); }
+};
+
 }  // namespace skillcell::ua

@@ -78,8 +78,18 @@ asio::awaitable<StatusCode> Connection::serve() {
     if (!hello) co_return hello.status();
     if (hello->header.type != MessageType::Hello) co_return status::BadTcpMessageTypeInvalid;
     if (const StatusCode s = handleHello(hello->bytes); s.isBad()) co_return s;
-    channel_.emplace(SecureChannel::Role::Server, limits_, std::make_unique<SecurityPolicyNone>(),
-                     env_.channelConfig);
+    // The client picks policy and mode among the offered endpoints in its first OPN.
+    SecureChannelConfig channelConfig = env_.channelConfig;
+    channelConfig.acceptsMode = [&description = env_.description](std::string_view uri,
+                                                                  MessageSecurityMode mode) {
+        return description.offers(uri, mode);
+    };
+    auto selector = [this](const AsymmetricSecurityHeader& header) {
+        const std::string who = "channel " + std::to_string(channelId_) + " (" + peer_ + ")";
+        return selectPolicy(env_.description.securityEndpoints, env_.security,
+                            env_.description.certificate, header, who);
+    };
+    channel_.emplace(limits_, selector, channelConfig);
 
     // 2. Secure channel messages until the peer closes the channel or the connection.
     for (;;) {
@@ -210,6 +220,11 @@ StatusCode Connection::handleMessage(const ChannelMessage& message, SteadyTime n
     ctx.limits = &env_.limits;
     ctx.now = now;
     ctx.endpointUrl = &endpointUrl_;
+    if (const SecurityPolicy* policy = channel_->policy(); policy != nullptr) {
+        ctx.securityPolicyUri = policy->uri();
+        ctx.clientCertificate = &policy->remoteCertificate();
+    }
+    ctx.securityMode = channel_->securityMode();
     if (entry->access == ServiceTable::Access::ActivatedSession) {
         auto session = env_.sessions.authorize(header.authenticationToken, channelId_, now);
         if (!session) return fault(session.status());

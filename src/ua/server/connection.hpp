@@ -27,6 +27,8 @@ struct ConnectionEnvironment {
     SessionManager& sessions;
     const ServerLimits& limits;
     const SecureChannelConfig& channelConfig;
+    const ServerDescription& description;
+    const ServerSecurity& security;
 };
 
 class Connection : public std::enable_shared_from_this<Connection> {

@@ -52,7 +52,8 @@ std::unique_ptr<Server> Server::create(asio::io_context& io, ServerConfig config
     }
     auto& table = server->services_;
     registerDiscoveryServices(table, server->config_.description);
-    registerSessionServices(table, server->sessions_, server->config_.description);
+    registerSessionServices(table, server->sessions_, server->config_.description,
+                            server->config_.security);
     registerViewServices(table, server->addressSpace_);
     registerAttributeServices(table, server->addressSpace_);
     registerMethodServices(table, server->addressSpace_);
@@ -122,7 +123,8 @@ asio::awaitable<void> Server::acceptLoop() {
         const std::uint32_t channelId = nextChannelId_++;
         auto connection = std::make_shared<Connection>(
             std::move(socket),
-            ConnectionEnvironment{services_, sessions_, config_.limits, config_.channel},
+            ConnectionEnvironment{services_, sessions_, config_.limits, config_.channel,
+                                  config_.description, config_.security},
             channelId);
         connections_.emplace(channelId, connection);
         asio::co_spawn(io_, connection->run(), asio::detached);

@@ -31,6 +31,8 @@ struct ServerConfig {
     std::string bindAddress = "0.0.0.0";
     ServerLimits limits;
     SecureChannelConfig channel;
+    /// Private key and certificate validation behind description.securityEndpoints.
+    ServerSecurity security;
     std::string softwareVersion = "0.1.0";
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "ua/crypto/security_policy_profile.hpp"
 #include "ua/transport/security_policy.hpp"
 
 namespace skillcell::ua {
@@ -35,20 +36,53 @@ ApplicationDescription ServerDescription::application(const String& endpointUrl)
     return app;
 }
 
-std::vector<EndpointDescription> ServerDescription::endpoints(const String& endpointUrl) const {
-    EndpointDescription ep;
-    ep.endpointUrl = endpointUrl;
-    ep.server = application(endpointUrl);
-    ep.serverCertificate = certificate;
-    ep.securityMode = MessageSecurityMode::None;
-    ep.securityPolicyUri = String(kSecurityPolicyNoneUri);
+UserTokenPolicy ServerDescription::anonymousTokenPolicy() {
     UserTokenPolicy anonymous;
     anonymous.policyId = String(kAnonymousPolicyId);
     anonymous.tokenType = UserTokenType::Anonymous;
-    ep.userIdentityTokens = {anonymous};
-    ep.transportProfileUri = String(kTransportProfileUaTcp);
-    ep.securityLevel = 0;
-    return {ep};
+    return anonymous;
+}
+
+bool ServerDescription::offers(std::string_view policyUri, MessageSecurityMode mode) const {
+    return std::any_of(securityEndpoints.begin(), securityEndpoints.end(),
+                       [&](const SecurityEndpoint& e) {
+                           return e.policyUri == policyUri && e.mode == mode;
+                       });
+}
+
+std::vector<EndpointDescription> ServerDescription::endpoints(const String& endpointUrl) const {
+    std::vector<EndpointDescription> out;
+    for (const auto& offered : securityEndpoints) {
+        EndpointDescription ep;
+        ep.endpointUrl = endpointUrl;
+        ep.server = application(endpointUrl);
+        ep.serverCertificate = certificate;
+        ep.securityMode = offered.mode;
+        ep.securityPolicyUri = offered.policyUri;
+        ep.userIdentityTokens = userTokenPolicies;
+        if (offered.policyUri == kSecurityPolicyNoneUri) {
+            // Without channel security a password or a token signature still needs a
+            // policy of its own: the strongest one that encrypts with RSA-OAEP-SHA1, which
+            // every client implements.
+            for (auto& token : ep.userIdentityTokens) {
+                if (token.tokenType != UserTokenType::Anonymous &&
+                    token.securityPolicyUri.empty()) {
+                    token.securityPolicyUri = String(crypto::kPolicyBasic256Sha256);
+                }
+            }
+        }
+        ep.transportProfileUri = String(kTransportProfileUaTcp);
+        // Clients that pick "the most secure endpoint" pick by this: None 0, then by the
+        // policy's strength, SignAndEncrypt above Sign.
+        const auto* profile = crypto::findSecurityPolicyProfile(offered.policyUri);
+        ep.securityLevel = profile == nullptr
+                               ? 0
+                               : static_cast<std::uint8_t>(
+                                     profile->strength * 10 +
+                                     (offered.mode == MessageSecurityMode::SignAndEncrypt ? 5 : 0));
+        out.push_back(std::move(ep));
+    }
+    return out;
 }
 
 std::optional<ApplicationDescription> ServerDescription::findServersEntry(

@@ -6,12 +6,15 @@
 #include <vector>
 
 #include "ua/messages/discovery.hpp"
+#include "ua/server/server_security.hpp"
 
 namespace skillcell::ua {
 
 inline constexpr std::string_view kTransportProfileUaTcp =
     "http://opcfoundation.org/UA-Profile/Transport/uatcp-uasc-uabinary";
 inline constexpr std::string_view kAnonymousPolicyId = "anonymous";
+inline constexpr std::string_view kUserNamePolicyId = "username";
+inline constexpr std::string_view kCertificatePolicyId = "certificate";
 
 struct ServerDescription {
     String applicationUri = "urn:skillcell:server";
@@ -25,6 +28,16 @@ struct ServerDescription {
     /// The application instance certificate (DER), offered in every endpoint even with
     /// SecurityPolicy None: peers expect one (ua/pki/own_certificate.hpp).
     ByteString certificate;
+    /// The security policies and modes offered, one EndpointDescription each. The stack's
+    /// default is None alone, for in-process tests and tools; applications offer the
+    /// secured ones (apps/server_process.cpp).
+    std::vector<SecurityEndpoint> securityEndpoints{
+        {std::string(kSecurityPolicyNoneUri), MessageSecurityMode::None}};
+    /// The user identity tokens accepted, on every endpoint.
+    std::vector<UserTokenPolicy> userTokenPolicies = {anonymousTokenPolicy()};
+
+    [[nodiscard]] static UserTokenPolicy anonymousTokenPolicy();
+    [[nodiscard]] bool offers(std::string_view policyUri, MessageSecurityMode mode) const;
 
     /// "opc.tcp://host:port": the host the client used if it named one, else advertisedHost.
     [[nodiscard]] String endpointUrlFor(const std::string* clientUrl) const;

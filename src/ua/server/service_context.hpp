@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ua/messages/common.hpp"
+#include "ua/types/builtin.hpp"
 #include "ua/server/server_limits.hpp"
 
 namespace skillcell::ua {
@@ -26,6 +27,11 @@ struct ServiceContext {
     std::chrono::steady_clock::time_point now{};
     /// The endpoint URL the client gave in its Hello (what it used to reach us).
     const std::string* endpointUrl = nullptr;
+    /// The channel's security: policy URI, mode, and the client's certificate (empty for
+    /// None).
+    std::string_view securityPolicyUri;
+    MessageSecurityMode securityMode = MessageSecurityMode::None;
+    const ByteString* clientCertificate = nullptr;
     /// For deferred services (ServiceTable::addDeferred): answers this request later.
     ResponseSender reply;
 };

@@ -6,6 +6,8 @@
 #include <string>
 
 #include "ua/server/browse_continuation_points.hpp"
+#include "ua/server/user_identity.hpp"
+#include "ua/types/builtin.hpp"
 #include "ua/types/node_id.hpp"
 
 namespace skillcell::ua {
@@ -45,6 +47,18 @@ public:
         return continuationPoints_;
     }
 
+    /// Who the session acts for, set by ActivateSession.
+    [[nodiscard]] const UserIdentity& identity() const { return identity_; }
+    void setIdentity(UserIdentity identity) { identity_ = std::move(identity); }
+    /// The last nonce the server gave the client: the next ActivateSession signs it.
+    [[nodiscard]] const ByteString& serverNonce() const { return serverNonce_; }
+    void setServerNonce(ByteString nonce) { serverNonce_ = std::move(nonce); }
+    /// The client's application certificate from CreateSession (empty with None).
+    [[nodiscard]] const ByteString& clientCertificate() const { return clientCertificate_; }
+    void setClientCertificate(ByteString certificate) {
+        clientCertificate_ = std::move(certificate);
+    }
+
 private:
     NodeId sessionId_;
     NodeId authenticationToken_;
@@ -54,6 +68,9 @@ private:
     Clock::time_point lastActivity_;
     bool activated_ = false;
     BrowseContinuationPoints continuationPoints_;
+    UserIdentity identity_;
+    ByteString serverNonce_;
+    ByteString clientCertificate_;
 };
 
 }  // namespace skillcell::ua

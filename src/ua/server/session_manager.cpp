@@ -2,21 +2,17 @@
 
 #include <algorithm>
 
+#include "ua/crypto/primitives.hpp"
 #include "ua/server/service_context.hpp"
 
 namespace skillcell::ua {
 
-SessionManager::SessionManager(const ServerLimits& limits) : limits_(limits) {
-    std::random_device rd;
-    std::seed_seq seed{rd(), rd(), rd(), rd(), rd(), rd(), rd(), rd()};
-    random_.seed(seed);
-}
+SessionManager::SessionManager(const ServerLimits& limits) : limits_(limits) {}
 
 ByteString SessionManager::randomBytes(std::size_t n) {
-    ByteString out;
-    out.bytes.resize(n);
-    for (auto& b : out.bytes) b = static_cast<std::uint8_t>(random_() & 0xFF);
-    return out;
+    // Authentication tokens are bearer secrets: a predictable generator would let anyone on
+    // the network take over a session.
+    return ByteString(crypto::randomBytes(n));
 }
 
 Result<Session*> SessionManager::create(const CreateSessionRequest& request,

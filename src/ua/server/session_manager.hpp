@@ -4,7 +4,6 @@
 #include <chrono>
 #include <functional>
 #include <memory>
-#include <random>
 #include <unordered_map>
 
 #include "ua/messages/session.hpp"
@@ -43,13 +42,12 @@ public:
     /// True while the session with this SessionId (not its token) exists.
     [[nodiscard]] bool contains(const NodeId& sessionId) const;
 
-    /// Random bytes for tokens and nonces; unpredictable (seeded from std::random_device).
+    /// Random bytes for tokens and nonces, from the cryptographic generator.
     [[nodiscard]] ByteString randomBytes(std::size_t n);
 
 private:
     const ServerLimits& limits_;
     std::unordered_map<NodeId, std::unique_ptr<Session>> sessions_;  // by auth token
-    std::mt19937_64 random_;
     std::uint32_t nextSessionNumber_ = 1;
     std::function<void(const Session&)> onClose_;
 };

@@ -55,7 +55,9 @@ public:
     void setSecurityMode(MessageSecurityMode mode) override { mode_ = mode; }
 
     [[nodiscard]] MessageSecurityMode securityMode() const { return mode_; }
-    [[nodiscard]] const ByteString& remoteCertificate() const { return remoteCertificate_; }
+    [[nodiscard]] const ByteString& remoteCertificate() const override {
+        return remoteCertificate_;
+    }
 
 private:
     [[nodiscard]] StatusCode protectAsymmetric(std::vector<std::uint8_t>& chunk,

@@ -66,6 +66,11 @@ public:
     /// The sender certificate and receiver thumbprint carried in the asymmetric header.
     [[nodiscard]] virtual std::vector<std::uint8_t> localCertificate() const { return {}; }
     [[nodiscard]] virtual std::vector<std::uint8_t> remoteThumbprint() const { return {}; }
+    /// The peer's certificate (DER, chain allowed); empty for None.
+    [[nodiscard]] virtual const ByteString& remoteCertificate() const {
+        static const ByteString kNone;
+        return kNone;
+    }
     /// Checks a received asymmetric header beyond its policy URI: that it names our
     /// certificate and comes from the certificate this channel was opened with.
     [[nodiscard]] virtual StatusCode checkAsymmetricHeader(

@@ -231,6 +231,8 @@ StatusCode writeAttribute(AddressSpace& as, const WriteValue& item, const Caller
         n->nodeClass != NodeClass::Variable || !canAccess(*n, access_level::kCurrentWrite)) {
         return status::BadNotWritable;
     }
+    // Writing a value sets what the plant does next (a skill parameter): operators only.
+    if (!caller.roles.atLeast(Role::Operator)) return status::BadUserAccessDenied;
     if (!item.value.value) return status::BadTypeMismatch;
     auto range = parseIndexRange(item.indexRange);
     if (!range) return status::BadIndexRangeInvalid;

@@ -55,6 +55,11 @@ CallMethodResult callMethod(AddressSpace& as, const CallMethodRequest& request,
         result.statusCode = status::BadNotExecutable;
         return result;
     }
+    // Calling a method acts on the plant (a skill's Start moves a robot): operators only.
+    if (!caller.roles.atLeast(Role::Operator)) {
+        result.statusCode = status::BadUserAccessDenied;
+        return result;
+    }
 
     auto arguments = as.methodArguments(request.methodId, "InputArguments");
     if (!arguments) {

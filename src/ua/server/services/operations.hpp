@@ -25,7 +25,8 @@ StatusCode forEachOperation(const ServerLimits& limits, const std::vector<In>& o
 
 /// The session a request came on, for callbacks that apply per-session rules.
 inline Caller callerOf(const ServiceContext& ctx) {
-    return Caller{ctx.session != nullptr ? ctx.session->sessionId() : NodeId{}};
+    if (ctx.session == nullptr) return Caller{};
+    return Caller{ctx.session->sessionId(), ctx.session->identity().roles};
 }
 
 /// The server's limits, or the defaults when a caller (a test) has none.

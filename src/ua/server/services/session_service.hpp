@@ -8,7 +8,7 @@
 namespace skillcell::ua {
 
 void registerSessionServices(ServiceTable& table, SessionManager& sessions,
-                             const ServerDescription& description);
+                             const ServerDescription& description, const ServerSecurity& security);
 void registerDiscoveryServices(ServiceTable& table, const ServerDescription& description);
 
 }  // namespace skillcell::ua

@@ -1,0 +1,64 @@
+#include "ua/server/server_security.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+#include "ua/crypto/security_policy_profile.hpp"
+#include "ua/transport/rsa_security_policy.hpp"
+
+namespace skillcell::ua {
+
+std::vector<SecurityEndpoint> allSecurityEndpoints(bool withNone) {
+    std::vector<SecurityEndpoint> out;
+    const auto profiles = crypto::securityPolicyProfiles();
+    for (auto it = profiles.rbegin(); it != profiles.rend(); ++it) {
+        out.push_back({std::string(it->uri), MessageSecurityMode::SignAndEncrypt});
+        out.push_back({std::string(it->uri), MessageSecurityMode::Sign});
+    }
+    if (withNone) out.push_back({std::string(kSecurityPolicyNoneUri), MessageSecurityMode::None});
+    return out;
+}
+
+Result<std::unique_ptr<SecurityPolicy>> selectPolicy(const std::vector<SecurityEndpoint>& offered,
+                                                     const ServerSecurity& security,
+                                                     const ByteString& ownCertificate,
+                                                     const AsymmetricSecurityHeader& header,
+                                                     std::string_view peer) {
+    const bool offersPolicy =
+        std::any_of(offered.begin(), offered.end(), [&](const SecurityEndpoint& e) {
+            return e.policyUri == header.securityPolicyUri;
+        });
+    if (!offersPolicy) {
+        spdlog::warn("{}: security policy '{}' is not offered", peer, header.securityPolicyUri);
+        return status::BadSecurityPolicyRejected;
+    }
+    if (header.securityPolicyUri == kSecurityPolicyNoneUri) {
+        return std::unique_ptr<SecurityPolicy>(std::make_unique<SecurityPolicyNone>());
+    }
+    const auto* profile = crypto::findSecurityPolicyProfile(header.securityPolicyUri);
+    if (profile == nullptr) return status::BadSecurityPolicyRejected;
+    if (!security.privateKey.valid()) {
+        spdlog::error("{}: {} offered but the server has no private key", peer, profile->shortName);
+        return status::BadConfigurationError;
+    }
+    if (security.validateCertificate) {
+        std::string reason;
+        const StatusCode s = security.validateCertificate(header.senderCertificate, {}, &reason);
+        if (s.isBad()) {
+            spdlog::warn("{}: client certificate refused ({}): {}", peer, statusName(s), reason);
+            return s;
+        }
+    }
+    auto policy = RsaSecurityPolicy::create(*profile, ownCertificate, security.privateKey,
+                                            header.senderCertificate,
+                                            MessageSecurityMode::Invalid);
+    if (!policy) {
+        spdlog::warn("{}: client certificate unusable with {}: {}", peer, profile->shortName,
+                     statusName(policy.status()));
+        return policy.status();
+    }
+    return std::unique_ptr<SecurityPolicy>(std::move(*policy));
+}
+
+}  // namespace skillcell::ua
