@@ -50,7 +50,8 @@ struct CertificateAuthority;  // certificate_authority.hpp
                                                                 const CertificateSubject& subject,
                                                                 std::string* error = nullptr);
 
-/// The same with an explicit issuer: `ca` null means self-signed as above. With a CA, an
+/// The same with an explicit issuer: `ca` null means self-signed as above (pass a typed
+/// null: a bare nullptr would also match the `error` parameter of the form above). With a CA, an
 /// existing certificate is kept only when it names `subject.applicationUri`, was issued by
 /// `ca` and is valid for 30 more days; else a new key and certificate replace it. The CA
 /// certificate and CRL are (re)installed in trusted/ on every call.
