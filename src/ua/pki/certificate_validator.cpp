@@ -224,8 +224,8 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
     X509_VERIFY_PARAM* param = X509_STORE_CTX_get0_param(ctx.get());
     // PARTIAL_CHAIN: any certificate in trusted/ is a trust anchor, not only self-signed
     // roots (OPC UA trusts what the operator put there). CHECK_SS_SIGNATURE: a self-signed
-    // anchor's own signature is checked too, so a tampered copy of a trusted certificate
-    // fails.
+    // certificate's own signature is checked too, trusted or not, so a tampered certificate
+    // is invalid rather than merely untrusted (and does not land in rejected/).
     X509_VERIFY_PARAM_set_flags(param, X509_V_FLAG_PARTIAL_CHAIN | X509_V_FLAG_CHECK_SS_SIGNATURE |
                                            X509_V_FLAG_CRL_CHECK | X509_V_FLAG_CRL_CHECK_ALL);
     X509_VERIFY_PARAM_set_time(param, Clock::to_time_t(expected.now.value_or(Clock::now())));
@@ -256,12 +256,6 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
         collector.findings.push_back(
             {Step::Usage, describe(leafCert) + ": extendedKeyUsage allows neither serverAuth "
                                                "nor clientAuth"});
-    }
-    // OpenSSL checks the signature of a self-issued leaf only when it is a trust anchor;
-    // a tampered certificate must not reach rejected/ as merely "untrusted".
-    if (X509_check_issued(leafCert, leafCert) == X509_V_OK && !info.selfSigned) {
-        collector.findings.push_back(
-            {Step::Signature, describe(leafCert) + ": its self-signature does not verify"});
     }
     if (info.isCa && !info.selfSigned) {
         collector.findings.push_back(
