@@ -94,8 +94,8 @@ int runList(const PkiOptions& o) {
     printSection("trusted", p.trustedCerts());
     printSection("issuers", p.issuersCerts());
     printSection("rejected", p.rejectedCerts());
-    for (const auto& [title, dir] : {std::pair{"trusted crl", p.trustedCrl()},
-                                     std::pair{"issuers crl", p.issuersCrl()}}) {
+    for (const auto& [title, dir] :
+         {std::pair{"trusted crl", p.trustedCrl()}, std::pair{"issuers crl", p.issuersCrl()}}) {
         std::size_t n = 0;
         for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) ++n;
         std::cout << title << " (" << dir.string() << "): " << n << " file(s)\n";
@@ -119,7 +119,8 @@ int runTrust(const PkiOptions& o) {
         const fs::path target = p.trustedCerts() / (pki::certificateThumbprintHex(der) + ".der");
         fs::create_directories(p.trustedCerts(), ec);
         if (!pki::writeFileAtomically(
-                target, {reinterpret_cast<const char*>(der.bytes.data()), der.bytes.size()}, 0644)) {
+                target, {reinterpret_cast<const char*>(der.bytes.data()), der.bytes.size()},
+                0644)) {
             std::cerr << "cannot write " << target.string() << '\n';
             return 1;
         }
@@ -240,29 +241,34 @@ Command addPkiCommand(CLI::App& app) {
     cmd->require_subcommand(1);
 
     CLI::App* list = cmd->add_subcommand(
-        "list", "List own, trusted, issuer and rejected certificates: thumbprint, subject, "
-                "application URI, validity");
+        "list",
+        "List own, trusted, issuer and rejected certificates: thumbprint, subject, "
+        "application URI, validity");
     addPkiDirOptions(list, *o);
 
     CLI::App* trust = cmd->add_subcommand(
-        "trust", "Trust a peer: move its certificate from rejected/certs to trusted/certs "
-                 "(by thumbprint prefix or file name), or copy a certificate file into "
-                 "trusted/certs. Running components see it at their next handshake.");
-    trust->add_option("certificate", o->certificate,
-                      "thumbprint (8+ hex digits), file name in rejected/certs, or a path")
+        "trust",
+        "Trust a peer: move its certificate from rejected/certs to trusted/certs "
+        "(by thumbprint prefix or file name), or copy a certificate file into "
+        "trusted/certs. Running components see it at their next handshake.");
+    trust
+        ->add_option("certificate", o->certificate,
+                     "thumbprint (8+ hex digits), file name in rejected/certs, or a path")
         ->required();
     addPkiDirOptions(trust, *o);
 
     CLI::App* reject = cmd->add_subcommand(
         "reject", "Withdraw trust: move a certificate from trusted/certs to rejected/certs");
-    reject->add_option("certificate", o->certificate,
-                       "thumbprint (8+ hex digits) or file name in trusted/certs")
+    reject
+        ->add_option("certificate", o->certificate,
+                     "thumbprint (8+ hex digits) or file name in trusted/certs")
         ->required();
     addPkiDirOptions(reject, *o);
 
     CLI::App* initCa = cmd->add_subcommand(
-        "init-ca", "Create a cell CA (RSA, SHA-256, CA:TRUE, keyCertSign/cRLSign) and its empty "
-                   "CRL in DIR. Refuses to overwrite an existing CA.");
+        "init-ca",
+        "Create a cell CA (RSA, SHA-256, CA:TRUE, keyCertSign/cRLSign) and its empty "
+        "CRL in DIR. Refuses to overwrite an existing CA.");
     initCa->add_option("--dir", o->caDir, "directory for the CA")->required();
     initCa->add_option("--name", o->caName, "the CA's common name")->capture_default_str();
     initCa->add_option("--key-bits", o->keyBits, "RSA key size")
@@ -273,9 +279,10 @@ Command addPkiCommand(CLI::App& app) {
         ->capture_default_str();
 
     CLI::App* issue = cmd->add_subcommand(
-        "issue", "Issue a component's application instance certificate with a cell CA into "
-                 "its PKI directory (own/), and trust the CA there; for components on hosts "
-                 "that must not hold the CA key.");
+        "issue",
+        "Issue a component's application instance certificate with a cell CA into "
+        "its PKI directory (own/), and trust the CA there; for components on hosts "
+        "that must not hold the CA key.");
     issue->add_option("--ca", o->caDir, "the CA directory (from init-ca)")->required();
     issue->add_option("--uri", o->uri, "the component's application URI")->required();
     issue->add_option("--pki-dir", o->pkiDir,
@@ -284,8 +291,8 @@ Command addPkiCommand(CLI::App& app) {
     issue->add_option("--dns", o->dnsNames, "host names for subjectAltName (repeatable)");
     issue->add_option("--ip", o->ipAddresses, "IP addresses for subjectAltName (repeatable)");
 
-    CLI::App* revoke = cmd->add_subcommand(
-        "revoke", "Revoke a certificate the CA issued: add it to the CA's CRL");
+    CLI::App* revoke =
+        cmd->add_subcommand("revoke", "Revoke a certificate the CA issued: add it to the CA's CRL");
     revoke->add_option("--ca", o->caDir, "the CA directory")->required();
     revoke->add_option("certificate", o->certificate, "the certificate file (DER or PEM)")
         ->required();

@@ -60,7 +60,8 @@ TEST(CellCa, ComponentsOfOneCaTrustEachOtherWithoutManualSteps) {
     auto ca = createCertificateAuthority(tmp.path() / "ca", {});
     ASSERT_TRUE(ca);
     std::string error;
-    auto robot = loadOrCreateOwnCertificate(tmp.path() / "robot", subjectFor("robot"), &*ca, &error);
+    auto robot =
+        loadOrCreateOwnCertificate(tmp.path() / "robot", subjectFor("robot"), &*ca, &error);
     ASSERT_TRUE(robot) << error;
     auto gripper =
         loadOrCreateOwnCertificate(tmp.path() / "gripper", subjectFor("gripper"), &*ca, &error);

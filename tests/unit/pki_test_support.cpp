@@ -42,7 +42,8 @@ KeyAndCert build(const CertSpec& spec, const KeyAndCert* issuer) {
                                               : X509_get_subject_name(c));
     X509_set_pubkey(c, out.key.get());
     X509* signerCert = issuer != nullptr ? issuer->cert.get() : c;
-    addExt(c, signerCert, NID_basic_constraints, spec.ca ? "critical,CA:TRUE" : "critical,CA:FALSE");
+    addExt(c, signerCert, NID_basic_constraints,
+           spec.ca ? "critical,CA:TRUE" : "critical,CA:FALSE");
     addExt(c, signerCert, NID_key_usage, spec.keyUsage);
     addExt(c, signerCert, NID_subject_key_identifier, "hash");
     addExt(c, signerCert, NID_authority_key_identifier, "keyid:always");
@@ -91,8 +92,8 @@ ossl::Crl makeCrl(const KeyAndCert& ca, const std::vector<const KeyAndCert*>& re
     X509_CRL_set1_nextUpdate(crl.get(), next.get());
     for (const KeyAndCert* r : revoked) {
         ossl::Revoked entry(X509_REVOKED_new());
-        X509_REVOKED_set_serialNumber(entry.get(),
-                                      const_cast<ASN1_INTEGER*>(X509_get0_serialNumber(r->cert.get())));
+        X509_REVOKED_set_serialNumber(
+            entry.get(), const_cast<ASN1_INTEGER*>(X509_get0_serialNumber(r->cert.get())));
         X509_REVOKED_set_revocationDate(entry.get(), last.get());
         require(X509_CRL_add0_revoked(crl.get(), entry.release()) == 1, "revoked entry");
     }

@@ -132,7 +132,8 @@ TEST_F(ValidatorTest, IntermediateSentInTheChainCompletesIt) {
     const auto leaf = test::makeCertificate({}, &intermediate);
     trust(root, "root");
     trustCrl(root, {}, "root");
-    test::writeCrl(paths().issuersCrl() / "intermediate.crl", test::makeCrl(intermediate, {}).get());
+    test::writeCrl(paths().issuersCrl() / "intermediate.crl",
+                   test::makeCrl(intermediate, {}).get());
     CertificateValidator validator(dir.path());
     const auto chained = validator.validate(test::concat(leaf.der(), intermediate.der()));
     EXPECT_EQ(chained.status, status::Good) << chained.reason;
@@ -163,7 +164,8 @@ TEST_F(ValidatorTest, RevokedLeafAndRevokedIssuer) {
     const auto underIntermediate = test::makeCertificate({}, &intermediate);
     trust(root, "root");
     trustCrl(root, {&bad}, "root");
-    test::writeCrl(paths().issuersCrl() / "intermediate.crl", test::makeCrl(intermediate, {}).get());
+    test::writeCrl(paths().issuersCrl() / "intermediate.crl",
+                   test::makeCrl(intermediate, {}).get());
     CertificateValidator validator(dir.path());
     EXPECT_EQ(validator.validate(good.der()).status, status::Good);
     const auto v = validator.validate(bad.der());

@@ -10,7 +10,8 @@ namespace {
 
 std::string nameString(const X509_NAME* name) {
     const ossl::Bio bio(BIO_new(BIO_s_mem()));
-    if (!bio || X509_NAME_print_ex(bio.get(), name, 0, XN_FLAG_ONELINE & ~ASN1_STRFLGS_ESC_MSB) < 0) {
+    if (!bio ||
+        X509_NAME_print_ex(bio.get(), name, 0, XN_FLAG_ONELINE & ~ASN1_STRFLGS_ESC_MSB) < 0) {
         return {};
     }
     char* data = nullptr;
@@ -103,11 +104,11 @@ CertificateInfo inspectCertificate(X509* cert) {
             const ASN1_OCTET_STRING* ip = n->d.iPAddress;
             const unsigned char* b = ASN1_STRING_get0_data(ip);
             if (ASN1_STRING_length(ip) == 4) {
-                info.ipAddresses.push_back(std::to_string(b[0]) + "." + std::to_string(b[1]) +
-                                           "." + std::to_string(b[2]) + "." +
-                                           std::to_string(b[3]));
+                info.ipAddresses.push_back(std::to_string(b[0]) + "." + std::to_string(b[1]) + "." +
+                                           std::to_string(b[2]) + "." + std::to_string(b[3]));
             } else {
-                info.ipAddresses.push_back(toHex(b, static_cast<std::size_t>(ASN1_STRING_length(ip))));
+                info.ipAddresses.push_back(
+                    toHex(b, static_cast<std::size_t>(ASN1_STRING_length(ip))));
             }
         }
     }

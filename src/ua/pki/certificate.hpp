@@ -22,7 +22,7 @@ struct CertificateInfo {
     std::string applicationUri;  // the subjectAltName URI, empty when there is none
     std::vector<std::string> dnsNames;
     std::vector<std::string> ipAddresses;
-    std::string thumbprint;  // SHA-1 of the DER, lower-case hex (40 characters)
+    std::string thumbprint;    // SHA-1 of the DER, lower-case hex (40 characters)
     std::string serialNumber;  // upper-case hex
     Clock::time_point notBefore;
     Clock::time_point notAfter;

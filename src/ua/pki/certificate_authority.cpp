@@ -83,7 +83,9 @@ ossl::Cert newCertificate(EVP_PKEY* key, const std::string& commonName, long val
     return cert;
 }
 
-ByteString der(X509* cert) { return certificateDer(cert); }
+ByteString der(X509* cert) {
+    return certificateDer(cert);
+}
 
 /// The application instance certificate for `subject`, signed by `issuer` and `issuerKey`,
 /// or self-signed when they are null.
@@ -105,8 +107,8 @@ Result<IssuedCertificate> buildApplicationCertificate(const CertificateSubject& 
         ASN1_TIME_compare(X509_get0_notAfter(issuer), X509_get0_notAfter(cert.get())) < 0) {
         X509_set1_notAfter(cert.get(), X509_get0_notAfter(issuer));  // not beyond the CA
     }
-    X509_set_issuer_name(cert.get(), selfSigned ? X509_get_subject_name(cert.get())
-                                                : X509_get_subject_name(issuer));
+    X509_set_issuer_name(
+        cert.get(), selfSigned ? X509_get_subject_name(cert.get()) : X509_get_subject_name(issuer));
     std::string san = "URI:" + subject.applicationUri;
     for (const auto& d : subject.dnsNames) san += ",DNS:" + d;
     for (const auto& ip : subject.ipAddresses) san += ",IP:" + ip;
@@ -173,7 +175,8 @@ ossl::Crl buildCrl(const CertificateAuthority& ca, const STACK_OF(X509_REVOKED) 
     X509V3_CTX ctx;
     X509V3_set_ctx_nodb(&ctx);
     X509V3_set_ctx(&ctx, ca.certificate.get(), nullptr, nullptr, crl.get(), 0);
-    const ossl::Ext aki(X509V3_EXT_conf_nid(nullptr, &ctx, NID_authority_key_identifier, "keyid:always"));
+    const ossl::Ext aki(
+        X509V3_EXT_conf_nid(nullptr, &ctx, NID_authority_key_identifier, "keyid:always"));
     if (!crlNumber || ASN1_INTEGER_set(crlNumber.get(), number) != 1 || !aki ||
         X509_CRL_add1_ext_i2d(crl.get(), NID_crl_number, crlNumber.get(), 0, 0) != 1 ||
         X509_CRL_add_ext(crl.get(), aki.get(), -1) != 1) {
@@ -274,7 +277,8 @@ Result<CertificateAuthority> loadCertificateAuthority(const fs::path& dir, std::
     if (X509_check_private_key(ca.certificate.get(), ca.key.get()) != 1 ||
         X509_check_ca(ca.certificate.get()) == 0) {
         ERR_clear_error();
-        setError(error, dir.string() + ": the key does not belong to the certificate, or it is no CA");
+        setError(error,
+                 dir.string() + ": the key does not belong to the certificate, or it is no CA");
         return status::BadConfigurationError;
     }
     return ca;
@@ -345,21 +349,23 @@ StatusCode installCertificateAuthority(const CertificateAuthority& ca, const fs:
     const PkiPaths paths{pkiDir};
     const ByteString caDer = der(ca.certificate.get());
     const std::string thumbprint = certificateThumbprintHex(caDer);
+    char cn[64] = {};
+    X509_NAME_get_text_by_NID(X509_get_subject_name(ca.certificate.get()), NID_commonName, cn,
+                              sizeof cn);
     std::string name;
-    for (const char c : inspectCertificate(ca.certificate.get()).subject) {
-        const bool keep = std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '_';
-        if (name.size() < 40 && (keep || c == ' ')) name.push_back(keep ? c : '_');
+    for (const char c : std::string_view(cn)) {
+        const bool keep = std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-';
+        name.push_back(keep ? c : '_');
     }
     // Named by thumbprint so that a second CA or a renewed one never overwrites the first.
     const fs::path certFile = paths.trustedCerts() / (name + "_" + thumbprint + ".der");
     const fs::path crlFile = paths.trustedCrl() / (thumbprint + ".crl");
     const std::vector<std::uint8_t> crl = readWholeFile(ca.crlFile());
-    const bool ok =
-        (readWholeFile(certFile) == caDer.bytes ||
-         writeFileAtomically(certFile, asBytes(caDer), 0644)) &&
-        (crl.empty() || readWholeFile(crlFile) == crl ||
-         writeFileAtomically(crlFile,
-                             {reinterpret_cast<const char*>(crl.data()), crl.size()}, 0644));
+    const bool ok = (readWholeFile(certFile) == caDer.bytes ||
+                     writeFileAtomically(certFile, asBytes(caDer), 0644)) &&
+                    (crl.empty() || readWholeFile(crlFile) == crl ||
+                     writeFileAtomically(
+                         crlFile, {reinterpret_cast<const char*>(crl.data()), crl.size()}, 0644));
     if (!ok) {
         setError(error, "cannot install the CA certificate and CRL in " + pkiDir.string());
         return status::BadConfigurationError;

@@ -238,18 +238,18 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
             {Step::HostName, describe(leafCert) + " is not issued for host " + expected.hostName});
     }
     if (!expected.applicationUri.empty() && info.applicationUri != expected.applicationUri) {
-        collector.findings.push_back(
-            {Step::Uri, describe(leafCert) + " names application URI \"" + info.applicationUri +
-                            "\", expected \"" + expected.applicationUri + "\""});
+        collector.findings.push_back({Step::Uri, describe(leafCert) + " names application URI \"" +
+                                                     info.applicationUri + "\", expected \"" +
+                                                     expected.applicationUri + "\""});
     }
     // An application instance certificate signs and receives encrypted keys
     // (OPC 10000-6, 6.2.2); a CA's certificate must not act as one.
     const std::uint32_t usage = X509_get_key_usage(leafCert);
     if (usage != UINT32_MAX &&
         ((usage & KU_DIGITAL_SIGNATURE) == 0 || (usage & KU_KEY_ENCIPHERMENT) == 0)) {
-        collector.findings.push_back(
-            {Step::Usage, describe(leafCert) + ": keyUsage lacks digitalSignature or "
-                                               "keyEncipherment"});
+        collector.findings.push_back({Step::Usage, describe(leafCert) +
+                                                       ": keyUsage lacks digitalSignature or "
+                                                       "keyEncipherment"});
     }
     if ((X509_get_extension_flags(leafCert) & EXFLAG_XKUSAGE) != 0 &&
         (X509_get_extended_key_usage(leafCert) & (XKU_SSL_SERVER | XKU_SSL_CLIENT)) == 0) {
@@ -263,13 +263,12 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
     }
 
     if (collector.findings.empty()) return verdict;
-    const auto first = std::min_element(
-        collector.findings.begin(), collector.findings.end(),
-        [](const Finding& a, const Finding& b) { return a.step < b.step; });
+    const auto first =
+        std::min_element(collector.findings.begin(), collector.findings.end(),
+                         [](const Finding& a, const Finding& b) { return a.step < b.step; });
     verdict.status = statusOf(first->step);
     verdict.reason = first->reason;
-    if (options_.copyRejected &&
-        (first->step == Step::Trust || first->step == Step::Chain)) {
+    if (options_.copyRejected && (first->step == Step::Trust || first->step == Step::Chain)) {
         auto stored = storeRejectedCertificate(trustList_.paths().rejectedCerts(), chain->front(),
                                                options_.maxRejectedFiles);
         if (stored) {

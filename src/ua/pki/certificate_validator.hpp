@@ -54,9 +54,9 @@ struct PeerExpectations {
 
 struct CertificateVerdict {
     StatusCode status = status::Good;
-    std::string reason;       // for logs and for the operator; empty when Good
-    std::string thumbprint;   // the leaf's, lower-case hex; empty when it did not parse
-    std::string subject;      // the leaf's
+    std::string reason;                  // for logs and for the operator; empty when Good
+    std::string thumbprint;              // the leaf's, lower-case hex; empty when it did not parse
+    std::string subject;                 // the leaf's
     std::filesystem::path rejectedFile;  // where the leaf was copied, when it was
     [[nodiscard]] bool ok() const { return status.isGood(); }
 };

@@ -24,8 +24,7 @@ Result<OwnCertificate> fail(std::string* error, std::string why) {
 /// True when `der` is issued by `ca` and stays valid for at least another 30 days.
 bool keepUnderCa(const ByteString& der, const CertificateAuthority& ca) {
     auto info = inspectCertificate(der);
-    return info && issuedBy(der, ca) &&
-           info->notAfter > Clock::now() + std::chrono::hours(24 * 30);
+    return info && issuedBy(der, ca) && info->notAfter > Clock::now() + std::chrono::hours(24 * 30);
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ struct OwnCertificate {
     ByteString der;
     std::filesystem::path certificateFile;
     std::filesystem::path privateKeyFile;
-    bool created = false;  // true when this call made it
+    bool created = false;          // true when this call made it
     std::filesystem::path issuer;  // the cell CA's directory when the CA issued it, else empty
 };
 

@@ -25,7 +25,9 @@ bool hasExtension(const fs::path& p, std::initializer_list<const char*> exts) {
 bool isCertificateFile(const fs::path& p) {
     return hasExtension(p, {".der", ".cer", ".crt", ".pem"});
 }
-bool isCrlFile(const fs::path& p) { return hasExtension(p, {".crl", ".der", ".pem"}); }
+bool isCrlFile(const fs::path& p) {
+    return hasExtension(p, {".crl", ".der", ".pem"});
+}
 
 std::vector<fs::path> regularFiles(const fs::path& dir) {
     std::vector<fs::path> out;
@@ -164,8 +166,8 @@ Result<fs::path> moveCertificateFile(const fs::path& file, const fs::path& toDir
     // A rename within one file system is atomic: the validator sees the file in one place.
     fs::rename(file, target, ec);
     if (ec) {
-        setError(error, "cannot move " + file.string() + " to " + toDir.string() + ": " +
-                            ec.message());
+        setError(error,
+                 "cannot move " + file.string() + " to " + toDir.string() + ": " + ec.message());
         return status::BadConfigurationError;
     }
     return target;
@@ -203,8 +205,8 @@ TrustList::TrustList(fs::path pkiDir) : paths_{std::move(pkiDir)} {}
 
 std::string TrustList::scanState() const {
     std::string state;
-    for (const fs::path& dir : {paths_.trustedCerts(), paths_.trustedCrl(), paths_.issuersCerts(),
-                                paths_.issuersCrl()}) {
+    for (const fs::path& dir :
+         {paths_.trustedCerts(), paths_.trustedCrl(), paths_.issuersCerts(), paths_.issuersCrl()}) {
         for (const fs::path& f : regularFiles(dir)) {
             struct stat st {};
             if (::stat(f.c_str(), &st) != 0) continue;

@@ -49,7 +49,7 @@ struct PkiPaths {
 /// One certificate file of a directory, as `skillcell pki list` shows it.
 struct StoredCertificate {
     std::filesystem::path file;
-    ByteString der;                     // empty when the file holds no certificate
+    ByteString der;                       // empty when the file holds no certificate
     std::optional<CertificateInfo> info;  // nullopt when the file holds no certificate
 };
 
