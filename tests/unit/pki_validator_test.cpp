@@ -300,5 +300,21 @@ TEST_F(ValidatorTest, PemFilesInTrustedAreRead) {
     EXPECT_EQ(validator.validate(peer.der()).status, status::Good);
 }
 
+// Some stacks leave keyCertSign out of self-signed application certificates, which OpenSSL
+// treats differently when building chains. Trusted they must pass; untrusted they must land in
+// rejected/ like any other unknown self-signed certificate.
+TEST_F(ValidatorTest, SelfSignedWithoutKeyCertSign) {
+    CertSpec spec;
+    spec.keyUsage = "critical,digitalSignature,nonRepudiation,keyEncipherment,dataEncipherment";
+    const auto peer = test::makeCertificate(spec);
+    CertificateValidator validator(dir.path());
+    const auto untrusted = validator.validate(peer.der());
+    EXPECT_EQ(untrusted.status, status::BadCertificateUntrusted) << untrusted.reason;
+    EXPECT_FALSE(untrusted.rejectedFile.empty());
+    trust(peer, "peer");
+    const auto trusted = validator.validate(peer.der());
+    EXPECT_EQ(trusted.status, status::Good) << trusted.reason;
+}
+
 }  // namespace
 }  // namespace skillcell::ua::pki

@@ -274,8 +274,9 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
         if (stored) {
             verdict.rejectedFile = *stored;
             verdict.reason += "; copied to " + stored->string() +
-                              " (move it to trusted/certs, or `skillcell pki trust " +
-                              verdict.thumbprint.substr(0, 8) + "`, to trust it)";
+                              " (move it to trusted/certs, or run `skillcell pki trust " +
+                              verdict.thumbprint.substr(0, 8) + " --pki-dir " +
+                              trustList_.paths().root.string() + "`, to trust it)";
         }
     }
     return verdict;
