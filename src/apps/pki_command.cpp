@@ -1,6 +1,6 @@
 // `skillcell pki`: the operator's view of a component's PKI directory (ua/pki): list the
-// certificates, trust a rejected peer, reject a trusted one; create a cell CA, issue a
-// component's certificate with it, revoke one. Output goes to stdout, errors to stderr;
+// certificates, trust a rejected peer, reject a trusted one, verify a certificate; create a cell
+// CA, issue a component's certificate with it, revoke one. Output goes to stdout, errors to stderr;
 // exit 0 on success, 1 when the operation fails, 2 on usage errors.
 #include <CLI/CLI.hpp>
 #include <ctime>
@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "ua/pki/certificate.hpp"
 #include "ua/pki/certificate_authority.hpp"
+#include "ua/pki/certificate_validator.hpp"
 #include "ua/pki/file_util.hpp"
 #include "ua/pki/own_certificate.hpp"
 #include "ua/pki/trust_list.hpp"
@@ -34,6 +35,7 @@ struct PkiOptions {
     std::string commonName;
     std::vector<std::string> dnsNames;
     std::vector<std::string> ipAddresses;
+    std::string hostName;  // verify
 };
 
 fs::path pkiDirectory(const PkiOptions& o) {
@@ -229,6 +231,33 @@ int runRevoke(const PkiOptions& o) {
     return 0;
 }
 
+int runVerify(const PkiOptions& o) {
+    const std::vector<std::uint8_t> bytes = pki::readWholeFile(o.certificate);
+    if (bytes.empty()) {
+        std::cerr << "verify: cannot read " << o.certificate << '\n';
+        return 1;
+    }
+    // A PEM file is read as its certificates, concatenated as a peer would send them.
+    ua::ByteString chain(bytes);
+    if (auto certs = pki::readCertificateFile(o.certificate); !certs.empty()) {
+        chain.bytes.clear();
+        for (const auto& c : certs) {
+            const ua::ByteString der = pki::certificateDer(c.get());
+            chain.bytes.insert(chain.bytes.end(), der.bytes.begin(), der.bytes.end());
+        }
+    }
+    pki::ValidatorOptions options;
+    options.copyRejected = false;  // a dry run: only a peer's handshake fills rejected/
+    pki::CertificateValidator validator(pkiDirectory(o), options);
+    pki::PeerExpectations expected;
+    expected.applicationUri = o.uri;
+    expected.hostName = o.hostName;
+    const auto verdict = validator.validate(chain, expected);
+    std::cout << ua::statusName(verdict.status) << (verdict.ok() ? "" : ": ") << verdict.reason
+              << '\n';
+    return verdict.ok() ? 0 : 1;
+}
+
 }  // namespace
 
 Command addPkiCommand(CLI::App& app) {
@@ -265,6 +294,16 @@ Command addPkiCommand(CLI::App& app) {
         ->required();
     addPkiDirOptions(reject, *o);
 
+    CLI::App* verify = cmd->add_subcommand(
+        "verify",
+        "Validate a certificate file (DER or PEM, a chain allowed) as a peer's "
+        "certificate against the PKI directory, without copying it to rejected/; "
+        "prints the status code and why. Exit 0 when it would be accepted, else 1.");
+    verify->add_option("certificate", o->certificate, "the certificate file")->required();
+    verify->add_option("--uri", o->uri, "the application URI it must name");
+    verify->add_option("--host", o->hostName, "a host name or IP address it must name");
+    addPkiDirOptions(verify, *o);
+
     CLI::App* initCa = cmd->add_subcommand(
         "init-ca",
         "Create a cell CA (RSA, SHA-256, CA:TRUE, keyCertSign/cRLSign) and its empty "
@@ -297,10 +336,11 @@ Command addPkiCommand(CLI::App& app) {
     revoke->add_option("certificate", o->certificate, "the certificate file (DER or PEM)")
         ->required();
 
-    return {cmd, [o, list, trust, reject, initCa, issue, revoke] {
+    return {cmd, [o, list, trust, reject, verify, initCa, issue, revoke] {
                 if (list->parsed()) return runList(*o);
                 if (trust->parsed()) return runTrust(*o);
                 if (reject->parsed()) return runReject(*o);
+                if (verify->parsed()) return runVerify(*o);
                 if (initCa->parsed()) return runInitCa(*o);
                 if (issue->parsed()) return runIssue(*o);
                 if (revoke->parsed()) return runRevoke(*o);

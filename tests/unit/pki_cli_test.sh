@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `skillcell pki` as an operator runs it: init-ca (and refusing to overwrite), issue with the
-# CA, list, trust (from rejected/ and from a file), reject, revoke; usage errors exit 2 and
+# CA, list, trust (from rejected/ and from a file), reject, verify, revoke; usage errors exit 2 and
 # failures exit 1 with a message on stderr.
 # Usage: pki_cli_test.sh PATH/TO/skillcell
 set -euo pipefail
@@ -78,11 +78,32 @@ run 0 trust "$tmp/other.pem" --pki-dir "$tmp/robot"
 expect "trusted $tmp/robot/trusted/certs/"
 [ -f "$tmp/other.pem" ] || fail "the source file was moved"
 
-# Revoke: the CA's CRL lists the serial.
+# Verify: the gripper's certificate passes at the robot (same CA), with URI and host checks.
+run 0 verify "$tmp/gripper/own/certs/cert.der" --pki-dir "$tmp/robot" --uri urn:test:gripper
+expect "Good"
+run 1 verify "$tmp/gripper/own/certs/cert.der" --pki-dir "$tmp/robot" --uri urn:test:other
+expect "BadCertificateUriInvalid"
+run 1 verify "$tmp/gripper/own/certs/cert.der" --pki-dir "$tmp/robot" --host elsewhere.example
+expect "BadCertificateHostNameInvalid"
+openssl req -x509 -newkey rsa:2048 -nodes -keyout "$tmp/k2.pem" -out "$tmp/stranger.pem" \
+  -subj "/CN=stranger" -days 2 2>/dev/null
+rejected_before=$(ls "$tmp/robot/rejected/certs" | wc -l)
+run 1 verify "$tmp/stranger.pem" --pki-dir "$tmp/robot"
+expect "BadCertificateUntrusted"
+[ "$(ls "$tmp/robot/rejected/certs" | wc -l)" = "$rejected_before" ] || fail "verify wrote to rejected/"
+head -c 100 /dev/urandom >"$tmp/garbage.der"
+run 1 verify "$tmp/garbage.der" --pki-dir "$tmp/robot"
+expect "BadCertificateInvalid"
+
+# Revoke: the CA's CRL lists the serial; once the robot has the new CRL (every start, or
+# `pki issue` again, reinstalls it) the gripper's certificate is refused.
 run 0 revoke --ca "$tmp/ca" "$tmp/gripper/own/certs/cert.der"
 serial=$(openssl x509 -inform DER -in "$tmp/gripper/own/certs/cert.der" -noout -serial | sed 's/.*=//')
 openssl crl -inform DER -in "$tmp/ca/crl/ca.crl" -noout -text | grep -q "$serial" ||
   fail "serial $serial not in the CRL"
+run 0 issue --ca "$tmp/ca" --pki-dir "$tmp/robot" --uri urn:test:robot
+run 1 verify "$tmp/gripper/own/certs/cert.der" --pki-dir "$tmp/robot"
+expect "BadCertificateRevoked"
 run 2 revoke --ca "$tmp/ca" "$tmp/nothing.der"
 
 # The default PKI directory follows $SKILLCELL_PKI_DIR, as the components do.
