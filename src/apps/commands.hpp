@@ -18,5 +18,6 @@ Command addDiscoverCommand(CLI::App& app);
 Command addSkillCommand(CLI::App& app);
 Command addCheckCommand(CLI::App& app);
 Command addDetectCommand(CLI::App& app);
+Command addPkiCommand(CLI::App& app);
 
 }  // namespace skillcell::apps

@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
         skillcell::apps::addServerCommand(app), skillcell::apps::addBrowseCommand(app),
         skillcell::apps::addLdsCommand(app),    skillcell::apps::addDiscoverCommand(app),
         skillcell::apps::addSkillCommand(app),  skillcell::apps::addCheckCommand(app),
-        skillcell::apps::addDetectCommand(app),
+        skillcell::apps::addDetectCommand(app), skillcell::apps::addPkiCommand(app),
     };
 
     try {

@@ -9,6 +9,10 @@
 //   <pki>/own/private/key.pem     its RSA private key (PEM, mode 0600)
 //
 // and reuses it on every later start, unless it no longer names the application's URI.
+//
+// With a cell CA (certificate_authority.hpp) the certificate is issued by the CA instead,
+// a self-signed one (or one of another CA) is replaced, and the CA's certificate and CRL are
+// put into trusted/, so that the cell's components trust each other without manual steps.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -30,16 +34,36 @@ struct OwnCertificate {
     ByteString der;
     std::filesystem::path certificateFile;
     std::filesystem::path privateKeyFile;
-    bool created = false;  // true when this call made it
+    bool created = false;          // true when this call made it
+    std::filesystem::path issuer;  // the cell CA's directory when the CA issued it, else empty
 };
+
+struct CertificateAuthority;  // certificate_authority.hpp
 
 /// Loads the certificate from `pkiDir`, or creates it (RSA 2048, SHA-256, self-signed,
 /// with the extensions OPC 10000-6 asks for) when there is none or it names another
-/// applicationUri. Files are written to a temporary name and renamed, so a crash never
+/// applicationUri. When cellCaDirectory(pkiDir) names a CA, the four-argument form below
+/// runs with it (and fails when that CA cannot be loaded, rather than silently going
+/// self-signed). Files are written to a temporary name and renamed, so a crash never
 /// leaves half a certificate. BadConfigurationError with `error` set on failure.
 [[nodiscard]] Result<OwnCertificate> loadOrCreateOwnCertificate(const std::filesystem::path& pkiDir,
                                                                 const CertificateSubject& subject,
                                                                 std::string* error = nullptr);
+
+/// The same with an explicit issuer: `ca` null means self-signed as above (pass a typed
+/// null: a bare nullptr would also match the `error` parameter of the form above). With a CA, an
+/// existing certificate is kept only when it names `subject.applicationUri`, was issued by
+/// `ca` and is valid for 30 more days; else a new key and certificate replace it. The CA
+/// certificate and CRL are (re)installed in trusted/ on every call.
+[[nodiscard]] Result<OwnCertificate> loadOrCreateOwnCertificate(const std::filesystem::path& pkiDir,
+                                                                const CertificateSubject& subject,
+                                                                const CertificateAuthority* ca,
+                                                                std::string* error = nullptr);
+
+/// The cell CA a PKI directory points at: $SKILLCELL_CA_DIR when set, else `pkiDir`/cell-ca
+/// when it exists (a directory or a symbolic link to one made by `skillcell pki init-ca`);
+/// empty when there is none. The three-argument loadOrCreateOwnCertificate uses it.
+[[nodiscard]] std::filesystem::path cellCaDirectory(const std::filesystem::path& pkiDir);
 
 /// The URI in a DER certificate's subjectAltName, or empty.
 [[nodiscard]] std::string certificateApplicationUri(const ByteString& der);

@@ -7,7 +7,7 @@ namespace skillcell::ua {
 
 std::string_view statusName(StatusCode s) {
     // One table, generated from the constants in status_code.hpp; lookups are rare (logs, CLI).
-    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 128> kNames{{
+    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 140> kNames{{
         {0x00000000, "Good"},
         {0x40000000, "Uncertain"},
         {0x80000000, "Bad"},
@@ -33,6 +33,18 @@ std::string_view statusName(StatusCode s) {
         {0x80110000, "BadDataTypeIdUnknown"},
         {0x80120000, "BadCertificateInvalid"},
         {0x80130000, "BadSecurityChecksFailed"},
+        {0x80140000, "BadCertificateTimeInvalid"},
+        {0x80150000, "BadCertificateIssuerTimeInvalid"},
+        {0x80160000, "BadCertificateHostNameInvalid"},
+        {0x80170000, "BadCertificateUriInvalid"},
+        {0x80180000, "BadCertificateUseNotAllowed"},
+        {0x80190000, "BadCertificateIssuerUseNotAllowed"},
+        {0x801A0000, "BadCertificateUntrusted"},
+        {0x801B0000, "BadCertificateRevocationUnknown"},
+        {0x801C0000, "BadCertificateIssuerRevocationUnknown"},
+        {0x801D0000, "BadCertificateRevoked"},
+        {0x801E0000, "BadCertificateIssuerRevoked"},
+        {0x810D0000, "BadCertificateChainIncomplete"},
         {0x801F0000, "BadUserAccessDenied"},
         {0x80200000, "BadIdentityTokenInvalid"},
         {0x80210000, "BadIdentityTokenRejected"},

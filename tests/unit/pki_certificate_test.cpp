@@ -1,0 +1,80 @@
+// Certificate inspection: chains, thumbprints, names, validity, public keys.
+#include <gtest/gtest.h>
+#include <openssl/evp.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "pki_test_support.hpp"
+#include "ua/pki/certificate.hpp"
+#include "ua/pki/own_certificate.hpp"
+
+namespace skillcell::ua::pki {
+namespace {
+
+TEST(Certificate, SplitsAConcatenatedChain) {
+    const auto ca = test::makeCa("ca");
+    const auto leaf = test::makeCertificate({}, &ca);
+    auto parts = splitCertificateChain(test::concat(leaf.der(), ca.der()));
+    ASSERT_TRUE(parts);
+    ASSERT_EQ(parts->size(), 2u);
+    EXPECT_EQ((*parts)[0], leaf.der());
+    EXPECT_EQ((*parts)[1], ca.der());
+    EXPECT_EQ(splitCertificateChain(ByteString{}).status(), status::BadCertificateInvalid);
+    EXPECT_EQ(splitCertificateChain(test::concat(leaf.der(), ByteString({0x30}))).status(),
+              status::BadCertificateInvalid);
+}
+
+TEST(Certificate, ThumbprintIsSha1OfTheLeafOnly) {
+    const auto ca = test::makeCa("ca");
+    const auto leaf = test::makeCertificate({}, &ca);
+    unsigned char expected[EVP_MAX_MD_SIZE];
+    unsigned int len = 0;
+    ASSERT_EQ(X509_digest(leaf.cert.get(), EVP_sha1(), expected, &len), 1);
+    ASSERT_EQ(len, 20u);
+    auto single = certificateThumbprint(leaf.der());
+    auto chained = certificateThumbprint(test::concat(leaf.der(), ca.der()));
+    ASSERT_TRUE(single);
+    ASSERT_TRUE(chained);
+    EXPECT_TRUE(std::equal(single->begin(), single->end(), expected));
+    EXPECT_EQ(*single, *chained);
+    EXPECT_EQ(certificateThumbprintHex(leaf.der()), toHex(expected, 20));
+    EXPECT_EQ(certificateThumbprintHex(leaf.der()).size(), 40u);
+    EXPECT_EQ(certificateThumbprint(ByteString({1, 2})).status(), status::BadCertificateInvalid);
+}
+
+TEST(Certificate, InspectReadsNamesValidityAndKey) {
+    test::CertSpec spec;
+    spec.commonName = "gripper";
+    spec.applicationUri = "urn:skillcell:gripper";
+    spec.dnsNames = {"gripper.local", "localhost"};
+    spec.notAfterDays = 100;
+    const auto c = test::makeCertificate(spec);
+    auto info = inspectCertificate(c.der());
+    ASSERT_TRUE(info);
+    EXPECT_NE(info->subject.find("gripper"), std::string::npos) << info->subject;
+    EXPECT_EQ(info->subject, info->issuer);
+    EXPECT_EQ(info->applicationUri, "urn:skillcell:gripper");
+    EXPECT_EQ(info->dnsNames, (std::vector<std::string>{"gripper.local", "localhost"}));
+    EXPECT_TRUE(info->selfSigned);
+    EXPECT_FALSE(info->isCa);
+    EXPECT_EQ(info->keyBits, 2048);
+    const auto days = std::chrono::duration_cast<std::chrono::hours>(info->notAfter - Clock::now());
+    EXPECT_NEAR(static_cast<double>(days.count()), 100.0 * 24, 2.0);
+    EXPECT_LT(info->notBefore, Clock::now());
+    EXPECT_EQ(certificateApplicationUri(c.der()), "urn:skillcell:gripper");
+    EXPECT_EQ(inspectCertificate(ByteString({0})).status(), status::BadCertificateInvalid);
+}
+
+TEST(Certificate, PublicKeyMatchesThePrivateKey) {
+    const auto c = test::makeCertificate({});
+    auto key = certificatePublicKey(c.der());
+    ASSERT_TRUE(key);
+    EXPECT_EQ(EVP_PKEY_eq(key->get(), c.key.get()), 1);
+    EXPECT_EQ(*certificateKeyBits(c.der()), 2048);
+    const auto other = test::makeCertificate({});
+    EXPECT_NE(EVP_PKEY_eq(key->get(), other.key.get()), 1);
+}
+
+}  // namespace
+}  // namespace skillcell::ua::pki
