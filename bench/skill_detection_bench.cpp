@@ -160,6 +160,7 @@ int run(const Options& o) {
                                          "--log-level",
                                          "warn",
                                          "server",
+                                         "--insecure",
                                          "--port",
                                          "0",
                                          "--host",

@@ -33,7 +33,7 @@ trap cleanup EXIT
 start() {
   local name=$1; shift
   mkfifo "$tmp/$name.ready"
-  "$skillcell" "$@" --pki-dir "$tmp/pki-$name" >"$tmp/$name.ready" 2>"$tmp/$name.log" &
+  "$skillcell" "$@" --pki-dir "$tmp/pki-$name" --insecure >"$tmp/$name.ready" 2>"$tmp/$name.log" &
   pids+=($!)
   exec {fd}<"$tmp/$name.ready"
   local word

@@ -19,5 +19,6 @@ Command addSkillCommand(CLI::App& app);
 Command addCheckCommand(CLI::App& app);
 Command addDetectCommand(CLI::App& app);
 Command addPkiCommand(CLI::App& app);
+Command addUserCommand(CLI::App& app);
 
 }  // namespace skillcell::apps

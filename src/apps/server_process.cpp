@@ -9,7 +9,9 @@
 #include "skill_report.hpp"
 #include "skills/skill_detector.hpp"
 #include "ua/discovery/network_interfaces.hpp"
+#include "ua/pki/certificate_validator.hpp"
 #include "ua/pki/own_certificate.hpp"
+#include "ua/server/user_database.hpp"
 
 namespace skillcell::apps {
 
@@ -31,10 +33,88 @@ void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& o) {
     cmd->add_option("--max-channels", o.maxChannels, "connection limit")
         ->check(CLI::Range(1u, 100000u))
         ->capture_default_str();
+    cmd->add_flag("--insecure", o.insecure,
+                  "development only: offer SecurityPolicy None alone and let anonymous users "
+                  "do everything (the default offers Basic256Sha256, Aes128_Sha256_RsaOaep and "
+                  "Aes256_Sha256_RsaPss with Sign and SignAndEncrypt, and users from --users)");
+    cmd->add_flag("--allow-anonymous", o.allowAnonymous,
+                  "accept anonymous sessions, with the Observer role (browse, read, subscribe)");
+    cmd->add_option("--users", o.usersFile,
+                    "user database (`skillcell user add`; default: <pki-dir>/users)");
     cmd->add_flag("--detect", o.detect,
                   "detect the skills of every component discovery finds (this one included) "
                   "and print SKILL ADDED/REMOVED lines on stdout, and SNAPSHOT..END on exit");
 }
+
+namespace {
+
+/// Endpoints, keys, trust and users from the options; 0, or the exit code after logging.
+int configureSecurity(const ServerProcessOptions& options, const std::filesystem::path& pkiDir,
+                      const ua::pki::OwnCertificate& certificate, ua::ServerConfig& config) {
+    auto& description = config.description;
+    auto& security = config.security;
+    if (options.insecure) {
+        spdlog::warn("--insecure: SecurityPolicy None only, anonymous users may do everything");
+        description.securityEndpoints = {
+            {std::string(ua::kSecurityPolicyNoneUri), ua::MessageSecurityMode::None}};
+        description.userTokenPolicies = {ua::ServerDescription::anonymousTokenPolicy()};
+        security.allowAnonymous = true;
+        security.anonymousRoles = ua::RoleSet{ua::Role::Anonymous, ua::Role::Admin};
+        return 0;
+    }
+    auto key = ua::crypto::RsaKey::fromPrivateKeyFile(certificate.privateKeyFile);
+    if (!key) {
+        spdlog::critical("cannot read the private key {}", certificate.privateKeyFile.string());
+        return 1;
+    }
+    security.privateKey = std::move(*key);
+    // The validator reloads trusted/ when it changes: `skillcell pki trust` takes effect
+    // on the next connection, without a restart.
+    auto validator = std::make_shared<ua::pki::CertificateValidator>(pkiDir);
+    security.validateCertificate = [validator](const ua::ByteString& der,
+                                               std::string_view applicationUri,
+                                               std::string* reason) {
+        auto verdict = validator->validate(der, applicationUri);
+        if (reason != nullptr) *reason = verdict.reason;
+        return verdict.status;
+    };
+    description.securityEndpoints = ua::allSecurityEndpoints(false);
+
+    const auto usersFile = options.usersFile.empty() ? pkiDir / "users"
+                                                     : std::filesystem::path(options.usersFile);
+    std::string error;
+    auto users = ua::UserDatabase::load(usersFile, &error);
+    if (!users) {
+        spdlog::critical("user database: {}", error);
+        return 1;
+    }
+    if (users->users().empty() && !options.allowAnonymous) {
+        spdlog::warn("no users in {} and anonymous users refused: nobody can open a session "
+                     "(add one with `skillcell user add NAME --role Operator --users {}`)",
+                     usersFile.string(), usersFile.string());
+    }
+    security.users = std::make_shared<ua::UserDatabase>(std::move(*users));
+    description.userTokenPolicies.clear();
+    if (options.allowAnonymous) {
+        description.userTokenPolicies.push_back(ua::ServerDescription::anonymousTokenPolicy());
+    }
+    ua::UserTokenPolicy password;
+    password.policyId = std::string(ua::kUserNamePolicyId);
+    password.tokenType = ua::UserTokenType::UserName;
+    description.userTokenPolicies.push_back(password);
+    ua::UserTokenPolicy x509;
+    x509.policyId = std::string(ua::kCertificatePolicyId);
+    x509.tokenType = ua::UserTokenType::Certificate;
+    description.userTokenPolicies.push_back(x509);
+    security.allowAnonymous = options.allowAnonymous;
+    security.anonymousRoles = ua::RoleSet{ua::Role::Anonymous, ua::Role::Observer};
+    spdlog::info("security: {} endpoints, users from {}, anonymous {}",
+                 description.securityEndpoints.size(), usersFile.string(),
+                 options.allowAnonymous ? "as Observer" : "refused");
+    return 0;
+}
+
+}  // namespace
 
 int runServerProcess(const ServerProcessOptions& options, const PopulateServer& populate) {
     asio::io_context io{1};  // one thread runs it: no scheduler locking needed
@@ -73,6 +153,7 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
     spdlog::info("{} application certificate {}", certificate->created ? "created" : "using",
                  certificate->certificateFile.string());
     config.description.certificate = certificate->der;
+    if (const int s = configureSecurity(options, pkiDir, *certificate, config); s != 0) return s;
 
     auto server = ua::Server::create(io, config, &error);
     if (!server) {

@@ -25,10 +25,16 @@ struct ServerProcessOptions {
     bool isLds = false;
     std::string pkiDir;   // empty: ua::pki::defaultPkiDirectory()
     bool detect = false;  // run a SkillDetector and print its SKILL lines (skill_report.hpp)
+    /// Security (docs/security.md): secured endpoints only and no anonymous users unless
+    /// told otherwise. --insecure is for development: SecurityPolicy None only, anonymous
+    /// users with every right, exactly what a server without security would do.
+    bool insecure = false;
+    bool allowAnonymous = false;  // anonymous sessions as Observer
+    std::string usersFile;        // empty: <pki-dir>/users
 };
 
 /// --port, --host, --advertised-host, --application-uri, --pki-dir, --max-sessions,
-/// --max-channels, --detect.
+/// --max-channels, --detect, --insecure, --allow-anonymous, --users.
 void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& options);
 
 /// What a component adds to its server (skills, device adapters): kept alive while the

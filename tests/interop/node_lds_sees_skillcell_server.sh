@@ -28,7 +28,7 @@ skillcell=$1
 
 OUR_URI=urn:test:ours
 OUR_MDNS=ours-under-test
-server_args=(server --port 0 --host 127.0.0.1 --application-uri "$OUR_URI" --mdns-name "$OUR_MDNS")
+server_args=(server --insecure --port 0 --host 127.0.0.1 --application-uri "$OUR_URI" --mdns-name "$OUR_MDNS")
 phases=${SKILLCELL_INTEROP_PHASES:-1 2 3}
 
 # FindServersOnNetwork on node's LDS must list our record, with our port in its URL.

@@ -33,7 +33,7 @@ OUR_LDS_MDNS=ours-lds
 dl_start sniff node "$here/mdns_sniff.js" # only for the logs
 dl_wait_ready sniff 20
 dl_start ours "$skillcell" lds --port 0 --host 127.0.0.1 --mdns-name "$OUR_LDS_MDNS" \
-  --pki-dir "$DL_TMP/pki-lds"
+  --pki-dir "$DL_TMP/pki-lds" --insecure
 dl_wait_ready ours 20
 lds_url=$DL_URL
 dl_start observer node "$here/lds.js" --port 0 --refuse-unsecured-registration \

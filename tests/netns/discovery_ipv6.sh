@@ -35,7 +35,7 @@ echo "ok: IPv6 link-local addresses ready"
 start_in h2 watcher "$BIN" discover --watch --duration 0 --mdns-ip 6 --mdns-query-period 1
 wait_for_line "$NETNS_DIR/watcher.out" '^WATCHING' 10 >/dev/null || fail "watcher did not start"
 start_in h1 server "$BIN" server --port 4841 --mdns-ip 6 --mdns-ttl 5 --mdns-query-period 1 \
-  --mdns-name v6-server --application-uri urn:test:v6 --pki-dir "$NETNS_DIR/pki-server"
+  --mdns-name v6-server --application-uri urn:test:v6 --pki-dir "$NETNS_DIR/pki-server" --insecure
 wait_for_line "$NETNS_DIR/server.out" '^READY' 20 >/dev/null || fail "server did not start"
 grep -q "mDNS over IPv4" "$NETNS_DIR/server.err" && fail "the server did not get IPv6 mDNS"
 

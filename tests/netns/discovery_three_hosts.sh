@@ -166,7 +166,7 @@ start_component() {
   local c=$1 p=$2 sub=server
   [ "$c" = lds ] && sub=lds
   start_in "${HOST[$c]}" "$p" "$BIN" "$sub" --port "${PORT[$c]}" --application-uri "${URI[$c]}" \
-    --mdns-ttl "$TTL" --mdns-query-period "$QP" --pki-dir "$NETNS_DIR/pki-$c"
+    --mdns-ttl "$TTL" --mdns-query-period "$QP" --pki-dir "$NETNS_DIR/pki-$c" --insecure
   local line
   line=$(wait_for_line "$NETNS_DIR/$p.out" '^READY ' 15) || fail "$c ($p) did not print READY"
   say "   $c on ${HOST[$c]}: $line"

@@ -147,7 +147,7 @@ start_component() {
   [ "$c" = lds ] && sub=lds
   for spec in ${SKILLS[$c]}; do args+=(--noop-skill "$spec"); done
   start_in "${HOST[$c]}" "$p" "$BIN" "$sub" --port "${PORT[$c]}" --application-uri "${URI[$c]}" \
-    --mdns-ttl "$TTL" --mdns-query-period "$QP" --pki-dir "$NETNS_DIR/pki-$c" --detect "${args[@]}"
+    --mdns-ttl "$TTL" --mdns-query-period "$QP" --pki-dir "$NETNS_DIR/pki-$c" --insecure --detect "${args[@]}"
   PROC[$c]=$p
 }
 

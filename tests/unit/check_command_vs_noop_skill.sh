@@ -17,7 +17,7 @@ trap cleanup EXIT
 fail() { echo "FAILED: $*" >&2; exit 1; }
 
 mkfifo "$tmp/ready"
-"$skillcell" server --port 0 --host 127.0.0.1 --no-discovery --pki-dir "$tmp/pki" \
+"$skillcell" server --port 0 --host 127.0.0.1 --no-discovery --pki-dir "$tmp/pki" --insecure \
   --noop-skill CartesianLinearMoveSkillType=Move --noop-skill GraspGripperSkillType=Grasp \
   --noop-skill-ms 300 >"$tmp/ready" 2>"$tmp/server.log" &
 pid=$!

@@ -237,6 +237,7 @@ public:
                                          "--host",
                                          "127.0.0.1",
                                          "--no-discovery",
+                                         "--insecure",
                                          "--pki-dir",
                                          pkiDir,
                                          "--noop-skill",

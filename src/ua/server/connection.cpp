@@ -82,7 +82,8 @@ asio::awaitable<StatusCode> Connection::serve() {
     SecureChannelConfig channelConfig = env_.channelConfig;
     channelConfig.acceptsMode = [&description = env_.description](std::string_view uri,
                                                                   MessageSecurityMode mode) {
-        return description.offers(uri, mode);
+        return description.offers(uri, mode) ||
+               (uri == kSecurityPolicyNoneUri && mode == MessageSecurityMode::None);
     };
     auto selector = [this](const AsymmetricSecurityHeader& header) {
         const std::string who = "channel " + std::to_string(channelId_) + " (" + peer_ + ")";
@@ -214,6 +215,9 @@ StatusCode Connection::handleMessage(const ChannelMessage& message, SteadyTime n
                                            : nullptr;
     if (entry == nullptr) return fault(status::BadServiceUnsupported);
     if (!peek.ok()) return fault(status::BadDecodingError);
+    if (discoveryOnly() && !isDiscoveryService(typeId.numeric())) {
+        return fault(status::BadSecurityPolicyRejected);
+    }
 
     ServiceContext ctx;
     ctx.channelId = channelId_;
@@ -243,6 +247,17 @@ StatusCode Connection::handleMessage(const ChannelMessage& message, SteadyTime n
     if (s.isBad()) return fault(s);
     if (body.empty()) return status::Good;  // deferred: answered through ctx.reply
     return sendMessage(MessageType::Message, message.requestId, handle, std::move(body));
+}
+
+bool Connection::discoveryOnly() const {
+    return channel_->securityMode() == MessageSecurityMode::None &&
+           !env_.description.offers(kSecurityPolicyNoneUri, MessageSecurityMode::None);
+}
+
+bool Connection::isDiscoveryService(std::uint32_t requestTypeId) {
+    return requestTypeId == GetEndpointsRequest::kBinaryEncodingId ||
+           requestTypeId == FindServersRequest::kBinaryEncodingId ||
+           requestTypeId == FindServersOnNetworkRequest::kBinaryEncodingId;
 }
 
 StatusCode Connection::sendMessage(MessageType type, std::uint32_t requestId,

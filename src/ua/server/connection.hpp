@@ -58,6 +58,9 @@ private:
     void send(std::vector<std::uint8_t> frame);
     void fail(StatusCode status, std::string_view reason);
     void setDeadline(SteadyTime deadline);
+    /// A None channel on a server that does not offer None: discovery services only.
+    [[nodiscard]] bool discoveryOnly() const;
+    [[nodiscard]] static bool isDiscoveryService(std::uint32_t requestTypeId);
 
     /// Writes what is queued unless a write is in flight; closes once drained if closing.
     void writeQueued();

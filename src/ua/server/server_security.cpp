@@ -25,6 +25,12 @@ Result<std::unique_ptr<SecurityPolicy>> selectPolicy(const std::vector<SecurityE
                                                      const ByteString& ownCertificate,
                                                      const AsymmetricSecurityHeader& header,
                                                      std::string_view peer) {
+    // A None channel is always opened: a client needs GetEndpoints before it can choose a
+    // secured endpoint. The connection limits it to the discovery services when None is not
+    // offered (Connection::handleMessage).
+    if (header.securityPolicyUri == kSecurityPolicyNoneUri) {
+        return std::unique_ptr<SecurityPolicy>(std::make_unique<SecurityPolicyNone>());
+    }
     const bool offersPolicy =
         std::any_of(offered.begin(), offered.end(), [&](const SecurityEndpoint& e) {
             return e.policyUri == header.securityPolicyUri;
@@ -32,9 +38,6 @@ Result<std::unique_ptr<SecurityPolicy>> selectPolicy(const std::vector<SecurityE
     if (!offersPolicy) {
         spdlog::warn("{}: security policy '{}' is not offered", peer, header.securityPolicyUri);
         return status::BadSecurityPolicyRejected;
-    }
-    if (header.securityPolicyUri == kSecurityPolicyNoneUri) {
-        return std::unique_ptr<SecurityPolicy>(std::make_unique<SecurityPolicyNone>());
     }
     const auto* profile = crypto::findSecurityPolicyProfile(header.securityPolicyUri);
     if (profile == nullptr) return status::BadSecurityPolicyRejected;

@@ -51,8 +51,8 @@ struct ServerSecurity {
 /// `withNone` (development only).
 [[nodiscard]] std::vector<SecurityEndpoint> allSecurityEndpoints(bool withNone);
 
-/// The policy for a channel's first OpenSecureChannel: BadSecurityPolicyRejected for a
-/// policy not offered, the validator's status for a certificate not trusted (logged with its
+/// The policy for a channel's first OpenSecureChannel: None always (for discovery),
+/// BadSecurityPolicyRejected for another policy not offered, the validator's status for a certificate not trusted (logged with its
 /// reason), BadConfigurationError when a secured policy is offered without a private key.
 [[nodiscard]] Result<std::unique_ptr<SecurityPolicy>> selectPolicy(
     const std::vector<SecurityEndpoint>& offered, const ServerSecurity& security,

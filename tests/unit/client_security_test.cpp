@@ -1,0 +1,210 @@
+// Our client against our server with security on, in one process: every policy with Sign
+// and SignAndEncrypt, user names with passwords and X.509 user certificates, roles on Call
+// and Write, and the refusals (untrusted certificates on either side, wrong passwords,
+// anonymous users, a None channel used for more than discovery).
+#include <gtest/gtest.h>
+
+#include "running_server.hpp"
+#include "test_certificate.hpp"
+#include "ua/client/blocking_client.hpp"
+#include "ua/crypto/security_policy_profile.hpp"
+#include "ua/server/user_database.hpp"
+#include "ua/transport/rsa_security_policy.hpp"
+
+using namespace skillcell::ua;
+using skillcell::test::makeTestCertificate;
+using skillcell::test::RunningServer;
+using skillcell::test::TestCertificate;
+
+namespace {
+
+constexpr std::uint16_t kNs = 2;  // 1 is the server's own namespace
+const NodeId kTarget(kNs, String("Target"));
+const NodeId kTwice(kNs, String("Target.Twice"));
+
+struct Certificates {
+    TestCertificate server = makeTestCertificate(2048, "urn:skillcell:server");
+    TestCertificate client = makeTestCertificate(2048, "urn:skillcell:client");
+    TestCertificate stranger = makeTestCertificate(2048, "urn:skillcell:client");
+    TestCertificate userCert = makeTestCertificate(2048, "urn:skillcell:user:robot-cell");
+};
+
+const Certificates& certs() {
+    static const Certificates c;  // RSA key generation dominates the test's run time
+    return c;
+}
+
+ServerConfig secureConfig() {
+    ServerConfig config = RunningServer::defaultConfig();
+    config.description.certificate = certs().server.der;
+    config.description.securityEndpoints = allSecurityEndpoints(false);
+    UserTokenPolicy password;
+    password.policyId = std::string(kUserNamePolicyId);
+    password.tokenType = UserTokenType::UserName;
+    UserTokenPolicy x509;
+    x509.policyId = std::string(kCertificatePolicyId);
+    x509.tokenType = UserTokenType::Certificate;
+    config.description.userTokenPolicies = {password, x509};
+    config.security.privateKey = certs().server.key;
+    // Trusts our client's certificate and nothing else.
+    config.security.validateCertificate = [](const ByteString& der, std::string_view,
+                                             std::string* reason) {
+        if (leafCertificate(der.bytes) == leafCertificate(certs().client.der.bytes)) {
+            return status::Good;
+        }
+        *reason = "not in the trust list";
+        return StatusCode(0x801A0000);  // BadCertificateUntrusted
+    };
+    config.security.allowAnonymous = false;
+    auto users = std::make_shared<UserDatabase>();
+    EXPECT_TRUE(users->setPassword("olga", RoleSet{Role::Operator}, "operator-pw").isGood());
+    EXPECT_TRUE(users->setPassword("otto", RoleSet{Role::Observer}, "observer-pw").isGood());
+    EXPECT_TRUE(users->setCertificate("cell-mes", RoleSet{Role::Operator}, certs().userCert.der)
+                    .isGood());
+    config.security.users = users;
+    return config;
+}
+
+void addTargets(Server& server) {
+    auto& as = server.addressSpace();
+    ASSERT_EQ(as.registerNamespace("urn:test:security"), kNs);
+    ASSERT_TRUE(as.addVariable(NodeId(85), kTarget, "Target", NodeId(11), Variant(1.0),
+                               access_level::kCurrentRead | access_level::kCurrentWrite)
+                    .ok());
+    Argument in{"x", NodeId(11), value_rank::kScalar, {}, {}};
+    Argument out{"y", NodeId(11), value_rank::kScalar, {}, {}};
+    ASSERT_TRUE(as.addMethod(NodeId(85), kTwice, "Twice", {in}, {out},
+                             [](const Caller&, const NodeId&, std::span<const Variant> inputs,
+                                std::vector<Variant>& outputs) {
+                                 outputs.emplace_back(*inputs[0].get<double>() * 2);
+                                 return status::Good;
+                             })
+                    .ok());
+}
+
+ClientConfig clientConfig(std::string_view policy, MessageSecurityMode mode) {
+    ClientConfig c;
+    c.securityPolicyUri = std::string(policy);
+    c.securityMode = mode;
+    c.certificate = certs().client.der;
+    c.privateKey = certs().client.key;
+    c.applicationUri = "urn:skillcell:client";
+    c.user.kind = UserCredentials::Kind::UserName;
+    c.user.userName = "olga";
+    c.user.password = "operator-pw";
+    return c;
+}
+
+class SecureSession : public testing::Test {
+protected:
+    RunningServer server{secureConfig(), addTargets};
+};
+
+}  // namespace
+
+TEST_F(SecureSession, EveryPolicyAndModeReadsWritesAndCalls) {
+    for (const auto& profile : crypto::securityPolicyProfiles()) {
+        for (auto mode : {MessageSecurityMode::Sign, MessageSecurityMode::SignAndEncrypt}) {
+            SCOPED_TRACE(std::string(profile.shortName) +
+                         (mode == MessageSecurityMode::Sign ? " Sign" : " SignAndEncrypt"));
+            BlockingClient client;
+            ASSERT_EQ(client.connect(server.url(), clientConfig(profile.uri, mode)), status::Good);
+            auto state = client.readValue(NodeId(2259));
+            ASSERT_TRUE(state.ok());
+            EXPECT_EQ(client.writeValue(kTarget, Variant(4.5)), status::Good);
+            auto twice = client.call(NodeId(85), kTwice, {Variant(21.0)});
+            ASSERT_TRUE(twice.ok()) << statusName(twice.status());
+            EXPECT_EQ(*(*twice)[0].get<double>(), 42.0);
+            EXPECT_EQ(client.disconnect(), status::Good);
+        }
+    }
+}
+
+TEST_F(SecureSession, ObserverReadsButMayNotWriteOrCall) {
+    auto config = clientConfig(crypto::kPolicyAes256Sha256RsaPss, MessageSecurityMode::SignAndEncrypt);
+    config.user.userName = "otto";
+    config.user.password = "observer-pw";
+    BlockingClient client;
+    ASSERT_EQ(client.connect(server.url(), config), status::Good);
+    EXPECT_TRUE(client.readValue(kTarget).ok());
+    EXPECT_EQ(client.writeValue(kTarget, Variant(9.0)), status::BadUserAccessDenied);
+    EXPECT_EQ(client.call(NodeId(85), kTwice, {Variant(1.0)}).status(),
+              status::BadUserAccessDenied);
+    // The refusals changed nothing and the server serves on.
+    EXPECT_EQ(*client.readValue(kTarget)->get<double>(), 1.0);
+}
+
+TEST_F(SecureSession, WrongPasswordUnknownUserAndAnonymousAreRefused) {
+    auto config = clientConfig(crypto::kPolicyBasic256Sha256, MessageSecurityMode::Sign);
+    config.user.password = "wrong";
+    BlockingClient a;
+    EXPECT_EQ(a.connect(server.url(), config), status::BadUserAccessDenied);
+    config.user.userName = "nobody";
+    BlockingClient b;
+    EXPECT_EQ(b.connect(server.url(), config), status::BadUserAccessDenied);
+    config.user = UserCredentials{};
+    BlockingClient c;
+    EXPECT_EQ(c.connect(server.url(), config), status::BadIdentityTokenRejected);
+}
+
+TEST_F(SecureSession, X509UserTokenNeedsAKnownCertificateAndItsKey) {
+    auto config = clientConfig(crypto::kPolicyAes128Sha256RsaOaep, MessageSecurityMode::SignAndEncrypt);
+    config.user.kind = UserCredentials::Kind::Certificate;
+    config.user.certificate = certs().userCert.der;
+    config.user.privateKey = certs().userCert.key;
+    BlockingClient known;
+    ASSERT_EQ(known.connect(server.url(), config), status::Good);
+    EXPECT_EQ(known.writeValue(kTarget, Variant(2.0)), status::Good);
+    // The right certificate signed with another key proves nothing.
+    config.user.privateKey = certs().stranger.key;
+    BlockingClient forged;
+    EXPECT_EQ(forged.connect(server.url(), config), status::BadUserSignatureInvalid);
+    // A certificate the user database does not know.
+    config.user.certificate = certs().stranger.der;
+    BlockingClient unknown;
+    EXPECT_EQ(unknown.connect(server.url(), config), status::BadUserAccessDenied);
+}
+
+TEST_F(SecureSession, UntrustedClientCertificateIsRefusedAtOpenSecureChannel) {
+    auto config = clientConfig(crypto::kPolicyBasic256Sha256, MessageSecurityMode::SignAndEncrypt);
+    config.certificate = certs().stranger.der;
+    config.privateKey = certs().stranger.key;
+    BlockingClient client;
+    EXPECT_EQ(client.connect(server.url(), config), StatusCode(0x801A0000));
+    // Others are still served.
+    BlockingClient good;
+    EXPECT_EQ(good.connect(server.url(), clientConfig(crypto::kPolicyBasic256Sha256,
+                                                      MessageSecurityMode::Sign)),
+              status::Good);
+}
+
+TEST_F(SecureSession, ClientRefusesAServerItDoesNotTrust) {
+    auto config = clientConfig(crypto::kPolicyBasic256Sha256, MessageSecurityMode::SignAndEncrypt);
+    config.validateServerCertificate = [](const ByteString&, std::string* reason) {
+        *reason = "unknown server";
+        return StatusCode(0x801A0000);
+    };
+    BlockingClient client;
+    EXPECT_EQ(client.connect(server.url(), config), StatusCode(0x801A0000));
+    // A server that presents another certificate than its endpoint's.
+    auto impostor = clientConfig(crypto::kPolicyBasic256Sha256, MessageSecurityMode::SignAndEncrypt);
+    impostor.serverCertificate = certs().stranger.der;
+    BlockingClient fooled;
+    EXPECT_TRUE(fooled.connect(server.url(), impostor).isBad());
+}
+
+TEST_F(SecureSession, NoneChannelServesDiscoveryOnly) {
+    BlockingClient discovery;
+    ClientConfig none;
+    none.createSession = false;
+    ASSERT_EQ(discovery.connect(server.url(), none), status::Good);
+    auto endpoints = discovery.getEndpoints();
+    ASSERT_TRUE(endpoints.ok());
+    EXPECT_EQ(endpoints->size(), 6u);
+    for (const auto& ep : *endpoints) {
+        EXPECT_NE(ep.securityMode, MessageSecurityMode::None);
+        EXPECT_EQ(ep.serverCertificate, certs().server.der);
+    }
+    BlockingClient session;
+    EXPECT_EQ(session.connect(server.url(), ClientConfig{}), status::BadSecurityPolicyRejected);
+}
