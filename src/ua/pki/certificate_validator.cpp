@@ -16,6 +16,7 @@ enum class Step {
     Structure,
     Chain,
     Signature,
+    Policy,
     Trust,
     Validity,
     IssuerValidity,
@@ -36,6 +37,8 @@ StatusCode statusOf(Step s) {
             return status::BadCertificateInvalid;
         case Step::Chain:
             return status::BadCertificateChainIncomplete;
+        case Step::Policy:
+            return status::BadCertificatePolicyCheckFailed;
         case Step::Trust:
             return status::BadCertificateUntrusted;
         case Step::Validity:
@@ -233,6 +236,14 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
     ERR_clear_error();  // the callback kept what matters; leave no errors for others to see
 
     X509* leafCert = leaf->get();
+    if ((expected.minimumKeyBits > 0 && info.keyBits < expected.minimumKeyBits) ||
+        (expected.maximumKeyBits > 0 && info.keyBits > expected.maximumKeyBits)) {
+        collector.findings.push_back(
+            {Step::Policy, describe(leafCert) + " has a " + std::to_string(info.keyBits) +
+                               "-bit key; the security policy needs " +
+                               std::to_string(expected.minimumKeyBits) + ".." +
+                               std::to_string(expected.maximumKeyBits) + " bits"});
+    }
     if (!expected.hostName.empty() && !hostMatches(leafCert, expected.hostName)) {
         collector.findings.push_back(
             {Step::HostName, describe(leafCert) + " is not issued for host " + expected.hostName});
