@@ -205,14 +205,13 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
         auto cert = parseCertificate((*chain)[i]);
         if (cert) sent.push_back(std::move(*cert));
     }
-    for (const auto& cert : sent) {
-        X509_up_ref(cert.get());
-        sk_X509_push(untrusted.get(), cert.get());
-    }
-    for (const auto& cert : trustList_.issuers()) {
-        X509_up_ref(cert.get());
-        sk_X509_push(untrusted.get(), cert.get());
-    }
+    // The stack owns one reference of each certificate (freed with it).
+    const auto addUntrusted = [&untrusted](X509* cert) {
+        X509_up_ref(cert);
+        if (sk_X509_push(untrusted.get(), cert) == 0) X509_free(cert);
+    };
+    for (const auto& cert : sent) addUntrusted(cert.get());
+    for (const auto& cert : trustList_.issuers()) addUntrusted(cert.get());
 
     Collector collector;
     collector.trustList = &trustList_;
