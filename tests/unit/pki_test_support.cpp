@@ -24,7 +24,7 @@ void addExt(X509* cert, X509* issuer, int nid, const std::string& value) {
 
 KeyAndCert build(const CertSpec& spec, const KeyAndCert* issuer) {
     KeyAndCert out;
-    out.key.reset(EVP_RSA_gen(2048));
+    out.key.reset(EVP_RSA_gen(static_cast<unsigned>(spec.keyBits)));
     out.cert.reset(X509_new());
     require(out.key && out.cert, "allocation");
     X509* c = out.cert.get();

@@ -18,6 +18,7 @@ struct CertSpec {
     long notBeforeDays = -1;  // relative to now
     long notAfterDays = 365;
     bool ca = false;
+    int keyBits = 2048;
     std::string keyUsage =
         "critical,digitalSignature,nonRepudiation,keyEncipherment,dataEncipherment,keyCertSign";
 };

@@ -114,6 +114,28 @@ TEST_F(ValidatorTest, HostNameIsCheckedWhenGiven) {
     EXPECT_EQ(validator.validate(peer.der(), e).status, status::BadCertificateHostNameInvalid);
 }
 
+TEST_F(ValidatorTest, KeyLengthOutsideThePolicyIsPolicyCheckFailed) {
+    CertSpec spec;
+    spec.keyBits = 1024;
+    const auto small = test::makeCertificate(spec);
+    const auto fine = test::makeCertificate({});
+    trust(small, "small");
+    trust(fine, "fine");
+    CertificateValidator validator(dir.path());
+    PeerExpectations basic256Sha256;
+    basic256Sha256.minimumKeyBits = 2048;
+    basic256Sha256.maximumKeyBits = 4096;
+    const auto v = validator.validate(small.der(), basic256Sha256);
+    EXPECT_EQ(v.status, status::BadCertificatePolicyCheckFailed) << v.reason;
+    EXPECT_EQ(validator.validate(fine.der(), basic256Sha256).status, status::Good);
+    EXPECT_EQ(validator.validate(small.der()).status, status::Good);  // no bounds given
+    // The policy check comes before the trust list: an untrusted small key is not rejected/.
+    const auto stranger = test::makeCertificate(spec);
+    EXPECT_EQ(validator.validate(stranger.der(), basic256Sha256).status,
+              status::BadCertificatePolicyCheckFailed);
+    EXPECT_EQ(rejectedCount(), 0u);
+}
+
 TEST_F(ValidatorTest, CaIssuedLeafIsAcceptedWhenTheCaIsTrusted) {
     const auto ca = test::makeCa("cell CA");
     const auto leaf = test::makeCertificate({}, &ca);

@@ -16,6 +16,7 @@ enum class Step {
     Structure,
     Chain,
     Signature,
+    Policy,
     Trust,
     Validity,
     IssuerValidity,
@@ -36,6 +37,8 @@ StatusCode statusOf(Step s) {
             return status::BadCertificateInvalid;
         case Step::Chain:
             return status::BadCertificateChainIncomplete;
+        case Step::Policy:
+            return status::BadCertificatePolicyCheckFailed;
         case Step::Trust:
             return status::BadCertificateUntrusted;
         case Step::Validity:
@@ -202,14 +205,13 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
         auto cert = parseCertificate((*chain)[i]);
         if (cert) sent.push_back(std::move(*cert));
     }
-    for (const auto& cert : sent) {
-        X509_up_ref(cert.get());
-        sk_X509_push(untrusted.get(), cert.get());
-    }
-    for (const auto& cert : trustList_.issuers()) {
-        X509_up_ref(cert.get());
-        sk_X509_push(untrusted.get(), cert.get());
-    }
+    // The stack owns one reference of each certificate (freed with it).
+    const auto addUntrusted = [&untrusted](X509* cert) {
+        X509_up_ref(cert);
+        if (sk_X509_push(untrusted.get(), cert) == 0) X509_free(cert);
+    };
+    for (const auto& cert : sent) addUntrusted(cert.get());
+    for (const auto& cert : trustList_.issuers()) addUntrusted(cert.get());
 
     Collector collector;
     collector.trustList = &trustList_;
@@ -233,6 +235,14 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
     ERR_clear_error();  // the callback kept what matters; leave no errors for others to see
 
     X509* leafCert = leaf->get();
+    if ((expected.minimumKeyBits > 0 && info.keyBits < expected.minimumKeyBits) ||
+        (expected.maximumKeyBits > 0 && info.keyBits > expected.maximumKeyBits)) {
+        collector.findings.push_back(
+            {Step::Policy, describe(leafCert) + " has a " + std::to_string(info.keyBits) +
+                               "-bit key; the security policy needs " +
+                               std::to_string(expected.minimumKeyBits) + ".." +
+                               std::to_string(expected.maximumKeyBits) + " bits"});
+    }
     if (!expected.hostName.empty() && !hostMatches(leafCert, expected.hostName)) {
         collector.findings.push_back(
             {Step::HostName, describe(leafCert) + " is not issued for host " + expected.hostName});

@@ -1,6 +1,7 @@
 #pragma once
 // Validation of a peer's application instance certificate against the PKI directory, in the
-// order of OPC 10000-4, 6.1.3 (Table 106): structure, chain, signature, trust list, validity,
+// order of OPC 10000-4, 6.1.3 (Table 106): structure, chain, signature, security policy (key
+// length), trust list, validity,
 // host name, URI, key usage, revocation list, revocation. The first failing step decides the
 // status code; the reason names the certificate and what to do about it.
 //
@@ -48,6 +49,10 @@ struct PeerExpectations {
     /// The host name (or IP address) of the endpoint URL a client connected to: must be a
     /// DNS name or IP address of the certificate (client side only).
     std::string hostName;
+    /// The security policy's bounds on the leaf's RSA key (OPC 10000-7: Basic256Sha256 and
+    /// the Aes* policies 2048..4096); 0: unbounded. Outside: BadCertificatePolicyCheckFailed.
+    int minimumKeyBits = 0;
+    int maximumKeyBits = 0;
     /// The time to check validity periods and CRLs at; empty: now.
     std::optional<Clock::time_point> now;
 };

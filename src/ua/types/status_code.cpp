@@ -7,7 +7,7 @@ namespace skillcell::ua {
 
 std::string_view statusName(StatusCode s) {
     // One table, generated from the constants in status_code.hpp; lookups are rare (logs, CLI).
-    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 140> kNames{{
+    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 141> kNames{{
         {0x00000000, "Good"},
         {0x40000000, "Uncertain"},
         {0x80000000, "Bad"},
@@ -45,6 +45,7 @@ std::string_view statusName(StatusCode s) {
         {0x801D0000, "BadCertificateRevoked"},
         {0x801E0000, "BadCertificateIssuerRevoked"},
         {0x810D0000, "BadCertificateChainIncomplete"},
+        {0x81140000, "BadCertificatePolicyCheckFailed"},
         {0x801F0000, "BadUserAccessDenied"},
         {0x80200000, "BadIdentityTokenInvalid"},
         {0x80210000, "BadIdentityTokenRejected"},

@@ -61,6 +61,7 @@ inline constexpr StatusCode BadCertificateIssuerRevocationUnknown{0x801C0000};
 inline constexpr StatusCode BadCertificateRevoked{0x801D0000};
 inline constexpr StatusCode BadCertificateIssuerRevoked{0x801E0000};
 inline constexpr StatusCode BadCertificateChainIncomplete{0x810D0000};
+inline constexpr StatusCode BadCertificatePolicyCheckFailed{0x81140000};
 inline constexpr StatusCode BadUserAccessDenied{0x801F0000};
 inline constexpr StatusCode BadIdentityTokenInvalid{0x80200000};
 inline constexpr StatusCode BadIdentityTokenRejected{0x80210000};
