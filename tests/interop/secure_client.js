@@ -27,7 +27,7 @@ const {
     DataType,
     StatusCodes
 } = require("node-opcua");
-const { resolveNamespaceIndex, DEMO_NAMESPACE_URI } = require("./common");
+const { resolveNamespaceIndex, stringNodeId, DEMO_NAMESPACE_URI } = require("./common");
 
 const USAGE =
     "usage: node secure_client.js URL --pki DIR (--operator U:P --observer U:P | --expect-untrusted)";
@@ -82,10 +82,11 @@ function credentials(text) {
 }
 
 async function callAdd(session) {
-    const ns = await resolveNamespaceIndex(session, DEMO_NAMESPACE_URI);
+    const { index: ns } = await resolveNamespaceIndex(session, DEMO_NAMESPACE_URI);
+    if (ns < 0) throw new Error(`${DEMO_NAMESPACE_URI} is not in the namespace array`);
     const result = await session.call({
-        objectId: `ns=${ns};s=Demo`,
-        methodId: `ns=${ns};s=Demo.Add`,
+        objectId: stringNodeId(ns, "Demo"),
+        methodId: stringNodeId(ns, "Demo.Add"),
         inputArguments: [
             { dataType: DataType.Double, value: 2 },
             { dataType: DataType.Double, value: 3 }
