@@ -20,7 +20,11 @@ namespace skillcell::test {
 
 class NodeServerSuite : public ::testing::Test {
 protected:
-    static void SetUpTestSuite() {
+    static void SetUpTestSuite() { startServer({}); }
+
+    /// Starts server.js with `extraArgs` (e.g. --secure); a derived suite's
+    /// SetUpTestSuite() calls it with its own.
+    static void startServer(const std::vector<std::string>& extraArgs) {
         using namespace std::chrono_literals;
         const std::filesystem::path dir = SKILLCELL_INTEROP_DIR;
         const char* require = std::getenv("SKILLCELL_REQUIRE_NODE");
@@ -35,8 +39,9 @@ protected:
             return;
         }
         try {
-            server_ = std::make_unique<bench::ChildProcess>(
-                std::vector<std::string>{"node", (dir / "server.js").string(), "--port", "0"});
+            std::vector<std::string> argv{"node", (dir / "server.js").string(), "--port", "0"};
+            argv.insert(argv.end(), extraArgs.begin(), extraArgs.end());
+            server_ = std::make_unique<bench::ChildProcess>(argv);
         } catch (const std::exception& e) {
             startError_ = e.what();
             return;

@@ -1,7 +1,11 @@
 #!/usr/bin/env node
 // node-opcua reference server for the skillcell interop tests.
 //
-// usage: node server.js [--port N]      (N = 0 or omitted: pick a free port)
+// usage: node server.js [--port N] [--secure]   (N = 0 or omitted: pick a free port)
+//
+// --secure: Basic256Sha256, Aes128_Sha256_RsaOaep and Aes256_Sha256_RsaPss with Sign and
+// SignAndEncrypt instead of None, no anonymous users; the user "operator" with the
+// password "op-pw" (the interop tests of our client's security).
 //
 // Exposes, in namespace "urn:skillcell:demo", the object ns=<idx>;s=Demo
 // (organized by Objects) with the Demo.* variables and the methods Demo.Add and
@@ -29,15 +33,17 @@ const NAMESPACE_URI = "urn:skillcell:demo";
 const { HOST, pickFreePort } = require("./discovery_common");
 
 function parseArgs(argv) {
-    const opts = { port: 0 };
+    const opts = { port: 0, secure: false };
     for (let i = 0; i < argv.length; i++) {
         const a = argv[i];
-        if (a === "--port" && i + 1 < argv.length) {
+        if (a === "--secure") {
+            opts.secure = true;
+        } else if (a === "--port" && i + 1 < argv.length) {
             opts.port = Number(argv[++i]);
         } else if (a.startsWith("--port=")) {
             opts.port = Number(a.slice("--port=".length));
         } else if (a === "-h" || a === "--help") {
-            process.stdout.write("usage: node server.js [--port N]\n");
+            process.stdout.write("usage: node server.js [--port N] [--secure]\n");
             process.exit(0);
         } else {
             process.stderr.write(`server.js: unknown argument '${a}'\n`);
@@ -143,7 +149,29 @@ function populate(addressSpace) {
     });
 }
 
-function createServer(port, pkiRoot) {
+function securityOptions(secure) {
+    if (!secure) {
+        return {
+            securityPolicies: [SecurityPolicy.None],
+            securityModes: [MessageSecurityMode.None],
+            allowAnonymous: true
+        };
+    }
+    return {
+        securityPolicies: [
+            SecurityPolicy.Basic256Sha256,
+            SecurityPolicy.Aes128_Sha256_RsaOaep,
+            SecurityPolicy.Aes256_Sha256_RsaPss
+        ],
+        securityModes: [MessageSecurityMode.Sign, MessageSecurityMode.SignAndEncrypt],
+        allowAnonymous: false,
+        userManager: {
+            isValidUser: (userName, password) => userName === "operator" && password === "op-pw"
+        }
+    };
+}
+
+function createServer(port, pkiRoot, secure) {
     const serverCertificateManager = new OPCUACertificateManager({
         automaticallyAcceptUnknownCertificate: true,
         rootFolder: path.join(pkiRoot, "server")
@@ -157,9 +185,7 @@ function createServer(port, pkiRoot) {
         host: HOST, // listen on loopback only
         hostname: HOST, // and advertise opc.tcp://127.0.0.1:PORT in the endpoints
         nodeset_filename: [nodesets.standard],
-        securityPolicies: [SecurityPolicy.None],
-        securityModes: [MessageSecurityMode.None],
-        allowAnonymous: true,
+        ...securityOptions(secure),
         serverCertificateManager,
         userCertificateManager,
         buildInfo: { productName: "skillcell-interop-node-opcua", softwareVersion: "1.0" },
@@ -197,7 +223,7 @@ async function main() {
     let port = 0;
     for (let attempt = 1; ; attempt++) {
         port = opts.port === 0 ? await pickFreePort() : opts.port;
-        const candidate = createServer(port, pkiRoot);
+        const candidate = createServer(port, pkiRoot, opts.secure);
         try {
             await candidate.initialize();
             populate(candidate.engine.addressSpace);

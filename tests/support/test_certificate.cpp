@@ -3,6 +3,7 @@
 #include <openssl/x509v3.h>
 
 #include <stdexcept>
+#include <utility>
 
 namespace skillcell::test {
 
@@ -25,9 +26,21 @@ TestCertificate makeTestCertificate(int bits, const std::string& applicationUri,
     X509V3_set_ctx_nodb(&ctx);
     X509V3_set_ctx(&ctx, cert.get(), cert.get(), nullptr, nullptr, 0);
     const std::string san = "URI:" + applicationUri + ",DNS:localhost";
-    X509_EXTENSION* ext = X509V3_EXT_conf_nid(nullptr, &ctx, NID_subject_alt_name, san.c_str());
-    X509_add_ext(cert.get(), ext, -1);
-    X509_EXTENSION_free(ext);
+    // The extensions OPC 10000-6 6.2.2 asks of an application instance certificate; peers
+    // such as node-opcua refuse one without them (BadCertificateUseNotAllowed).
+    const std::pair<int, std::string> extensions[] = {
+        {NID_subject_alt_name, san},
+        {NID_basic_constraints, "critical,CA:FALSE"},
+        {NID_key_usage,
+         "critical,digitalSignature,nonRepudiation,keyEncipherment,dataEncipherment"},
+        {NID_ext_key_usage, "serverAuth,clientAuth"},
+    };
+    for (const auto& [nid, value] : extensions) {
+        X509_EXTENSION* ext = X509V3_EXT_conf_nid(nullptr, &ctx, nid, value.c_str());
+        if (ext == nullptr) throw std::runtime_error("certificate extension " + value);
+        X509_add_ext(cert.get(), ext, -1);
+        X509_EXTENSION_free(ext);
+    }
     if (X509_sign(cert.get(), key->get(), EVP_sha256()) == 0) {
         throw std::runtime_error("certificate signing failed");
     }
