@@ -1,0 +1,6 @@
+# Simulated devices and their adapters (src/devices, docs/devices.md).
+skillcell_unit_test(test_device_world device_world_test.cpp)
+target_link_libraries(test_device_world PRIVATE skillcell_world skillcell_test_support)
+
+skillcell_unit_test(test_device_ur5 device_ur5_test.cpp)
+target_link_libraries(test_device_ur5 PRIVATE skillcell_ur5 skillcell_test_support)
