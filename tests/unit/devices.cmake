@@ -4,3 +4,7 @@ target_link_libraries(test_device_world PRIVATE skillcell_world skillcell_test_s
 
 skillcell_unit_test(test_device_ur5 device_ur5_test.cpp)
 target_link_libraries(test_device_ur5 PRIVATE skillcell_ur5 skillcell_test_support)
+
+skillcell_unit_test(test_device_robotiq device_robotiq_test.cpp)
+target_link_libraries(test_device_robotiq PRIVATE skillcell_robotiq skillcell_test_support
+                                                  PkgConfig::MODBUS)

@@ -1,0 +1,53 @@
+#include "devices/robotiq/robotiq_client.hpp"
+
+#include <modbus.h>
+
+#include <cerrno>
+
+namespace skillcell::devices::robotiq {
+
+ua::Result<std::unique_ptr<RobotiqClient>> RobotiqClient::open(const std::string& device,
+                                                               int slaveId, std::string* why) {
+    modbus_t* ctx = modbus_new_rtu(device.c_str(), kBaudRate, 'N', 8, 1);
+    if (ctx == nullptr) {
+        if (why != nullptr) *why = std::string("libmodbus: ") + modbus_strerror(errno);
+        return ua::status::BadCommunicationError;
+    }
+    auto client = std::make_unique<RobotiqClient>(Token{}, ctx);  // owns ctx from here
+    if (modbus_set_slave(ctx, slaveId) != 0 || modbus_connect(ctx) != 0) {
+        if (why != nullptr) *why = device + ": " + modbus_strerror(errno);
+        return ua::status::BadCommunicationError;
+    }
+    // A reply that does not come within 200 ms is lost (the gripper answers in ~1 ms).
+    modbus_set_response_timeout(ctx, 0, 200'000);
+    return client;
+}
+
+RobotiqClient::~RobotiqClient() {
+    modbus_close(ctx_);
+    modbus_free(ctx_);
+}
+
+ua::StatusCode RobotiqClient::write(const Command& command) {
+    const Registers r = encode(command);
+    if (modbus_write_registers(ctx_, kCommandAddress, kRegisterCount, r.data()) !=
+        kRegisterCount) {
+        lastError_ = std::string("write: ") + modbus_strerror(errno);
+        modbus_flush(ctx_);
+        return ua::status::BadCommunicationError;
+    }
+    return ua::status::Good;
+}
+
+ua::Result<Status> RobotiqClient::read() {
+    Registers r{};
+    if (modbus_read_input_registers(ctx_, kStatusAddress, kRegisterCount, r.data()) !=
+        kRegisterCount) {
+        lastError_ = std::string("read: ") + modbus_strerror(errno);
+        modbus_flush(ctx_);
+        return ua::status::BadCommunicationError;
+    }
+    return decodeStatus(r);
+}
+
+}  // namespace skillcell::devices::robotiq
