@@ -3,6 +3,7 @@
 // exit code when it was chosen.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <vector>
 
 namespace skillcell::apps {
 
@@ -18,5 +19,7 @@ Command addDiscoverCommand(CLI::App& app);
 Command addSkillCommand(CLI::App& app);
 Command addCheckCommand(CLI::App& app);
 Command addDetectCommand(CLI::App& app);
+/// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq).
+std::vector<Command> addDeviceCommands(CLI::App& app);
 
 }  // namespace skillcell::apps
