@@ -19,7 +19,7 @@ Command addDiscoverCommand(CLI::App& app);
 Command addSkillCommand(CLI::App& app);
 Command addCheckCommand(CLI::App& app);
 Command addDetectCommand(CLI::App& app);
-/// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq).
+/// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq, schmalz).
 std::vector<Command> addDeviceCommands(CLI::App& app);
 
 }  // namespace skillcell::apps

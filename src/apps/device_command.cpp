@@ -6,12 +6,15 @@
 //   robotiq  the Robotiq 2F-85 adapter on a serial device; without --serial, on a
 //            simulated 2F-85 behind a pseudo-terminal that asks the world model what lies
 //            between its fingers and reports grasps and releases there
+//   schmalz  the Schmalz ECBPi adapter on an IO-Link master port, here a simulated master
+//            with a simulated ECBPi that asks the world model what is under its cup
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/robotiq/robotiq_component.hpp"
 #include "devices/robotiq/simulated_gripper_port.hpp"
+#include "devices/schmalz/ecbpi_component.hpp"
 #include "devices/ur5/ur5_component.hpp"
 #include "devices/world/flange_reporter.hpp"
 #include "devices/world/world_nodes.hpp"
@@ -309,6 +312,103 @@ CLI::App* addRobotiq(CLI::App* device, std::vector<Command>& commands) {
     return cmd;
 }
 
+struct SchmalzOptions {
+    ServerProcessOptions process;
+    double speed = 1;
+    std::string world;
+    std::string gripOffset = "0,0,0.12";
+    int port = 1;
+};
+
+/// What `device schmalz` keeps alive, destroyed in reverse: the adapter, the simulated
+/// IO-Link master, the world link.
+struct SchmalzContent {
+    std::unique_ptr<devices::WorldLink> world;
+    std::unique_ptr<devices::schmalz::SimulatedIoLinkMaster> master;
+    std::unique_ptr<devices::schmalz::EcbpiComponent> component;
+};
+
+ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options, ua::Server& server) {
+    namespace sz = devices::schmalz;
+    auto content = std::make_shared<SchmalzContent>();
+    sz::EcbpiComponentOptions o;
+    const auto offset = parsePose6(options.gripOffset);
+    if (!offset) {
+        spdlog::critical("--grip-offset {}: expected X,Y,Z[,A,B,C]", options.gripOffset);
+        return ua::status::BadInvalidArgument;
+    }
+    o.gripPointOffset = toFrame(*offset);
+    o.gripper.port = options.port;
+    if (!options.world.empty()) {
+        auto link = devices::WorldLink::connect(options.world);
+        if (!link) {
+            spdlog::critical("--world {}: {}", options.world, ua::statusName(link.status()));
+            return link.status();
+        }
+        content->world = std::move(*link);
+    }
+    sz::SimulatedIoLinkOptions sim;
+    sim.port = options.port;
+    sim.speed = options.speed;
+    if (devices::WorldLink* world = content->world.get()) {
+        sim.probe = [world]() -> std::optional<std::string> {
+            const auto found = world->objectAtGripPoint();
+            if (!found || !found->has_value()) return std::nullopt;
+            return (*found)->objectId;
+        };
+        sim.onEvent = [world](const sz::CupEvent& e) {
+            const bool grasped = e.kind == sz::CupEvent::Kind::Grasped;
+            const auto s = grasped ? world->grasp(e.partId) : world->release();
+            if (s.isBad()) {
+                spdlog::warn("world model refused the {} of {}: {}", grasped ? "grasp" : "release",
+                             e.partId, ua::statusName(s));
+            }
+        };
+    }
+    content->master = std::make_unique<sz::SimulatedIoLinkMaster>(sim);
+    std::string error;
+    auto component = sz::EcbpiComponent::create(server, *content->master, o, &error);
+    if (!component) {
+        spdlog::critical("schmalz: {}", error);
+        return component.status();
+    }
+    content->component = std::move(*component);
+    return ComponentContent(content);
+}
+
+CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
+    auto options = std::make_shared<SchmalzOptions>();
+    options->process.applicationUri = "urn:skillcell:device:schmalz-ecbpi";
+    options->process.applicationName = "skillcell Schmalz ECBPi";
+    CLI::App* cmd = device->add_subcommand(
+        "schmalz",
+        "Run the Schmalz ECBPi vacuum gripper adapter (IO-Link process data) with the skills "
+        "Grasp and Release (grip point VACUUM), on a simulated IO-Link master and ECBPi.");
+    addServerProcessOptions(cmd, options->process);
+    addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--speed", options->speed, "simulated seconds per real second")
+        ->check(CLI::Range(0.01, 1000.0))
+        ->capture_default_str();
+    cmd->add_option("--world", options->world,
+                    "the world model's endpoint: the simulated ECBPi asks it what is under the "
+                    "cup and reports grasps and releases");
+    cmd->add_option("--grip-offset", options->gripOffset,
+                    "the grip point (the cup's face) from the tool mounting plate: "
+                    "X,Y,Z[,A,B,C] (m, rad)")
+        ->capture_default_str();
+    cmd->add_option("--io-link-port", options->port, "the IO-Link master port of the ECBPi")
+        ->check(CLI::Range(1, 8))
+        ->capture_default_str();
+    commands.push_back({cmd, [options] {
+                            return runServerProcess(
+                                options->process,
+                                [options](ua::Server& server, asio::io_context&) {
+                                    return populateSchmalz(*options, server);
+                                });
+                        }});
+    return cmd;
+}
+
 }  // namespace
 
 std::vector<Command> addDeviceCommands(CLI::App& app) {
@@ -319,6 +419,7 @@ std::vector<Command> addDeviceCommands(CLI::App& app) {
     addWorld(device, commands);
     addUr5(device, commands);
     addRobotiq(device, commands);
+    addSchmalz(device, commands);
     return commands;
 }
 

@@ -8,3 +8,11 @@ target_link_libraries(test_device_ur5 PRIVATE skillcell_ur5 skillcell_test_suppo
 skillcell_unit_test(test_device_robotiq device_robotiq_test.cpp)
 target_link_libraries(test_device_robotiq PRIVATE skillcell_robotiq skillcell_test_support
                                                   PkgConfig::MODBUS)
+
+# The devices together: world model, UR5 and 2F-85, each on its own server.
+skillcell_unit_test(test_device_cell device_cell_test.cpp)
+target_link_libraries(test_device_cell PRIVATE skillcell_world skillcell_ur5 skillcell_robotiq
+                                               skillcell_test_support)
+
+skillcell_unit_test(test_device_schmalz device_schmalz_test.cpp)
+target_link_libraries(test_device_schmalz PRIVATE skillcell_schmalz skillcell_test_support)

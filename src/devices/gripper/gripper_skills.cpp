@@ -9,8 +9,9 @@ enum class Operation : std::uint8_t { Grasp, Release, Move };
 
 class GripperBehaviour final : public skills::SkillBehaviour {
 public:
-    GripperBehaviour(Operation operation, ParallelGripper& gripper)
-        : operation_(operation), gripper_(gripper) {}
+    /// `parallel` is the same gripper when it is a ParallelGripper (MoveGripper needs it).
+    GripperBehaviour(Operation operation, Gripper& gripper, ParallelGripper* parallel)
+        : operation_(operation), gripper_(gripper), parallel_(parallel) {}
 
     void start(const skills::SkillParameters& parameters, skills::SkillRun run) override {
         ParallelGripper::Done done = [run](std::optional<std::string> failure) {
@@ -29,7 +30,7 @@ public:
                 break;
             case Operation::Move:
                 // Range-checked at Start against the parameters' EURange.
-                gripper_.moveTo(parameters.get<double>("Width").value_or(0),
+                parallel_->moveTo(parameters.get<double>("Width").value_or(0),
                                 parameters.get<double>("Force").value_or(0), std::move(done));
                 break;
         }
@@ -40,13 +41,29 @@ public:
 
 private:
     Operation operation_;
-    ParallelGripper& gripper_;
+    Gripper& gripper_;
+    ParallelGripper* parallel_;
 };
+
+ua::StatusCode addSkills(skills::SkillServer& skills, Gripper& gripper, ParallelGripper* parallel,
+                         const KDL::Frame& offset, GripPointType type, std::string* error);
 
 }  // namespace
 
+ua::StatusCode addGripperSkills(skills::SkillServer& skills, Gripper& gripper,
+                                const KDL::Frame& offset, GripPointType type, std::string* error) {
+    return addSkills(skills, gripper, nullptr, offset, type, error);
+}
+
 ua::StatusCode addGripperSkills(skills::SkillServer& skills, ParallelGripper& gripper,
                                 const KDL::Frame& offset, GripPointType type, std::string* error) {
+    return addSkills(skills, gripper, &gripper, offset, type, error);
+}
+
+namespace {
+
+ua::StatusCode addSkills(skills::SkillServer& skills, Gripper& gripper, ParallelGripper* parallel,
+                         const KDL::Frame& offset, GripPointType type, std::string* error) {
     struct Spec {
         const char* type;
         const char* name;
@@ -57,13 +74,15 @@ ua::StatusCode addGripperSkills(skills::SkillServer& skills, ParallelGripper& gr
                           {"MoveGripperSkillType", "MoveGripper", Operation::Move}};
     ua::AddressSpace& as = skills.server().addressSpace();
     for (const Spec& spec : specs) {
+        if (spec.operation == Operation::Move && parallel == nullptr) continue;
         const auto skillType = skills.findSkillType(spec.type);
         if (!skillType) {
             if (error != nullptr) *error = std::string("no skill type ") + spec.type;
             return ua::status::BadTypeDefinitionInvalid;
         }
         auto skill = skills.add(*skillType, spec.name,
-                                std::make_unique<GripperBehaviour>(spec.operation, gripper));
+                                std::make_unique<GripperBehaviour>(spec.operation, gripper,
+                                                                   parallel));
         if (!skill) {
             if (error != nullptr) *error = std::string("cannot add ") + spec.name;
             return skill.status();
@@ -80,4 +99,5 @@ ua::StatusCode addGripperSkills(skills::SkillServer& skills, ParallelGripper& gr
     return ua::status::Good;
 }
 
+}  // namespace
 }  // namespace skillcell::devices

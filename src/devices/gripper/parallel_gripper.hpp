@@ -1,7 +1,8 @@
 #pragma once
-// ParallelGripper: what the gripper skills (gripper_skills.hpp) need from a parallel
-// gripper. The Robotiq 2F-85 adapter is one implementation; another model offering the
-// same skills implements this interface and nothing else changes.
+// Gripper and ParallelGripper: what the gripper skills (gripper_skills.hpp) need from a
+// gripper. The Robotiq 2F-85 adapter is a ParallelGripper, the Schmalz ECBPi adapter a
+// Gripper; another model offering the same skills implements one of these and nothing
+// else changes.
 //
 // Each operation reports once through `done`, from any thread: nullopt on success, else
 // the reason it failed. After halt() the current operation reports nothing.
@@ -11,25 +12,29 @@
 
 namespace skillcell::devices {
 
-class ParallelGripper {
+class Gripper {
 public:
     using Done = std::function<void(std::optional<std::string> failure)>;
 
-    ParallelGripper() = default;
-    virtual ~ParallelGripper() = default;
-    ParallelGripper(const ParallelGripper&) = delete;
-    ParallelGripper& operator=(const ParallelGripper&) = delete;
+    Gripper() = default;
+    virtual ~Gripper() = default;
+    Gripper(const Gripper&) = delete;
+    Gripper& operator=(const Gripper&) = delete;
 
-    /// Closes until an object stops the fingers; fails when they close on nothing.
+    /// Takes hold of the object at the grip point; fails when there is none.
     virtual void grasp(Done done) = 0;
-    /// Opens fully.
+    /// Lets go.
     virtual void release(Done done) = 0;
-    /// Moves the fingers to `width` (m) with at most `force` (N); fails when an object
-    /// stops them first.
-    virtual void moveTo(double width, double force, Done done) = 0;
     virtual void suspend() = 0;
     virtual void resume() = 0;
     virtual void halt() = 0;
+};
+
+class ParallelGripper : public Gripper {
+public:
+    /// Moves the fingers to `width` (m) with at most `force` (N); fails when an object
+    /// stops them first.
+    virtual void moveTo(double width, double force, Done done) = 0;
 };
 
 }  // namespace skillcell::devices

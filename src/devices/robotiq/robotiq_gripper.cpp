@@ -1,6 +1,7 @@
 #include "devices/robotiq/robotiq_gripper.hpp"
 
 #include <cstdio>
+#include <variant>
 
 namespace skillcell::devices::robotiq {
 namespace {
@@ -134,20 +135,16 @@ std::optional<std::string> RobotiqGripper::activate(bool& abandoned) {
     return std::string("the gripper did not complete its activation");
 }
 
-std::optional<std::string> RobotiqGripper::execute(const Job& job, bool& abandoned) {
-    std::uint64_t generation = 0;
-    {
-        std::lock_guard lock(mutex_);
-        generation = generation_;
-    }
-    if (auto failure = activate(abandoned); failure || abandoned) return failure;
-    if (client_->write(job.command).isBad()) return "serial line: " + client_->lastError();
+std::variant<Status, std::string> RobotiqGripper::travel(const Command& command,
+                                                         std::uint64_t generation,
+                                                         bool& abandoned) {
+    if (client_->write(command).isBad()) return "serial line: " + client_->lastError();
     bool holding = false;  // suspended: rGTO = 0 written
     const auto deadline = std::chrono::steady_clock::now() + options_.timeout;
     for (;;) {
         if (!pause(generation)) {
             abandoned = true;
-            return std::nullopt;
+            return Status{};
         }
         bool suspended = false;
         {
@@ -155,7 +152,7 @@ std::optional<std::string> RobotiqGripper::execute(const Job& job, bool& abandon
             suspended = suspended_;
         }
         if (suspended != holding) {
-            Command c = job.command;
+            Command c = command;
             c.go = !suspended;
             if (client_->write(c).isBad()) return "serial line: " + client_->lastError();
             holding = suspended;
@@ -172,24 +169,54 @@ std::optional<std::string> RobotiqGripper::execute(const Job& job, bool& abandon
                           static_cast<unsigned>(status->fault));
             return std::string(buf);
         }
-        if (!status->going || status->requestEcho != job.command.position ||
-            status->object == ObjectStatus::Moving) {
-            continue;
-        }
-        const std::string where = millimetres(status->position);
-        switch (job.goal) {
-            case Goal::Grasp:
-                if (status->object == ObjectStatus::ContactClosing) return std::nullopt;
-                return "no object between the fingers: they closed to " + where;
-            case Goal::Release:
-                if (status->object == ObjectStatus::AtRequestedPosition) return std::nullopt;
-                return "the fingers were blocked while opening at " + where;
-            case Goal::Move:
-                if (status->object == ObjectStatus::AtRequestedPosition) return std::nullopt;
-                return "an object stopped the fingers at " + where + " before " +
-                       millimetres(job.command.position);
+        if (status->going && status->requestEcho == command.position &&
+            status->object != ObjectStatus::Moving) {
+            return *status;
         }
     }
+}
+
+std::optional<std::string> RobotiqGripper::execute(const Job& job, bool& abandoned) {
+    std::uint64_t generation = 0;
+    {
+        std::lock_guard lock(mutex_);
+        generation = generation_;
+    }
+    if (auto failure = activate(abandoned); failure || abandoned) return failure;
+    if (job.goal == Goal::Grasp) {
+        // Fingers that are not open cannot close around anything: open them first.
+        const auto status = client_->read();
+        if (!status) return "serial line: " + client_->lastError();
+        if (status->position > kOpenEnough) {
+            Command open = job.command;
+            open.position = 0;
+            auto opened = travel(open, generation, abandoned);
+            if (auto* why = std::get_if<std::string>(&opened)) return *why;
+            if (abandoned) return std::nullopt;
+            if (std::get<Status>(opened).object != ObjectStatus::AtRequestedPosition) {
+                return "the fingers were blocked while opening at " +
+                       millimetres(std::get<Status>(opened).position);
+            }
+        }
+    }
+    auto stopped = travel(job.command, generation, abandoned);
+    if (auto* why = std::get_if<std::string>(&stopped)) return *why;
+    if (abandoned) return std::nullopt;
+    const Status& status = std::get<Status>(stopped);
+    const std::string where = millimetres(status.position);
+    switch (job.goal) {
+        case Goal::Grasp:
+            if (status.object == ObjectStatus::ContactClosing) return std::nullopt;
+            return "no object between the fingers: they closed to " + where;
+        case Goal::Release:
+            if (status.object == ObjectStatus::AtRequestedPosition) return std::nullopt;
+            return "the fingers were blocked while opening at " + where;
+        case Goal::Move:
+            if (status.object == ObjectStatus::AtRequestedPosition) return std::nullopt;
+            return "an object stopped the fingers at " + where + " before " +
+                   millimetres(job.command.position);
+    }
+    return std::string("unknown operation");
 }
 
 }  // namespace skillcell::devices::robotiq

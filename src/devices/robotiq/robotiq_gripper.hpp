@@ -3,7 +3,8 @@
 // one worker thread owns the serial line and runs one operation at a time: activate the
 // gripper when it is not (rACT 0 then 1, until gSTA = 3), write the request (rGTO,
 // rPR, rSP, rFR), then read the status registers at the poll period until the fingers
-// stop (gOBJ != 0 with gPR echoing the request), and judge the outcome from gOBJ.
+// stop (gOBJ != 0 with gPR echoing the request), and judge the outcome from gOBJ. A
+// Grasp opens the fingers first when they are not open.
 // Polling is the 2F-85's protocol: it reports nothing unasked.
 // Suspend writes rGTO = 0 (the fingers stop) and resume writes the request again; halt
 // does the same as suspend and abandons the operation.
@@ -14,6 +15,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <variant>
 
 #include "devices/gripper/parallel_gripper.hpp"
 #include "devices/robotiq/robotiq_client.hpp"
@@ -63,6 +65,11 @@ private:
     /// `abandoned` when halt() ended it.
     std::optional<std::string> execute(const Job& job, bool& abandoned);
     std::optional<std::string> activate(bool& abandoned);
+    /// Writes `command` and polls until the fingers stop: their status, or the failure.
+    std::variant<Status, std::string> travel(const Command& command, std::uint64_t generation,
+                                             bool& abandoned);
+    /// A Grasp opens fingers that are closed further than this first.
+    static constexpr std::uint8_t kOpenEnough = 3;
     /// Waits one poll period, or less when halted; false when the job is abandoned.
     bool pause(std::uint64_t generation);
 
