@@ -106,20 +106,20 @@ CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--tool", options->tools,
                     "a tool stored in a dock: ID:DOCK@X,Y,Z[,A,B,C] (its grip point relative "
                     "to the mounting plate)");
-    commands.push_back({cmd, [options] {
-                            return runServerProcess(
-                                options->process,
-                                [options](ua::Server& server,
-                                          asio::io_context&) -> ua::Result<ComponentContent> {
-                                    devices::World world;
-                                    if (const auto s = seedWorld(*options, world); s.isBad()) {
-                                        return s;
-                                    }
-                                    auto nodes = devices::WorldNodes::create(server, world);
-                                    if (!nodes) return nodes.status();
-                                    return ComponentContent(std::move(*nodes));
-                                });
-                        }});
+    commands.push_back(
+        {cmd, [options] {
+             return runServerProcess(
+                 options->process,
+                 [options](ua::Server& server, asio::io_context&) -> ua::Result<ComponentContent> {
+                     devices::World world;
+                     if (const auto s = seedWorld(*options, world); s.isBad()) {
+                         return s;
+                     }
+                     auto nodes = devices::WorldNodes::create(server, world);
+                     if (!nodes) return nodes.status();
+                     return ComponentContent(std::move(*nodes));
+                 });
+         }});
     return cmd;
 }
 
@@ -304,8 +304,7 @@ CLI::App* addRobotiq(CLI::App* device, std::vector<Command>& commands) {
         ->capture_default_str();
     commands.push_back({cmd, [options] {
                             return runServerProcess(
-                                options->process,
-                                [options](ua::Server& server, asio::io_context&) {
+                                options->process, [options](ua::Server& server, asio::io_context&) {
                                     return populateRobotiq(*options, server);
                                 });
                         }});
@@ -401,8 +400,7 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
         ->capture_default_str();
     commands.push_back({cmd, [options] {
                             return runServerProcess(
-                                options->process,
-                                [options](ua::Server& server, asio::io_context&) {
+                                options->process, [options](ua::Server& server, asio::io_context&) {
                                     return populateSchmalz(*options, server);
                                 });
                         }});

@@ -26,7 +26,9 @@ KDL::Frame at(double x, double y, double z, double a = 0, double b = 0, double c
 }
 
 /// Tool pointing down (the flange's z axis along the base's -z).
-KDL::Frame down(double x, double y, double z) { return at(x, y, z, M_PI, 0, 0); }
+KDL::Frame down(double x, double y, double z) {
+    return at(x, y, z, M_PI, 0, 0);
+}
 
 TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     const KDL::Frame gripOffset(KDL::Vector(0, 0, 0.15));
@@ -92,22 +94,26 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     });
 
     test::ClientThread robotClient, gripperClient;
-    auto ptp = robotClient.attach(robotServer.url(), ua::NodeId(1, ua::String("Skills/CartesianPtpMove")));
+    auto ptp =
+        robotClient.attach(robotServer.url(), ua::NodeId(1, ua::String("Skills/CartesianPtpMove")));
     auto linear = robotClient.attach(robotServer.url(),
                                      ua::NodeId(1, ua::String("Skills/CartesianLinearMove")));
-    auto grasp = gripperClient.attach(gripperServer.url(), ua::NodeId(1, ua::String("Skills/Grasp")));
+    auto grasp =
+        gripperClient.attach(gripperServer.url(), ua::NodeId(1, ua::String("Skills/Grasp")));
     auto release =
         gripperClient.attach(gripperServer.url(), ua::NodeId(1, ua::String("Skills/Release")));
     ASSERT_TRUE(ptp && linear && grasp && release);
     auto moveFlange = [&](const std::shared_ptr<skills::SkillClient>& skill, const KDL::Frame& f) {
-        const auto outcome = robotClient.invoke(skill, {{"TargetPosition", frameToVariant(f)}}, 20s);
+        const auto outcome =
+            robotClient.invoke(skill, {{"TargetPosition", frameToVariant(f)}}, 20s);
         EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
         EXPECT_TRUE(reporter->flush(5s));  // the world has the final flange pose
     };
     // The TCP (the grip point) moves; ToolFrame tells the robot where it is.
     auto moveTcp = [&](const KDL::Frame& tcp) {
         const auto outcome = robotClient.invoke(
-            linear, {{"TargetPosition", frameToVariant(tcp)}, {"ToolFrame", frameToVariant(gripOffset)}},
+            linear,
+            {{"TargetPosition", frameToVariant(tcp)}, {"ToolFrame", frameToVariant(gripOffset)}},
             20s);
         EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
         EXPECT_TRUE(reporter->flush(5s));

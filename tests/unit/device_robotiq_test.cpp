@@ -341,7 +341,9 @@ TEST(DeviceRobotiqSkills, HaltStopsTheFingersMidway) {
     // each slice waits for the adapter's next poll to see it.
     auto released = asio::co_spawn(
         t.io(),
-        [&]() -> asio::awaitable<skills::SkillOutcome> { co_return co_await release->run({}, 20s); },
+        [&]() -> asio::awaitable<skills::SkillOutcome> {
+            co_return co_await release->run({}, 20s);
+        },
         asio::use_future);
     for (int i = 0; i < 100 && released.wait_for(0s) != std::future_status::ready; ++i) {
         const auto n = cell.port().requests();
@@ -357,8 +359,8 @@ TEST(DeviceRobotiqSkills, HaltStopsTheFingersMidway) {
         co_return co_await move->start();
     });
     ASSERT_EQ(started, ua::status::Good);
-    ASSERT_TRUE(cell.port().waitForCommand(
-        [](const Command& c) { return c.go && c.position == 255; }, 5s));
+    ASSERT_TRUE(
+        cell.port().waitForCommand([](const Command& c) { return c.go && c.position == 255; }, 5s));
     // 100 ms at 100 mm/s: the fingers close by 10 mm, then the skill is halted.
     auto n = cell.port().requests();
     ms += 100;

@@ -112,9 +112,8 @@ TEST(DeviceUr5Kinematics, UnreachablePosesAreRefusedWithAReason) {
 }
 
 TEST(DeviceUr5Profile, TrapezoidRespectsItsLimits) {
-    for (const auto& [distance, v, a] :
-         {std::tuple{1.0, 0.25, 1.2}, std::tuple{0.01, 0.25, 1.2}, std::tuple{3.0, 1.05, 1.4},
-          std::tuple{0.0, 1.0, 1.0}}) {
+    for (const auto& [distance, v, a] : {std::tuple{1.0, 0.25, 1.2}, std::tuple{0.01, 0.25, 1.2},
+                                         std::tuple{3.0, 1.05, 1.4}, std::tuple{0.0, 1.0, 1.0}}) {
         const TrapezoidalProfile p(distance, v, a);
         EXPECT_NEAR(p.position(p.duration()), distance, 1e-12);
         EXPECT_LE(p.peakVelocity(), v + 1e-12);
@@ -308,7 +307,9 @@ private:
     test::RunningServer server_;
 };
 
-ua::Variant joints(const Joints& q) { return ua::Variant::array(std::vector<double>(q.begin(), q.end())); }
+ua::Variant joints(const Joints& q) {
+    return ua::Variant::array(std::vector<double>(q.begin(), q.end()));
+}
 
 TEST(DeviceUr5Skills, JointAndCartesianMovesReachTheirTargets) {
     Ur5Cell cell;
@@ -349,11 +350,11 @@ TEST(DeviceUr5Skills, JointAndCartesianMovesReachTheirTargets) {
     for (std::size_t i = 0; i < kUr5Joints; ++i) {
         bounds.emplace_back(ua::toExtensionObject(ua::Range{-M_PI, M_PI}));
     }
-    outcome = t.invoke(cptp,
-                       {{"TargetPosition", frameToVariant(goal2)},
-                        {"AxisBounds", ua::Variant::array(ua::BuiltinType::ExtensionObject,
-                                                          std::move(bounds))}},
-                       10s);
+    outcome = t.invoke(
+        cptp,
+        {{"TargetPosition", frameToVariant(goal2)},
+         {"AxisBounds", ua::Variant::array(ua::BuiltinType::ExtensionObject, std::move(bounds))}},
+        10s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     const Joints q = cell.joints();
     EXPECT_TRUE(near(cell.forward(q), goal2, 1e-6, 1e-6));
@@ -386,15 +387,16 @@ TEST(DeviceUr5Skills, AnUnreachableTargetHaltsTheSkillWithTheReason) {
     // with its reason; a velocity beyond the EURange is refused at the write.
     auto ptp = t.attach(cell.url(), Ur5Cell::skill("JointPtpMove"));
     ASSERT_TRUE(ptp);
-    outcome = t.invoke(ptp, {{"TargetJointPosition", joints({0, 0, 0, 0, 0, 0})},
-                             {"MaxVelocity", ua::Variant(5.0)}},
-                       10s);
+    outcome = t.invoke(
+        ptp,
+        {{"TargetJointPosition", joints({0, 0, 0, 0, 0, 0})}, {"MaxVelocity", ua::Variant(5.0)}},
+        10s);
     EXPECT_EQ(outcome.kind, Kind::Refused);
     EXPECT_EQ(outcome.status, ua::status::BadOutOfRange);
-    outcome = t.invoke(
-        ptp, {{"TargetJointPosition", ua::Variant::array(std::vector<double>{0, 0, 0})},
-              {"MaxVelocity", ua::Variant(0.0)}},
-        10s);
+    outcome = t.invoke(ptp,
+                       {{"TargetJointPosition", ua::Variant::array(std::vector<double>{0, 0, 0})},
+                        {"MaxVelocity", ua::Variant(0.0)}},
+                       10s);
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("6 joint positions"), std::string::npos) << outcome.reason;
     // No target written: the model's default TargetPosition (the base frame's origin,
@@ -447,9 +449,8 @@ TEST(DeviceUr5Skills, SuspendResumeAndHaltWorkMidMotion) {
     ASSERT_TRUE(cell.ticks().waitTicks(2));
     EXPECT_NEAR(cell.elapsed(), 1.5, 1e-9);  // the pause did not count
     clock.advance(2000ms);
-    const auto end = t.run([&]() -> asio::awaitable<skills::SkillOutcome> {
-        co_return co_await ptp->waitForEnd(5s);
-    });
+    const auto end = t.run(
+        [&]() -> asio::awaitable<skills::SkillOutcome> { co_return co_await ptp->waitForEnd(5s); });
     EXPECT_EQ(end.kind, Kind::Finished) << end.reason;
     EXPECT_LT(maxDiff(cell.joints(), target), 1e-12);
 

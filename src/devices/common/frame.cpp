@@ -44,8 +44,7 @@ ua::Variant frameToVariant(const KDL::Frame& frame) {
 ua::Result<KDL::Frame> frameFromVariant(const ua::Variant& value) {
     const auto* eo = value.get<ua::ExtensionObject>();
     if (eo == nullptr || eo->encoding != ua::ExtensionObject::Encoding::Binary ||
-        eo->typeId != ua::NodeId(kThreeDFrameDefaultBinary) ||
-        eo->body.size() != kFrameBodySize) {
+        eo->typeId != ua::NodeId(kThreeDFrameDefaultBinary) || eo->body.size() != kFrameBodySize) {
         return ua::status::BadTypeMismatch;
     }
     double v[6];
@@ -81,8 +80,8 @@ std::optional<Pose6> parsePose6(std::string_view text) {
 std::string describe(const KDL::Frame& frame) {
     const Pose6 p = toPose6(frame);
     char buf[160];
-    std::snprintf(buf, sizeof buf, "(%.3f, %.3f, %.3f | %.3f, %.3f, %.3f)", p.x, p.y, p.z, p.a,
-                  p.b, p.c);
+    std::snprintf(buf, sizeof buf, "(%.3f, %.3f, %.3f | %.3f, %.3f, %.3f)", p.x, p.y, p.z, p.a, p.b,
+                  p.c);
     return buf;
 }
 

@@ -31,7 +31,7 @@ public:
             case Operation::Move:
                 // Range-checked at Start against the parameters' EURange.
                 parallel_->moveTo(parameters.get<double>("Width").value_or(0),
-                                parameters.get<double>("Force").value_or(0), std::move(done));
+                                  parameters.get<double>("Force").value_or(0), std::move(done));
                 break;
         }
     }
@@ -80,9 +80,9 @@ ua::StatusCode addSkills(skills::SkillServer& skills, Gripper& gripper, Parallel
             if (error != nullptr) *error = std::string("no skill type ") + spec.type;
             return ua::status::BadTypeDefinitionInvalid;
         }
-        auto skill = skills.add(*skillType, spec.name,
-                                std::make_unique<GripperBehaviour>(spec.operation, gripper,
-                                                                   parallel));
+        auto skill =
+            skills.add(*skillType, spec.name,
+                       std::make_unique<GripperBehaviour>(spec.operation, gripper, parallel));
         if (!skill) {
             if (error != nullptr) *error = std::string("cannot add ") + spec.name;
             return skill.status();

@@ -9,8 +9,6 @@
 #include "devices/robotiq/robotiq_registers.hpp"
 #include "ua/types/result.hpp"
 
-struct _modbus;
-
 namespace skillcell::devices::robotiq {
 
 class RobotiqClient {
@@ -29,15 +27,17 @@ public:
     [[nodiscard]] ua::Result<Status> read();
     [[nodiscard]] const std::string& lastError() const { return lastError_; }
 
+    /// The libmodbus context (defined where libmodbus is included).
+    struct Context;
     struct Token {
     private:
         friend class RobotiqClient;
         Token() = default;
     };
-    RobotiqClient(Token, _modbus* ctx) : ctx_(ctx) {}
+    RobotiqClient(Token, std::unique_ptr<Context> ctx);
 
 private:
-    _modbus* ctx_;
+    std::unique_ptr<Context> ctx_;
     std::string lastError_;
 };
 

@@ -27,14 +27,14 @@ struct RobotiqGripperOptions {
     std::chrono::milliseconds poll{5};
     /// Real time an operation (activation included) may take before it fails.
     std::chrono::milliseconds timeout{30'000};
-    double speed = 0.1;        // m/s, finger speed of every motion
-    double graspForce = 100;   // N
+    double speed = 0.1;       // m/s, finger speed of every motion
+    double graspForce = 100;  // N
 };
 
 class RobotiqGripper final : public ParallelGripper {
 public:
-    [[nodiscard]] static std::unique_ptr<RobotiqGripper> start(std::unique_ptr<RobotiqClient> client,
-                                                               RobotiqGripperOptions options = {});
+    [[nodiscard]] static std::unique_ptr<RobotiqGripper> start(
+        std::unique_ptr<RobotiqClient> client, RobotiqGripperOptions options = {});
     ~RobotiqGripper() override;
 
     void grasp(Done done) override;

@@ -9,9 +9,15 @@ namespace {
 std::uint16_t pack(std::uint8_t high, std::uint8_t low) {
     return static_cast<std::uint16_t>((high << 8) | low);
 }
-std::uint8_t high(std::uint16_t r) { return static_cast<std::uint8_t>(r >> 8); }
-std::uint8_t low(std::uint16_t r) { return static_cast<std::uint8_t>(r & 0xFF); }
-bool bit(std::uint8_t byte, int n) { return ((byte >> n) & 1U) != 0; }
+std::uint8_t high(std::uint16_t r) {
+    return static_cast<std::uint8_t>(r >> 8);
+}
+std::uint8_t low(std::uint16_t r) {
+    return static_cast<std::uint8_t>(r & 0xFF);
+}
+bool bit(std::uint8_t byte, int n) {
+    return ((byte >> n) & 1U) != 0;
+}
 
 std::uint8_t scale(double value, double lo, double hi) {
     const double f = std::clamp((value - lo) / (hi - lo), 0.0, 1.0);
@@ -21,9 +27,9 @@ std::uint8_t scale(double value, double lo, double hi) {
 }  // namespace
 
 Registers encode(const Command& c) {
-    const auto action = static_cast<std::uint8_t>(
-        (c.activate ? 1U : 0U) | (c.go ? 1U << 3 : 0U) | (c.autoRelease ? 1U << 4 : 0U) |
-        (c.autoReleaseOpen ? 1U << 5 : 0U));
+    const auto action = static_cast<std::uint8_t>((c.activate ? 1U : 0U) | (c.go ? 1U << 3 : 0U) |
+                                                  (c.autoRelease ? 1U << 4 : 0U) |
+                                                  (c.autoReleaseOpen ? 1U << 5 : 0U));
     return {pack(action, 0), pack(0, c.position), pack(c.speed, c.force)};
 }
 
@@ -62,13 +68,23 @@ Status decodeStatus(const Registers& r) {
     return s;
 }
 
-double widthOf(std::uint8_t position) { return kStroke * (1.0 - position / 255.0); }
+double widthOf(std::uint8_t position) {
+    return kStroke * (1.0 - position / 255.0);
+}
 std::uint8_t positionFor(double width) {
     return static_cast<std::uint8_t>(255 - scale(width, 0, kStroke));
 }
-double speedOf(std::uint8_t speed) { return kMinSpeed + (kMaxSpeed - kMinSpeed) * speed / 255.0; }
-std::uint8_t speedFor(double metresPerSecond) { return scale(metresPerSecond, kMinSpeed, kMaxSpeed); }
-double forceOf(std::uint8_t force) { return kMinForce + (kMaxForce - kMinForce) * force / 255.0; }
-std::uint8_t forceFor(double newtons) { return scale(newtons, kMinForce, kMaxForce); }
+double speedOf(std::uint8_t speed) {
+    return kMinSpeed + (kMaxSpeed - kMinSpeed) * speed / 255.0;
+}
+std::uint8_t speedFor(double metresPerSecond) {
+    return scale(metresPerSecond, kMinSpeed, kMaxSpeed);
+}
+double forceOf(std::uint8_t force) {
+    return kMinForce + (kMaxForce - kMinForce) * force / 255.0;
+}
+std::uint8_t forceFor(double newtons) {
+    return scale(newtons, kMinForce, kMaxForce);
+}
 
 }  // namespace skillcell::devices::robotiq

@@ -26,9 +26,9 @@ inline constexpr int kRegisterCount = 3;
 enum class ActivationStatus : std::uint8_t { Reset = 0, Activating = 1, Active = 3 };
 /// gOBJ: object detection status (valid while gGTO = 1).
 enum class ObjectStatus : std::uint8_t {
-    Moving = 0,             // fingers moving towards the requested position, no object
-    ContactOpening = 1,     // fingers stopped by contact while opening
-    ContactClosing = 2,     // fingers stopped by contact while closing: an object is held
+    Moving = 0,              // fingers moving towards the requested position, no object
+    ContactOpening = 1,      // fingers stopped by contact while opening
+    ContactClosing = 2,      // fingers stopped by contact while closing: an object is held
     AtRequestedPosition = 3  // fingers at the requested position: no object met
 };
 /// gFLT values the simulation produces.
@@ -40,13 +40,13 @@ enum class Fault : std::uint8_t {
 
 /// What the robot writes.
 struct Command {
-    bool activate = false;    // rACT
-    bool go = false;          // rGTO
-    bool autoRelease = false; // rATR
+    bool activate = false;         // rACT
+    bool go = false;               // rGTO
+    bool autoRelease = false;      // rATR
     bool autoReleaseOpen = false;  // rARD
-    std::uint8_t position = 0;  // rPR
-    std::uint8_t speed = 0;     // rSP
-    std::uint8_t force = 0;     // rFR
+    std::uint8_t position = 0;     // rPR
+    std::uint8_t speed = 0;        // rSP
+    std::uint8_t force = 0;        // rFR
     friend bool operator==(const Command&, const Command&) = default;
 };
 

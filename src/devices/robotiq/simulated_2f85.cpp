@@ -103,8 +103,8 @@ Status Simulated2F85::status(double now) {
     s.activated = command_.activate;
     s.going = command_.go;
     s.activation = activation_;
-    s.object = command_.go && activation_ == ActivationStatus::Active ? object_
-                                                                        : ObjectStatus::Moving;
+    s.object =
+        command_.go && activation_ == ActivationStatus::Active ? object_ : ObjectStatus::Moving;
     s.fault = fault_;
     s.requestEcho = command_.position;
     s.position = static_cast<std::uint8_t>(std::clamp(std::lround(position_), 0L, 255L));

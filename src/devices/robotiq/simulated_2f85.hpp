@@ -59,7 +59,7 @@ private:
     // The motion in progress.
     bool moving_ = false;
     double from_ = 0;
-    double stopAt_ = 0;    // the requested position, or where the object stops the fingers
+    double stopAt_ = 0;  // the requested position, or where the object stops the fingers
     double startedAt_ = 0;
     double unitsPerSecond_ = 1;
     std::optional<std::string> contactWith_;  // the object the motion will meet

@@ -7,9 +7,9 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <spdlog/spdlog.h>
 #include <cerrno>
 #include <cstring>
-#include <spdlog/spdlog.h>
 
 namespace skillcell::devices::robotiq {
 namespace {
@@ -158,8 +158,7 @@ void SimulatedGripperPort::serve() {
             if (function == MODBUS_FC_WRITE_MULTIPLE_REGISTERS ||
                 function == MODBUS_FC_WRITE_SINGLE_REGISTER) {
                 Registers written{};
-                std::copy(map->tab_registers, map->tab_registers + kRegisterCount,
-                          written.begin());
+                std::copy(map->tab_registers, map->tab_registers + kRegisterCount, written.begin());
                 gripper_.write(decodeCommand(written), now());
             }
             events = gripper_.takeEvents();

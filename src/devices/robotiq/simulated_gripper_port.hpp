@@ -30,8 +30,8 @@ struct SimulatedGripperOptions {
 class SimulatedGripperPort {
 public:
     /// Opens the pty pair and starts serving. On failure `why` (if given) says why.
-    [[nodiscard]] static std::unique_ptr<SimulatedGripperPort> open(
-        SimulatedGripperOptions options, std::string* why = nullptr);
+    [[nodiscard]] static std::unique_ptr<SimulatedGripperPort> open(SimulatedGripperOptions options,
+                                                                    std::string* why = nullptr);
     ~SimulatedGripperPort();
     SimulatedGripperPort(const SimulatedGripperPort&) = delete;
     SimulatedGripperPort& operator=(const SimulatedGripperPort&) = delete;

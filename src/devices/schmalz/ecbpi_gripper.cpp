@@ -28,8 +28,12 @@ void EcbpiGripper::submit(Goal goal, Done done) {
     cv_.notify_all();
 }
 
-void EcbpiGripper::grasp(Done done) { submit(Goal::Grasp, std::move(done)); }
-void EcbpiGripper::release(Done done) { submit(Goal::Release, std::move(done)); }
+void EcbpiGripper::grasp(Done done) {
+    submit(Goal::Grasp, std::move(done));
+}
+void EcbpiGripper::release(Done done) {
+    submit(Goal::Release, std::move(done));
+}
 
 void EcbpiGripper::suspend() {
     std::lock_guard lock(mutex_);

@@ -25,8 +25,8 @@ struct CupEvent {
 };
 
 struct VacuumLevels {
-    double sealed = 750;    // mbar with a part sealing the cup
-    double freeFlow = 60;   // mbar with the cup open
+    double sealed = 750;   // mbar with a part sealing the cup
+    double freeFlow = 60;  // mbar with the cup open
     double sp1 = 600, rp1 = 550;
     double sp2 = 400, rp2 = 300;
     double detached = 50;

@@ -13,17 +13,19 @@ constexpr double kSampleSpacing = 0.002;  // m of path parameter between IK samp
 // singularity or flips the arm's configuration: not a straight line any more.
 constexpr double kMaxJointStep = 0.1;  // rad
 
-std::string jointName(std::size_t i) { return "joint " + std::to_string(i + 1); }
+std::string jointName(std::size_t i) {
+    return "joint " + std::to_string(i + 1);
+}
 
 }  // namespace
 
 std::variant<Trajectory, std::string> MotionPlanner::plan(const Joints& current,
                                                           const MoveRequest& request) const {
-    const bool linear = request.kind == MoveKind::CartesianLinear ||
-                        request.kind == MoveKind::JointLinear;
+    const bool linear =
+        request.kind == MoveKind::CartesianLinear || request.kind == MoveKind::JointLinear;
     const double velocity = request.maxVelocity > 0 ? request.maxVelocity
-                            : linear               ? defaults_.linearVelocity
-                                                   : defaults_.jointVelocity;
+                            : linear                ? defaults_.linearVelocity
+                                                    : defaults_.jointVelocity;
     const double acceleration = request.maxAcceleration > 0 ? request.maxAcceleration
                                 : linear                    ? defaults_.linearAcceleration
                                                             : defaults_.jointAcceleration;
@@ -82,12 +84,9 @@ std::variant<Trajectory, std::string> MotionPlanner::plan(const Joints& current,
     return std::string("unknown move");
 }
 
-std::variant<Trajectory, std::string> MotionPlanner::linear(const Joints& current,
-                                                            const KDL::Frame& tcpTarget,
-                                                            const KDL::Frame& toolFrame,
-                                                            const JointBounds& bounds,
-                                                            double velocity,
-                                                            double acceleration) const {
+std::variant<Trajectory, std::string> MotionPlanner::linear(
+    const Joints& current, const KDL::Frame& tcpTarget, const KDL::Frame& toolFrame,
+    const JointBounds& bounds, double velocity, double acceleration) const {
     const KDL::Frame flangeTarget = tcpTarget * toolFrame.Inverse();
     // The end first: a target out of reach gets that reason, not a path failure.
     std::string why;
@@ -108,12 +107,13 @@ std::variant<Trajectory, std::string> MotionPlanner::linear(const Joints& curren
         const double f = static_cast<double>(k) / static_cast<double>(steps);
         const KDL::Frame tcp(start.M * KDL::Rotation::Rot(axis, angle * f), start.p + move * f);
         const auto q = kinematics_.inverseNear(tcp * toolFrame.Inverse(), previous, bounds);
-        const std::string where = std::to_string(static_cast<int>(std::round(f * 100))) + "% of the line";
+        const std::string where =
+            std::to_string(static_cast<int>(std::round(f * 100))) + "% of the line";
         if (!q) return "the straight line leaves the workspace at " + where;
         for (std::size_t i = 0; i < kUr5Joints; ++i) {
             if (std::abs((*q)[i] - previous[i]) > kMaxJointStep) {
-                return "the straight line passes a singularity at " + where + " (" +
-                       jointName(i) + " would jump)";
+                return "the straight line passes a singularity at " + where + " (" + jointName(i) +
+                       " would jump)";
             }
         }
         samples.push_back(*q);

@@ -49,12 +49,9 @@ public:
                                                              const MoveRequest& request) const;
 
 private:
-    [[nodiscard]] std::variant<Trajectory, std::string> linear(const Joints& current,
-                                                               const KDL::Frame& tcpTarget,
-                                                               const KDL::Frame& toolFrame,
-                                                               const JointBounds& bounds,
-                                                               double velocity,
-                                                               double acceleration) const;
+    [[nodiscard]] std::variant<Trajectory, std::string> linear(
+        const Joints& current, const KDL::Frame& tcpTarget, const KDL::Frame& toolFrame,
+        const JointBounds& bounds, double velocity, double acceleration) const;
 
     const Ur5Kinematics& kinematics_;
     MoveDefaults defaults_;

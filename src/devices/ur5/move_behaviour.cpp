@@ -19,8 +19,8 @@ std::variant<KDL::Frame, std::string> frameParameter(const skills::SkillParamete
 
 }  // namespace
 
-std::variant<MoveRequest, std::string> MoveBehaviour::request(
-    MoveKind kind, const skills::SkillParameters& p) {
+std::variant<MoveRequest, std::string> MoveBehaviour::request(MoveKind kind,
+                                                              const skills::SkillParameters& p) {
     MoveRequest r;
     r.kind = kind;
     auto tool = frameParameter(p, "ToolFrame");

@@ -2,14 +2,16 @@
 
 namespace skillcell::devices {
 
-SimulatedUr5::SimulatedUr5(asio::any_io_executor executor, SimulatedUr5Options options,
+SimulatedUr5::SimulatedUr5(const asio::any_io_executor& executor, SimulatedUr5Options options,
                            Observer observer)
-    : timer_(std::move(executor)),
+    : timer_(executor),
       options_(std::move(options)),
       observer_(std::move(observer)),
       joints_(options_.initial) {}
 
-SimulatedUr5::~SimulatedUr5() { timer_.cancel(); }
+SimulatedUr5::~SimulatedUr5() {
+    timer_.cancel();
+}
 
 std::chrono::steady_clock::time_point SimulatedUr5::now() const {
     return options_.clock ? options_.clock() : std::chrono::steady_clock::now();

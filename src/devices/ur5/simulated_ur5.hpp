@@ -27,7 +27,7 @@ struct SimulatedUr5Options {
 class SimulatedUr5 final : public ArmController {
 public:
     using Observer = std::function<void(const Joints&)>;
-    SimulatedUr5(asio::any_io_executor executor, SimulatedUr5Options options,
+    SimulatedUr5(const asio::any_io_executor& executor, SimulatedUr5Options options,
                  Observer observer = {});
     ~SimulatedUr5() override;
 

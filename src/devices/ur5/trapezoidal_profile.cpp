@@ -5,8 +5,7 @@
 
 namespace skillcell::devices {
 
-TrapezoidalProfile::TrapezoidalProfile(double distance, double maxVelocity,
-                                       double maxAcceleration)
+TrapezoidalProfile::TrapezoidalProfile(double distance, double maxVelocity, double maxAcceleration)
     : distance_(std::max(distance, 0.0)), acceleration_(maxAcceleration) {
     if (distance_ * maxAcceleration < maxVelocity * maxVelocity) {
         peak_ = std::sqrt(distance_ * maxAcceleration);  // never reaches the limit

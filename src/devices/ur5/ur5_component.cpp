@@ -21,7 +21,9 @@ ua::Result<std::unique_ptr<Ur5Component>> Ur5Component::create(ua::Server& serve
 ua::StatusCode Ur5Component::build(std::string* error) {
     ua::AddressSpace& as = server_.addressSpace();
     robot_ = ua::NodeId(1, ua::String("UR5"));
-    auto id = [](const char* name) { return ua::NodeId(1, ua::String(std::string("UR5/") + name)); };
+    auto id = [](const char* name) {
+        return ua::NodeId(1, ua::String(std::string("UR5/") + name));
+    };
     if (auto r = as.addObject(ua::NodeId(ua::ns0::ObjectsFolder), robot_, "UR5"); !r) {
         return r.status();
     }
@@ -71,8 +73,8 @@ ua::StatusCode Ur5Component::build(std::string* error) {
         auto behaviour = std::make_unique<MoveBehaviour>(
             spec.kind, *arm_, planner_, [this](const KDL::Frame& tool) {
                 toolFrame_ = tool;
-                (void)server_.addressSpace().setValue(
-                    ua::NodeId(1, ua::String("UR5/ToolFrame")), frameToVariant(tool));
+                (void)server_.addressSpace().setValue(ua::NodeId(1, ua::String("UR5/ToolFrame")),
+                                                      frameToVariant(tool));
             });
         auto skill = skills_->add(*type, spec.name, std::move(behaviour));
         if (!skill) {
@@ -101,7 +103,8 @@ void Ur5Component::publish(const Joints& q) {
     (void)as.setValue(ua::NodeId(1, ua::String("UR5/JointPositions")),
                       ua::Variant::array(std::vector<double>(q.begin(), q.end())));
     (void)as.setValue(ua::NodeId(1, ua::String("UR5/FlangePose")), frameToVariant(flange));
-    (void)as.setValue(ua::NodeId(1, ua::String("UR5/TcpPose")), frameToVariant(flange * toolFrame_));
+    (void)as.setValue(ua::NodeId(1, ua::String("UR5/TcpPose")),
+                      frameToVariant(flange * toolFrame_));
     if (options_.onFlange) options_.onFlange(flange);
 }
 

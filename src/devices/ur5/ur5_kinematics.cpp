@@ -53,9 +53,8 @@ Ur5Kinematics::Ur5Kinematics() {
     struct Dh {
         double a, alpha, d;
     };
-    const Dh dh[kUr5Joints] = {{0, M_PI / 2, 0.089159}, {-0.425, 0, 0},
-                               {-0.39225, 0, 0},        {0, M_PI / 2, 0.10915},
-                               {0, -M_PI / 2, 0.09465}, {0, 0, 0.0823}};
+    const Dh dh[kUr5Joints] = {{0, M_PI / 2, 0.089159}, {-0.425, 0, 0},          {-0.39225, 0, 0},
+                               {0, M_PI / 2, 0.10915},  {0, -M_PI / 2, 0.09465}, {0, 0, 0.0823}};
     for (const Dh& j : dh) {
         chain_.addSegment(
             KDL::Segment(KDL::Joint(KDL::Joint::RotZ), KDL::Frame::DH(j.a, j.alpha, j.d, 0)));

@@ -68,8 +68,7 @@ private:
     /// One LMA run from `start`, verified by forward kinematics and shifted into `bounds`.
     [[nodiscard]] std::optional<Joints> solveFrom(const KDL::Frame& flange, const Joints& start,
                                                   const Joints& reference,
-                                                  const JointBounds& bounds,
-                                                  bool* converged) const;
+                                                  const JointBounds& bounds, bool* converged) const;
 
     KDL::Chain chain_;
     std::unique_ptr<KDL::ChainFkSolverPos_recursive> fk_;

@@ -13,8 +13,8 @@ ua::StatusCode fail(ua::StatusCode status, std::string* why, std::string reason)
 }
 
 bool positive(const BoxSize& s) {
-    return std::isfinite(s.x) && std::isfinite(s.y) && std::isfinite(s.z) && s.x > 0 &&
-           s.y > 0 && s.z > 0;
+    return std::isfinite(s.x) && std::isfinite(s.y) && std::isfinite(s.z) && s.x > 0 && s.y > 0 &&
+           s.z > 0;
 }
 
 }  // namespace

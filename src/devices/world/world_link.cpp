@@ -28,7 +28,9 @@ ua::Result<std::vector<ua::Variant>> WorldLink::call(const char* method,
 }
 
 namespace {
-ua::StatusCode statusOf(const ua::Result<std::vector<ua::Variant>>& r) { return r.status(); }
+ua::StatusCode statusOf(const ua::Result<std::vector<ua::Variant>>& r) {
+    return r.status();
+}
 }  // namespace
 
 ua::StatusCode WorldLink::setFlangePose(const KDL::Frame& flange) {
@@ -43,14 +45,16 @@ ua::StatusCode WorldLink::unmountTool(const std::string& dockId) {
 ua::StatusCode WorldLink::grasp(const std::string& objectId) {
     return statusOf(call("Grasp", {ua::Variant(ua::String(objectId))}));
 }
-ua::StatusCode WorldLink::release() { return statusOf(call("Release", {})); }
+ua::StatusCode WorldLink::release() {
+    return statusOf(call("Release", {}));
+}
 
 ua::StatusCode WorldLink::addObject(const std::string& objectId, const std::array<double, 3>& size,
                                     const KDL::Frame& pose) {
-    return statusOf(call("AddObject", {ua::Variant(ua::String(objectId)),
-                                       ua::Variant::array(std::vector<double>(size.begin(),
-                                                                              size.end())),
-                                       frameToVariant(pose)}));
+    return statusOf(call(
+        "AddObject",
+        {ua::Variant(ua::String(objectId)),
+         ua::Variant::array(std::vector<double>(size.begin(), size.end())), frameToVariant(pose)}));
 }
 ua::StatusCode WorldLink::addDock(const std::string& dockId, const KDL::Frame& pose) {
     return statusOf(call("AddDock", {ua::Variant(ua::String(dockId)), frameToVariant(pose)}));
@@ -93,7 +97,11 @@ ua::Result<std::string> WorldLink::readString(const std::string& path) {
     if (s == nullptr) return ua::status::BadTypeMismatch;
     return *s;
 }
-ua::Result<std::string> WorldLink::mountedTool() { return readString("World/MountedTool"); }
-ua::Result<std::string> WorldLink::graspedObject() { return readString("World/GraspedObject"); }
+ua::Result<std::string> WorldLink::mountedTool() {
+    return readString("World/MountedTool");
+}
+ua::Result<std::string> WorldLink::graspedObject() {
+    return readString("World/GraspedObject");
+}
 
 }  // namespace skillcell::devices

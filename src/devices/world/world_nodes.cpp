@@ -17,7 +17,9 @@ Argument arg(const char* name, std::uint32_t type, const char* text,
     return Argument{name, NodeId(type), rank, {}, {"", text}};
 }
 
-Variant sizeValue(const BoxSize& s) { return Variant::array(std::vector<double>{s.x, s.y, s.z}); }
+Variant sizeValue(const BoxSize& s) {
+    return Variant::array(std::vector<double>{s.x, s.y, s.z});
+}
 
 /// Box edges from a Double[3] argument.
 std::optional<BoxSize> sizeFrom(const Variant& v) {
@@ -47,7 +49,9 @@ StatusCode refused(const char* method, StatusCode status, const std::string& why
 WorldNodes::WorldNodes(Token, ua::Server& server, World world, std::uint16_t ns)
     : server_(server), world_(std::move(world)), ns_(ns) {}
 
-NodeId WorldNodes::id(const std::string& path) const { return NodeId(ns_, ua::String(path)); }
+NodeId WorldNodes::id(const std::string& path) const {
+    return NodeId(ns_, ua::String(path));
+}
 
 ua::Result<std::unique_ptr<WorldNodes>> WorldNodes::create(ua::Server& server, World world) {
     const std::uint16_t ns = server.addressSpace().registerNamespace(kWorldNamespaceUri);
@@ -112,15 +116,16 @@ StatusCode WorldNodes::build() {
              if (!pose) return pose.status();
              return world_.addObject(WorldObject{stringArg(in[0]), *size, *pose}, &why);
          }});
-    methods.push_back({"AddDock",
-                       {arg("Id", kString, "dock id"),
-                        arg("Pose", kFrame, "the flange pose at which the dock's tool locks")},
-                       {},
-                       [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-                           const auto pose = frameFromVariant(in[1]);
-                           if (!pose) return pose.status();
-                           return world_.addDock(ToolDock{stringArg(in[0]), *pose, {}}, &why);
-                       }});
+    methods.push_back(
+        {"AddDock",
+         {arg("Id", kString, "dock id"),
+          arg("Pose", kFrame, "the flange pose at which the dock's tool locks")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             const auto pose = frameFromVariant(in[1]);
+             if (!pose) return pose.status();
+             return world_.addDock(ToolDock{stringArg(in[0]), *pose, {}}, &why);
+         }});
     methods.push_back(
         {"AddTool",
          {arg("Id", kString, "tool id"), arg("DockId", kString, "the dock the tool is stored in"),
@@ -140,24 +145,25 @@ StatusCode WorldNodes::build() {
                            world_.setFlangePose(*pose);
                            return StatusCode(ua::status::Good);
                        }});
-    methods.push_back({"MountTool",
-                       {arg("DockId", kString, "the dock whose tool the flange takes")},
-                       {},
-                       [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-                           return world_.mountTool(stringArg(in[0]), &why);
-                       }});
-    methods.push_back({"UnmountTool",
-                       {arg("DockId", kString, "the free dock the mounted tool is left in")},
-                       {},
-                       [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-                           return world_.unmountTool(stringArg(in[0]), &why);
-                       }});
+    methods.push_back(
+        {"MountTool",
+         {arg("DockId", kString, "the dock whose tool the flange takes")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             return world_.mountTool(stringArg(in[0]), &why);
+         }});
+    methods.push_back(
+        {"UnmountTool",
+         {arg("DockId", kString, "the free dock the mounted tool is left in")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             return world_.unmountTool(stringArg(in[0]), &why);
+         }});
     methods.push_back({"Grasp",
                        {arg("ObjectId", kString, "the object at the grip point")},
                        {},
-                       [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-                           return world_.grasp(stringArg(in[0]), &why);
-                       }});
+                       [this](std::span<const Variant> in, std::vector<Variant>&,
+                              std::string& why) { return world_.grasp(stringArg(in[0]), &why); }});
     methods.push_back({"Release",
                        {},
                        {},
@@ -176,10 +182,9 @@ StatusCode WorldNodes::build() {
              std::vector<double> extent{0, 0, 0};
              if (found) {
                  for (int axis = 0; axis < 3; ++axis) {
-                     extent[static_cast<std::size_t>(axis)] =
-                         *world_.extentAlong(*found, grip.M.UnitX() * (axis == 0) +
-                                                         grip.M.UnitY() * (axis == 1) +
-                                                         grip.M.UnitZ() * (axis == 2));
+                     extent[static_cast<std::size_t>(axis)] = *world_.extentAlong(
+                         *found, grip.M.UnitX() * (axis == 0) + grip.M.UnitY() * (axis == 1) +
+                                     grip.M.UnitZ() * (axis == 2));
                  }
              }
              out.emplace_back(ua::String(found.value_or("")));
@@ -190,18 +195,17 @@ StatusCode WorldNodes::build() {
     for (auto& m : methods) {
         auto body = std::move(m.body);
         const char* name = m.name;
-        auto r = as.addMethod(
-            world, id(std::string("World.") + name), name, std::move(m.inputs),
-            std::move(m.outputs),
-            [this, body = std::move(body), name](const ua::Caller&, const NodeId&,
-                                                  std::span<const Variant> in,
-                                                  std::vector<Variant>& out) -> StatusCode {
-                std::string why;
-                const StatusCode s = body(in, out, why);
-                if (s.isBad()) return refused(name, s, why);
-                sync();
-                return s;
-            });
+        auto r = as.addMethod(world, id(std::string("World.") + name), name, std::move(m.inputs),
+                              std::move(m.outputs),
+                              [this, body = std::move(body), name](
+                                  const ua::Caller&, const NodeId&, std::span<const Variant> in,
+                                  std::vector<Variant>& out) -> StatusCode {
+                                  std::string why;
+                                  const StatusCode s = body(in, out, why);
+                                  if (s.isBad()) return refused(name, s, why);
+                                  sync();
+                                  return s;
+                              });
         if (!r) return r.status();
     }
     sync();
@@ -246,7 +250,8 @@ void WorldNodes::sync() {
     for (const auto& [did, dock] : world_.docks()) {
         const std::string path = "World/Docks/" + did;
         ensureObject(path, "World/Docks", did);
-        put(path + "/Pose", path, "Pose", frame, frameToVariant(dock.pose), ua::value_rank::kScalar);
+        put(path + "/Pose", path, "Pose", frame, frameToVariant(dock.pose),
+            ua::value_rank::kScalar);
         put(path + "/Tool", path, "Tool", NodeId(ua::ns0::String), Variant(ua::String(dock.tool)),
             ua::value_rank::kScalar);
     }
