@@ -176,6 +176,12 @@ CLI::App* addUr5(CLI::App* device, std::vector<Command>& commands) {
                          o.onFlange = [r = content->reporter.get()](const KDL::Frame& f) {
                              r->report(f);
                          };
+                         // A move ends once the world has its final pose: whoever runs
+                         // the next skill finds the world up to date.
+                         o.arm.beforeDone =
+                             [r = content->reporter.get()](std::function<void()> report) {
+                                 r->whenSent(std::move(report));
+                             };
                      }
                      std::string error;
                      auto component = devices::Ur5Component::create(server, o, &error);

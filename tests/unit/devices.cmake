@@ -16,3 +16,10 @@ target_link_libraries(test_device_cell PRIVATE skillcell_world skillcell_ur5 ski
 
 skillcell_unit_test(test_device_schmalz device_schmalz_test.cpp)
 target_link_libraries(test_device_schmalz PRIVATE skillcell_schmalz skillcell_test_support)
+
+# The device components as processes (`skillcell device world|ur5|schmalz`).
+skillcell_unit_test(test_device_processes device_process_test.cpp)
+target_link_libraries(test_device_processes PRIVATE skillcell_world skillcell_skills
+                                                    skillcell_test_support)
+target_compile_definitions(test_device_processes PRIVATE SKILLCELL_BINARY="$<TARGET_FILE:skillcell>")
+add_dependencies(test_device_processes skillcell)

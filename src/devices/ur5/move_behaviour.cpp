@@ -82,29 +82,29 @@ void MoveBehaviour::start(const skills::SkillParameters& parameters, skills::Ski
         return;
     }
     if (onToolFrame_) onToolFrame_(r.toolFrame);
-    moving_ = arm_.execute(std::move(std::get<Trajectory>(planned)),
-                           [this, run](std::optional<std::string> fault) {
-                               moving_ = false;
-                               if (fault) {
-                                   run.failed(*fault);
-                               } else {
-                                   run.finished();
-                               }
-                           });
-    if (!moving_) run.failed("the arm is executing another move");
+    *moving_ = arm_.execute(std::move(std::get<Trajectory>(planned)),
+                            [moving = moving_, run](std::optional<std::string> fault) {
+                                *moving = false;
+                                if (fault) {
+                                    run.failed(*fault);
+                                } else {
+                                    run.finished();
+                                }
+                            });
+    if (!*moving_) run.failed("the arm is executing another move");
 }
 
 void MoveBehaviour::suspend() {
-    if (moving_) arm_.pause();
+    if (*moving_) arm_.pause();
 }
 
 void MoveBehaviour::resume() {
-    if (moving_) arm_.resume();
+    if (*moving_) arm_.resume();
 }
 
 void MoveBehaviour::halt() {
-    if (moving_) arm_.stop();
-    moving_ = false;
+    if (*moving_) arm_.stop();
+    *moving_ = false;
 }
 
 }  // namespace skillcell::devices

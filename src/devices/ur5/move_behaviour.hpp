@@ -6,6 +6,7 @@
 // skill goes to Halted with the reason). Suspend, Resume and Halt pause, continue and stop
 // the motion.
 #include <functional>
+#include <memory>
 
 #include "devices/ur5/arm_controller.hpp"
 #include "devices/ur5/motion_planner.hpp"
@@ -35,7 +36,9 @@ private:
     ArmController& arm_;
     const MotionPlanner& planner_;
     std::function<void(const KDL::Frame&)> onToolFrame_;
-    bool moving_ = false;  // this skill's motion is the arm's current one
+    // This skill's motion is the arm's current one. Shared with the motion's completion,
+    // which may run after this behaviour is gone.
+    std::shared_ptr<bool> moving_ = std::make_shared<bool>(false);
 };
 
 }  // namespace skillcell::devices

@@ -1,5 +1,7 @@
 #include "devices/ur5/simulated_ur5.hpp"
 
+#include <asio/post.hpp>
+
 namespace skillcell::devices {
 
 SimulatedUr5::SimulatedUr5(const asio::any_io_executor& executor, SimulatedUr5Options options,
@@ -52,7 +54,18 @@ void SimulatedUr5::tick() {
         elapsed_ = 0;
         Done done = std::move(done_);
         done_ = {};
-        if (done) done(std::nullopt);
+        if (!done) return;
+        if (!options_.beforeDone) {
+            done(std::nullopt);
+            return;
+        }
+        // Report on this thread once the hook allows it, unless the arm is gone by then.
+        options_.beforeDone([executor = timer_.get_executor(), alive = std::weak_ptr<int>(alive_),
+                             done = std::move(done)]() mutable {
+            asio::post(executor, [alive, done = std::move(done)] {
+                if (alive.lock()) done(std::nullopt);
+            });
+        });
         return;
     }
     arm();

@@ -9,6 +9,7 @@
 #include <asio/steady_timer.hpp>
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <optional>
 
 #include "devices/ur5/arm_controller.hpp"
@@ -22,6 +23,10 @@ struct SimulatedUr5Options {
     std::chrono::milliseconds tick{10};
     Clock clock;  // empty: std::chrono::steady_clock::now
     Joints initial{0, -M_PI / 2, M_PI / 2, -M_PI / 2, -M_PI / 2, 0};  // a folded pose, tool down
+    /// Called when a motion reaches its end, before the move is reported: it calls its
+    /// argument (from any thread) when the end may be reported, e.g. once the world model
+    /// has the final flange pose. Empty: report at once.
+    std::function<void(std::function<void()> report)> beforeDone;
 };
 
 class SimulatedUr5 final : public ArmController {
@@ -57,6 +62,7 @@ private:
     bool paused_ = false;
     std::chrono::steady_clock::time_point last_{};
     std::uint64_t generation_ = 0;  // bumps on stop, so a pending tick of an old motion idles
+    std::shared_ptr<int> alive_ = std::make_shared<int>(0);  // for reports posted late
 };
 
 }  // namespace skillcell::devices

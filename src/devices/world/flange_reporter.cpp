@@ -34,6 +34,17 @@ bool FlangeReporter::flush(std::chrono::milliseconds timeout) {
     return cv_.wait_for(lock, timeout, [&] { return sent_ >= target; });
 }
 
+void FlangeReporter::whenSent(std::function<void()> callback) {
+    {
+        std::lock_guard lock(mutex_);
+        if (sent_ < reported_) {
+            waiters_.emplace_back(reported_, std::move(callback));
+            return;
+        }
+    }
+    callback();
+}
+
 void FlangeReporter::run() {
     std::unique_lock lock(mutex_);
     for (;;) {
@@ -51,6 +62,16 @@ void FlangeReporter::run() {
         }
         sent_ = covers;
         cv_.notify_all();
+        std::vector<std::function<void()>> ready;
+        std::erase_if(waiters_, [&](auto& w) {
+            if (w.first > sent_) return false;
+            ready.push_back(std::move(w.second));
+            return true;
+        });
+        if (ready.empty()) continue;
+        lock.unlock();
+        for (auto& callback : ready) callback();
+        lock.lock();
     }
 }
 

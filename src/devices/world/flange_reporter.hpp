@@ -5,10 +5,13 @@
 // motion is always sent.
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "devices/world/world_link.hpp"
 
@@ -26,6 +29,10 @@ public:
     /// Waits until every pose reported so far has been sent (or `timeout` passes); true
     /// when they have.
     bool flush(std::chrono::milliseconds timeout);
+    /// Calls `callback` once every pose reported so far has been sent (at once if they
+    /// have, else on the reporter's thread). A failed send counts as sent: a lost world
+    /// model must not stop the robot.
+    void whenSent(std::function<void()> callback);
 
     struct Token {
     private:
@@ -41,6 +48,7 @@ private:
     std::mutex mutex_;
     std::condition_variable cv_;
     std::optional<KDL::Frame> pending_;
+    std::vector<std::pair<std::uint64_t, std::function<void()>>> waiters_;
     std::uint64_t reported_ = 0;
     std::uint64_t sent_ = 0;
     bool stopping_ = false;
