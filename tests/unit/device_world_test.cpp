@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "devices/common/frame.hpp"
 #include "devices/world/world.hpp"
 #include "devices/world/world_link.hpp"
 #include "devices/world/world_nodes.hpp"
 #include "running_server.hpp"
+#include "ua/client/blocking_client.hpp"
 
 namespace skillcell::devices {
 namespace {
@@ -200,6 +202,50 @@ TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
                near(world.object("box1")->pose, at(0.2, 0.3, 0.25), 1e-9, 1e-9);
     });
     EXPECT_TRUE(consistent);
+}
+
+TEST(DeviceWorldNodes, MalformedCallsGetPreciseStatusCodesAndChangeNothing) {
+    std::unique_ptr<WorldNodes> nodes;
+    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+        auto created = WorldNodes::create(s);
+        ASSERT_TRUE(created.ok());
+        nodes = std::move(*created);
+    });
+    ua::BlockingClient c;
+    ASSERT_EQ(c.connect(server.url()), Good);
+    const auto ns = server.inServer(
+        [](ua::Server& s) { return *s.addressSpace().namespaceIndex(kWorldNamespaceUri); });
+    const ua::NodeId world(ns, ua::String("World"));
+    auto method = [&](const char* name) {
+        return ua::NodeId(ns, ua::String(std::string("World.") + name));
+    };
+    auto status = [](const ua::Result<std::vector<ua::Variant>>& r) { return r.status(); };
+
+    // A number where a 3DFrame belongs: refused by the argument check.
+    EXPECT_TRUE(status(c.call(world, method("SetFlangePose"), {ua::Variant(1.0)})).isBad());
+    // Two box edges, or a NaN edge: the world refuses them.
+    EXPECT_EQ(status(c.call(
+                  world, method("AddObject"),
+                  {ua::Variant(ua::String("b")), ua::Variant::array(std::vector<double>{0.1, 0.1}),
+                   frameToVariant(at(0, 0, 0))})),
+              BadInvalidArgument);
+    EXPECT_EQ(status(c.call(world, method("AddObject"),
+                            {ua::Variant(ua::String("b")),
+                             ua::Variant::array(std::vector<double>{0.1, std::nan(""), 0.1}),
+                             frameToVariant(at(0, 0, 0))})),
+              BadInvalidArgument);
+    EXPECT_EQ(status(c.call(world, method("Grasp"), {ua::Variant(ua::String(""))})), BadNotFound);
+    EXPECT_EQ(status(c.call(world, method("MountTool"), {ua::Variant(ua::String("x"))})),
+              BadNotFound);
+    EXPECT_EQ(status(c.call(world, method("Release"), {})), BadInvalidState);
+    // Too few arguments.
+    EXPECT_TRUE(status(c.call(world, method("AddDock"), {ua::Variant(ua::String("d"))})).isBad());
+    const bool untouched = server.inServer([&](ua::Server&) {
+        const World& w = nodes->world();
+        return w.objects().empty() && w.docks().empty() && w.tools().empty() &&
+               near(w.flangePose(), KDL::Frame::Identity(), 0, 0);
+    });
+    EXPECT_TRUE(untouched);
 }
 
 }  // namespace

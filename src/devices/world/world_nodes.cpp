@@ -181,10 +181,9 @@ StatusCode WorldNodes::build() {
              const auto found = world_.objectAt(grip.p);
              std::vector<double> extent{0, 0, 0};
              if (found) {
-                 for (int axis = 0; axis < 3; ++axis) {
-                     extent[static_cast<std::size_t>(axis)] = *world_.extentAlong(
-                         *found, grip.M.UnitX() * (axis == 0) + grip.M.UnitY() * (axis == 1) +
-                                     grip.M.UnitZ() * (axis == 2));
+                 const KDL::Vector axes[3] = {grip.M.UnitX(), grip.M.UnitY(), grip.M.UnitZ()};
+                 for (std::size_t i = 0; i < 3; ++i) {
+                     extent[i] = world_.extentAlong(*found, axes[i]).value_or(0);
                  }
              }
              out.emplace_back(ua::String(found.value_or("")));
