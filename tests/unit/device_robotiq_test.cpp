@@ -342,7 +342,8 @@ TEST(DeviceRobotiqSkills, HaltStopsTheFingersMidway) {
     auto released = asio::co_spawn(
         t.io(),
         [&]() -> asio::awaitable<skills::SkillOutcome> {
-            co_return co_await release->run({}, 20s);
+            std::map<std::string, ua::Variant> none;  // named: GCC 12 and co_await temporaries
+            co_return co_await release->run(std::move(none), 20s);
         },
         asio::use_future);
     for (int i = 0; i < 100 && released.wait_for(0s) != std::future_status::ready; ++i) {
@@ -375,6 +376,53 @@ TEST(DeviceRobotiqSkills, HaltStopsTheFingersMidway) {
     EXPECT_NEAR(widthOf(0) - widthOf(static_cast<std::uint8_t>(position)), 0.010, 0.001);
     ms += 10'000;  // however long it waits now, the fingers stay
     EXPECT_DOUBLE_EQ(cell.port().fingerPosition(), position);
+}
+
+TEST(DeviceRobotiqSkills, SuspendHoldsTheFingersAndResumeFinishesTheMove) {
+    std::atomic<std::int64_t> ms{0};
+    GripperCell cell([&] {
+        return std::chrono::steady_clock::time_point(std::chrono::milliseconds(ms.load()));
+    });
+    test::ClientThread t;
+    auto move = t.attach(cell.url(), GripperCell::skill("MoveGripper"));
+    ASSERT_TRUE(move);
+    auto call = [&](skills::SkillMethod m) {
+        return t.run(
+            [&]() -> asio::awaitable<ua::StatusCode> { co_return co_await move->call(m); });
+    };
+    // Close to 45 mm: activation first (1 s), then 40 mm at 100 mm/s.
+    auto moved = asio::co_spawn(
+        t.io(),
+        [&]() -> asio::awaitable<skills::SkillOutcome> {
+            // A named map: GCC 12 destroys braced temporaries in co_await twice.
+            std::map<std::string, ua::Variant> parameters;
+            parameters.emplace("Width", ua::Variant(0.045));
+            co_return co_await move->run(std::move(parameters), 20s);
+        },
+        asio::use_future);
+    ASSERT_TRUE(cell.port().waitForCommand([](const Command& c) { return c.activate; }, 5s));
+    ms += 1100;  // the activation completes
+    ASSERT_TRUE(cell.port().waitForCommand(
+        [](const Command& c) { return c.go && c.position == positionFor(0.045); }, 5s));
+    ms += 200;  // 20 mm of the way
+    ASSERT_TRUE(cell.port().waitForRequests(cell.port().requests() + 1, 5s));
+    ASSERT_EQ(call(skills::SkillMethod::Suspend), ua::status::Good);
+    EXPECT_TRUE(cell.port().waitForCommand([](const Command& c) { return !c.go; }, 5s));
+    const double held = cell.port().fingerPosition();
+    ms += 5000;  // suspended: the fingers stay
+    EXPECT_DOUBLE_EQ(cell.port().fingerPosition(), held);
+    EXPECT_GT(held, 0);
+    EXPECT_LT(held, positionFor(0.045));
+
+    ASSERT_EQ(call(skills::SkillMethod::Resume), ua::status::Good);
+    EXPECT_TRUE(cell.port().waitForCommand([](const Command& c) { return c.go; }, 5s));
+    const auto n = cell.port().requests();
+    ms += 1000;  // enough for the rest of the way
+    (void)cell.port().waitForRequests(n + 1, 5s);
+    ASSERT_EQ(moved.wait_for(10s), std::future_status::ready);
+    const auto outcome = moved.get();
+    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(static_cast<int>(cell.port().fingerPosition()), positionFor(0.045));
 }
 
 }  // namespace
