@@ -9,6 +9,7 @@ packages=(
   build-essential cmake ninja-build ccache clang clang-format clang-tidy libclang-rt-14-dev
   libasio-dev libspdlog-dev libfmt-dev libcli11-dev libpugixml-dev libmdnsd-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  liborocos-kdl-dev libeigen3-dev libmodbus-dev pkg-config
   iproute2 util-linux procps
 )
 missing=()

@@ -3,6 +3,7 @@
 // exit code when it was chosen.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <vector>
 
 namespace skillcell::apps {
 
@@ -20,5 +21,7 @@ Command addCheckCommand(CLI::App& app);
 Command addDetectCommand(CLI::App& app);
 Command addPkiCommand(CLI::App& app);
 Command addUserCommand(CLI::App& app);
+/// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq, schmalz).
+std::vector<Command> addDeviceCommands(CLI::App& app);
 
 }  // namespace skillcell::apps

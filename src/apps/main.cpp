@@ -1,5 +1,5 @@
 // skillcell: one program, one subcommand per component (server, lds, browse, discover, skill,
-// check, detect; later device, kb, mes, demo). Every component takes --port N for its OPC UA
+// check, detect, device <kind>; later kb, mes, demo). Every component takes --port N for its OPC UA
 // port.
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -17,13 +17,14 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
         ->capture_default_str();
 
-    const std::vector<skillcell::apps::Command> commands{
+    std::vector<skillcell::apps::Command> commands{
         skillcell::apps::addServerCommand(app), skillcell::apps::addBrowseCommand(app),
         skillcell::apps::addLdsCommand(app),    skillcell::apps::addDiscoverCommand(app),
         skillcell::apps::addSkillCommand(app),  skillcell::apps::addCheckCommand(app),
         skillcell::apps::addDetectCommand(app), skillcell::apps::addPkiCommand(app),
         skillcell::apps::addUserCommand(app),
     };
+    for (auto& device : skillcell::apps::addDeviceCommands(app)) commands.push_back(device);
 
     try {
         app.parse(argc, argv);

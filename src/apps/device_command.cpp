@@ -1,0 +1,430 @@
+// `skillcell device <kind>`: one component of the simulated work cell per process
+// (docs/devices.md). Each is a server process like `skillcell server` (--port, discovery,
+// READY line, SIGTERM) whose content is the device:
+//   world    the world model (Objects/World), optionally seeded with a scene
+//   ur5      the simulated UR5 with its four move skills, reporting to a world model
+//   robotiq  the Robotiq 2F-85 adapter on a serial device; without --serial, on a
+//            simulated 2F-85 behind a pseudo-terminal that asks the world model what lies
+//            between its fingers and reports grasps and releases there
+//   schmalz  the Schmalz ECBPi adapter on an IO-Link master port, here a simulated master
+//            with a simulated ECBPi that asks the world model what is under its cup
+#include <spdlog/spdlog.h>
+
+#include "commands.hpp"
+#include "devices/common/frame.hpp"
+#include "devices/robotiq/robotiq_component.hpp"
+#include "devices/robotiq/simulated_gripper_port.hpp"
+#include "devices/schmalz/ecbpi_component.hpp"
+#include "devices/ur5/ur5_component.hpp"
+#include "devices/world/flange_reporter.hpp"
+#include "devices/world/world_nodes.hpp"
+#include "server_process.hpp"
+
+namespace skillcell::apps {
+namespace {
+
+using devices::parsePose6;
+using devices::toFrame;
+
+struct WorldOptions {
+    ServerProcessOptions process;
+    std::vector<std::string> objects;  // ID:SX,SY,SZ@POSE
+    std::vector<std::string> docks;    // ID@POSE
+    std::vector<std::string> tools;    // ID:DOCK@GRIPPOINT
+};
+
+/// Splits "HEAD@POSE" into HEAD and the pose.
+std::optional<std::pair<std::string, KDL::Frame>> headAndPose(const std::string& spec) {
+    const auto at = spec.find('@');
+    if (at == std::string::npos) return std::nullopt;
+    const auto pose = parsePose6(std::string_view(spec).substr(at + 1));
+    if (!pose) return std::nullopt;
+    return std::make_pair(spec.substr(0, at), toFrame(*pose));
+}
+
+ua::StatusCode seedWorld(const WorldOptions& options, devices::World& world) {
+    std::string why;
+    for (const auto& spec : options.objects) {
+        const auto hp = headAndPose(spec);
+        const auto colon = hp ? hp->first.find(':') : std::string::npos;
+        const auto size = colon == std::string::npos
+                              ? std::nullopt
+                              : parsePose6(std::string_view(hp->first).substr(colon + 1));
+        if (!size || size->a != 0 || size->b != 0 || size->c != 0) {
+            spdlog::critical("--object {}: expected ID:SX,SY,SZ@X,Y,Z[,A,B,C]", spec);
+            return ua::status::BadInvalidArgument;
+        }
+        const auto s = world.addObject(
+            {hp->first.substr(0, colon), {size->x, size->y, size->z}, hp->second}, &why);
+        if (s.isBad()) {
+            spdlog::critical("--object {}: {}", spec, why);
+            return s;
+        }
+    }
+    for (const auto& spec : options.docks) {
+        const auto hp = headAndPose(spec);
+        if (!hp) {
+            spdlog::critical("--dock {}: expected ID@X,Y,Z[,A,B,C]", spec);
+            return ua::status::BadInvalidArgument;
+        }
+        if (const auto s = world.addDock({hp->first, hp->second, {}}, &why); s.isBad()) {
+            spdlog::critical("--dock {}: {}", spec, why);
+            return s;
+        }
+    }
+    for (const auto& spec : options.tools) {
+        const auto hp = headAndPose(spec);
+        const auto colon = hp ? hp->first.find(':') : std::string::npos;
+        if (colon == std::string::npos) {
+            spdlog::critical("--tool {}: expected ID:DOCK@X,Y,Z[,A,B,C]", spec);
+            return ua::status::BadInvalidArgument;
+        }
+        const auto s = world.addTool({hp->first.substr(0, colon), hp->second},
+                                     hp->first.substr(colon + 1), &why);
+        if (s.isBad()) {
+            spdlog::critical("--tool {}: {}", spec, why);
+            return s;
+        }
+    }
+    return ua::status::Good;
+}
+
+CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
+    auto options = std::make_shared<WorldOptions>();
+    options->process.applicationUri = "urn:skillcell:device:world";
+    options->process.applicationName = "skillcell world model";
+    CLI::App* cmd = device->add_subcommand(
+        "world",
+        "Serve the world model (Objects/World: boxes, tool docks, tools, the mounted tool, "
+        "the grasped object) that the simulated devices report to (docs/devices.md).");
+    addServerProcessOptions(cmd, options->process);
+    addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--object", options->objects,
+                    "a box: ID:SX,SY,SZ@X,Y,Z[,A,B,C] (edges and centre pose, m and rad)");
+    cmd->add_option("--dock", options->docks,
+                    "a tool dock: ID@X,Y,Z[,A,B,C] (the flange pose at which its tool locks)");
+    cmd->add_option("--tool", options->tools,
+                    "a tool stored in a dock: ID:DOCK@X,Y,Z[,A,B,C] (its grip point relative "
+                    "to the mounting plate)");
+    commands.push_back(
+        {cmd, [options] {
+             return runServerProcess(
+                 options->process,
+                 [options](ua::Server& server, asio::io_context&) -> ua::Result<ComponentContent> {
+                     devices::World world;
+                     if (const auto s = seedWorld(*options, world); s.isBad()) {
+                         return s;
+                     }
+                     auto nodes = devices::WorldNodes::create(server, world);
+                     if (!nodes) return nodes.status();
+                     return ComponentContent(std::move(*nodes));
+                 });
+         }});
+    return cmd;
+}
+
+struct Ur5Options {
+    ServerProcessOptions process;
+    double speed = 1;
+    int tickMs = 10;
+    std::string world;
+};
+
+/// What `device ur5` keeps alive: the reporter outlives the component that feeds it.
+struct Ur5Content {
+    std::unique_ptr<devices::FlangeReporter> reporter;
+    std::unique_ptr<devices::Ur5Component> component;
+};
+
+CLI::App* addUr5(CLI::App* device, std::vector<Command>& commands) {
+    auto options = std::make_shared<Ur5Options>();
+    options->process.applicationUri = "urn:skillcell:device:ur5";
+    options->process.applicationName = "skillcell UR5 (simulated)";
+    CLI::App* cmd = device->add_subcommand(
+        "ur5",
+        "Run a simulated Universal Robots UR5 with the skills CartesianLinearMove, "
+        "CartesianPtpMove, JointLinearMove and JointPtpMove, and Objects/UR5 with its joint "
+        "positions, flange and TCP poses.");
+    addServerProcessOptions(cmd, options->process);
+    addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--speed", options->speed, "simulated seconds per real second")
+        ->check(CLI::Range(0.01, 1000.0))
+        ->capture_default_str();
+    cmd->add_option("--tick-ms", options->tickMs, "simulation step (real time)")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    cmd->add_option("--world", options->world,
+                    "the world model's endpoint (opc.tcp://...): the flange pose is reported "
+                    "there");
+    commands.push_back(
+        {cmd, [options] {
+             return runServerProcess(
+                 options->process,
+                 [options](ua::Server& server, asio::io_context&) -> ua::Result<ComponentContent> {
+                     auto content = std::make_shared<Ur5Content>();
+                     devices::Ur5ComponentOptions o;
+                     o.arm.speed = options->speed;
+                     o.arm.tick = std::chrono::milliseconds(options->tickMs);
+                     if (!options->world.empty()) {
+                         auto link = devices::WorldLink::connect(options->world);
+                         if (!link) {
+                             spdlog::critical("--world {}: {}", options->world,
+                                              ua::statusName(link.status()));
+                             return link.status();
+                         }
+                         content->reporter = devices::FlangeReporter::start(std::move(*link));
+                         o.onFlange = [r = content->reporter.get()](const KDL::Frame& f) {
+                             r->report(f);
+                         };
+                         // A move ends once the world has its final pose: whoever runs
+                         // the next skill finds the world up to date.
+                         o.arm.beforeDone =
+                             [r = content->reporter.get()](std::function<void()> report) {
+                                 r->whenSent(std::move(report));
+                             };
+                     }
+                     std::string error;
+                     auto component = devices::Ur5Component::create(server, o, &error);
+                     if (!component) {
+                         spdlog::critical("ur5: {}", error);
+                         return component.status();
+                     }
+                     content->component = std::move(*component);
+                     return ComponentContent(content);
+                 });
+         }});
+    return cmd;
+}
+
+struct RobotiqOptions {
+    ServerProcessOptions process;
+    std::string serial;
+    int slaveId = devices::robotiq::kSlaveId;
+    double speed = 1;
+    std::string world;
+    std::string gripOffset = "0,0,0.15";
+    double fingerSpeed = 0.1;
+    double graspForce = 100;
+};
+
+/// What `device robotiq` keeps alive, destroyed in reverse: the adapter first (it closes
+/// the serial line), then the simulated gripper, then the world link it reports through.
+struct RobotiqContent {
+    std::unique_ptr<devices::WorldLink> world;
+    std::unique_ptr<devices::robotiq::SimulatedGripperPort> simulated;
+    std::unique_ptr<devices::robotiq::RobotiqComponent> component;
+};
+
+ua::Result<ComponentContent> populateRobotiq(const RobotiqOptions& options, ua::Server& server) {
+    namespace rq = devices::robotiq;
+    auto content = std::make_shared<RobotiqContent>();
+    rq::RobotiqComponentOptions o;
+    const auto offset = parsePose6(options.gripOffset);
+    if (!offset) {
+        spdlog::critical("--grip-offset {}: expected X,Y,Z[,A,B,C]", options.gripOffset);
+        return ua::status::BadInvalidArgument;
+    }
+    o.gripPointOffset = toFrame(*offset);
+    o.slaveId = options.slaveId;
+    o.gripper.speed = options.fingerSpeed;
+    o.gripper.graspForce = options.graspForce;
+    o.device = options.serial;
+    if (o.device.empty()) {
+        if (!options.world.empty()) {
+            auto link = devices::WorldLink::connect(options.world);
+            if (!link) {
+                spdlog::critical("--world {}: {}", options.world, ua::statusName(link.status()));
+                return link.status();
+            }
+            content->world = std::move(*link);
+        }
+        rq::SimulatedGripperOptions sim;
+        sim.speed = options.speed;
+        if (devices::WorldLink* world = content->world.get()) {
+            // The fingers close along the grip point's y axis: what they meet is the
+            // object's extent along it.
+            sim.probe = [world]() -> std::optional<rq::ObjectBetweenFingers> {
+                const auto found = world->objectAtGripPoint();
+                if (!found || !found->has_value()) return std::nullopt;
+                return rq::ObjectBetweenFingers{(*found)->objectId, (*found)->extent[1]};
+            };
+            sim.onEvent = [world](const rq::FingerEvent& e) {
+                const auto s = e.kind == rq::FingerEvent::Kind::Grasped ? world->grasp(e.objectId)
+                                                                        : world->release();
+                if (s.isBad()) {
+                    spdlog::warn("world model refused the {} of {}: {}",
+                                 e.kind == rq::FingerEvent::Kind::Grasped ? "grasp" : "release",
+                                 e.objectId, ua::statusName(s));
+                }
+            };
+        }
+        std::string why;
+        content->simulated = rq::SimulatedGripperPort::open(sim, &why);
+        if (!content->simulated) {
+            spdlog::critical("simulated 2F-85: {}", why);
+            return ua::status::BadResourceUnavailable;
+        }
+        o.device = content->simulated->devicePath();
+        spdlog::info("simulated 2F-85 on {}", o.device);
+    }
+    std::string error;
+    auto component = rq::RobotiqComponent::create(server, o, &error);
+    if (!component) {
+        spdlog::critical("robotiq: {}", error);
+        return component.status();
+    }
+    content->component = std::move(*component);
+    return ComponentContent(content);
+}
+
+CLI::App* addRobotiq(CLI::App* device, std::vector<Command>& commands) {
+    auto options = std::make_shared<RobotiqOptions>();
+    options->process.applicationUri = "urn:skillcell:device:robotiq-2f85";
+    options->process.applicationName = "skillcell Robotiq 2F-85";
+    CLI::App* cmd = device->add_subcommand(
+        "robotiq",
+        "Run the Robotiq 2F-85 adapter (Modbus RTU) with the skills Grasp, Release and "
+        "MoveGripper (grip point PARALLEL). Without --serial it runs a simulated 2F-85 on a "
+        "pseudo-terminal.");
+    addServerProcessOptions(cmd, options->process);
+    addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--serial", options->serial,
+                    "the gripper's serial device (e.g. /dev/ttyUSB0); empty: simulate one");
+    cmd->add_option("--slave-id", options->slaveId, "the gripper's Modbus slave id")
+        ->check(CLI::Range(1, 247))
+        ->capture_default_str();
+    cmd->add_option("--speed", options->speed, "simulated seconds per real second")
+        ->check(CLI::Range(0.01, 1000.0))
+        ->capture_default_str();
+    cmd->add_option("--world", options->world,
+                    "the world model's endpoint: the simulated gripper asks it what lies "
+                    "between its fingers and reports grasps and releases");
+    cmd->add_option("--grip-offset", options->gripOffset,
+                    "the grip point from the tool mounting plate: X,Y,Z[,A,B,C] (m, rad)")
+        ->capture_default_str();
+    cmd->add_option("--finger-speed", options->fingerSpeed, "finger speed of every motion (m/s)")
+        ->check(CLI::Range(0.02, 0.15))
+        ->capture_default_str();
+    cmd->add_option("--grasp-force", options->graspForce, "grip force of Grasp (N)")
+        ->check(CLI::Range(20.0, 235.0))
+        ->capture_default_str();
+    commands.push_back({cmd, [options] {
+                            return runServerProcess(
+                                options->process, [options](ua::Server& server, asio::io_context&) {
+                                    return populateRobotiq(*options, server);
+                                });
+                        }});
+    return cmd;
+}
+
+struct SchmalzOptions {
+    ServerProcessOptions process;
+    double speed = 1;
+    std::string world;
+    std::string gripOffset = "0,0,0.12";
+    int port = 1;
+};
+
+/// What `device schmalz` keeps alive, destroyed in reverse: the adapter, the simulated
+/// IO-Link master, the world link.
+struct SchmalzContent {
+    std::unique_ptr<devices::WorldLink> world;
+    std::unique_ptr<devices::schmalz::SimulatedIoLinkMaster> master;
+    std::unique_ptr<devices::schmalz::EcbpiComponent> component;
+};
+
+ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options, ua::Server& server) {
+    namespace sz = devices::schmalz;
+    auto content = std::make_shared<SchmalzContent>();
+    sz::EcbpiComponentOptions o;
+    const auto offset = parsePose6(options.gripOffset);
+    if (!offset) {
+        spdlog::critical("--grip-offset {}: expected X,Y,Z[,A,B,C]", options.gripOffset);
+        return ua::status::BadInvalidArgument;
+    }
+    o.gripPointOffset = toFrame(*offset);
+    o.gripper.port = options.port;
+    if (!options.world.empty()) {
+        auto link = devices::WorldLink::connect(options.world);
+        if (!link) {
+            spdlog::critical("--world {}: {}", options.world, ua::statusName(link.status()));
+            return link.status();
+        }
+        content->world = std::move(*link);
+    }
+    sz::SimulatedIoLinkOptions sim;
+    sim.port = options.port;
+    sim.speed = options.speed;
+    if (devices::WorldLink* world = content->world.get()) {
+        sim.probe = [world]() -> std::optional<std::string> {
+            const auto found = world->objectAtGripPoint();
+            if (!found || !found->has_value()) return std::nullopt;
+            return (*found)->objectId;
+        };
+        sim.onEvent = [world](const sz::CupEvent& e) {
+            const bool grasped = e.kind == sz::CupEvent::Kind::Grasped;
+            const auto s = grasped ? world->grasp(e.partId) : world->release();
+            if (s.isBad()) {
+                spdlog::warn("world model refused the {} of {}: {}", grasped ? "grasp" : "release",
+                             e.partId, ua::statusName(s));
+            }
+        };
+    }
+    content->master = std::make_unique<sz::SimulatedIoLinkMaster>(sim);
+    std::string error;
+    auto component = sz::EcbpiComponent::create(server, *content->master, o, &error);
+    if (!component) {
+        spdlog::critical("schmalz: {}", error);
+        return component.status();
+    }
+    content->component = std::move(*component);
+    return ComponentContent(content);
+}
+
+CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
+    auto options = std::make_shared<SchmalzOptions>();
+    options->process.applicationUri = "urn:skillcell:device:schmalz-ecbpi";
+    options->process.applicationName = "skillcell Schmalz ECBPi";
+    CLI::App* cmd = device->add_subcommand(
+        "schmalz",
+        "Run the Schmalz ECBPi vacuum gripper adapter (IO-Link process data) with the skills "
+        "Grasp and Release (grip point VACUUM), on a simulated IO-Link master and ECBPi.");
+    addServerProcessOptions(cmd, options->process);
+    addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--speed", options->speed, "simulated seconds per real second")
+        ->check(CLI::Range(0.01, 1000.0))
+        ->capture_default_str();
+    cmd->add_option("--world", options->world,
+                    "the world model's endpoint: the simulated ECBPi asks it what is under the "
+                    "cup and reports grasps and releases");
+    cmd->add_option("--grip-offset", options->gripOffset,
+                    "the grip point (the cup's face) from the tool mounting plate: "
+                    "X,Y,Z[,A,B,C] (m, rad)")
+        ->capture_default_str();
+    cmd->add_option("--io-link-port", options->port, "the IO-Link master port of the ECBPi")
+        ->check(CLI::Range(1, 8))
+        ->capture_default_str();
+    commands.push_back({cmd, [options] {
+                            return runServerProcess(
+                                options->process, [options](ua::Server& server, asio::io_context&) {
+                                    return populateSchmalz(*options, server);
+                                });
+                        }});
+    return cmd;
+}
+
+}  // namespace
+
+std::vector<Command> addDeviceCommands(CLI::App& app) {
+    CLI::App* device = app.add_subcommand(
+        "device", "Run one simulated device of the work cell as its own component");
+    device->require_subcommand(1);
+    std::vector<Command> commands;
+    addWorld(device, commands);
+    addUr5(device, commands);
+    addRobotiq(device, commands);
+    addSchmalz(device, commands);
+    return commands;
+}
+
+}  // namespace skillcell::apps

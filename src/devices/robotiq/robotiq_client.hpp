@@ -1,0 +1,44 @@
+#pragma once
+// RobotiqClient: the adapter's side of the 2F-85's serial line: a Modbus RTU master
+// (libmodbus) on a serial device, writing the command registers and reading the status
+// registers (robotiq_registers.hpp). It knows a device path and a slave id, nothing of
+// what is behind them. Blocking calls, for one thread at a time.
+#include <memory>
+#include <string>
+
+#include "devices/robotiq/robotiq_registers.hpp"
+#include "ua/types/result.hpp"
+
+namespace skillcell::devices::robotiq {
+
+class RobotiqClient {
+public:
+    /// Opens `device` (115200 8N1). BadCommunicationError with `why` when it cannot.
+    [[nodiscard]] static ua::Result<std::unique_ptr<RobotiqClient>> open(
+        const std::string& device, int slaveId = kSlaveId, std::string* why = nullptr);
+    ~RobotiqClient();
+    RobotiqClient(const RobotiqClient&) = delete;
+    RobotiqClient& operator=(const RobotiqClient&) = delete;
+
+    /// Writes the three command registers (function 16). BadCommunicationError on a
+    /// timeout or a damaged reply; `lastError()` says more.
+    ua::StatusCode write(const Command& command);
+    /// Reads the three status registers (function 4).
+    [[nodiscard]] ua::Result<Status> read();
+    [[nodiscard]] const std::string& lastError() const { return lastError_; }
+
+    /// The libmodbus context (defined where libmodbus is included).
+    struct Context;
+    struct Token {
+    private:
+        friend class RobotiqClient;
+        Token() = default;
+    };
+    RobotiqClient(Token, std::unique_ptr<Context> ctx);
+
+private:
+    std::unique_ptr<Context> ctx_;
+    std::string lastError_;
+};
+
+}  // namespace skillcell::devices::robotiq

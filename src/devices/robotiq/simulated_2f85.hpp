@@ -1,0 +1,73 @@
+#pragma once
+// Simulated2F85: the behaviour of a Robotiq 2F-85 behind its registers, as a plain value
+// fed commands and simulated time (seconds): activation takes kActivationTime and leaves
+// the fingers open; a motion runs at the requested speed towards the requested position;
+// closing on an object whose width lies within the stroke stops the fingers at that
+// width with gOBJ = 2 (object detected while closing), reaching the requested position
+// gives gOBJ = 3. rGTO without rACT is fault 0x07; an action requested while activating
+// waits for the activation (fault 0x05 meanwhile). The object between the fingers comes
+// from a probe asked when a motion starts (the world model, in the cell).
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "devices/robotiq/robotiq_registers.hpp"
+
+namespace skillcell::devices::robotiq {
+
+/// What lies between the fingers: an object and its width across the fingers (m).
+struct ObjectBetweenFingers {
+    std::string id;
+    double width = 0;
+};
+
+/// Something the fingers did to an object (for the world model).
+struct FingerEvent {
+    enum class Kind : std::uint8_t { Grasped, Released };
+    Kind kind;
+    std::string objectId;
+};
+
+class Simulated2F85 {
+public:
+    using Probe = std::function<std::optional<ObjectBetweenFingers>()>;
+    static constexpr double kActivationTime = 1.0;  // s
+
+    explicit Simulated2F85(Probe probe = {}) : probe_(std::move(probe)) {}
+
+    /// The robot wrote the command registers at time `now`.
+    void write(const Command& command, double now);
+    /// The status registers at time `now` (time only moves forward).
+    [[nodiscard]] Status status(double now);
+    /// Grasps and releases since the last call, oldest first.
+    [[nodiscard]] std::vector<FingerEvent> takeEvents();
+    /// The finger position (0 open .. 255 closed, fractional while moving).
+    [[nodiscard]] double position() const { return position_; }
+    [[nodiscard]] const Command& command() const { return command_; }
+
+private:
+    void advance(double now);
+    void startMotion(double now);
+
+    Probe probe_;
+    Command command_;
+    ActivationStatus activation_ = ActivationStatus::Reset;
+    double activatedAt_ = 0;
+    Fault fault_ = Fault::None;
+    double position_ = 0;
+    // The motion in progress.
+    bool moving_ = false;
+    double from_ = 0;
+    double stopAt_ = 0;  // the requested position, or where the object stops the fingers
+    double startedAt_ = 0;
+    double unitsPerSecond_ = 1;
+    std::optional<std::string> contactWith_;  // the object the motion will meet
+    ObjectStatus object_ = ObjectStatus::Moving;
+    bool motionPending_ = false;  // requested while activating
+    std::string holding_;
+    std::vector<FingerEvent> events_;
+    double now_ = 0;
+};
+
+}  // namespace skillcell::devices::robotiq

@@ -1,0 +1,102 @@
+#include "devices/ur5/simulated_ur5.hpp"
+
+#include <asio/post.hpp>
+
+namespace skillcell::devices {
+
+SimulatedUr5::SimulatedUr5(const asio::any_io_executor& executor, SimulatedUr5Options options,
+                           Observer observer)
+    : timer_(executor),
+      options_(std::move(options)),
+      observer_(std::move(observer)),
+      joints_(options_.initial) {}
+
+SimulatedUr5::~SimulatedUr5() {
+    timer_.cancel();
+}
+
+std::chrono::steady_clock::time_point SimulatedUr5::now() const {
+    return options_.clock ? options_.clock() : std::chrono::steady_clock::now();
+}
+
+bool SimulatedUr5::execute(Trajectory trajectory, Done done) {
+    if (trajectory_) return false;
+    trajectory_ = std::move(trajectory);
+    done_ = std::move(done);
+    elapsed_ = 0;
+    paused_ = false;
+    last_ = now();
+    arm();
+    return true;
+}
+
+void SimulatedUr5::arm() {
+    timer_.expires_after(options_.tick);
+    timer_.async_wait([this, generation = generation_](const std::error_code& ec) {
+        if (ec || generation != generation_) return;
+        tick();
+    });
+}
+
+void SimulatedUr5::tick() {
+    if (!trajectory_) return;
+    const auto t = now();
+    const double dt = std::chrono::duration<double>(t - last_).count() * options_.speed;
+    last_ = t;
+    if (!paused_) {
+        elapsed_ += dt;
+        joints_ = trajectory_->at(elapsed_);
+    }
+    if (observer_) observer_(joints_);
+    if (!paused_ && elapsed_ >= trajectory_->duration()) {
+        joints_ = trajectory_->end();
+        trajectory_.reset();
+        elapsed_ = 0;
+        Done done = std::move(done_);
+        done_ = {};
+        if (!done) return;
+        if (!options_.beforeDone) {
+            done(std::nullopt);
+            return;
+        }
+        // Report on this thread once the hook allows it, unless the arm is gone by then.
+        options_.beforeDone([executor = timer_.get_executor(), alive = std::weak_ptr<int>(alive_),
+                             done = std::move(done)]() mutable {
+            asio::post(executor, [alive, done = std::move(done)] {
+                if (alive.lock()) done(std::nullopt);
+            });
+        });
+        return;
+    }
+    arm();
+}
+
+void SimulatedUr5::pause() {
+    if (!trajectory_ || paused_) return;
+    tick();  // account for the time up to now before freezing (it may end the motion)
+    if (trajectory_) paused_ = true;
+}
+
+void SimulatedUr5::resume() {
+    if (!trajectory_ || !paused_) return;
+    paused_ = false;
+    last_ = now();  // the pause does not count as motion time
+}
+
+void SimulatedUr5::stop() {
+    if (!trajectory_) return;
+    if (!paused_) {
+        const auto t = now();
+        elapsed_ += std::chrono::duration<double>(t - last_).count() * options_.speed;
+        joints_ = trajectory_->at(elapsed_);
+    }
+    ++generation_;
+    timer_.cancel();
+    trajectory_.reset();
+    done_ = {};
+    elapsed_ = 0;
+    paused_ = false;
+    if (observer_) observer_(joints_);
+}
+
+}  // namespace skillcell::devices

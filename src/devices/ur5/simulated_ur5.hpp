@@ -1,0 +1,68 @@
+#pragma once
+// SimulatedUr5: the UR5 hardware in simulation: joint positions that follow the trajectory
+// being executed in simulated time. A steady timer ticks on the io_context; each tick
+// advances simulated time by the real time elapsed since the last one (read from an
+// injectable clock) times the speed factor, and reports the joints to an observer (the
+// published variables, the world model). Pausing freezes simulated time for the motion;
+// stopping ends it in place (the simulation stops at once; a real arm decelerates).
+#include <asio/any_io_executor.hpp>
+#include <asio/steady_timer.hpp>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <optional>
+
+#include "devices/ur5/arm_controller.hpp"
+
+namespace skillcell::devices {
+
+struct SimulatedUr5Options {
+    using Clock = std::function<std::chrono::steady_clock::time_point()>;
+    SimulatedUr5Options() = default;
+    double speed = 1.0;  // simulated seconds per real second
+    std::chrono::milliseconds tick{10};
+    Clock clock;  // empty: std::chrono::steady_clock::now
+    Joints initial{0, -M_PI / 2, M_PI / 2, -M_PI / 2, -M_PI / 2, 0};  // a folded pose, tool down
+    /// Called when a motion reaches its end, before the move is reported: it calls its
+    /// argument (from any thread) when the end may be reported, e.g. once the world model
+    /// has the final flange pose. Empty: report at once.
+    std::function<void(std::function<void()> report)> beforeDone;
+};
+
+class SimulatedUr5 final : public ArmController {
+public:
+    using Observer = std::function<void(const Joints&)>;
+    SimulatedUr5(const asio::any_io_executor& executor, SimulatedUr5Options options,
+                 Observer observer = {});
+    ~SimulatedUr5() override;
+
+    [[nodiscard]] Joints joints() const override { return joints_; }
+    [[nodiscard]] bool busy() const override { return trajectory_.has_value(); }
+    bool execute(Trajectory trajectory, Done done) override;
+    void pause() override;
+    void resume() override;
+    void stop() override;
+
+    [[nodiscard]] bool paused() const { return paused_; }
+    /// Simulated seconds the current motion has run (0 when idle).
+    [[nodiscard]] double elapsed() const { return elapsed_; }
+
+private:
+    void arm();
+    void tick();
+    [[nodiscard]] std::chrono::steady_clock::time_point now() const;
+
+    asio::steady_timer timer_;
+    SimulatedUr5Options options_;
+    Observer observer_;
+    Joints joints_;
+    std::optional<Trajectory> trajectory_;
+    Done done_;
+    double elapsed_ = 0;
+    bool paused_ = false;
+    std::chrono::steady_clock::time_point last_{};
+    std::uint64_t generation_ = 0;  // bumps on stop, so a pending tick of an old motion idles
+    std::shared_ptr<int> alive_ = std::make_shared<int>(0);  // for reports posted late
+};
+
+}  // namespace skillcell::devices

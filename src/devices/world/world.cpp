@@ -1,0 +1,200 @@
+#include "devices/world/world.hpp"
+
+#include <cmath>
+
+#include "devices/common/frame.hpp"
+
+namespace skillcell::devices {
+namespace {
+
+ua::StatusCode fail(ua::StatusCode status, std::string* why, std::string reason) {
+    if (why != nullptr) *why = std::move(reason);
+    return status;
+}
+
+bool positive(const BoxSize& s) {
+    return std::isfinite(s.x) && std::isfinite(s.y) && std::isfinite(s.z) && s.x > 0 && s.y > 0 &&
+           s.z > 0;
+}
+
+}  // namespace
+
+bool World::idTaken(const std::string& id) const {
+    return objects_.contains(id) || tools_.contains(id) || docks_.contains(id);
+}
+
+bool World::flangeAt(const ToolDock& dock) const {
+    return near(flange_, dock.pose, tolerances_.dockPosition, tolerances_.dockAngle);
+}
+
+ua::StatusCode World::addObject(WorldObject object, std::string* why) {
+    if (object.id.empty()) return fail(ua::status::BadInvalidArgument, why, "empty object id");
+    if (!positive(object.size)) {
+        return fail(ua::status::BadInvalidArgument, why,
+                    "object " + object.id + ": every edge of the box must be positive");
+    }
+    if (idTaken(object.id)) {
+        return fail(ua::status::BadNodeIdExists, why, "id " + object.id + " is taken");
+    }
+    const std::string id = object.id;
+    objects_.emplace(id, std::move(object));
+    ++revision_;
+    return ua::status::Good;
+}
+
+ua::StatusCode World::addDock(ToolDock dock, std::string* why) {
+    if (dock.id.empty()) return fail(ua::status::BadInvalidArgument, why, "empty dock id");
+    if (!dock.tool.empty()) {
+        return fail(ua::status::BadInvalidArgument, why,
+                    "dock " + dock.id + ": add the dock empty, then the tool into it");
+    }
+    if (idTaken(dock.id)) {
+        return fail(ua::status::BadNodeIdExists, why, "id " + dock.id + " is taken");
+    }
+    const std::string id = dock.id;
+    docks_.emplace(id, std::move(dock));
+    ++revision_;
+    return ua::status::Good;
+}
+
+ua::StatusCode World::addTool(Tool tool, const std::string& dockId, std::string* why) {
+    if (tool.id.empty()) return fail(ua::status::BadInvalidArgument, why, "empty tool id");
+    if (idTaken(tool.id)) {
+        return fail(ua::status::BadNodeIdExists, why, "id " + tool.id + " is taken");
+    }
+    const auto dock = docks_.find(dockId);
+    if (dock == docks_.end()) {
+        return fail(ua::status::BadNotFound, why, "no dock " + dockId);
+    }
+    if (!dock->second.tool.empty()) {
+        return fail(ua::status::BadInvalidState, why,
+                    "dock " + dockId + " holds tool " + dock->second.tool);
+    }
+    dock->second.tool = tool.id;
+    const std::string id = tool.id;
+    tools_.emplace(id, std::move(tool));
+    ++revision_;
+    return ua::status::Good;
+}
+
+ua::StatusCode World::removeObject(const std::string& id, std::string* why) {
+    if (!objects_.contains(id)) return fail(ua::status::BadNotFound, why, "no object " + id);
+    if (grasped_ == id) {
+        return fail(ua::status::BadInvalidState, why, "object " + id + " is grasped");
+    }
+    objects_.erase(id);
+    ++revision_;
+    return ua::status::Good;
+}
+
+void World::setFlangePose(const KDL::Frame& flange) {
+    flange_ = flange;
+    if (!grasped_.empty()) objects_.at(grasped_).pose = flange_ * flangeToGrasped_;
+    ++revision_;
+}
+
+ua::StatusCode World::mountTool(const std::string& dockId, std::string* why) {
+    const auto dock = docks_.find(dockId);
+    if (dock == docks_.end()) return fail(ua::status::BadNotFound, why, "no dock " + dockId);
+    if (!mounted_.empty()) {
+        return fail(ua::status::BadInvalidState, why, "tool " + mounted_ + " is mounted already");
+    }
+    if (dock->second.tool.empty()) {
+        return fail(ua::status::BadInvalidState, why, "dock " + dockId + " is empty");
+    }
+    if (!flangeAt(dock->second)) {
+        return fail(ua::status::BadInvalidState, why,
+                    "the flange " + describe(flange_) + " is not at dock " + dockId + " " +
+                        describe(dock->second.pose));
+    }
+    mounted_ = dock->second.tool;
+    dock->second.tool.clear();
+    ++revision_;
+    return ua::status::Good;
+}
+
+ua::StatusCode World::unmountTool(const std::string& dockId, std::string* why) {
+    const auto dock = docks_.find(dockId);
+    if (dock == docks_.end()) return fail(ua::status::BadNotFound, why, "no dock " + dockId);
+    if (mounted_.empty()) return fail(ua::status::BadInvalidState, why, "no tool is mounted");
+    if (!grasped_.empty()) {
+        return fail(ua::status::BadInvalidState, why,
+                    "tool " + mounted_ + " still holds object " + grasped_);
+    }
+    if (!dock->second.tool.empty()) {
+        return fail(ua::status::BadInvalidState, why,
+                    "dock " + dockId + " holds tool " + dock->second.tool);
+    }
+    if (!flangeAt(dock->second)) {
+        return fail(ua::status::BadInvalidState, why,
+                    "the flange " + describe(flange_) + " is not at dock " + dockId + " " +
+                        describe(dock->second.pose));
+    }
+    dock->second.tool = mounted_;
+    mounted_.clear();
+    ++revision_;
+    return ua::status::Good;
+}
+
+KDL::Frame World::gripPoint() const {
+    if (mounted_.empty()) return flange_;
+    return flange_ * tools_.at(mounted_).gripPoint;
+}
+
+std::optional<std::string> World::objectAt(const KDL::Vector& point) const {
+    for (const auto& [id, object] : objects_) {
+        if (id == grasped_) continue;
+        const KDL::Vector local = object.pose.Inverse(point);
+        const double t = tolerances_.grasp;
+        if (std::abs(local.x()) <= object.size.x / 2 + t &&
+            std::abs(local.y()) <= object.size.y / 2 + t &&
+            std::abs(local.z()) <= object.size.z / 2 + t) {
+            return id;
+        }
+    }
+    return std::nullopt;
+}
+
+std::optional<double> World::extentAlong(const std::string& objectId,
+                                         const KDL::Vector& direction) const {
+    const WorldObject* o = object(objectId);
+    if (o == nullptr || direction.Norm() <= 0) return std::nullopt;
+    KDL::Vector d = direction / direction.Norm();
+    const KDL::Vector local = o->pose.M.Inverse(d);  // the direction in the box's frame
+    return std::abs(local.x()) * o->size.x + std::abs(local.y()) * o->size.y +
+           std::abs(local.z()) * o->size.z;
+}
+
+ua::StatusCode World::grasp(const std::string& objectId, std::string* why) {
+    const auto object = objects_.find(objectId);
+    if (object == objects_.end()) {
+        return fail(ua::status::BadNotFound, why, "no object " + objectId);
+    }
+    if (mounted_.empty()) return fail(ua::status::BadInvalidState, why, "no tool is mounted");
+    if (!grasped_.empty()) {
+        return fail(ua::status::BadInvalidState, why, "object " + grasped_ + " is held already");
+    }
+    const KDL::Frame grip = gripPoint();
+    if (objectAt(grip.p) != objectId) {
+        return fail(ua::status::BadInvalidState, why,
+                    "object " + objectId + " is not at the grip point " + describe(grip));
+    }
+    grasped_ = objectId;
+    flangeToGrasped_ = flange_.Inverse() * object->second.pose;
+    ++revision_;
+    return ua::status::Good;
+}
+
+ua::StatusCode World::release(std::string* why) {
+    if (grasped_.empty()) return fail(ua::status::BadInvalidState, why, "no object is held");
+    grasped_.clear();
+    ++revision_;
+    return ua::status::Good;
+}
+
+const WorldObject* World::object(const std::string& id) const {
+    const auto it = objects_.find(id);
+    return it == objects_.end() ? nullptr : &it->second;
+}
+
+}  // namespace skillcell::devices

@@ -1,0 +1,116 @@
+#pragma once
+// World: the simulated work cell as one plain value (no threads, no I/O): boxes with their
+// poses, tool docks, tools, the robot's flange pose, the mounted tool and the grasped
+// object. A grasped object keeps its pose relative to the flange, so it moves with the
+// robot; a released one stays where it was put. Every change is checked against the
+// state of the cell (a tool is taken from a dock only by a flange at that dock, an object
+// is grasped only at the mounted tool's grip point, ...), so the world stays consistent
+// whatever its clients report. The OPC UA face is world_nodes.hpp.
+#include <kdl/frames.hpp>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "ua/types/status_code.hpp"
+
+namespace skillcell::devices {
+
+/// Edge lengths of a box, metres.
+struct BoxSize {
+    double x = 0, y = 0, z = 0;
+    friend bool operator==(const BoxSize&, const BoxSize&) = default;
+};
+
+struct WorldObject {
+    std::string id;
+    BoxSize size;
+    KDL::Frame pose;  // the box's centre and orientation, in the cell's base frame
+};
+
+struct Tool {
+    std::string id;
+    /// The grip point (tool centre point) relative to the tool mounting plate (the flange).
+    KDL::Frame gripPoint;
+};
+
+struct ToolDock {
+    std::string id;
+    KDL::Frame pose;   // where the flange is when the tool in the dock is mounted
+    std::string tool;  // the tool in the dock; empty when the dock is free
+};
+
+/// How close the flange must be to a dock to take or leave a tool, and how far outside
+/// a box the grip point may be for a grasp (sensor and placement tolerances).
+struct WorldTolerances {
+    double dockPosition = 0.005;  // m
+    double dockAngle = 0.02;      // rad
+    double grasp = 0.005;         // m
+};
+
+class World {
+public:
+    explicit World(WorldTolerances tolerances = {}) : tolerances_(tolerances) {}
+
+    // Building the scene. BadInvalidArgument for an empty id, a box with an edge that is
+    // not positive; BadNodeIdExists for an id already used by an object, tool or dock.
+    ua::StatusCode addObject(WorldObject object, std::string* why = nullptr);
+    ua::StatusCode addDock(ToolDock dock, std::string* why = nullptr);
+    /// A tool, stored in `dockId` (BadNotFound for an unknown dock, BadInvalidState for an
+    /// occupied one).
+    ua::StatusCode addTool(Tool tool, const std::string& dockId, std::string* why = nullptr);
+    /// Removes an object that is not grasped (BadNotFound, BadInvalidState).
+    ua::StatusCode removeObject(const std::string& id, std::string* why = nullptr);
+
+    // What the devices report.
+    /// The robot's flange moved; a grasped object moves with it.
+    void setFlangePose(const KDL::Frame& flange);
+    /// The tool changer locked the tool in `dockId` to the flange: the flange must be at
+    /// the dock, the dock must hold a tool and no tool may be mounted (BadNotFound,
+    /// BadInvalidState otherwise).
+    ua::StatusCode mountTool(const std::string& dockId, std::string* why = nullptr);
+    /// The tool changer left the mounted tool in the free dock `dockId` (the flange must be
+    /// there); refused while the tool holds an object.
+    ua::StatusCode unmountTool(const std::string& dockId, std::string* why = nullptr);
+    /// The mounted gripper holds `objectId`: the object must contain the grip point
+    /// (within the grasp tolerance) and nothing may be held already.
+    ua::StatusCode grasp(const std::string& objectId, std::string* why = nullptr);
+    /// The gripper let go: the object stays where it is. BadInvalidState if none is held.
+    ua::StatusCode release(std::string* why = nullptr);
+
+    // Queries.
+    [[nodiscard]] const std::map<std::string, WorldObject>& objects() const { return objects_; }
+    [[nodiscard]] const std::map<std::string, Tool>& tools() const { return tools_; }
+    [[nodiscard]] const std::map<std::string, ToolDock>& docks() const { return docks_; }
+    [[nodiscard]] const WorldObject* object(const std::string& id) const;
+    [[nodiscard]] const KDL::Frame& flangePose() const { return flange_; }
+    /// The mounted tool's id, empty when none.
+    [[nodiscard]] const std::string& mountedTool() const { return mounted_; }
+    /// The grasped object's id, empty when none.
+    [[nodiscard]] const std::string& graspedObject() const { return grasped_; }
+    /// The grip point in the base frame (the flange itself when no tool is mounted).
+    [[nodiscard]] KDL::Frame gripPoint() const;
+    /// The free object whose box contains `point` (within the grasp tolerance), if any.
+    [[nodiscard]] std::optional<std::string> objectAt(const KDL::Vector& point) const;
+    /// The object's extent along `direction` (base frame; normalised here): what a
+    /// parallel gripper closing along that direction meets.
+    [[nodiscard]] std::optional<double> extentAlong(const std::string& objectId,
+                                                    const KDL::Vector& direction) const;
+    /// Bumps on every change, so observers can tell whether anything happened.
+    [[nodiscard]] std::uint64_t revision() const { return revision_; }
+
+private:
+    [[nodiscard]] bool idTaken(const std::string& id) const;
+    [[nodiscard]] bool flangeAt(const ToolDock& dock) const;
+
+    WorldTolerances tolerances_;
+    std::map<std::string, WorldObject> objects_;
+    std::map<std::string, Tool> tools_;
+    std::map<std::string, ToolDock> docks_;
+    KDL::Frame flange_ = KDL::Frame::Identity();
+    std::string mounted_;
+    std::string grasped_;
+    KDL::Frame flangeToGrasped_ = KDL::Frame::Identity();
+    std::uint64_t revision_ = 0;
+};
+
+}  // namespace skillcell::devices

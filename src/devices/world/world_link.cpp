@@ -1,0 +1,107 @@
+#include "devices/world/world_link.hpp"
+
+#include "devices/common/frame.hpp"
+#include "devices/world/world_nodes.hpp"
+#include "ua/address_space/ns0_ids.hpp"
+
+namespace skillcell::devices {
+
+ua::Result<std::unique_ptr<WorldLink>> WorldLink::connect(const std::string& url) {
+    auto link = std::make_unique<WorldLink>(Token{});
+    if (const auto s = link->client_.connect(url); s.isBad()) return s;
+    const auto namespaces = link->client_.readValue(ua::NodeId(ua::ns0::Server_NamespaceArray));
+    if (!namespaces) return namespaces.status();
+    const auto& uris = namespaces->elements();
+    for (std::size_t i = 0; i < uris.size(); ++i) {
+        const auto* uri = std::get_if<ua::String>(&uris[i]);
+        if (uri != nullptr && *uri == kWorldNamespaceUri) {
+            link->ns_ = static_cast<std::uint16_t>(i);
+            return link;
+        }
+    }
+    return ua::status::BadNotFound;
+}
+
+ua::Result<std::vector<ua::Variant>> WorldLink::call(const char* method,
+                                                     std::vector<ua::Variant> in) {
+    return client_.call(id("World"), id(std::string("World.") + method), std::move(in));
+}
+
+namespace {
+ua::StatusCode statusOf(const ua::Result<std::vector<ua::Variant>>& r) {
+    return r.status();
+}
+}  // namespace
+
+ua::StatusCode WorldLink::setFlangePose(const KDL::Frame& flange) {
+    return statusOf(call("SetFlangePose", {frameToVariant(flange)}));
+}
+ua::StatusCode WorldLink::mountTool(const std::string& dockId) {
+    return statusOf(call("MountTool", {ua::Variant(ua::String(dockId))}));
+}
+ua::StatusCode WorldLink::unmountTool(const std::string& dockId) {
+    return statusOf(call("UnmountTool", {ua::Variant(ua::String(dockId))}));
+}
+ua::StatusCode WorldLink::grasp(const std::string& objectId) {
+    return statusOf(call("Grasp", {ua::Variant(ua::String(objectId))}));
+}
+ua::StatusCode WorldLink::release() {
+    return statusOf(call("Release", {}));
+}
+
+ua::StatusCode WorldLink::addObject(const std::string& objectId, const std::array<double, 3>& size,
+                                    const KDL::Frame& pose) {
+    return statusOf(call(
+        "AddObject",
+        {ua::Variant(ua::String(objectId)),
+         ua::Variant::array(std::vector<double>(size.begin(), size.end())), frameToVariant(pose)}));
+}
+ua::StatusCode WorldLink::addDock(const std::string& dockId, const KDL::Frame& pose) {
+    return statusOf(call("AddDock", {ua::Variant(ua::String(dockId)), frameToVariant(pose)}));
+}
+ua::StatusCode WorldLink::addTool(const std::string& toolId, const std::string& dockId,
+                                  const KDL::Frame& gripPoint) {
+    return statusOf(call("AddTool", {ua::Variant(ua::String(toolId)),
+                                     ua::Variant(ua::String(dockId)), frameToVariant(gripPoint)}));
+}
+
+ua::Result<std::optional<WorldLink::Found>> WorldLink::objectAtGripPoint() {
+    const auto out = call("ObjectAtGripPoint", {});
+    if (!out) return out.status();
+    if (out->size() != 2) return ua::status::BadTypeMismatch;
+    const auto* objectId = (*out)[0].get<ua::String>();
+    const auto& extent = (*out)[1];
+    if (objectId == nullptr || !extent.isArray() || extent.elements().size() != 3) {
+        return ua::status::BadTypeMismatch;
+    }
+    if (objectId->empty()) return std::optional<Found>();
+    Found found{*objectId, {}};
+    for (std::size_t i = 0; i < 3; ++i) {
+        const double* d = std::get_if<double>(&extent.elements()[i]);
+        if (d == nullptr) return ua::status::BadTypeMismatch;
+        found.extent[i] = *d;
+    }
+    return std::optional<Found>(std::move(found));
+}
+
+ua::Result<KDL::Frame> WorldLink::objectPose(const std::string& objectId) {
+    const auto value = client_.readValue(id("World/Objects/" + objectId + "/Pose"));
+    if (!value) return value.status();
+    return frameFromVariant(*value);
+}
+
+ua::Result<std::string> WorldLink::readString(const std::string& path) {
+    const auto value = client_.readValue(id(path));
+    if (!value) return value.status();
+    const auto* s = value->get<ua::String>();
+    if (s == nullptr) return ua::status::BadTypeMismatch;
+    return *s;
+}
+ua::Result<std::string> WorldLink::mountedTool() {
+    return readString("World/MountedTool");
+}
+ua::Result<std::string> WorldLink::graspedObject() {
+    return readString("World/GraspedObject");
+}
+
+}  // namespace skillcell::devices

@@ -1,0 +1,65 @@
+#pragma once
+// WorldLink: a device's connection to the world model component (world_nodes.hpp), with
+// plain blocking calls. Simulated hardware uses it from its own thread (never from a
+// server's io_context thread: each call waits for a round trip) to report what it does
+// to the world (the flange moved, an object was grasped) and to ask what is there.
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <kdl/frames.hpp>
+
+#include "ua/client/blocking_client.hpp"
+
+namespace skillcell::devices {
+
+class WorldLink {
+public:
+    /// Connects to the world model at `url` and finds its namespace (BadNotFound when the
+    /// server serves no world).
+    [[nodiscard]] static ua::Result<std::unique_ptr<WorldLink>> connect(const std::string& url);
+    WorldLink(const WorldLink&) = delete;
+    WorldLink& operator=(const WorldLink&) = delete;
+    ~WorldLink() = default;
+
+    ua::StatusCode setFlangePose(const KDL::Frame& flange);
+    ua::StatusCode mountTool(const std::string& dockId);
+    ua::StatusCode unmountTool(const std::string& dockId);
+    ua::StatusCode grasp(const std::string& objectId);
+    ua::StatusCode release();
+    ua::StatusCode addObject(const std::string& id, const std::array<double, 3>& size,
+                             const KDL::Frame& pose);
+    ua::StatusCode addDock(const std::string& id, const KDL::Frame& pose);
+    ua::StatusCode addTool(const std::string& id, const std::string& dockId,
+                           const KDL::Frame& gripPoint);
+
+    struct Found {
+        std::string objectId;
+        std::array<double, 3> extent{};  // along the grip point's x, y, z axes
+    };
+    /// The free object at the mounted tool's grip point; nullopt when there is none.
+    [[nodiscard]] ua::Result<std::optional<Found>> objectAtGripPoint();
+    [[nodiscard]] ua::Result<KDL::Frame> objectPose(const std::string& objectId);
+    [[nodiscard]] ua::Result<std::string> mountedTool();
+    [[nodiscard]] ua::Result<std::string> graspedObject();
+
+    struct Token {
+    private:
+        friend class WorldLink;
+        Token() = default;
+    };
+    explicit WorldLink(Token) {}
+
+private:
+    ua::Result<std::vector<ua::Variant>> call(const char* method, std::vector<ua::Variant> in);
+    ua::Result<std::string> readString(const std::string& path);
+    [[nodiscard]] ua::NodeId id(const std::string& path) const {
+        return ua::NodeId(ns_, ua::String(path));
+    }
+
+    ua::BlockingClient client_;
+    std::uint16_t ns_ = 0;
+};
+
+}  // namespace skillcell::devices

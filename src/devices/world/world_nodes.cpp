@@ -1,0 +1,263 @@
+#include "devices/world/world_nodes.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "devices/common/frame.hpp"
+
+namespace skillcell::devices {
+namespace {
+
+using ua::Argument;
+using ua::NodeId;
+using ua::StatusCode;
+using ua::Variant;
+
+Argument arg(const char* name, std::uint32_t type, const char* text,
+             std::int32_t rank = ua::value_rank::kScalar) {
+    return Argument{name, NodeId(type), rank, {}, {"", text}};
+}
+
+Variant sizeValue(const BoxSize& s) {
+    return Variant::array(std::vector<double>{s.x, s.y, s.z});
+}
+
+/// Box edges from a Double[3] argument.
+std::optional<BoxSize> sizeFrom(const Variant& v) {
+    if (!v.isArray() || v.elements().size() != 3) return std::nullopt;
+    double e[3];
+    for (std::size_t i = 0; i < 3; ++i) {
+        const double* d = std::get_if<double>(&v.elements()[i]);
+        if (d == nullptr) return std::nullopt;
+        e[i] = *d;
+    }
+    return BoxSize{e[0], e[1], e[2]};
+}
+
+std::string stringArg(const Variant& v) {
+    const auto* s = v.get<ua::String>();
+    return s == nullptr ? std::string() : std::string(*s);
+}
+
+/// A refused change: its reason goes to the log, its status to the caller.
+StatusCode refused(const char* method, StatusCode status, const std::string& why) {
+    spdlog::warn("world: {} refused ({}): {}", method, ua::statusName(status), why);
+    return status;
+}
+
+}  // namespace
+
+WorldNodes::WorldNodes(Token, ua::Server& server, World world, std::uint16_t ns)
+    : server_(server), world_(std::move(world)), ns_(ns) {}
+
+NodeId WorldNodes::id(const std::string& path) const {
+    return NodeId(ns_, ua::String(path));
+}
+
+ua::Result<std::unique_ptr<WorldNodes>> WorldNodes::create(ua::Server& server, World world) {
+    const std::uint16_t ns = server.addressSpace().registerNamespace(kWorldNamespaceUri);
+    auto nodes = std::make_unique<WorldNodes>(Token{}, server, std::move(world), ns);
+    if (const StatusCode s = nodes->build(); s.isBad()) return s;
+    return nodes;
+}
+
+StatusCode WorldNodes::build() {
+    ua::AddressSpace& as = server_.addressSpace();
+    const NodeId world = id("World");
+    if (auto r = as.addObject(NodeId(ua::ns0::ObjectsFolder), world, "World"); !r) {
+        return r.status();
+    }
+    for (const char* folder : {"Objects", "Tools", "Docks"}) {
+        if (auto r = as.addFolder(world, id(std::string("World/") + folder), folder); !r) {
+            return r.status();
+        }
+    }
+    const NodeId frame(ua::ns0::ThreeDFrame);
+    const Variant identity = frameToVariant(KDL::Frame::Identity());
+    for (const char* name : {"FlangePose", "GripPoint"}) {
+        if (auto r = as.addVariable(world, id(std::string("World/") + name), name, frame, identity);
+            !r) {
+            return r.status();
+        }
+    }
+    for (const char* name : {"MountedTool", "GraspedObject"}) {
+        if (auto r = as.addVariable(world, id(std::string("World/") + name), name,
+                                    NodeId(ua::ns0::String), Variant(ua::String()));
+            !r) {
+            return r.status();
+        }
+    }
+
+    // The methods. The Call service has checked the argument count and types against the
+    // declarations before a callback runs; the callbacks check values.
+    struct MethodSpec {
+        const char* name;
+        std::vector<Argument> inputs;
+        std::vector<Argument> outputs;
+        std::function<StatusCode(std::span<const Variant>, std::vector<Variant>&, std::string&)>
+            body;
+    };
+    const std::uint32_t kFrame = ua::ns0::ThreeDFrame;
+    const std::uint32_t kString = ua::ns0::String;
+    const std::uint32_t kDouble = ua::ns0::Double;
+    std::vector<MethodSpec> methods;
+    methods.push_back(
+        {"AddObject",
+         {arg("Id", kString, "object id"),
+          arg("Size", kDouble, "box edges x, y, z (m)", ua::value_rank::kOneDimension),
+          arg("Pose", kFrame, "the box centre in the base frame")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             const auto size = sizeFrom(in[1]);
+             const auto pose = frameFromVariant(in[2]);
+             if (!size) {
+                 why = "Size must hold three Doubles";
+                 return StatusCode(ua::status::BadInvalidArgument);
+             }
+             if (!pose) return pose.status();
+             return world_.addObject(WorldObject{stringArg(in[0]), *size, *pose}, &why);
+         }});
+    methods.push_back(
+        {"AddDock",
+         {arg("Id", kString, "dock id"),
+          arg("Pose", kFrame, "the flange pose at which the dock's tool locks")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             const auto pose = frameFromVariant(in[1]);
+             if (!pose) return pose.status();
+             return world_.addDock(ToolDock{stringArg(in[0]), *pose, {}}, &why);
+         }});
+    methods.push_back(
+        {"AddTool",
+         {arg("Id", kString, "tool id"), arg("DockId", kString, "the dock the tool is stored in"),
+          arg("GripPoint", kFrame, "grip point relative to the tool mounting plate")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             const auto grip = frameFromVariant(in[2]);
+             if (!grip) return grip.status();
+             return world_.addTool(Tool{stringArg(in[0]), *grip}, stringArg(in[1]), &why);
+         }});
+    methods.push_back({"SetFlangePose",
+                       {arg("Pose", kFrame, "the robot flange in the base frame")},
+                       {},
+                       [this](std::span<const Variant> in, std::vector<Variant>&, std::string&) {
+                           const auto pose = frameFromVariant(in[0]);
+                           if (!pose) return pose.status();
+                           world_.setFlangePose(*pose);
+                           return StatusCode(ua::status::Good);
+                       }});
+    methods.push_back(
+        {"MountTool",
+         {arg("DockId", kString, "the dock whose tool the flange takes")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             return world_.mountTool(stringArg(in[0]), &why);
+         }});
+    methods.push_back(
+        {"UnmountTool",
+         {arg("DockId", kString, "the free dock the mounted tool is left in")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             return world_.unmountTool(stringArg(in[0]), &why);
+         }});
+    methods.push_back({"Grasp",
+                       {arg("ObjectId", kString, "the object at the grip point")},
+                       {},
+                       [this](std::span<const Variant> in, std::vector<Variant>&,
+                              std::string& why) { return world_.grasp(stringArg(in[0]), &why); }});
+    methods.push_back({"Release",
+                       {},
+                       {},
+                       [this](std::span<const Variant>, std::vector<Variant>&, std::string& why) {
+                           return world_.release(&why);
+                       }});
+    methods.push_back(
+        {"ObjectAtGripPoint",
+         {},
+         {arg("ObjectId", kString, "the free object at the grip point; empty when none"),
+          arg("Extent", kDouble, "its extent along the grip point's x, y and z axes (m)",
+              ua::value_rank::kOneDimension)},
+         [this](std::span<const Variant>, std::vector<Variant>& out, std::string&) {
+             const KDL::Frame grip = world_.gripPoint();
+             const auto found = world_.objectAt(grip.p);
+             std::vector<double> extent{0, 0, 0};
+             if (found) {
+                 const KDL::Vector axes[3] = {grip.M.UnitX(), grip.M.UnitY(), grip.M.UnitZ()};
+                 for (std::size_t i = 0; i < 3; ++i) {
+                     extent[i] = world_.extentAlong(*found, axes[i]).value_or(0);
+                 }
+             }
+             out.emplace_back(ua::String(found.value_or("")));
+             out.emplace_back(Variant::array(std::move(extent)));
+             return StatusCode(ua::status::Good);
+         }});
+
+    for (auto& m : methods) {
+        auto body = std::move(m.body);
+        const char* name = m.name;
+        auto r = as.addMethod(world, id(std::string("World.") + name), name, std::move(m.inputs),
+                              std::move(m.outputs),
+                              [this, body = std::move(body), name](
+                                  const ua::Caller&, const NodeId&, std::span<const Variant> in,
+                                  std::vector<Variant>& out) -> StatusCode {
+                                  std::string why;
+                                  const StatusCode s = body(in, out, why);
+                                  if (s.isBad()) return refused(name, s, why);
+                                  sync();
+                                  return s;
+                              });
+        if (!r) return r.status();
+    }
+    sync();
+    return ua::status::Good;
+}
+
+void WorldNodes::sync() {
+    ua::AddressSpace& as = server_.addressSpace();
+    const NodeId frame(ua::ns0::ThreeDFrame);
+    // Values of nodes that exist; nodes for what the world gained since the last sync.
+    auto put = [&](const std::string& path, const std::string& parent, const char* name,
+                   const NodeId& dataType, Variant value, std::int32_t rank) {
+        const NodeId node = id(path);
+        if (as.find(node) == nullptr) {
+            auto r = as.addVariable(id(parent), node, name, dataType, std::move(value),
+                                    ua::access_level::kCurrentRead, rank);
+            if (!r) spdlog::error("world: cannot add {}: {}", path, ua::statusName(r.status()));
+            return;
+        }
+        (void)as.setValue(node, std::move(value));
+    };
+    auto ensureObject = [&](const std::string& path, const std::string& parent,
+                            const std::string& name) {
+        if (as.find(id(path)) != nullptr) return;
+        auto r = as.addObject(id(parent), id(path), name);
+        if (!r) spdlog::error("world: cannot add {}: {}", path, ua::statusName(r.status()));
+    };
+    for (const auto& [oid, object] : world_.objects()) {
+        const std::string path = "World/Objects/" + oid;
+        ensureObject(path, "World/Objects", oid);
+        put(path + "/Pose", path, "Pose", frame, frameToVariant(object.pose),
+            ua::value_rank::kScalar);
+        put(path + "/Size", path, "Size", NodeId(ua::ns0::Double), sizeValue(object.size),
+            ua::value_rank::kOneDimension);
+    }
+    for (const auto& [tid, tool] : world_.tools()) {
+        const std::string path = "World/Tools/" + tid;
+        ensureObject(path, "World/Tools", tid);
+        put(path + "/GripPoint", path, "GripPoint", frame, frameToVariant(tool.gripPoint),
+            ua::value_rank::kScalar);
+    }
+    for (const auto& [did, dock] : world_.docks()) {
+        const std::string path = "World/Docks/" + did;
+        ensureObject(path, "World/Docks", did);
+        put(path + "/Pose", path, "Pose", frame, frameToVariant(dock.pose),
+            ua::value_rank::kScalar);
+        put(path + "/Tool", path, "Tool", NodeId(ua::ns0::String), Variant(ua::String(dock.tool)),
+            ua::value_rank::kScalar);
+    }
+    (void)as.setValue(id("World/FlangePose"), frameToVariant(world_.flangePose()));
+    (void)as.setValue(id("World/GripPoint"), frameToVariant(world_.gripPoint()));
+    (void)as.setValue(id("World/MountedTool"), Variant(ua::String(world_.mountedTool())));
+    (void)as.setValue(id("World/GraspedObject"), Variant(ua::String(world_.graspedObject())));
+}
+
+}  // namespace skillcell::devices

@@ -1,0 +1,180 @@
+// The devices together, in one process but each on its own server as in the cell: the
+// world model, the UR5 reporting its flange there, and the 2F-85 adapter on a simulated
+// gripper that asks the world what lies between its fingers. A box is picked and placed
+// by running the skills through SkillClients; the test checks the world, not logs.
+#include <gtest/gtest.h>
+
+#include "client_thread.hpp"
+#include "devices/common/frame.hpp"
+#include "devices/robotiq/robotiq_component.hpp"
+#include "devices/robotiq/simulated_gripper_port.hpp"
+#include "devices/ur5/ur5_component.hpp"
+#include "devices/world/flange_reporter.hpp"
+#include "devices/world/world_link.hpp"
+#include "devices/world/world_nodes.hpp"
+#include "running_server.hpp"
+
+namespace skillcell::devices {
+namespace {
+
+using namespace std::chrono_literals;
+using Kind = skills::SkillOutcome::Kind;
+namespace rq = robotiq;
+
+KDL::Frame at(double x, double y, double z, double a = 0, double b = 0, double c = 0) {
+    return toFrame(Pose6{x, y, z, a, b, c});
+}
+
+/// Tool pointing down (the flange's z axis along the base's -z).
+KDL::Frame down(double x, double y, double z) {
+    return at(x, y, z, M_PI, 0, 0);
+}
+
+TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
+    const KDL::Frame gripOffset(KDL::Vector(0, 0, 0.15));
+    const KDL::Frame dockPose = down(0.3, -0.45, 0.35);
+
+    // The world model.
+    std::unique_ptr<WorldNodes> worldNodes;
+    test::RunningServer worldServer(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+        World w;
+        ASSERT_EQ(w.addObject({"box1", {0.04, 0.04, 0.04}, at(0.45, 0.15, 0.02)}),
+                  ua::status::Good);
+        ASSERT_EQ(w.addDock({"dock1", dockPose, {}}), ua::status::Good);
+        ASSERT_EQ(w.addTool({"2f85", gripOffset}, "dock1"), ua::status::Good);
+        auto created = WorldNodes::create(s, w);
+        ASSERT_TRUE(created.ok());
+        worldNodes = std::move(*created);
+    });
+    auto worldOf = [&] {
+        return worldServer.inServer([&](ua::Server&) { return worldNodes->world(); });
+    };
+
+    // The robot, reporting its flange to the world.
+    auto robotLink = WorldLink::connect(worldServer.url());
+    ASSERT_TRUE(robotLink.ok());
+    auto reporter = FlangeReporter::start(std::move(*robotLink));
+    std::unique_ptr<Ur5Component> robot;
+    test::RunningServer robotServer(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+        Ur5ComponentOptions o;
+        o.arm.speed = 20;
+        o.arm.tick = 2ms;
+        o.onFlange = [r = reporter.get()](const KDL::Frame& f) { r->report(f); };
+        // A move ends only once the world has its final flange pose.
+        o.arm.beforeDone = [r = reporter.get()](std::function<void()> report) {
+            r->whenSent(std::move(report));
+        };
+        auto c = Ur5Component::create(s, o);
+        ASSERT_TRUE(c.ok());
+        robot = std::move(*c);
+    });
+
+    // The gripper: the simulated 2F-85 knows the world, the adapter only a device path.
+    auto gripperLink = WorldLink::connect(worldServer.url());
+    ASSERT_TRUE(gripperLink.ok());
+    WorldLink* gl = gripperLink->get();
+    rq::SimulatedGripperOptions sim;
+    sim.speed = 20;
+    sim.probe = [gl]() -> std::optional<rq::ObjectBetweenFingers> {
+        const auto found = gl->objectAtGripPoint();
+        if (!found || !found->has_value()) return std::nullopt;
+        return rq::ObjectBetweenFingers{(*found)->objectId, (*found)->extent[1]};
+    };
+    sim.onEvent = [gl](const rq::FingerEvent& e) {
+        EXPECT_EQ(e.kind == rq::FingerEvent::Kind::Grasped ? gl->grasp(e.objectId) : gl->release(),
+                  ua::status::Good);
+    };
+    auto port = rq::SimulatedGripperPort::open(sim);
+    ASSERT_TRUE(port);
+    std::unique_ptr<rq::RobotiqComponent> gripper;
+    test::RunningServer gripperServer(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+        rq::RobotiqComponentOptions o;
+        o.device = port->devicePath();
+        o.gripPointOffset = gripOffset;
+        o.gripper.poll = 1ms;
+        auto c = rq::RobotiqComponent::create(s, o);
+        ASSERT_TRUE(c.ok());
+        gripper = std::move(*c);
+    });
+
+    test::ClientThread robotClient, gripperClient;
+    auto ptp =
+        robotClient.attach(robotServer.url(), ua::NodeId(1, ua::String("Skills/CartesianPtpMove")));
+    auto linear = robotClient.attach(robotServer.url(),
+                                     ua::NodeId(1, ua::String("Skills/CartesianLinearMove")));
+    auto grasp =
+        gripperClient.attach(gripperServer.url(), ua::NodeId(1, ua::String("Skills/Grasp")));
+    auto release =
+        gripperClient.attach(gripperServer.url(), ua::NodeId(1, ua::String("Skills/Release")));
+    ASSERT_TRUE(ptp && linear && grasp && release);
+    auto moveFlange = [&](const std::shared_ptr<skills::SkillClient>& skill, const KDL::Frame& f) {
+        const auto outcome =
+            robotClient.invoke(skill, {{"TargetPosition", frameToVariant(f)}}, 20s);
+        EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    };
+    // The TCP (the grip point) moves; ToolFrame tells the robot where it is.
+    auto moveTcp = [&](const KDL::Frame& tcp) {
+        const auto outcome = robotClient.invoke(
+            linear,
+            {{"TargetPosition", frameToVariant(tcp)}, {"ToolFrame", frameToVariant(gripOffset)}},
+            20s);
+        EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    };
+
+    // Take the gripper from its dock (the tool changer's part, done by hand here).
+    moveFlange(ptp, down(0.3, -0.45, 0.45));
+    moveFlange(linear, dockPose);
+    ASSERT_EQ(gl->mountTool("dock1"), ua::status::Good);
+    moveFlange(linear, down(0.3, -0.45, 0.45));
+    EXPECT_EQ(worldOf().mountedTool(), "2f85");
+
+    // Grasping thin air fails, and the world holds nothing.
+    auto outcome = gripperClient.invoke(grasp, {}, 20s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_TRUE(worldOf().graspedObject().empty());
+    gripperClient.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_return co_await grasp->call(skills::SkillMethod::Reset);
+    });
+
+    // Approach 5 cm above the box, go down, grasp.
+    moveTcp(down(0.45, 0.15, 0.07));
+    moveTcp(down(0.45, 0.15, 0.02));
+    outcome = gripperClient.invoke(grasp, {}, 20s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(worldOf().graspedObject(), "box1");
+    EXPECT_NEAR(rq::widthOf(static_cast<std::uint8_t>(port->fingerPosition())), 0.04, 0.0005);
+
+    // Carry it: up, across, down. It travels with the flange.
+    moveTcp(down(0.45, 0.15, 0.07));
+    EXPECT_NEAR(worldOf().object("box1")->pose.p.z(), 0.07, 1e-6);
+    moveTcp(down(0.30, -0.20, 0.07));
+    moveTcp(down(0.30, -0.20, 0.021));
+    outcome = gripperClient.invoke(release, {}, 20s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_TRUE(worldOf().graspedObject().empty());
+
+    // The robot leaves; the box stays where it was put.
+    moveTcp(down(0.30, -0.20, 0.10));
+    const World w = worldOf();
+    const KDL::Frame box = w.object("box1")->pose;
+    EXPECT_NEAR(box.p.x(), 0.30, 1e-6);
+    EXPECT_NEAR(box.p.y(), -0.20, 1e-6);
+    EXPECT_NEAR(box.p.z(), 0.021, 1e-6);
+    EXPECT_NEAR(w.gripPoint().p.z(), 0.10, 1e-6);
+
+    robotServer.inServer([&](ua::Server&) {
+        robot.reset();
+        return 0;
+    });
+    gripperServer.inServer([&](ua::Server&) {
+        gripper.reset();
+        return 0;
+    });
+    worldServer.inServer([&](ua::Server&) {
+        worldNodes.reset();
+        return 0;
+    });
+}
+
+}  // namespace
+}  // namespace skillcell::devices

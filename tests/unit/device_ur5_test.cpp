@@ -1,0 +1,477 @@
+// The simulated UR5: kinematics (IK against FK on random reachable poses, unreachable
+// poses refused), trapezoidal profiles within their limits, planned motions, and the four
+// move skills through a real server and SkillClient: success, an unreachable target
+// (Halted with the reason), Suspend/Resume and Halt mid-motion on a test-driven clock.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <condition_variable>
+#include <mutex>
+#include <random>
+
+#include "client_thread.hpp"
+#include "devices/common/frame.hpp"
+#include "devices/ur5/motion_planner.hpp"
+#include "devices/ur5/trapezoidal_profile.hpp"
+#include "devices/ur5/ur5_component.hpp"
+#include "devices/ur5/ur5_kinematics.hpp"
+#include "running_server.hpp"
+#include "ua/encoding/codec.hpp"
+#include "ua/messages/data_access.hpp"
+
+namespace skillcell::devices {
+namespace {
+
+using namespace std::chrono_literals;
+using Kind = skills::SkillOutcome::Kind;
+using skills::SkillMethod;
+using skills::SkillState;
+
+KDL::Frame at(double x, double y, double z, double a = 0, double b = 0, double c = 0) {
+    return toFrame(Pose6{x, y, z, a, b, c});
+}
+
+double maxDiff(const Joints& a, const Joints& b) {
+    double d = 0;
+    for (std::size_t i = 0; i < kUr5Joints; ++i) d = std::max(d, std::abs(a[i] - b[i]));
+    return d;
+}
+
+TEST(DeviceUr5Kinematics, ForwardKinematicsMatchesThePublishedZeroPose) {
+    Ur5Kinematics k;
+    // All joints at zero: the arm stretched along -x (UR's own documentation).
+    const KDL::Frame f = k.forward({0, 0, 0, 0, 0, 0});
+    EXPECT_NEAR(f.p.x(), -0.81725, 1e-9);
+    EXPECT_NEAR(f.p.y(), -0.19145, 1e-9);
+    EXPECT_NEAR(f.p.z(), -0.005491, 1e-9);
+}
+
+TEST(DeviceUr5Kinematics, InverseMatchesForwardOnRandomReachablePoses) {
+    Ur5Kinematics k;
+    std::mt19937 random(20261122);
+    std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+    const JointBounds bounds = JointBounds::ur5();
+    int solved = 0;
+    for (int n = 0; n < 100; ++n) {
+        Joints q, seed;
+        for (std::size_t i = 0; i < kUr5Joints; ++i) {
+            q[i] = angle(random);
+            seed[i] = angle(random);  // an unrelated present position
+        }
+        const KDL::Frame target = k.forward(q);
+        std::string why;
+        const auto solution = k.inverse(target, seed, bounds, &why);
+        ASSERT_TRUE(solution) << "pose " << n << " " << describe(target) << ": " << why;
+        EXPECT_TRUE(bounds.contains(*solution));
+        EXPECT_TRUE(near(k.forward(*solution), target, 1e-6, 1e-6)) << n;
+        ++solved;
+    }
+    EXPECT_EQ(solved, 100);
+}
+
+TEST(DeviceUr5Kinematics, SolutionsHonourTheBoundsAndPreferTheSeed) {
+    Ur5Kinematics k;
+    const Joints q{0.3, -1.2, 1.4, -1.8, -1.57, 0.4};
+    const KDL::Frame target = k.forward(q);
+    // From a seed near q, the solution is q itself (not another configuration).
+    Joints seed = q;
+    for (double& v : seed) v += 0.05;
+    const auto near = k.inverse(target, seed, JointBounds::ur5());
+    ASSERT_TRUE(near);
+    EXPECT_LT(maxDiff(*near, q), 1e-6);
+
+    // Bounds around q admit q; bounds that exclude this configuration's wrist do not.
+    JointBounds tight = JointBounds::ur5();
+    tight.lower[5] = 0.3;
+    tight.upper[5] = 0.5;
+    const auto bounded = k.inverse(target, {0, -1.57, 0, -1.57, 0, 0}, tight);
+    ASSERT_TRUE(bounded);
+    EXPECT_TRUE(tight.contains(*bounded));
+    EXPECT_TRUE(devices::near(k.forward(*bounded), target, 1e-6, 1e-6));
+}
+
+TEST(DeviceUr5Kinematics, UnreachablePosesAreRefusedWithAReason) {
+    Ur5Kinematics k;
+    std::string why;
+    EXPECT_FALSE(k.inverse(at(1.5, 0, 0.3), {}, JointBounds::ur5(), &why));
+    EXPECT_NE(why.find("out of the UR5's reach"), std::string::npos) << why;
+    // Inside the bounding sphere but not reachable with this orientation: the flange
+    // pointing up right above the base, at the reach limit.
+    EXPECT_FALSE(k.inverse(at(0, 0, 0.089159 + 0.99, 0, 0, 0), {}, JointBounds::ur5(), &why));
+
+    // Reachable, but only outside the bounds given: a shoulder pan limited to a range
+    // where the target is behind the robot.
+    const Joints q{2.5, -1.2, 1.4, -1.8, -1.57, 0.4};
+    JointBounds narrow = JointBounds::ur5();
+    narrow.lower[0] = -0.2;
+    narrow.upper[0] = 0.2;
+    why.clear();
+    EXPECT_FALSE(k.inverse(k.forward(q), {}, narrow, &why));
+    EXPECT_NE(why.find("joint bounds"), std::string::npos) << why;
+}
+
+TEST(DeviceUr5Profile, TrapezoidRespectsItsLimits) {
+    for (const auto& [distance, v, a] : {std::tuple{1.0, 0.25, 1.2}, std::tuple{0.01, 0.25, 1.2},
+                                         std::tuple{3.0, 1.05, 1.4}, std::tuple{0.0, 1.0, 1.0}}) {
+        const TrapezoidalProfile p(distance, v, a);
+        EXPECT_NEAR(p.position(p.duration()), distance, 1e-12);
+        EXPECT_LE(p.peakVelocity(), v + 1e-12);
+        if (distance == 0) {
+            EXPECT_EQ(p.duration(), 0);
+            continue;
+        }
+        const double dt = p.duration() / 2000;
+        double previousVelocity = 0;
+        for (int i = 1; i <= 2000; ++i) {
+            const double t = dt * i;
+            const double velocity = (p.position(t) - p.position(t - dt)) / dt;
+            EXPECT_LE(velocity, v * (1 + 1e-9)) << distance << " at " << t;
+            EXPECT_GE(velocity, -1e-12);
+            if (i > 1) {
+                EXPECT_LE(std::abs(velocity - previousVelocity) / dt, a * (1 + 1e-6) + 1e-6)
+                    << distance << " at " << t;
+            }
+            previousVelocity = velocity;
+        }
+    }
+    // Long enough to cruise: accelerate v/a, cruise, decelerate v/a.
+    const TrapezoidalProfile cruise(1.0, 0.25, 1.2);
+    EXPECT_NEAR(cruise.duration(), 1.0 / 0.25 + 0.25 / 1.2, 1e-12);
+    EXPECT_DOUBLE_EQ(cruise.peakVelocity(), 0.25);
+    // Too short to cruise: a triangle peaking below the limit.
+    const TrapezoidalProfile triangle(0.01, 0.25, 1.2);
+    EXPECT_LT(triangle.peakVelocity(), 0.25);
+    EXPECT_NEAR(triangle.duration(), 2 * std::sqrt(0.01 / 1.2), 1e-12);
+}
+
+TEST(DeviceUr5Planner, PointToPointMovesEveryJointWithinTheLimits) {
+    Ur5Kinematics k;
+    MotionPlanner planner(k);
+    const Joints from{0, -1.57, 1.57, -1.57, -1.57, 0};
+    MoveRequest r;
+    r.kind = MoveKind::JointPtp;
+    r.targetJoints = {1.0, -1.2, 1.0, -1.57, -1.0, 0.5};
+    r.maxVelocity = 0.5;
+    r.maxAcceleration = 2.0;
+    const auto planned = planner.plan(from, r);
+    ASSERT_TRUE(std::holds_alternative<Trajectory>(planned)) << std::get<std::string>(planned);
+    const Trajectory& t = std::get<Trajectory>(planned);
+    EXPECT_NEAR(t.duration(), 1.0 / 0.5 + 0.5 / 2.0, 1e-9);  // the lead joint moves 1 rad
+    const double dt = t.duration() / 500;
+    for (int i = 1; i <= 500; ++i) {
+        EXPECT_LE(maxDiff(t.at(dt * i), t.at(dt * (i - 1))) / dt, 0.5 * (1 + 1e-9));
+    }
+    EXPECT_LT(maxDiff(t.at(t.duration()), r.targetJoints), 1e-12);
+
+    // All-zero limits mean the defaults (1.05 rad/s, 1.4 rad/s^2).
+    r.maxVelocity = 0;
+    r.maxAcceleration = 0;
+    const auto byDefault = planner.plan(from, r);
+    ASSERT_TRUE(std::holds_alternative<Trajectory>(byDefault));
+    EXPECT_NEAR(std::get<Trajectory>(byDefault).duration(), 1.0 / 1.05 + 1.05 / 1.4, 1e-9);
+
+    r.targetJoints[2] = 7.0;  // beyond +-2 pi
+    const auto refused = planner.plan(from, r);
+    ASSERT_TRUE(std::holds_alternative<std::string>(refused));
+    EXPECT_NE(std::get<std::string>(refused).find("joint 3"), std::string::npos);
+}
+
+TEST(DeviceUr5Planner, LinearMovesKeepTheToolOnTheLine) {
+    Ur5Kinematics k;
+    MotionPlanner planner(k);
+    const Joints from{0, -1.57, 1.57, -1.57, -1.57, 0};
+    const KDL::Frame tool = at(0, 0, 0.1);  // TCP 10 cm beyond the flange
+    const KDL::Frame start = k.forward(from) * tool;
+    MoveRequest r;
+    r.kind = MoveKind::CartesianLinear;
+    r.toolFrame = tool;
+    r.target = KDL::Frame(start.M, start.p + KDL::Vector(0.1, 0.15, -0.1));
+    r.maxVelocity = 0.1;
+    r.maxAcceleration = 0.5;
+    const auto planned = planner.plan(from, r);
+    ASSERT_TRUE(std::holds_alternative<Trajectory>(planned)) << std::get<std::string>(planned);
+    const Trajectory& t = std::get<Trajectory>(planned);
+    const KDL::Vector line = r.target.p - start.p;
+    const double length = line.Norm();
+    EXPECT_GT(t.duration(), length / 0.1);
+    const double dt = t.duration() / 400;
+    KDL::Vector previous = start.p;
+    for (int i = 0; i <= 400; ++i) {
+        const KDL::Frame tcp = k.forward(t.at(dt * i)) * tool;
+        // Distance from the line, and the orientation held.
+        const KDL::Vector offset = tcp.p - start.p;
+        const double along = KDL::dot(offset, line) / length;
+        EXPECT_LT((offset - line * (along / length)).Norm(), 2e-4) << i;
+        EXPECT_TRUE(near(KDL::Frame(tcp.M), KDL::Frame(start.M), 1, 1e-3)) << i;
+        if (i > 0) {
+            EXPECT_LE((tcp.p - previous).Norm() / dt, 0.1 * 1.01) << i;
+        }
+        previous = tcp.p;
+    }
+    EXPECT_TRUE(near(k.forward(t.end()) * tool, r.target, 1e-6, 1e-6));
+
+    r.target.p = KDL::Vector(1.2, 0.2, 0.3);  // out of reach
+    const auto refused = planner.plan(from, r);
+    ASSERT_TRUE(std::holds_alternative<std::string>(refused));
+    EXPECT_NE(std::get<std::string>(refused).find("unreachable"), std::string::npos);
+}
+
+/// A clock the test moves by hand, and a count of the arm's ticks to wait on.
+struct ManualClock {
+    std::atomic<std::int64_t> ns{0};
+    std::chrono::steady_clock::time_point now() const {
+        return std::chrono::steady_clock::time_point(std::chrono::nanoseconds(ns.load()));
+    }
+    void advance(std::chrono::milliseconds d) {
+        ns += std::chrono::duration_cast<std::chrono::nanoseconds>(d).count();
+    }
+};
+
+class TickCounter {
+public:
+    void tick() {
+        {
+            std::lock_guard lock(mutex_);
+            ++ticks_;
+        }
+        cv_.notify_all();
+    }
+    /// Waits for `n` more ticks (bounded).
+    bool waitTicks(int n) {
+        std::unique_lock lock(mutex_);
+        const std::uint64_t target = ticks_ + static_cast<std::uint64_t>(n);
+        return cv_.wait_for(lock, 5s, [&] { return ticks_ >= target; });
+    }
+
+private:
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    std::uint64_t ticks_ = 0;
+};
+
+/// A UR5 component on a real server.
+class Ur5Cell {
+public:
+    explicit Ur5Cell(ManualClock* clock = nullptr, double speed = 20)
+        : server_(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+              Ur5ComponentOptions o;
+              o.arm.speed = speed;
+              o.arm.tick = 1ms;
+              if (clock != nullptr) o.arm.clock = [clock] { return clock->now(); };
+              o.onFlange = [this](const KDL::Frame&) { ticks_.tick(); };
+              auto c = Ur5Component::create(s, o);
+              ASSERT_TRUE(c.ok());
+              component_ = std::move(*c);
+          }) {}
+    ~Ur5Cell() {
+        server_.inServer([this](ua::Server&) {
+            component_.reset();
+            return 0;
+        });
+    }
+    Ur5Cell(const Ur5Cell&) = delete;
+    Ur5Cell& operator=(const Ur5Cell&) = delete;
+
+    [[nodiscard]] std::string url() const { return server_.url(); }
+    Joints joints() {
+        return server_.inServer([this](ua::Server&) { return component_->arm().joints(); });
+    }
+    double elapsed() {
+        return server_.inServer([this](ua::Server&) { return component_->arm().elapsed(); });
+    }
+    SkillState state(const std::string& name) {
+        return server_.inServer([&](ua::Server&) {
+            for (const auto& s : component_->skills().skills()) {
+                if (s->name() == name) return s->state();
+            }
+            return SkillState::Halted;
+        });
+    }
+    ua::Variant read(const std::string& path) {
+        return server_.inServer([&](ua::Server& s) {
+            const ua::Node* node = s.addressSpace().find(ua::NodeId(1, ua::String(path)));
+            return node == nullptr ? ua::Variant() : *s.addressSpace().readValue(*node).value;
+        });
+    }
+    KDL::Frame forward(const Joints& q) { return kinematics_.forward(q); }
+    TickCounter& ticks() { return ticks_; }
+    static ua::NodeId skill(const std::string& name) {
+        return ua::NodeId(1, ua::String("Skills/" + name));
+    }
+
+private:
+    Ur5Kinematics kinematics_;
+    TickCounter ticks_;
+    std::unique_ptr<Ur5Component> component_;
+    test::RunningServer server_;
+};
+
+ua::Variant joints(const Joints& q) {
+    return ua::Variant::array(std::vector<double>(q.begin(), q.end()));
+}
+
+TEST(DeviceUr5Skills, JointAndCartesianMovesReachTheirTargets) {
+    Ur5Cell cell;
+    test::ClientThread t;
+    auto ptp = t.attach(cell.url(), Ur5Cell::skill("JointPtpMove"));
+    ASSERT_TRUE(ptp);
+    const Joints target{0.5, -1.3, 1.2, -1.5, -1.57, 0.2};
+    auto outcome = t.invoke(ptp, {{"TargetJointPosition", joints(target)}}, 10s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_LT(maxDiff(cell.joints(), target), 1e-9);
+    // The published joints and TCP follow the arm.
+    const ua::Variant published = cell.read("UR5/JointPositions");
+    ASSERT_EQ(published.elements().size(), 6u);
+    EXPECT_NEAR(std::get<double>(published.elements()[0]), 0.5, 1e-9);
+
+    // A linear move of the TCP (10 cm tool) 5 cm down and 5 cm sideways.
+    auto linear = t.attach(cell.url(), Ur5Cell::skill("CartesianLinearMove"));
+    ASSERT_TRUE(linear);
+    const KDL::Frame tool = at(0, 0, 0.1);
+    const KDL::Frame tcp = cell.forward(target) * tool;
+    const KDL::Frame goal(tcp.M, tcp.p + KDL::Vector(0, 0.05, -0.05));
+    outcome = t.invoke(linear,
+                       {{"TargetPosition", frameToVariant(goal)},
+                        {"ToolFrame", frameToVariant(tool)},
+                        {"MaxVelocity", ua::Variant(0.5)}},
+                       10s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_TRUE(near(cell.forward(cell.joints()) * tool, goal, 1e-6, 1e-6));
+    const auto tcpPublished = frameFromVariant(cell.read("UR5/TcpPose"));
+    ASSERT_TRUE(tcpPublished.ok());
+    EXPECT_TRUE(near(*tcpPublished, goal, 1e-6, 1e-6)) << describe(*tcpPublished);
+
+    // Point to point to a Cartesian pose, within AxisBounds.
+    auto cptp = t.attach(cell.url(), Ur5Cell::skill("CartesianPtpMove"));
+    ASSERT_TRUE(cptp);
+    const KDL::Frame goal2 = at(-0.3, -0.4, 0.3, M_PI, 0, 0);
+    std::vector<ua::Scalar> bounds;
+    for (std::size_t i = 0; i < kUr5Joints; ++i) {
+        bounds.emplace_back(ua::toExtensionObject(ua::Range{-M_PI, M_PI}));
+    }
+    outcome = t.invoke(
+        cptp,
+        {{"TargetPosition", frameToVariant(goal2)},
+         {"AxisBounds", ua::Variant::array(ua::BuiltinType::ExtensionObject, std::move(bounds))}},
+        10s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    const Joints q = cell.joints();
+    EXPECT_TRUE(near(cell.forward(q), goal2, 1e-6, 1e-6));
+    for (double v : q) EXPECT_LE(std::abs(v), M_PI + 1e-9);
+
+    // Joint-linear: the TCP on a straight line, ending in the joints asked for.
+    auto jlin = t.attach(cell.url(), Ur5Cell::skill("JointLinearMove"));
+    ASSERT_TRUE(jlin);
+    Joints nearby = q;
+    nearby[0] += 0.1;
+    nearby[1] += 0.05;
+    outcome = t.invoke(jlin, {{"TargetJointPosition", joints(nearby)}}, 10s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_LT(maxDiff(cell.joints(), nearby), 1e-6);
+}
+
+TEST(DeviceUr5Skills, AnUnreachableTargetHaltsTheSkillWithTheReason) {
+    Ur5Cell cell;
+    test::ClientThread t;
+    auto linear = t.attach(cell.url(), Ur5Cell::skill("CartesianLinearMove"));
+    ASSERT_TRUE(linear);
+    const Joints before = cell.joints();
+    auto outcome = t.invoke(linear, {{"TargetPosition", frameToVariant(at(2.0, 0, 0.5))}}, 10s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("unreachable"), std::string::npos) << outcome.reason;
+    EXPECT_EQ(cell.state("CartesianLinearMove"), SkillState::Halted);
+    EXPECT_EQ(cell.joints(), before);  // nothing moved
+
+    // Wrong inputs are refused before the run: a joint vector of the wrong length fails
+    // with its reason; a velocity beyond the EURange is refused at the write.
+    auto ptp = t.attach(cell.url(), Ur5Cell::skill("JointPtpMove"));
+    ASSERT_TRUE(ptp);
+    outcome = t.invoke(
+        ptp,
+        {{"TargetJointPosition", joints({0, 0, 0, 0, 0, 0})}, {"MaxVelocity", ua::Variant(5.0)}},
+        10s);
+    EXPECT_EQ(outcome.kind, Kind::Refused);
+    EXPECT_EQ(outcome.status, ua::status::BadOutOfRange);
+    outcome = t.invoke(ptp,
+                       {{"TargetJointPosition", ua::Variant::array(std::vector<double>{0, 0, 0})},
+                        {"MaxVelocity", ua::Variant(0.0)}},
+                       10s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("6 joint positions"), std::string::npos) << outcome.reason;
+    // No target written: the model's default TargetPosition (the base frame's origin,
+    // inside the robot's own base) is not reachable.
+    auto cptp = t.attach(cell.url(), Ur5Cell::skill("CartesianPtpMove"));
+    ASSERT_TRUE(cptp);
+    outcome = t.invoke(cptp, {}, 10s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("unreachable"), std::string::npos) << outcome.reason;
+}
+
+TEST(DeviceUr5Skills, SuspendResumeAndHaltWorkMidMotion) {
+    ManualClock clock;
+    Ur5Cell cell(&clock, 1.0);
+    test::ClientThread t;
+    auto ptp = t.attach(cell.url(), Ur5Cell::skill("JointPtpMove"));
+    ASSERT_TRUE(ptp);
+    const Joints start = cell.joints();
+    Joints target = start;
+    target[0] += 1.0;  // 1 rad at 0.5 rad/s, 1 rad/s^2: 2.5 s
+    auto started = t.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_await ptp->setParameter("TargetJointPosition", joints(target));
+        co_await ptp->setParameter("MaxVelocity", ua::Variant(0.5));
+        co_await ptp->setParameter("MaxAcceleration", ua::Variant(1.0));
+        co_return co_await ptp->start();
+    });
+    ASSERT_EQ(started, ua::status::Good);
+    EXPECT_EQ(cell.state("JointPtpMove"), SkillState::Running);
+
+    clock.advance(1000ms);
+    ASSERT_TRUE(cell.ticks().waitTicks(2));
+    EXPECT_NEAR(cell.elapsed(), 1.0, 1e-9);
+    const double at1s = cell.joints()[0] - start[0];
+    EXPECT_NEAR(at1s, 0.5 * 1.0 * 0.25 + 0.5 * 0.5, 1e-9);  // 0.5 s accelerating, 0.5 s cruising
+
+    auto call = [&](SkillMethod m) {
+        return t.run([&]() -> asio::awaitable<ua::StatusCode> { co_return co_await ptp->call(m); });
+    };
+    ASSERT_EQ(call(SkillMethod::Suspend), ua::status::Good);
+    EXPECT_EQ(cell.state("JointPtpMove"), SkillState::Suspended);
+    const Joints held = cell.joints();
+    clock.advance(10'000ms);  // long past the motion's end: a suspended arm does not move
+    ASSERT_TRUE(cell.ticks().waitTicks(3));
+    EXPECT_EQ(cell.joints(), held);
+    EXPECT_EQ(cell.state("JointPtpMove"), SkillState::Suspended);
+
+    ASSERT_EQ(call(SkillMethod::Resume), ua::status::Good);
+    EXPECT_EQ(cell.state("JointPtpMove"), SkillState::Running);
+    clock.advance(500ms);
+    ASSERT_TRUE(cell.ticks().waitTicks(2));
+    EXPECT_NEAR(cell.elapsed(), 1.5, 1e-9);  // the pause did not count
+    clock.advance(2000ms);
+    const auto end = t.run(
+        [&]() -> asio::awaitable<skills::SkillOutcome> { co_return co_await ptp->waitForEnd(5s); });
+    EXPECT_EQ(end.kind, Kind::Finished) << end.reason;
+    EXPECT_LT(maxDiff(cell.joints(), target), 1e-12);
+
+    // Halt in the middle of the way back: the arm stays where it was.
+    started = t.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_await ptp->setParameter("TargetJointPosition", joints(start));
+        co_return co_await ptp->start();
+    });
+    ASSERT_EQ(started, ua::status::Good);
+    clock.advance(1000ms);
+    ASSERT_TRUE(cell.ticks().waitTicks(2));
+    ASSERT_EQ(call(SkillMethod::Halt), ua::status::Good);
+    EXPECT_EQ(cell.state("JointPtpMove"), SkillState::Halted);
+    const Joints stopped = cell.joints();
+    EXPECT_LT(stopped[0], target[0] - 0.1);
+    EXPECT_GT(stopped[0], start[0] + 0.1);
+    clock.advance(5000ms);  // a halted arm has no motion left to take up the time
+    EXPECT_EQ(cell.joints(), stopped);
+    ASSERT_EQ(call(SkillMethod::Reset), ua::status::Good);
+    EXPECT_EQ(cell.state("JointPtpMove"), SkillState::Ready);
+}
+
+}  // namespace
+}  // namespace skillcell::devices

@@ -1,0 +1,252 @@
+// The world model: the World value on its own (scene building, consistency checks, a
+// grasped object moving with the flange, a released one staying), the 3DFrame codec, and
+// the OPC UA face driven through WorldLink over a real server.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "devices/common/frame.hpp"
+#include "devices/world/world.hpp"
+#include "devices/world/world_link.hpp"
+#include "devices/world/world_nodes.hpp"
+#include "running_server.hpp"
+#include "ua/client/blocking_client.hpp"
+
+namespace skillcell::devices {
+namespace {
+
+using ua::status::BadInvalidArgument;
+using ua::status::BadInvalidState;
+using ua::status::BadNodeIdExists;
+using ua::status::BadNotFound;
+using ua::status::Good;
+
+KDL::Frame at(double x, double y, double z, double a = 0, double b = 0, double c = 0) {
+    return toFrame(Pose6{x, y, z, a, b, c});
+}
+
+// A cell: a box on the table, a dock with a gripper whose grip point is 0.15 m in front
+// of the flange.
+World cell() {
+    World w;
+    EXPECT_EQ(w.addObject({"box1", {0.04, 0.04, 0.04}, at(0.5, 0.1, 0.02)}), Good);
+    EXPECT_EQ(w.addDock({"dock1", at(0.3, -0.4, 0.3, M_PI, 0, 0), {}}), Good);
+    EXPECT_EQ(w.addTool({"gripper", at(0, 0, 0.15)}, "dock1"), Good);
+    return w;
+}
+
+TEST(DeviceWorldFrame, ThreeDFrameRoundTripsAndRejectsOtherValues) {
+    const KDL::Frame f = at(0.1, -0.2, 0.3, 0.4, -0.5, 0.6);
+    const ua::Variant v = frameToVariant(f);
+    const auto* eo = v.get<ua::ExtensionObject>();
+    ASSERT_NE(eo, nullptr);
+    EXPECT_EQ(eo->typeId, ua::NodeId(18823u));  // 3DFrame's Default Binary
+    EXPECT_EQ(eo->body.size(), 48u);
+    const auto back = frameFromVariant(v);
+    ASSERT_TRUE(back.ok());
+    EXPECT_TRUE(near(*back, f, 1e-12, 1e-12));
+    const Pose6 p = toPose6(*back);
+    EXPECT_NEAR(p.a, 0.4, 1e-12);
+    EXPECT_NEAR(p.b, -0.5, 1e-12);
+    EXPECT_NEAR(p.c, 0.6, 1e-12);
+
+    EXPECT_EQ(frameFromVariant(ua::Variant(1.0)).status(), ua::status::BadTypeMismatch);
+    ua::ExtensionObject shorter = *eo;
+    shorter.body.bytes.pop_back();
+    EXPECT_EQ(frameFromVariant(ua::Variant(shorter)).status(), ua::status::BadTypeMismatch);
+    ua::ExtensionObject nan = *eo;
+    const double q = std::nan("");
+    std::memcpy(nan.body.bytes.data(), &q, sizeof q);
+    EXPECT_EQ(frameFromVariant(ua::Variant(nan)).status(), ua::status::BadOutOfRange);
+}
+
+TEST(DeviceWorldFrame, ParsesPosesFromText) {
+    EXPECT_EQ(parsePose6("1,2,3"), (Pose6{1, 2, 3, 0, 0, 0}));
+    EXPECT_EQ(parsePose6("1, 2, 3, 0.5, 0, -1"), (Pose6{1, 2, 3, 0.5, 0, -1}));
+    EXPECT_FALSE(parsePose6("1,2"));
+    EXPECT_FALSE(parsePose6("1,2,3,"));
+    EXPECT_FALSE(parsePose6("1,x,3"));
+    EXPECT_FALSE(parsePose6("1,2,3,4"));
+    EXPECT_FALSE(parsePose6("nan,2,3"));
+}
+
+TEST(DeviceWorld, SceneIdsAreUniqueAndBoxesReal) {
+    World w = cell();
+    std::string why;
+    EXPECT_EQ(w.addObject({"box1", {0.1, 0.1, 0.1}, at(0, 0, 0)}, &why), BadNodeIdExists);
+    EXPECT_EQ(w.addObject({"dock1", {0.1, 0.1, 0.1}, at(0, 0, 0)}), BadNodeIdExists);
+    EXPECT_EQ(w.addObject({"flat", {0.1, 0.0, 0.1}, at(0, 0, 0)}, &why), BadInvalidArgument);
+    EXPECT_NE(why.find("positive"), std::string::npos) << why;
+    EXPECT_EQ(w.addObject({"", {0.1, 0.1, 0.1}, at(0, 0, 0)}), BadInvalidArgument);
+    EXPECT_EQ(w.addTool({"other", at(0, 0, 0)}, "dock1"), BadInvalidState);  // occupied
+    EXPECT_EQ(w.addTool({"other", at(0, 0, 0)}, "nowhere"), BadNotFound);
+    EXPECT_EQ(w.objects().size(), 1u);
+    EXPECT_EQ(w.docks().at("dock1").tool, "gripper");
+}
+
+TEST(DeviceWorld, ToolsAreTakenAndLeftOnlyAtTheirDock) {
+    World w = cell();
+    std::string why;
+    EXPECT_EQ(w.mountTool("dock1", &why), BadInvalidState);  // the flange is elsewhere
+    EXPECT_NE(why.find("not at dock"), std::string::npos) << why;
+    w.setFlangePose(at(0.3, -0.4, 0.302, M_PI, 0, 0));  // within the 5 mm tolerance
+    EXPECT_EQ(w.mountTool("dock1"), Good);
+    EXPECT_EQ(w.mountedTool(), "gripper");
+    EXPECT_TRUE(w.docks().at("dock1").tool.empty());
+    EXPECT_EQ(w.mountTool("dock1"), BadInvalidState);  // one tool at a time
+    // The grip point follows the tool's offset: 0.15 m along the flange's z (pointing down).
+    EXPECT_NEAR(w.gripPoint().p.z(), 0.302 - 0.15, 1e-9);
+
+    w.setFlangePose(at(0, 0, 0.5));
+    EXPECT_EQ(w.unmountTool("dock1"), BadInvalidState);  // not at the dock
+    w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0));
+    EXPECT_EQ(w.unmountTool("nowhere"), BadNotFound);
+    EXPECT_EQ(w.unmountTool("dock1"), Good);
+    EXPECT_TRUE(w.mountedTool().empty());
+    EXPECT_EQ(w.docks().at("dock1").tool, "gripper");
+    EXPECT_EQ(w.unmountTool("dock1"), BadInvalidState);  // nothing mounted
+}
+
+TEST(DeviceWorld, AGraspedObjectMovesWithTheFlangeAndAReleasedOneStays) {
+    World w = cell();
+    std::string why;
+    EXPECT_EQ(w.grasp("box1", &why), BadInvalidState);  // no tool
+    w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0));
+    ASSERT_EQ(w.mountTool("dock1"), Good);
+    EXPECT_EQ(w.grasp("box1", &why), BadInvalidState);  // not at the grip point
+    EXPECT_NE(why.find("grip point"), std::string::npos) << why;
+    EXPECT_EQ(w.grasp("nothing"), BadNotFound);
+
+    // Flange pointing down, 0.15 m above the box centre: the grip point is in the box.
+    w.setFlangePose(at(0.5, 0.1, 0.17, M_PI, 0, 0));
+    EXPECT_EQ(w.objectAt(w.gripPoint().p), std::optional<std::string>("box1"));
+    ASSERT_EQ(w.grasp("box1"), Good);
+    EXPECT_EQ(w.graspedObject(), "box1");
+    EXPECT_EQ(w.grasp("box1"), BadInvalidState);
+    EXPECT_FALSE(w.objectAt(w.gripPoint().p));  // a held object is not "on the table"
+
+    // Move and turn: the box keeps its pose relative to the flange.
+    w.setFlangePose(at(0.2, 0.3, 0.4, M_PI, 0, M_PI / 2));
+    const KDL::Frame moved = w.object("box1")->pose;
+    EXPECT_NEAR(moved.p.x(), 0.2, 1e-9);
+    EXPECT_NEAR(moved.p.y(), 0.3, 1e-9);
+    EXPECT_NEAR(moved.p.z(), 0.25, 1e-9);
+    EXPECT_EQ(w.unmountTool("dock1"), BadInvalidState);  // still holding the box
+
+    ASSERT_EQ(w.release(), Good);
+    EXPECT_EQ(w.release(), BadInvalidState);
+    w.setFlangePose(at(0.6, 0.6, 0.6));
+    EXPECT_TRUE(near(w.object("box1")->pose, moved, 1e-12, 1e-12));
+}
+
+TEST(DeviceWorld, ExtentAlongADirectionFollowsTheBoxOrientation) {
+    World w;
+    ASSERT_EQ(w.addObject({"bar", {0.10, 0.02, 0.04}, at(0, 0, 0, 0, 0, M_PI / 2)}), Good);
+    // Turned by 90 degrees about z: its 0.10 m edge lies along the base y axis.
+    EXPECT_NEAR(*w.extentAlong("bar", KDL::Vector(0, 1, 0)), 0.10, 1e-9);
+    EXPECT_NEAR(*w.extentAlong("bar", KDL::Vector(2, 0, 0)), 0.02, 1e-9);
+    EXPECT_NEAR(*w.extentAlong("bar", KDL::Vector(0, 0, 1)), 0.04, 1e-9);
+    EXPECT_FALSE(w.extentAlong("none", KDL::Vector(0, 0, 1)));
+}
+
+TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
+    std::unique_ptr<WorldNodes> nodes;
+    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+        auto created = WorldNodes::create(s);
+        ASSERT_TRUE(created.ok());
+        nodes = std::move(*created);
+    });
+    auto link = WorldLink::connect(server.url());
+    ASSERT_TRUE(link.ok()) << ua::statusName(link.status());
+    WorldLink& w = **link;
+
+    EXPECT_EQ(w.addObject("box1", {0.04, 0.04, 0.04}, at(0.5, 0.1, 0.02)), Good);
+    EXPECT_EQ(w.addObject("box1", {0.04, 0.04, 0.04}, at(0.5, 0.1, 0.02)), BadNodeIdExists);
+    EXPECT_EQ(w.addObject("bad", {0.04, -1, 0.04}, at(0.5, 0.1, 0.02)), BadInvalidArgument);
+    EXPECT_EQ(w.addDock("dock1", at(0.3, -0.4, 0.3, M_PI, 0, 0)), Good);
+    EXPECT_EQ(w.addTool("gripper", "dock1", at(0, 0, 0.15)), Good);
+
+    EXPECT_EQ(w.mountTool("dock1"), BadInvalidState);
+    EXPECT_EQ(w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0)), Good);
+    EXPECT_EQ(w.mountTool("dock1"), Good);
+    EXPECT_EQ(*w.mountedTool(), "gripper");
+
+    auto found = w.objectAtGripPoint();
+    ASSERT_TRUE(found.ok());
+    EXPECT_FALSE(found->has_value());
+    EXPECT_EQ(w.setFlangePose(at(0.5, 0.1, 0.17, M_PI, 0, 0)), Good);
+    found = w.objectAtGripPoint();
+    ASSERT_TRUE(found.ok() && found->has_value());
+    EXPECT_EQ((*found)->objectId, "box1");
+    EXPECT_NEAR((*found)->extent[1], 0.04, 1e-9);
+
+    EXPECT_EQ(w.grasp("box1"), Good);
+    EXPECT_EQ(*w.graspedObject(), "box1");
+    EXPECT_EQ(w.setFlangePose(at(0.2, 0.3, 0.4, M_PI, 0, 0)), Good);
+    EXPECT_EQ(w.release(), Good);
+    EXPECT_EQ(w.release(), BadInvalidState);
+    EXPECT_EQ(w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0)), Good);
+    EXPECT_EQ(w.unmountTool("dock1"), Good);
+
+    // What a reader of the address space sees is what the World holds.
+    const auto pose = w.objectPose("box1");
+    ASSERT_TRUE(pose.ok());
+    EXPECT_TRUE(near(*pose, at(0.2, 0.3, 0.25), 1e-9, 1e-9)) << describe(*pose);
+    EXPECT_EQ(w.objectPose("nothing").status(), ua::status::BadNodeIdUnknown);
+    EXPECT_EQ(*w.mountedTool(), "");
+    const bool consistent = server.inServer([&](ua::Server&) {
+        const World& world = nodes->world();
+        return world.graspedObject().empty() && world.mountedTool().empty() &&
+               world.docks().at("dock1").tool == "gripper" &&
+               near(world.object("box1")->pose, at(0.2, 0.3, 0.25), 1e-9, 1e-9);
+    });
+    EXPECT_TRUE(consistent);
+}
+
+TEST(DeviceWorldNodes, MalformedCallsGetPreciseStatusCodesAndChangeNothing) {
+    std::unique_ptr<WorldNodes> nodes;
+    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+        auto created = WorldNodes::create(s);
+        ASSERT_TRUE(created.ok());
+        nodes = std::move(*created);
+    });
+    ua::BlockingClient c;
+    ASSERT_EQ(c.connect(server.url()), Good);
+    const auto ns = server.inServer(
+        [](ua::Server& s) { return *s.addressSpace().namespaceIndex(kWorldNamespaceUri); });
+    const ua::NodeId world(ns, ua::String("World"));
+    auto method = [&](const char* name) {
+        return ua::NodeId(ns, ua::String(std::string("World.") + name));
+    };
+    auto status = [](const ua::Result<std::vector<ua::Variant>>& r) { return r.status(); };
+
+    // A number where a 3DFrame belongs: refused by the argument check.
+    EXPECT_TRUE(status(c.call(world, method("SetFlangePose"), {ua::Variant(1.0)})).isBad());
+    // Two box edges, or a NaN edge: the world refuses them.
+    EXPECT_EQ(status(c.call(
+                  world, method("AddObject"),
+                  {ua::Variant(ua::String("b")), ua::Variant::array(std::vector<double>{0.1, 0.1}),
+                   frameToVariant(at(0, 0, 0))})),
+              BadInvalidArgument);
+    EXPECT_EQ(status(c.call(world, method("AddObject"),
+                            {ua::Variant(ua::String("b")),
+                             ua::Variant::array(std::vector<double>{0.1, std::nan(""), 0.1}),
+                             frameToVariant(at(0, 0, 0))})),
+              BadInvalidArgument);
+    EXPECT_EQ(status(c.call(world, method("Grasp"), {ua::Variant(ua::String(""))})), BadNotFound);
+    EXPECT_EQ(status(c.call(world, method("MountTool"), {ua::Variant(ua::String("x"))})),
+              BadNotFound);
+    EXPECT_EQ(status(c.call(world, method("Release"), {})), BadInvalidState);
+    // Too few arguments.
+    EXPECT_TRUE(status(c.call(world, method("AddDock"), {ua::Variant(ua::String("d"))})).isBad());
+    const bool untouched = server.inServer([&](ua::Server&) {
+        const World& w = nodes->world();
+        return w.objects().empty() && w.docks().empty() && w.tools().empty() &&
+               near(w.flangePose(), KDL::Frame::Identity(), 0, 0);
+    });
+    EXPECT_TRUE(untouched);
+}
+
+}  // namespace
+}  // namespace skillcell::devices

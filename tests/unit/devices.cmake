@@ -1,0 +1,25 @@
+# Simulated devices and their adapters (src/devices, docs/devices.md).
+skillcell_unit_test(test_device_world device_world_test.cpp)
+target_link_libraries(test_device_world PRIVATE skillcell_world skillcell_test_support)
+
+skillcell_unit_test(test_device_ur5 device_ur5_test.cpp)
+target_link_libraries(test_device_ur5 PRIVATE skillcell_ur5 skillcell_test_support)
+
+skillcell_unit_test(test_device_robotiq device_robotiq_test.cpp)
+target_link_libraries(test_device_robotiq PRIVATE skillcell_robotiq skillcell_test_support
+                                                  PkgConfig::MODBUS)
+
+# The devices together: world model, UR5 and 2F-85, each on its own server.
+skillcell_unit_test(test_device_cell device_cell_test.cpp)
+target_link_libraries(test_device_cell PRIVATE skillcell_world skillcell_ur5 skillcell_robotiq
+                                               skillcell_test_support)
+
+skillcell_unit_test(test_device_schmalz device_schmalz_test.cpp)
+target_link_libraries(test_device_schmalz PRIVATE skillcell_schmalz skillcell_test_support)
+
+# The device components as processes (`skillcell device world|ur5|schmalz`).
+skillcell_unit_test(test_device_processes device_process_test.cpp)
+target_link_libraries(test_device_processes PRIVATE skillcell_world skillcell_skills
+                                                    skillcell_test_support)
+target_compile_definitions(test_device_processes PRIVATE SKILLCELL_BINARY="$<TARGET_FILE:skillcell>")
+add_dependencies(test_device_processes skillcell)
