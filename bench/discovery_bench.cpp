@@ -132,9 +132,9 @@ int run(const Options& o) {
         const std::string name = "bench-" + std::to_string(i);
         const auto t0 = Clock::now();
         ChildProcess child(
-            {o.skillcell, "--log-level", "warn", "server", "--insecure", "--port", "0", "--host", "127.0.0.1",
-             "--application-uri", "urn:skillcell:bench", "--mdns-name", name, "--mdns-ttl",
-             std::to_string(o.ttl), "--pki-dir", (tmp / "pki").string()},
+            {o.skillcell, "--log-level", "warn", "server", "--insecure", "--port", "0", "--host",
+             "127.0.0.1", "--application-uri", "urn:skillcell:bench", "--mdns-name", name,
+             "--mdns-ttl", std::to_string(o.ttl), "--pki-dir", (tmp / "pki").string()},
             log);
         auto line = child.readLine(20s);
         const auto tReady = Clock::now();

@@ -84,8 +84,8 @@ int main(int argc, char** argv) {
         std::string policy;
         ua::MessageSecurityMode mode;
     };
-    std::vector<Variant> variants{{"None", std::string(ua::kSecurityPolicyNoneUri),
-                                   ua::MessageSecurityMode::None}};
+    std::vector<Variant> variants{
+        {"None", std::string(ua::kSecurityPolicyNoneUri), ua::MessageSecurityMode::None}};
     for (const auto& p : ua::crypto::securityPolicyProfiles()) {
         variants.push_back({std::string(p.shortName) + " Sign", std::string(p.uri),
                             ua::MessageSecurityMode::Sign});
@@ -135,11 +135,12 @@ int main(int argc, char** argv) {
         rows.push_back(std::move(row));
     }
 
-    std::printf("security cost on loopback (our client and server, one process); %zu reads, "
-                "%zu connects per row\n\n",
-                count, connects);
-    std::printf("%-36s %12s %10s %8s %12s %10s %8s\n", "policy / mode", "connect med",
-                "p99 (ms)", "x None", "read med", "p99 (us)", "x None");
+    std::printf(
+        "security cost on loopback (our client and server, one process); %zu reads, "
+        "%zu connects per row\n\n",
+        count, connects);
+    std::printf("%-36s %12s %10s %8s %12s %10s %8s\n", "policy / mode", "connect med", "p99 (ms)",
+                "x None", "read med", "p99 (us)", "x None");
     const auto& none = rows.front();
     for (const auto& r : rows) {
         std::printf("%-36s %12.2f %10.2f %8.2f %12.1f %10.1f %8.2f\n", r.name.c_str(),

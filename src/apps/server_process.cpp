@@ -80,8 +80,8 @@ int configureSecurity(const ServerProcessOptions& options, const std::filesystem
     };
     description.securityEndpoints = ua::allSecurityEndpoints(false);
 
-    const auto usersFile = options.usersFile.empty() ? pkiDir / "users"
-                                                     : std::filesystem::path(options.usersFile);
+    const auto usersFile =
+        options.usersFile.empty() ? pkiDir / "users" : std::filesystem::path(options.usersFile);
     std::string error;
     auto users = ua::UserDatabase::load(usersFile, &error);
     if (!users) {
@@ -89,9 +89,10 @@ int configureSecurity(const ServerProcessOptions& options, const std::filesystem
         return 1;
     }
     if (users->users().empty() && !options.allowAnonymous) {
-        spdlog::warn("no users in {} and anonymous users refused: nobody can open a session "
-                     "(add one with `skillcell user add NAME --role Operator --users {}`)",
-                     usersFile.string(), usersFile.string());
+        spdlog::warn(
+            "no users in {} and anonymous users refused: nobody can open a session "
+            "(add one with `skillcell user add NAME --role Operator --users {}`)",
+            usersFile.string(), usersFile.string());
     }
     security.users = std::make_shared<ua::UserDatabase>(std::move(*users));
     description.userTokenPolicies.clear();

@@ -59,8 +59,8 @@ ServerConfig secureConfig() {
     auto users = std::make_shared<UserDatabase>();
     EXPECT_TRUE(users->setPassword("olga", RoleSet{Role::Operator}, "operator-pw").isGood());
     EXPECT_TRUE(users->setPassword("otto", RoleSet{Role::Observer}, "observer-pw").isGood());
-    EXPECT_TRUE(users->setCertificate("cell-mes", RoleSet{Role::Operator}, certs().userCert.der)
-                    .isGood());
+    EXPECT_TRUE(
+        users->setCertificate("cell-mes", RoleSet{Role::Operator}, certs().userCert.der).isGood());
     config.security.users = users;
     return config;
 }
@@ -121,7 +121,8 @@ TEST_F(SecureSession, EveryPolicyAndModeReadsWritesAndCalls) {
 }
 
 TEST_F(SecureSession, ObserverReadsButMayNotWriteOrCall) {
-    auto config = clientConfig(crypto::kPolicyAes256Sha256RsaPss, MessageSecurityMode::SignAndEncrypt);
+    auto config =
+        clientConfig(crypto::kPolicyAes256Sha256RsaPss, MessageSecurityMode::SignAndEncrypt);
     config.user.userName = "otto";
     config.user.password = "observer-pw";
     BlockingClient client;
@@ -148,7 +149,8 @@ TEST_F(SecureSession, WrongPasswordUnknownUserAndAnonymousAreRefused) {
 }
 
 TEST_F(SecureSession, X509UserTokenNeedsAKnownCertificateAndItsKey) {
-    auto config = clientConfig(crypto::kPolicyAes128Sha256RsaOaep, MessageSecurityMode::SignAndEncrypt);
+    auto config =
+        clientConfig(crypto::kPolicyAes128Sha256RsaOaep, MessageSecurityMode::SignAndEncrypt);
     config.user.kind = UserCredentials::Kind::Certificate;
     config.user.certificate = certs().userCert.der;
     config.user.privateKey = certs().userCert.key;
@@ -173,8 +175,8 @@ TEST_F(SecureSession, UntrustedClientCertificateIsRefusedAtOpenSecureChannel) {
     EXPECT_EQ(client.connect(server.url(), config), StatusCode(0x801A0000));
     // Others are still served.
     BlockingClient good;
-    EXPECT_EQ(good.connect(server.url(), clientConfig(crypto::kPolicyBasic256Sha256,
-                                                      MessageSecurityMode::Sign)),
+    EXPECT_EQ(good.connect(server.url(),
+                           clientConfig(crypto::kPolicyBasic256Sha256, MessageSecurityMode::Sign)),
               status::Good);
 }
 
@@ -187,7 +189,8 @@ TEST_F(SecureSession, ClientRefusesAServerItDoesNotTrust) {
     BlockingClient client;
     EXPECT_EQ(client.connect(server.url(), config), StatusCode(0x801A0000));
     // A server that presents another certificate than its endpoint's.
-    auto impostor = clientConfig(crypto::kPolicyBasic256Sha256, MessageSecurityMode::SignAndEncrypt);
+    auto impostor =
+        clientConfig(crypto::kPolicyBasic256Sha256, MessageSecurityMode::SignAndEncrypt);
     impostor.serverCertificate = certs().stranger.der;
     BlockingClient fooled;
     EXPECT_TRUE(fooled.connect(server.url(), impostor).isBad());

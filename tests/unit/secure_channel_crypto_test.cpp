@@ -60,8 +60,8 @@ struct Case {
 std::string caseName(const testing::TestParamInfo<Case>& info) {
     std::string name(info.param.profile->shortName);
     name += info.param.mode == MessageSecurityMode::Sign ? "_Sign" : "_SignAndEncrypt";
-    name += "_" + std::to_string(info.param.clientBits) + "_" +
-            std::to_string(info.param.serverBits);
+    name +=
+        "_" + std::to_string(info.param.clientBits) + "_" + std::to_string(info.param.serverBits);
     return name;
 }
 
@@ -81,14 +81,15 @@ struct SecuredPair {
                                                 serverCert.der, c.mode);
         EXPECT_TRUE(policy.ok()) << statusName(policy.status());
         client.emplace(SecureChannel::Role::Client, limits, std::move(*policy), clientConfig);
-        auto selector = [this](const AsymmetricSecurityHeader& header)
-            -> Result<std::unique_ptr<SecurityPolicy>> {
+        auto selector =
+            [this](
+                const AsymmetricSecurityHeader& header) -> Result<std::unique_ptr<SecurityPolicy>> {
             selectedUri = header.securityPolicyUri;
             const auto* profile = crypto::findSecurityPolicyProfile(header.securityPolicyUri);
             if (profile == nullptr) return status::BadSecurityPolicyRejected;
-            auto p = RsaSecurityPolicy::create(*profile, serverCert.der, serverCert.key,
-                                               header.senderCertificate,
-                                               MessageSecurityMode::Invalid);
+            auto p =
+                RsaSecurityPolicy::create(*profile, serverCert.der, serverCert.key,
+                                          header.senderCertificate, MessageSecurityMode::Invalid);
             if (!p) return p.status();
             return std::unique_ptr<SecurityPolicy>(std::move(*p));
         };
@@ -113,8 +114,8 @@ struct SecuredPair {
         if (!frames) return frames.status();
         auto request = deliver(*server, *frames, now);
         if (!request) return request.status();
-        auto response = server->openOrRenew(
-            decodeService<OpenSecureChannelRequest>(request->body), kChannelId, now);
+        auto response = server->openOrRenew(decodeService<OpenSecureChannelRequest>(request->body),
+                                            kChannelId, now);
         if (!response) return response.status();
         auto back = server->encodeMessage(MessageType::OpenChannel, 1, encodeService(*response));
         if (!back) return back.status();
@@ -182,7 +183,8 @@ TEST_P(SecuredChannel, EncryptsOnlyInSignAndEncrypt) {
     SecuredPair p(GetParam());
     ASSERT_EQ(p.handshake(SecurityTokenRequestType::Issue, p.t0), status::Good);
     const std::string secret = "the quick brown robot jumps over the lazy gripper";
-    auto frames = p.client->encodeMessage(MessageType::Message, 3, Bytes(secret.begin(), secret.end()));
+    auto frames =
+        p.client->encodeMessage(MessageType::Message, 3, Bytes(secret.begin(), secret.end()));
     ASSERT_TRUE(frames.ok());
     const auto& f = frames->front();
     const bool visible = std::search(f.begin(), f.end(), secret.begin(), secret.end()) != f.end();
@@ -229,9 +231,9 @@ TEST(SecuredChannelHandshake, RefusesAnOpenForAnotherCertificate) {
     SecureChannelConfig config;
     config.securityMode = c.mode;
     SecureChannel wrong(SecureChannel::Role::Client, {}, std::move(*policy), config);
-    auto frames = wrong.encodeMessage(
-        MessageType::OpenChannel, 1,
-        encodeService(wrong.makeOpenRequest(SecurityTokenRequestType::Issue)));
+    auto frames =
+        wrong.encodeMessage(MessageType::OpenChannel, 1,
+                            encodeService(wrong.makeOpenRequest(SecurityTokenRequestType::Issue)));
     ASSERT_TRUE(frames.ok());
     EXPECT_EQ(p.server->receiveFrame(frames->front(), p.t0).status(),
               status::BadCertificateInvalid);
@@ -242,10 +244,10 @@ TEST(SecuredChannelHandshake, SelectorDecidesPolicyAndTrust) {
                  MessageSecurityMode::Sign, 2048, 2048};
     SecuredPair p(c);
     // A server whose selector does not trust the client.
-    SecureChannel distrustful({}, [](const AsymmetricSecurityHeader&)
-                                  -> Result<std::unique_ptr<SecurityPolicy>> {
-        return StatusCode(0x801A0000);  // BadCertificateUntrusted
-    });
+    SecureChannel distrustful(
+        {}, [](const AsymmetricSecurityHeader&) -> Result<std::unique_ptr<SecurityPolicy>> {
+            return StatusCode(0x801A0000);  // BadCertificateUntrusted
+        });
     auto frames = p.client->encodeMessage(
         MessageType::OpenChannel, 1,
         encodeService(p.client->makeOpenRequest(SecurityTokenRequestType::Issue)));
@@ -253,8 +255,7 @@ TEST(SecuredChannelHandshake, SelectorDecidesPolicyAndTrust) {
     EXPECT_EQ(distrustful.receiveFrame(frames->front(), p.t0).status(), StatusCode(0x801A0000));
     // Without a selector nothing is accepted, and nothing can be sent.
     SecureChannel none({}, SecurityPolicySelector{});
-    EXPECT_EQ(none.receiveFrame(frames->front(), p.t0).status(),
-              status::BadSecurityPolicyRejected);
+    EXPECT_EQ(none.receiveFrame(frames->front(), p.t0).status(), status::BadSecurityPolicyRejected);
     EXPECT_EQ(none.encodeMessage(MessageType::Message, 1, Bytes{1}).status(),
               status::BadInvalidState);
 }
@@ -264,8 +265,7 @@ TEST(SecuredChannelHandshake, RefusesWrongNonceAndModeChangeOnRenew) {
                  MessageSecurityMode::SignAndEncrypt, 2048, 2048};
     SecuredPair p(c);
     auto request = p.client->makeOpenRequest(SecurityTokenRequestType::Issue);
-    auto frames =
-        p.client->encodeMessage(MessageType::OpenChannel, 1, encodeService(request));
+    auto frames = p.client->encodeMessage(MessageType::OpenChannel, 1, encodeService(request));
     ASSERT_TRUE(frames.ok());
     ASSERT_TRUE(p.server->receiveFrame(frames->front(), p.t0).ok());
     auto shortNonce = request;

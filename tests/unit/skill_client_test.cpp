@@ -230,20 +230,11 @@ public:
         posix_spawn_file_actions_init(&actions);
         posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
         posix_spawn_file_actions_addclose(&actions, fds[0]);
-        std::vector<std::string> args = {SKILLCELL_BINARY,
-                                         "server",
-                                         "--port",
-                                         "0",
-                                         "--host",
-                                         "127.0.0.1",
-                                         "--no-discovery",
-                                         "--insecure",
-                                         "--pki-dir",
-                                         pkiDir,
-                                         "--noop-skill",
-                                         "JointPtpMoveSkillType=Slow",
-                                         "--noop-skill-ms",
-                                         "60000"};
+        std::vector<std::string> args = {
+            SKILLCELL_BINARY,  "server",    "--port",         "0",
+            "--host",          "127.0.0.1", "--no-discovery", "--insecure",
+            "--pki-dir",       pkiDir,      "--noop-skill",   "JointPtpMoveSkillType=Slow",
+            "--noop-skill-ms", "60000"};
         std::vector<char*> argv;
         for (auto& a : args) argv.push_back(a.data());
         argv.push_back(nullptr);

@@ -10,10 +10,16 @@
 #include <string_view>
 #include <vector>
 
-
 namespace skillcell::ua {
 
-enum class Role : std::uint8_t { Anonymous, AuthenticatedUser, Observer, Operator, Engineer, Admin };
+enum class Role : std::uint8_t {
+    Anonymous,
+    AuthenticatedUser,
+    Observer,
+    Operator,
+    Engineer,
+    Admin
+};
 
 [[nodiscard]] std::string_view roleName(Role role);
 /// "Observer", "operator", ... (case-insensitive); nothing for an unknown name.

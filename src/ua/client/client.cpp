@@ -130,9 +130,8 @@ std::vector<std::uint8_t> concat(const ByteString& a, const ByteString& b) {
 /// The profile that secures a user token: its policy's own, else the channel's.
 const crypto::SecurityPolicyProfile* tokenProfile(const UserTokenPolicy& policy,
                                                   const ClientConfig& config) {
-    return crypto::findSecurityPolicyProfile(policy.securityPolicyUri.empty()
-                                                 ? config.securityPolicyUri
-                                                 : policy.securityPolicyUri);
+    return crypto::findSecurityPolicyProfile(
+        policy.securityPolicyUri.empty() ? config.securityPolicyUri : policy.securityPolicyUri);
 }
 
 /// The user identity token for ActivateSession (OPC 10000-4, 7.41), with its signature for
@@ -163,13 +162,13 @@ Result<std::pair<ExtensionObject, SignatureData>> makeIdentityToken(
             if (config.securityMode != MessageSecurityMode::SignAndEncrypt) {
                 return status::BadSecurityModeInsufficient;
             }
-            token.password = ByteString(std::vector<std::uint8_t>(user.password.begin(),
-                                                                  user.password.end()));
+            token.password =
+                ByteString(std::vector<std::uint8_t>(user.password.begin(), user.password.end()));
         } else {
             auto key = crypto::RsaKey::fromCertificate(serverCertificate.bytes);
             if (!key) return key.status();
-            const auto length = static_cast<std::uint32_t>(user.password.size() +
-                                                           serverNonce.bytes.size());
+            const auto length =
+                static_cast<std::uint32_t>(user.password.size() + serverNonce.bytes.size());
             std::vector<std::uint8_t> plain{
                 static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8),
                 static_cast<std::uint8_t>(length >> 16), static_cast<std::uint8_t>(length >> 24)};
@@ -744,8 +743,7 @@ asio::awaitable<StatusCode> handshake(std::shared_ptr<Connection> conn,
         policy = std::move(*rsa);
         channelConfig.securityMode = config.securityMode;
     }
-    conn->channel.emplace(SecureChannel::Role::Client, *limits, std::move(policy),
-                          channelConfig);
+    conn->channel.emplace(SecureChannel::Role::Client, *limits, std::move(policy), channelConfig);
     co_return status::Good;
 }
 
@@ -865,8 +863,8 @@ asio::awaitable<StatusCode> Client::prepareSecurity() {
     }
     if (config_.validateServerCertificate) {
         std::string reason;
-        const StatusCode trusted = config_.validateServerCertificate(config_.serverCertificate,
-                                                                     &reason);
+        const StatusCode trusted =
+            config_.validateServerCertificate(config_.serverCertificate, &reason);
         if (trusted.isBad()) co_return trusted;
     }
     co_return status::Good;
@@ -902,8 +900,9 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
         // ours by signing its certificate and nonce (OPC 10000-4, 5.6.2 and 5.6.3).
         const auto* profile = crypto::findSecurityPolicyProfile(config_.securityPolicyUri);
         auto serverKey = crypto::RsaKey::fromCertificate(serverCertificate.bytes);
-        if (!serverKey || leafCertificate(created->serverCertificate.bytes) !=
-                              leafCertificate(serverCertificate.bytes) ||
+        if (!serverKey ||
+            leafCertificate(created->serverCertificate.bytes) !=
+                leafCertificate(serverCertificate.bytes) ||
             created->serverSignature.algorithm != profile->asymmetricSignatureUri ||
             crypto::rsaVerify(*serverKey, profile->asymmetricSignature,
                               concat(config_.certificate, clientNonce),
@@ -918,8 +917,8 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
         activate.clientSignature.algorithm = String(profile->asymmetricSignatureUri);
         activate.clientSignature.signature = ByteString(std::move(*signature));
     }
-    auto token = makeIdentityToken(serverEndpoints_, config_, serverCertificate,
-                                   created->serverNonce);
+    auto token =
+        makeIdentityToken(serverEndpoints_, config_, serverCertificate, created->serverNonce);
     if (!token) {
         resetSession();
         co_return token.status();

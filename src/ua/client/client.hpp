@@ -23,6 +23,7 @@
 #include <asio/awaitable.hpp>
 
 #include "ua/client/subscription.hpp"
+#include "ua/crypto/primitives.hpp"
 #include "ua/encoding/codec.hpp"
 #include "ua/messages/attribute.hpp"
 #include "ua/messages/discovery.hpp"
@@ -30,7 +31,6 @@
 #include "ua/messages/secure_channel.hpp"
 #include "ua/messages/session.hpp"
 #include "ua/messages/view.hpp"
-#include "ua/crypto/primitives.hpp"
 #include "ua/transport/security_policy.hpp"
 #include "ua/transport/tcp_framing.hpp"
 #include "ua/types/result.hpp"

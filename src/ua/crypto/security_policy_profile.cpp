@@ -14,8 +14,8 @@ constexpr std::string_view kRsaOaepSha256 =
 constexpr std::array<SecurityPolicyProfile, 3> kProfiles{{
     {kPolicyAes128Sha256RsaOaep, "Aes128_Sha256_RsaOaep", RsaEncryption::OaepSha1,
      RsaSignature::Pkcs1v15Sha256, kRsaSha256, kRsaOaep, 16, 32, 32, 32, 2048, 4096, 2},
-    {kPolicyBasic256Sha256, "Basic256Sha256", RsaEncryption::OaepSha1,
-     RsaSignature::Pkcs1v15Sha256, kRsaSha256, kRsaOaep, 32, 32, 32, 32, 2048, 4096, 3},
+    {kPolicyBasic256Sha256, "Basic256Sha256", RsaEncryption::OaepSha1, RsaSignature::Pkcs1v15Sha256,
+     kRsaSha256, kRsaOaep, 32, 32, 32, 32, 2048, 4096, 3},
     {kPolicyAes256Sha256RsaPss, "Aes256_Sha256_RsaPss", RsaEncryption::OaepSha256,
      RsaSignature::PssSha256, kRsaPssSha256, kRsaOaepSha256, 32, 32, 32, 32, 2048, 4096, 4},
 }};

@@ -44,10 +44,9 @@ UserTokenPolicy ServerDescription::anonymousTokenPolicy() {
 }
 
 bool ServerDescription::offers(std::string_view policyUri, MessageSecurityMode mode) const {
-    return std::any_of(securityEndpoints.begin(), securityEndpoints.end(),
-                       [&](const SecurityEndpoint& e) {
-                           return e.policyUri == policyUri && e.mode == mode;
-                       });
+    return std::any_of(
+        securityEndpoints.begin(), securityEndpoints.end(),
+        [&](const SecurityEndpoint& e) { return e.policyUri == policyUri && e.mode == mode; });
 }
 
 std::vector<EndpointDescription> ServerDescription::endpoints(const String& endpointUrl) const {

@@ -31,10 +31,9 @@ Result<std::unique_ptr<SecurityPolicy>> selectPolicy(const std::vector<SecurityE
     if (header.securityPolicyUri == kSecurityPolicyNoneUri) {
         return std::unique_ptr<SecurityPolicy>(std::make_unique<SecurityPolicyNone>());
     }
-    const bool offersPolicy =
-        std::any_of(offered.begin(), offered.end(), [&](const SecurityEndpoint& e) {
-            return e.policyUri == header.securityPolicyUri;
-        });
+    const bool offersPolicy = std::any_of(
+        offered.begin(), offered.end(),
+        [&](const SecurityEndpoint& e) { return e.policyUri == header.securityPolicyUri; });
     if (!offersPolicy) {
         spdlog::warn("{}: security policy '{}' is not offered", peer, header.securityPolicyUri);
         return status::BadSecurityPolicyRejected;
@@ -54,8 +53,7 @@ Result<std::unique_ptr<SecurityPolicy>> selectPolicy(const std::vector<SecurityE
         }
     }
     auto policy = RsaSecurityPolicy::create(*profile, ownCertificate, security.privateKey,
-                                            header.senderCertificate,
-                                            MessageSecurityMode::Invalid);
+                                            header.senderCertificate, MessageSecurityMode::Invalid);
     if (!policy) {
         spdlog::warn("{}: client certificate unusable with {}: {}", peer, profile->shortName,
                      statusName(policy.status()));

@@ -52,8 +52,9 @@ struct ServerSecurity {
 [[nodiscard]] std::vector<SecurityEndpoint> allSecurityEndpoints(bool withNone);
 
 /// The policy for a channel's first OpenSecureChannel: None always (for discovery),
-/// BadSecurityPolicyRejected for another policy not offered, the validator's status for a certificate not trusted (logged with its
-/// reason), BadConfigurationError when a secured policy is offered without a private key.
+/// BadSecurityPolicyRejected for another policy not offered, the validator's status for a
+/// certificate not trusted (logged with its reason), BadConfigurationError when a secured policy is
+/// offered without a private key.
 [[nodiscard]] Result<std::unique_ptr<SecurityPolicy>> selectPolicy(
     const std::vector<SecurityEndpoint>& offered, const ServerSecurity& security,
     const ByteString& ownCertificate, const AsymmetricSecurityHeader& header,

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "ua/messages/common.hpp"
-#include "ua/types/builtin.hpp"
 #include "ua/server/server_limits.hpp"
+#include "ua/types/builtin.hpp"
 
 namespace skillcell::ua {
 

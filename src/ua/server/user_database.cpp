@@ -66,8 +66,8 @@ std::vector<std::string_view> split(std::string_view s, char sep) {
 }
 
 std::optional<std::vector<std::uint8_t>> scrypt(std::string_view password,
-                                                std::span<const std::uint8_t> salt,
-                                                std::uint64_t n, std::uint64_t r, std::uint64_t p,
+                                                std::span<const std::uint8_t> salt, std::uint64_t n,
+                                                std::uint64_t r, std::uint64_t p,
                                                 std::size_t length) {
     std::vector<std::uint8_t> out(length);
     if (EVP_PBE_scrypt(password.data(), password.size(), salt.data(), salt.size(), n, r, p,
@@ -136,8 +136,8 @@ Result<UserDatabase> UserDatabase::load(const std::filesystem::path& file, std::
 StatusCode UserDatabase::save(const std::filesystem::path& file, std::string* error) const {
     std::ostringstream text;
     text << "# skillcell users: NAME:ROLES:CREDENTIAL (written by `skillcell user`)\n";
-    for (const auto& u : users_) text << u.name << ':' << u.roles.toString() << ':' << u.credential
-                                      << '\n';
+    for (const auto& u : users_)
+        text << u.name << ':' << u.roles.toString() << ':' << u.credential << '\n';
     const auto tmp = file.string() + ".tmp" + std::to_string(::getpid());
     {
         std::ofstream out(tmp, std::ios::trunc);
@@ -166,9 +166,9 @@ StatusCode UserDatabase::setPassword(const std::string& name, RoleSet roles,
     const auto salt = crypto::randomBytes(kSaltLength);
     const auto hash = scrypt(password, salt, kScryptN, kScryptR, kScryptP, kHashLength);
     if (!hash) return status::BadInternalError;
-    std::string credential = "scrypt$" + std::to_string(kScryptN) + "$" +
-                             std::to_string(kScryptR) + "$" + std::to_string(kScryptP) + "$" +
-                             toHex(salt) + "$" + toHex(*hash);
+    std::string credential = "scrypt$" + std::to_string(kScryptN) + "$" + std::to_string(kScryptR) +
+                             "$" + std::to_string(kScryptP) + "$" + toHex(salt) + "$" +
+                             toHex(*hash);
     remove(name);
     users_.push_back({name, roles, std::move(credential)});
     return status::Good;

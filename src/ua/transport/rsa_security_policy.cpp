@@ -35,8 +35,8 @@ void appendPadding(std::vector<std::uint8_t>& chunk, std::size_t from, std::size
 /// Checks and strips the padding that ends at `end` (signature already removed); returns
 /// the new end, or 0 when the padding is malformed. The payload must keep at least the
 /// sequence header after `from`.
-std::size_t stripPadding(const std::vector<std::uint8_t>& chunk, std::size_t from,
-                         std::size_t end, bool extra) {
+std::size_t stripPadding(const std::vector<std::uint8_t>& chunk, std::size_t from, std::size_t end,
+                         bool extra) {
     const std::size_t extraLen = extra ? 1 : 0;
     if (end < from + kSequenceHeaderSize + 1 + extraLen) return 0;
     std::size_t padding = chunk[end - 1 - extraLen];
@@ -97,8 +97,8 @@ std::size_t RsaSecurityPolicy::maxBodySize(std::size_t chunkSize, std::size_t he
     std::size_t overhead = kSequenceHeaderSize;
     if (asymmetric) {
         const std::size_t cipherBlock = remoteKey_.sizeBytes();
-        const std::size_t plainBlock = cipherBlock - crypto::oaepOverhead(
-                                                         profile_.asymmetricEncryption);
+        const std::size_t plainBlock =
+            cipherBlock - crypto::oaepOverhead(profile_.asymmetricEncryption);
         capacity = (chunkSize - clear) / cipherBlock * plainBlock;
         overhead += 1 + (cipherBlock > kExtraPaddingThreshold ? 1 : 0) + localKey_.sizeBytes();
     } else if (mode_ == MessageSecurityMode::SignAndEncrypt) {

@@ -377,9 +377,9 @@ Result<OpenSecureChannelResponse> SecureChannel::openOrRenew(
 
     if (current_) {
         // The old token stays valid until the client uses the new one or it expires.
-        previous_ = TokenState{*current_,
-                               acceptableUntil(currentCreated_, current_->revisedLifetime),
-                               std::move(currentKeys_)};
+        previous_ =
+            TokenState{*current_, acceptableUntil(currentCreated_, current_->revisedLifetime),
+                       std::move(currentKeys_)};
     } else {
         channelId_ = channelId;
         mode_ = mode;
@@ -435,9 +435,9 @@ StatusCode SecureChannel::acceptOpenResponse(const OpenSecureChannelResponse& re
     if (current_) {
         if (token.channelId != channelId_) return status::BadSecureChannelIdInvalid;
         // Server messages secured with the old token may still be on their way.
-        previous_ = TokenState{*current_,
-                               acceptableUntil(currentCreated_, current_->revisedLifetime),
-                               std::move(currentKeys_)};
+        previous_ =
+            TokenState{*current_, acceptableUntil(currentCreated_, current_->revisedLifetime),
+                       std::move(currentKeys_)};
     }
     channelId_ = token.channelId;
     current_ = token;

@@ -55,8 +55,7 @@ public:
     /// use, or nullptr for an OpenSecureChannel chunk (asymmetric). The message size field
     /// is patched by the caller afterwards.
     [[nodiscard]] virtual StatusCode protect(std::vector<std::uint8_t>& chunk,
-                                             std::size_t headerSize,
-                                             const SymmetricKeys* keys) = 0;
+                                             std::size_t headerSize, const SymmetricKeys* keys) = 0;
     /// Decrypts and verifies a received chunk in place and removes padding and signature
     /// (`keys`: the receiving keys of the chunk's token, nullptr for OpenSecureChannel).
     /// BadSecurityChecksFailed on a bad signature or padding.

@@ -36,9 +36,8 @@ StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
         // the channel, must name the application it claims to be, and its nonce is what we
         // sign to prove we hold our key (OPC 10000-4, 5.6.2).
         if (req.clientNonce.bytes.size() < kMinClientNonce) return status::BadNonceInvalid;
-        if (ctx.clientCertificate == nullptr ||
-            leafCertificate(req.clientCertificate.bytes) !=
-                leafCertificate(ctx.clientCertificate->bytes)) {
+        if (ctx.clientCertificate == nullptr || leafCertificate(req.clientCertificate.bytes) !=
+                                                    leafCertificate(ctx.clientCertificate->bytes)) {
             return status::BadCertificateInvalid;
         }
         if (security.validateCertificate) {
@@ -66,8 +65,7 @@ StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
         return session.status();
     }
     spdlog::info("channel {}: session {} '{}' created (timeout {} ms, {})", ctx.channelId,
-                 (*session)->sessionId().toString(), req.sessionName,
-                 (*session)->timeout().count(),
+                 (*session)->sessionId().toString(), req.sessionName, (*session)->timeout().count(),
                  secured(ctx) ? std::string(channelProfile(ctx)->shortName) : "no security");
     const String url = description.endpointUrlFor(ctx.endpointUrl);
     resp.sessionId = (*session)->sessionId();
@@ -84,8 +82,8 @@ StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
 }
 
 /// The token policy the client names, of the expected type.
-const UserTokenPolicy* findTokenPolicy(const ServerDescription& description,
-                                       const String& policyId, UserTokenType type) {
+const UserTokenPolicy* findTokenPolicy(const ServerDescription& description, const String& policyId,
+                                       UserTokenType type) {
     for (const auto& p : description.userTokenPolicies) {
         if (p.tokenType == type && (policyId.empty() || p.policyId == policyId)) return &p;
     }
@@ -144,15 +142,15 @@ Result<UserIdentity> checkIdentity(const ServiceContext& ctx, const ServerDescri
     AnonymousIdentityToken anonymous;
     if (token.empty() || fromExtensionObject(token, anonymous).isGood()) {
         if (!security.allowAnonymous ||
-            findTokenPolicy(description, anonymous.policyId, UserTokenType::Anonymous) ==
-                nullptr) {
+            findTokenPolicy(description, anonymous.policyId, UserTokenType::Anonymous) == nullptr) {
             return status::BadIdentityTokenRejected;
         }
         return UserIdentity{"anonymous", security.anonymousRoles};
     }
     UserNameIdentityToken userName;
     if (fromExtensionObject(token, userName).isGood()) {
-        const auto* policy = findTokenPolicy(description, userName.policyId, UserTokenType::UserName);
+        const auto* policy =
+            findTokenPolicy(description, userName.policyId, UserTokenType::UserName);
         if (policy == nullptr || !security.users) return status::BadIdentityTokenRejected;
         auto password = decryptPassword(ctx, security, session, *policy, userName);
         if (!password) return password.status();
@@ -160,7 +158,8 @@ Result<UserIdentity> checkIdentity(const ServiceContext& ctx, const ServerDescri
     }
     X509IdentityToken x509;
     if (fromExtensionObject(token, x509).isGood()) {
-        const auto* policy = findTokenPolicy(description, x509.policyId, UserTokenType::Certificate);
+        const auto* policy =
+            findTokenPolicy(description, x509.policyId, UserTokenType::Certificate);
         if (policy == nullptr || !security.users) return status::BadIdentityTokenRejected;
         const auto* profile = tokenProfile(ctx, *policy);
         if (profile == nullptr) return status::BadIdentityTokenRejected;
@@ -232,8 +231,7 @@ StatusCode activateSession(ServiceContext& ctx, SessionManager& sessions,
 }  // namespace
 
 void registerSessionServices(ServiceTable& table, SessionManager& sessions,
-                             const ServerDescription& description,
-                             const ServerSecurity& security) {
+                             const ServerDescription& description, const ServerSecurity& security) {
     table.add<CreateSessionRequest, CreateSessionResponse>(
         ServiceTable::Access::NoSession,
         [&sessions, &description, &security](ServiceContext& ctx, const CreateSessionRequest& req,
@@ -242,8 +240,7 @@ void registerSessionServices(ServiceTable& table, SessionManager& sessions,
         });
     table.add<ActivateSessionRequest, ActivateSessionResponse>(
         ServiceTable::Access::NoSession,
-        [&sessions, &description, &security](ServiceContext& ctx,
-                                             const ActivateSessionRequest& req,
+        [&sessions, &description, &security](ServiceContext& ctx, const ActivateSessionRequest& req,
                                              ActivateSessionResponse& resp) {
             return activateSession(ctx, sessions, description, security, req, resp);
         });
