@@ -43,6 +43,15 @@ UserTokenPolicy ServerDescription::anonymousTokenPolicy() {
     return anonymous;
 }
 
+std::string_view ServerDescription::tokenSecurityPolicy(const UserTokenPolicy& token,
+                                                        std::string_view channelPolicyUri) {
+    if (!token.securityPolicyUri.empty()) return token.securityPolicyUri;
+    if (channelPolicyUri != kSecurityPolicyNoneUri && !channelPolicyUri.empty()) {
+        return channelPolicyUri;
+    }
+    return crypto::kPolicyBasic256Sha256;
+}
+
 bool ServerDescription::offers(std::string_view policyUri, MessageSecurityMode mode) const {
     return std::any_of(
         securityEndpoints.begin(), securityEndpoints.end(),
@@ -64,9 +73,8 @@ std::vector<EndpointDescription> ServerDescription::endpoints(const String& endp
             // policy of its own: the strongest one that encrypts with RSA-OAEP-SHA1, which
             // every client implements.
             for (auto& token : ep.userIdentityTokens) {
-                if (token.tokenType != UserTokenType::Anonymous &&
-                    token.securityPolicyUri.empty()) {
-                    token.securityPolicyUri = String(crypto::kPolicyBasic256Sha256);
+                if (token.tokenType != UserTokenType::Anonymous) {
+                    token.securityPolicyUri = String(tokenSecurityPolicy(token, offered.policyUri));
                 }
             }
         }

@@ -37,6 +37,12 @@ struct ServerDescription {
     std::vector<UserTokenPolicy> userTokenPolicies = {anonymousTokenPolicy()};
 
     [[nodiscard]] static UserTokenPolicy anonymousTokenPolicy();
+    /// The security policy that protects a user token (password encryption, token
+    /// signature) on a channel with `channelPolicyUri`: the token policy's own, else the
+    /// channel's, else (None channel) Basic256Sha256, so that a password never travels in
+    /// clear text.
+    [[nodiscard]] static std::string_view tokenSecurityPolicy(const UserTokenPolicy& token,
+                                                              std::string_view channelPolicyUri);
     [[nodiscard]] bool offers(std::string_view policyUri, MessageSecurityMode mode) const;
 
     /// "opc.tcp://host:port": the host the client used if it named one, else advertisedHost.

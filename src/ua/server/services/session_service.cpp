@@ -93,10 +93,8 @@ const UserTokenPolicy* findTokenPolicy(const ServerDescription& description, con
 /// The policy that secures a user token: its own securityPolicyUri, or the channel's.
 const crypto::SecurityPolicyProfile* tokenProfile(const ServiceContext& ctx,
                                                   const UserTokenPolicy& policy) {
-    if (!policy.securityPolicyUri.empty()) {
-        return crypto::findSecurityPolicyProfile(policy.securityPolicyUri);
-    }
-    return channelProfile(ctx);
+    return crypto::findSecurityPolicyProfile(
+        ServerDescription::tokenSecurityPolicy(policy, ctx.securityPolicyUri));
 }
 
 /// The password of a UserNameIdentityToken, decrypted (OPC 10000-4, 7.41.2.2, legacy
