@@ -96,15 +96,15 @@ int main(int argc, char** argv) {
     std::vector<Row> rows;
     for (const auto& v : variants) {
         ua::ClientConfig c;
-        c.securityPolicyUri = v.policy;
-        c.securityMode = v.mode;
-        c.certificate = clientCert.der;
-        c.privateKey = clientCert.key;
+        c.security.policyUri = v.policy;
+        c.security.mode = v.mode;
+        c.security.certificate = clientCert.der;
+        c.security.privateKey = clientCert.key;
         c.serverCertificate = serverCert.der;  // as a client that knows the server would
         c.applicationUri = "urn:skillcell:bench-client";
-        c.user.kind = ua::UserCredentials::Kind::UserName;
-        c.user.userName = "bench";
-        c.user.password = "bench-pw";
+        c.security.user.kind = ua::UserCredentials::Kind::UserName;
+        c.security.user.userName = "bench";
+        c.security.user.password = "bench-pw";
         Row row{v.name, {}, {}};
         bench::Samples connectTimes;
         for (std::size_t i = 0; i < connects; ++i) {

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <set>
 
+#include "client_security_options.hpp"
 #include "commands.hpp"
 #include "ua/client/blocking_client.hpp"
 #include "ua/types/to_string.hpp"
@@ -19,6 +20,7 @@ struct BrowseOptions {
     int maxDepth = 12;
     bool values = false;
     int timeoutMs = 2000;
+    ClientSecurityOptions security;
 };
 
 const char* nodeClassName(ua::NodeClass c) {
@@ -107,11 +109,13 @@ int runBrowse(const BrowseOptions& options) {
                   << "' (expected e.g. i=84 or ns=2;s=Demo)\n";
         return 2;
     }
+    auto config = commandClientConfig(options.security, "skillcell browse");
+    if (!config) return 2;
+    config->connectTimeout = std::chrono::milliseconds(options.timeoutMs);
     ua::BlockingClient client;
-    ua::ClientConfig config;
-    config.connectTimeout = std::chrono::milliseconds(options.timeoutMs);
-    if (const auto s = client.connect(options.url, config); s.isBad()) {
-        std::cerr << "cannot connect to " << options.url << ": " << ua::statusName(s) << "\n";
+    if (const auto s = client.connect(options.url, *config); s.isBad()) {
+        std::cerr << "cannot connect to " << options.url << ": " << explainConnectFailure(s)
+                  << "\n";
         return 1;
     }
     std::cout << options.url << "  " << start->toString() << "\n";
@@ -143,6 +147,7 @@ Command addBrowseCommand(CLI::App& app) {
     cmd->add_option("--timeout", options->timeoutMs, "connect timeout in milliseconds")
         ->check(CLI::Range(1, 600000))
         ->capture_default_str();
+    addClientSecurityOptions(cmd, options->security);
     return {cmd, [options] { return runBrowse(*options); }};
 }
 

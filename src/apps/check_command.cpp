@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "client_security_options.hpp"
 #include "commands.hpp"
 #include "skills/conformance_checker.hpp"
 #include "ua/client/client.hpp"
@@ -32,18 +33,24 @@ struct CheckCommandOptions {
     int eventTimeoutMs = 3000;
     int runTimeoutMs = 10000;
     std::size_t maxObjects = 20'000;
+    ClientSecurityOptions security;
 };
 
 asio::awaitable<void> check(ua::Client& client, const CheckCommandOptions& options,
                             skills::CheckOptions checkOptions, skills::ConformanceReport& report,
                             int& exitCode) {
-    ua::ClientConfig config;
-    config.connectTimeout = std::chrono::milliseconds(options.connectTimeoutMs);
-    config.requestTimeout = std::chrono::milliseconds(options.requestTimeoutMs);
-    config.applicationName = "skillcell check";
-    config.sessionName = "skillcell conformance check";
-    if (const auto s = co_await client.connect(options.url, config); s.isBad()) {
-        std::cerr << "cannot connect to " << options.url << ": " << ua::statusName(s) << "\n";
+    auto config = commandClientConfig(options.security, "skillcell check");
+    if (!config) {
+        exitCode = 2;
+        co_return;
+    }
+    config->connectTimeout = std::chrono::milliseconds(options.connectTimeoutMs);
+    config->requestTimeout = std::chrono::milliseconds(options.requestTimeoutMs);
+    config->sessionName = "skillcell conformance check";
+    const std::string url = options.url;
+    if (const auto s = co_await client.connect(url, std::move(*config)); s.isBad()) {
+        std::cerr << "cannot connect to " << options.url << ": " << explainConnectFailure(s)
+                  << "\n";
         exitCode = 2;
         co_return;
     }
@@ -161,6 +168,7 @@ Command addCheckCommand(CLI::App& app) {
     cmd->add_flag("-q,--failures-only", options->failuresOnly,
                   "print only WARN and FAIL lines (and the summary)");
     cmd->add_flag("--strict", options->strict, "count warnings as failures (exit code 1)");
+    addClientSecurityOptions(cmd, options->security);
     return {cmd, [options] { return runCheck(*options); }};
 }
 

@@ -77,7 +77,7 @@ ua::mdns::MdnsConfig mdnsConfigFrom(const DiscoveryOptions& o) {
 
 std::unique_ptr<ComponentDiscovery> ComponentDiscovery::start(
     asio::io_context& io, ua::Server& server, std::uint16_t port, const std::string& bindAddress,
-    const DiscoveryOptions& options, bool isLds, std::string* error) {
+    const DiscoveryOptions& options, bool isLds, const ua::ClientSecurity& registration, std::string* error) {
     auto d = std::make_unique<ComponentDiscovery>();
     auto config = mdnsConfigFrom(options);
     if (config.interfaces.empty() && bindAddress != "0.0.0.0" && bindAddress != "::") {
@@ -136,6 +136,7 @@ std::unique_ptr<ComponentDiscovery> ComponentDiscovery::start(
     mdns.serverCapabilities = announcement.capabilities;
     ua::lds::RegistrarConfig rc;
     rc.period = std::chrono::seconds(options.registerPeriodSeconds);
+    rc.security = registration;
     d->registrar_ = ua::lds::ServerRegistrar::create(io.get_executor(), d->responder_,
                                                      std::move(self), std::move(mdns), rc);
     d->registrar_->start();

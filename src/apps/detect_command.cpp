@@ -11,6 +11,7 @@
 #include <asio.hpp>
 #include <iostream>
 
+#include "client_security_options.hpp"
 #include "commands.hpp"
 #include "component_discovery.hpp"
 #include "skill_report.hpp"
@@ -27,6 +28,7 @@ struct DetectOptions {
     double connectTimeoutSeconds = 2;
     double keepAliveSeconds = 1;
     DiscoveryOptions discovery;
+    ClientSecurityOptions security;
 };
 
 int runDetect(const DetectOptions& o) {
@@ -38,7 +40,11 @@ int runDetect(const DetectOptions& o) {
         std::cerr << "cannot listen to mDNS: " << error << "\n";
         return 1;
     }
+    auto client = commandClientConfig(o.security, "skillcell detect");
+    if (!client) return 2;
     skills::SkillDetectorConfig config;
+    config.applicationUri = client->applicationUri;
+    config.security = client->security;
     config.connectTimeout =
         std::chrono::milliseconds(static_cast<long>(o.connectTimeoutSeconds * 1000));
     config.keepAlivePeriod =
@@ -101,6 +107,7 @@ Command addDetectCommand(CLI::App& app) {
         ->check(CLI::Range(0.05, 600.0))
         ->capture_default_str();
     addListenerOptions(cmd, o->discovery);
+    addClientSecurityOptions(cmd, o->security);
     return {cmd, [o] { return runDetect(*o); }};
 }
 

@@ -26,6 +26,19 @@ namespace {
 using devices::parsePose6;
 using devices::toFrame;
 
+/// The device's link to the world model (--world), as the component's own client: its
+/// certificate, and the user given by --client-user.
+ua::Result<std::unique_ptr<devices::WorldLink>> connectWorld(const std::string& url,
+                                                             const ComponentContext& c) {
+    ua::ClientConfig config;
+    config.applicationUri = c.applicationUri;
+    config.sessionName = "world link";
+    config.security = c.clientSecurity;
+    auto link = devices::WorldLink::connect(url, std::move(config));
+    if (!link) spdlog::critical("--world {}: {}", url, ua::statusName(link.status()));
+    return link;
+}
+
 struct WorldOptions {
     ServerProcessOptions process;
     std::vector<std::string> objects;  // ID:SX,SY,SZ@POSE
@@ -110,12 +123,12 @@ CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
         {cmd, [options] {
              return runServerProcess(
                  options->process,
-                 [options](ua::Server& server, asio::io_context&) -> ua::Result<ComponentContent> {
+                 [options](const ComponentContext& c) -> ua::Result<ComponentContent> {
                      devices::World world;
                      if (const auto s = seedWorld(*options, world); s.isBad()) {
                          return s;
                      }
-                     auto nodes = devices::WorldNodes::create(server, world);
+                     auto nodes = devices::WorldNodes::create(c.server, world);
                      if (!nodes) return nodes.status();
                      return ComponentContent(std::move(*nodes));
                  });
@@ -160,18 +173,14 @@ CLI::App* addUr5(CLI::App* device, std::vector<Command>& commands) {
         {cmd, [options] {
              return runServerProcess(
                  options->process,
-                 [options](ua::Server& server, asio::io_context&) -> ua::Result<ComponentContent> {
+                 [options](const ComponentContext& c) -> ua::Result<ComponentContent> {
                      auto content = std::make_shared<Ur5Content>();
                      devices::Ur5ComponentOptions o;
                      o.arm.speed = options->speed;
                      o.arm.tick = std::chrono::milliseconds(options->tickMs);
                      if (!options->world.empty()) {
-                         auto link = devices::WorldLink::connect(options->world);
-                         if (!link) {
-                             spdlog::critical("--world {}: {}", options->world,
-                                              ua::statusName(link.status()));
-                             return link.status();
-                         }
+                         auto link = connectWorld(options->world, c);
+                         if (!link) return link.status();
                          content->reporter = devices::FlangeReporter::start(std::move(*link));
                          o.onFlange = [r = content->reporter.get()](const KDL::Frame& f) {
                              r->report(f);
@@ -184,7 +193,7 @@ CLI::App* addUr5(CLI::App* device, std::vector<Command>& commands) {
                              };
                      }
                      std::string error;
-                     auto component = devices::Ur5Component::create(server, o, &error);
+                     auto component = devices::Ur5Component::create(c.server, o, &error);
                      if (!component) {
                          spdlog::critical("ur5: {}", error);
                          return component.status();
@@ -215,7 +224,8 @@ struct RobotiqContent {
     std::unique_ptr<devices::robotiq::RobotiqComponent> component;
 };
 
-ua::Result<ComponentContent> populateRobotiq(const RobotiqOptions& options, ua::Server& server) {
+ua::Result<ComponentContent> populateRobotiq(const RobotiqOptions& options,
+                                             const ComponentContext& c) {
     namespace rq = devices::robotiq;
     auto content = std::make_shared<RobotiqContent>();
     rq::RobotiqComponentOptions o;
@@ -231,11 +241,8 @@ ua::Result<ComponentContent> populateRobotiq(const RobotiqOptions& options, ua::
     o.device = options.serial;
     if (o.device.empty()) {
         if (!options.world.empty()) {
-            auto link = devices::WorldLink::connect(options.world);
-            if (!link) {
-                spdlog::critical("--world {}: {}", options.world, ua::statusName(link.status()));
-                return link.status();
-            }
+            auto link = connectWorld(options.world, c);
+            if (!link) return link.status();
             content->world = std::move(*link);
         }
         rq::SimulatedGripperOptions sim;
@@ -268,7 +275,7 @@ ua::Result<ComponentContent> populateRobotiq(const RobotiqOptions& options, ua::
         spdlog::info("simulated 2F-85 on {}", o.device);
     }
     std::string error;
-    auto component = rq::RobotiqComponent::create(server, o, &error);
+    auto component = rq::RobotiqComponent::create(c.server, o, &error);
     if (!component) {
         spdlog::critical("robotiq: {}", error);
         return component.status();
@@ -310,8 +317,8 @@ CLI::App* addRobotiq(CLI::App* device, std::vector<Command>& commands) {
         ->capture_default_str();
     commands.push_back({cmd, [options] {
                             return runServerProcess(
-                                options->process, [options](ua::Server& server, asio::io_context&) {
-                                    return populateRobotiq(*options, server);
+                                options->process, [options](const ComponentContext& c) {
+                                    return populateRobotiq(*options, c);
                                 });
                         }});
     return cmd;
@@ -333,7 +340,8 @@ struct SchmalzContent {
     std::unique_ptr<devices::schmalz::EcbpiComponent> component;
 };
 
-ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options, ua::Server& server) {
+ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
+                                             const ComponentContext& c) {
     namespace sz = devices::schmalz;
     auto content = std::make_shared<SchmalzContent>();
     sz::EcbpiComponentOptions o;
@@ -345,11 +353,8 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options, ua::
     o.gripPointOffset = toFrame(*offset);
     o.gripper.port = options.port;
     if (!options.world.empty()) {
-        auto link = devices::WorldLink::connect(options.world);
-        if (!link) {
-            spdlog::critical("--world {}: {}", options.world, ua::statusName(link.status()));
-            return link.status();
-        }
+        auto link = connectWorld(options.world, c);
+        if (!link) return link.status();
         content->world = std::move(*link);
     }
     sz::SimulatedIoLinkOptions sim;
@@ -372,7 +377,7 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options, ua::
     }
     content->master = std::make_unique<sz::SimulatedIoLinkMaster>(sim);
     std::string error;
-    auto component = sz::EcbpiComponent::create(server, *content->master, o, &error);
+    auto component = sz::EcbpiComponent::create(c.server, *content->master, o, &error);
     if (!component) {
         spdlog::critical("schmalz: {}", error);
         return component.status();
@@ -406,8 +411,8 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
         ->capture_default_str();
     commands.push_back({cmd, [options] {
                             return runServerProcess(
-                                options->process, [options](ua::Server& server, asio::io_context&) {
-                                    return populateSchmalz(*options, server);
+                                options->process, [options](const ComponentContext& c) {
+                                    return populateSchmalz(*options, c);
                                 });
                         }});
     return cmd;

@@ -89,8 +89,8 @@ Command addServerCommand(CLI::App& app) {
         ->capture_default_str();
     return {cmd, [options] {
                 return runServerProcess(options->process,
-                                        [options](ua::Server& server, asio::io_context& io) {
-                                            return populate(*options, server, io);
+                                        [options](const ComponentContext& c) {
+                                            return populate(*options, c.server, c.io);
                                         });
             }};
 }

@@ -2,15 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
-#include <unistd.h>
 #include <asio.hpp>
 #include <iostream>
 
 #include "skill_report.hpp"
 #include "skills/skill_detector.hpp"
-#include "ua/discovery/network_interfaces.hpp"
-#include "ua/pki/certificate_validator.hpp"
-#include "ua/pki/own_certificate.hpp"
 #include "ua/server/user_database.hpp"
 
 namespace skillcell::apps {
@@ -41,6 +37,7 @@ void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& o) {
                   "accept anonymous sessions, with the Observer role (browse, read, subscribe)");
     cmd->add_option("--users", o.usersFile,
                     "user database (`skillcell user add`; default: <pki-dir>/users)");
+    addClientUserOptions(cmd, o.client, "--client-");
     cmd->add_flag("--detect", o.detect,
                   "detect the skills of every component discovery finds (this one included) "
                   "and print SKILL ADDED/REMOVED lines on stdout, and SNAPSHOT..END on exit");
@@ -49,10 +46,11 @@ void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& o) {
 namespace {
 
 /// Endpoints, keys, trust and users from the options; 0, or the exit code after logging.
-int configureSecurity(const ServerProcessOptions& options, const std::filesystem::path& pkiDir,
-                      const ua::pki::OwnCertificate& certificate, ua::ServerConfig& config) {
+int configureSecurity(const ServerProcessOptions& options, const ApplicationIdentity& identity,
+                      ua::ServerConfig& config) {
     auto& description = config.description;
     auto& security = config.security;
+    const auto& pkiDir = identity.pkiDirectory();
     if (options.insecure) {
         spdlog::warn("--insecure: SecurityPolicy None only, anonymous users may do everything");
         description.securityEndpoints = {
@@ -62,22 +60,10 @@ int configureSecurity(const ServerProcessOptions& options, const std::filesystem
         security.anonymousRoles = ua::RoleSet{ua::Role::Anonymous, ua::Role::Admin};
         return 0;
     }
-    auto key = ua::crypto::RsaKey::fromPrivateKeyFile(certificate.privateKeyFile);
-    if (!key) {
-        spdlog::critical("cannot read the private key {}", certificate.privateKeyFile.string());
-        return 1;
-    }
-    security.privateKey = std::move(*key);
+    security.privateKey = identity.privateKey();
     // The validator reloads trusted/ when it changes: `skillcell pki trust` takes effect
     // on the next connection, without a restart.
-    auto validator = std::make_shared<ua::pki::CertificateValidator>(pkiDir);
-    security.validateCertificate = [validator](const ua::ByteString& der,
-                                               std::string_view applicationUri,
-                                               std::string* reason) {
-        auto verdict = validator->validate(der, applicationUri);
-        if (reason != nullptr) *reason = verdict.reason;
-        return verdict.status;
-    };
+    security.validateCertificate = identity.clientCertificateCheck();
     description.securityEndpoints = ua::allSecurityEndpoints(false);
 
     const auto usersFile =
@@ -134,27 +120,20 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
     config.limits.maxChannels = options.maxChannels;
 
     std::string error;
-    const auto pkiDir = options.pkiDir.empty()
-                            ? ua::pki::defaultPkiDirectory(options.applicationUri)
-                            : std::filesystem::path(options.pkiDir);
-    ua::pki::CertificateSubject subject;
-    subject.applicationUri = options.applicationUri;
-    subject.commonName = options.applicationName;
-    char hostname[256] = {};
-    if (gethostname(hostname, sizeof hostname - 1) == 0) subject.dnsNames.emplace_back(hostname);
-    subject.dnsNames.emplace_back("localhost");
-    for (const auto& nic : ua::mdns::listIpv4Interfaces()) {
-        subject.ipAddresses.push_back(ua::mdns::toString(nic.address));
-    }
-    auto certificate = ua::pki::loadOrCreateOwnCertificate(pkiDir, subject, &error);
-    if (!certificate) {
-        spdlog::critical("application certificate in {}: {}", pkiDir.string(), error);
+    auto identity = ApplicationIdentity::load(options.pkiDir, options.applicationUri,
+                                              options.applicationName, &error);
+    if (!identity) {
+        spdlog::critical("{}", error);
         return 1;
     }
-    spdlog::info("{} application certificate {}", certificate->created ? "created" : "using",
-                 certificate->certificateFile.string());
-    config.description.certificate = certificate->der;
-    if (const int s = configureSecurity(options, pkiDir, *certificate, config); s != 0) return s;
+    config.description.certificate = identity->certificate().der;
+    if (const int s = configureSecurity(options, *identity, config); s != 0) return s;
+    auto clientSecurity =
+        componentClientSecurity(*identity, options.client, options.insecure, &error);
+    if (!clientSecurity) {
+        spdlog::critical("{}", error);
+        return 1;
+    }
 
     auto server = ua::Server::create(io, config, &error);
     if (!server) {
@@ -163,7 +142,8 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
     }
     ComponentContent content;  // after the server: destroyed before it
     if (populate) {
-        auto populated = populate(*server, io);
+        const ComponentContext context{*server, io, *clientSecurity, options.applicationUri};
+        auto populated = populate(context);
         if (!populated) {
             spdlog::critical("cannot add the component's nodes: {}",
                              ua::statusName(populated.status()));
@@ -177,7 +157,7 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
     std::unique_ptr<ComponentDiscovery> discovery;
     if (options.discovery.enabled || options.isLds) {
         discovery = ComponentDiscovery::start(io, *server, *port, options.host, options.discovery,
-                                              options.isLds, &error);
+                                              options.isLds, *clientSecurity, &error);
         if (!discovery && options.isLds) {
             spdlog::critical("LDS-ME: {}", error);
             return 1;
@@ -192,7 +172,10 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
     std::shared_ptr<skills::SkillDetector> detector;
     std::shared_ptr<ua::lds::ServerWatcher> detectorWatcher;
     if (options.detect && discovery) {
-        detector = skills::SkillDetector::create(io.get_executor());
+        skills::SkillDetectorConfig detectorConfig;
+        detectorConfig.applicationUri = options.applicationUri;
+        detectorConfig.security = *clientSecurity;
+        detector = skills::SkillDetector::create(io.get_executor(), detectorConfig);
         detector->subscribe(
             [](const skills::SkillEvent& e) { printSkillEvent(std::cout, e, false); });
         detectorWatcher = skills::attachMdns(detector, discovery->responder());

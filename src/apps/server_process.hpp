@@ -7,6 +7,7 @@
 #include <functional>
 #include <string>
 
+#include "client_security_options.hpp"
 #include "component_discovery.hpp"
 #include "ua/server/server.hpp"
 
@@ -31,17 +32,29 @@ struct ServerProcessOptions {
     bool insecure = false;
     bool allowAnonymous = false;  // anonymous sessions as Observer
     std::string usersFile;        // empty: <pki-dir>/users
+    /// Whom the component acts for when it connects to others (detection, the world model,
+    /// skills it uses); its certificate is the server's.
+    ClientUserOptions client;
 };
 
 /// --port, --host, --advertised-host, --application-uri, --pki-dir, --max-sessions,
-/// --max-channels, --detect, --insecure, --allow-anonymous, --users.
+/// --max-channels, --detect, --insecure, --allow-anonymous, --users, --client-user,
+/// --client-password-file, --client-user-certificate.
 void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& options);
 
 /// What a component adds to its server (skills, device adapters): kept alive while the
 /// server runs and destroyed before the server and its io_context. May be null.
 using ComponentContent = std::shared_ptr<void>;
+/// What a component has at hand while it adds its nodes.
+struct ComponentContext {
+    ua::Server& server;
+    asio::io_context& io;
+    /// How the component connects to other components: copy it into every ClientConfig.
+    const ua::ClientSecurity& clientSecurity;
+    const std::string& applicationUri;
+};
 /// Adds the component's nodes; runs on the io_context's thread before the server listens.
-using PopulateServer = std::function<ua::Result<ComponentContent>(ua::Server&, asio::io_context&)>;
+using PopulateServer = std::function<ua::Result<ComponentContent>(const ComponentContext&)>;
 
 /// Runs until a signal. `populate` adds the component's nodes (may be empty).
 int runServerProcess(const ServerProcessOptions& options, const PopulateServer& populate);

@@ -12,6 +12,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "client_security_options.hpp"
 #include "skills/skill_client.hpp"
 #include "ua/types/to_string.hpp"
 
@@ -24,6 +25,7 @@ struct SkillOptions {
     std::vector<std::string> sets;
     double timeoutSeconds = 60;
     bool list = false;
+    ClientSecurityOptions security;
 };
 
 template <class T>
@@ -73,8 +75,11 @@ std::optional<ua::Variant> parseValue(const ua::NodeId& dataType, const std::str
 }
 
 asio::awaitable<int> runSkill(ua::Client& client, const SkillOptions& o) {
-    if (const auto s = co_await client.connect(o.url); s.isBad()) {
-        std::cerr << "cannot connect to " << o.url << ": " << ua::statusName(s) << "\n";
+    auto config = commandClientConfig(o.security, "skillcell skill");
+    if (!config) co_return 2;
+    const std::string url = o.url;
+    if (const auto s = co_await client.connect(url, std::move(*config)); s.isBad()) {
+        std::cerr << "cannot connect to " << o.url << ": " << explainConnectFailure(s) << "\n";
         co_return 1;
     }
     ua::NodeId id;
@@ -163,6 +168,7 @@ Command addSkillCommand(CLI::App& app) {
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     cmd->add_flag("--list", o->list, "only print the skill's state and parameters");
+    addClientSecurityOptions(cmd, o->security);
     return {cmd, [o] {
                 asio::io_context io{1};
                 ua::Client client(io.get_executor());

@@ -249,6 +249,7 @@ asio::awaitable<void> SkillDetector::run(std::shared_ptr<Watch> w) {
         cc.applicationUri = config_.applicationUri;
         cc.applicationName = "skillcell skill detector";
         cc.sessionName = "skill detector";
+        cc.security = config_.security;
         // The keep-alive subscription keeps the session busy; a detector that vanished
         // leaves its session behind only this long.
         cc.sessionTimeoutMs = 30'000;

@@ -117,6 +117,9 @@ struct SkillDetectorConfig {
     std::chrono::milliseconds maxRetryDelay{5000};
     RemoteBrowseLimits limits;
     std::string applicationUri = "urn:skillcell:skill-detector";
+    /// How the detector connects and whom it acts for (browsing and subscribing need no
+    /// more than the Observer role).
+    ua::ClientSecurity security;
 };
 
 class SkillDetector : public std::enable_shared_from_this<SkillDetector> {

@@ -30,13 +30,13 @@ protected:
     static ua::ClientConfig config(std::string_view policy, MessageSecurityMode mode) {
         ua::ClientConfig c;
         c.applicationUri = "urn:skillcell:interop:secure-client";
-        c.securityPolicyUri = std::string(policy);
-        c.securityMode = mode;
-        c.certificate = certificate().der;
-        c.privateKey = certificate().key;
-        c.user.kind = ua::UserCredentials::Kind::UserName;
-        c.user.userName = "operator";
-        c.user.password = "op-pw";
+        c.security.policyUri = std::string(policy);
+        c.security.mode = mode;
+        c.security.certificate = certificate().der;
+        c.security.privateKey = certificate().key;
+        c.security.user.kind = ua::UserCredentials::Kind::UserName;
+        c.security.user.userName = "operator";
+        c.security.user.password = "op-pw";
         c.connectTimeout = std::chrono::milliseconds(10'000);
         return c;
     }
@@ -64,7 +64,7 @@ TEST_F(SecureNodeServerTest, EveryPolicyAndModeWithAPassword) {
 
 TEST_F(SecureNodeServerTest, WrongPasswordAndAnonymousAreRefused) {
     auto wrong = config(ua::crypto::kPolicyAes256Sha256RsaPss, MessageSecurityMode::SignAndEncrypt);
-    wrong.user.password = "not-it";
+    wrong.security.user.password = "not-it";
     BlockingClient a;
     const StatusCode refused = a.connect(url(), wrong);
     EXPECT_TRUE(refused.isBad());
@@ -72,7 +72,7 @@ TEST_F(SecureNodeServerTest, WrongPasswordAndAnonymousAreRefused) {
                 refused == ua::status::BadIdentityTokenRejected)
         << ua::statusName(refused);
     auto anonymous = config(ua::crypto::kPolicyBasic256Sha256, MessageSecurityMode::Sign);
-    anonymous.user = ua::UserCredentials{};
+    anonymous.security.user = ua::UserCredentials{};
     BlockingClient b;
     EXPECT_TRUE(b.connect(url(), anonymous).isBad());
 }

@@ -84,14 +84,14 @@ void addTargets(Server& server) {
 
 ClientConfig clientConfig(std::string_view policy, MessageSecurityMode mode) {
     ClientConfig c;
-    c.securityPolicyUri = std::string(policy);
-    c.securityMode = mode;
-    c.certificate = certs().client.der;
-    c.privateKey = certs().client.key;
+    c.security.policyUri = std::string(policy);
+    c.security.mode = mode;
+    c.security.certificate = certs().client.der;
+    c.security.privateKey = certs().client.key;
     c.applicationUri = "urn:skillcell:client";
-    c.user.kind = UserCredentials::Kind::UserName;
-    c.user.userName = "olga";
-    c.user.password = "operator-pw";
+    c.security.user.kind = UserCredentials::Kind::UserName;
+    c.security.user.userName = "olga";
+    c.security.user.password = "operator-pw";
     return c;
 }
 
@@ -123,8 +123,8 @@ TEST_F(SecureSession, EveryPolicyAndModeReadsWritesAndCalls) {
 TEST_F(SecureSession, ObserverReadsButMayNotWriteOrCall) {
     auto config =
         clientConfig(crypto::kPolicyAes256Sha256RsaPss, MessageSecurityMode::SignAndEncrypt);
-    config.user.userName = "otto";
-    config.user.password = "observer-pw";
+    config.security.user.userName = "otto";
+    config.security.user.password = "observer-pw";
     BlockingClient client;
     ASSERT_EQ(client.connect(server.url(), config), status::Good);
     EXPECT_TRUE(client.readValue(kTarget).ok());
@@ -137,13 +137,13 @@ TEST_F(SecureSession, ObserverReadsButMayNotWriteOrCall) {
 
 TEST_F(SecureSession, WrongPasswordUnknownUserAndAnonymousAreRefused) {
     auto config = clientConfig(crypto::kPolicyBasic256Sha256, MessageSecurityMode::Sign);
-    config.user.password = "wrong";
+    config.security.user.password = "wrong";
     BlockingClient a;
     EXPECT_EQ(a.connect(server.url(), config), status::BadUserAccessDenied);
-    config.user.userName = "nobody";
+    config.security.user.userName = "nobody";
     BlockingClient b;
     EXPECT_EQ(b.connect(server.url(), config), status::BadUserAccessDenied);
-    config.user = UserCredentials{};
+    config.security.user = UserCredentials{};
     BlockingClient c;
     EXPECT_EQ(c.connect(server.url(), config), status::BadIdentityTokenRejected);
 }
@@ -151,26 +151,26 @@ TEST_F(SecureSession, WrongPasswordUnknownUserAndAnonymousAreRefused) {
 TEST_F(SecureSession, X509UserTokenNeedsAKnownCertificateAndItsKey) {
     auto config =
         clientConfig(crypto::kPolicyAes128Sha256RsaOaep, MessageSecurityMode::SignAndEncrypt);
-    config.user.kind = UserCredentials::Kind::Certificate;
-    config.user.certificate = certs().userCert.der;
-    config.user.privateKey = certs().userCert.key;
+    config.security.user.kind = UserCredentials::Kind::Certificate;
+    config.security.user.certificate = certs().userCert.der;
+    config.security.user.privateKey = certs().userCert.key;
     BlockingClient known;
     ASSERT_EQ(known.connect(server.url(), config), status::Good);
     EXPECT_EQ(known.writeValue(kTarget, Variant(2.0)), status::Good);
     // The right certificate signed with another key proves nothing.
-    config.user.privateKey = certs().stranger.key;
+    config.security.user.privateKey = certs().stranger.key;
     BlockingClient forged;
     EXPECT_EQ(forged.connect(server.url(), config), status::BadUserSignatureInvalid);
     // A certificate the user database does not know.
-    config.user.certificate = certs().stranger.der;
+    config.security.user.certificate = certs().stranger.der;
     BlockingClient unknown;
     EXPECT_EQ(unknown.connect(server.url(), config), status::BadUserAccessDenied);
 }
 
 TEST_F(SecureSession, UntrustedClientCertificateIsRefusedAtOpenSecureChannel) {
     auto config = clientConfig(crypto::kPolicyBasic256Sha256, MessageSecurityMode::SignAndEncrypt);
-    config.certificate = certs().stranger.der;
-    config.privateKey = certs().stranger.key;
+    config.security.certificate = certs().stranger.der;
+    config.security.privateKey = certs().stranger.key;
     BlockingClient client;
     EXPECT_EQ(client.connect(server.url(), config), StatusCode(0x801A0000));
     // Others are still served.
@@ -182,7 +182,7 @@ TEST_F(SecureSession, UntrustedClientCertificateIsRefusedAtOpenSecureChannel) {
 
 TEST_F(SecureSession, ClientRefusesAServerItDoesNotTrust) {
     auto config = clientConfig(crypto::kPolicyBasic256Sha256, MessageSecurityMode::SignAndEncrypt);
-    config.validateServerCertificate = [](const ByteString&, std::string* reason) {
+    config.security.validateServerCertificate = [](const ByteString&, std::string* reason) {
         *reason = "unknown server";
         return StatusCode(0x801A0000);
     };

@@ -6,9 +6,10 @@
 
 namespace skillcell::devices {
 
-ua::Result<std::unique_ptr<WorldLink>> WorldLink::connect(const std::string& url) {
+ua::Result<std::unique_ptr<WorldLink>> WorldLink::connect(const std::string& url,
+                                                          ua::ClientConfig config) {
     auto link = std::make_unique<WorldLink>(Token{});
-    if (const auto s = link->client_.connect(url); s.isBad()) return s;
+    if (const auto s = link->client_.connect(url, std::move(config)); s.isBad()) return s;
     const auto namespaces = link->client_.readValue(ua::NodeId(ua::ns0::Server_NamespaceArray));
     if (!namespaces) return namespaces.status();
     const auto& uris = namespaces->elements();

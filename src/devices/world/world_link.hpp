@@ -17,8 +17,9 @@ namespace skillcell::devices {
 class WorldLink {
 public:
     /// Connects to the world model at `url` and finds its namespace (BadNotFound when the
-    /// server serves no world).
-    [[nodiscard]] static ua::Result<std::unique_ptr<WorldLink>> connect(const std::string& url);
+    /// server serves no world). Changing the world needs the Operator role.
+    [[nodiscard]] static ua::Result<std::unique_ptr<WorldLink>> connect(
+        const std::string& url, ua::ClientConfig config = {});
     WorldLink(const WorldLink&) = delete;
     WorldLink& operator=(const WorldLink&) = delete;
     ~WorldLink() = default;

@@ -93,7 +93,7 @@ ByteString randomNonce(std::size_t n) {
 }
 
 bool isSecured(const ClientConfig& config) {
-    return config.securityPolicyUri != kSecurityPolicyNoneUri;
+    return config.security.policyUri != kSecurityPolicyNoneUri;
 }
 
 /// The token policy of the given type the server offers, preferring the endpoint we are
@@ -105,8 +105,8 @@ std::optional<UserTokenPolicy> findTokenPolicy(const std::vector<EndpointDescrip
     for (const auto& ep : endpoints) {
         for (const auto& token : ep.userIdentityTokens) {
             if (token.tokenType != type) continue;
-            if (ep.securityPolicyUri == config.securityPolicyUri &&
-                ep.securityMode == config.securityMode) {
+            if (ep.securityPolicyUri == config.security.policyUri &&
+                ep.securityMode == config.security.mode) {
                 return token;
             }
             if (!fallback) fallback = token;
@@ -131,7 +131,7 @@ std::vector<std::uint8_t> concat(const ByteString& a, const ByteString& b) {
 const crypto::SecurityPolicyProfile* tokenProfile(const UserTokenPolicy& policy,
                                                   const ClientConfig& config) {
     return crypto::findSecurityPolicyProfile(
-        policy.securityPolicyUri.empty() ? config.securityPolicyUri : policy.securityPolicyUri);
+        policy.securityPolicyUri.empty() ? config.security.policyUri : policy.securityPolicyUri);
 }
 
 /// The user identity token for ActivateSession (OPC 10000-4, 7.41), with its signature for
@@ -141,7 +141,7 @@ Result<std::pair<ExtensionObject, SignatureData>> makeIdentityToken(
     const std::vector<EndpointDescription>& endpoints, const ClientConfig& config,
     const ByteString& serverCertificate, const ByteString& serverNonce) {
     using Kind = UserCredentials::Kind;
-    const auto& user = config.user;
+    const auto& user = config.security.user;
     const UserTokenType type = user.kind == Kind::UserName      ? UserTokenType::UserName
                                : user.kind == Kind::Certificate ? UserTokenType::Certificate
                                                                 : UserTokenType::Anonymous;
@@ -159,7 +159,7 @@ Result<std::pair<ExtensionObject, SignatureData>> makeIdentityToken(
         if (profile == nullptr) {
             // A token without a policy of its own on a None channel: never send a password
             // in clear text.
-            if (config.securityMode != MessageSecurityMode::SignAndEncrypt) {
+            if (config.security.mode != MessageSecurityMode::SignAndEncrypt) {
                 return status::BadSecurityModeInsufficient;
             }
             token.password =
@@ -735,13 +735,13 @@ asio::awaitable<StatusCode> handshake(std::shared_ptr<Connection> conn,
     channelConfig.tokenLifetimeMs = config.tokenLifetimeMs;
     std::unique_ptr<SecurityPolicy> policy = std::make_unique<SecurityPolicyNone>();
     if (isSecured(config)) {
-        const auto* profile = crypto::findSecurityPolicyProfile(config.securityPolicyUri);
+        const auto* profile = crypto::findSecurityPolicyProfile(config.security.policyUri);
         if (profile == nullptr) co_return status::BadSecurityPolicyRejected;
-        auto rsa = RsaSecurityPolicy::create(*profile, config.certificate, config.privateKey,
-                                             config.serverCertificate, config.securityMode);
+        auto rsa = RsaSecurityPolicy::create(*profile, config.security.certificate, config.security.privateKey,
+                                             config.serverCertificate, config.security.mode);
         if (!rsa) co_return rsa.status();
         policy = std::move(*rsa);
-        channelConfig.securityMode = config.securityMode;
+        channelConfig.securityMode = config.security.mode;
     }
     conn->channel.emplace(SecureChannel::Role::Client, *limits, std::move(policy), channelConfig);
     co_return status::Good;
@@ -828,18 +828,42 @@ asio::awaitable<StatusCode> Client::connect(std::string endpointUrl, ClientConfi
     co_return result;
 }
 
+namespace {
+
+/// How much an endpoint protects: SignAndEncrypt over Sign, then the server's own ranking
+/// (securityLevel), then the stronger policy of ours. 0: not one we can use.
+int endpointStrength(const EndpointDescription& ep, const ClientSecurity& security) {
+    const bool haveIdentity = security.privateKey.valid() && !security.certificate.empty();
+    if (ep.securityPolicyUri == kSecurityPolicyNoneUri) {
+        return security.allowNone && ep.securityMode == MessageSecurityMode::None ? 1 : 0;
+    }
+    const auto* profile = crypto::findSecurityPolicyProfile(ep.securityPolicyUri);
+    if (profile == nullptr || !haveIdentity || ep.serverCertificate.empty()) return 0;
+    int modeRank = 0;
+    if (ep.securityMode == MessageSecurityMode::SignAndEncrypt) modeRank = 2;
+    if (ep.securityMode == MessageSecurityMode::Sign) modeRank = 1;
+    if (modeRank == 0) return 0;
+    return 2 + modeRank * 1024 + std::min<int>(ep.securityLevel, 1023);
+}
+
+}  // namespace
+
 asio::awaitable<StatusCode> Client::prepareSecurity() {
-    if (crypto::findSecurityPolicyProfile(config_.securityPolicyUri) == nullptr) {
-        co_return status::BadSecurityPolicyRejected;
+    auto& security = config_.security;
+    const bool choose = security.choosesEndpoint();
+    if (!choose) {
+        if (crypto::findSecurityPolicyProfile(security.policyUri) == nullptr) {
+            co_return status::BadSecurityPolicyRejected;
+        }
+        if (security.mode != MessageSecurityMode::Sign &&
+            security.mode != MessageSecurityMode::SignAndEncrypt) {
+            co_return status::BadSecurityModeRejected;
+        }
+        if (!security.privateKey.valid() || security.certificate.empty()) {
+            co_return status::BadConfigurationError;
+        }
     }
-    if (config_.securityMode != MessageSecurityMode::Sign &&
-        config_.securityMode != MessageSecurityMode::SignAndEncrypt) {
-        co_return status::BadSecurityModeRejected;
-    }
-    if (!config_.privateKey.valid() || config_.certificate.empty()) {
-        co_return status::BadConfigurationError;
-    }
-    if (config_.serverCertificate.empty()) {
+    if (choose || config_.serverCertificate.empty()) {
         Client discovery(executor_);
         ClientConfig discoveryConfig;
         discoveryConfig.createSession = false;
@@ -852,19 +876,31 @@ asio::awaitable<StatusCode> Client::prepareSecurity() {
         auto endpoints = co_await discovery.getEndpoints(url);
         co_await discovery.disconnect();
         if (!endpoints) co_return endpoints.status();
+        const EndpointDescription* chosen = nullptr;
+        int best = 0;
         for (const auto& ep : *endpoints) {
-            if (ep.securityPolicyUri == config_.securityPolicyUri &&
-                ep.securityMode == config_.securityMode && !ep.serverCertificate.empty()) {
-                config_.serverCertificate = ep.serverCertificate;
+            if (choose) {
+                const int strength = endpointStrength(ep, security);
+                if (strength > best) {
+                    best = strength;
+                    chosen = &ep;
+                }
+            } else if (ep.securityPolicyUri == security.policyUri &&
+                       ep.securityMode == security.mode && !ep.serverCertificate.empty()) {
+                chosen = &ep;
                 break;
             }
         }
-        if (config_.serverCertificate.empty()) co_return status::BadSecurityPolicyRejected;
+        if (chosen == nullptr) co_return status::BadSecurityPolicyRejected;
+        security.policyUri = chosen->securityPolicyUri;
+        security.mode = chosen->securityMode;
+        if (!isSecured(config_)) co_return status::Good;  // None, and allowed
+        config_.serverCertificate = chosen->serverCertificate;
     }
-    if (config_.validateServerCertificate) {
+    if (security.validateServerCertificate) {
         std::string reason;
         const StatusCode trusted =
-            config_.validateServerCertificate(config_.serverCertificate, &reason);
+            security.validateServerCertificate(config_.serverCertificate, &reason);
         if (trusted.isBad()) co_return trusted;
     }
     co_return status::Good;
@@ -881,7 +917,7 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
     // Some servers insist on a nonce of at least 32 bytes even without security.
     create.clientNonce = randomNonce(32);
     const ByteString clientNonce = create.clientNonce;
-    if (isSecured(config_)) create.clientCertificate = config_.certificate;
+    if (isSecured(config_)) create.clientCertificate = config_.security.certificate;
     create.requestedSessionTimeout = config_.sessionTimeoutMs;
     create.maxResponseMessageSize = conn_->channel->limits().maxMessageSize;
     auto created = co_await request<CreateSessionRequest, CreateSessionResponse>(std::move(create));
@@ -898,20 +934,20 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
     if (isSecured(config_)) {
         // The server proves it holds its key by signing our certificate and nonce; we prove
         // ours by signing its certificate and nonce (OPC 10000-4, 5.6.2 and 5.6.3).
-        const auto* profile = crypto::findSecurityPolicyProfile(config_.securityPolicyUri);
+        const auto* profile = crypto::findSecurityPolicyProfile(config_.security.policyUri);
         auto serverKey = crypto::RsaKey::fromCertificate(serverCertificate.bytes);
         if (!serverKey ||
             leafCertificate(created->serverCertificate.bytes) !=
                 leafCertificate(serverCertificate.bytes) ||
             created->serverSignature.algorithm != profile->asymmetricSignatureUri ||
             crypto::rsaVerify(*serverKey, profile->asymmetricSignature,
-                              concat(config_.certificate, clientNonce),
+                              concat(config_.security.certificate, clientNonce),
                               created->serverSignature.signature.bytes)
                 .isBad()) {
             resetSession();
             co_return status::BadApplicationSignatureInvalid;
         }
-        auto signature = crypto::rsaSign(config_.privateKey, profile->asymmetricSignature,
+        auto signature = crypto::rsaSign(config_.security.privateKey, profile->asymmetricSignature,
                                          concat(serverCertificate, created->serverNonce));
         if (!signature) co_return signature.status();
         activate.clientSignature.algorithm = String(profile->asymmetricSignatureUri);

@@ -51,6 +51,30 @@ struct UserCredentials {
     crypto::RsaKey privateKey;
 };
 
+/// Who the client is and how it protects its traffic: the same for every connection an
+/// application makes, so components keep one and copy it into each ClientConfig.
+struct ClientSecurity {
+    ClientSecurity() = default;  // not an aggregate: see ClientConfig
+
+    /// The secure channel. kBestSecurity: the most secure endpoint the server offers among
+    /// the policies we implement (SignAndEncrypt before Sign, then the server's
+    /// securityLevel); None is chosen only when `allowNone` says so.
+    std::string policyUri = std::string(kSecurityPolicyNoneUri);
+    MessageSecurityMode mode = MessageSecurityMode::None;
+    bool allowNone = false;
+    /// Our application instance certificate and its key; needed by every policy but None.
+    ByteString certificate;
+    crypto::RsaKey privateKey;
+    /// Decides whether to trust the server's certificate; unset: trusted (tests only).
+    ServerCertificateValidator validateServerCertificate;
+    UserCredentials user;
+
+    [[nodiscard]] bool choosesEndpoint() const { return policyUri.empty(); }
+};
+
+/// ClientSecurity::policyUri meaning "choose the best endpoint the server offers".
+inline constexpr std::string_view kBestSecurity{};
+
 struct ClientConfig {
     // Not an aggregate on purpose: GCC 12 destroys a braced aggregate temporary twice when
     // it appears inside a co_await expression (`co_await client.connect(url, {})`).
@@ -71,17 +95,11 @@ struct ClientConfig {
     std::string applicationName = "skillcell client";
     std::string sessionName = "skillcell session";
 
-    /// The secure channel: SecurityPolicy None by default. Any other policy needs our
-    /// certificate and key; the server's certificate is taken from its endpoint (fetched by
-    /// GetEndpoints on a None discovery channel first) unless given here.
-    std::string securityPolicyUri = std::string(kSecurityPolicyNoneUri);
-    MessageSecurityMode securityMode = MessageSecurityMode::None;
-    ByteString certificate;
-    crypto::RsaKey privateKey;
+    /// SecurityPolicy None and anonymous by default. The server's certificate is taken
+    /// from its endpoint (fetched by GetEndpoints on a None discovery channel first)
+    /// unless given here.
+    ClientSecurity security;
     ByteString serverCertificate;
-    /// Decides whether to trust the server's certificate; unset: trusted (tests only).
-    ServerCertificateValidator validateServerCertificate;
-    UserCredentials user;
 };
 
 /// The parts of "opc.tcp://host[:port][/path]"; host keeps no IPv6 brackets.
@@ -172,6 +190,11 @@ public:
         return serverEndpoints_;
     }
     [[nodiscard]] const NodeId& sessionId() const { return sessionId_; }
+    /// The channel's security after connect (the chosen one, with kBestSecurity).
+    [[nodiscard]] const std::string& securityPolicyUri() const {
+        return config_.security.policyUri;
+    }
+    [[nodiscard]] MessageSecurityMode securityMode() const { return config_.security.mode; }
 
     /// Sends any request and waits for its response: fills the request header
     /// (authenticationToken, timestamp, requestHandle, timeoutHint), then maps every failure

@@ -9,6 +9,7 @@
 #include <asio/use_awaitable.hpp>
 
 #include "ua/client/client.hpp"
+#include "ua/pki/own_certificate.hpp"
 
 namespace skillcell::ua::lds {
 
@@ -38,6 +39,27 @@ LocalDiscoveryServer::LocalDiscoveryServer(Server& server,
       table_(config_.registrationTimeout, config_.limits),
       directory_(DateTime::now()) {}
 
+namespace {
+
+/// Over a secured channel, a server may register only itself: the serverUri must be the
+/// application URI of the certificate the channel was opened with (OPC 10000-4, 5.4.5), or
+/// any trusted component could register, or unregister, any other. The certificate itself
+/// was validated when the channel opened.
+StatusCode checkRegistrant(const ServiceContext& ctx, const RegisteredServer& server) {
+    if (ctx.securityMode == MessageSecurityMode::None || ctx.clientCertificate == nullptr) {
+        return status::Good;  // a None channel reaches here only on an --insecure LDS
+    }
+    const std::string uri = pki::certificateApplicationUri(*ctx.clientCertificate);
+    if (uri != server.serverUri) {
+        spdlog::warn("RegisterServer for {} refused: the channel's certificate names '{}'",
+                     server.serverUri, uri);
+        return status::BadServerUriInvalid;
+    }
+    return status::Good;
+}
+
+}  // namespace
+
 LocalDiscoveryServer::~LocalDiscoveryServer() {
     if (responder_ && subscription_ != 0) responder_->unsubscribe(subscription_);
 }
@@ -49,17 +71,20 @@ void LocalDiscoveryServer::start(asio::any_io_executor executor) {
 
     table.add<RegisterServerRequest, RegisterServerResponse>(
         Access::NoSession,
-        [weak](ServiceContext&, const RegisterServerRequest& req, RegisterServerResponse&) {
+        [weak](ServiceContext& ctx, const RegisterServerRequest& req, RegisterServerResponse&) {
             auto self = weak.lock();
             if (!self || self->stopped_) return status::BadShutdown;
+            if (const StatusCode s = checkRegistrant(ctx, req.server); s.isBad()) return s;
             return self->registerServer(req.server, std::nullopt);
         });
 
     table.add<RegisterServer2Request, RegisterServer2Response>(
         Access::NoSession,
-        [weak](ServiceContext&, const RegisterServer2Request& req, RegisterServer2Response& resp) {
+        [weak](ServiceContext& ctx, const RegisterServer2Request& req,
+               RegisterServer2Response& resp) {
             auto self = weak.lock();
             if (!self || self->stopped_) return status::BadShutdown;
+            if (const StatusCode s = checkRegistrant(ctx, req.server); s.isBad()) return s;
             if (req.discoveryConfiguration.size() > 16) return status::BadTooManyOperations;
             std::optional<MdnsDiscoveryConfiguration> mdns;
             for (const auto& eo : req.discoveryConfiguration) {

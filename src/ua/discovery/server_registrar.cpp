@@ -102,6 +102,7 @@ asio::awaitable<StatusCode> ServerRegistrar::sendRegistration(std::string url, b
     config.connectTimeout = config_.timeout;
     config.requestTimeout = config_.timeout;
     config.applicationUri = self_.serverUri;
+    config.security = config_.security;
     if (const StatusCode s = co_await client.connect(url, config); s.isBad()) co_return s;
     RegisterServer2Request req;
     req.server = self_;

@@ -15,6 +15,7 @@
 #include <memory>
 #include <string>
 
+#include "ua/client/client.hpp"
 #include "ua/discovery/mdns_responder.hpp"
 #include "ua/messages/discovery.hpp"
 
@@ -25,6 +26,9 @@ struct RegistrarConfig {
     std::chrono::seconds period{600};
     /// For connecting and for each request.
     std::chrono::milliseconds timeout{2000};
+    /// The channel RegisterServer2 goes over (no session is opened): a secured LDS takes
+    /// registrations only over a secured channel from a server whose certificate it trusts.
+    ClientSecurity security;
 };
 
 class ServerRegistrar : public std::enable_shared_from_this<ServerRegistrar> {

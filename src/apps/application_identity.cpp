@@ -1,0 +1,91 @@
+#include "application_identity.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <unistd.h>
+#include <mutex>
+
+#include "ua/discovery/network_interfaces.hpp"
+#include "ua/pki/certificate_validator.hpp"
+
+namespace skillcell::apps {
+
+// The validator reloads its trust list as files change and is not thread-safe; a component's
+// server and its clients (some on threads of their own, like WorldLink's) share it.
+struct ApplicationIdentity::SharedValidator {
+    explicit SharedValidator(const std::filesystem::path& pkiDir) : validator(pkiDir) {}
+    std::mutex mutex;
+    ua::pki::CertificateValidator validator;
+
+    ua::pki::CertificateVerdict validate(const ua::ByteString& der, std::string_view uri) {
+        std::lock_guard lock(mutex);
+        return validator.validate(der, uri);
+    }
+};
+
+ua::Result<ApplicationIdentity> ApplicationIdentity::load(std::filesystem::path pkiDir,
+                                                          const std::string& applicationUri,
+                                                          const std::string& applicationName,
+                                                          std::string* error) {
+    if (pkiDir.empty()) pkiDir = ua::pki::defaultPkiDirectory(applicationUri);
+    ua::pki::CertificateSubject subject;
+    subject.applicationUri = applicationUri;
+    subject.commonName = applicationName;
+    std::array<char, 256> hostname{};
+    if (gethostname(hostname.data(), hostname.size() - 1) == 0) {
+        subject.dnsNames.emplace_back(hostname.data());
+    }
+    subject.dnsNames.emplace_back("localhost");
+    for (const auto& nic : ua::mdns::listIpv4Interfaces()) {
+        subject.ipAddresses.push_back(ua::mdns::toString(nic.address));
+    }
+    std::string why;
+    auto certificate = ua::pki::loadOrCreateOwnCertificate(pkiDir, subject, &why);
+    if (!certificate) {
+        if (error != nullptr) {
+            *error = "application certificate in " + pkiDir.string() + ": " + why;
+        }
+        return certificate.status();
+    }
+    auto key = ua::crypto::RsaKey::fromPrivateKeyFile(certificate->privateKeyFile);
+    if (!key) {
+        if (error != nullptr) {
+            *error = "cannot read the private key " + certificate->privateKeyFile.string();
+        }
+        return key.status();
+    }
+    spdlog::info("{} application certificate {}", certificate->created ? "created" : "using",
+                 certificate->certificateFile.string());
+    ApplicationIdentity identity;
+    identity.pkiDir_ = pkiDir;
+    identity.certificate_ = std::move(*certificate);
+    identity.privateKey_ = std::move(*key);
+    identity.validator_ = std::make_shared<SharedValidator>(pkiDir);
+    return identity;
+}
+
+ua::CertificateCheck ApplicationIdentity::clientCertificateCheck() const {
+    return [validator = validator_](const ua::ByteString& der, std::string_view applicationUri,
+                                    std::string* reason) {
+        auto verdict = validator->validate(der, applicationUri);
+        if (reason != nullptr) *reason = verdict.reason;
+        return verdict.status;
+    };
+}
+
+ua::ServerCertificateValidator ApplicationIdentity::serverCertificateCheck() const {
+    return [validator = validator_](const ua::ByteString& der, std::string* reason) {
+        auto verdict = validator->validate(der, {});
+        if (!verdict.ok()) {
+            spdlog::warn("server certificate refused: {}{}", verdict.reason,
+                         verdict.rejectedFile.empty()
+                             ? ""
+                             : " (copied to " + verdict.rejectedFile.string() +
+                                   "; `skillcell pki trust` accepts it)");
+        }
+        if (reason != nullptr) *reason = verdict.reason;
+        return verdict.status;
+    };
+}
+
+}  // namespace skillcell::apps
