@@ -211,3 +211,32 @@ TEST_F(SecureSession, NoneChannelServesDiscoveryOnly) {
     BlockingClient session;
     EXPECT_EQ(session.connect(server.url(), ClientConfig{}), status::BadSecurityPolicyRejected);
 }
+
+TEST_F(SecureSession, BestSecurityChoosesTheStrongestEndpoint) {
+    auto config = clientConfig(kBestSecurity, MessageSecurityMode::None);
+    BlockingClient client;
+    ASSERT_EQ(client.connect(server.url(), config), status::Good);
+    const auto [policy, mode] = client.security();
+    EXPECT_EQ(policy, crypto::kPolicyAes256Sha256RsaPss);
+    EXPECT_EQ(mode, MessageSecurityMode::SignAndEncrypt);
+    EXPECT_TRUE(client.readValue(NodeId(2259)).ok());
+}
+
+TEST_F(SecureSession, BestSecurityNeedsOurCertificate) {
+    auto config = clientConfig(kBestSecurity, MessageSecurityMode::None);
+    config.security.certificate = ByteString{};
+    BlockingClient client;
+    EXPECT_EQ(client.connect(server.url(), config), status::BadSecurityPolicyRejected);
+}
+
+TEST(BestSecurity, NoneOnlyWhenAllowed) {
+    RunningServer insecure;  // offers SecurityPolicy None only
+    auto config = clientConfig(kBestSecurity, MessageSecurityMode::None);
+    config.security.user = UserCredentials{};
+    BlockingClient refused;
+    EXPECT_EQ(refused.connect(insecure.url(), config), status::BadSecurityPolicyRejected);
+    config.security.allowNone = true;
+    BlockingClient allowed;
+    ASSERT_EQ(allowed.connect(insecure.url(), config), status::Good);
+    EXPECT_EQ(allowed.security().first, kSecurityPolicyNoneUri);
+}

@@ -1,7 +1,8 @@
 # Test support shared by the server-level tests: a server on a thread, a raw TCP client.
 add_library(skillcell_test_support STATIC
   ${PROJECT_SOURCE_DIR}/tests/support/running_server.cpp
-  ${PROJECT_SOURCE_DIR}/tests/support/raw_connection.cpp)
+  ${PROJECT_SOURCE_DIR}/tests/support/raw_connection.cpp
+  ${PROJECT_SOURCE_DIR}/tests/support/tampering_proxy.cpp)
 target_include_directories(skillcell_test_support PUBLIC ${PROJECT_SOURCE_DIR}/tests/support)
 target_link_libraries(skillcell_test_support PUBLIC skillcell_ua_server)
 

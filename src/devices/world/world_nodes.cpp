@@ -91,6 +91,7 @@ StatusCode WorldNodes::build() {
     // declarations before a callback runs; the callbacks check values.
     struct MethodSpec {
         const char* name;
+        ua::Role requiredRole;  // changing the scene is configuration: Engineer
         std::vector<Argument> inputs;
         std::vector<Argument> outputs;
         std::function<StatusCode(std::span<const Variant>, std::vector<Variant>&, std::string&)>
@@ -101,7 +102,7 @@ StatusCode WorldNodes::build() {
     const std::uint32_t kDouble = ua::ns0::Double;
     std::vector<MethodSpec> methods;
     methods.push_back(
-        {"AddObject",
+        {"AddObject", ua::Role::Engineer,
          {arg("Id", kString, "object id"),
           arg("Size", kDouble, "box edges x, y, z (m)", ua::value_rank::kOneDimension),
           arg("Pose", kFrame, "the box centre in the base frame")},
@@ -117,7 +118,7 @@ StatusCode WorldNodes::build() {
              return world_.addObject(WorldObject{stringArg(in[0]), *size, *pose}, &why);
          }});
     methods.push_back(
-        {"AddDock",
+        {"AddDock", ua::Role::Engineer,
          {arg("Id", kString, "dock id"),
           arg("Pose", kFrame, "the flange pose at which the dock's tool locks")},
          {},
@@ -127,7 +128,7 @@ StatusCode WorldNodes::build() {
              return world_.addDock(ToolDock{stringArg(in[0]), *pose, {}}, &why);
          }});
     methods.push_back(
-        {"AddTool",
+        {"AddTool", ua::Role::Engineer,
          {arg("Id", kString, "tool id"), arg("DockId", kString, "the dock the tool is stored in"),
           arg("GripPoint", kFrame, "grip point relative to the tool mounting plate")},
          {},
@@ -136,7 +137,7 @@ StatusCode WorldNodes::build() {
              if (!grip) return grip.status();
              return world_.addTool(Tool{stringArg(in[0]), *grip}, stringArg(in[1]), &why);
          }});
-    methods.push_back({"SetFlangePose",
+    methods.push_back({"SetFlangePose", ua::Role::Operator,
                        {arg("Pose", kFrame, "the robot flange in the base frame")},
                        {},
                        [this](std::span<const Variant> in, std::vector<Variant>&, std::string&) {
@@ -146,32 +147,32 @@ StatusCode WorldNodes::build() {
                            return StatusCode(ua::status::Good);
                        }});
     methods.push_back(
-        {"MountTool",
+        {"MountTool", ua::Role::Operator,
          {arg("DockId", kString, "the dock whose tool the flange takes")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
              return world_.mountTool(stringArg(in[0]), &why);
          }});
     methods.push_back(
-        {"UnmountTool",
+        {"UnmountTool", ua::Role::Operator,
          {arg("DockId", kString, "the free dock the mounted tool is left in")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
              return world_.unmountTool(stringArg(in[0]), &why);
          }});
-    methods.push_back({"Grasp",
+    methods.push_back({"Grasp", ua::Role::Operator,
                        {arg("ObjectId", kString, "the object at the grip point")},
                        {},
                        [this](std::span<const Variant> in, std::vector<Variant>&,
                               std::string& why) { return world_.grasp(stringArg(in[0]), &why); }});
-    methods.push_back({"Release",
+    methods.push_back({"Release", ua::Role::Operator,
                        {},
                        {},
                        [this](std::span<const Variant>, std::vector<Variant>&, std::string& why) {
                            return world_.release(&why);
                        }});
     methods.push_back(
-        {"ObjectAtGripPoint",
+        {"ObjectAtGripPoint", ua::Role::Observer,  // a question, not a change
          {},
          {arg("ObjectId", kString, "the free object at the grip point; empty when none"),
           arg("Extent", kDouble, "its extent along the grip point's x, y and z axes (m)",
@@ -206,6 +207,7 @@ StatusCode WorldNodes::build() {
                                   return s;
                               });
         if (!r) return r.status();
+        as.find(id(std::string("World.") + name))->requiredRole = m.requiredRole;
     }
     sync();
     return ua::status::Good;

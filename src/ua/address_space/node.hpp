@@ -100,6 +100,11 @@ struct Node {
     bool userExecutable = true;
     MethodCallback method;
 
+    // Variable (writing its value), Method (calling it): the least role that may. Skill
+    // methods and parameters act on the plant: Operator. Configuration (the cell's layout,
+    // a device's setup): Engineer.
+    Role requiredRole = Role::Operator;
+
     // DataType: the DataTypeDefinition attribute (structure fields or enumeration values),
     // read from the NodeSet2 <Definition>; monostate for types without one.
     StructureOrEnumDefinition definition;

@@ -2,8 +2,9 @@
 // Roles: what a session's user may do. They follow the well-known roles of OPC 10000-18
 // (4.4.1); skillcell uses four of them to decide access:
 // Observer browses, reads and subscribes; Operator also calls skill methods and writes
-// skill parameters; Engineer also changes configuration (attributes other than values);
-// Admin (ConfigureAdmin + SecurityAdmin) may do everything.
+// skill parameters; Engineer also calls the methods and writes the variables marked as
+// configuration (Node::requiredRole, e.g. the world model's scene); Admin (ConfigureAdmin +
+// SecurityAdmin) may do everything.
 #include <cstdint>
 #include <optional>
 #include <string>

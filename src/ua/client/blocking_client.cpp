@@ -43,6 +43,10 @@ bool BlockingClient::isConnected() {
     return runSync([](Client& c) { return c.isConnected(); });
 }
 
+std::pair<std::string, MessageSecurityMode> BlockingClient::security() {
+    return runSync([](Client& c) { return std::pair{c.securityPolicyUri(), c.securityMode()}; });
+}
+
 std::vector<EndpointDescription> BlockingClient::serverEndpoints() {
     return runSync([](Client& c) { return c.serverEndpoints(); });
 }

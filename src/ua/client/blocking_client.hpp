@@ -71,6 +71,8 @@ public:
     [[nodiscard]] bool isConnected();
     /// The server's endpoints as returned by CreateSession (a copy).
     [[nodiscard]] std::vector<EndpointDescription> serverEndpoints();
+    /// The channel's security policy URI and mode (the chosen ones, with kBestSecurity).
+    [[nodiscard]] std::pair<std::string, MessageSecurityMode> security();
 
     template <EncodableStructure Req, EncodableStructure Resp>
     Result<Resp> request(Req req) {

@@ -1,5 +1,7 @@
 #include "ua/server/services/attribute_service.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <charconv>
 
 #include "ua/server/services/operations.hpp"
@@ -232,7 +234,12 @@ StatusCode writeAttribute(AddressSpace& as, const WriteValue& item, const Caller
         return status::BadNotWritable;
     }
     // Writing a value sets what the plant does next (a skill parameter): operators only.
-    if (!caller.roles.atLeast(Role::Operator)) return status::BadUserAccessDenied;
+    if (!caller.roles.atLeast(n->requiredRole)) {
+        spdlog::warn("session {}: Write of {} refused (BadUserAccessDenied): roles {}, needs {}",
+                     caller.sessionId.toString(), item.nodeId.toString(), caller.roles.toString(),
+                     roleName(n->requiredRole));
+        return status::BadUserAccessDenied;
+    }
     if (!item.value.value) return status::BadTypeMismatch;
     auto range = parseIndexRange(item.indexRange);
     if (!range) return status::BadIndexRangeInvalid;

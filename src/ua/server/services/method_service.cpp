@@ -1,5 +1,7 @@
 #include "ua/server/services/method_service.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include "ua/server/services/operations.hpp"
 #include "ua/server/services/register_services.hpp"
 
@@ -55,8 +57,12 @@ CallMethodResult callMethod(AddressSpace& as, const CallMethodRequest& request,
         result.statusCode = status::BadNotExecutable;
         return result;
     }
-    // Calling a method acts on the plant (a skill's Start moves a robot): operators only.
-    if (!caller.roles.atLeast(Role::Operator)) {
+    // Calling a method acts on the plant (a skill's Start moves a robot): operators, or
+    // engineers for configuration methods.
+    if (!caller.roles.atLeast(method->requiredRole)) {
+        spdlog::warn("session {}: Call of {} refused (BadUserAccessDenied): roles {}, needs {}",
+                     caller.sessionId.toString(), request.methodId.toString(),
+                     caller.roles.toString(), roleName(method->requiredRole));
         result.statusCode = status::BadUserAccessDenied;
         return result;
     }

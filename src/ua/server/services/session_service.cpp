@@ -152,7 +152,11 @@ Result<UserIdentity> checkIdentity(const ServiceContext& ctx, const ServerDescri
         if (policy == nullptr || !security.users) return status::BadIdentityTokenRejected;
         auto password = decryptPassword(ctx, security, session, *policy, userName);
         if (!password) return password.status();
-        return security.users->authenticatePassword(userName.userName, *password);
+        auto user = security.users->authenticatePassword(userName.userName, *password);
+        // The name is logged (an operator needs it to see who is locked out, or guessing);
+        // the password never is.
+        if (!user) spdlog::warn("user '{}': password refused", userName.userName);
+        return user;
     }
     X509IdentityToken x509;
     if (fromExtensionObject(token, x509).isGood()) {
