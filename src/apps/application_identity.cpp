@@ -76,13 +76,8 @@ ua::CertificateCheck ApplicationIdentity::clientCertificateCheck() const {
 ua::ServerCertificateValidator ApplicationIdentity::serverCertificateCheck() const {
     return [validator = validator_](const ua::ByteString& der, std::string* reason) {
         auto verdict = validator->validate(der, {});
-        if (!verdict.ok()) {
-            spdlog::warn("server certificate refused: {}{}", verdict.reason,
-                         verdict.rejectedFile.empty()
-                             ? ""
-                             : " (copied to " + verdict.rejectedFile.string() +
-                                   "; `skillcell pki trust` accepts it)");
-        }
+        // The reason says where the certificate was copied and how to trust it.
+        if (!verdict.ok()) spdlog::warn("server certificate refused: {}", verdict.reason);
         if (reason != nullptr) *reason = verdict.reason;
         return verdict.status;
     };

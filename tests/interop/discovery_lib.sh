@@ -43,7 +43,9 @@ dl_re() { printf '%s' "$1" | sed -e 's/[][\.*^$(){}?+|/\\]/\\&/g'; }
 dl_init() {
   local script=$1
   shift
-  if ! command -v node >/dev/null || [ ! -d "$DL_HERE/node_modules/node-opcua" ]; then
+  # DL_NEEDS_NODE=0: a driver of skillcell processes only (tests/netns/secure_cell.sh)
+  if [ "${DL_NEEDS_NODE:-1}" = 1 ] &&
+    { ! command -v node >/dev/null || [ ! -d "$DL_HERE/node_modules/node-opcua" ]; }; then
     echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
     [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
     exit 77
