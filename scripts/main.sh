@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # The main job, until the demo of a whole work cell exists: installs what is missing, builds,
-# and shows Plug & Produce discovery and the OPC UA stack at work on one machine:
+# and shows Plug & Produce discovery and the OPC UA stack at work on one machine, with
+# security on as in a real cell (a cell CA, users with roles, no --insecure anywhere):
 #   a Local Discovery Server (LDS-ME) and a demo server find each other by mDNS, the server
-#   registers with the LDS, our `discover` lists both, our client browses the server,
-#   node-opcua's client browses, reads, writes and calls on it, a skill of the server runs
-#   (our SkillClient, then node-opcua finding it through the type hierarchy), and when the
-#   server stops its goodbye removes it from the LDS.
+#   registers with the LDS over a secured channel, our `discover` lists both, our client
+#   browses the server, node-opcua's client browses, reads, writes and calls on it over
+#   Aes256_Sha256_RsaPss/SignAndEncrypt as an operator, a skill of the server runs (our
+#   SkillClient, then node-opcua finding it through the type hierarchy), an observer and an
+#   unsecured client are refused, and when the server stops its goodbye removes it from the
+#   LDS.
 # mDNS stays inside a private network namespace (multicast on loopback only), so nothing is
 # sent to the machine's real network; that needs root. Without it, the job runs without
 # discovery.
@@ -29,11 +32,33 @@ cleanup() {
 }
 trap cleanup EXIT
 
+# The cell's security: a CA that issues every component's certificate (so they trust each
+# other), and one user database: an operator, an observer, and "cell", the user the
+# components act as when they connect to each other.
+export SKILLCELL_CA_DIR=$tmp/ca
+"$skillcell" pki init-ca --dir "$SKILLCELL_CA_DIR" >/dev/null
+printf 'operator-pw\n' >"$tmp/operator.pw"
+printf 'observer-pw\n' >"$tmp/observer.pw"
+printf 'cell-pw\n' >"$tmp/cell.pw"
+"$skillcell" user add operator --role Operator --users "$tmp/users" <"$tmp/operator.pw" >/dev/null
+"$skillcell" user add observer --role Observer --users "$tmp/users" <"$tmp/observer.pw" >/dev/null
+"$skillcell" user add cell --role Operator --users "$tmp/users" <"$tmp/cell.pw" >/dev/null
+operator=(--pki-dir "$tmp/pki-cli" --user operator --password-file "$tmp/operator.pw")
+observer=(--pki-dir "$tmp/pki-cli" --user observer --password-file "$tmp/observer.pw")
+# node-opcua's client gets its certificate from the cell CA too.
+"$skillcell" pki issue --ca "$SKILLCELL_CA_DIR" --uri urn:skillcell:interop:node-opcua-client \
+  --pki-dir "$tmp/pki-node" >/dev/null
+export SKILLCELL_NODE_SECURITY=SignAndEncrypt SKILLCELL_NODE_USER=operator:operator-pw
+export SKILLCELL_NODE_CERTIFICATE=$tmp/pki-node/own/certs/cert.der
+export SKILLCELL_NODE_PRIVATE_KEY=$tmp/pki-node/own/private/key.pem
+export SKILLCELL_NODE_PKI=$tmp/pki-node  # it trusts the cell CA
+
 # Starts a component, waits (bounded) for its READY line; sets $url and appends its pid.
 start() {
   local name=$1; shift
   mkfifo "$tmp/$name.ready"
-  "$skillcell" "$@" --pki-dir "$tmp/pki-$name" --insecure >"$tmp/$name.ready" 2>"$tmp/$name.log" &
+  "$skillcell" "$@" --pki-dir "$tmp/pki-$name" --users "$tmp/users" --client-user cell \
+    --client-password-file "$tmp/cell.pw" >"$tmp/$name.ready" 2>"$tmp/$name.log" &
   pids+=($!)
   exec {fd}<"$tmp/$name.ready"
   local word
@@ -70,16 +95,20 @@ fi
 
 echo
 echo "== our client browses $server_url"
-"$skillcell" browse "$server_url" --values --max-depth 4
+"$skillcell" browse "$server_url" --values --max-depth 4 "${observer[@]}"
 echo
-echo "== node-opcua's client against our server"
+echo "== node-opcua's client against our server (Aes256_Sha256_RsaPss, SignAndEncrypt, operator)"
 node tests/interop/client.js "$server_url"
 echo
 echo "== a skill runs: our SkillClient writes MaxVelocity, starts Move, follows its events"
-"$skillcell" skill "$server_url" Move --set MaxVelocity=0.5 --timeout 10
+"$skillcell" skill "$server_url" Move --set MaxVelocity=0.5 --timeout 10 "${operator[@]}"
 echo
 echo "== node-opcua finds the skill through the type hierarchy, runs it, reads its state"
 node tests/interop/skill.js "$server_url" Move
+echo
+echo "== security: an observer may look but not start a skill; a client without security is refused"
+"$skillcell" skill "$server_url" Move --timeout 10 "${observer[@]}" 2>&1 | grep -m1 -E 'OUTCOME|refused|Bad' || true
+"$skillcell" skill "$server_url" Move --timeout 10 --insecure 2>&1 | grep -m1 'cannot connect' || true
 
 if [ "${SKILLCELL_MAIN_IN_NETNS:-0}" = 1 ]; then
   echo

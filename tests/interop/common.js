@@ -12,7 +12,8 @@ const {
     AttributeIds,
     StatusCodes,
     NodeId,
-    NodeIdType
+    NodeIdType,
+    UserTokenType
 } = require("node-opcua");
 
 const DEMO_NAMESPACE_URI = "urn:skillcell:demo";
@@ -29,23 +30,57 @@ function checkEndpointUrl(url, usage) {
     }
 }
 
-// Creates a client (SecurityPolicy None, mode None), connects and opens an
-// anonymous session. Returns { client, session }.
+// How connect() secures its connection. By default SecurityPolicy None and an anonymous
+// session; for servers with security on (scripts/main.sh), from the environment:
+//   SKILLCELL_NODE_SECURITY     "SignAndEncrypt" or "Sign" (with Aes256_Sha256_RsaPss)
+//   SKILLCELL_NODE_CERTIFICATE  our certificate (DER file named *.der, or PEM), e.g. issued
+//   SKILLCELL_NODE_PRIVATE_KEY  by `skillcell pki issue` for NODE_CLIENT_URI; its key (PEM)
+//   SKILLCELL_NODE_USER         "user:password" for the session
+//   SKILLCELL_NODE_PKI          node-opcua's PKI folder (the same layout as ours: with the cell
+//                               CA in trusted/, the server's certificate is verified by it)
+const NODE_CLIENT_URI = "urn:skillcell:interop:node-opcua-client";
+function securityFromEnvironment() {
+    const env = process.env;
+    const mode = env.SKILLCELL_NODE_SECURITY;
+    const out = { securityMode: MessageSecurityMode.None, securityPolicy: SecurityPolicy.None, identity: undefined };
+    if (mode) {
+        if (!(mode in { Sign: 1, SignAndEncrypt: 1 })) throw new Error(`SKILLCELL_NODE_SECURITY=${mode}: Sign or SignAndEncrypt`);
+        out.securityMode = MessageSecurityMode[mode];
+        out.securityPolicy = SecurityPolicy.Aes256_Sha256_RsaPss;
+        out.certificateFile = env.SKILLCELL_NODE_CERTIFICATE;
+        out.privateKeyFile = env.SKILLCELL_NODE_PRIVATE_KEY;
+    }
+    if (env.SKILLCELL_NODE_USER) {
+        const colon = env.SKILLCELL_NODE_USER.indexOf(":");
+        out.identity = {
+            type: UserTokenType.UserName,
+            userName: env.SKILLCELL_NODE_USER.slice(0, colon),
+            password: env.SKILLCELL_NODE_USER.slice(colon + 1)
+        };
+    }
+    return out;
+}
+
+// Creates a client (security from the environment, see above), connects and opens a
+// session. Returns { client, session }.
 // onProblem(message) is called when the connection drops or the session is
 // closed behind our back: node-opcua would otherwise reconnect silently and
 // replay the request, hiding a protocol error of the server.
 const closingHooks = new WeakMap();
 async function connect(endpointUrl, applicationName, onProblem) {
+    const security = securityFromEnvironment();
     const clientCertificateManager = new OPCUACertificateManager({
         automaticallyAcceptUnknownCertificate: true,
-        rootFolder: path.join(pkiRoot(), "client")
+        rootFolder: process.env.SKILLCELL_NODE_PKI || path.join(pkiRoot(), "client")
     });
     const client = OPCUAClient.create({
         applicationName,
         // one applicationUri for all scripts: they share one client certificate
-        applicationUri: "urn:skillcell:interop:node-opcua-client",
-        securityMode: MessageSecurityMode.None,
-        securityPolicy: SecurityPolicy.None,
+        applicationUri: NODE_CLIENT_URI,
+        securityMode: security.securityMode,
+        securityPolicy: security.securityPolicy,
+        ...(security.certificateFile ? { certificateFile: security.certificateFile } : {}),
+        ...(security.privateKeyFile ? { privateKeyFile: security.privateKeyFile } : {}),
         endpointMustExist: false,
         keepSessionAlive: false,
         clientCertificateManager,
@@ -59,7 +94,7 @@ async function connect(endpointUrl, applicationName, onProblem) {
     client.on("start_reconnection", (err) => closing || report(`client reconnecting${err ? `: ${err.message}` : ""}`));
     client.on("close", (err) => err && !closing && report(`connection closed: ${err.message}`));
     await client.connect(endpointUrl);
-    const session = await client.createSession(); // anonymous
+    const session = await client.createSession(security.identity); // anonymous by default
     session.on("session_closed", (sc) => closing || report(`session closed by the server: ${sc ? sc.toString() : "?"}`));
     // disconnect() calls this before closing on purpose
     closingHooks.set(client, () => {
