@@ -92,8 +92,8 @@ ua::StatusCode fillUser(const ApplicationIdentity* identity, const ClientUserOpt
 }  // namespace
 
 ua::Result<ua::ClientSecurity> componentClientSecurity(const ApplicationIdentity& identity,
-                                                       const ClientUserOptions& user,
-                                                       bool insecure, std::string* error) {
+                                                       const ClientUserOptions& user, bool insecure,
+                                                       std::string* error) {
     ua::ClientSecurity security;
     if (!insecure) {
         security.policyUri = std::string(ua::kBestSecurity);
@@ -101,8 +101,8 @@ ua::Result<ua::ClientSecurity> componentClientSecurity(const ApplicationIdentity
         security.privateKey = identity.privateKey();
         security.validateServerCertificate = identity.serverCertificateCheck();
     }
-    if (const auto s = fillUser(insecure ? nullptr : &identity, user, "--client-",
-                                security.user, error);
+    if (const auto s =
+            fillUser(insecure ? nullptr : &identity, user, "--client-", security.user, error);
         s.isBad()) {
         return s;
     }
@@ -115,8 +115,7 @@ ua::Result<ua::ClientSecurity> commandClientSecurity(const ClientSecurityOptions
     *applicationUri = options.applicationUri;
     ua::ClientSecurity security;
     if (options.insecure) {
-        if (const auto s = fillUser(nullptr, options.user, "--", security.user, error);
-            s.isBad()) {
+        if (const auto s = fillUser(nullptr, options.user, "--", security.user, error); s.isBad()) {
             return s;
         }
         return security;
@@ -149,8 +148,7 @@ ua::Result<ua::ClientSecurity> commandClientSecurity(const ClientSecurityOptions
     security.certificate = identity->certificate().der;
     security.privateKey = identity->privateKey();
     security.validateServerCertificate = identity->serverCertificateCheck();
-    if (const auto s = fillUser(&*identity, options.user, "--", security.user, error);
-        s.isBad()) {
+    if (const auto s = fillUser(&*identity, options.user, "--", security.user, error); s.isBad()) {
         return s;
     }
     return security;
@@ -174,12 +172,14 @@ std::optional<ua::ClientConfig> commandClientConfig(const ClientSecurityOptions&
 std::string explainConnectFailure(ua::StatusCode status) {
     std::string text(ua::statusName(status));
     if (status == ua::status::BadSecurityPolicyRejected) {
-        text += " (no endpoint of the server has a security we accept; a server run with "
-                "--insecure needs --insecure here too)";
+        text +=
+            " (no endpoint of the server has a security we accept; a server run with "
+            "--insecure needs --insecure here too)";
     } else if (status == ua::status::BadCertificateUntrusted ||
                status == ua::status::BadSecurityChecksFailed) {
-        text += " (a certificate is not trusted: `skillcell pki list` on either side shows "
-                "the rejected one, `skillcell pki trust` accepts it)";
+        text +=
+            " (a certificate is not trusted: `skillcell pki list` on either side shows "
+            "the rejected one, `skillcell pki trust` accepts it)";
     } else if (status == ua::status::BadIdentityTokenRejected ||
                status == ua::status::BadIdentityTokenInvalid ||
                status == ua::status::BadUserAccessDenied) {

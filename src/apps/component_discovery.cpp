@@ -77,7 +77,8 @@ ua::mdns::MdnsConfig mdnsConfigFrom(const DiscoveryOptions& o) {
 
 std::unique_ptr<ComponentDiscovery> ComponentDiscovery::start(
     asio::io_context& io, ua::Server& server, std::uint16_t port, const std::string& bindAddress,
-    const DiscoveryOptions& options, bool isLds, const ua::ClientSecurity& registration, std::string* error) {
+    const DiscoveryOptions& options, bool isLds, const ua::ClientSecurity& registration,
+    std::string* error) {
     auto d = std::make_unique<ComponentDiscovery>();
     auto config = mdnsConfigFrom(options);
     if (config.interfaces.empty() && bindAddress != "0.0.0.0" && bindAddress != "::") {

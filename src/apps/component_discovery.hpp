@@ -43,14 +43,10 @@ public:
     /// on that address's interface only (unless --mdns-interface says otherwise): one bound
     /// to loopback is not announced to the network. `registration`: the channel security of
     /// RegisterServer2 (the server's own certificate). nullptr with `error` set on failure.
-    [[nodiscard]] static std::unique_ptr<ComponentDiscovery> start(asio::io_context& io,
-                                                                   ua::Server& server,
-                                                                   std::uint16_t port,
-                                                                   const std::string& bindAddress,
-                                                                   const DiscoveryOptions& options,
-                                                                   bool isLds,
-                                                                   const ua::ClientSecurity& registration,
-                                                                   std::string* error);
+    [[nodiscard]] static std::unique_ptr<ComponentDiscovery> start(
+        asio::io_context& io, ua::Server& server, std::uint16_t port,
+        const std::string& bindAddress, const DiscoveryOptions& options, bool isLds,
+        const ua::ClientSecurity& registration, std::string* error);
     /// Unregisters, withdraws the announcement with a goodbye, closes the mDNS socket.
     asio::awaitable<void> stop();
 

@@ -316,10 +316,10 @@ CLI::App* addRobotiq(CLI::App* device, std::vector<Command>& commands) {
         ->check(CLI::Range(20.0, 235.0))
         ->capture_default_str();
     commands.push_back({cmd, [options] {
-                            return runServerProcess(
-                                options->process, [options](const ComponentContext& c) {
-                                    return populateRobotiq(*options, c);
-                                });
+                            return runServerProcess(options->process,
+                                                    [options](const ComponentContext& c) {
+                                                        return populateRobotiq(*options, c);
+                                                    });
                         }});
     return cmd;
 }
@@ -410,10 +410,10 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
         ->check(CLI::Range(1, 8))
         ->capture_default_str();
     commands.push_back({cmd, [options] {
-                            return runServerProcess(
-                                options->process, [options](const ComponentContext& c) {
-                                    return populateSchmalz(*options, c);
-                                });
+                            return runServerProcess(options->process,
+                                                    [options](const ComponentContext& c) {
+                                                        return populateSchmalz(*options, c);
+                                                    });
                         }});
     return cmd;
 }

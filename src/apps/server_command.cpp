@@ -88,10 +88,9 @@ Command addServerCommand(CLI::App& app) {
         ->check(CLI::Range(0, 3'600'000))
         ->capture_default_str();
     return {cmd, [options] {
-                return runServerProcess(options->process,
-                                        [options](const ComponentContext& c) {
-                                            return populate(*options, c.server, c.io);
-                                        });
+                return runServerProcess(options->process, [options](const ComponentContext& c) {
+                    return populate(*options, c.server, c.io);
+                });
             }};
 }
 

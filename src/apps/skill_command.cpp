@@ -11,8 +11,8 @@
 #include <charconv>
 #include <iostream>
 
-#include "commands.hpp"
 #include "client_security_options.hpp"
+#include "commands.hpp"
 #include "skills/skill_client.hpp"
 #include "ua/types/to_string.hpp"
 

@@ -88,8 +88,8 @@ protected:
         c.description.userTokenPolicies = {password};
         c.security.privateKey = certs().server.key;
         auto validator = std::make_shared<pki::CertificateValidator>(pkiDir.path());
-        c.security.validateCertificate = [validator](const ByteString& der,
-                                                     std::string_view uri, std::string* reason) {
+        c.security.validateCertificate = [validator](const ByteString& der, std::string_view uri,
+                                                     std::string* reason) {
             auto verdict = validator->validate(der, uri);
             *reason = verdict.reason;
             return verdict.status;
@@ -244,9 +244,9 @@ TEST_F(SecurityRefusals, ObserverMayReadButNotCall) {
 
 TEST_F(SecurityRefusals, ConfigurationNeedsAnEngineer) {
     BlockingClient operatorClient;
-    ASSERT_EQ(operatorClient.connect(server->url(),
-                                     clientConfig(certs().client, "olga", "operator-pw")),
-              status::Good);
+    ASSERT_EQ(
+        operatorClient.connect(server->url(), clientConfig(certs().client, "olga", "operator-pw")),
+        status::Good);
     EXPECT_EQ(operatorClient.call(NodeId(85), kConfigure, {}).status(),
               status::BadUserAccessDenied);
     EXPECT_TRUE(log.contains("needs Engineer"));

@@ -102,7 +102,8 @@ StatusCode WorldNodes::build() {
     const std::uint32_t kDouble = ua::ns0::Double;
     std::vector<MethodSpec> methods;
     methods.push_back(
-        {"AddObject", ua::Role::Engineer,
+        {"AddObject",
+         ua::Role::Engineer,
          {arg("Id", kString, "object id"),
           arg("Size", kDouble, "box edges x, y, z (m)", ua::value_rank::kOneDimension),
           arg("Pose", kFrame, "the box centre in the base frame")},
@@ -118,7 +119,8 @@ StatusCode WorldNodes::build() {
              return world_.addObject(WorldObject{stringArg(in[0]), *size, *pose}, &why);
          }});
     methods.push_back(
-        {"AddDock", ua::Role::Engineer,
+        {"AddDock",
+         ua::Role::Engineer,
          {arg("Id", kString, "dock id"),
           arg("Pose", kFrame, "the flange pose at which the dock's tool locks")},
          {},
@@ -128,7 +130,8 @@ StatusCode WorldNodes::build() {
              return world_.addDock(ToolDock{stringArg(in[0]), *pose, {}}, &why);
          }});
     methods.push_back(
-        {"AddTool", ua::Role::Engineer,
+        {"AddTool",
+         ua::Role::Engineer,
          {arg("Id", kString, "tool id"), arg("DockId", kString, "the dock the tool is stored in"),
           arg("GripPoint", kFrame, "grip point relative to the tool mounting plate")},
          {},
@@ -137,7 +140,8 @@ StatusCode WorldNodes::build() {
              if (!grip) return grip.status();
              return world_.addTool(Tool{stringArg(in[0]), *grip}, stringArg(in[1]), &why);
          }});
-    methods.push_back({"SetFlangePose", ua::Role::Operator,
+    methods.push_back({"SetFlangePose",
+                       ua::Role::Operator,
                        {arg("Pose", kFrame, "the robot flange in the base frame")},
                        {},
                        [this](std::span<const Variant> in, std::vector<Variant>&, std::string&) {
@@ -147,32 +151,37 @@ StatusCode WorldNodes::build() {
                            return StatusCode(ua::status::Good);
                        }});
     methods.push_back(
-        {"MountTool", ua::Role::Operator,
+        {"MountTool",
+         ua::Role::Operator,
          {arg("DockId", kString, "the dock whose tool the flange takes")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
              return world_.mountTool(stringArg(in[0]), &why);
          }});
     methods.push_back(
-        {"UnmountTool", ua::Role::Operator,
+        {"UnmountTool",
+         ua::Role::Operator,
          {arg("DockId", kString, "the free dock the mounted tool is left in")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
              return world_.unmountTool(stringArg(in[0]), &why);
          }});
-    methods.push_back({"Grasp", ua::Role::Operator,
+    methods.push_back({"Grasp",
+                       ua::Role::Operator,
                        {arg("ObjectId", kString, "the object at the grip point")},
                        {},
                        [this](std::span<const Variant> in, std::vector<Variant>&,
                               std::string& why) { return world_.grasp(stringArg(in[0]), &why); }});
-    methods.push_back({"Release", ua::Role::Operator,
+    methods.push_back({"Release",
+                       ua::Role::Operator,
                        {},
                        {},
                        [this](std::span<const Variant>, std::vector<Variant>&, std::string& why) {
                            return world_.release(&why);
                        }});
     methods.push_back(
-        {"ObjectAtGripPoint", ua::Role::Observer,  // a question, not a change
+        {"ObjectAtGripPoint",
+         ua::Role::Observer,  // a question, not a change
          {},
          {arg("ObjectId", kString, "the free object at the grip point; empty when none"),
           arg("Extent", kDouble, "its extent along the grip point's x, y and z axes (m)",

@@ -737,8 +737,9 @@ asio::awaitable<StatusCode> handshake(std::shared_ptr<Connection> conn,
     if (isSecured(config)) {
         const auto* profile = crypto::findSecurityPolicyProfile(config.security.policyUri);
         if (profile == nullptr) co_return status::BadSecurityPolicyRejected;
-        auto rsa = RsaSecurityPolicy::create(*profile, config.security.certificate, config.security.privateKey,
-                                             config.serverCertificate, config.security.mode);
+        auto rsa = RsaSecurityPolicy::create(*profile, config.security.certificate,
+                                             config.security.privateKey, config.serverCertificate,
+                                             config.security.mode);
         if (!rsa) co_return rsa.status();
         policy = std::move(*rsa);
         channelConfig.securityMode = config.security.mode;

@@ -79,9 +79,8 @@ void LocalDiscoveryServer::start(asio::any_io_executor executor) {
         });
 
     table.add<RegisterServer2Request, RegisterServer2Response>(
-        Access::NoSession,
-        [weak](ServiceContext& ctx, const RegisterServer2Request& req,
-               RegisterServer2Response& resp) {
+        Access::NoSession, [weak](ServiceContext& ctx, const RegisterServer2Request& req,
+                                  RegisterServer2Response& resp) {
             auto self = weak.lock();
             if (!self || self->stopped_) return status::BadShutdown;
             if (const StatusCode s = checkRegistrant(ctx, req.server); s.isBad()) return s;
