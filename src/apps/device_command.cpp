@@ -26,6 +26,16 @@ namespace {
 using devices::parsePose6;
 using devices::toFrame;
 
+/// --boot-profile: the gripper adapters can start like the paper's Wi-Fi boards.
+void addBootProfileOption(CLI::App* cmd, std::string& profile) {
+    cmd->add_option("--boot-profile", profile,
+                    "tinyua: start like the paper's Wi-Fi microcontroller board (boot loader, "
+                    "Wi-Fi join, NTP, application start: about 8-10 s until announced); none: "
+                    "at once")
+        ->check(CLI::IsMember({"none", "tinyua"}))
+        ->capture_default_str();
+}
+
 /// The device's link to the world model (--world), as the component's own client: its
 /// certificate, and the user given by --client-user.
 ua::Result<std::unique_ptr<devices::WorldLink>> connectWorld(const std::string& url,
@@ -214,6 +224,7 @@ struct RobotiqOptions {
     std::string gripOffset = "0,0,0.15";
     double fingerSpeed = 0.1;
     double graspForce = 100;
+    std::string bootProfile = "none";
 };
 
 /// What `device robotiq` keeps alive, destroyed in reverse: the adapter first (it closes
@@ -315,12 +326,14 @@ CLI::App* addRobotiq(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--grasp-force", options->graspForce, "grip force of Grasp (N)")
         ->check(CLI::Range(20.0, 235.0))
         ->capture_default_str();
-    commands.push_back({cmd, [options] {
-                            return runServerProcess(options->process,
-                                                    [options](const ComponentContext& c) {
-                                                        return populateRobotiq(*options, c);
-                                                    });
-                        }});
+    addBootProfileOption(cmd, options->bootProfile);
+    commands.push_back(
+        {cmd, [options] {
+             options->process.boot = *devices::bootProfileNamed(options->bootProfile, false);
+             return runServerProcess(options->process, [options](const ComponentContext& c) {
+                 return populateRobotiq(*options, c);
+             });
+         }});
     return cmd;
 }
 
@@ -330,6 +343,7 @@ struct SchmalzOptions {
     std::string world;
     std::string gripOffset = "0,0,0.12";
     int port = 1;
+    std::string bootProfile = "none";
 };
 
 /// What `device schmalz` keeps alive, destroyed in reverse: the adapter, the simulated
@@ -409,12 +423,15 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--io-link-port", options->port, "the IO-Link master port of the ECBPi")
         ->check(CLI::Range(1, 8))
         ->capture_default_str();
-    commands.push_back({cmd, [options] {
-                            return runServerProcess(options->process,
-                                                    [options](const ComponentContext& c) {
-                                                        return populateSchmalz(*options, c);
-                                                    });
-                        }});
+    addBootProfileOption(cmd, options->bootProfile);
+    commands.push_back(
+        {cmd, [options] {
+             // The Schmalz board also initialises its IO-Link master.
+             options->process.boot = *devices::bootProfileNamed(options->bootProfile, true);
+             return runServerProcess(options->process, [options](const ComponentContext& c) {
+                 return populateSchmalz(*options, c);
+             });
+         }});
     return cmd;
 }
 

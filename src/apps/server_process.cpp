@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <asio.hpp>
+#include <csignal>
 #include <iostream>
 
 #include "skill_report.hpp"
@@ -44,6 +45,57 @@ void addServerProcessOptions(CLI::App* cmd, ServerProcessOptions& o) {
 }
 
 namespace {
+
+/// While a simulated controller boots, SIGINT and SIGTERM are blocked in every thread and
+/// taken by sigtimedwait: a component stopped during its boot exits at once, and cleanly.
+class BootSequence {
+public:
+    explicit BootSequence(const devices::BootProfile& profile) : active_(!profile.empty()) {
+        if (!active_) return;
+        sigemptyset(&signals_);
+        sigaddset(&signals_, SIGINT);
+        sigaddset(&signals_, SIGTERM);
+        pthread_sigmask(SIG_BLOCK, &signals_, &previous_);
+        spdlog::info("boot profile: {} ms until the server announces itself",
+                     profile.total().count());
+    }
+    ~BootSequence() { finish(); }
+    BootSequence(const BootSequence&) = delete;
+    BootSequence& operator=(const BootSequence&) = delete;
+
+    /// Waits out the stages; false when a signal asked us to stop.
+    bool run(const std::vector<devices::BootStage>& stages) {
+        for (const auto& stage : stages) {
+            spdlog::info("boot: {} ({} ms)", stage.name, stage.duration.count());
+            const auto deadline = std::chrono::steady_clock::now() + stage.duration;
+            for (;;) {
+                const auto left = deadline - std::chrono::steady_clock::now();
+                if (left <= std::chrono::nanoseconds::zero()) break;
+                const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(left).count();
+                timespec wait{static_cast<time_t>(ns / 1'000'000'000),
+                              static_cast<long>(ns % 1'000'000'000)};
+                const int signal = sigtimedwait(&signals_, nullptr, &wait);
+                if (signal == SIGINT || signal == SIGTERM) {
+                    spdlog::info("signal {} during boot ({}): stopping", signal, stage.name);
+                    return false;
+                }
+            }
+        }
+        return true;
+    }
+
+    /// Signals go back to the server's handlers.
+    void finish() {
+        if (!active_) return;
+        active_ = false;
+        pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
+    }
+
+private:
+    bool active_;
+    sigset_t signals_{};
+    sigset_t previous_{};
+};
 
 /// Endpoints, keys, trust and users from the options; 0, or the exit code after logging.
 int configureSecurity(const ServerProcessOptions& options, const ApplicationIdentity& identity,
@@ -104,6 +156,8 @@ int configureSecurity(const ServerProcessOptions& options, const ApplicationIden
 }  // namespace
 
 int runServerProcess(const ServerProcessOptions& options, const PopulateServer& populate) {
+    BootSequence boot(options.boot);  // before any thread starts: they inherit the mask
+    if (!boot.run(options.boot.powerOn)) return 0;
     asio::io_context io{1};  // one thread runs it: no scheduler locking needed
     ua::ServerConfig config;
     config.bindAddress = options.host;
@@ -151,6 +205,8 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
         }
         content = std::move(*populated);
     }
+    if (!boot.run(options.boot.applicationStart)) return 0;
+    boot.finish();
     auto port = server->listen();
     if (!port) return 1;  // listen() logged why
 

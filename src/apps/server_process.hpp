@@ -9,6 +9,7 @@
 
 #include "client_security_options.hpp"
 #include "component_discovery.hpp"
+#include "devices/common/boot_profile.hpp"
 #include "ua/server/server.hpp"
 
 namespace skillcell::apps {
@@ -35,6 +36,8 @@ struct ServerProcessOptions {
     /// Whom the component acts for when it connects to others (detection, the world model,
     /// skills it uses); its certificate is the server's.
     ClientUserOptions client;
+    /// A simulated controller's start (devices/common/boot_profile.hpp); empty: at once.
+    devices::BootProfile boot;
 };
 
 /// --port, --host, --advertised-host, --application-uri, --pki-dir, --max-sessions,

@@ -23,3 +23,8 @@ target_link_libraries(test_device_processes PRIVATE skillcell_world skillcell_sk
                                                     skillcell_test_support)
 target_compile_definitions(test_device_processes PRIVATE SKILLCELL_BINARY="$<TARGET_FILE:skillcell>")
 add_dependencies(test_device_processes skillcell)
+
+# The gripper adapters' microcontroller boot profile (`--boot-profile tinyua`).
+add_test(NAME cli.device_boot_profile
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/device_boot_profile.sh $<TARGET_FILE:skillcell>)
+set_tests_properties(cli.device_boot_profile PROPERTIES TIMEOUT 90)
