@@ -8,6 +8,8 @@
 #                              network namespace (tests/netns/run_in_private_netns.sh: loopback
 #                              only, multicast on) unless already there; checks that no interface
 #                              but lo exists; creates $DL_TMP and installs the cleanup trap.
+#   dl_init_skillcell SCRIPT ARGS...  dl_init, then the one argument the drivers take: the
+#                              skillcell binary, into $skillcell (usage error: exit 2).
 #   dl_start NAME CMD...       starts CMD in the background; stdout -> $DL_TMP/NAME.out,
 #                              stderr -> $DL_TMP/NAME.err.
 #   dl_wait_ready NAME TIMEOUT_S   waits (bounded) for a "READY <url>" stdout line of NAME and
@@ -65,6 +67,14 @@ dl_init() {
   trap dl_cleanup EXIT
   trap 'exit 143' TERM
   trap 'exit 130' INT
+}
+
+dl_init_skillcell() {
+  local script=$1
+  dl_init "$@"
+  shift
+  [ $# -eq 1 ] || { echo "usage: $script PATH/TO/skillcell" >&2; exit 2; }
+  skillcell=$1
 }
 
 dl_start() {

@@ -23,9 +23,7 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=discovery_lib.sh
 . "$here/discovery_lib.sh"
-dl_init "$0" "$@"
-[ $# -eq 1 ] || { echo "usage: $0 PATH/TO/skillcell" >&2; exit 2; }
-skillcell=$1
+dl_init_skillcell "$0" "$@" # sets $skillcell
 
 NODE_URI=urn:skillcell:interop:node-registered
 OUR_LDS_MDNS=ours-lds

@@ -18,9 +18,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 DL_NEEDS_NODE=0
 # shellcheck source=../interop/discovery_lib.sh
 . "$here/../interop/discovery_lib.sh"
-dl_init "$0" "$@"
-[ $# -eq 1 ] || { echo "usage: $0 PATH/TO/skillcell" >&2; exit 2; }
-skillcell=$1
+dl_init_skillcell "$0" "$@" # sets $skillcell
 
 T=$DL_TMP
 export SKILLCELL_CA_DIR=$T/ca

@@ -8,6 +8,7 @@
 
 #include <stdexcept>
 
+#include "socket_io.hpp"
 #include "ua/server/service_table.hpp"
 
 namespace skillcell::test {
@@ -38,22 +39,12 @@ RawConnection::~RawConnection() {
 }
 
 void RawConnection::send(std::span<const std::uint8_t> bytes) {
-    std::size_t done = 0;
-    while (done < bytes.size()) {
-        const auto n = ::send(fd_, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL);
-        if (n <= 0) return;  // the server may already have closed; reading tells
-        done += static_cast<std::size_t>(n);
-    }
+    // The server may already have closed; reading tells.
+    (void)writeAll(fd_, bytes.data(), bytes.size());
 }
 
 bool RawConnection::readExactly(std::uint8_t* p, std::size_t n) {
-    while (n > 0) {
-        const auto got = ::recv(fd_, p, n, 0);
-        if (got <= 0) return false;
-        p += got;
-        n -= static_cast<std::size_t>(got);
-    }
-    return true;
+    return test::readExactly(fd_, p, n);
 }
 
 std::optional<ReceivedFrame> RawConnection::readFrame() {

@@ -6,6 +6,7 @@
 
 #include "running_server.hpp"
 #include "test_certificate.hpp"
+#include "test_nodes.hpp"
 #include "ua/client/blocking_client.hpp"
 #include "ua/crypto/security_policy_profile.hpp"
 #include "ua/server/user_database.hpp"
@@ -71,15 +72,7 @@ void addTargets(Server& server) {
     ASSERT_TRUE(as.addVariable(NodeId(85), kTarget, "Target", NodeId(11), Variant(1.0),
                                access_level::kCurrentRead | access_level::kCurrentWrite)
                     .ok());
-    Argument in{"x", NodeId(11), value_rank::kScalar, {}, {}};
-    Argument out{"y", NodeId(11), value_rank::kScalar, {}, {}};
-    ASSERT_TRUE(as.addMethod(NodeId(85), kTwice, "Twice", {in}, {out},
-                             [](const Caller&, const NodeId&, std::span<const Variant> inputs,
-                                std::vector<Variant>& outputs) {
-                                 outputs.emplace_back(*inputs[0].get<double>() * 2);
-                                 return status::Good;
-                             })
-                    .ok());
+    ASSERT_EQ(skillcell::test::addDoublingMethod(as, kTwice), status::Good);
 }
 
 ClientConfig clientConfig(std::string_view policy, MessageSecurityMode mode) {

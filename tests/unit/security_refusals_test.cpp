@@ -11,6 +11,7 @@
 #include "running_server.hpp"
 #include "tampering_proxy.hpp"
 #include "test_certificate.hpp"
+#include "test_nodes.hpp"
 #include "ua/client/blocking_client.hpp"
 #include "ua/crypto/security_policy_profile.hpp"
 #include "ua/pki/certificate_validator.hpp"
@@ -105,15 +106,7 @@ protected:
     static void addMethod(Server& s) {
         auto& as = s.addressSpace();
         ASSERT_EQ(as.registerNamespace("urn:test:refusals"), kNs);
-        Argument in{"x", NodeId(11), value_rank::kScalar, {}, {}};
-        Argument out{"y", NodeId(11), value_rank::kScalar, {}, {}};
-        ASSERT_TRUE(as.addMethod(NodeId(85), kTwice, "Twice", {in}, {out},
-                                 [](const Caller&, const NodeId&, std::span<const Variant> inputs,
-                                    std::vector<Variant>& outputs) {
-                                     outputs.emplace_back(*inputs[0].get<double>() * 2);
-                                     return status::Good;
-                                 })
-                        .ok());
+        ASSERT_EQ(skillcell::test::addDoublingMethod(as, kTwice), status::Good);
         ASSERT_TRUE(as.addMethod(NodeId(85), kConfigure, "Configure", {}, {},
                                  [](const Caller&, const NodeId&, std::span<const Variant>,
                                     std::vector<Variant>&) { return status::Good; })

@@ -2,7 +2,9 @@
 add_library(skillcell_test_support STATIC
   ${PROJECT_SOURCE_DIR}/tests/support/running_server.cpp
   ${PROJECT_SOURCE_DIR}/tests/support/raw_connection.cpp
-  ${PROJECT_SOURCE_DIR}/tests/support/tampering_proxy.cpp)
+  ${PROJECT_SOURCE_DIR}/tests/support/tampering_proxy.cpp
+  ${PROJECT_SOURCE_DIR}/tests/support/socket_io.cpp
+  ${PROJECT_SOURCE_DIR}/tests/support/test_nodes.cpp)
 target_include_directories(skillcell_test_support PUBLIC ${PROJECT_SOURCE_DIR}/tests/support)
 target_link_libraries(skillcell_test_support PUBLIC skillcell_ua_server)
 
