@@ -9,15 +9,11 @@
 // Suspend writes rGTO = 0 (the fingers stop) and resume writes the request again; halt
 // does the same as suspend and abandons the operation.
 #include <chrono>
-#include <condition_variable>
-#include <functional>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <thread>
 #include <variant>
 
-#include "devices/gripper/parallel_gripper.hpp"
+#include "devices/gripper/gripper_worker.hpp"
 #include "devices/robotiq/robotiq_client.hpp"
 
 namespace skillcell::devices::robotiq {
@@ -35,14 +31,14 @@ class RobotiqGripper final : public ParallelGripper {
 public:
     [[nodiscard]] static std::unique_ptr<RobotiqGripper> start(
         std::unique_ptr<RobotiqClient> client, RobotiqGripperOptions options = {});
-    ~RobotiqGripper() override;
+    ~RobotiqGripper() override = default;
 
     void grasp(Done done) override;
     void release(Done done) override;
     void moveTo(double width, double force, Done done) override;
-    void suspend() override;
-    void resume() override;
-    void halt() override;
+    void suspend() override { worker_.suspend(); }
+    void resume() override { worker_.resume(); }
+    void halt() override { worker_.halt(); }
 
     struct Token {
     private:
@@ -50,38 +46,23 @@ public:
         Token() = default;
     };
     RobotiqGripper(Token, std::unique_ptr<RobotiqClient> client, RobotiqGripperOptions options)
-        : client_(std::move(client)), options_(options) {}
+        : client_(std::move(client)), options_(options), worker_(options.poll) {}
 
 private:
     enum class Goal : std::uint8_t { Grasp, Release, Move };
-    struct Job {
-        Goal goal;
-        Command command;
-        Done done;
-    };
+    using Control = GripperWorker::Control;
     void submit(Goal goal, std::uint8_t position, std::uint8_t force, Done done);
-    void run();
-    /// Runs one job on the worker thread; nullopt on success, else the failure; sets
-    /// `abandoned` when halt() ended it.
-    std::optional<std::string> execute(const Job& job, bool& abandoned);
-    std::optional<std::string> activate(bool& abandoned);
+    /// Runs one operation on the worker thread; nullopt on success, else the failure.
+    std::optional<std::string> execute(Goal goal, const Command& command, Control& control);
+    std::optional<std::string> activate(Control& control);
     /// Writes `command` and polls until the fingers stop: their status, or the failure.
-    std::variant<Status, std::string> travel(const Command& command, std::uint64_t generation,
-                                             bool& abandoned);
+    std::variant<Status, std::string> travel(const Command& command, Control& control);
     /// A Grasp opens fingers that are closed further than this first.
     static constexpr std::uint8_t kOpenEnough = 3;
-    /// Waits one poll period, or less when halted; false when the job is abandoned.
-    bool pause(std::uint64_t generation);
 
     std::unique_ptr<RobotiqClient> client_;
     RobotiqGripperOptions options_;
-    std::mutex mutex_;
-    std::condition_variable cv_;
-    std::optional<Job> pending_;
-    std::uint64_t generation_ = 0;  // bumps on halt: the running job is abandoned
-    bool suspended_ = false;
-    bool stopping_ = false;
-    std::thread thread_;
+    GripperWorker worker_;  // last: stopped (joined) before the client goes
 };
 
 }  // namespace skillcell::devices::robotiq

@@ -4,28 +4,12 @@ namespace skillcell::devices::schmalz {
 
 std::unique_ptr<EcbpiGripper> EcbpiGripper::start(IoLinkMaster& master,
                                                   EcbpiGripperOptions options) {
-    auto gripper = std::make_unique<EcbpiGripper>(Token{}, master, options);
-    gripper->thread_ = std::thread([g = gripper.get()] { g->run(); });
-    return gripper;
-}
-
-EcbpiGripper::~EcbpiGripper() {
-    {
-        std::lock_guard lock(mutex_);
-        stopping_ = true;
-        ++generation_;
-    }
-    cv_.notify_all();
-    if (thread_.joinable()) thread_.join();
+    return std::make_unique<EcbpiGripper>(Token{}, master, options);
 }
 
 void EcbpiGripper::submit(Goal goal, Done done) {
-    {
-        std::lock_guard lock(mutex_);
-        pending_ = Job{goal, std::move(done)};
-        suspended_ = false;
-    }
-    cv_.notify_all();
+    worker_.submit([this, goal](GripperWorker::Control& control) { return execute(goal, control); },
+                   std::move(done), [this] { (void)write(EcbpiCommand{}); });  // halted: all off
 }
 
 void EcbpiGripper::grasp(Done done) {
@@ -33,34 +17,6 @@ void EcbpiGripper::grasp(Done done) {
 }
 void EcbpiGripper::release(Done done) {
     submit(Goal::Release, std::move(done));
-}
-
-void EcbpiGripper::suspend() {
-    std::lock_guard lock(mutex_);
-    suspended_ = true;
-}
-void EcbpiGripper::resume() {
-    {
-        std::lock_guard lock(mutex_);
-        suspended_ = false;
-    }
-    cv_.notify_all();
-}
-void EcbpiGripper::halt() {
-    {
-        std::lock_guard lock(mutex_);
-        ++generation_;
-        pending_.reset();
-        suspended_ = false;
-    }
-    cv_.notify_all();
-}
-
-bool EcbpiGripper::pause(std::uint64_t generation, bool& suspended) {
-    std::unique_lock lock(mutex_);
-    cv_.wait_for(lock, options_.poll, [&] { return generation_ != generation; });
-    suspended = suspended_;
-    return generation_ == generation;
 }
 
 ua::StatusCode EcbpiGripper::write(const EcbpiCommand& command) {
@@ -77,32 +33,7 @@ ua::Result<EcbpiStatus> EcbpiGripper::read() {
     return decodeStatus(in);
 }
 
-void EcbpiGripper::run() {
-    for (;;) {
-        Job job;
-        {
-            std::unique_lock lock(mutex_);
-            cv_.wait(lock, [this] { return stopping_ || pending_.has_value(); });
-            if (stopping_) return;
-            job = std::move(*pending_);
-            pending_.reset();
-        }
-        bool abandoned = false;
-        auto failure = execute(job.goal, abandoned);
-        if (abandoned) {
-            (void)write(EcbpiCommand{});  // halted: suction and blow-off off
-            continue;
-        }
-        job.done(std::move(failure));
-    }
-}
-
-std::optional<std::string> EcbpiGripper::execute(Goal goal, bool& abandoned) {
-    std::uint64_t generation = 0;
-    {
-        std::lock_guard lock(mutex_);
-        generation = generation_;
-    }
+std::optional<std::string> EcbpiGripper::execute(Goal goal, GripperWorker::Control& control) {
     const EcbpiCommand command{goal == Goal::Grasp, goal == Goal::Release};
     if (const auto s = write(command); s.isBad()) {
         return "IO-Link: cannot write the process data (" + std::string(ua::statusName(s)) + ")";
@@ -110,11 +41,8 @@ std::optional<std::string> EcbpiGripper::execute(Goal goal, bool& abandoned) {
     auto budget = goal == Goal::Grasp ? options_.evacuationTime : options_.releaseTime;
     auto last = std::chrono::steady_clock::now();
     for (;;) {
-        bool suspended = false;
-        if (!pause(generation, suspended)) {
-            abandoned = true;
-            return std::nullopt;
-        }
+        if (!control.pause()) return std::nullopt;
+        const bool suspended = control.suspended();
         const auto now = std::chrono::steady_clock::now();
         if (!suspended) {
             budget -= std::chrono::duration_cast<std::chrono::milliseconds>(now - last);

@@ -9,13 +9,10 @@
 // Suspend pauses the polling and the deadline (the vacuum command stays as it is);
 // Halt abandons the operation and switches suction and blow-off off.
 #include <chrono>
-#include <condition_variable>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <thread>
 
-#include "devices/gripper/parallel_gripper.hpp"
+#include "devices/gripper/gripper_worker.hpp"
 #include "devices/schmalz/ecbpi_process_data.hpp"
 #include "devices/schmalz/io_link_master.hpp"
 
@@ -34,13 +31,13 @@ class EcbpiGripper final : public Gripper {
 public:
     [[nodiscard]] static std::unique_ptr<EcbpiGripper> start(IoLinkMaster& master,
                                                              EcbpiGripperOptions options = {});
-    ~EcbpiGripper() override;
+    ~EcbpiGripper() override = default;
 
     void grasp(Done done) override;
     void release(Done done) override;
-    void suspend() override;
-    void resume() override;
-    void halt() override;
+    void suspend() override { worker_.suspend(); }
+    void resume() override { worker_.resume(); }
+    void halt() override { worker_.halt(); }
 
     struct Token {
     private:
@@ -48,31 +45,18 @@ public:
         Token() = default;
     };
     EcbpiGripper(Token, IoLinkMaster& master, EcbpiGripperOptions options)
-        : master_(master), options_(options) {}
+        : master_(master), options_(options), worker_(options.poll) {}
 
 private:
     enum class Goal : std::uint8_t { Grasp, Release };
-    struct Job {
-        Goal goal;
-        Done done;
-    };
     void submit(Goal goal, Done done);
-    void run();
-    std::optional<std::string> execute(Goal goal, bool& abandoned);
+    std::optional<std::string> execute(Goal goal, GripperWorker::Control& control);
     ua::StatusCode write(const EcbpiCommand& command);
     [[nodiscard]] ua::Result<EcbpiStatus> read();
-    /// One poll period; false when halted. `suspended` tells whether the operation is held.
-    bool pause(std::uint64_t generation, bool& suspended);
 
     IoLinkMaster& master_;
     EcbpiGripperOptions options_;
-    std::mutex mutex_;
-    std::condition_variable cv_;
-    std::optional<Job> pending_;
-    std::uint64_t generation_ = 0;
-    bool suspended_ = false;
-    bool stopping_ = false;
-    std::thread thread_;
+    GripperWorker worker_;  // last: stopped (joined) before the rest goes
 };
 
 }  // namespace skillcell::devices::schmalz
