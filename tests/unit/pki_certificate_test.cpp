@@ -8,6 +8,7 @@
 #include "pki_test_support.hpp"
 #include "ua/pki/certificate.hpp"
 #include "ua/pki/own_certificate.hpp"
+#include "ua/types/hex.hpp"
 
 namespace skillcell::ua::pki {
 namespace {
@@ -38,7 +39,7 @@ TEST(Certificate, ThumbprintIsSha1OfTheLeafOnly) {
     ASSERT_TRUE(chained);
     EXPECT_TRUE(std::equal(single->begin(), single->end(), expected));
     EXPECT_EQ(*single, *chained);
-    EXPECT_EQ(certificateThumbprintHex(leaf.der()), toHex(expected, 20));
+    EXPECT_EQ(certificateThumbprintHex(leaf.der()), toHex(std::span(expected, 20)));
     EXPECT_EQ(certificateThumbprintHex(leaf.der()).size(), 40u);
     EXPECT_EQ(certificateThumbprint(ByteString({1, 2})).status(), status::BadCertificateInvalid);
 }

@@ -121,12 +121,6 @@ std::optional<UserTokenPolicy> findTokenPolicy(const std::vector<EndpointDescrip
     return fallback;
 }
 
-std::vector<std::uint8_t> concat(const ByteString& a, const ByteString& b) {
-    std::vector<std::uint8_t> out(a.bytes);
-    out.insert(out.end(), b.bytes.begin(), b.bytes.end());
-    return out;
-}
-
 /// The profile that secures a user token: its policy's own, else the channel's.
 const crypto::SecurityPolicyProfile* tokenProfile(const UserTokenPolicy& policy,
                                                   const ClientConfig& config) {
@@ -186,7 +180,7 @@ Result<std::pair<ExtensionObject, SignatureData>> makeIdentityToken(
     token.policyId = policy->policyId;
     token.certificateData = user.certificate;
     auto signature = crypto::rsaSign(user.privateKey, profile->asymmetricSignature,
-                                     concat(serverCertificate, serverNonce));
+                                     certificateAndNonce(serverCertificate, serverNonce));
     if (!signature) return signature.status();
     SignatureData data;
     data.algorithm = String(profile->asymmetricSignatureUri);
@@ -942,14 +936,15 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
                 leafCertificate(serverCertificate.bytes) ||
             created->serverSignature.algorithm != profile->asymmetricSignatureUri ||
             crypto::rsaVerify(*serverKey, profile->asymmetricSignature,
-                              concat(config_.security.certificate, clientNonce),
+                              certificateAndNonce(config_.security.certificate, clientNonce),
                               created->serverSignature.signature.bytes)
                 .isBad()) {
             resetSession();
             co_return status::BadApplicationSignatureInvalid;
         }
-        auto signature = crypto::rsaSign(config_.security.privateKey, profile->asymmetricSignature,
-                                         concat(serverCertificate, created->serverNonce));
+        auto signature =
+            crypto::rsaSign(config_.security.privateKey, profile->asymmetricSignature,
+                            certificateAndNonce(serverCertificate, created->serverNonce));
         if (!signature) co_return signature.status();
         activate.clientSignature.algorithm = String(profile->asymmetricSignatureUri);
         activate.clientSignature.signature = ByteString(std::move(*signature));

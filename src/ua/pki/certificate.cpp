@@ -4,6 +4,8 @@
 
 #include <ctime>
 
+#include "ua/types/hex.hpp"
+
 namespace skillcell::ua::pki {
 
 namespace {
@@ -72,20 +74,9 @@ Result<std::array<std::uint8_t, 20>> certificateThumbprint(const ByteString& der
     return digest;
 }
 
-std::string toHex(const std::uint8_t* data, std::size_t size) {
-    static constexpr char kDigits[] = "0123456789abcdef";
-    std::string out;
-    out.reserve(size * 2);
-    for (std::size_t i = 0; i < size; ++i) {
-        out.push_back(kDigits[data[i] >> 4]);
-        out.push_back(kDigits[data[i] & 0x0f]);
-    }
-    return out;
-}
-
 std::string certificateThumbprintHex(const ByteString& der) {
     auto t = certificateThumbprint(der);
-    return t ? toHex(t->data(), t->size()) : std::string();
+    return t ? toHex(*t) : std::string();
 }
 
 CertificateInfo inspectCertificate(X509* cert) {
@@ -108,7 +99,7 @@ CertificateInfo inspectCertificate(X509* cert) {
                                            std::to_string(b[2]) + "." + std::to_string(b[3]));
             } else {
                 info.ipAddresses.push_back(
-                    toHex(b, static_cast<std::size_t>(ASN1_STRING_length(ip))));
+                    toHex({b, static_cast<std::size_t>(ASN1_STRING_length(ip))}));
             }
         }
     }

@@ -50,9 +50,6 @@ struct CertificateInfo {
 /// The thumbprint as lower-case hex, or "" when `der` is no certificate.
 [[nodiscard]] std::string certificateThumbprintHex(const ByteString& der);
 
-/// Lower-case hex of any bytes.
-[[nodiscard]] std::string toHex(const std::uint8_t* data, std::size_t size);
-
 /// Subject, issuer, URI, host names, validity, thumbprint of the first certificate.
 [[nodiscard]] Result<CertificateInfo> inspectCertificate(const ByteString& der);
 [[nodiscard]] CertificateInfo inspectCertificate(X509* cert);

@@ -12,6 +12,7 @@
 
 #include "ua/crypto/primitives.hpp"
 #include "ua/transport/rsa_security_policy.hpp"
+#include "ua/types/hex.hpp"
 
 namespace skillcell::ua {
 namespace {
@@ -24,35 +25,6 @@ constexpr std::size_t kHashLength = 32;
 /// Parameters read from a file are bounded, so that a tampered file cannot make every
 /// login take minutes or gigabytes.
 constexpr std::uint64_t kMaxScryptN = 1U << 20;
-
-std::string toHex(std::span<const std::uint8_t> bytes) {
-    static constexpr char kDigits[] = "0123456789abcdef";
-    std::string out;
-    out.reserve(bytes.size() * 2);
-    for (auto b : bytes) {
-        out += kDigits[b >> 4];
-        out += kDigits[b & 0xF];
-    }
-    return out;
-}
-
-bool fromHex(std::string_view hex, std::vector<std::uint8_t>& out) {
-    if (hex.size() % 2 != 0) return false;
-    out.clear();
-    auto digit = [](char c) -> int {
-        if (c >= '0' && c <= '9') return c - '0';
-        if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-        if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-        return -1;
-    };
-    for (std::size_t i = 0; i < hex.size(); i += 2) {
-        const int hi = digit(hex[i]);
-        const int lo = digit(hex[i + 1]);
-        if (hi < 0 || lo < 0) return false;
-        out.push_back(static_cast<std::uint8_t>(hi * 16 + lo));
-    }
-    return true;
-}
 
 std::vector<std::string_view> split(std::string_view s, char sep) {
     std::vector<std::string_view> out;
@@ -193,12 +165,10 @@ Result<UserIdentity> UserDatabase::authenticatePassword(std::string_view userNam
     for (const auto& u : users_) {
         if (u.name != userName || !u.credential.starts_with("scrypt$")) continue;
         const auto parts = split(u.credential, '$');
-        std::vector<std::uint8_t> salt;
-        std::vector<std::uint8_t> expected;
-        if (parts.size() != 6 || !fromHex(parts[4], salt) || !fromHex(parts[5], expected) ||
-            expected.empty()) {
-            return status::BadUserAccessDenied;
-        }
+        if (parts.size() != 6) return status::BadUserAccessDenied;
+        const auto salt = fromHex(parts[4]);
+        const auto expected = fromHex(parts[5]);
+        if (!salt || !expected || expected->empty()) return status::BadUserAccessDenied;
         std::uint64_t n = 0;
         std::uint64_t r = 0;
         std::uint64_t p = 0;
@@ -210,8 +180,8 @@ Result<UserIdentity> UserDatabase::authenticatePassword(std::string_view userNam
             return status::BadUserAccessDenied;
         }
         if (n > kMaxScryptN || r > 32 || p > 16) return status::BadUserAccessDenied;
-        const auto hash = scrypt(password, salt, n, r, p, expected.size());
-        if (!hash || !crypto::equalConstantTime(*hash, expected)) {
+        const auto hash = scrypt(password, *salt, n, r, p, expected->size());
+        if (!hash || !crypto::equalConstantTime(*hash, *expected)) {
             return status::BadUserAccessDenied;
         }
         RoleSet roles = u.roles;

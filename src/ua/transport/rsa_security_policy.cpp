@@ -61,6 +61,13 @@ std::vector<std::uint8_t> leafCertificate(std::span<const std::uint8_t> der) {
     return {der.data(), p};
 }
 
+std::vector<std::uint8_t> certificateAndNonce(const ByteString& certificate,
+                                              const ByteString& nonce) {
+    std::vector<std::uint8_t> out(certificate.bytes);
+    out.insert(out.end(), nonce.bytes.begin(), nonce.bytes.end());
+    return out;
+}
+
 RsaSecurityPolicy::RsaSecurityPolicy(const crypto::SecurityPolicyProfile& profile,
                                      ByteString localCertificate, crypto::RsaKey localKey,
                                      ByteString remoteCertificate, crypto::RsaKey remoteKey,

@@ -85,4 +85,9 @@ private:
 /// one ByteString); empty when `der` does not start with a well-formed certificate.
 [[nodiscard]] std::vector<std::uint8_t> leafCertificate(std::span<const std::uint8_t> der);
 
+/// What the session handshake signs: a certificate followed by a nonce (OPC 10000-4,
+/// 5.6.2 and 5.6.3: the server's and the client's signatures, and an X.509 user token's).
+[[nodiscard]] std::vector<std::uint8_t> certificateAndNonce(const ByteString& certificate,
+                                                            const ByteString& nonce);
+
 }  // namespace skillcell::ua

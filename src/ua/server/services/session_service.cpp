@@ -21,12 +21,6 @@ const crypto::SecurityPolicyProfile* channelProfile(const ServiceContext& ctx) {
     return crypto::findSecurityPolicyProfile(ctx.securityPolicyUri);
 }
 
-std::vector<std::uint8_t> concat(const ByteString& a, const ByteString& b) {
-    std::vector<std::uint8_t> out(a.bytes);
-    out.insert(out.end(), b.bytes.begin(), b.bytes.end());
-    return out;
-}
-
 StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
                          const ServerDescription& description, const ServerSecurity& security,
                          const CreateSessionRequest& req, CreateSessionResponse& resp) {
@@ -52,8 +46,9 @@ StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
         }
         const auto* profile = channelProfile(ctx);
         if (profile == nullptr) return status::BadSecurityPolicyRejected;
-        auto signature = crypto::rsaSign(security.privateKey, profile->asymmetricSignature,
-                                         concat(req.clientCertificate, req.clientNonce));
+        auto signature =
+            crypto::rsaSign(security.privateKey, profile->asymmetricSignature,
+                            certificateAndNonce(req.clientCertificate, req.clientNonce));
         if (!signature) return signature.status();
         serverSignature.algorithm = String(profile->asymmetricSignatureUri);
         serverSignature.signature = ByteString(std::move(*signature));
@@ -170,7 +165,7 @@ Result<UserIdentity> checkIdentity(const ServiceContext& ctx, const ServerDescri
         if (!key) return status::BadIdentityTokenInvalid;
         if (req.userTokenSignature.algorithm != profile->asymmetricSignatureUri ||
             crypto::rsaVerify(*key, profile->asymmetricSignature,
-                              concat(description.certificate, session.serverNonce()),
+                              certificateAndNonce(description.certificate, session.serverNonce()),
                               req.userTokenSignature.signature.bytes)
                 .isBad()) {
             return status::BadUserSignatureInvalid;
@@ -193,7 +188,7 @@ StatusCode activateSession(ServiceContext& ctx, SessionManager& sessions,
         if (profile == nullptr || !key ||
             req.clientSignature.algorithm != profile->asymmetricSignatureUri ||
             crypto::rsaVerify(*key, profile->asymmetricSignature,
-                              concat(description.certificate, session->serverNonce()),
+                              certificateAndNonce(description.certificate, session->serverNonce()),
                               req.clientSignature.signature.bytes)
                 .isBad()) {
             spdlog::warn("session {}: client signature refused", session->sessionId().toString());
