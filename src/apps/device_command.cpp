@@ -26,6 +26,14 @@ namespace {
 using devices::parsePose6;
 using devices::toFrame;
 
+/// A pose on the command line: X,Y,Z[,A,B,C] (devices::parsePose6), refused at parse time.
+CLI::Validator poseText() {
+    return {[](std::string& text) {
+                return parsePose6(text) ? std::string() : "expected X,Y,Z[,A,B,C] (m, rad)";
+            },
+            "POSE"};
+}
+
 /// --boot-profile: the gripper adapters can start like the paper's Wi-Fi boards.
 void addBootProfileOption(CLI::App* cmd, std::string& profile) {
     cmd->add_option("--boot-profile", profile,
@@ -240,12 +248,7 @@ ua::Result<ComponentContent> populateRobotiq(const RobotiqOptions& options,
     namespace rq = devices::robotiq;
     auto content = std::make_shared<RobotiqContent>();
     rq::RobotiqComponentOptions o;
-    const auto offset = parsePose6(options.gripOffset);
-    if (!offset) {
-        spdlog::critical("--grip-offset {}: expected X,Y,Z[,A,B,C]", options.gripOffset);
-        return ua::status::BadInvalidArgument;
-    }
-    o.gripPointOffset = toFrame(*offset);
+    o.gripPointOffset = toFrame(*parsePose6(options.gripOffset));  // checked by poseText()
     o.slaveId = options.slaveId;
     o.gripper.speed = options.fingerSpeed;
     o.gripper.graspForce = options.graspForce;
@@ -319,6 +322,7 @@ CLI::App* addRobotiq(CLI::App* device, std::vector<Command>& commands) {
                     "between its fingers and reports grasps and releases");
     cmd->add_option("--grip-offset", options->gripOffset,
                     "the grip point from the tool mounting plate: X,Y,Z[,A,B,C] (m, rad)")
+        ->check(poseText())
         ->capture_default_str();
     cmd->add_option("--finger-speed", options->fingerSpeed, "finger speed of every motion (m/s)")
         ->check(CLI::Range(0.02, 0.15))
@@ -359,12 +363,7 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
     namespace sz = devices::schmalz;
     auto content = std::make_shared<SchmalzContent>();
     sz::EcbpiComponentOptions o;
-    const auto offset = parsePose6(options.gripOffset);
-    if (!offset) {
-        spdlog::critical("--grip-offset {}: expected X,Y,Z[,A,B,C]", options.gripOffset);
-        return ua::status::BadInvalidArgument;
-    }
-    o.gripPointOffset = toFrame(*offset);
+    o.gripPointOffset = toFrame(*parsePose6(options.gripOffset));  // checked by poseText()
     o.gripper.port = options.port;
     if (!options.world.empty()) {
         auto link = connectWorld(options.world, c);
@@ -419,6 +418,7 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--grip-offset", options->gripOffset,
                     "the grip point (the cup's face) from the tool mounting plate: "
                     "X,Y,Z[,A,B,C] (m, rad)")
+        ->check(poseText())
         ->capture_default_str();
     cmd->add_option("--io-link-port", options->port, "the IO-Link master port of the ECBPi")
         ->check(CLI::Range(1, 8))
