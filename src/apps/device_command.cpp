@@ -6,12 +6,15 @@
 //   robotiq  the Robotiq 2F-85 adapter on a serial device; without --serial, on a
 //            simulated 2F-85 behind a pseudo-terminal that asks the world model what lies
 //            between its fingers and reports grasps and releases there
+//   ag95     the same for another parallel-gripper model, the DH-Robotics AG-95
 //   schmalz  the Schmalz ECBPi adapter on an IO-Link master port, here a simulated master
 //            with a simulated ECBPi that asks the world model what is under its cup
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
 #include "devices/common/frame.hpp"
+#include "devices/dh/ag95_component.hpp"
+#include "devices/dh/simulated_ag95.hpp"
 #include "devices/robotiq/robotiq_component.hpp"
 #include "devices/robotiq/simulated_gripper_port.hpp"
 #include "devices/schmalz/ecbpi_component.hpp"
@@ -223,90 +226,115 @@ CLI::App* addUr5(CLI::App* device, std::vector<Command>& commands) {
     return cmd;
 }
 
-struct RobotiqOptions {
+/// The command-line options every parallel-gripper model shares.
+struct ParallelGripperOptions {
     ServerProcessOptions process;
     std::string serial;
-    int slaveId = devices::robotiq::kSlaveId;
+    int slaveId = 1;
     double speed = 1;
     std::string world;
-    std::string gripOffset = "0,0,0.15";
+    std::string gripOffset;
     double fingerSpeed = 0.1;
     double graspForce = 100;
     std::string bootProfile = "none";
 };
 
-/// What `device robotiq` keeps alive, destroyed in reverse: the adapter first (it closes
-/// the serial line), then the simulated gripper, then the world link it reports through.
-struct RobotiqContent {
-    std::unique_ptr<devices::WorldLink> world;
-    std::unique_ptr<devices::robotiq::SimulatedGripperPort> simulated;
-    std::unique_ptr<devices::robotiq::RobotiqComponent> component;
+/// The world as a simulated parallel gripper's fingers meet it.
+struct FingerWiring {
+    std::function<std::optional<devices::ObjectBetweenFingers>()> probe;
+    std::function<void(const devices::FingerEvent&)> onEvent;
 };
 
-ua::Result<ComponentContent> populateRobotiq(const RobotiqOptions& options,
-                                             const ComponentContext& c) {
-    namespace rq = devices::robotiq;
-    auto content = std::make_shared<RobotiqContent>();
-    rq::RobotiqComponentOptions o;
-    o.gripPointOffset = toFrame(*parsePose6(options.gripOffset));  // checked by poseText()
-    o.slaveId = options.slaveId;
-    o.gripper.speed = options.fingerSpeed;
-    o.gripper.graspForce = options.graspForce;
-    o.device = options.serial;
-    if (o.device.empty()) {
+/// What differs between parallel-gripper models; everything else of `skillcell device
+/// <model>` is the same, as the skills above them are.
+struct ParallelGripperModel {
+    std::string command;  // "robotiq"
+    std::string applicationUri;
+    std::string applicationName;
+    std::string description;
+    std::string simulatedName;  // for logs: "2F-85"
+    int slaveId = 1;
+    std::string gripOffset;  // default X,Y,Z
+    double maxForce = 100;   // N
+    double maxFingerSpeed = 0.15;
+    /// Starts a simulated gripper on a pty: its device path and what keeps it running.
+    std::function<ua::Result<std::pair<std::string, std::shared_ptr<void>>>(
+        double speed, FingerWiring wiring, std::string* why)>
+        simulate;
+    /// The adapter and its skills on the serial device `options.serial`.
+    std::function<ua::Result<std::shared_ptr<void>>(
+        ua::Server& server, const ParallelGripperOptions& options, std::string* error)>
+        adapter;
+};
+
+/// What `device <parallel gripper>` keeps alive, destroyed in reverse: the adapter first (it
+/// closes the serial line), then the simulated gripper, then the world link it reports
+/// through.
+struct ParallelGripperContent {
+    std::unique_ptr<devices::WorldLink> world;
+    std::shared_ptr<void> simulated;
+    std::shared_ptr<void> adapter;
+};
+
+/// The fingers close along the grip point's y axis: what they meet is the object's extent
+/// along it; grasps and releases go to the world model.
+FingerWiring wireFingers(devices::WorldLink* world) {
+    FingerWiring wiring;
+    if (world == nullptr) return wiring;
+    wiring.probe = [world]() -> std::optional<devices::ObjectBetweenFingers> {
+        const auto found = world->objectAtGripPoint();
+        if (!found || !found->has_value()) return std::nullopt;
+        return devices::ObjectBetweenFingers{(*found)->objectId, (*found)->extent[1]};
+    };
+    wiring.onEvent = [world](const devices::FingerEvent& e) {
+        const bool grasped = e.kind == devices::FingerEvent::Kind::Grasped;
+        const auto s = grasped ? world->grasp(e.objectId) : world->release();
+        if (s.isBad()) {
+            spdlog::warn("world model refused the {} of {}: {}", grasped ? "grasp" : "release",
+                         e.objectId, ua::statusName(s));
+        }
+    };
+    return wiring;
+}
+
+ua::Result<ComponentContent> populateParallelGripper(const ParallelGripperModel& model,
+                                                     ParallelGripperOptions options,
+                                                     const ComponentContext& c) {
+    auto content = std::make_shared<ParallelGripperContent>();
+    if (options.serial.empty()) {
         if (!options.world.empty()) {
             auto link = connectWorld(options.world, c);
             if (!link) return link.status();
             content->world = std::move(*link);
         }
-        rq::SimulatedGripperOptions sim;
-        sim.speed = options.speed;
-        if (devices::WorldLink* world = content->world.get()) {
-            // The fingers close along the grip point's y axis: what they meet is the
-            // object's extent along it.
-            sim.probe = [world]() -> std::optional<rq::ObjectBetweenFingers> {
-                const auto found = world->objectAtGripPoint();
-                if (!found || !found->has_value()) return std::nullopt;
-                return rq::ObjectBetweenFingers{(*found)->objectId, (*found)->extent[1]};
-            };
-            sim.onEvent = [world](const rq::FingerEvent& e) {
-                const auto s = e.kind == rq::FingerEvent::Kind::Grasped ? world->grasp(e.objectId)
-                                                                        : world->release();
-                if (s.isBad()) {
-                    spdlog::warn("world model refused the {} of {}: {}",
-                                 e.kind == rq::FingerEvent::Kind::Grasped ? "grasp" : "release",
-                                 e.objectId, ua::statusName(s));
-                }
-            };
-        }
         std::string why;
-        content->simulated = rq::SimulatedGripperPort::open(sim, &why);
-        if (!content->simulated) {
-            spdlog::critical("simulated 2F-85: {}", why);
+        auto simulated = model.simulate(options.speed, wireFingers(content->world.get()), &why);
+        if (!simulated) {
+            spdlog::critical("simulated {}: {}", model.simulatedName, why);
             return ua::status::BadResourceUnavailable;
         }
-        o.device = content->simulated->devicePath();
-        spdlog::info("simulated 2F-85 on {}", o.device);
+        options.serial = simulated->first;
+        content->simulated = std::move(simulated->second);
+        spdlog::info("simulated {} on {}", model.simulatedName, options.serial);
     }
     std::string error;
-    auto component = rq::RobotiqComponent::create(c.server, o, &error);
-    if (!component) {
-        spdlog::critical("robotiq: {}", error);
-        return component.status();
+    auto adapter = model.adapter(c.server, options, &error);
+    if (!adapter) {
+        spdlog::critical("{}: {}", model.command, error);
+        return adapter.status();
     }
-    content->component = std::move(*component);
+    content->adapter = std::move(*adapter);
     return ComponentContent(content);
 }
 
-CLI::App* addRobotiq(CLI::App* device, std::vector<Command>& commands) {
-    auto options = std::make_shared<RobotiqOptions>();
-    options->process.applicationUri = "urn:skillcell:device:robotiq-2f85";
-    options->process.applicationName = "skillcell Robotiq 2F-85";
-    CLI::App* cmd = device->add_subcommand(
-        "robotiq",
-        "Run the Robotiq 2F-85 adapter (Modbus RTU) with the skills Grasp, Release and "
-        "MoveGripper (grip point PARALLEL). Without --serial it runs a simulated 2F-85 on a "
-        "pseudo-terminal.");
+CLI::App* addParallelGripper(CLI::App* device, std::vector<Command>& commands,
+                             const ParallelGripperModel& model) {
+    auto options = std::make_shared<ParallelGripperOptions>();
+    options->process.applicationUri = model.applicationUri;
+    options->process.applicationName = model.applicationName;
+    options->slaveId = model.slaveId;
+    options->gripOffset = model.gripOffset;
+    CLI::App* cmd = device->add_subcommand(model.command, model.description);
     addServerProcessOptions(cmd, options->process);
     addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
     cmd->add_option("--serial", options->serial,
@@ -325,20 +353,99 @@ CLI::App* addRobotiq(CLI::App* device, std::vector<Command>& commands) {
         ->check(poseText())
         ->capture_default_str();
     cmd->add_option("--finger-speed", options->fingerSpeed, "finger speed of every motion (m/s)")
-        ->check(CLI::Range(0.02, 0.15))
+        ->check(CLI::Range(0.02, model.maxFingerSpeed))
         ->capture_default_str();
     cmd->add_option("--grasp-force", options->graspForce, "grip force of Grasp (N)")
-        ->check(CLI::Range(20.0, 235.0))
+        ->check(CLI::Range(20.0, model.maxForce))
         ->capture_default_str();
     addBootProfileOption(cmd, options->bootProfile);
     commands.push_back(
-        {cmd, [options] {
+        {cmd, [options, model] {
              options->process.boot = *devices::bootProfileNamed(options->bootProfile, false);
-             return runServerProcess(options->process, [options](const ComponentContext& c) {
-                 return populateRobotiq(*options, c);
+             return runServerProcess(options->process, [options, model](const ComponentContext& c) {
+                 return populateParallelGripper(model, *options, c);
              });
          }});
     return cmd;
+}
+
+ParallelGripperModel robotiq2f85() {
+    namespace rq = devices::robotiq;
+    ParallelGripperModel m;
+    m.command = "robotiq";
+    m.applicationUri = "urn:skillcell:device:robotiq-2f85";
+    m.applicationName = "skillcell Robotiq 2F-85";
+    m.description =
+        "Run the Robotiq 2F-85 adapter (Modbus RTU) with the skills Grasp, Release and "
+        "MoveGripper (grip point PARALLEL). Without --serial it runs a simulated 2F-85 on a "
+        "pseudo-terminal.";
+    m.simulatedName = "2F-85";
+    m.slaveId = rq::kSlaveId;
+    m.gripOffset = "0,0,0.15";
+    m.maxForce = 235;
+    m.simulate = [](double speed, FingerWiring wiring,
+                    std::string* why) -> ua::Result<std::pair<std::string, std::shared_ptr<void>>> {
+        rq::SimulatedGripperOptions sim;
+        sim.speed = speed;
+        sim.probe = std::move(wiring.probe);
+        sim.onEvent = std::move(wiring.onEvent);
+        std::shared_ptr<rq::SimulatedGripperPort> port = rq::SimulatedGripperPort::open(sim, why);
+        if (!port) return ua::status::BadResourceUnavailable;
+        return std::pair{port->devicePath(), std::shared_ptr<void>(port)};
+    };
+    m.adapter = [](ua::Server& server, const ParallelGripperOptions& options,
+                   std::string* error) -> ua::Result<std::shared_ptr<void>> {
+        rq::RobotiqComponentOptions o;
+        o.device = options.serial;
+        o.slaveId = options.slaveId;
+        o.gripPointOffset = toFrame(*parsePose6(options.gripOffset));  // checked by poseText()
+        o.gripper.speed = options.fingerSpeed;
+        o.gripper.graspForce = options.graspForce;
+        auto component = rq::RobotiqComponent::create(server, o, error);
+        if (!component) return component.status();
+        return std::shared_ptr<void>(std::move(*component));
+    };
+    return m;
+}
+
+ParallelGripperModel dhAg95() {
+    namespace dh = devices::dh;
+    ParallelGripperModel m;
+    m.command = "ag95";
+    m.applicationUri = "urn:skillcell:device:dh-ag95";
+    m.applicationName = "skillcell DH-Robotics AG-95";
+    m.description =
+        "Run the DH-Robotics AG-95 adapter (Modbus RTU) with the same skills as every "
+        "parallel gripper: Grasp, Release and MoveGripper (grip point PARALLEL). Without "
+        "--serial it runs a simulated AG-95 on a pseudo-terminal.";
+    m.simulatedName = "AG-95";
+    m.slaveId = dh::kSlaveId;
+    m.gripOffset = "0,0,0.16";
+    m.maxForce = dh::kMaximumForce;
+    m.maxFingerSpeed = dh::kMaximumSpeed;
+    m.simulate = [](double speed, FingerWiring wiring,
+                    std::string* why) -> ua::Result<std::pair<std::string, std::shared_ptr<void>>> {
+        dh::SimulatedAg95Options sim;
+        sim.speed = speed;
+        sim.probe = std::move(wiring.probe);
+        sim.onEvent = std::move(wiring.onEvent);
+        std::shared_ptr<dh::SimulatedAg95> gripper = dh::SimulatedAg95::open(sim, why);
+        if (!gripper) return ua::status::BadResourceUnavailable;
+        return std::pair{gripper->devicePath(), std::shared_ptr<void>(gripper)};
+    };
+    m.adapter = [](ua::Server& server, const ParallelGripperOptions& options,
+                   std::string* error) -> ua::Result<std::shared_ptr<void>> {
+        dh::Ag95ComponentOptions o;
+        o.device = options.serial;
+        o.slaveId = options.slaveId;
+        o.gripPointOffset = toFrame(*parsePose6(options.gripOffset));  // checked by poseText()
+        o.gripper.speed = options.fingerSpeed;
+        o.gripper.graspForce = options.graspForce;
+        auto component = dh::Ag95Component::create(server, o, error);
+        if (!component) return component.status();
+        return std::shared_ptr<void>(std::move(*component));
+    };
+    return m;
 }
 
 struct SchmalzOptions {
@@ -444,7 +551,8 @@ std::vector<Command> addDeviceCommands(CLI::App& app) {
     std::vector<Command> commands;
     addWorld(device, commands);
     addUr5(device, commands);
-    addRobotiq(device, commands);
+    addParallelGripper(device, commands, robotiq2f85());
+    addParallelGripper(device, commands, dhAg95());
     addSchmalz(device, commands);
     return commands;
 }

@@ -28,3 +28,8 @@ add_dependencies(test_device_processes skillcell)
 add_test(NAME cli.device_boot_profile
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/device_boot_profile.sh $<TARGET_FILE:skillcell>)
 set_tests_properties(cli.device_boot_profile PROPERTIES TIMEOUT 90)
+
+# Two parallel-gripper models (2F-85, AG-95), one skill scenario; the AG-95's registers.
+skillcell_unit_test(test_device_parallel_grippers device_parallel_grippers_test.cpp)
+target_link_libraries(test_device_parallel_grippers PRIVATE skillcell_robotiq skillcell_dh
+                                                            skillcell_test_support PkgConfig::MODBUS)

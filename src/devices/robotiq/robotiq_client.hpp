@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "devices/common/modbus_rtu_master.hpp"
 #include "devices/robotiq/robotiq_registers.hpp"
 #include "ua/types/result.hpp"
 
@@ -16,29 +17,23 @@ public:
     /// Opens `device` (115200 8N1). BadCommunicationError with `why` when it cannot.
     [[nodiscard]] static ua::Result<std::unique_ptr<RobotiqClient>> open(
         const std::string& device, int slaveId = kSlaveId, std::string* why = nullptr);
-    ~RobotiqClient();
-    RobotiqClient(const RobotiqClient&) = delete;
-    RobotiqClient& operator=(const RobotiqClient&) = delete;
 
     /// Writes the three command registers (function 16). BadCommunicationError on a
     /// timeout or a damaged reply; `lastError()` says more.
     ua::StatusCode write(const Command& command);
     /// Reads the three status registers (function 4).
     [[nodiscard]] ua::Result<Status> read();
-    [[nodiscard]] const std::string& lastError() const { return lastError_; }
+    [[nodiscard]] const std::string& lastError() const { return master_->lastError(); }
 
-    /// The libmodbus context (defined where libmodbus is included).
-    struct Context;
     struct Token {
     private:
         friend class RobotiqClient;
         Token() = default;
     };
-    RobotiqClient(Token, std::unique_ptr<Context> ctx);
+    RobotiqClient(Token, std::unique_ptr<ModbusRtuMaster> master);
 
 private:
-    std::unique_ptr<Context> ctx_;
-    std::string lastError_;
+    std::unique_ptr<ModbusRtuMaster> master_;
 };
 
 }  // namespace skillcell::devices::robotiq

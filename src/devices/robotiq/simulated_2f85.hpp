@@ -12,22 +12,13 @@
 #include <string>
 #include <vector>
 
+#include "devices/gripper/fingers.hpp"
 #include "devices/robotiq/robotiq_registers.hpp"
 
 namespace skillcell::devices::robotiq {
 
-/// What lies between the fingers: an object and its width across the fingers (m).
-struct ObjectBetweenFingers {
-    std::string id;
-    double width = 0;
-};
-
-/// Something the fingers did to an object (for the world model).
-struct FingerEvent {
-    enum class Kind : std::uint8_t { Grasped, Released };
-    Kind kind;
-    std::string objectId;
-};
+using devices::FingerEvent;
+using devices::ObjectBetweenFingers;
 
 class Simulated2F85 {
 public:

@@ -1,8 +1,7 @@
 #pragma once
-// SimulatedGripperPort: a simulated 2F-85 on a serial line. It opens a pseudo-terminal
-// pair, puts the slave side in raw mode and serves the Robotiq register map as a Modbus
-// RTU slave (libmodbus, slave id 9) on the master side from a thread of its own. The
-// adapter opens devicePath() like any serial device; nothing else connects the two.
+// SimulatedGripperPort: a simulated 2F-85 on a serial line: the Robotiq register map
+// served as Modbus RTU slave 9 on a pseudo-terminal (PtyModbusSlave). The adapter opens
+// devicePath() like any serial device; nothing else connects the two.
 //
 // Simulated time is the steady clock times the speed factor (or an injected clock).
 // Finger events (grasped, released) go to `onEvent` on the port's thread.
@@ -12,8 +11,9 @@
 #include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
+#include <vector>
 
+#include "devices/common/pty_modbus_slave.hpp"
 #include "devices/robotiq/simulated_2f85.hpp"
 #include "ua/types/result.hpp"
 
@@ -27,23 +27,23 @@ struct SimulatedGripperOptions {
     std::function<void(const FingerEvent&)> onEvent;
 };
 
-class SimulatedGripperPort {
+class SimulatedGripperPort final : public SimulatedModbusDevice {
 public:
     /// Opens the pty pair and starts serving. On failure `why` (if given) says why.
     [[nodiscard]] static std::unique_ptr<SimulatedGripperPort> open(SimulatedGripperOptions options,
                                                                     std::string* why = nullptr);
-    ~SimulatedGripperPort();
-    SimulatedGripperPort(const SimulatedGripperPort&) = delete;
-    SimulatedGripperPort& operator=(const SimulatedGripperPort&) = delete;
+    ~SimulatedGripperPort() override;
 
     /// The serial device the adapter opens (the pty's slave side, /dev/pts/N).
-    [[nodiscard]] const std::string& devicePath() const { return path_; }
+    [[nodiscard]] const std::string& devicePath() const { return port_->devicePath(); }
     /// The fingers' position now (0 open .. 255 closed), for tests.
     [[nodiscard]] double fingerPosition();
     /// Requests served so far (tests wait on the protocol, not on time).
-    [[nodiscard]] std::uint64_t requests();
+    [[nodiscard]] std::uint64_t requests() { return port_->requests(); }
     /// Waits until `count` requests have been served; false after `timeout`.
-    bool waitForRequests(std::uint64_t count, std::chrono::milliseconds timeout);
+    bool waitForRequests(std::uint64_t count, std::chrono::milliseconds timeout) {
+        return port_->waitForRequests(count, timeout);
+    }
     /// Waits until the command registers as last written satisfy `predicate`; false
     /// after `timeout`.
     bool waitForCommand(const std::function<bool(const Command&)>& predicate,
@@ -58,21 +58,20 @@ public:
     };
     SimulatedGripperPort(Token, SimulatedGripperOptions options);
 
+    void present(std::span<std::uint16_t> holding, std::span<std::uint16_t> input) override;
+    void written(std::uint16_t address, std::uint16_t count,
+                 std::span<const std::uint16_t> holding) override;
+
 private:
-    void serve();
     [[nodiscard]] double now() const;
+    void report(const std::vector<FingerEvent>& events) const;
 
     SimulatedGripperOptions options_;
     std::chrono::steady_clock::time_point epoch_;
-    int master_ = -1;
-    int slave_ = -1;  // kept open so the master never sees a hang-up between clients
-    int stop_[2] = {-1, -1};
-    std::string path_;
-    std::mutex mutex_;  // guards gripper_ and requests_
-    std::condition_variable served_;
+    std::mutex mutex_;  // guards gripper_
+    std::condition_variable written_;
     Simulated2F85 gripper_;
-    std::uint64_t requests_ = 0;
-    std::thread thread_;
+    std::unique_ptr<PtyModbusSlave> port_;  // last: stops serving before the rest goes
 };
 
 }  // namespace skillcell::devices::robotiq
