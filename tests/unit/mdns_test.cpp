@@ -125,7 +125,9 @@ private:
     asio::ip::udp::socket socket_;
 };
 
-std::vector<std::uint8_t> foreignAnnouncement(const std::string& name, std::uint32_t ttl) {
+std::vector<std::uint8_t> foreignAnnouncement(const std::string& name, std::uint32_t ttl,
+                                              std::uint16_t port = 4999,
+                                              const std::string& host = "foreign.local") {
     DnsMessage m;
     m.isResponse = true;
     const std::string instance = name + "._opcua-tcp._tcp.local";
@@ -138,15 +140,15 @@ std::vector<std::uint8_t> foreignAnnouncement(const std::string& name, std::uint
     srv.name = instance;
     srv.type = static_cast<std::uint16_t>(DnsType::Srv);
     srv.ttl = ttl;
-    srv.port = 4999;
-    srv.target = "foreign.local";
+    srv.port = port;
+    srv.target = host;
     DnsRecord txt;
     txt.name = instance;
     txt.type = static_cast<std::uint16_t>(DnsType::Txt);
     txt.ttl = ttl;
     txt.txt = {"path=", "caps=NA"};
     DnsRecord a;
-    a.name = "foreign.local";
+    a.name = host;
     a.type = static_cast<std::uint16_t>(DnsType::A);
     a.ttl = ttl;
     a.ipv4 = {127, 0, 0, 1};
@@ -307,6 +309,47 @@ TEST(Mdns, TheWatcherDescribesAnnouncedServersAndReportsThemGone) {
     });
 }
 
+TEST(Mdns, TheWatcherReportsAServerOnceWhenOnlyItsSrvTargetChanges) {
+    // Two responders naming one instance with different SRV targets for the same address
+    // (a server and an LDS speaking for it, say) change the cache's records, not the server.
+    auto config = test::RunningServer::defaultConfig();
+    config.description.applicationUri = "urn:test:twice";
+    test::RunningServer server(config);
+    Loop loop;
+    auto listener = loop.run([&] { return makeResponder(loop.io()); });
+    ASSERT_TRUE(listener);
+    EventLog log;
+    lds::ServerWatcher::Callbacks callbacks;
+    callbacks.announced = [&](const lds::AnnouncedServer& s) {
+        log.add("announced " + s.discoveryUrl + " " + s.application.applicationUri);
+    };
+    auto watcher = loop.run([&] {
+        auto w = lds::ServerWatcher::create(loop.io().get_executor(), listener, callbacks);
+        w->start();
+        return w;
+    });
+    const Ipv4 source{127, 0, 0, 1};
+    auto feed = [&](const std::vector<std::uint8_t>& bytes) {
+        return loop.run([&] {
+            listener->handleDatagram(bytes, source, 5353);
+            return watcher->describesStarted();
+        });
+    };
+    const std::string url = "opc.tcp://127.0.0.1:" + std::to_string(server.port());
+    EXPECT_EQ(feed(foreignAnnouncement("twice", 120, server.port(), "one.local")), 1U);
+    ASSERT_TRUE(log.waitFor("announced " + url + " urn:test:twice"));
+    // Another SRV target, the same address: no second GetEndpoints, no second report.
+    EXPECT_EQ(feed(foreignAnnouncement("twice", 120, server.port(), "two.local")), 1U);
+    EXPECT_EQ(feed(foreignAnnouncement("twice", 120, server.port(), "one.local")), 1U);
+    // Another port is another URL: described again.
+    EXPECT_EQ(feed(foreignAnnouncement("twice", 120, 1, "one.local")), 2U);
+    loop.run([&] {
+        watcher->stop();
+        listener->shutdown();
+        return 0;
+    });
+}
+
 /// An LDS with mDNS, on its RunningServer's thread.
 struct LdsUnderTest {
     LdsUnderTest() : server(test::RunningServer::defaultConfig()) {
@@ -385,6 +428,47 @@ TEST(Mdns, AServerRegistersWithTheLdsItDiscoversAndUnregistersOnStop) {
     });
     ASSERT_EQ(stopped.get_future().wait_for(10s), std::future_status::ready);
     EXPECT_FALSE(lds.registered("urn:test:pump"));
+    loop.run([&] {
+        responder->shutdown();
+        return 0;
+    });
+}
+
+TEST(Mdns, TheLdsLeavesAServerThatAnnouncesItselfAfterRegisteringToItself) {
+    // The registration arrives before the server's own announcement: the LDS waits for it
+    // (its grace) instead of announcing the server a second time.
+    LdsUnderTest lds;
+    Loop loop;
+    auto responder = loop.run([&] { return makeResponder(loop.io()); });
+    ASSERT_TRUE(responder);
+    BlockingClient client;
+    ClientConfig cc;
+    cc.createSession = false;
+    ASSERT_EQ(client.connect(lds.server.url(), cc), status::Good);
+    RegisterServer2Request req;
+    req.server.serverUri = "urn:test:late";
+    req.server.serverNames = {{"", "Late"}};
+    req.server.discoveryUrls = {"opc.tcp://198.18.9.9:4998"};
+    MdnsDiscoveryConfiguration mdns;
+    mdns.mdnsServerName = "late";
+    req.discoveryConfiguration = {toExtensionObject(mdns)};
+    ASSERT_TRUE((client.request<RegisterServer2Request, RegisterServer2Response>(req).ok()));
+    const std::string uri = req.server.serverUri;
+    EXPECT_TRUE(lds.server.inServer([&](Server&) { return lds.lds->awaitsSelfAnnouncement(uri); }));
+    ServiceAnnouncement late;
+    late.name = "late";
+    late.port = 4998;
+    loop.run([&] { return responder->announce(late); });
+    bool decided = false;
+    for (int i = 0; i < 200 && !decided; ++i) {
+        decided =
+            !lds.server.inServer([&](Server&) { return lds.lds->awaitsSelfAnnouncement(uri); });
+        if (!decided) std::this_thread::sleep_for(25ms);
+    }
+    ASSERT_TRUE(decided);
+    EXPECT_FALSE(lds.server.inServer([&](Server&) { return lds.lds->announcesOnBehalfOf(uri); }));
+    EXPECT_TRUE(lds.registered(uri));
+    client.disconnect();
     loop.run([&] {
         responder->shutdown();
         return 0;

@@ -65,6 +65,7 @@ LocalDiscoveryServer::~LocalDiscoveryServer() {
 }
 
 void LocalDiscoveryServer::start(asio::any_io_executor executor) {
+    executor_ = executor;
     std::weak_ptr<LocalDiscoveryServer> weak = weak_from_this();
     auto& table = server_.services();
     using Access = ServiceTable::Access;
@@ -154,6 +155,8 @@ void LocalDiscoveryServer::stop() {
         if (responder_) responder_->withdraw(name);
     }
     announcedFor_.clear();
+    for (const auto& [uri, t] : graceTimers_) t->cancel();
+    graceTimers_.clear();
     if (timer_) timer_->cancel();
 }
 
@@ -178,7 +181,7 @@ StatusCode LocalDiscoveryServer::registerServer(const RegisteredServer& server,
                          *change == RegisteredServerTable::Change::Added ? "registered" : "updated",
                          server.serverUri, url, withMdns ? " (with mDNS)" : "");
             const Registration* r = table_.find(server.serverUri);
-            if (r != nullptr && r->mdns) announceFor(*r);
+            if (r != nullptr && r->mdns) scheduleAnnounceFor(*r);
             if (r != nullptr) notify(RegistrationChange::Registered, r->server);
             break;
         }
@@ -196,6 +199,44 @@ StatusCode LocalDiscoveryServer::registerServer(const RegisteredServer& server,
     return status::Good;
 }
 
+bool LocalDiscoveryServer::announcesItself(const std::string& mdnsName) const {
+    const std::string key = mdns::foldCase(mdnsName);
+    const auto services = responder_->services();
+    return std::any_of(services.begin(), services.end(), [&](const mdns::ServiceInstance& s) {
+        return mdns::foldCase(s.name) == key;
+    });
+}
+
+void LocalDiscoveryServer::scheduleAnnounceFor(const Registration& r) {
+    if (!responder_ || !executor_) return;
+    const std::string& uri = r.server.serverUri;
+    const std::string name = mdnsNameOf(r);
+    if (name.empty() || graceTimers_.contains(uri)) return;  // that timer decides
+    if (announcedFor_.contains(uri) || config_.selfAnnouncementGrace.count() <= 0) {
+        announceFor(r);
+        return;
+    }
+    if (announcesItself(name)) {
+        spdlog::debug("LDS: '{}' announces itself as '{}'", uri, name);
+        return;
+    }
+    auto timer = std::make_shared<asio::steady_timer>(*executor_, config_.selfAnnouncementGrace);
+    graceTimers_[uri] = timer;
+    responder_->queryNow();  // a server that announces itself answers now
+    asio::co_spawn(*executor_, announceAfterGrace(uri, timer), asio::detached);
+}
+
+asio::awaitable<void> LocalDiscoveryServer::announceAfterGrace(
+    std::string serverUri, std::shared_ptr<asio::steady_timer> timer) {
+    auto self = shared_from_this();
+    co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+    const auto it = graceTimers_.find(serverUri);
+    if (stopped_ || it == graceTimers_.end() || it->second != timer) co_return;
+    graceTimers_.erase(it);
+    // The registration as it is now: it may have been updated or have ended meanwhile.
+    if (const Registration* r = table_.find(serverUri); r != nullptr && r->mdns) announceFor(*r);
+}
+
 void LocalDiscoveryServer::announceFor(const Registration& r) {
     if (!responder_) return;
     const std::string name = mdnsNameOf(r);
@@ -203,11 +244,9 @@ void LocalDiscoveryServer::announceFor(const Registration& r) {
     // A server that announces itself is left to speak for itself.
     const std::string key = mdns::foldCase(name);
     const bool ours = announcedFor_.contains(r.server.serverUri);
-    for (const auto& s : responder_->services()) {
-        if (!ours && mdns::foldCase(s.name) == key) {
-            spdlog::debug("LDS: '{}' announces itself as '{}'", r.server.serverUri, name);
-            return;
-        }
+    if (!ours && announcesItself(name)) {
+        spdlog::debug("LDS: '{}' announces itself as '{}'", r.server.serverUri, name);
+        return;
     }
     const std::string url = firstOpcTcpUrl(r.server);
     auto address = parseEndpointUrl(url);
@@ -238,6 +277,10 @@ void LocalDiscoveryServer::announceFor(const Registration& r) {
 }
 
 void LocalDiscoveryServer::withdrawFor(const std::string& serverUri) {
+    if (auto t = graceTimers_.find(serverUri); t != graceTimers_.end()) {
+        t->second->cancel();
+        graceTimers_.erase(t);
+    }
     auto it = announcedFor_.find(serverUri);
     if (it == announcedFor_.end()) return;
     if (responder_) responder_->withdraw(it->second);

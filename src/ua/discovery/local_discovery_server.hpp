@@ -30,6 +30,11 @@ struct LdsConfig {
     /// is 10 minutes; a minute of grace).
     std::chrono::seconds registrationTimeout{660};
     RegistrationLimits limits;
+    /// After a registration with mDNS, how long the LDS waits for the server to announce
+    /// itself (asking the network meanwhile) before it announces the server on its behalf. A
+    /// registration can arrive before the server's own announcement; two responders naming
+    /// one instance with different SRV targets would make every cache flip between them.
+    std::chrono::milliseconds selfAnnouncementGrace{1000};
 };
 
 /// What happened to a registration, for the observer (a skill detector in the component that
@@ -65,6 +70,14 @@ public:
     void setRegistrationObserver(RegistrationObserver observer) { observer_ = std::move(observer); }
 
     [[nodiscard]] const RegisteredServerTable& registrations() const { return table_; }
+    /// Whether the LDS announces the server by mDNS on its behalf now.
+    [[nodiscard]] bool announcesOnBehalfOf(const std::string& serverUri) const {
+        return announcedFor_.contains(serverUri);
+    }
+    /// Whether the LDS is still waiting to see if the server announces itself.
+    [[nodiscard]] bool awaitsSelfAnnouncement(const std::string& serverUri) const {
+        return graceTimers_.contains(serverUri);
+    }
     [[nodiscard]] const ServerOnNetworkDirectory& directory() const { return directory_; }
 
 private:
@@ -73,6 +86,11 @@ private:
     StatusCode registerServer(const RegisteredServer& server,
                               std::optional<MdnsDiscoveryConfiguration> mdns);
     void onMdnsEvent(const mdns::ServiceEvent& event);
+    /// Announces for `r` now, or after the grace when it does not announce itself yet.
+    void scheduleAnnounceFor(const Registration& r);
+    asio::awaitable<void> announceAfterGrace(std::string serverUri,
+                                             std::shared_ptr<asio::steady_timer> timer);
+    [[nodiscard]] bool announcesItself(const std::string& mdnsName) const;
     void announceFor(const Registration& r);
     void withdrawFor(const std::string& serverUri);
     void notify(RegistrationChange change, const RegisteredServer& server) const;
@@ -86,6 +104,8 @@ private:
     std::map<std::string, std::string> announcedFor_;  // serverUri -> mDNS name we announce
     std::size_t subscription_ = 0;
     std::unique_ptr<asio::steady_timer> timer_;
+    std::optional<asio::any_io_executor> executor_;
+    std::map<std::string, std::shared_ptr<asio::steady_timer>> graceTimers_;  // serverUri ->
     RegistrationObserver observer_;
     bool stopped_ = false;
 };

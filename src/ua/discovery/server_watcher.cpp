@@ -56,8 +56,22 @@ void ServerWatcher::onMdnsEvent(const mdns::ServiceEvent& e) {
         if (gone.described && callbacks_.gone) callbacks_.gone(gone.server, e.reason);
         return;
     }
+    if (it != entries_.end()) {
+        // The cache reports any change of the records, such as another responder naming
+        // another SRV target for the same address. What the callbacks report (the URL, the
+        // capabilities, the server's description) only changes with the URL or the caps.
+        Entry& known = it->second;
+        const bool same = known.server.discoveryUrl == e.instance.discoveryUrl() &&
+                          known.server.instance.capabilities == e.instance.capabilities;
+        if (same && (known.described || known.describing)) {
+            known.server.instance = e.instance;
+            return;
+        }
+    }
     Entry& entry = entries_[key];
     entry.generation = nextGeneration_++;
+    entry.describing = true;
+    ++describesStarted_;
     entry.server.instance = e.instance;
     entry.server.discoveryUrl = e.instance.discoveryUrl();
     asio::co_spawn(executor_, describe(key, entry.generation), asio::detached);
@@ -99,6 +113,7 @@ asio::awaitable<void> ServerWatcher::describe(std::string key, std::uint64_t gen
             if (app->discoveryUrls.empty()) app->discoveryUrls = {url};
             entry->server.application = std::move(*app);
             entry->described = true;
+            entry->describing = false;
             if (callbacks_.announced) callbacks_.announced(entry->server);
             co_return;
         }
@@ -109,6 +124,7 @@ asio::awaitable<void> ServerWatcher::describe(std::string key, std::uint64_t gen
         co_await backoff.async_wait(asio::experimental::as_tuple(asio::use_awaitable));
     }
     if (Entry* entry = current()) {
+        entry->describing = false;  // the next announcement tries again
         spdlog::warn("'{}' is announced at {} but does not answer GetEndpoints",
                      entry->server.instance.name, entry->server.discoveryUrl);
     }

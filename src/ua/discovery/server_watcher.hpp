@@ -43,11 +43,14 @@ public:
 
     /// The servers announced and described so far.
     [[nodiscard]] std::vector<AnnouncedServer> servers() const;
+    /// How many times a server was asked who it is (GetEndpoints), for tests and diagnosis.
+    [[nodiscard]] std::uint64_t describesStarted() const { return describesStarted_; }
 
 private:
     struct Entry {
         std::uint64_t generation = 0;
         bool described = false;
+        bool describing = false;  // a describe() of this generation runs
         AnnouncedServer server;
     };
 
@@ -63,6 +66,7 @@ private:
     std::map<std::string, Entry> entries_;  // folded mDNS name
     std::size_t subscription_ = 0;
     std::uint64_t nextGeneration_ = 1;
+    std::uint64_t describesStarted_ = 0;
     bool stopped_ = false;
 };
 
