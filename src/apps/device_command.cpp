@@ -9,6 +9,9 @@
 //   ag95     the same for another parallel-gripper model, the DH-Robotics AG-95
 //   schmalz  the Schmalz ECBPi adapter on an IO-Link master port, here a simulated master
 //            with a simulated ECBPi that asks the world model what is under its cup
+//   toolchanger  the Kelvin tool changer: AttachTool, DetachTool, ChangeTool on the robot's
+//            move skill; a simulated coupling on the world model; it powers the tools'
+//            adapter processes
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
@@ -18,6 +21,8 @@
 #include "devices/robotiq/robotiq_component.hpp"
 #include "devices/robotiq/simulated_gripper_port.hpp"
 #include "devices/schmalz/ecbpi_component.hpp"
+#include "devices/toolchanger/simulated_kelvin_changer.hpp"
+#include "devices/toolchanger/tool_changer_component.hpp"
 #include "devices/ur5/ur5_component.hpp"
 #include "devices/world/flange_reporter.hpp"
 #include "devices/world/world_nodes.hpp"
@@ -542,6 +547,107 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
     return cmd;
 }
 
+struct ToolChangerOptions {
+    ServerProcessOptions process;
+    std::string world;
+    std::vector<std::string> tools;  // ID:MIN-MAX:APPLICATION-URI
+    std::vector<std::string> power;  // ID=PROGRAM ARG...
+    int detectionTimeoutMs = 30'000;
+    int moveTimeoutMs = 60'000;
+};
+
+/// What `device toolchanger` keeps alive, destroyed in reverse: the component (it powers the
+/// tools off), the simulated coupling, the world link.
+struct ToolChangerContent {
+    std::unique_ptr<devices::WorldLink> world;
+    std::unique_ptr<devices::toolchanger::SimulatedKelvinChanger> coupling;
+    std::unique_ptr<devices::toolchanger::ToolChangerComponent> component;
+};
+
+ua::Result<ComponentContent> populateToolChanger(const ToolChangerOptions& options,
+                                                 const ComponentContext& c) {
+    namespace tc = devices::toolchanger;
+    tc::ToolTable tools;
+    std::string why;
+    for (const auto& spec : options.tools) {
+        if (const auto s = tools.add(spec, &why); s.isBad()) {
+            spdlog::critical("--tool {}: {}", spec, why);
+            return s;
+        }
+    }
+    for (const auto& spec : options.power) {
+        if (const auto s = tools.setPowerCommand(spec, &why); s.isBad()) {
+            spdlog::critical("--power {}: {}", spec, why);
+            return s;
+        }
+    }
+    auto content = std::make_shared<ToolChangerContent>();
+    auto link = connectWorld(options.world, c);
+    if (!link) return link.status();
+    content->world = std::move(*link);
+    // The simulated coupling keeps its own copy of the table: the tools' resistors.
+    auto resistors = std::make_shared<tc::ToolTable>(tools);
+    content->coupling = std::make_unique<tc::SimulatedKelvinChanger>(*content->world, *resistors);
+    tc::ToolChangerOptions o;
+    o.detectionTimeout = std::chrono::milliseconds(options.detectionTimeoutMs);
+    o.moveTimeout = std::chrono::milliseconds(options.moveTimeoutMs);
+    o.client.applicationUri = c.applicationUri;
+    o.client.sessionName = "tool changer";
+    o.client.security = c.clientSecurity;
+    std::string error;
+    auto component = tc::ToolChangerComponent::create(c.server, *content->coupling,
+                                                      std::move(tools), c.detector, o, &error);
+    if (!component) {
+        spdlog::critical("toolchanger: {}", error);
+        return component.status();
+    }
+    content->component = std::move(*component);
+    // The table outlives the coupling that reads it.
+    return ComponentContent(std::shared_ptr<void>(
+        content.get(), [content, resistors](void*) mutable { content.reset(); }));
+}
+
+CLI::App* addToolChanger(CLI::App* device, std::vector<Command>& commands) {
+    auto options = std::make_shared<ToolChangerOptions>();
+    options->process.applicationUri = "urn:skillcell:device:kelvin-toolchanger";
+    options->process.applicationName = "skillcell Kelvin tool changer";
+    options->process.usesDetector = true;
+    CLI::App* cmd = device->add_subcommand(
+        "toolchanger",
+        "Run the Kelvin tool changer with the skills AttachTool, DetachTool and ChangeTool. "
+        "It moves the robot with its CartesianLinearMove skill (the one discovery finds, or "
+        "MoveSkillControllerEndpoint), knows a tool by the voltage of its identification "
+        "pin, and powers an attached tool by starting its adapter process (--power); an "
+        "attach ends when the tool's adapter is detected.");
+    addServerProcessOptions(cmd, options->process);
+    addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--world", options->world,
+                    "the world model's endpoint: the simulated coupling locks and opens there")
+        ->required();
+    cmd->add_option("--tool", options->tools,
+                    "a tool: ID:MIN-MAX:APPLICATION-URI (its world model id, its voltage band "
+                    "on the identification pin, the application URI of its adapter)")
+        ->required();
+    cmd->add_option("--power", options->power,
+                    "the adapter process of a tool, started when it is attached: "
+                    "ID=PROGRAM ARG... (split at blanks)");
+    cmd->add_option("--detection-timeout-ms", options->detectionTimeoutMs,
+                    "how long to wait for the robot's move skill and for an attached tool's "
+                    "adapter to be detected")
+        ->check(CLI::Range(100, 600'000))
+        ->capture_default_str();
+    cmd->add_option("--move-timeout-ms", options->moveTimeoutMs, "the longest move")
+        ->check(CLI::Range(100, 600'000))
+        ->capture_default_str();
+    commands.push_back({cmd, [options] {
+                            return runServerProcess(options->process,
+                                                    [options](const ComponentContext& c) {
+                                                        return populateToolChanger(*options, c);
+                                                    });
+                        }});
+    return cmd;
+}
+
 }  // namespace
 
 std::vector<Command> addDeviceCommands(CLI::App& app) {
@@ -554,6 +660,7 @@ std::vector<Command> addDeviceCommands(CLI::App& app) {
     addParallelGripper(device, commands, robotiq2f85());
     addParallelGripper(device, commands, dhAg95());
     addSchmalz(device, commands);
+    addToolChanger(device, commands);
     return commands;
 }
 

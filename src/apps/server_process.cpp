@@ -194,9 +194,19 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
         spdlog::critical("cannot build the server: {}", error);
         return 1;
     }
+    // The cell's skills, from what discovery finds (and what registers with our LDS); the
+    // component may use them, so it exists before the component does.
+    std::shared_ptr<skills::SkillDetector> detector;
+    if (options.detect || options.usesDetector) {
+        skills::SkillDetectorConfig detectorConfig;
+        detectorConfig.applicationUri = options.applicationUri;
+        detectorConfig.security = *clientSecurity;
+        detector = skills::SkillDetector::create(io.get_executor(), detectorConfig);
+    }
     ComponentContent content;  // after the server: destroyed before it
     if (populate) {
-        const ComponentContext context{*server, io, *clientSecurity, options.applicationUri};
+        const ComponentContext context{*server, io, *clientSecurity, options.applicationUri,
+                                       detector};
         auto populated = populate(context);
         if (!populated) {
             spdlog::critical("cannot add the component's nodes: {}",
@@ -224,20 +234,17 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
         }
     }
 
-    // The skills of the cell, from what discovery finds (and what registers with our LDS).
-    std::shared_ptr<skills::SkillDetector> detector;
     std::shared_ptr<ua::lds::ServerWatcher> detectorWatcher;
-    if (options.detect && discovery) {
-        skills::SkillDetectorConfig detectorConfig;
-        detectorConfig.applicationUri = options.applicationUri;
-        detectorConfig.security = *clientSecurity;
-        detector = skills::SkillDetector::create(io.get_executor(), detectorConfig);
-        detector->subscribe(
-            [](const skills::SkillEvent& e) { printSkillEvent(std::cout, e, false); });
+    if (detector && discovery) {
+        if (options.detect) {
+            detector->subscribe(
+                [](const skills::SkillEvent& e) { printSkillEvent(std::cout, e, false); });
+        }
         detectorWatcher = skills::attachMdns(detector, discovery->responder());
         if (discovery->lds()) skills::attachLds(detector, *discovery->lds());
-    } else if (options.detect) {
-        spdlog::error("--detect needs discovery: no skills will be detected");
+    } else if (detector) {
+        spdlog::error("{} needs discovery: no skills will be detected",
+                      options.detect ? "--detect" : "this component");
     }
 
     asio::signal_set signals(io, SIGINT, SIGTERM);
@@ -248,8 +255,10 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
             io,
             [&]() -> asio::awaitable<void> {
                 if (detector) {
-                    printSkillSnapshot(std::cout, detector->instances(), false);
-                    detectorWatcher->stop();
+                    if (options.detect) {
+                        printSkillSnapshot(std::cout, detector->instances(), false);
+                    }
+                    if (detectorWatcher) detectorWatcher->stop();
                     detector->stop();
                 }
                 if (discovery) co_await discovery->stop();

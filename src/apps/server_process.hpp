@@ -10,6 +10,7 @@
 #include "client_security_options.hpp"
 #include "component_discovery.hpp"
 #include "devices/common/boot_profile.hpp"
+#include "skills/skill_detector.hpp"
 #include "ua/server/server.hpp"
 
 namespace skillcell::apps {
@@ -27,6 +28,9 @@ struct ServerProcessOptions {
     bool isLds = false;
     std::string pkiDir;   // empty: ua::pki::defaultPkiDirectory()
     bool detect = false;  // run a SkillDetector and print its SKILL lines (skill_report.hpp)
+    /// The component uses the cell's skills (a composite): it gets a SkillDetector fed by
+    /// discovery in its ComponentContext.
+    bool usesDetector = false;
     /// Security (docs/security.md): secured endpoints only and no anonymous users unless
     /// told otherwise. --insecure is for development: SecurityPolicy None only, anonymous
     /// users with every right, exactly what a server without security would do.
@@ -55,6 +59,9 @@ struct ComponentContext {
     /// How the component connects to other components: copy it into every ClientConfig.
     const ua::ClientSecurity& clientSecurity;
     const std::string& applicationUri;
+    /// The cell's skills as discovery finds them (ServerProcessOptions::usesDetector or
+    /// --detect), else null. Its sources attach once the server listens.
+    std::shared_ptr<skills::SkillDetector> detector;
 };
 /// Adds the component's nodes; runs on the io_context's thread before the server listens.
 using PopulateServer = std::function<ua::Result<ComponentContent>(const ComponentContext&)>;

@@ -4,20 +4,13 @@
 // picks a box and puts it down elsewhere through the skills; the test then checks the
 // world model.
 #include <gtest/gtest.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <csignal>
-#include <cstdio>
-#include <filesystem>
 
 #include "client_thread.hpp"
+#include "device_process.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/world/world_link.hpp"
-
-extern char** environ;
 
 namespace skillcell::devices {
 namespace {
@@ -25,66 +18,10 @@ namespace {
 using namespace std::chrono_literals;
 using Kind = skills::SkillOutcome::Kind;
 
-/// A `skillcell device ...` process on loopback with its own PKI directory; its URL is
-/// read from its READY line. Stopped with SIGTERM.
-class DeviceProcess {
-public:
-    explicit DeviceProcess(std::vector<std::string> args) {
-        pki_ = std::filesystem::temp_directory_path() /
-               ("skillcell-device-" + std::to_string(::getpid()) + "-" + args.at(0));
-        args.insert(args.begin(), {SKILLCELL_BINARY, "device"});
-        // --insecure: the devices' clients (WorldLink, the test's SkillClient) do not yet
-        // speak the secured endpoints (docs/security.md, "What is not done yet").
-        for (const char* a :
-             {"--port", "0", "--host", "127.0.0.1", "--no-discovery", "--insecure"}) {
-            args.emplace_back(a);
-        }
-        args.emplace_back("--pki-dir");
-        args.push_back(pki_.string());
-        int fds[2];
-        if (::pipe(fds) != 0) return;
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
-        posix_spawn_file_actions_addclose(&actions, fds[0]);
-        std::vector<char*> argv;
-        for (auto& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        if (posix_spawn(&pid_, SKILLCELL_BINARY, &actions, nullptr, argv.data(), environ) != 0) {
-            pid_ = 0;
-        }
-        posix_spawn_file_actions_destroy(&actions);
-        ::close(fds[1]);
-        FILE* out = ::fdopen(fds[0], "r");
-        char line[256];
-        // The READY line, or EOF if the process died: bounded by the process itself.
-        while (out != nullptr && std::fgets(line, sizeof line, out) != nullptr) {
-            const std::string l(line);
-            if (l.starts_with("READY ")) {
-                url_ = l.substr(6, l.find_last_not_of("\r\n") - 5);
-                break;
-            }
-        }
-        if (out != nullptr) std::fclose(out);
-    }
-    ~DeviceProcess() {
-        if (pid_ > 0) {
-            ::kill(pid_, SIGTERM);
-            int status = 0;
-            ::waitpid(pid_, &status, 0);
-        }
-        std::error_code ec;
-        std::filesystem::remove_all(pki_, ec);
-    }
-    DeviceProcess(const DeviceProcess&) = delete;
-    DeviceProcess& operator=(const DeviceProcess&) = delete;
-
-    [[nodiscard]] const std::string& url() const { return url_; }
-
-private:
-    pid_t pid_ = 0;
-    std::string url_;
-    std::filesystem::path pki_;
+/// `skillcell device ...` (tests/support/device_process.hpp), without discovery.
+struct DeviceProcess : test::DeviceProcess {
+    explicit DeviceProcess(std::vector<std::string> args)
+        : test::DeviceProcess(SKILLCELL_BINARY, std::move(args)) {}
 };
 
 KDL::Frame down(double x, double y, double z) {

@@ -33,3 +33,15 @@ set_tests_properties(cli.device_boot_profile PROPERTIES TIMEOUT 90)
 skillcell_unit_test(test_device_parallel_grippers device_parallel_grippers_test.cpp)
 target_link_libraries(test_device_parallel_grippers PRIVATE skillcell_robotiq skillcell_dh
                                                             skillcell_test_support PkgConfig::MODBUS)
+
+# The Kelvin tool changer: its tool table, and the changer as a process in a cell with
+# discovery (each case in a private network namespace, see discovery.cmake).
+add_executable(test_device_toolchanger device_toolchanger_test.cpp)
+target_link_libraries(test_device_toolchanger PRIVATE skillcell_toolchanger skillcell_test_support
+                                                      GTest::gtest_main)
+target_compile_definitions(test_device_toolchanger PRIVATE SKILLCELL_BINARY="$<TARGET_FILE:skillcell>")
+add_dependencies(test_device_toolchanger skillcell)
+set_target_properties(test_device_toolchanger PROPERTIES
+  CROSSCOMPILING_EMULATOR ${PROJECT_SOURCE_DIR}/tests/netns/run_in_private_netns.sh)
+gtest_discover_tests(test_device_toolchanger DISCOVERY_TIMEOUT 30
+                     PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 180)

@@ -136,6 +136,13 @@ ua::StatusCode World::unmountTool(const std::string& dockId, std::string* why) {
     return ua::status::Good;
 }
 
+std::optional<std::string> World::dockAtFlange() const {
+    for (const auto& [id, dock] : docks_) {
+        if (flangeAt(dock)) return id;
+    }
+    return std::nullopt;
+}
+
 KDL::Frame World::gripPoint() const {
     if (mounted_.empty()) return flange_;
     return flange_ * tools_.at(mounted_).gripPoint;

@@ -89,6 +89,9 @@ public:
     [[nodiscard]] const std::string& graspedObject() const { return grasped_; }
     /// The grip point in the base frame (the flange itself when no tool is mounted).
     [[nodiscard]] KDL::Frame gripPoint() const;
+    /// The dock the flange is at (within the dock tolerances), if any: what a tool changer's
+    /// coupling meets when it locks or unlocks.
+    [[nodiscard]] std::optional<std::string> dockAtFlange() const;
     /// The free object whose box contains `point` (within the grasp tolerance), if any.
     [[nodiscard]] std::optional<std::string> objectAt(const KDL::Vector& point) const;
     /// The object's extent along `direction` (base frame; normalised here): what a

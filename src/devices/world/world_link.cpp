@@ -85,6 +85,14 @@ ua::Result<std::optional<WorldLink::Found>> WorldLink::objectAtGripPoint() {
     return std::optional<Found>(std::move(found));
 }
 
+ua::Result<std::string> WorldLink::dockAtFlange() {
+    const auto out = call("DockAtFlange", {});
+    if (!out) return out.status();
+    const auto* dockId = out->size() == 1 ? (*out)[0].get<ua::String>() : nullptr;
+    if (dockId == nullptr) return ua::status::BadTypeMismatch;
+    return std::string(*dockId);
+}
+
 ua::Result<KDL::Frame> WorldLink::objectPose(const std::string& objectId) {
     const auto value = client_.readValue(id("World/Objects/" + objectId + "/Pose"));
     if (!value) return value.status();

@@ -41,6 +41,8 @@ public:
     };
     /// The free object at the mounted tool's grip point; nullopt when there is none.
     [[nodiscard]] ua::Result<std::optional<Found>> objectAtGripPoint();
+    /// The dock the flange is at; empty when none.
+    [[nodiscard]] ua::Result<std::string> dockAtFlange();
     [[nodiscard]] ua::Result<KDL::Frame> objectPose(const std::string& objectId);
     [[nodiscard]] ua::Result<std::string> mountedTool();
     [[nodiscard]] ua::Result<std::string> graspedObject();

@@ -158,6 +158,14 @@ StatusCode WorldNodes::build() {
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
              return world_.mountTool(stringArg(in[0]), &why);
          }});
+    methods.push_back({"DockAtFlange",
+                       ua::Role::Observer,  // a question, not a change
+                       {},
+                       {arg("DockId", kString, "the dock the flange is at; empty when none")},
+                       [this](std::span<const Variant>, std::vector<Variant>& out, std::string&) {
+                           out.emplace_back(ua::String(world_.dockAtFlange().value_or("")));
+                           return StatusCode(ua::status::Good);
+                       }});
     methods.push_back(
         {"UnmountTool",
          ua::Role::Operator,

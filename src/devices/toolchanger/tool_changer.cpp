@@ -1,0 +1,354 @@
+#include "devices/toolchanger/tool_changer.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <asio/experimental/as_tuple.hpp>
+#include <asio/steady_timer.hpp>
+#include <asio/use_awaitable.hpp>
+#include <cstdio>
+#include <optional>
+
+#include "devices/common/frame.hpp"
+
+namespace skillcell::devices::toolchanger {
+namespace {
+
+constexpr const char* kMoveType = "CartesianLinearMoveSkillType";
+
+/// Runs the blocking `f` on `pool` and resumes the caller on its own executor with its result.
+template <class T, class F>
+asio::awaitable<T> onThread(asio::thread_pool& pool, F f) {
+    // Through an optional: co_spawn's result must be default-constructible, a Result is not.
+    // The task is a named local: GCC 12 destroys temporaries of a co_await expression twice.
+    auto task = [f = std::move(f)]() mutable -> asio::awaitable<std::optional<T>> {
+        co_return f();
+    };
+    std::optional<T> result =
+        co_await asio::co_spawn(pool.get_executor(), std::move(task), asio::use_awaitable);
+    co_return std::move(*result);
+}
+
+std::string volts(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f V", v);
+    return text;
+}
+
+/// Whether the component's skills are detected: what the next step needs of a tool.
+bool hasComponent(const skills::SkillDetector& detector, const std::string& uri) {
+    const auto all = detector.instances();
+    return std::any_of(all.begin(), all.end(),
+                       [&](const skills::SkillInstance& s) { return s.componentUri == uri; });
+}
+
+}  // namespace
+
+std::shared_ptr<ToolChanger> ToolChanger::create(asio::any_io_executor executor, ToolChangerIo& io,
+                                                 ToolTable tools,
+                                                 std::shared_ptr<skills::SkillDetector> detector,
+                                                 ToolChangerOptions options) {
+    return std::make_shared<ToolChanger>(Token{}, std::move(executor), io, std::move(tools),
+                                         std::move(detector), std::move(options));
+}
+
+ToolChanger::ToolChanger(Token, asio::any_io_executor executor, ToolChangerIo& io, ToolTable tools,
+                         std::shared_ptr<skills::SkillDetector> detector,
+                         ToolChangerOptions options)
+    : executor_(std::move(executor)),
+      io_(io),
+      tools_(std::move(tools)),
+      detector_(std::move(detector)),
+      options_(std::move(options)) {}
+
+ToolChanger::~ToolChanger() {
+    ioThread_.join();
+}
+
+KDL::Frame ToolChanger::approachOf(const KDL::Frame& position) const {
+    return position * KDL::Frame(KDL::Vector(0, 0, -options_.approachDistance));
+}
+
+void ToolChanger::halt() {
+    ++generation_;
+    if (currentMove_ != nullptr) currentMove_->cancel();
+}
+
+void ToolChanger::shutdown() {
+    halt();
+    ioThread_.stop();
+    ioThread_.join();
+    power_.offAll();
+}
+
+void ToolChanger::suspend() {
+    if (currentMove_ == nullptr) return;
+    asio::co_spawn(
+        executor_,
+        [self = shared_from_this(), move = currentMove_]() -> asio::awaitable<void> {
+            (void)co_await move->call(skills::SkillMethod::Suspend);
+        },
+        asio::detached);
+}
+
+void ToolChanger::resume() {
+    if (currentMove_ == nullptr) return;
+    asio::co_spawn(
+        executor_,
+        [self = shared_from_this(), move = currentMove_]() -> asio::awaitable<void> {
+            (void)co_await move->call(skills::SkillMethod::Resume);
+        },
+        asio::detached);
+}
+
+asio::awaitable<ToolChanger::Pin> ToolChanger::readPin() {
+    auto read = [this] { return io_.identificationCounts(); };
+    auto counts = co_await onThread<ua::Result<std::uint16_t>>(ioThread_, std::move(read));
+    Pin pin;
+    if (!counts) {
+        pin.status = counts.status();
+        co_return pin;
+    }
+    pin.volts = adcVolts(*counts);
+    pin.reading = tools_.identify(pin.volts);
+    if (onMountedTool) {
+        onMountedTool(pin.reading.kind == PinReading::Kind::Tool ? pin.reading.tool->id : "");
+    }
+    co_return pin;
+}
+
+asio::awaitable<ua::StatusCode> ToolChanger::setLock(bool lock) {
+    auto set = [this, lock] { return io_.setLockValve(lock); };
+    co_return co_await onThread<ua::StatusCode>(ioThread_, std::move(set));
+}
+
+asio::awaitable<ua::Result<bool>> ToolChanger::lockedNow() {
+    auto read = [this] { return io_.locked(); };
+    co_return co_await onThread<ua::Result<bool>>(ioThread_, std::move(read));
+}
+
+asio::awaitable<std::string> ToolChanger::powerOn(const ToolEntry& tool) {
+    if (tool.powerCommand.empty()) co_return std::string();
+    auto on = [this, id = tool.id, argv = tool.powerCommand] {
+        std::string why;
+        const auto s = power_.on(id, argv, &why);
+        return s.isBad() ? why : std::string();
+    };
+    co_return co_await onThread<std::string>(ioThread_, std::move(on));
+}
+
+asio::awaitable<void> ToolChanger::powerOff(const ToolEntry& tool) {
+    auto off = [this, id = tool.id] { return power_.off(id); };
+    (void)co_await onThread<int>(ioThread_, std::move(off));
+}
+
+asio::awaitable<bool> ToolChanger::waitForComponent(std::string applicationUri) {
+    if (hasComponent(*detector_, applicationUri)) co_return true;
+    auto self = shared_from_this();
+    auto timer = std::make_shared<asio::steady_timer>(executor_, options_.detectionTimeout);
+    const std::size_t id =
+        detector_->subscribe([timer, applicationUri](const skills::SkillEvent& e) {
+            if (e.kind == skills::SkillEvent::Kind::Added &&
+                e.instance.componentUri == applicationUri) {
+                timer->cancel();
+            }
+        });
+    co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+    detector_->unsubscribe(id);
+    co_return hasComponent(*detector_, applicationUri);
+}
+
+asio::awaitable<ToolChanger::Connection> ToolChanger::openMove(const std::string& endpoint,
+                                                               std::string& why) {
+    std::string url = endpoint;
+    if (url.empty()) {
+        if (!detector_) {
+            why = "MoveSkillControllerEndpoint is empty and this changer detects no skills";
+            co_return nullptr;
+        }
+        // The robot may still be starting: wait for its move skill to be detected.
+        auto find = [this] {
+            for (const auto& s : detector_->instances()) {
+                for (const auto& t : s.types) {
+                    if (t.browseName == kMoveType) return s.endpointUrl;
+                }
+            }
+            return std::string();
+        };
+        url = find();
+        if (url.empty()) {
+            spdlog::info("tool changer: waiting for a robot's {} to be detected", kMoveType);
+            auto timer = std::make_shared<asio::steady_timer>(executor_, options_.detectionTimeout);
+            const std::size_t id = detector_->subscribe([timer](const skills::SkillEvent& e) {
+                for (const auto& t : e.instance.types) {
+                    if (e.kind == skills::SkillEvent::Kind::Added && t.browseName == kMoveType) {
+                        timer->cancel();
+                    }
+                }
+            });
+            co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+            detector_->unsubscribe(id);
+            url = find();
+        }
+        if (url.empty()) {
+            why = std::string("no ") + kMoveType + " was detected within " +
+                  std::to_string(options_.detectionTimeout.count()) + " ms";
+            co_return nullptr;
+        }
+    }
+    std::string type = kMoveType;
+    auto opened =
+        co_await skills::SkillConnection::open(executor_, url, type, options_.client, &why);
+    if (!opened) co_return nullptr;
+    co_return std::move(*opened);
+}
+
+asio::awaitable<std::string> ToolChanger::moveTo(skills::SkillConnection& move, KDL::Frame flange,
+                                                 std::uint64_t generation) {
+    if (generation != generation_) co_return std::string("halted");
+    std::map<std::string, ua::Variant> parameters;
+    parameters["TargetPosition"] = frameToVariant(flange);
+    parameters["ToolFrame"] = frameToVariant(KDL::Frame::Identity());
+    currentMove_ = &move.skill();
+    const skills::SkillOutcome outcome =
+        co_await move.skill().run(std::move(parameters), options_.moveTimeout);
+    currentMove_ = nullptr;
+    if (generation != generation_) co_return std::string("halted");
+    if (outcome.ok()) co_return std::string();
+    co_return "the move to " + describe(flange) + " at " + move.endpointUrl() + " ended " +
+        std::string(skills::name(outcome.kind)) +
+        (outcome.reason.empty() ? std::string() : ": " + outcome.reason) +
+        (outcome.status.isBad() ? " (" + std::string(ua::statusName(outcome.status)) + ")"
+                                : std::string());
+}
+
+asio::awaitable<std::string> ToolChanger::attachAt(skills::SkillConnection& move,
+                                                   KDL::Frame position, std::string appUri,
+                                                   std::uint64_t generation) {
+    Pin pin = co_await readPin();
+    if (pin.status.isBad()) {
+        co_return "cannot read the identification pin: " + std::string(ua::statusName(pin.status));
+    }
+    if (pin.reading.kind == PinReading::Kind::Tool) {
+        co_return "tool " + pin.reading.tool->id + " is attached already: detach it first";
+    }
+    if (pin.reading.kind == PinReading::Kind::Fault) {
+        co_return "the identification pin reads " + volts(pin.volts) +
+            " with no tool locked: wiring fault";
+    }
+    const KDL::Frame approach = approachOf(position);
+    if (auto why = co_await moveTo(move, approach, generation); !why.empty()) co_return why;
+    if (auto why = co_await moveTo(move, position, generation); !why.empty()) co_return why;
+    if (const auto s = co_await setLock(true); s.isBad()) {
+        co_return "cannot switch the lock valve: " + std::string(ua::statusName(s));
+    }
+    const auto locked = co_await lockedNow();
+    if (!locked || !*locked) {
+        (void)co_await setLock(false);
+        (void)co_await moveTo(move, approach, generation);
+        co_return "the coupling did not lock at " + describe(position) + ": no tool there";
+    }
+    pin = co_await readPin();
+    if (pin.status.isBad() || pin.reading.kind != PinReading::Kind::Tool) {
+        co_return "the coupling locked, but the identification pin reads " + volts(pin.volts) +
+            ": a tool this changer does not know";
+    }
+    const ToolEntry& tool = *pin.reading.tool;
+    if (!appUri.empty() && tool.applicationUri != appUri) {
+        // The wrong tool: leave it where it was.
+        (void)co_await setLock(false);
+        (void)co_await moveTo(move, approach, generation);
+        co_return "the tool at " + describe(position) + " is " + tool.id + " (" +
+            tool.applicationUri + "), not " + appUri;
+    }
+    docks_[tool.id] = position;
+    spdlog::info("tool changer: tool {} locked ({})", tool.id, volts(pin.volts));
+    if (auto why = co_await powerOn(tool); !why.empty()) {
+        co_return "tool " + tool.id + " is locked but could not be powered: " + why;
+    }
+    if (auto why = co_await moveTo(move, approach, generation); !why.empty()) co_return why;
+    if (appUri.empty() || tool.powerCommand.empty()) co_return std::string();
+    if (!detector_) {
+        spdlog::warn("tool changer: no detector: not waiting for {}", appUri);
+        co_return std::string();
+    }
+    if (!co_await waitForComponent(appUri)) {
+        co_return "tool " + tool.id + " is attached and powered, but its adapter " + appUri +
+            " was not detected within " + std::to_string(options_.detectionTimeout.count()) + " ms";
+    }
+    spdlog::info("tool changer: tool {} detected as {}", tool.id, appUri);
+    co_return std::string();
+}
+
+asio::awaitable<std::string> ToolChanger::detachAt(skills::SkillConnection& move,
+                                                   KDL::Frame position, std::uint64_t generation) {
+    const Pin pin = co_await readPin();
+    if (pin.status.isBad()) {
+        co_return "cannot read the identification pin: " + std::string(ua::statusName(pin.status));
+    }
+    if (pin.reading.kind == PinReading::Kind::NoTool) co_return std::string();  // nothing to do
+    if (pin.reading.kind == PinReading::Kind::Fault) {
+        co_return "the identification pin reads " + volts(pin.volts) +
+            ": a tool this changer does not know";
+    }
+    const ToolEntry& tool = *pin.reading.tool;
+    const KDL::Frame approach = approachOf(position);
+    if (auto why = co_await moveTo(move, approach, generation); !why.empty()) co_return why;
+    if (auto why = co_await moveTo(move, position, generation); !why.empty()) co_return why;
+    // Power first: the tool's adapter says goodbye before the contacts open.
+    co_await powerOff(tool);
+    if (const auto s = co_await setLock(false); s.isBad()) {
+        co_return "cannot switch the lock valve: " + std::string(ua::statusName(s));
+    }
+    const auto locked = co_await lockedNow();
+    if (!locked || *locked) {
+        (void)co_await setLock(true);
+        (void)co_await powerOn(tool);
+        co_return "the coupling did not open at " + describe(position) + ": not a free dock";
+    }
+    docks_.erase(tool.id);
+    spdlog::info("tool changer: tool {} left at {}", tool.id, describe(position));
+    if (auto why = co_await moveTo(move, approach, generation); !why.empty()) co_return why;
+    (void)co_await readPin();  // publishes "no tool"
+    co_return std::string();
+}
+
+asio::awaitable<std::string> ToolChanger::run(ToolRequest request) {
+    auto self = shared_from_this();
+    const std::uint64_t generation = ++generation_;
+    std::string why;
+    Connection move = co_await openMove(request.moveEndpoint, why);
+    if (!move) co_return why;
+    if (request.operation == ToolOperation::Attach) {
+        why = co_await attachAt(*move, request.toolPosition, request.toolAppUri, generation);
+    } else if (request.operation == ToolOperation::Detach) {
+        why = co_await detachAt(*move, request.toolPosition, generation);
+    } else {
+        const Pin pin = co_await readPin();
+        const ToolEntry* current =
+            pin.reading.kind == PinReading::Kind::Tool ? pin.reading.tool : nullptr;
+        if (pin.status.isBad()) {
+            why = "cannot read the identification pin: " + std::string(ua::statusName(pin.status));
+        } else if (current != nullptr && current->applicationUri == request.toolAppUri) {
+            spdlog::info("tool changer: tool {} is attached already", current->id);
+        } else if (current != nullptr && !docks_.contains(current->id)) {
+            why = "tool " + current->id +
+                  " was not attached by this changer, so its dock is unknown: DetachTool it "
+                  "at its dock first";
+        } else {
+            if (current != nullptr) {
+                why = co_await detachAt(*move, docks_.at(current->id), generation);
+            }
+            if (why.empty()) {
+                why =
+                    co_await attachAt(*move, request.toolPosition, request.toolAppUri, generation);
+            }
+        }
+    }
+    co_await move->close();
+    co_return why;
+}
+
+}  // namespace skillcell::devices::toolchanger

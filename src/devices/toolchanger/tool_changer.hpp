@@ -1,0 +1,123 @@
+#pragma once
+// ToolChanger: the Kelvin tool changer's controller. It attaches, detaches and changes
+// tools by running the robot's CartesianLinearMove skill (given by endpoint, or the one the
+// SkillDetector finds; it waits for the robot to be announced), switching the coupling and
+// reading the tool's identification pin (ToolChangerIo), and powering the tool (its
+// adapter process). An attach with a ToolAppUri ends when the SkillDetector sees the tool's
+// adapter: the tool's skills are there for the next step. Plug & Produce, by the changer.
+//
+// Every operation: approach the tool position 5 cm back along the flange's z axis, move in
+// linearly, lock or open, move back out.
+//
+// Threading: operations run as coroutines on `executor` (the server's); the I/O (the pin,
+// the valve, the power) runs on the changer's own I/O thread, so the server never blocks.
+#include <asio/any_io_executor.hpp>
+#include <asio/awaitable.hpp>
+#include <asio/thread_pool.hpp>
+#include <chrono>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <kdl/frames.hpp>
+
+#include "devices/toolchanger/tool_changer_io.hpp"
+#include "devices/toolchanger/tool_power_supply.hpp"
+#include "devices/toolchanger/tool_table.hpp"
+#include "skills/skill_connection.hpp"
+#include "skills/skill_detector.hpp"
+
+namespace skillcell::devices::toolchanger {
+
+struct ToolChangerOptions {
+    ToolChangerOptions() = default;  // not an aggregate: GCC 12 (see ua::ClientConfig)
+    double approachDistance = 0.05;  // m, along the flange's z axis
+    std::chrono::milliseconds moveTimeout{60'000};
+    /// How long to wait for the robot's move skill, and for a powered tool's adapter, to be
+    /// detected.
+    std::chrono::milliseconds detectionTimeout{30'000};
+    /// How the changer connects to the robot (its certificate and user).
+    ua::ClientConfig client;
+};
+
+enum class ToolOperation : std::uint8_t { Attach, Detach, Change };
+
+struct ToolRequest {
+    ToolOperation operation = ToolOperation::Attach;
+    KDL::Frame toolPosition;   // the flange pose at the dock
+    std::string moveEndpoint;  // empty: the detected CartesianLinearMove
+    std::string toolAppUri;    // Attach, Change: the tool wanted (empty: any, no detection)
+};
+
+class ToolChanger : public std::enable_shared_from_this<ToolChanger> {
+public:
+    /// `io` must outlive the changer; `detector` may be null (then moveEndpoint is needed and
+    /// an attach does not wait for the tool's adapter).
+    [[nodiscard]] static std::shared_ptr<ToolChanger> create(
+        asio::any_io_executor executor, ToolChangerIo& io, ToolTable tools,
+        std::shared_ptr<skills::SkillDetector> detector, ToolChangerOptions options = {});
+    ~ToolChanger();
+    ToolChanger(const ToolChanger&) = delete;
+    ToolChanger& operator=(const ToolChanger&) = delete;
+
+    /// One operation; an empty string on success, else why it failed.
+    asio::awaitable<std::string> run(ToolRequest request);
+    /// Stops the current operation (halts the robot's move); run() returns "halted".
+    void halt();
+    /// Halts, stops the I/O thread and powers every tool off (the component's end: nothing
+    /// runs on the I/O after this).
+    void shutdown();
+    /// Suspends or resumes the robot's current move.
+    void suspend();
+    void resume();
+
+    [[nodiscard]] const asio::any_io_executor& executor() const { return executor_; }
+    [[nodiscard]] const ToolTable& tools() const { return tools_; }
+    /// Called on the executor whenever the pin was read: the mounted tool's id ("" none).
+    std::function<void(const std::string&)> onMountedTool;
+
+    struct Token {
+    private:
+        friend class ToolChanger;
+        Token() = default;
+    };
+    ToolChanger(Token, asio::any_io_executor executor, ToolChangerIo& io, ToolTable tools,
+                std::shared_ptr<skills::SkillDetector> detector, ToolChangerOptions options);
+
+private:
+    struct Pin {
+        ua::StatusCode status;
+        PinReading reading;
+        double volts = 0;
+    };
+    using Connection = std::unique_ptr<skills::SkillConnection>;
+
+    asio::awaitable<Pin> readPin();
+    asio::awaitable<ua::StatusCode> setLock(bool lock);
+    asio::awaitable<ua::Result<bool>> lockedNow();
+    asio::awaitable<std::string> powerOn(const ToolEntry& tool);
+    asio::awaitable<void> powerOff(const ToolEntry& tool);
+    asio::awaitable<Connection> openMove(const std::string& endpoint, std::string& why);
+    asio::awaitable<std::string> moveTo(skills::SkillConnection& move, KDL::Frame flange,
+                                        std::uint64_t generation);
+    asio::awaitable<std::string> attachAt(skills::SkillConnection& move, KDL::Frame position,
+                                          std::string appUri, std::uint64_t generation);
+    asio::awaitable<std::string> detachAt(skills::SkillConnection& move, KDL::Frame position,
+                                          std::uint64_t generation);
+    asio::awaitable<bool> waitForComponent(std::string applicationUri);
+    [[nodiscard]] KDL::Frame approachOf(const KDL::Frame& position) const;
+
+    asio::any_io_executor executor_;
+    ToolChangerIo& io_;
+    ToolTable tools_;
+    std::shared_ptr<skills::SkillDetector> detector_;
+    ToolChangerOptions options_;
+    ToolPowerSupply power_;
+    std::map<std::string, KDL::Frame> docks_;  // tool id -> where this changer took it
+    std::uint64_t generation_ = 0;             // bumped by halt()
+    skills::SkillClient* currentMove_ = nullptr;
+    asio::thread_pool ioThread_{1};  // last: joined first, while the rest still exists
+};
+
+}  // namespace skillcell::devices::toolchanger

@@ -1,0 +1,44 @@
+#pragma once
+// ToolPowerSupply: the tool changer's power pins. A tool with electronics (a gripper and its
+// adapter) is powered when it is attached and loses power when it is detached. Here each
+// tool's adapter is a process: power on starts it, power off sends SIGTERM (so the adapter
+// says goodbye on the network, as a board with a supervisor would on a power-fail warning)
+// and waits for it, bounded, then SIGKILL. A child dies with the changer (PDEATHSIG), so a
+// crashed changer leaves no tool powered. A tool's stdout goes to the changer's stderr.
+//
+// Threading: on() and off() block (off waits for the child): call them from an I/O thread.
+#include <chrono>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "ua/types/status_code.hpp"
+
+namespace skillcell::devices::toolchanger {
+
+class ToolPowerSupply {
+public:
+    explicit ToolPowerSupply(std::chrono::milliseconds stopTimeout = std::chrono::seconds(5))
+        : stopTimeout_(stopTimeout) {}
+    ~ToolPowerSupply();  // powers everything off
+    ToolPowerSupply(const ToolPowerSupply&) = delete;
+    ToolPowerSupply& operator=(const ToolPowerSupply&) = delete;
+
+    /// Starts `argv` for `toolId` (Good if it runs already). BadInvalidArgument for an empty
+    /// argv, BadResourceUnavailable (with `why`) when it cannot be started.
+    ua::StatusCode on(const std::string& toolId, const std::vector<std::string>& argv,
+                      std::string* why = nullptr);
+    /// Stops the tool's process, if any; returns its exit status (-1: none, or killed).
+    int off(const std::string& toolId);
+    [[nodiscard]] bool powered(const std::string& toolId);
+    /// Powers every tool off.
+    void offAll();
+
+private:
+    std::chrono::milliseconds stopTimeout_;
+    std::mutex mutex_;
+    std::map<std::string, int> children_;  // tool id -> pid
+};
+
+}  // namespace skillcell::devices::toolchanger

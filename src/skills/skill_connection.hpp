@@ -1,0 +1,52 @@
+#pragma once
+// SkillConnection: one skill of another component, used by a composite (a tool changer runs
+// the robot's move skill, a pick-and-place runs a move and a gripper's skills). It opens a
+// session to the component's endpoint, finds the first skill whose type chain names the
+// wanted type (by browse name, so any subtype counts) and attaches a SkillClient to it.
+//
+// Threading: like ua::Client, on the executor it was opened with.
+#include <asio/any_io_executor.hpp>
+#include <asio/awaitable.hpp>
+#include <memory>
+#include <string>
+
+#include "skills/remote_skill_browser.hpp"
+#include "skills/skill_client.hpp"
+
+namespace skillcell::skills {
+
+class SkillConnection {
+public:
+    /// BadNotFound (with `why`) when the component offers no skill of type `typeName`
+    /// ("CartesianLinearMoveSkillType", "GraspSkillType", ...); the connection's or the
+    /// browse's status otherwise.
+    static asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> open(
+        asio::any_io_executor executor, std::string endpointUrl, std::string typeName,
+        ua::ClientConfig config, std::string* why);
+    ~SkillConnection();
+    SkillConnection(const SkillConnection&) = delete;
+    SkillConnection& operator=(const SkillConnection&) = delete;
+
+    [[nodiscard]] SkillClient& skill() { return *skill_; }
+    [[nodiscard]] const RemoteSkill& description() const { return remote_; }
+    [[nodiscard]] const std::string& endpointUrl() const { return endpointUrl_; }
+    /// The current value of one of the skill's parameters (BadNoMatch for an unknown name).
+    asio::awaitable<ua::Result<ua::Variant>> readParameter(std::string name);
+    /// Deletes the subscription and closes the session.
+    asio::awaitable<void> close();
+
+    struct Token {
+    private:
+        friend class SkillConnection;
+        Token() = default;
+    };
+    SkillConnection(Token, asio::any_io_executor executor, std::string endpointUrl);
+
+private:
+    std::string endpointUrl_;
+    std::unique_ptr<ua::Client> client_;
+    std::shared_ptr<SkillClient> skill_;
+    RemoteSkill remote_;
+};
+
+}  // namespace skillcell::skills

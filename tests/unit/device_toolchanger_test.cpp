@@ -1,0 +1,171 @@
+// The Kelvin tool changer: its tool table (identification bands), and the changer as a
+// process in a cell (run in a private network namespace: discovery is on). The changer
+// finds the robot's move skill by discovery, takes the parallel gripper from its dock, which
+// powers the gripper's adapter process, and completes when that adapter is detected; then
+// it changes to the vacuum gripper and detaches it. The test checks the world model.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "client_thread.hpp"
+#include "device_process.hpp"
+#include "devices/common/frame.hpp"
+#include "devices/toolchanger/tool_table.hpp"
+#include "devices/world/world_link.hpp"
+
+namespace skillcell::devices {
+namespace {
+
+using namespace std::chrono_literals;
+using Kind = skills::SkillOutcome::Kind;
+using toolchanger::PinReading;
+using toolchanger::ToolTable;
+
+TEST(ToolTable, FindsToolsByTheirBandAndCallsTheGapsFaults) {
+    ToolTable t;
+    ASSERT_EQ(t.add("parallel:1.0-1.5:urn:skillcell:device:robotiq-2f85"), ua::status::Good);
+    ASSERT_EQ(t.add("vacuum:2-2.5:urn:x"), ua::status::Good);
+    EXPECT_EQ(t.identify(0.05).kind, PinReading::Kind::NoTool);
+    const auto p = t.identify(1.2);
+    ASSERT_EQ(p.kind, PinReading::Kind::Tool);
+    EXPECT_EQ(p.tool->id, "parallel");
+    EXPECT_EQ(p.tool->applicationUri, "urn:skillcell:device:robotiq-2f85");
+    EXPECT_EQ(t.identify(2.5).tool->id, "vacuum");
+    EXPECT_EQ(t.identify(1.7).kind, PinReading::Kind::Fault);  // between bands
+    EXPECT_EQ(t.identify(9.0).kind, PinReading::Kind::Fault);  // above every band
+    EXPECT_EQ(t.byApplicationUri("urn:x")->id, "vacuum");
+    EXPECT_EQ(t.byApplicationUri("urn:y"), nullptr);
+}
+
+TEST(ToolTable, RefusesBadSpecsWithTheReason) {
+    ToolTable t;
+    ASSERT_EQ(t.add("a:1-2:urn:a"), ua::status::Good);
+    std::string why;
+    for (const char* bad :
+         {"b", "b:1-2", "b:x-2:urn:b", "b:2-1:urn:b", "b:0.1-0.5:urn:b", ":3-4:urn:b", "b:3-4:"}) {
+        EXPECT_EQ(t.add(bad, &why), ua::status::BadInvalidArgument) << bad;
+        EXPECT_FALSE(why.empty()) << bad;
+    }
+    EXPECT_EQ(t.add("b:1.5-3:urn:b", &why), ua::status::BadInvalidArgument);
+    EXPECT_NE(why.find("overlaps"), std::string::npos) << why;
+    EXPECT_EQ(t.add("a:5-6:urn:c", &why), ua::status::BadInvalidArgument);
+    EXPECT_EQ(t.add("c:5-6:urn:a", &why), ua::status::BadInvalidArgument);
+    EXPECT_EQ(t.setPowerCommand("zzz=/bin/true", &why), ua::status::BadInvalidArgument);
+    EXPECT_EQ(t.setPowerCommand("a=", &why), ua::status::BadInvalidArgument);
+    ASSERT_EQ(t.setPowerCommand("a=/bin/sleep  10", &why), ua::status::Good);
+    EXPECT_EQ(t.byId("a")->powerCommand, (std::vector<std::string>{"/bin/sleep", "10"}));
+    EXPECT_EQ(t.entries().size(), 1U);
+}
+
+constexpr const char* kRobotiqUri = "urn:skillcell:device:robotiq-2f85";
+constexpr const char* kSchmalzUri = "urn:skillcell:device:schmalz-ecbpi";
+// The flange poses (tool down) at which the docks' tools lock.
+constexpr const char* kParallelDock = "0.3,-0.45,0.35,3.141592653589793,0,0";
+constexpr const char* kVacuumDock = "0.45,-0.3,0.35,3.141592653589793,0,0";
+
+ua::Variant pose(const char* text) {
+    return frameToVariant(toFrame(*parsePose6(text)));
+}
+
+TEST(ToolChangerProcess, ChangesToolsFoundByTheirPinAndPowersTheirAdapters) {
+    const std::string bin = SKILLCELL_BINARY;
+    test::DeviceProcess world(bin,
+                              {"world", "--dock", std::string("dockP@") + kParallelDock, "--dock",
+                               std::string("dockV@") + kVacuumDock, "--tool",
+                               "parallel:dockP@0,0,0.15", "--tool", "vacuum:dockV@0,0,0.12"},
+                              true);
+    ASSERT_FALSE(world.url().empty());
+    const auto toolsPki = world.pkiDir().string() + "-tools";
+    const std::string common = " --port 0 --host 127.0.0.1 --insecure --speed 20 --world " +
+                               world.url() + " --mdns-ttl 5 --mdns-query-period 1";
+    // The changer starts before the robot: it waits for the robot's move skill.
+    test::DeviceProcess changer(
+        bin,
+        {"toolchanger", "--world", world.url(), "--tool",
+         std::string("parallel:1.0-1.5:") + kRobotiqUri, "--tool",
+         std::string("vacuum:2.0-2.5:") + kSchmalzUri, "--power",
+         "parallel=" + bin + " device robotiq --pki-dir " + toolsPki + "-robotiq" + common,
+         "--power", "vacuum=" + bin + " device schmalz --pki-dir " + toolsPki + "-schmalz" + common,
+         "--detection-timeout-ms", "20000", "--mdns-ttl", "5", "--mdns-query-period", "1"},
+        true);
+    ASSERT_FALSE(changer.url().empty());
+    test::DeviceProcess robot(bin,
+                              {"ur5", "--speed", "50", "--world", world.url(), "--mdns-ttl", "5",
+                               "--mdns-query-period", "1"},
+                              true);
+    ASSERT_FALSE(robot.url().empty());
+
+    auto link = WorldLink::connect(world.url());
+    ASSERT_TRUE(link.ok());
+    WorldLink& w = **link;
+    test::ClientThread client;
+    auto change = client.attach(changer.url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    auto attach = client.attach(changer.url(), ua::NodeId(1, ua::String("Skills/AttachTool")));
+    auto detach = client.attach(changer.url(), ua::NodeId(1, ua::String("Skills/DetachTool")));
+    ASSERT_TRUE(change && attach && detach);
+
+    // To the parallel gripper: its adapter is powered and detected before the skill ends.
+    auto outcome = client.invoke(change,
+                                 {{"ToolPosition", pose(kParallelDock)},
+                                  {"ToolAppUri", ua::Variant(ua::String(kRobotiqUri))}},
+                                 60s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(*w.mountedTool(), "parallel");
+    // Already mounted: nothing to do.
+    outcome = client.invoke(change,
+                            {{"ToolPosition", pose(kParallelDock)},
+                             {"ToolAppUri", ua::Variant(ua::String(kRobotiqUri))}},
+                            60s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+
+    // To the vacuum gripper: the parallel one goes back to its dock first.
+    outcome = client.invoke(
+        change,
+        {{"ToolPosition", pose(kVacuumDock)}, {"ToolAppUri", ua::Variant(ua::String(kSchmalzUri))}},
+        60s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(*w.mountedTool(), "vacuum");
+
+    // Attaching while a tool is mounted fails with the reason, and changes nothing.
+    outcome = client.invoke(attach, {{"ToolPosition", pose(kParallelDock)}}, 60s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("attached already"), std::string::npos) << outcome.reason;
+
+    // Detaching at the parallel gripper's dock (occupied) fails: the coupling stays locked.
+    outcome = client.invoke(detach, {{"ToolPosition", pose(kParallelDock)}}, 60s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("did not open"), std::string::npos) << outcome.reason;
+    EXPECT_EQ(*w.mountedTool(), "vacuum");
+    ASSERT_EQ(client.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_return co_await detach->call(skills::SkillMethod::Reset);
+    }),
+              ua::status::Good);
+
+    outcome = client.invoke(detach, {{"ToolPosition", pose(kVacuumDock)}}, 60s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(*w.mountedTool(), "");
+
+    // Nothing at this position: the coupling does not lock.
+    ASSERT_EQ(client.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_return co_await attach->call(skills::SkillMethod::Reset);
+    }),
+              ua::status::Good);
+    outcome =
+        client.invoke(attach, {{"ToolPosition", pose("0.4,0.1,0.3,3.141592653589793,0,0")}}, 60s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("did not lock"), std::string::npos) << outcome.reason;
+    // A tool the changer does not know is refused before anything moves.
+    outcome = client.invoke(change,
+                            {{"ToolPosition", pose(kVacuumDock)},
+                             {"ToolAppUri", ua::Variant(ua::String("urn:nobody"))}},
+                            60s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("urn:nobody"), std::string::npos) << outcome.reason;
+    EXPECT_EQ(*w.mountedTool(), "");
+    std::error_code ec;
+    std::filesystem::remove_all(toolsPki + "-robotiq", ec);
+    std::filesystem::remove_all(toolsPki + "-schmalz", ec);
+}
+
+}  // namespace
+}  // namespace skillcell::devices
