@@ -12,12 +12,15 @@
 //   toolchanger  the Kelvin tool changer: AttachTool, DetachTool, ChangeTool on the robot's
 //            move skill; a simulated coupling on the world model; it powers the tools'
 //            adapter processes
+//   pickplace  the pick-and-place composite: PickAndPlace over the robot's move skill and
+//            the mounted tool's Grasp and Release, the object from the world model
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/dh/ag95_component.hpp"
 #include "devices/dh/simulated_ag95.hpp"
+#include "devices/pickplace/pick_and_place_component.hpp"
 #include "devices/robotiq/robotiq_component.hpp"
 #include "devices/robotiq/simulated_gripper_port.hpp"
 #include "devices/schmalz/ecbpi_component.hpp"
@@ -648,6 +651,79 @@ CLI::App* addToolChanger(CLI::App* device, std::vector<Command>& commands) {
     return cmd;
 }
 
+struct PickPlaceOptions {
+    ServerProcessOptions process;
+    std::string world;
+    int detectionTimeoutMs = 30'000;
+    int skillTimeoutMs = 60'000;
+    double approachDistance = devices::pickplace::kDefaultApproachDistance;
+};
+
+/// What `device pickplace` keeps alive, destroyed in reverse: the component, the world link.
+struct PickPlaceContent {
+    std::unique_ptr<devices::WorldLink> world;
+    std::unique_ptr<devices::pickplace::PickAndPlaceComponent> component;
+};
+
+CLI::App* addPickPlace(CLI::App* device, std::vector<Command>& commands) {
+    auto options = std::make_shared<PickPlaceOptions>();
+    options->process.applicationUri = "urn:skillcell:device:pick-and-place";
+    options->process.applicationName = "skillcell pick and place";
+    options->process.usesDetector = true;
+    CLI::App* cmd = device->add_subcommand(
+        "pickplace",
+        "Run the pick-and-place composite with the skill PickAndPlace: it reads the object "
+        "from the world model and the grip point from the tool's Grasp skill, plans the "
+        "approach (vacuum from the top, parallel from the side, 5 cm off), and runs the "
+        "robot's CartesianLinearMove and the tool's Grasp and Release (the ones discovery "
+        "finds, or the endpoints given). Objects/PickAndPlace/CurrentStep shows its step.");
+    addServerProcessOptions(cmd, options->process);
+    addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--world", options->world,
+                    "the world model's endpoint: where the objects' boxes and poses are read")
+        ->required();
+    cmd->add_option("--approach-distance", options->approachDistance,
+                    "how far off the grasp and place poses the approaches are (m)")
+        ->check(CLI::Range(0.0, 0.3))
+        ->capture_default_str();
+    cmd->add_option("--detection-timeout-ms", options->detectionTimeoutMs,
+                    "how long to wait for a move or tool skill to be detected")
+        ->check(CLI::Range(100, 600'000))
+        ->capture_default_str();
+    cmd->add_option("--skill-timeout-ms", options->skillTimeoutMs, "the longest sub-skill")
+        ->check(CLI::Range(100, 600'000))
+        ->capture_default_str();
+    commands.push_back(
+        {cmd, [options] {
+             return runServerProcess(
+                 options->process,
+                 [options](const ComponentContext& c) -> ua::Result<ComponentContent> {
+                     namespace pp = devices::pickplace;
+                     auto content = std::make_shared<PickPlaceContent>();
+                     auto link = connectWorld(options->world, c);
+                     if (!link) return link.status();
+                     content->world = std::move(*link);
+                     pp::PickAndPlaceOptions o;
+                     o.approachDistance = options->approachDistance;
+                     o.detectionTimeout = std::chrono::milliseconds(options->detectionTimeoutMs);
+                     o.skillTimeout = std::chrono::milliseconds(options->skillTimeoutMs);
+                     o.client.applicationUri = c.applicationUri;
+                     o.client.sessionName = "pick and place";
+                     o.client.security = c.clientSecurity;
+                     std::string error;
+                     auto component = pp::PickAndPlaceComponent::create(c.server, *content->world,
+                                                                        c.detector, o, &error);
+                     if (!component) {
+                         spdlog::critical("pickplace: {}", error);
+                         return component.status();
+                     }
+                     content->component = std::move(*component);
+                     return ComponentContent(content);
+                 });
+         }});
+    return cmd;
+}
+
 }  // namespace
 
 std::vector<Command> addDeviceCommands(CLI::App& app) {
@@ -661,6 +737,7 @@ std::vector<Command> addDeviceCommands(CLI::App& app) {
     addParallelGripper(device, commands, dhAg95());
     addSchmalz(device, commands);
     addToolChanger(device, commands);
+    addPickPlace(device, commands);
     return commands;
 }
 

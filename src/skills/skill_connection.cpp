@@ -1,5 +1,9 @@
 #include "skills/skill_connection.hpp"
 
+#include <asio/experimental/as_tuple.hpp>
+#include <asio/steady_timer.hpp>
+#include <asio/use_awaitable.hpp>
+
 #include <algorithm>
 
 namespace skillcell::skills {
@@ -61,6 +65,35 @@ asio::awaitable<ua::Result<ua::Variant>> SkillConnection::readParameter(std::str
 asio::awaitable<void> SkillConnection::close() {
     if (skill_) co_await skill_->detach();
     co_await client_->disconnect();
+}
+
+namespace {
+
+bool isA(const SkillInstance& s, const std::string& typeName) {
+    return std::any_of(s.types.begin(), s.types.end(),
+                       [&](const SkillTypeRef& t) { return t.browseName == typeName; });
+}
+
+std::string endpointOf(const SkillDetector& detector, const std::string& typeName) {
+    for (const auto& s : detector.instances()) {
+        if (isA(s, typeName)) return s.endpointUrl;
+    }
+    return {};
+}
+
+}  // namespace
+
+asio::awaitable<std::string> detectedSkillEndpoint(SkillDetector& detector, std::string typeName,
+                                                   std::chrono::milliseconds timeout) {
+    std::string url = endpointOf(detector, typeName);
+    if (!url.empty()) co_return url;
+    auto timer = std::make_shared<asio::steady_timer>(detector.executor(), timeout);
+    const std::size_t id = detector.subscribe([timer, typeName](const SkillEvent& e) {
+        if (e.kind == SkillEvent::Kind::Added && isA(e.instance, typeName)) timer->cancel();
+    });
+    co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+    detector.unsubscribe(id);
+    co_return endpointOf(detector, typeName);
 }
 
 }  // namespace skillcell::skills

@@ -12,6 +12,7 @@
 
 #include "skills/remote_skill_browser.hpp"
 #include "skills/skill_client.hpp"
+#include "skills/skill_detector.hpp"
 
 namespace skillcell::skills {
 
@@ -48,5 +49,11 @@ private:
     std::shared_ptr<SkillClient> skill_;
     RemoteSkill remote_;
 };
+
+/// The endpoint of a live skill whose type chain names `typeName`, as `detector` knows it;
+/// waits up to `timeout` for one to be detected (a component may still be starting). Empty
+/// when none came. On the detector's executor.
+asio::awaitable<std::string> detectedSkillEndpoint(SkillDetector& detector, std::string typeName,
+                                                   std::chrono::milliseconds timeout);
 
 }  // namespace skillcell::skills

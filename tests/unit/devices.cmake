@@ -34,14 +34,26 @@ skillcell_unit_test(test_device_parallel_grippers device_parallel_grippers_test.
 target_link_libraries(test_device_parallel_grippers PRIVATE skillcell_robotiq skillcell_dh
                                                             skillcell_test_support PkgConfig::MODBUS)
 
-# The Kelvin tool changer: its tool table, and the changer as a process in a cell with
-# discovery (each case in a private network namespace, see discovery.cmake).
-add_executable(test_device_toolchanger device_toolchanger_test.cpp)
-target_link_libraries(test_device_toolchanger PRIVATE skillcell_toolchanger skillcell_test_support
-                                                      GTest::gtest_main)
-target_compile_definitions(test_device_toolchanger PRIVATE SKILLCELL_BINARY="$<TARGET_FILE:skillcell>")
-add_dependencies(test_device_toolchanger skillcell)
-set_target_properties(test_device_toolchanger PROPERTIES
-  CROSSCOMPILING_EMULATOR ${PROJECT_SOURCE_DIR}/tests/netns/run_in_private_netns.sh)
-gtest_discover_tests(test_device_toolchanger DISCOVERY_TIMEOUT 30
-                     PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 180)
+# Tests that run components as processes with discovery on: each case in a private network
+# namespace (tests/netns/run_in_private_netns.sh as the "emulator"), see discovery.cmake.
+function(skillcell_cell_test name)
+  add_executable(${name} ${ARGN})
+  target_link_libraries(${name} PRIVATE skillcell_world skillcell_skills skillcell_test_support
+                                        GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE SKILLCELL_BINARY="$<TARGET_FILE:skillcell>")
+  add_dependencies(${name} skillcell)
+  set_target_properties(${name} PROPERTIES
+    CROSSCOMPILING_EMULATOR ${PROJECT_SOURCE_DIR}/tests/netns/run_in_private_netns.sh)
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 30 PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 240)
+endfunction()
+
+# The Kelvin tool changer: its tool table, and the changer in a cell.
+skillcell_cell_test(test_device_toolchanger device_toolchanger_test.cpp)
+target_link_libraries(test_device_toolchanger PRIVATE skillcell_toolchanger)
+
+# The whole work cell: tool changes and two picks and places, checked in the world model.
+skillcell_cell_test(test_device_work_cell device_work_cell_test.cpp)
+
+# Grasp planning of the pick-and-place composite (pure geometry).
+skillcell_unit_test(test_grasp_planner grasp_planner_test.cpp)
+target_link_libraries(test_grasp_planner PRIVATE skillcell_pickplace)

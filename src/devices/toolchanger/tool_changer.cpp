@@ -11,25 +11,15 @@
 #include <cstdio>
 #include <optional>
 
+#include "devices/common/blocking_call.hpp"
 #include "devices/common/frame.hpp"
 
 namespace skillcell::devices::toolchanger {
 namespace {
 
 constexpr const char* kMoveType = "CartesianLinearMoveSkillType";
-
-/// Runs the blocking `f` on `pool` and resumes the caller on its own executor with its result.
-template <class T, class F>
-asio::awaitable<T> onThread(asio::thread_pool& pool, F f) {
-    // Through an optional: co_spawn's result must be default-constructible, a Result is not.
-    // The task is a named local: GCC 12 destroys temporaries of a co_await expression twice.
-    auto task = [f = std::move(f)]() mutable -> asio::awaitable<std::optional<T>> {
-        co_return f();
-    };
-    std::optional<T> result =
-        co_await asio::co_spawn(pool.get_executor(), std::move(task), asio::use_awaitable);
-    co_return std::move(*result);
-}
+constexpr auto kTransfer = RobotMotion::Path::Transfer;
+constexpr auto kLinear = RobotMotion::Path::Linear;
 
 std::string volts(double v) {
     char text[32];
@@ -61,7 +51,8 @@ ToolChanger::ToolChanger(Token, asio::any_io_executor executor, ToolChangerIo& i
       io_(io),
       tools_(std::move(tools)),
       detector_(std::move(detector)),
-      options_(std::move(options)) {}
+      options_(std::move(options)),
+      subSkill_(executor_) {}
 
 ToolChanger::~ToolChanger() {
     ioThread_.join();
@@ -72,8 +63,7 @@ KDL::Frame ToolChanger::approachOf(const KDL::Frame& position) const {
 }
 
 void ToolChanger::halt() {
-    ++generation_;
-    if (currentMove_ != nullptr) currentMove_->cancel();
+    subSkill_.halt();
 }
 
 void ToolChanger::shutdown() {
@@ -84,28 +74,16 @@ void ToolChanger::shutdown() {
 }
 
 void ToolChanger::suspend() {
-    if (currentMove_ == nullptr) return;
-    asio::co_spawn(
-        executor_,
-        [self = shared_from_this(), move = currentMove_]() -> asio::awaitable<void> {
-            (void)co_await move->call(skills::SkillMethod::Suspend);
-        },
-        asio::detached);
+    subSkill_.suspend();
 }
 
 void ToolChanger::resume() {
-    if (currentMove_ == nullptr) return;
-    asio::co_spawn(
-        executor_,
-        [self = shared_from_this(), move = currentMove_]() -> asio::awaitable<void> {
-            (void)co_await move->call(skills::SkillMethod::Resume);
-        },
-        asio::detached);
+    subSkill_.resume();
 }
 
 asio::awaitable<ToolChanger::Pin> ToolChanger::readPin() {
     auto read = [this] { return io_.identificationCounts(); };
-    auto counts = co_await onThread<ua::Result<std::uint16_t>>(ioThread_, std::move(read));
+    auto counts = co_await blockingCall(ioThread_, std::move(read));
     Pin pin;
     if (!counts) {
         pin.status = counts.status();
@@ -121,12 +99,12 @@ asio::awaitable<ToolChanger::Pin> ToolChanger::readPin() {
 
 asio::awaitable<ua::StatusCode> ToolChanger::setLock(bool lock) {
     auto set = [this, lock] { return io_.setLockValve(lock); };
-    co_return co_await onThread<ua::StatusCode>(ioThread_, std::move(set));
+    co_return co_await blockingCall(ioThread_, std::move(set));
 }
 
 asio::awaitable<ua::Result<bool>> ToolChanger::lockedNow() {
     auto read = [this] { return io_.locked(); };
-    co_return co_await onThread<ua::Result<bool>>(ioThread_, std::move(read));
+    co_return co_await blockingCall(ioThread_, std::move(read));
 }
 
 asio::awaitable<std::string> ToolChanger::powerOn(const ToolEntry& tool) {
@@ -136,12 +114,12 @@ asio::awaitable<std::string> ToolChanger::powerOn(const ToolEntry& tool) {
         const auto s = power_.on(id, argv, &why);
         return s.isBad() ? why : std::string();
     };
-    co_return co_await onThread<std::string>(ioThread_, std::move(on));
+    co_return co_await blockingCall(ioThread_, std::move(on));
 }
 
 asio::awaitable<void> ToolChanger::powerOff(const ToolEntry& tool) {
     auto off = [this, id = tool.id] { return power_.off(id); };
-    (void)co_await onThread<int>(ioThread_, std::move(off));
+    (void)co_await blockingCall(ioThread_, std::move(off));
 }
 
 asio::awaitable<bool> ToolChanger::waitForComponent(std::string applicationUri) {
@@ -160,8 +138,8 @@ asio::awaitable<bool> ToolChanger::waitForComponent(std::string applicationUri) 
     co_return hasComponent(*detector_, applicationUri);
 }
 
-asio::awaitable<ToolChanger::Connection> ToolChanger::openMove(const std::string& endpoint,
-                                                               std::string& why) {
+asio::awaitable<ToolChanger::Motion> ToolChanger::openMove(const std::string& endpoint,
+                                                           std::string& why) {
     std::string url = endpoint;
     if (url.empty()) {
         if (!detector_) {
@@ -169,64 +147,27 @@ asio::awaitable<ToolChanger::Connection> ToolChanger::openMove(const std::string
             co_return nullptr;
         }
         // The robot may still be starting: wait for its move skill to be detected.
-        auto find = [this] {
-            for (const auto& s : detector_->instances()) {
-                for (const auto& t : s.types) {
-                    if (t.browseName == kMoveType) return s.endpointUrl;
-                }
-            }
-            return std::string();
-        };
-        url = find();
-        if (url.empty()) {
-            spdlog::info("tool changer: waiting for a robot's {} to be detected", kMoveType);
-            auto timer = std::make_shared<asio::steady_timer>(executor_, options_.detectionTimeout);
-            const std::size_t id = detector_->subscribe([timer](const skills::SkillEvent& e) {
-                for (const auto& t : e.instance.types) {
-                    if (e.kind == skills::SkillEvent::Kind::Added && t.browseName == kMoveType) {
-                        timer->cancel();
-                    }
-                }
-            });
-            co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
-            detector_->unsubscribe(id);
-            url = find();
-        }
+        std::string type = kMoveType;
+        url = co_await skills::detectedSkillEndpoint(*detector_, type, options_.detectionTimeout);
         if (url.empty()) {
             why = std::string("no ") + kMoveType + " was detected within " +
                   std::to_string(options_.detectionTimeout.count()) + " ms";
             co_return nullptr;
         }
     }
-    std::string type = kMoveType;
-    auto opened =
-        co_await skills::SkillConnection::open(executor_, url, type, options_.client, &why);
-    if (!opened) co_return nullptr;
-    co_return std::move(*opened);
+    co_return co_await RobotMotion::open(executor_, url, options_.client, why);
 }
 
-asio::awaitable<std::string> ToolChanger::moveTo(skills::SkillConnection& move, KDL::Frame flange,
-                                                 std::uint64_t generation) {
-    if (generation != generation_) co_return std::string("halted");
-    std::map<std::string, ua::Variant> parameters;
-    parameters["TargetPosition"] = frameToVariant(flange);
-    parameters["ToolFrame"] = frameToVariant(KDL::Frame::Identity());
-    currentMove_ = &move.skill();
-    const skills::SkillOutcome outcome =
-        co_await move.skill().run(std::move(parameters), options_.moveTimeout);
-    currentMove_ = nullptr;
-    if (generation != generation_) co_return std::string("halted");
-    if (outcome.ok()) co_return std::string();
-    co_return "the move to " + describe(flange) + " at " + move.endpointUrl() + " ended " +
-        std::string(skills::name(outcome.kind)) +
-        (outcome.reason.empty() ? std::string() : ": " + outcome.reason) +
-        (outcome.status.isBad() ? " (" + std::string(ua::statusName(outcome.status)) + ")"
-                                : std::string());
+asio::awaitable<std::string> ToolChanger::moveTo(RobotMotion& move, KDL::Frame flange,
+                                                 RobotMotion::Path path, std::uint64_t generation) {
+    if (subSkill_.halted(generation)) co_return std::string("halted");
+    std::string why = co_await move.moveTo(subSkill_, flange, path, options_.moveTimeout);
+    if (subSkill_.halted(generation)) co_return std::string("halted");
+    co_return why;
 }
 
-asio::awaitable<std::string> ToolChanger::attachAt(skills::SkillConnection& move,
-                                                   KDL::Frame position, std::string appUri,
-                                                   std::uint64_t generation) {
+asio::awaitable<std::string> ToolChanger::attachAt(RobotMotion& move, KDL::Frame position,
+                                                   std::string appUri, std::uint64_t generation) {
     Pin pin = co_await readPin();
     if (pin.status.isBad()) {
         co_return "cannot read the identification pin: " + std::string(ua::statusName(pin.status));
@@ -239,15 +180,19 @@ asio::awaitable<std::string> ToolChanger::attachAt(skills::SkillConnection& move
             " with no tool locked: wiring fault";
     }
     const KDL::Frame approach = approachOf(position);
-    if (auto why = co_await moveTo(move, approach, generation); !why.empty()) co_return why;
-    if (auto why = co_await moveTo(move, position, generation); !why.empty()) co_return why;
+    if (auto why = co_await moveTo(move, approach, kTransfer, generation); !why.empty()) {
+        co_return why;
+    }
+    if (auto why = co_await moveTo(move, position, kLinear, generation); !why.empty()) {
+        co_return why;
+    }
     if (const auto s = co_await setLock(true); s.isBad()) {
         co_return "cannot switch the lock valve: " + std::string(ua::statusName(s));
     }
     const auto locked = co_await lockedNow();
     if (!locked || !*locked) {
         (void)co_await setLock(false);
-        (void)co_await moveTo(move, approach, generation);
+        (void)co_await moveTo(move, approach, kLinear, generation);
         co_return "the coupling did not lock at " + describe(position) + ": no tool there";
     }
     pin = co_await readPin();
@@ -259,7 +204,7 @@ asio::awaitable<std::string> ToolChanger::attachAt(skills::SkillConnection& move
     if (!appUri.empty() && tool.applicationUri != appUri) {
         // The wrong tool: leave it where it was.
         (void)co_await setLock(false);
-        (void)co_await moveTo(move, approach, generation);
+        (void)co_await moveTo(move, approach, kLinear, generation);
         co_return "the tool at " + describe(position) + " is " + tool.id + " (" +
             tool.applicationUri + "), not " + appUri;
     }
@@ -268,7 +213,8 @@ asio::awaitable<std::string> ToolChanger::attachAt(skills::SkillConnection& move
     if (auto why = co_await powerOn(tool); !why.empty()) {
         co_return "tool " + tool.id + " is locked but could not be powered: " + why;
     }
-    if (auto why = co_await moveTo(move, approach, generation); !why.empty()) co_return why;
+    if (auto why = co_await moveTo(move, approach, kLinear, generation); !why.empty())
+        co_return why;
     if (appUri.empty() || tool.powerCommand.empty()) co_return std::string();
     if (!detector_) {
         spdlog::warn("tool changer: no detector: not waiting for {}", appUri);
@@ -282,8 +228,8 @@ asio::awaitable<std::string> ToolChanger::attachAt(skills::SkillConnection& move
     co_return std::string();
 }
 
-asio::awaitable<std::string> ToolChanger::detachAt(skills::SkillConnection& move,
-                                                   KDL::Frame position, std::uint64_t generation) {
+asio::awaitable<std::string> ToolChanger::detachAt(RobotMotion& move, KDL::Frame position,
+                                                   std::uint64_t generation) {
     const Pin pin = co_await readPin();
     if (pin.status.isBad()) {
         co_return "cannot read the identification pin: " + std::string(ua::statusName(pin.status));
@@ -295,8 +241,12 @@ asio::awaitable<std::string> ToolChanger::detachAt(skills::SkillConnection& move
     }
     const ToolEntry& tool = *pin.reading.tool;
     const KDL::Frame approach = approachOf(position);
-    if (auto why = co_await moveTo(move, approach, generation); !why.empty()) co_return why;
-    if (auto why = co_await moveTo(move, position, generation); !why.empty()) co_return why;
+    if (auto why = co_await moveTo(move, approach, kTransfer, generation); !why.empty()) {
+        co_return why;
+    }
+    if (auto why = co_await moveTo(move, position, kLinear, generation); !why.empty()) {
+        co_return why;
+    }
     // Power first: the tool's adapter says goodbye before the contacts open.
     co_await powerOff(tool);
     if (const auto s = co_await setLock(false); s.isBad()) {
@@ -310,16 +260,17 @@ asio::awaitable<std::string> ToolChanger::detachAt(skills::SkillConnection& move
     }
     docks_.erase(tool.id);
     spdlog::info("tool changer: tool {} left at {}", tool.id, describe(position));
-    if (auto why = co_await moveTo(move, approach, generation); !why.empty()) co_return why;
+    if (auto why = co_await moveTo(move, approach, kLinear, generation); !why.empty())
+        co_return why;
     (void)co_await readPin();  // publishes "no tool"
     co_return std::string();
 }
 
 asio::awaitable<std::string> ToolChanger::run(ToolRequest request) {
     auto self = shared_from_this();
-    const std::uint64_t generation = ++generation_;
+    const std::uint64_t generation = subSkill_.begin();
     std::string why;
-    Connection move = co_await openMove(request.moveEndpoint, why);
+    Motion move = co_await openMove(request.moveEndpoint, why);
     if (!move) co_return why;
     if (request.operation == ToolOperation::Attach) {
         why = co_await attachAt(*move, request.toolPosition, request.toolAppUri, generation);

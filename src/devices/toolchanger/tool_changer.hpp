@@ -6,8 +6,8 @@
 // adapter process). An attach with a ToolAppUri ends when the SkillDetector sees the tool's
 // adapter: the tool's skills are there for the next step. Plug & Produce, by the changer.
 //
-// Every operation: approach the tool position 5 cm back along the flange's z axis, move in
-// linearly, lock or open, move back out.
+// Every operation: to the approach 5 cm back along the flange's z axis from the tool position
+// (point to point), in linearly, lock or open, back out linearly.
 //
 // Threading: operations run as coroutines on `executor` (the server's); the I/O (the pin,
 // the valve, the power) runs on the changer's own I/O thread, so the server never blocks.
@@ -22,11 +22,12 @@
 
 #include <kdl/frames.hpp>
 
+#include "devices/common/robot_motion.hpp"
 #include "devices/toolchanger/tool_changer_io.hpp"
 #include "devices/toolchanger/tool_power_supply.hpp"
 #include "devices/toolchanger/tool_table.hpp"
-#include "skills/skill_connection.hpp"
 #include "skills/skill_detector.hpp"
+#include "skills/sub_skill_runner.hpp"
 
 namespace skillcell::devices::toolchanger {
 
@@ -91,19 +92,19 @@ private:
         PinReading reading;
         double volts = 0;
     };
-    using Connection = std::unique_ptr<skills::SkillConnection>;
+    using Motion = std::unique_ptr<RobotMotion>;
 
     asio::awaitable<Pin> readPin();
     asio::awaitable<ua::StatusCode> setLock(bool lock);
     asio::awaitable<ua::Result<bool>> lockedNow();
     asio::awaitable<std::string> powerOn(const ToolEntry& tool);
     asio::awaitable<void> powerOff(const ToolEntry& tool);
-    asio::awaitable<Connection> openMove(const std::string& endpoint, std::string& why);
-    asio::awaitable<std::string> moveTo(skills::SkillConnection& move, KDL::Frame flange,
-                                        std::uint64_t generation);
-    asio::awaitable<std::string> attachAt(skills::SkillConnection& move, KDL::Frame position,
+    asio::awaitable<Motion> openMove(const std::string& endpoint, std::string& why);
+    asio::awaitable<std::string> moveTo(RobotMotion& move, KDL::Frame flange,
+                                        RobotMotion::Path path, std::uint64_t generation);
+    asio::awaitable<std::string> attachAt(RobotMotion& move, KDL::Frame position,
                                           std::string appUri, std::uint64_t generation);
-    asio::awaitable<std::string> detachAt(skills::SkillConnection& move, KDL::Frame position,
+    asio::awaitable<std::string> detachAt(RobotMotion& move, KDL::Frame position,
                                           std::uint64_t generation);
     asio::awaitable<bool> waitForComponent(std::string applicationUri);
     [[nodiscard]] KDL::Frame approachOf(const KDL::Frame& position) const;
@@ -115,9 +116,8 @@ private:
     ToolChangerOptions options_;
     ToolPowerSupply power_;
     std::map<std::string, KDL::Frame> docks_;  // tool id -> where this changer took it
-    std::uint64_t generation_ = 0;             // bumped by halt()
-    skills::SkillClient* currentMove_ = nullptr;
-    asio::thread_pool ioThread_{1};  // last: joined first, while the rest still exists
+    skills::SubSkillRunner subSkill_;          // the robot's move, run now
+    asio::thread_pool ioThread_{1};            // last: joined first, while the rest still exists
 };
 
 }  // namespace skillcell::devices::toolchanger

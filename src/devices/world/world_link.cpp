@@ -99,6 +99,19 @@ ua::Result<KDL::Frame> WorldLink::objectPose(const std::string& objectId) {
     return frameFromVariant(*value);
 }
 
+ua::Result<std::array<double, 3>> WorldLink::objectSize(const std::string& objectId) {
+    const auto value = client_.readValue(id("World/Objects/" + objectId + "/Size"));
+    if (!value) return value.status();
+    if (!value->isArray() || value->elements().size() != 3) return ua::status::BadTypeMismatch;
+    std::array<double, 3> size{};
+    for (std::size_t i = 0; i < 3; ++i) {
+        const double* d = std::get_if<double>(&value->elements()[i]);
+        if (d == nullptr) return ua::status::BadTypeMismatch;
+        size[i] = *d;
+    }
+    return size;
+}
+
 ua::Result<std::string> WorldLink::readString(const std::string& path) {
     const auto value = client_.readValue(id(path));
     if (!value) return value.status();

@@ -44,6 +44,8 @@ public:
     /// The dock the flange is at; empty when none.
     [[nodiscard]] ua::Result<std::string> dockAtFlange();
     [[nodiscard]] ua::Result<KDL::Frame> objectPose(const std::string& objectId);
+    /// The object's box edges x, y, z (m); BadNodeIdUnknown for an unknown object.
+    [[nodiscard]] ua::Result<std::array<double, 3>> objectSize(const std::string& objectId);
     [[nodiscard]] ua::Result<std::string> mountedTool();
     [[nodiscard]] ua::Result<std::string> graspedObject();
 

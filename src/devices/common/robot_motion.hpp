@@ -1,0 +1,57 @@
+#pragma once
+// RobotMotion: a robot's Cartesian moves as a composite uses them (the tool changer, the
+// pick and place): a transfer through free space goes point to point (CartesianPtpMove: the
+// joints interpolate, so no wrist singularity lies on the way), an approach or a retreat goes
+// in a straight line (CartesianLinearMove). Both skills are found on the robot's component;
+// without a PTP skill every move is linear. Poses are flange poses (ToolFrame identity).
+//
+// Threading: on the executor it was opened with.
+#include <asio/any_io_executor.hpp>
+#include <asio/awaitable.hpp>
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include <kdl/frames.hpp>
+
+#include "skills/skill_connection.hpp"
+#include "skills/sub_skill_runner.hpp"
+
+namespace skillcell::devices {
+
+class RobotMotion {
+public:
+    enum class Path : std::uint8_t { Linear, Transfer };
+
+    /// Opens the robot's CartesianLinearMove (required) and CartesianPtpMove (optional) at
+    /// `endpoint`; null with `why` when the linear move is not there.
+    static asio::awaitable<std::unique_ptr<RobotMotion>> open(asio::any_io_executor executor,
+                                                              std::string endpoint,
+                                                              ua::ClientConfig config,
+                                                              std::string& why);
+    ~RobotMotion();
+    RobotMotion(const RobotMotion&) = delete;
+    RobotMotion& operator=(const RobotMotion&) = delete;
+
+    /// Moves the flange to `flange` as `runner`'s current sub-skill; "" or why it failed.
+    asio::awaitable<std::string> moveTo(skills::SubSkillRunner& runner, KDL::Frame flange,
+                                        Path path, std::chrono::milliseconds timeout);
+    asio::awaitable<void> close();
+    [[nodiscard]] const std::string& endpointUrl() const { return linear_->endpointUrl(); }
+
+    struct Token {
+    private:
+        friend class RobotMotion;
+        Token() = default;
+    };
+    explicit RobotMotion(Token) {}
+
+private:
+    std::unique_ptr<skills::SkillConnection> linear_;
+    std::unique_ptr<skills::SkillConnection> ptp_;  // may be null
+};
+
+/// "Finished", or "Failed: <reason> (<status>)": how a sub-skill's run ended, for a reason.
+[[nodiscard]] std::string describeOutcome(const skills::SkillOutcome& outcome);
+
+}  // namespace skillcell::devices

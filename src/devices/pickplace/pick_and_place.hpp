@@ -1,0 +1,108 @@
+#pragma once
+// PickAndPlace: the pick-and-place composite. It reads the object's box and pose from the
+// world model and the grip point (offset and type) from the tool's Grasp skill, plans the
+// flange poses (GraspPlanner: a vacuum gripper from the top, a parallel one from the side,
+// approaches 5 cm off), and runs the robot's moves (RobotMotion: point to point to the
+// approaches, linear in and out) and the tool's Grasp and Release through SkillClients:
+// approach, grasp pose, Grasp, retreat, place approach, place, Release, retreat. The move and tool
+// skills come by endpoint, or are the ones the SkillDetector finds. It publishes its current step;
+// a sub-skill that fails or is missing ends the run with the step and the reason.
+//
+// Threading: runs as coroutines on `executor` (the server's); the world model's blocking
+// calls run on its own I/O thread.
+#include <asio/any_io_executor.hpp>
+#include <asio/awaitable.hpp>
+#include <asio/thread_pool.hpp>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <kdl/frames.hpp>
+
+#include "devices/common/robot_motion.hpp"
+#include "devices/pickplace/grasp_planner.hpp"
+#include "devices/world/world_link.hpp"
+#include "skills/skill_connection.hpp"
+#include "skills/sub_skill_runner.hpp"
+
+namespace skillcell::devices::pickplace {
+
+struct PickAndPlaceOptions {
+    PickAndPlaceOptions() = default;  // not an aggregate: GCC 12 (see ua::ClientConfig)
+    double approachDistance = kDefaultApproachDistance;
+    std::chrono::milliseconds skillTimeout{60'000};  // each sub-skill
+    /// How long to wait for a move or tool skill to be detected when no endpoint is given.
+    std::chrono::milliseconds detectionTimeout{30'000};
+    /// How the composite connects to the robot and the tool (its certificate and user).
+    ua::ClientConfig client;
+};
+
+struct PickRequest {
+    std::string objectId;
+    std::string toolEndpoint;  // empty: the detected Grasp skill's component
+    std::string moveEndpoint;  // empty: the detected CartesianLinearMove's component
+    KDL::Frame placePosition;  // where the object's centre and orientation end up
+};
+
+class PickAndPlace : public std::enable_shared_from_this<PickAndPlace> {
+public:
+    /// `world` must outlive the composite; `detector` may be null (then both endpoints are
+    /// needed).
+    [[nodiscard]] static std::shared_ptr<PickAndPlace> create(
+        asio::any_io_executor executor, WorldLink& world,
+        std::shared_ptr<skills::SkillDetector> detector, PickAndPlaceOptions options = {});
+    ~PickAndPlace();
+    PickAndPlace(const PickAndPlace&) = delete;
+    PickAndPlace& operator=(const PickAndPlace&) = delete;
+
+    /// One pick and place; an empty string on success, else the failed step and why.
+    asio::awaitable<std::string> run(PickRequest request);
+    /// Stops the current run (halts the running sub-skill); run() returns "halted".
+    void halt();
+    /// Suspends or resumes the running sub-skill.
+    void suspend();
+    void resume();
+    /// Halts and stops the I/O thread (the component's end).
+    void shutdown();
+
+    [[nodiscard]] const asio::any_io_executor& executor() const { return executor_; }
+    /// Called on the executor with each step's name as it begins ("" when a run ends).
+    std::function<void(const std::string&)> onStep;
+
+    struct Token {
+    private:
+        friend class PickAndPlace;
+        Token() = default;
+    };
+    PickAndPlace(Token, asio::any_io_executor executor, WorldLink& world,
+                 std::shared_ptr<skills::SkillDetector> detector, PickAndPlaceOptions options);
+
+private:
+    using Connection = std::unique_ptr<skills::SkillConnection>;
+    struct Skills {
+        std::unique_ptr<RobotMotion> move;
+        Connection grasp, release;
+    };
+
+    asio::awaitable<std::string> openSkills(const PickRequest& request, Skills& skills);
+    asio::awaitable<Connection> open(std::string endpoint, std::string typeName, std::string& why);
+    asio::awaitable<std::string> plan(const PickRequest& request, Skills& skills, GraspPlan& plan,
+                                      GripPointType& type);
+    asio::awaitable<std::string> execute(const GraspPlan& plan, GripPointType type, Skills& skills,
+                                         std::uint64_t generation);
+    asio::awaitable<std::string> step(std::string name, skills::SkillConnection& skill,
+                                      std::uint64_t generation);
+    asio::awaitable<std::string> move(std::string name, RobotMotion& motion, KDL::Frame flange,
+                                      RobotMotion::Path path, std::uint64_t generation);
+    void publish(const std::string& name);
+
+    asio::any_io_executor executor_;
+    WorldLink& world_;
+    std::shared_ptr<skills::SkillDetector> detector_;
+    PickAndPlaceOptions options_;
+    skills::SubSkillRunner subSkill_;  // the move, Grasp or Release run now
+    asio::thread_pool ioThread_{1};    // last: joined first, while the rest still exists
+};
+
+}  // namespace skillcell::devices::pickplace

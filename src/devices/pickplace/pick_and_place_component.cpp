@@ -1,0 +1,104 @@
+#include "devices/pickplace/pick_and_place_component.hpp"
+
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+
+#include "devices/common/frame.hpp"
+#include "skills/skill_behaviour.hpp"
+
+namespace skillcell::devices::pickplace {
+namespace {
+
+class PickAndPlaceBehaviour final : public skills::SkillBehaviour {
+public:
+    explicit PickAndPlaceBehaviour(std::shared_ptr<PickAndPlace> composite)
+        : composite_(std::move(composite)) {}
+
+    void start(const skills::SkillParameters& p, skills::SkillRun run) override {
+        PickRequest request;
+        request.objectId = p.get<ua::String>("ObjectId").value_or("");
+        if (request.objectId.empty()) {
+            run.failed("ObjectId is empty");
+            return;
+        }
+        const auto place = frameFromVariant(p.value("PlacePosition"));
+        if (!place) {
+            run.failed("PlacePosition is not a valid 3DFrame (" +
+                       std::string(ua::statusName(place.status())) + ")");
+            return;
+        }
+        request.placePosition = *place;
+        request.toolEndpoint = p.get<ua::String>("ToolSkillControllerEndpoint").value_or("");
+        request.moveEndpoint = p.get<ua::String>("MoveSkillControllerEndpoint").value_or("");
+        asio::co_spawn(
+            composite_->executor(),
+            [composite = composite_, request, run]() -> asio::awaitable<void> {
+                const std::string why = co_await composite->run(request);
+                if (why.empty()) {
+                    run.finished();
+                } else {
+                    run.failed(why);
+                }
+            },
+            asio::detached);
+    }
+    void suspend() override { composite_->suspend(); }
+    void resume() override { composite_->resume(); }
+    void halt() override { composite_->halt(); }
+
+private:
+    std::shared_ptr<PickAndPlace> composite_;
+};
+
+}  // namespace
+
+PickAndPlaceComponent::~PickAndPlaceComponent() {
+    // A run still going may hold the composite until the executor goes; the world link its
+    // I/O uses goes with the component.
+    if (composite_) composite_->shutdown();
+}
+
+ua::Result<std::unique_ptr<PickAndPlaceComponent>> PickAndPlaceComponent::create(
+    ua::Server& server, WorldLink& world, std::shared_ptr<skills::SkillDetector> detector,
+    PickAndPlaceOptions options, std::string* error) {
+    auto component = std::make_unique<PickAndPlaceComponent>(Token{});
+    ua::AddressSpace& as = server.addressSpace();
+    const ua::NodeId object(1, ua::String("PickAndPlace"));
+    const ua::NodeId current(1, ua::String("PickAndPlace/CurrentStep"));
+    if (auto r = as.addObject(ua::NodeId(ua::ns0::ObjectsFolder), object, "PickAndPlace"); !r) {
+        return r.status();
+    }
+    if (auto r = as.addVariable(object, current, "CurrentStep", ua::NodeId(ua::ns0::String),
+                                ua::Variant(ua::String()), ua::access_level::kCurrentRead,
+                                ua::value_rank::kScalar);
+        !r) {
+        return r.status();
+    }
+    component->composite_ =
+        PickAndPlace::create(server.executor(), world, std::move(detector), std::move(options));
+    component->composite_->onStep = [&as, current](const std::string& step) {
+        (void)as.setValue(current, ua::Variant(ua::String(step)));
+    };
+    component->skills_ = skills::SkillServer::create(server, server.executor(), error);
+    if (!component->skills_) return ua::status::BadConfigurationError;
+    const auto type = component->skills_->findSkillType("PickAndPlaceSkillType");
+    if (!type) {
+        if (error != nullptr) *error = "no skill type PickAndPlaceSkillType";
+        return ua::status::BadTypeDefinitionInvalid;
+    }
+    auto skill = component->skills_->add(
+        *type, "PickAndPlace", std::make_unique<PickAndPlaceBehaviour>(component->composite_));
+    if (!skill) {
+        if (error != nullptr) *error = "cannot add PickAndPlace";
+        return skill.status();
+    }
+    // Empty endpoints mean "the detected ones": a client need not write them.
+    for (const auto& p : (*skill)->parameters()) {
+        if (p.name == "ToolSkillControllerEndpoint" || p.name == "MoveSkillControllerEndpoint") {
+            (void)as.setValue(p.nodeId, ua::Variant(ua::String()));
+        }
+    }
+    return component;
+}
+
+}  // namespace skillcell::devices::pickplace
