@@ -8,10 +8,10 @@
 #include <cmath>
 
 #include "client_thread.hpp"
-#include "device_process.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/toolchanger/tool_table.hpp"
 #include "devices/world/world_link.hpp"
+#include "simulated_cell.hpp"
 
 namespace skillcell::devices {
 namespace {
@@ -57,71 +57,45 @@ TEST(ToolTable, RefusesBadSpecsWithTheReason) {
     EXPECT_EQ(t.entries().size(), 1U);
 }
 
-constexpr const char* kRobotiqUri = "urn:skillcell:device:robotiq-2f85";
-constexpr const char* kSchmalzUri = "urn:skillcell:device:schmalz-ecbpi";
-// The flange poses (tool down) at which the docks' tools lock.
-constexpr const char* kParallelDock = "0.3,-0.45,0.35,3.141592653589793,0,0";
-constexpr const char* kVacuumDock = "0.45,-0.3,0.35,3.141592653589793,0,0";
+using test::kParallelDock;
+using test::kRobotiqUri;
+using test::kSchmalzUri;
+using test::kVacuumDock;
 
 ua::Variant pose(const char* text) {
-    return frameToVariant(toFrame(*parsePose6(text)));
+    return test::poseValue(text);
 }
 
 TEST(ToolChangerProcess, ChangesToolsFoundByTheirPinAndPowersTheirAdapters) {
-    const std::string bin = SKILLCELL_BINARY;
-    test::DeviceProcess world(bin,
-                              {"world", "--dock", std::string("dockP@") + kParallelDock, "--dock",
-                               std::string("dockV@") + kVacuumDock, "--tool",
-                               "parallel:dockP@0,0,0.15", "--tool", "vacuum:dockV@0,0,0.12"},
-                              true);
-    ASSERT_FALSE(world.url().empty());
-    const auto toolsPki = world.pkiDir().string() + "-tools";
-    const std::string common = " --port 0 --host 127.0.0.1 --insecure --speed 20 --world " +
-                               world.url() + " --mdns-ttl 5 --mdns-query-period 1";
-    // The changer starts before the robot: it waits for the robot's move skill.
-    test::DeviceProcess changer(
-        bin,
-        {"toolchanger", "--world", world.url(), "--tool",
-         std::string("parallel:1.0-1.5:") + kRobotiqUri, "--tool",
-         std::string("vacuum:2.0-2.5:") + kSchmalzUri, "--power",
-         "parallel=" + bin + " device robotiq --pki-dir " + toolsPki + "-robotiq" + common,
-         "--power", "vacuum=" + bin + " device schmalz --pki-dir " + toolsPki + "-schmalz" + common,
-         "--detection-timeout-ms", "20000", "--mdns-ttl", "5", "--mdns-query-period", "1"},
-        true);
-    ASSERT_FALSE(changer.url().empty());
-    test::DeviceProcess robot(bin,
-                              {"ur5", "--speed", "50", "--world", world.url(), "--mdns-ttl", "5",
-                               "--mdns-query-period", "1"},
-                              true);
-    ASSERT_FALSE(robot.url().empty());
+    test::SimulatedCell cell(SKILLCELL_BINARY, {}, false);
+    ASSERT_TRUE(cell.ready());
+    const std::string& worldUrl = cell.world->url();
+    const std::string& changerUrl = cell.changer->url();
 
-    auto link = WorldLink::connect(world.url());
+    auto link = WorldLink::connect(worldUrl);
     ASSERT_TRUE(link.ok());
     WorldLink& w = **link;
     test::ClientThread client;
-    auto change = client.attach(changer.url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
-    auto attach = client.attach(changer.url(), ua::NodeId(1, ua::String("Skills/AttachTool")));
-    auto detach = client.attach(changer.url(), ua::NodeId(1, ua::String("Skills/DetachTool")));
+    auto change = client.attach(changerUrl, ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    auto attach = client.attach(changerUrl, ua::NodeId(1, ua::String("Skills/AttachTool")));
+    auto detach = client.attach(changerUrl, ua::NodeId(1, ua::String("Skills/DetachTool")));
     ASSERT_TRUE(change && attach && detach);
 
     // To the parallel gripper: its adapter is powered and detected before the skill ends.
-    auto outcome = client.invoke(change,
-                                 {{"ToolPosition", pose(kParallelDock)},
-                                  {"ToolAppUri", ua::Variant(ua::String(kRobotiqUri))}},
-                                 60s);
+    auto outcome = client.invoke(
+        change,
+        {{"ToolPosition", pose(kParallelDock)}, {"ToolAppUri", test::textValue(kRobotiqUri)}}, 60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     EXPECT_EQ(*w.mountedTool(), "parallel");
     // Already mounted: nothing to do.
-    outcome = client.invoke(change,
-                            {{"ToolPosition", pose(kParallelDock)},
-                             {"ToolAppUri", ua::Variant(ua::String(kRobotiqUri))}},
-                            60s);
+    outcome = client.invoke(
+        change,
+        {{"ToolPosition", pose(kParallelDock)}, {"ToolAppUri", test::textValue(kRobotiqUri)}}, 60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
 
     // To the vacuum gripper: the parallel one goes back to its dock first.
     outcome = client.invoke(
-        change,
-        {{"ToolPosition", pose(kVacuumDock)}, {"ToolAppUri", ua::Variant(ua::String(kSchmalzUri))}},
+        change, {{"ToolPosition", pose(kVacuumDock)}, {"ToolAppUri", test::textValue(kSchmalzUri)}},
         60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     EXPECT_EQ(*w.mountedTool(), "vacuum");
@@ -155,16 +129,12 @@ TEST(ToolChangerProcess, ChangesToolsFoundByTheirPinAndPowersTheirAdapters) {
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("did not lock"), std::string::npos) << outcome.reason;
     // A tool the changer does not know is refused before anything moves.
-    outcome = client.invoke(change,
-                            {{"ToolPosition", pose(kVacuumDock)},
-                             {"ToolAppUri", ua::Variant(ua::String("urn:nobody"))}},
-                            60s);
+    outcome = client.invoke(
+        change,
+        {{"ToolPosition", pose(kVacuumDock)}, {"ToolAppUri", test::textValue("urn:nobody")}}, 60s);
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("urn:nobody"), std::string::npos) << outcome.reason;
     EXPECT_EQ(*w.mountedTool(), "");
-    std::error_code ec;
-    std::filesystem::remove_all(toolsPki + "-robotiq", ec);
-    std::filesystem::remove_all(toolsPki + "-schmalz", ec);
 }
 
 }  // namespace
