@@ -9,6 +9,9 @@ asio::awaitable<SkillOutcome> SubSkillRunner::run(SkillClient& skill,
                                                   std::map<std::string, ua::Variant> parameters,
                                                   std::chrono::milliseconds timeout) {
     current_ = skill.shared_from_this();
+    // A sub-skill left Halted by an earlier failure is this composite's to reset: it runs
+    // it again now.
+    if (skill.state() == SkillState::Halted) (void)co_await skill.call(SkillMethod::Reset);
     SkillOutcome outcome = co_await skill.run(std::move(parameters), timeout);
     current_.reset();
     co_return outcome;

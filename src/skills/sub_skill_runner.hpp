@@ -25,7 +25,8 @@ public:
     /// Whether halt() was called since begin() returned `generation`.
     [[nodiscard]] bool halted(std::uint64_t generation) const { return generation != generation_; }
 
-    /// Runs `skill` with `parameters` as the current sub-skill (SkillClient::run).
+    /// Runs `skill` with `parameters` as the current sub-skill (SkillClient::run); a skill
+    /// left Halted (by an earlier failure) is reset first.
     asio::awaitable<SkillOutcome> run(SkillClient& skill,
                                       std::map<std::string, ua::Variant> parameters,
                                       std::chrono::milliseconds timeout);

@@ -5,6 +5,7 @@
 // UR5, and optionally the pick-and-place composite. The changer starts before the robot, so
 // it has to find the robot by discovery.
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,16 @@ inline constexpr const char* kSchmalzUri = "urn:skillcell:device:schmalz-ecbpi";
 inline constexpr const char* kParallelDock = "0.3,-0.45,0.35,3.141592653589793,0,0";
 inline constexpr const char* kVacuumDock = "0.45,-0.3,0.35,3.141592653589793,0,0";
 
+/// The parallel gripper the cell has: either model offers the same skills (issue 6: a
+/// gripper is swapped without a change outside its adapter).
+struct ParallelGripperModel {
+    const char* command;         // `skillcell device <command>`
+    const char* applicationUri;  // what its adapter announces
+    const char* gripOffset;      // its grip point from the mounting plate
+};
+inline constexpr ParallelGripperModel kRobotiq2f85{"robotiq", kRobotiqUri, "0,0,0.15"};
+inline constexpr ParallelGripperModel kDhAg95{"ag95", "urn:skillcell:device:dh-ag95", "0,0,0.16"};
+
 /// A pose parameter from "X,Y,Z[,A,B,C]".
 inline ua::Variant poseValue(const char* text) {
     return devices::frameToVariant(devices::toFrame(*devices::parsePose6(text)));
@@ -27,17 +38,22 @@ inline ua::Variant textValue(const char* text) {
     return ua::Variant(ua::String(text));
 }
 
+inline void PrintTo(const ParallelGripperModel& model, std::ostream* out) {
+    *out << model.command;
+}
+
 struct SimulatedCell {
     /// `objects`: `--object` specs for the world model.
     SimulatedCell(const std::string& binary, const std::vector<std::string>& objects,
-                  bool withPickAndPlace) {
+                  bool withPickAndPlace, ParallelGripperModel parallel = kRobotiq2f85)
+        : parallelUri(parallel.applicationUri) {
         std::vector<std::string> args = {"world",
                                          "--dock",
                                          std::string("dockP@") + kParallelDock,
                                          "--dock",
                                          std::string("dockV@") + kVacuumDock,
                                          "--tool",
-                                         "parallel:dockP@0,0,0.15",
+                                         std::string("parallel:dockP@") + parallel.gripOffset,
                                          "--tool",
                                          "vacuum:dockV@0,0,0.12"};
         for (const auto& o : objects) args.insert(args.end(), {"--object", o});
@@ -46,15 +62,16 @@ struct SimulatedCell {
         tools = world->pkiDir().string() + "-tools";
         const std::string common = " --port 0 --host 127.0.0.1 --insecure --speed 20 --world " +
                                    world->url() + " --mdns-ttl 5 --mdns-query-period 1";
-        changer = start(
-            binary,
-            {"toolchanger", "--world", world->url(), "--tool",
-             std::string("parallel:1.0-1.5:") + kRobotiqUri, "--tool",
-             std::string("vacuum:2.0-2.5:") + kSchmalzUri, "--power",
-             "parallel=" + binary + " device robotiq --pki-dir " + tools + "-robotiq" + common,
-             "--power",
-             "vacuum=" + binary + " device schmalz --pki-dir " + tools + "-schmalz" + common,
-             "--detection-timeout-ms", "20000"});
+        changer =
+            start(binary,
+                  {"toolchanger", "--world", world->url(), "--tool",
+                   std::string("parallel:1.0-1.5:") + parallel.applicationUri, "--tool",
+                   std::string("vacuum:2.0-2.5:") + kSchmalzUri, "--power",
+                   "parallel=" + binary + " device " + parallel.command + " --pki-dir " + tools +
+                       "-parallel --grip-offset " + parallel.gripOffset + common,
+                   "--power",
+                   "vacuum=" + binary + " device schmalz --pki-dir " + tools + "-schmalz" + common,
+                   "--detection-timeout-ms", "20000"});
         if (withPickAndPlace) {
             pickplace = start(
                 binary, {"pickplace", "--world", world->url(), "--detection-timeout-ms", "5000"});
@@ -67,7 +84,7 @@ struct SimulatedCell {
         pickplace.reset();
         changer.reset();
         std::error_code ec;
-        std::filesystem::remove_all(tools + "-robotiq", ec);
+        std::filesystem::remove_all(tools + "-parallel", ec);
         std::filesystem::remove_all(tools + "-schmalz", ec);
     }
     SimulatedCell(const SimulatedCell&) = delete;
@@ -79,7 +96,8 @@ struct SimulatedCell {
     }
 
     std::unique_ptr<DeviceProcess> world, changer, pickplace, robot;
-    std::string tools;  // PKI directories of the powered tools: <tools>-robotiq, -schmalz
+    std::string tools;        // PKI directories of the powered tools: <tools>-parallel, -schmalz
+    std::string parallelUri;  // the parallel gripper's application URI
 
 private:
     static std::unique_ptr<DeviceProcess> start(const std::string& binary,

@@ -3,7 +3,8 @@
 // and Schmalz ECBPi adapters when it attaches them) and the pick-and-place composite, which
 // finds the robot and the mounted tool by discovery. Change to the parallel gripper, pick
 // and place box A; change to the vacuum gripper, pick and place box B; detach the tool. The
-// test then checks the world model: both boxes at their targets, no tool mounted.
+// test then checks the world model: both boxes at their targets, no tool mounted. The same
+// runs with the DH-Robotics AG-95 as the parallel gripper: nothing above its adapter changes.
 #include <gtest/gtest.h>
 
 #include "client_thread.hpp"
@@ -18,7 +19,6 @@ using namespace std::chrono_literals;
 using Kind = skills::SkillOutcome::Kind;
 
 using test::kParallelDock;
-using test::kRobotiqUri;
 using test::kSchmalzUri;
 using test::kVacuumDock;
 using test::poseValue;
@@ -32,10 +32,15 @@ void expectAt(WorldLink& w, const std::string& id, double x, double y, double z)
     EXPECT_NEAR(p->p.z(), z, 1e-3) << id;
 }
 
-TEST(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
+class WorkCell : public testing::TestWithParam<test::ParallelGripperModel> {};
+
+TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
+    // Box C is out of the robot's reach.
     test::SimulatedCell cell(
         SKILLCELL_BINARY,
-        {"boxA:0.04,0.1,0.05@0.45,0.15,0.025", "boxB:0.04,0.04,0.04@0.45,-0.05,0.02"}, true);
+        {"boxA:0.04,0.1,0.05@0.45,0.15,0.025", "boxB:0.04,0.04,0.04@0.45,-0.05,0.02",
+         "boxC:0.04,0.04,0.04@1.5,0,0.02"},
+        true, GetParam());
     ASSERT_TRUE(cell.ready());
 
     auto link = WorldLink::connect(cell.world->url());
@@ -50,9 +55,10 @@ TEST(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
         pickClient.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
     ASSERT_TRUE(change && detach && pick);
 
-    auto outcome = client.invoke(
-        change,
-        {{"ToolPosition", poseValue(kParallelDock)}, {"ToolAppUri", textValue(kRobotiqUri)}}, 60s);
+    auto outcome = client.invoke(change,
+                                 {{"ToolPosition", poseValue(kParallelDock)},
+                                  {"ToolAppUri", textValue(cell.parallelUri.c_str())}},
+                                 60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     outcome = pickClient.invoke(
         pick,
@@ -73,6 +79,18 @@ TEST(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     expectAt(w, "boxB", 0.25, -0.2, 0.02);
 
+    // A sub-skill that fails ends the composite with the step and the robot's reason.
+    outcome = pickClient.invoke(
+        pick, {{"ObjectId", textValue("boxC")}, {"PlacePosition", poseValue("0.3,0.2,0.02,0,0,0")}},
+        120s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("step approach: the move"), std::string::npos) << outcome.reason;
+    expectAt(w, "boxC", 1.5, 0, 0.02);
+    ASSERT_EQ(pickClient.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_return co_await pick->call(skills::SkillMethod::Reset);
+    }),
+              ua::status::Good);
+
     outcome = client.invoke(detach, {{"ToolPosition", poseValue(kVacuumDock)}}, 60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
 
@@ -90,6 +108,12 @@ TEST(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("GraspGripperSkillType"), std::string::npos) << outcome.reason;
 }
+
+INSTANTIATE_TEST_SUITE_P(ParallelGrippers, WorkCell,
+                         testing::Values(test::kRobotiq2f85, test::kDhAg95),
+                         [](const testing::TestParamInfo<test::ParallelGripperModel>& model) {
+                             return std::string(model.param.command);
+                         });
 
 }  // namespace
 }  // namespace skillcell::devices
