@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "device_process.hpp"
+#include "component_process.hpp"
 #include "devices/common/frame.hpp"
 
 namespace skillcell::test {

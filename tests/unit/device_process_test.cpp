@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "client_thread.hpp"
-#include "device_process.hpp"
+#include "component_process.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/world/world_link.hpp"
 
@@ -18,7 +18,7 @@ namespace {
 using namespace std::chrono_literals;
 using Kind = skills::SkillOutcome::Kind;
 
-/// `skillcell device ...` (tests/support/device_process.hpp), without discovery.
+/// `skillcell device ...` (tests/support/component_process.hpp), without discovery.
 struct DeviceProcess : test::DeviceProcess {
     explicit DeviceProcess(std::vector<std::string> args)
         : test::DeviceProcess(SKILLCELL_BINARY, std::move(args)) {}

@@ -3,23 +3,17 @@
 // another client halting the run, the server stopping and the server process killed.
 #include <gtest/gtest.h>
 
-#include <spawn.h>
-#include <sys/wait.h>
 #include <asio/co_spawn.hpp>
 #include <asio/executor_work_guard.hpp>
 #include <asio/use_future.hpp>
-#include <csignal>
-#include <cstdio>
-#include <filesystem>
 #include <thread>
 
 #include "client_thread.hpp"
+#include "component_process.hpp"
 #include "running_server.hpp"
 #include "skills/noop_behaviour.hpp"
 #include "skills/skill_client.hpp"
 #include "skills/skill_server.hpp"
-
-extern char** environ;
 
 namespace skillcell::skills {
 namespace {
@@ -217,63 +211,12 @@ TEST(SkillClient, ReportsAStoppedServerAsLost) {
     EXPECT_TRUE(outcome.status.isBad());
 }
 
-/// A `skillcell server` process with a no-op skill that runs for a minute.
-class ServerProcess {
-public:
-    ServerProcess() {
-        pki_ = std::filesystem::temp_directory_path() /
-               ("skillcell-skill-client-" + std::to_string(::getpid()));
-        const std::string pkiDir = pki_.string();
-        int fds[2];
-        if (::pipe(fds) != 0) return;
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
-        posix_spawn_file_actions_addclose(&actions, fds[0]);
-        std::vector<std::string> args = {
-            SKILLCELL_BINARY,  "server",    "--port",         "0",
-            "--host",          "127.0.0.1", "--no-discovery", "--insecure",
-            "--pki-dir",       pkiDir,      "--noop-skill",   "JointPtpMoveSkillType=Slow",
-            "--noop-skill-ms", "60000"};
-        std::vector<char*> argv;
-        for (auto& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        if (posix_spawn(&pid_, SKILLCELL_BINARY, &actions, nullptr, argv.data(), environ) != 0) {
-            pid_ = 0;
-        }
-        posix_spawn_file_actions_destroy(&actions);
-        ::close(fds[1]);
-        FILE* out = ::fdopen(fds[0], "r");
-        char line[256];
-        // The READY line, or EOF if the process died: bounded by the process itself.
-        while (out != nullptr && std::fgets(line, sizeof line, out) != nullptr) {
-            const std::string l(line);
-            if (l.starts_with("READY ")) {
-                url_ = l.substr(6, l.find_last_not_of("\r\n") - 5);
-                break;
-            }
-        }
-        if (out != nullptr) std::fclose(out);
-    }
-    ~ServerProcess() {
-        kill();
-        std::error_code ec;
-        std::filesystem::remove_all(pki_, ec);
-    }
-    ServerProcess(const ServerProcess&) = delete;
-    ServerProcess& operator=(const ServerProcess&) = delete;
-    void kill() {
-        if (pid_ == 0) return;
-        ::kill(pid_, SIGKILL);
-        ::waitpid(pid_, nullptr, 0);
-        pid_ = 0;
-    }
-    const std::string& url() const { return url_; }
-
-private:
-    std::filesystem::path pki_;
-    pid_t pid_ = 0;
-    std::string url_;
+/// A `skillcell server` with one skill that runs for a minute: killed mid-run by the test.
+struct ServerProcess : test::ComponentProcess {
+    ServerProcess()
+        : test::ComponentProcess(SKILLCELL_BINARY,
+                                 {"server", "--noop-skill", "JointPtpMoveSkillType=Slow",
+                                  "--noop-skill-ms", "60000"}) {}
 };
 
 TEST(SkillClient, ReportsAKilledServerProcessAsLost) {

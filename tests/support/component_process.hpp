@@ -1,13 +1,15 @@
 #pragma once
-// DeviceProcess: a `skillcell device ...` process on loopback with its own PKI directory,
-// for tests that run the cell's components as the cell does. Its URL is read from its READY
-// line; it is stopped with SIGTERM and waited for. `binary` is the skillcell executable.
+// ComponentProcess: a skillcell component (`skillcell server ...`, `skillcell device ...`) as
+// a process on loopback with a PKI directory of its own, for tests that run components as
+// the cell does. Its URL is read from its READY line; it is stopped with SIGTERM (or
+// kill()ed) and waited for. `binary` is the skillcell executable.
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -16,14 +18,18 @@ extern char** environ;  // NOLINT: POSIX
 
 namespace skillcell::test {
 
-class DeviceProcess {
+class ComponentProcess {
 public:
-    /// `args` follow `skillcell device` (the kind first). `discovery`: announce by mDNS
-    /// (the test must run in a private network namespace), else --no-discovery.
-    DeviceProcess(const std::string& binary, std::vector<std::string> args, bool discovery = false)
-        : pki_(std::filesystem::temp_directory_path() /
-               ("skillcell-device-" + std::to_string(::getpid()) + "-" + args.at(0))) {
-        args.insert(args.begin(), {binary, "device"});
+    /// `args` follow the binary (`server ...`, `device world ...`); the loopback, insecure and
+    /// PKI options are added. `discovery`: announce by mDNS (the test must run in a private
+    /// network namespace), else --no-discovery.
+    ComponentProcess(const std::string& binary, std::vector<std::string> args,
+                     bool discovery = false) {
+        std::string dir =
+            (std::filesystem::temp_directory_path() / "skillcell-pki-XXXXXX").string();
+        if (::mkdtemp(dir.data()) == nullptr) return;
+        pki_ = dir;
+        args.insert(args.begin(), binary);
         // --insecure: these tests are about the devices; security has tests of its own.
         for (const char* a : {"--port", "0", "--host", "127.0.0.1", "--insecure"}) {
             args.emplace_back(a);
@@ -57,17 +63,21 @@ public:
         }
         if (out != nullptr) std::fclose(out);
     }
-    ~DeviceProcess() {
-        if (pid_ > 0) {
-            ::kill(pid_, SIGTERM);
-            int status = 0;
-            ::waitpid(pid_, &status, 0);
-        }
+    ~ComponentProcess() {
+        kill(SIGTERM);
         std::error_code ec;
-        std::filesystem::remove_all(pki_, ec);
+        if (!pki_.empty()) std::filesystem::remove_all(pki_, ec);
     }
-    DeviceProcess(const DeviceProcess&) = delete;
-    DeviceProcess& operator=(const DeviceProcess&) = delete;
+    ComponentProcess(const ComponentProcess&) = delete;
+    ComponentProcess& operator=(const ComponentProcess&) = delete;
+
+    /// Sends `signal` and waits for the process to end.
+    void kill(int signal = SIGKILL) {
+        if (pid_ <= 0) return;
+        ::kill(pid_, signal);
+        ::waitpid(pid_, nullptr, 0);
+        pid_ = 0;
+    }
 
     [[nodiscard]] const std::string& url() const { return url_; }
     [[nodiscard]] const std::filesystem::path& pkiDir() const { return pki_; }
@@ -76,6 +86,18 @@ private:
     pid_t pid_ = 0;
     std::string url_;
     std::filesystem::path pki_;
+};
+
+/// `skillcell device <kind> ...`.
+struct DeviceProcess : ComponentProcess {
+    DeviceProcess(const std::string& binary, std::vector<std::string> args, bool discovery = false)
+        : ComponentProcess(binary, withDevice(std::move(args)), discovery) {}
+
+private:
+    static std::vector<std::string> withDevice(std::vector<std::string> args) {
+        args.insert(args.begin(), "device");
+        return args;
+    }
 };
 
 }  // namespace skillcell::test
