@@ -550,19 +550,47 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
     return cmd;
 }
 
-struct ToolChangerOptions {
+/// What every composite (tool changer, pick and place) shares: a server that uses the cell's
+/// skills (found by discovery), the world model, and how long to wait for a skill to appear.
+struct CompositeOptions {
     ServerProcessOptions process;
     std::string world;
+    int detectionTimeoutMs = 30'000;
+};
+
+void addCompositeOptions(CLI::App* cmd, CompositeOptions& options, const char* worldHelp) {
+    options.process.usesDetector = true;
+    addServerProcessOptions(cmd, options.process);
+    addDiscoveryOptions(cmd, options.process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--world", options.world, worldHelp)->required();
+    cmd->add_option("--detection-timeout-ms", options.detectionTimeoutMs,
+                    "how long to wait for a skill it needs (the robot's moves, a tool's skills) "
+                    "to be detected")
+        ->check(CLI::Range(100, 600'000))
+        ->capture_default_str();
+}
+
+/// How a composite connects to the robot and the tools: as the component itself.
+ua::ClientConfig compositeClient(const ComponentContext& c, const char* sessionName) {
+    ua::ClientConfig config;
+    config.applicationUri = c.applicationUri;
+    config.sessionName = sessionName;
+    config.security = c.clientSecurity;
+    return config;
+}
+
+struct ToolChangerOptions {
+    CompositeOptions composite;
     std::vector<std::string> tools;  // ID:MIN-MAX:APPLICATION-URI
     std::vector<std::string> power;  // ID=PROGRAM ARG...
-    int detectionTimeoutMs = 30'000;
     int moveTimeoutMs = 60'000;
 };
 
 /// What `device toolchanger` keeps alive, destroyed in reverse: the component (it powers the
-/// tools off), the simulated coupling, the world link.
+/// tools off), the simulated coupling, the tools' resistors it reads, the world link.
 struct ToolChangerContent {
     std::unique_ptr<devices::WorldLink> world;
+    devices::toolchanger::ToolTable resistors;
     std::unique_ptr<devices::toolchanger::SimulatedKelvinChanger> coupling;
     std::unique_ptr<devices::toolchanger::ToolChangerComponent> component;
 };
@@ -585,18 +613,17 @@ ua::Result<ComponentContent> populateToolChanger(const ToolChangerOptions& optio
         }
     }
     auto content = std::make_shared<ToolChangerContent>();
-    auto link = connectWorld(options.world, c);
+    auto link = connectWorld(options.composite.world, c);
     if (!link) return link.status();
     content->world = std::move(*link);
     // The simulated coupling keeps its own copy of the table: the tools' resistors.
-    auto resistors = std::make_shared<tc::ToolTable>(tools);
-    content->coupling = std::make_unique<tc::SimulatedKelvinChanger>(*content->world, *resistors);
+    content->resistors = tools;
+    content->coupling =
+        std::make_unique<tc::SimulatedKelvinChanger>(*content->world, content->resistors);
     tc::ToolChangerOptions o;
-    o.detectionTimeout = std::chrono::milliseconds(options.detectionTimeoutMs);
+    o.detectionTimeout = std::chrono::milliseconds(options.composite.detectionTimeoutMs);
     o.moveTimeout = std::chrono::milliseconds(options.moveTimeoutMs);
-    o.client.applicationUri = c.applicationUri;
-    o.client.sessionName = "tool changer";
-    o.client.security = c.clientSecurity;
+    o.client = compositeClient(c, "tool changer");
     std::string error;
     auto component = tc::ToolChangerComponent::create(c.server, *content->coupling,
                                                       std::move(tools), c.detector, o, &error);
@@ -605,16 +632,13 @@ ua::Result<ComponentContent> populateToolChanger(const ToolChangerOptions& optio
         return component.status();
     }
     content->component = std::move(*component);
-    // The table outlives the coupling that reads it.
-    return ComponentContent(std::shared_ptr<void>(
-        content.get(), [content, resistors](void*) mutable { content.reset(); }));
+    return ComponentContent(content);
 }
 
 CLI::App* addToolChanger(CLI::App* device, std::vector<Command>& commands) {
     auto options = std::make_shared<ToolChangerOptions>();
-    options->process.applicationUri = "urn:skillcell:device:kelvin-toolchanger";
-    options->process.applicationName = "skillcell Kelvin tool changer";
-    options->process.usesDetector = true;
+    options->composite.process.applicationUri = "urn:skillcell:device:kelvin-toolchanger";
+    options->composite.process.applicationName = "skillcell Kelvin tool changer";
     CLI::App* cmd = device->add_subcommand(
         "toolchanger",
         "Run the Kelvin tool changer with the skills AttachTool, DetachTool and ChangeTool. "
@@ -622,28 +646,28 @@ CLI::App* addToolChanger(CLI::App* device, std::vector<Command>& commands) {
         "MoveSkillControllerEndpoint), knows a tool by the voltage of its identification "
         "pin, and powers an attached tool by starting its adapter process (--power); an "
         "attach ends when the tool's adapter is detected.");
-    addServerProcessOptions(cmd, options->process);
-    addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
-    cmd->add_option("--world", options->world,
-                    "the world model's endpoint: the simulated coupling locks and opens there")
-        ->required();
+    addCompositeOptions(cmd, options->composite,
+                        "the world model's endpoint: the simulated coupling locks and opens "
+                        "there");
     cmd->add_option("--tool", options->tools,
                     "a tool: ID:MIN-MAX:APPLICATION-URI (its world model id, its voltage band "
                     "on the identification pin, the application URI of its adapter)")
-        ->required();
+        ->required()
+        ->check(CLI::Validator(
+            [](std::string& spec) {
+                devices::toolchanger::ToolTable one;
+                std::string why;
+                return one.add(spec, &why).isBad() ? why : std::string();
+            },
+            "TOOL"));
     cmd->add_option("--power", options->power,
                     "the adapter process of a tool, started when it is attached: "
                     "ID=PROGRAM ARG... (split at blanks)");
-    cmd->add_option("--detection-timeout-ms", options->detectionTimeoutMs,
-                    "how long to wait for the robot's move skill and for an attached tool's "
-                    "adapter to be detected")
-        ->check(CLI::Range(100, 600'000))
-        ->capture_default_str();
     cmd->add_option("--move-timeout-ms", options->moveTimeoutMs, "the longest move")
         ->check(CLI::Range(100, 600'000))
         ->capture_default_str();
     commands.push_back({cmd, [options] {
-                            return runServerProcess(options->process,
+                            return runServerProcess(options->composite.process,
                                                     [options](const ComponentContext& c) {
                                                         return populateToolChanger(*options, c);
                                                     });
@@ -652,9 +676,7 @@ CLI::App* addToolChanger(CLI::App* device, std::vector<Command>& commands) {
 }
 
 struct PickPlaceOptions {
-    ServerProcessOptions process;
-    std::string world;
-    int detectionTimeoutMs = 30'000;
+    CompositeOptions composite;
     int skillTimeoutMs = 60'000;
     double approachDistance = devices::pickplace::kDefaultApproachDistance;
 };
@@ -667,9 +689,8 @@ struct PickPlaceContent {
 
 CLI::App* addPickPlace(CLI::App* device, std::vector<Command>& commands) {
     auto options = std::make_shared<PickPlaceOptions>();
-    options->process.applicationUri = "urn:skillcell:device:pick-and-place";
-    options->process.applicationName = "skillcell pick and place";
-    options->process.usesDetector = true;
+    options->composite.process.applicationUri = "urn:skillcell:device:pick-and-place";
+    options->composite.process.applicationName = "skillcell pick and place";
     CLI::App* cmd = device->add_subcommand(
         "pickplace",
         "Run the pick-and-place composite with the skill PickAndPlace: it reads the object "
@@ -677,18 +698,12 @@ CLI::App* addPickPlace(CLI::App* device, std::vector<Command>& commands) {
         "approach (vacuum from the top, parallel from the side, 5 cm off), and runs the "
         "robot's CartesianLinearMove and the tool's Grasp and Release (the ones discovery "
         "finds, or the endpoints given). Objects/PickAndPlace/CurrentStep shows its step.");
-    addServerProcessOptions(cmd, options->process);
-    addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
-    cmd->add_option("--world", options->world,
-                    "the world model's endpoint: where the objects' boxes and poses are read")
-        ->required();
+    addCompositeOptions(cmd, options->composite,
+                        "the world model's endpoint: where the objects' boxes and poses are "
+                        "read");
     cmd->add_option("--approach-distance", options->approachDistance,
                     "how far off the grasp and place poses the approaches are (m)")
         ->check(CLI::Range(0.0, 0.3))
-        ->capture_default_str();
-    cmd->add_option("--detection-timeout-ms", options->detectionTimeoutMs,
-                    "how long to wait for a move or tool skill to be detected")
-        ->check(CLI::Range(100, 600'000))
         ->capture_default_str();
     cmd->add_option("--skill-timeout-ms", options->skillTimeoutMs, "the longest sub-skill")
         ->check(CLI::Range(100, 600'000))
@@ -696,20 +711,19 @@ CLI::App* addPickPlace(CLI::App* device, std::vector<Command>& commands) {
     commands.push_back(
         {cmd, [options] {
              return runServerProcess(
-                 options->process,
+                 options->composite.process,
                  [options](const ComponentContext& c) -> ua::Result<ComponentContent> {
                      namespace pp = devices::pickplace;
                      auto content = std::make_shared<PickPlaceContent>();
-                     auto link = connectWorld(options->world, c);
+                     auto link = connectWorld(options->composite.world, c);
                      if (!link) return link.status();
                      content->world = std::move(*link);
                      pp::PickAndPlaceOptions o;
                      o.approachDistance = options->approachDistance;
-                     o.detectionTimeout = std::chrono::milliseconds(options->detectionTimeoutMs);
+                     o.detectionTimeout =
+                         std::chrono::milliseconds(options->composite.detectionTimeoutMs);
                      o.skillTimeout = std::chrono::milliseconds(options->skillTimeoutMs);
-                     o.client.applicationUri = c.applicationUri;
-                     o.client.sessionName = "pick and place";
-                     o.client.security = c.clientSecurity;
+                     o.client = compositeClient(c, "pick and place");
                      std::string error;
                      auto component = pp::PickAndPlaceComponent::create(c.server, *content->world,
                                                                         c.detector, o, &error);
