@@ -136,8 +136,8 @@ std::optional<GraspPlan> planGrasp(const GraspRequest& request, std::string* why
         KDL::Vector z = column(object.M, wide);
         const bool flip = std::abs(z.x()) > kSideTie ? z.x() < 0 : z.y() < 0;
         if (flip) z = -z;
-        const KDL::Vector x = normal;
-        grip = KDL::Frame(KDL::Rotation(x, z * x, z), object.p);
+        // x is the top face's normal (up): with y = z * x the frame is right-handed.
+        grip = KDL::Frame(KDL::Rotation(normal, z * normal, z), object.p);
         approach = shifted(grip, -d * z);
         retreat = shifted(grip, d * baseUp);
     }

@@ -86,6 +86,7 @@ ua::StatusCode ToolPowerSupply::on(const std::string& toolId, const std::vector<
     }
     std::vector<std::string> args = argv;
     std::vector<char*> cargs;
+    cargs.reserve(args.size() + 1);
     for (auto& a : args) cargs.push_back(a.data());
     cargs.push_back(nullptr);
     const pid_t parent = ::getpid();
