@@ -409,7 +409,7 @@ ParallelGripperModel robotiq2f85() {
         o.gripPointOffset = toFrame(*parsePose6(options.gripOffset));  // checked by poseText()
         o.gripper.speed = options.fingerSpeed;
         o.gripper.graspForce = options.graspForce;
-        auto component = rq::RobotiqComponent::create(server, o, error);
+        auto component = rq::startRobotiqComponent(server, o, error);
         if (!component) return component.status();
         return std::shared_ptr<void>(std::move(*component));
     };
@@ -449,7 +449,7 @@ ParallelGripperModel dhAg95() {
         o.gripPointOffset = toFrame(*parsePose6(options.gripOffset));  // checked by poseText()
         o.gripper.speed = options.fingerSpeed;
         o.gripper.graspForce = options.graspForce;
-        auto component = dh::Ag95Component::create(server, o, error);
+        auto component = dh::startAg95Component(server, o, error);
         if (!component) return component.status();
         return std::shared_ptr<void>(std::move(*component));
     };
@@ -470,7 +470,7 @@ struct SchmalzOptions {
 struct SchmalzContent {
     std::unique_ptr<devices::WorldLink> world;
     std::unique_ptr<devices::schmalz::SimulatedIoLinkMaster> master;
-    std::unique_ptr<devices::schmalz::EcbpiComponent> component;
+    std::unique_ptr<devices::GripperComponent> component;
 };
 
 ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
@@ -505,7 +505,7 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
     }
     content->master = std::make_unique<sz::SimulatedIoLinkMaster>(sim);
     std::string error;
-    auto component = sz::EcbpiComponent::create(c.server, *content->master, o, &error);
+    auto component = sz::startEcbpiComponent(c.server, *content->master, o, &error);
     if (!component) {
         spdlog::critical("schmalz: {}", error);
         return component.status();

@@ -86,13 +86,13 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     };
     auto port = rq::SimulatedGripperPort::open(sim);
     ASSERT_TRUE(port);
-    std::unique_ptr<rq::RobotiqComponent> gripper;
+    std::unique_ptr<GripperComponent> gripper;
     test::RunningServer gripperServer(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
         rq::RobotiqComponentOptions o;
         o.device = port->devicePath();
         o.gripPointOffset = gripOffset;
         o.gripper.poll = 1ms;
-        auto c = rq::RobotiqComponent::create(s, o);
+        auto c = rq::startRobotiqComponent(s, o);
         ASSERT_TRUE(c.ok());
         gripper = std::move(*c);
     });

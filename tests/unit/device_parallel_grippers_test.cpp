@@ -60,7 +60,7 @@ Model robotiq2f85() {
         robotiq::RobotiqComponentOptions o;
         o.device = device;
         o.gripper.poll = 1ms;
-        auto c = robotiq::RobotiqComponent::create(s, o);
+        auto c = robotiq::startRobotiqComponent(s, o);
         if (!c) return c.status();
         return std::shared_ptr<void>(std::move(*c));
     };
@@ -87,7 +87,7 @@ Model dhAg95() {
         dh::Ag95ComponentOptions o;
         o.device = device;
         o.gripper.poll = 1ms;
-        auto c = dh::Ag95Component::create(s, o);
+        auto c = dh::startAg95Component(s, o);
         if (!c) return c.status();
         return std::shared_ptr<void>(std::move(*c));
     };

@@ -223,7 +223,7 @@ public:
                 options.device = port_->devicePath();  // all the adapter knows
                 options.gripper.poll = 1ms;
                 std::string error;
-                auto c = RobotiqComponent::create(s, options, &error);
+                auto c = startRobotiqComponent(s, options, &error);
                 ASSERT_TRUE(c.ok()) << error;
                 component_ = std::move(*c);
             });
@@ -263,7 +263,7 @@ private:
     std::optional<ObjectBetweenFingers> between_;
     std::vector<FingerEvent> events_;
     std::unique_ptr<SimulatedGripperPort> port_;
-    std::unique_ptr<RobotiqComponent> component_;
+    std::unique_ptr<GripperComponent> component_;
     std::unique_ptr<test::RunningServer> server_;
 };
 

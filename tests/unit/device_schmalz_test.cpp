@@ -116,7 +116,7 @@ public:
                 EcbpiComponentOptions options;
                 options.gripper.poll = 1ms;
                 std::string error;
-                auto c = EcbpiComponent::create(s, *master_, options, &error);
+                auto c = startEcbpiComponent(s, *master_, options, &error);
                 ASSERT_TRUE(c.ok()) << error;
                 component_ = std::move(*c);
             });
@@ -153,7 +153,7 @@ private:
     std::optional<std::string> under_;
     std::vector<CupEvent> events_;
     std::unique_ptr<SimulatedIoLinkMaster> master_;
-    std::unique_ptr<EcbpiComponent> component_;
+    std::unique_ptr<GripperComponent> component_;
     std::unique_ptr<test::RunningServer> server_;
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// Ag95Component: what `skillcell device ag95` serves: the AG-95 adapter on a serial device
+// The AG-95 component: what `skillcell device ag95` serves: the AG-95 adapter on a serial device
 // and the same skills as any parallel gripper: Grasp, Release and MoveGripper (grip point
 // PARALLEL at the given offset from the tool mounting plate). Nothing above the adapter
 // knows which model it is: swapping the 2F-85 for it changes no process and no MES.
@@ -8,7 +8,7 @@
 #include <string>
 
 #include "devices/dh/ag95_gripper.hpp"
-#include "devices/gripper/gripper_skills.hpp"
+#include "devices/gripper/gripper_component.hpp"
 
 namespace skillcell::devices::dh {
 
@@ -21,27 +21,8 @@ struct Ag95ComponentOptions {
     Ag95GripperOptions gripper;
 };
 
-class Ag95Component {
-public:
-    [[nodiscard]] static ua::Result<std::unique_ptr<Ag95Component>> create(
-        ua::Server& server, const Ag95ComponentOptions& options, std::string* error = nullptr);
-    ~Ag95Component();
-    Ag95Component(const Ag95Component&) = delete;
-    Ag95Component& operator=(const Ag95Component&) = delete;
-
-    [[nodiscard]] skills::SkillServer& skills() { return *skills_; }
-
-    struct Token {
-    private:
-        friend class Ag95Component;
-        Token() = default;
-    };
-    explicit Ag95Component(Token) {}
-
-private:
-    std::unique_ptr<Ag95Gripper> gripper_;
-    // After the gripper: the skills' behaviours refer to it, so they go first.
-    std::unique_ptr<skills::SkillServer> skills_;
-};
+/// The AG-95 adapter on `options.device` and its skills (a GripperComponent).
+[[nodiscard]] ua::Result<std::unique_ptr<GripperComponent>> startAg95Component(
+    ua::Server& server, const Ag95ComponentOptions& options, std::string* error = nullptr);
 
 }  // namespace skillcell::devices::dh

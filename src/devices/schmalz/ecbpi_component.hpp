@@ -1,11 +1,11 @@
 #pragma once
-// EcbpiComponent: what `skillcell device schmalz` serves: the ECBPi adapter on an IO-Link
+// The Schmalz component: what `skillcell device schmalz` serves: the ECBPi adapter on an IO-Link
 // master port and its skills Grasp and Release (grip point VACUUM at the given offset from
 // the tool mounting plate). Build and destroy it on the server's thread.
 #include <memory>
 #include <string>
 
-#include "devices/gripper/gripper_skills.hpp"
+#include "devices/gripper/gripper_component.hpp"
 #include "devices/schmalz/ecbpi_gripper.hpp"
 
 namespace skillcell::devices::schmalz {
@@ -17,29 +17,10 @@ struct EcbpiComponentOptions {
     EcbpiGripperOptions gripper;
 };
 
-class EcbpiComponent {
-public:
-    /// `master` must outlive the component.
-    [[nodiscard]] static ua::Result<std::unique_ptr<EcbpiComponent>> create(
-        ua::Server& server, IoLinkMaster& master, const EcbpiComponentOptions& options,
-        std::string* error = nullptr);
-    ~EcbpiComponent();
-    EcbpiComponent(const EcbpiComponent&) = delete;
-    EcbpiComponent& operator=(const EcbpiComponent&) = delete;
-
-    [[nodiscard]] skills::SkillServer& skills() { return *skills_; }
-
-    struct Token {
-    private:
-        friend class EcbpiComponent;
-        Token() = default;
-    };
-    explicit EcbpiComponent(Token) {}
-
-private:
-    std::unique_ptr<EcbpiGripper> gripper_;
-    // After the gripper: the skills' behaviours refer to it, so they go first.
-    std::unique_ptr<skills::SkillServer> skills_;
-};
+/// The ECBPi adapter on a port of `master` (which must outlive it) and its skills Grasp
+/// and Release (a GripperComponent).
+[[nodiscard]] ua::Result<std::unique_ptr<GripperComponent>> startEcbpiComponent(
+    ua::Server& server, IoLinkMaster& master, const EcbpiComponentOptions& options,
+    std::string* error = nullptr);
 
 }  // namespace skillcell::devices::schmalz

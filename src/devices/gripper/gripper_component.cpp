@@ -1,0 +1,33 @@
+#include "devices/gripper/gripper_component.hpp"
+
+namespace skillcell::devices {
+
+GripperComponent::~GripperComponent() = default;
+
+ua::Result<std::unique_ptr<GripperComponent>> GripperComponent::create(
+    ua::Server& server, std::unique_ptr<ParallelGripper> gripper, const KDL::Frame& offset,
+    std::string* error) {
+    auto component = std::make_unique<GripperComponent>(Token{});
+    ParallelGripper& parallel = *gripper;
+    component->gripper_ = std::move(gripper);
+    component->skills_ = skills::SkillServer::create(server, server.executor(), error);
+    if (!component->skills_) return ua::status::BadConfigurationError;
+    const auto s =
+        addGripperSkills(*component->skills_, parallel, offset, GripPointType::Parallel, error);
+    if (s.isBad()) return s;
+    return component;
+}
+
+ua::Result<std::unique_ptr<GripperComponent>> GripperComponent::create(
+    ua::Server& server, std::unique_ptr<Gripper> gripper, const KDL::Frame& offset,
+    GripPointType type, std::string* error) {
+    auto component = std::make_unique<GripperComponent>(Token{});
+    component->gripper_ = std::move(gripper);
+    component->skills_ = skills::SkillServer::create(server, server.executor(), error);
+    if (!component->skills_) return ua::status::BadConfigurationError;
+    const auto s = addGripperSkills(*component->skills_, *component->gripper_, offset, type, error);
+    if (s.isBad()) return s;
+    return component;
+}
+
+}  // namespace skillcell::devices
