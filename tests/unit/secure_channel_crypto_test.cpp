@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "service_codec.hpp"
 #include "test_certificate.hpp"
 #include "ua/crypto/security_policy_profile.hpp"
 #include "ua/encoding/codec.hpp"
@@ -15,31 +16,12 @@ using namespace skillcell::ua;
 using skillcell::test::makeTestCertificate;
 using skillcell::test::TestCertificate;
 using Bytes = std::vector<std::uint8_t>;
+using skillcell::test::decodeService;
+using skillcell::test::encodeService;
 
 namespace {
 
 constexpr std::uint32_t kChannelId = 42;
-
-template <class T>
-Bytes encodeService(const T& message) {
-    Bytes out;
-    BinaryWriter w(out);
-    encode(w, NodeId(T::kBinaryEncodingId));
-    encode(w, message);
-    return out;
-}
-
-template <class T>
-T decodeService(const Bytes& body) {
-    BinaryReader r(body);
-    NodeId id;
-    decode(r, id);
-    EXPECT_EQ(id, NodeId(T::kBinaryEncodingId));
-    T out{};
-    decode(r, out);
-    EXPECT_TRUE(r.ok());
-    return out;
-}
 
 /// Key generation is the slow part: each size is made once for the whole test program.
 const TestCertificate& certificate(int bits, int which) {

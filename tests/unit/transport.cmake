@@ -1,6 +1,7 @@
 # unit tests of src/ua/transport
 skillcell_unit_test(test_transport transport_test.cpp)
 target_link_libraries(test_transport PRIVATE skillcell_ua_transport)
+target_include_directories(test_transport PRIVATE ${PROJECT_SOURCE_DIR}/tests/support)
 
 # Certificates made by the tests themselves (tests/support/test_certificate.hpp).
 add_library(skillcell_test_certificates STATIC ${PROJECT_SOURCE_DIR}/tests/support/test_certificate.cpp)

@@ -7,12 +7,15 @@
 #include <string>
 #include <vector>
 
+#include "service_codec.hpp"
 #include "ua/encoding/codec.hpp"
 #include "ua/transport/secure_channel.hpp"
 #include "ua/transport/tcp_framing.hpp"
 
 using namespace skillcell::ua;
 using Bytes = std::vector<std::uint8_t>;
+using skillcell::test::decodeService;
+using skillcell::test::encodeService;
 using std::chrono::milliseconds;
 
 namespace {
@@ -66,28 +69,6 @@ Bytes opnFrame(std::uint32_t channelId, std::uint32_t seq, std::uint32_t request
     b.insert(b.end(), body.begin(), body.end());
     patchSize(b);
     return b;
-}
-
-template <class T>
-Bytes encodeService(const T& message) {
-    Bytes out;
-    BinaryWriter w(out);
-    encode(w, NodeId(T::kBinaryEncodingId));
-    encode(w, message);
-    return out;
-}
-
-template <class T>
-T decodeService(const Bytes& body) {
-    BinaryReader r(body);
-    NodeId id;
-    decode(r, id);
-    EXPECT_EQ(id, NodeId(T::kBinaryEncodingId));
-    T out{};
-    decode(r, out);
-    EXPECT_TRUE(r.ok());
-    EXPECT_EQ(r.remaining(), 0u);
-    return out;
 }
 
 Bytes pattern(std::size_t n) {
