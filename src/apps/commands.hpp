@@ -21,6 +21,8 @@ Command addCheckCommand(CLI::App& app);
 Command addDetectCommand(CLI::App& app);
 Command addPkiCommand(CLI::App& app);
 Command addUserCommand(CLI::App& app);
+/// `skillcell nodeset2owl`: NodeSet2 files to OWL ontologies (src/kb/owl).
+Command addNodeset2OwlCommand(CLI::App& app);
 /// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq, schmalz).
 std::vector<Command> addDeviceCommands(CLI::App& app);
 

@@ -241,6 +241,14 @@ public:
                 }
             }
         }
+        // The table the parsed NodeIds' indices refer to: the address space's, then the
+        // file's new URIs at the indices given above.
+        out.serverNamespaces.assign(as_.namespaces().begin(), as_.namespaces().end());
+        for (std::size_t i = 0; i < out.namespaceUris.size(); ++i) {
+            const std::size_t index = nsMap_[i + 1];
+            if (index >= out.serverNamespaces.size()) out.serverNamespaces.resize(index + 1);
+            out.serverNamespaces[index] = out.namespaceUris[i];
+        }
         if (auto aliases = child(root, "Aliases")) {
             for (auto a : aliases.children()) {
                 if (a.type() != pugi::node_element) continue;

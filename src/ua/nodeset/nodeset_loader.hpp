@@ -55,6 +55,9 @@ struct ParsedModel {
 struct ParsedNodeSet {
     std::string source;                      // file name for messages
     std::vector<std::string> namespaceUris;  // the file's NamespaceUris, file index 1..n
+    /// The namespace table the parsed NodeIds refer to (the address space's, then the
+    /// file's new URIs): index -> URI.
+    std::vector<std::string> serverNamespaces;
     std::vector<ParsedModel> models;
     std::vector<ParsedNode> nodes;
     /// Every DataType of the file, for the address space's DataTypeRegistry.

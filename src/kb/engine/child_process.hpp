@@ -1,0 +1,130 @@
+#pragma once
+// ChildProcess: an outside program (virtuoso-t, isql-vt, Konclude) run as a child of ours.
+// The knowledge base depends on these engines, so their life is tied to ours: the child is
+// killed by the kernel when our thread dies (PR_SET_PDEATHSIG), and by us when the object
+// goes away. Waits are bounded and use a pidfd, so no polling interval decides how fast we
+// notice an exit.
+#include <sys/types.h>
+
+#include <chrono>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "kb/expected.hpp"
+
+namespace skillcell::kb::engine {
+
+/// An owned file descriptor; closed on destruction.
+class UniqueFd {
+public:
+    UniqueFd() = default;
+    explicit UniqueFd(int fd) : fd_(fd) {}
+    ~UniqueFd() { reset(); }
+    UniqueFd(UniqueFd&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+    UniqueFd& operator=(UniqueFd&& other) noexcept;
+    UniqueFd(const UniqueFd&) = delete;
+    UniqueFd& operator=(const UniqueFd&) = delete;
+
+    [[nodiscard]] int get() const { return fd_; }
+    [[nodiscard]] bool valid() const { return fd_ >= 0; }
+    void reset(int fd = -1);
+
+private:
+    int fd_ = -1;
+};
+
+/// Where one of the child's output streams goes.
+struct OutputSink {
+    enum class Kind { OurStderr, File, Capture, Discard };
+    Kind kind = Kind::OurStderr;
+    std::filesystem::path file;  // Kind::File: appended to, created if missing
+
+    static OutputSink ourStderr() { return {}; }
+    static OutputSink toFile(std::filesystem::path path) { return {Kind::File, std::move(path)}; }
+    /// Into a string (captured()): drained only while someone waits, so for short runs.
+    static OutputSink capture() { return {Kind::Capture, {}}; }
+    static OutputSink discard() { return {Kind::Discard, {}}; }
+};
+
+struct ProcessOptions {
+    std::filesystem::path workingDir;                          // empty: ours
+    std::vector<std::pair<std::string, std::string>> envAdd;   // set in the child's environment
+    OutputSink stdoutTo = OutputSink::ourStderr();              // never our stdout: it may be a protocol
+    OutputSink stderrTo = OutputSink::ourStderr();
+};
+
+/// How a process ended: an exit code, or the signal that ended it.
+struct ExitStatus {
+    int code = -1;   // exit code; -1 when a signal ended the process
+    int signal = 0;  // the terminating signal; 0 when it exited
+
+    [[nodiscard]] bool success() const { return code == 0; }
+    [[nodiscard]] std::string describe() const;
+    friend bool operator==(const ExitStatus&, const ExitStatus&) = default;
+};
+
+class ChildProcess {
+public:
+    using Duration = std::chrono::milliseconds;
+
+    /// Starts argv[0] (searched in PATH when it has no '/') with stdin from /dev/null. Fails
+    /// with the program's name and the reason when it cannot be executed.
+    static Expected<ChildProcess> start(const std::vector<std::string>& argv,
+                                        const ProcessOptions& options = {});
+
+    ChildProcess(ChildProcess&& other) noexcept;
+    ChildProcess& operator=(ChildProcess&& other) noexcept;
+    ChildProcess(const ChildProcess&) = delete;
+    ChildProcess& operator=(const ChildProcess&) = delete;
+    /// A process still running is terminated (SIGTERM, then SIGKILL after 5 s).
+    ~ChildProcess();
+
+    [[nodiscard]] pid_t pid() const { return pid_; }
+    [[nodiscard]] const std::string& name() const { return name_; }
+    /// True until the process has ended (reaps it when it has).
+    [[nodiscard]] bool running();
+    /// Waits at most `timeout` for the end; fails (naming the program) if it is still running.
+    Expected<ExitStatus> wait(Duration timeout);
+    /// SIGTERM, at most `grace` to end, then SIGKILL.
+    Expected<ExitStatus> terminate(Duration grace);
+    /// SIGKILL and reap: the crash a supervisor must survive.
+    Expected<ExitStatus> kill();
+
+    /// Output captured so far (OutputSink::capture()); complete once wait() has succeeded.
+    [[nodiscard]] const std::string& capturedStdout() const { return out_; }
+    [[nodiscard]] const std::string& capturedStderr() const { return err_; }
+
+private:
+    ChildProcess() = default;
+    void drainCaptured();
+    bool reap(bool block);
+    void release();
+
+    pid_t pid_ = -1;
+    std::string name_;        // for messages: the program's file name
+    UniqueFd pidfd_;          // invalid: kernel without pidfd_open, wait by polling
+    UniqueFd outPipe_;        // capture pipes, read ends, non-blocking
+    UniqueFd errPipe_;
+    std::string out_;
+    std::string err_;
+    std::optional<ExitStatus> status_;
+};
+
+/// What a short tool printed and how it ended.
+struct RunResult {
+    int exitCode = 0;
+    std::string out;
+    std::string err;
+};
+
+/// Runs a short tool to its end with stdout and stderr captured; kills it after `timeout`.
+/// A non-zero exit is a result (the caller knows what it means); death by a signal, a
+/// timeout or a failure to start are errors.
+Expected<RunResult> runToCompletion(const std::vector<std::string>& argv,
+                                    std::chrono::milliseconds timeout,
+                                    ProcessOptions options = {});
+
+}  // namespace skillcell::kb::engine

@@ -1,0 +1,388 @@
+#include "kb/engine/virtuoso_instance.hpp"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <netinet/in.h>
+#include <spdlog/spdlog.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <vector>
+
+namespace skillcell::kb::engine {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using std::chrono::milliseconds;
+
+constexpr const char* kIni = "virtuoso.ini";
+constexpr const char* kLog = "virtuoso.log";
+// virtuoso-t's stdout and stderr: a copy of its log plus what it prints before the log is
+// open (ini errors, "Failed to start listening"). Error messages quote its tail.
+constexpr const char* kConsole = "virtuoso.out";
+constexpr const char* kPassword = "admin-password";
+constexpr int kStartAttempts = 3;  // with picked ports: another process may take one first
+constexpr milliseconds kReadyProbeInterval{100};
+constexpr milliseconds kKillGrace{5000};
+
+long long msSince(Clock::time_point t0) {
+    return std::chrono::duration_cast<milliseconds>(Clock::now() - t0).count();
+}
+
+std::string errnoText(int err) { return std::strerror(err); }  // NOLINT(concurrency-mt-unsafe)
+
+/// Free ports on 127.0.0.1, all distinct: the sockets stay bound until every port is known.
+Expected<std::vector<std::uint16_t>> pickFreePorts(std::size_t count) {
+    std::vector<UniqueFd> sockets;
+    std::vector<std::uint16_t> ports;
+    for (std::size_t i = 0; i < count; ++i) {
+        UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
+        sockaddr_in addr{};
+        addr.sin_family = AF_INET;
+        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        socklen_t len = sizeof addr;
+        auto* any = reinterpret_cast<sockaddr*>(&addr);  // NOLINT: the sockets API
+        if (!fd.valid() || ::bind(fd.get(), any, len) != 0 || ::getsockname(fd.get(), any, &len) != 0) {
+            return Error{"cannot pick a free port on 127.0.0.1: " + errnoText(errno)};
+        }
+        ports.push_back(ntohs(addr.sin_port));
+        sockets.push_back(std::move(fd));
+    }
+    return ports;
+}
+
+/// Whether something accepts TCP connections on 127.0.0.1:port (answered at once on loopback).
+bool acceptsConnections(std::uint16_t port) {
+    const UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    addr.sin_port = htons(port);
+    return fd.valid() &&
+           ::connect(fd.get(), reinterpret_cast<const sockaddr*>(&addr),  // NOLINT: sockets API
+                     sizeof addr) == 0;
+}
+
+std::string randomSecret(std::size_t length) {
+    static constexpr std::string_view kAlphabet =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+    std::random_device device;  // getrandom(2) on Linux
+    std::uniform_int_distribution<std::size_t> pick(0, kAlphabet.size() - 1);
+    std::string secret;
+    for (std::size_t i = 0; i < length; ++i) secret += kAlphabet[pick(device)];
+    return secret;
+}
+
+/// Writes `text` to `path` through a temporary file and rename, so a crash leaves the old
+/// file or the new one, never half of one.
+Status writeFileAtomically(const fs::path& path, const std::string& text, mode_t mode) {
+    const fs::path tmp = path.string() + ".tmp";
+    const UniqueFd fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, mode));
+    if (!fd.valid()) return Error{"cannot write " + tmp.string() + ": " + errnoText(errno)};
+    ::fchmod(fd.get(), mode);  // the umask may have narrowed or the file existed
+    std::size_t done = 0;
+    while (done < text.size()) {
+        const ssize_t n = ::write(fd.get(), text.data() + done, text.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return Error{"cannot write " + tmp.string() + ": " + errnoText(errno)};
+        done += static_cast<std::size_t>(n);
+    }
+    if (::fsync(fd.get()) != 0 || ::rename(tmp.c_str(), path.c_str()) != 0) {
+        return Error{"cannot write " + path.string() + ": " + errnoText(errno)};
+    }
+    return Done{};
+}
+
+std::string iniText(const fs::path& dir, std::uint16_t sqlPort, std::uint16_t httpPort) {
+    const std::string d = dir.string();
+    // Durability: TransactionFile is the write-ahead log; a commit is in it before isql or
+    // /sparql acknowledge, and start-up rolls it forward, which is what makes `kill -9`
+    // safe. CheckpointSyncMode 2 fsyncs the database at each checkpoint so that a
+    // checkpoint (which truncates the log) is on disk before the log is reused.
+    // MaxQueryExecutionTime 0: Virtuoso's "anytime" queries would silently return partial
+    // results at the limit; a wrong answer is worse for a knowledge base than a slow one.
+    return fmt::format(R"([Database]
+DatabaseFile       = {0}/virtuoso.db
+ErrorLogFile       = {0}/{3}
+LockFile           = {0}/virtuoso.lck
+TransactionFile    = {0}/virtuoso.trx
+xa_persistent_file = {0}/virtuoso.pxa
+ErrorLogLevel      = 7
+FileExtend         = 200
+MaxCheckpointRemap = 2000
+Striping           = 0
+TempStorage        = TempDatabase
+
+[TempDatabase]
+DatabaseFile       = {0}/virtuoso-temp.db
+TransactionFile    = {0}/virtuoso-temp.trx
+MaxCheckpointRemap = 2000
+Striping           = 0
+
+[Parameters]
+ServerPort           = 127.0.0.1:{1}
+DisableUnixSocket    = 1
+DisableTcpSocket     = 0
+MaxClientConnections = 20
+CheckpointInterval   = 60
+CheckpointSyncMode   = 2
+CheckpointAuditTrail = 0
+CaseMode             = 2
+DirsAllowed          = {0}
+AllowOSCalls         = 0
+NumberOfBuffers      = 10000
+MaxDirtyBuffers      = 6000
+ThreadsPerQuery      = 2
+
+[HTTPServer]
+ServerPort           = 127.0.0.1:{2}
+ServerRoot           = {0}/www
+MaxClientConnections = 10
+ServerThreads        = 10
+EnabledDavVSP        = 0
+Charset              = UTF-8
+
+[Client]
+SQL_PREFETCH_ROWS  = 100
+SQL_PREFETCH_BYTES = 16000
+
+[SPARQL]
+ResultSetMaxRows           = 1000000
+MaxQueryExecutionTime      = 0
+MaxQueryCostEstimationTime = 400
+DefaultQuery               = SELECT * WHERE {{ ?s ?p ?o }} LIMIT 10
+)",
+                       d, sqlPort, httpPort, kLog);
+}
+
+}  // namespace
+
+VirtuosoInstance::VirtuosoInstance(VirtuosoConfig config) : config_(std::move(config)) {}
+
+VirtuosoInstance::~VirtuosoInstance() {
+    if (auto st = stop(); !st) spdlog::error("{}", st.error());
+}
+
+std::string VirtuosoInstance::sparqlUrl() const {
+    return "http://127.0.0.1:" + std::to_string(httpPort_) + "/sparql";
+}
+fs::path VirtuosoInstance::logPath() const { return config_.dataDir / kLog; }
+fs::path VirtuosoInstance::passwordPath() const { return config_.dataDir / kPassword; }
+
+bool VirtuosoInstance::running() { return process_ && process_->running(); }
+
+Status VirtuosoInstance::prepareDataDir() {
+    if (config_.dataDir.empty()) return Error{"Virtuoso: no data directory configured"};
+    std::error_code ec;
+    config_.dataDir = fs::absolute(config_.dataDir, ec);
+    const fs::path& dir = config_.dataDir;
+    if (fs::create_directories(dir, ec)) {
+        fs::permissions(dir, fs::perms::owner_all, ec);
+    }
+    if (ec || !fs::is_directory(dir)) {
+        return Error{"cannot create Virtuoso data directory " + dir.string() + ": " +
+                     (ec ? ec.message() : "not a directory")};
+    }
+    fs::create_directories(dir / "www", ec);  // the HTTP root: empty, nothing to serve
+    if (ec) return Error{"cannot create " + (dir / "www").string() + ": " + ec.message()};
+
+    if (fs::exists(passwordPath())) {
+        std::ifstream in(passwordPath());
+        std::getline(in, password_);
+        if (password_.empty()) {
+            return Error{"Virtuoso admin password file " + passwordPath().string() + " is empty"};
+        }
+        return Done{};
+    }
+    // Written before the database learns it: a crash in between leaves a password we know
+    // and a database still on dba/dba, which the next start completes.
+    password_ = randomSecret(32);
+    return writeFileAtomically(passwordPath(), password_ + "\n", 0600);
+}
+
+Status VirtuosoInstance::start() {
+    if (running()) return Done{};
+    const auto t0 = Clock::now();
+    if (auto st = prepareDataDir(); !st) return st;
+    const bool pickPorts = config_.httpPort == 0 || config_.sqlPort == 0;
+    const auto deadline = t0 + config_.startTimeout;
+    for (int attempt = 1;; ++attempt) {
+        // Picked ports are kept across restarts, so a client's sparqlUrl() stays valid.
+        if (pickPorts && (attempt > 1 || httpPort_ == 0 || sqlPort_ == 0)) {
+            auto ports = pickFreePorts(2);
+            if (!ports) return Error{ports.error()};
+            httpPort_ = config_.httpPort != 0 ? config_.httpPort : (*ports)[0];
+            sqlPort_ = config_.sqlPort != 0 ? config_.sqlPort : (*ports)[1];
+        } else if (!pickPorts) {
+            httpPort_ = config_.httpPort;
+            sqlPort_ = config_.sqlPort;
+        }
+        if (auto st = launch(); !st) return st;
+        auto ready = waitUntilReady(deadline);
+        if (ready) break;
+        const bool exited = !process_->running();
+        if (!exited) (void)process_->terminate(kKillGrace);
+        process_.reset();
+        const bool portTaken = ready.error().find("Failed to start listening") != std::string::npos;
+        if (!(exited && portTaken && pickPorts && attempt < kStartAttempts)) return ready;
+        spdlog::warn("Virtuoso in {}: a picked port was taken meanwhile; trying others",
+                     config_.dataDir.string());
+    }
+    spdlog::info("Virtuoso started (pid {}) in {} ms: data dir {}, SQL 127.0.0.1:{}, {}",
+                 process_->pid(), msSince(t0), config_.dataDir.string(), sqlPort_, sparqlUrl());
+    return Done{};
+}
+
+Status VirtuosoInstance::launch() {
+    const fs::path& dir = config_.dataDir;
+    if (auto st = writeFileAtomically(dir / kIni, iniText(dir, sqlPort_, httpPort_), 0600); !st) {
+        return st;
+    }
+    std::error_code ec;
+    outputOffset_ = fs::exists(dir / kConsole) ? fs::file_size(dir / kConsole, ec) : 0;
+    ProcessOptions options;
+    options.workingDir = dir;
+    options.stdoutTo = OutputSink::toFile(dir / kConsole);
+    options.stderrTo = OutputSink::toFile(dir / kConsole);
+    auto child = ChildProcess::start(
+        {config_.virtuosoBinary, "+foreground", "+configfile", (dir / kIni).string()}, options);
+    if (!child) return Error{child.error()};
+    process_.emplace(std::move(*child));
+    spdlog::info("starting Virtuoso (pid {}): data dir {}, SQL port {}, HTTP port {}",
+                 process_->pid(), dir.string(), sqlPort_, httpPort_);
+    return Done{};
+}
+
+Status VirtuosoInstance::waitUntilReady(Clock::time_point deadline) {
+    std::string lastProbe;
+    for (;;) {
+        if (!process_->running()) {
+            return Error{"virtuoso-t (data dir " + config_.dataDir.string() + ") exited during start, " +
+                         process_->wait(milliseconds{0})->describe() + "; its output:\n" +
+                         outputTail()};
+        }
+        if (Clock::now() >= deadline) {
+            return Error{"virtuoso-t (data dir " + config_.dataDir.string() +
+                         ") did not answer on SQL port " + std::to_string(sqlPort_) + " within " +
+                         std::to_string(config_.startTimeout.count()) + " ms" +
+                         (lastProbe.empty() ? "" : " (isql: " + lastProbe + ")") +
+                         "; its output:\n" + outputTail()};
+        }
+        // Both listeners open means start-up is over: the SQL one opens last.
+        if (acceptsConnections(httpPort_) && acceptsConnections(sqlPort_)) {
+            auto probe = isqlAs(password_, "select 1;");
+            if (probe) return Done{};
+            if (probe.error().find("Bad login") != std::string::npos) return firstTimeSetup();
+            lastProbe = probe.error();
+        }
+        // The pause between probes is a bounded wait for the process, which ends it early
+        // if virtuoso-t exits.
+        (void)process_->wait(kReadyProbeInterval);
+    }
+}
+
+Status VirtuosoInstance::firstTimeSetup() {
+    if (auto probe = isqlAs("dba", "select 1;"); !probe) {
+        return Error{"Virtuoso in " + config_.dataDir.string() + " accepts neither the password in " +
+                     passwordPath().string() + " nor the default one: " + probe.error()};
+    }
+    // SPARQL_UPDATE for the anonymous "SPARQL" user lets /sparql run SPARQL 1.1 Update
+    // (INSERT/DELETE, LOAD, CLEAR, CREATE, DROP, COPY, MOVE, ADD; checked). Granted before
+    // the password changes, so a crash in between is repaired by the next start.
+    if (auto grant = isqlAs("dba", R"(GRANT SPARQL_UPDATE TO "SPARQL";)");
+        !grant && grant.error().find("U0013") == std::string::npos) {  // U0013: already granted
+        return Error{"Virtuoso: cannot grant SPARQL_UPDATE: " + grant.error()};
+    }
+    // dav/dav is the other well-known account; nobody needs it, so nobody learns its password.
+    if (auto set = isqlAs("dba", "user_set_password('dav', '" + randomSecret(32) +
+                                     "'); user_set_password('dba', '" + password_ + "');");
+        !set) {
+        return Error{"Virtuoso: cannot set the admin password: " + set.error()};
+    }
+    if (auto check = isqlAs(password_, "select 1;"); !check) {
+        return Error{"Virtuoso: the new admin password is not accepted: " + check.error()};
+    }
+    spdlog::info("Virtuoso in {}: admin password set (in {}), SPARQL Update granted",
+                 config_.dataDir.string(), passwordPath().string());
+    return Done{};
+}
+
+Status VirtuosoInstance::stop() {
+    if (!process_) return Done{};
+    if (!process_->running()) {
+        spdlog::warn("Virtuoso (data dir {}) had already ended: {}", config_.dataDir.string(),
+                     process_->wait(milliseconds{0})->describe());
+        process_.reset();
+        return Done{};
+    }
+    const auto t0 = Clock::now();
+    const pid_t pid = process_->pid();
+    // `shutdown` checkpoints first, so the next start has no log to roll forward.
+    auto asked = isqlAs(password_, "shutdown;");
+    auto ended = process_->wait(config_.stopTimeout);
+    if (!ended) {
+        spdlog::warn("Virtuoso (pid {}) did not shut down within {} ms{}; terminating it", pid,
+                     config_.stopTimeout.count(), asked ? "" : " (" + asked.error() + ")");
+        ended = process_->terminate(kKillGrace);
+    }
+    process_.reset();
+    if (!ended) return Error{"Virtuoso (pid " + std::to_string(pid) + ") would not stop: " + ended.error()};
+    spdlog::info("Virtuoso stopped (pid {}, {}) in {} ms: data dir {}", pid, ended->describe(),
+                 msSince(t0), config_.dataDir.string());
+    return Done{};
+}
+
+void VirtuosoInstance::kill() {
+    if (!process_) return;
+    const pid_t pid = process_->pid();
+    auto ended = process_->kill();
+    process_.reset();
+    spdlog::warn("Virtuoso (pid {}) killed: {}", pid, ended ? ended->describe() : ended.error());
+}
+
+Expected<std::string> VirtuosoInstance::isql(const std::string& sql) const {
+    if (sqlPort_ == 0 || password_.empty()) return Error{"isql: Virtuoso has not been started"};
+    return isqlAs(password_, sql);
+}
+
+Expected<std::string> VirtuosoInstance::isqlAs(const std::string& password,
+                                               const std::string& sql) const {
+    // The password is an argument: isql-vt reads it nowhere else. Loopback tool runs only.
+    auto run = runToCompletion({config_.isqlBinary, "127.0.0.1:" + std::to_string(sqlPort_), "dba",
+                                password, "VERBOSE=OFF", "BANNER=OFF", "PROMPT=OFF", "ECHO=OFF",
+                                "EXEC=" + sql},
+                               config_.isqlTimeout);
+    if (!run) return Error{run.error()};
+    // isql-vt goes on after a failed statement and may still exit 0: its stderr decides.
+    if (run->exitCode != 0 || run->err.find("*** Error") != std::string::npos) {
+        std::string why = run->err.empty() ? run->out : run->err;
+        while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
+        return Error{"isql (exit code " + std::to_string(run->exitCode) + "): " + why};
+    }
+    return std::move(run->out);
+}
+
+std::string VirtuosoInstance::outputTail() const {
+    constexpr std::uintmax_t kTail = 3000;
+    std::ifstream in(config_.dataDir / kConsole, std::ios::binary);
+    if (!in) return "(no output)";
+    in.seekg(0, std::ios::end);
+    const auto size = static_cast<std::uintmax_t>(in.tellg());
+    const std::uintmax_t from = std::max(outputOffset_, size > kTail ? size - kTail : 0);
+    in.seekg(static_cast<std::streamoff>(from));
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str().empty() ? "(no output)" : text.str();
+}
+
+}  // namespace skillcell::kb::engine

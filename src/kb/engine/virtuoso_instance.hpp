@@ -1,0 +1,82 @@
+#pragma once
+// VirtuosoInstance: a private Virtuoso (virtuoso-t) that the knowledge base starts, watches
+// and stops, in a data directory of its own. Nothing is shared with a system-wide Virtuoso:
+// the ini file is ours, both ports listen on 127.0.0.1 only, and the default dba/dba
+// password is replaced on first start by a random one kept in <dataDir>/admin-password.
+//
+// Durability: every commit is appended to the transaction log (virtuoso.trx) before it is
+// acknowledged, and a restart rolls that log forward, so data acknowledged before a
+// `kill -9` is there after the next start() (tested).
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "kb/engine/child_process.hpp"
+#include "kb/expected.hpp"
+
+namespace skillcell::kb::engine {
+
+struct VirtuosoConfig {
+    std::filesystem::path dataDir;  // created (mode 0700) if missing; kept across restarts
+    std::uint16_t httpPort = 0;     // on 127.0.0.1; 0: pick a free port (kept across restarts)
+    std::uint16_t sqlPort = 0;      // on 127.0.0.1; 0: pick a free port (kept across restarts)
+    std::chrono::milliseconds startTimeout{60'000};
+    std::chrono::milliseconds stopTimeout{30'000};
+    std::chrono::milliseconds isqlTimeout{60'000};
+    std::string virtuosoBinary = "/usr/bin/virtuoso-t";
+    std::string isqlBinary = "/usr/bin/isql-vt";
+};
+
+class VirtuosoInstance {
+public:
+    /// No I/O here: start() does it.
+    explicit VirtuosoInstance(VirtuosoConfig config);
+    /// Stops a running instance cleanly.
+    ~VirtuosoInstance();
+    VirtuosoInstance(const VirtuosoInstance&) = delete;
+    VirtuosoInstance& operator=(const VirtuosoInstance&) = delete;
+    VirtuosoInstance(VirtuosoInstance&&) = delete;
+    VirtuosoInstance& operator=(VirtuosoInstance&&) = delete;
+
+    /// Writes the ini, starts virtuoso-t and returns once it answers SQL (bounded by
+    /// startTimeout). The first start of a data directory also sets the admin password and
+    /// grants SPARQL 1.1 Update on /sparql. Errors carry the tail of the engine's output.
+    Status start();
+    /// Clean shutdown (SQL `shutdown`, then SIGTERM, then SIGKILL; bounded).
+    Status stop();
+    /// SIGKILL without a checkpoint: a crash, for tests of what survives one.
+    void kill();
+    [[nodiscard]] bool running();
+
+    [[nodiscard]] std::uint16_t httpPort() const { return httpPort_; }
+    [[nodiscard]] std::uint16_t sqlPort() const { return sqlPort_; }
+    /// "http://127.0.0.1:<httpPort>/sparql": queries, and updates without authentication.
+    [[nodiscard]] std::string sparqlUrl() const;
+    /// Virtuoso's own log.
+    [[nodiscard]] std::filesystem::path logPath() const;
+    [[nodiscard]] const std::filesystem::path& dataDir() const { return config_.dataDir; }
+    [[nodiscard]] std::filesystem::path passwordPath() const;
+
+    /// Runs `sql` (one or more statements, each ended by ';') through isql-vt as dba; its
+    /// output without banners. Fails when isql reports an error.
+    Expected<std::string> isql(const std::string& sql) const;
+
+private:
+    Status prepareDataDir();
+    Status launch();
+    Status waitUntilReady(std::chrono::steady_clock::time_point deadline);
+    Status firstTimeSetup();
+    Expected<std::string> isqlAs(const std::string& password, const std::string& sql) const;
+    [[nodiscard]] std::string outputTail() const;
+
+    VirtuosoConfig config_;
+    std::optional<ChildProcess> process_;
+    std::uint16_t httpPort_ = 0;
+    std::uint16_t sqlPort_ = 0;
+    std::string password_;
+    std::uintmax_t outputOffset_ = 0;  // where this run's output starts in virtuoso.out
+};
+
+}  // namespace skillcell::kb::engine

@@ -1,0 +1,47 @@
+#pragma once
+// kb::Expected<T>: a value, or the message saying why there is none. The knowledge base's
+// failures come from outside engines (a SPARQL syntax error, a reasoner's verdict, a child
+// process that would not start) and are reported to people, so they carry text, not a
+// StatusCode; the OPC UA face maps them to status codes at its edge.
+#include <cassert>
+#include <string>
+#include <utility>
+#include <variant>
+
+namespace skillcell::kb {
+
+/// The failure of an Expected: a message for people.
+struct Error {
+    std::string message;
+};
+
+template <class T>
+class [[nodiscard]] Expected {
+public:
+    Expected(T value) : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+    Expected(Error error) : v_(std::move(error)) {}  // NOLINT(google-explicit-constructor)
+
+    [[nodiscard]] bool ok() const { return v_.index() == 0; }
+    explicit operator bool() const { return ok(); }
+    /// The failure's message; empty when there is a value.
+    [[nodiscard]] const std::string& error() const {
+        static const std::string kNone;
+        return ok() ? kNone : std::get<1>(v_).message;
+    }
+    T& value() & { return std::get<0>(v_); }
+    const T& value() const& { return std::get<0>(v_); }
+    T&& value() && { return std::get<0>(std::move(v_)); }
+    T& operator*() & { return value(); }
+    const T& operator*() const& { return value(); }
+    T* operator->() { return &value(); }
+    const T* operator->() const { return &value(); }
+
+private:
+    std::variant<T, Error> v_;
+};
+
+/// For operations that yield nothing but may fail.
+struct Done {};
+using Status = Expected<Done>;
+
+}  // namespace skillcell::kb
