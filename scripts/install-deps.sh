@@ -11,6 +11,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   liborocos-kdl-dev libeigen3-dev libmodbus-dev pkg-config
   iproute2 util-linux procps
+  # the knowledge base: Turtle (libserd), the triple store (Virtuoso), the reasoner (Konclude)
+  libserd-dev virtuoso-opensource konclude
 )
 missing=()
 for p in "${packages[@]}"; do

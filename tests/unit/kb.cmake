@@ -1,3 +1,15 @@
 # unit tests of src/kb: Turtle, NodeSet2 -> OWL.
 skillcell_unit_test(test_kb_owl kb/owl_test.cpp)
 target_link_libraries(test_kb_owl PRIVATE skillcell_kb_owl)
+
+# HTTP/1.1 messages, client and server (src/kb/http).
+skillcell_unit_test(test_kb_http kb/http_test.cpp)
+target_link_libraries(test_kb_http PRIVATE skillcell_kb_http)
+
+# Virtuoso and Konclude as child processes, against the real binaries (src/kb/engine).
+skillcell_unit_test(test_kb_engine kb/engine_test.cpp)
+target_link_libraries(test_kb_engine PRIVATE skillcell_kb_engine skillcell_kb_rdf)
+
+# The knowledge base over a real Virtuoso and Konclude (src/kb).
+skillcell_unit_test(test_kb kb/knowledge_base_test.cpp)
+target_link_libraries(test_kb PRIVATE skillcell_kb)

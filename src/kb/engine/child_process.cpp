@@ -29,7 +29,9 @@ constexpr std::chrono::milliseconds kDestructorGrace{5000};
 // Only without pidfd (old kernels): how often a waiting caller looks again.
 constexpr int kFallbackPollMs = 10;
 
-std::string errnoText(int err) { return std::strerror(err); }  // NOLINT(concurrency-mt-unsafe)
+std::string errnoText(int err) {
+    return std::strerror(err);
+}  // NOLINT(concurrency-mt-unsafe)
 
 /// The executable argv[0] names: as given with a '/', else the first match in PATH.
 std::string resolveProgram(const std::string& program) {
@@ -78,11 +80,12 @@ Expected<SinkFds> openSink(const OutputSink& sink, int target) {
     SinkFds fds;
     switch (sink.kind) {
         case OutputSink::Kind::OurStderr:
-            if (target != STDERR_FILENO) fds.childEnd.reset(::fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3));
+            if (target != STDERR_FILENO)
+                fds.childEnd.reset(::fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3));
             break;
         case OutputSink::Kind::File:
-            fds.childEnd.reset(::open(sink.file.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC,
-                                      0644));
+            fds.childEnd.reset(
+                ::open(sink.file.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644));
             if (!fds.childEnd.valid()) {
                 return Error{"cannot open " + sink.file.string() + ": " + errnoText(errno)};
             }
@@ -255,7 +258,9 @@ ChildProcess& ChildProcess::operator=(ChildProcess&& other) noexcept {
     return *this;
 }
 
-ChildProcess::~ChildProcess() { release(); }
+ChildProcess::~ChildProcess() {
+    release();
+}
 
 void ChildProcess::release() {
     if (pid_ <= 0 || status_) return;
@@ -328,8 +333,9 @@ Expected<ExitStatus> ChildProcess::wait(Duration timeout) {
         for (const UniqueFd* fd : {&pidfd_, &outPipe_, &errPipe_}) {
             if (fd->valid()) fds[count++] = pollfd{fd->get(), POLLIN, 0};
         }
-        const int pollMs = pidfd_.valid() ? static_cast<int>(std::min<long long>(left, 60'000))
-                                          : static_cast<int>(std::min<long long>(left, kFallbackPollMs));
+        const int pollMs = pidfd_.valid()
+                               ? static_cast<int>(std::min<long long>(left, 60'000))
+                               : static_cast<int>(std::min<long long>(left, kFallbackPollMs));
         if (::poll(fds.data(), count, pollMs) > 0) drainCaptured();
     }
 }
@@ -364,8 +370,8 @@ Expected<RunResult> runToCompletion(const std::vector<std::string>& argv,
                      tail(child->capturedStdout() + child->capturedStderr())};
     }
     if (status->signal != 0) {
-        return Error{child->name() + " was " + status->describe() + "; its output: " +
-                     tail(child->capturedStdout() + child->capturedStderr())};
+        return Error{child->name() + " was " + status->describe() +
+                     "; its output: " + tail(child->capturedStdout() + child->capturedStderr())};
     }
     return RunResult{status->code, child->capturedStdout(), child->capturedStderr()};
 }

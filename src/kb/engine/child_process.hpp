@@ -50,9 +50,9 @@ struct OutputSink {
 };
 
 struct ProcessOptions {
-    std::filesystem::path workingDir;                          // empty: ours
-    std::vector<std::pair<std::string, std::string>> envAdd;   // set in the child's environment
-    OutputSink stdoutTo = OutputSink::ourStderr();              // never our stdout: it may be a protocol
+    std::filesystem::path workingDir;                         // empty: ours
+    std::vector<std::pair<std::string, std::string>> envAdd;  // set in the child's environment
+    OutputSink stdoutTo = OutputSink::ourStderr();  // never our stdout: it may be a protocol
     OutputSink stderrTo = OutputSink::ourStderr();
 };
 
@@ -104,9 +104,9 @@ private:
     void release();
 
     pid_t pid_ = -1;
-    std::string name_;        // for messages: the program's file name
-    UniqueFd pidfd_;          // invalid: kernel without pidfd_open, wait by polling
-    UniqueFd outPipe_;        // capture pipes, read ends, non-blocking
+    std::string name_;  // for messages: the program's file name
+    UniqueFd pidfd_;    // invalid: kernel without pidfd_open, wait by polling
+    UniqueFd outPipe_;  // capture pipes, read ends, non-blocking
     UniqueFd errPipe_;
     std::string out_;
     std::string err_;
@@ -124,7 +124,6 @@ struct RunResult {
 /// A non-zero exit is a result (the caller knows what it means); death by a signal, a
 /// timeout or a failure to start are errors.
 Expected<RunResult> runToCompletion(const std::vector<std::string>& argv,
-                                    std::chrono::milliseconds timeout,
-                                    ProcessOptions options = {});
+                                    std::chrono::milliseconds timeout, ProcessOptions options = {});
 
 }  // namespace skillcell::kb::engine

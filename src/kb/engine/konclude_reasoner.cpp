@@ -140,7 +140,8 @@ std::optional<std::string> entityIri(std::string_view block, std::string_view el
         const char next = at + open.size() < block.size() ? block[at + open.size()] : '\0';
         if (next != ' ' && next != '/' && next != '>') continue;  // <ClassAssertion is not <Class
         const auto end = block.find('>', at);
-        const std::string_view tag = block.substr(at, end == std::string_view::npos ? end : end - at);
+        const std::string_view tag =
+            block.substr(at, end == std::string_view::npos ? end : end - at);
         if (auto iri = attribute(tag, "IRI")) return iri;
         if (auto abbreviated = attribute(tag, "abbreviatedIRI")) {
             const auto colon = abbreviated->find(':');
@@ -178,8 +179,7 @@ public:
     /// Precondition: base ∪ candidates is inconsistent. Returns a subset X of candidates
     /// with base ∪ X inconsistent, minimal unless the budget ran out (then a superset of a
     /// minimal one: once out of runs, a branch keeps all its candidates).
-    Expected<std::vector<std::size_t>> search(const std::vector<std::size_t>& base,
-                                              bool baseGrew,
+    Expected<std::vector<std::size_t>> search(const std::vector<std::size_t>& base, bool baseGrew,
                                               const std::vector<std::size_t>& candidates) {
         if (baseGrew) {
             if (runs_ >= budget_) {
@@ -302,14 +302,16 @@ Expected<KoncludeReasoner::Output> KoncludeReasoner::run(std::string_view comman
         return Error{"Konclude " + std::string(command) + " failed (exit code " +
                      std::to_string(ran->exitCode) + "): " + tail(output.console)};
     }
-    if (const std::string errors = errorLines(output.console); !errors.empty()) {
+    // An inconsistent ontology makes Konclude log its precomputation steps as failed.
+    const bool inconsistent = output.console.find(" is inconsistent.") != std::string::npos;
+    if (const std::string errors = errorLines(output.console); !errors.empty() && !inconsistent) {
         return Error{"Konclude " + std::string(command) + " reported errors:\n" + tail(errors)};
     }
     if (wantResult) {
         std::ifstream in(result, std::ios::binary);
         if (!in) {
-            return Error{"Konclude " + std::string(command) + " wrote no result: " +
-                         tail(output.console)};
+            return Error{"Konclude " + std::string(command) +
+                         " wrote no result: " + tail(output.console)};
         }
         std::ostringstream text;
         text << in.rdbuf();
@@ -369,7 +371,8 @@ Expected<Explanation> KoncludeReasoner::explainInconsistency(
     if (*allOk) return explanation;  // consistent: inconsistent == false
     explanation.inconsistent = true;
 
-    const std::size_t budget = options.maxRuns > explanation.runs ? options.maxRuns - explanation.runs : 0;
+    const std::size_t budget =
+        options.maxRuns > explanation.runs ? options.maxRuns - explanation.runs : 0;
     ConflictSearch search(
         [&](const std::vector<std::size_t>& chosen) -> Expected<bool> {
             auto ok = consistencyOf(assemble(background, units, chosen));

@@ -39,7 +39,9 @@ long long msSince(Clock::time_point t0) {
     return std::chrono::duration_cast<milliseconds>(Clock::now() - t0).count();
 }
 
-std::string errnoText(int err) { return std::strerror(err); }  // NOLINT(concurrency-mt-unsafe)
+std::string errnoText(int err) {
+    return std::strerror(err);
+}  // NOLINT(concurrency-mt-unsafe)
 
 /// Free ports on 127.0.0.1, all distinct: the sockets stay bound until every port is known.
 Expected<std::vector<std::uint16_t>> pickFreePorts(std::size_t count) {
@@ -52,7 +54,8 @@ Expected<std::vector<std::uint16_t>> pickFreePorts(std::size_t count) {
         addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
         socklen_t len = sizeof addr;
         auto* any = reinterpret_cast<sockaddr*>(&addr);  // NOLINT: the sockets API
-        if (!fd.valid() || ::bind(fd.get(), any, len) != 0 || ::getsockname(fd.get(), any, &len) != 0) {
+        if (!fd.valid() || ::bind(fd.get(), any, len) != 0 ||
+            ::getsockname(fd.get(), any, &len) != 0) {
             return Error{"cannot pick a free port on 127.0.0.1: " + errnoText(errno)};
         }
         ports.push_back(ntohs(addr.sin_port));
@@ -105,10 +108,11 @@ Status writeFileAtomically(const fs::path& path, const std::string& text, mode_t
 
 std::string iniText(const fs::path& dir, std::uint16_t sqlPort, std::uint16_t httpPort) {
     const std::string d = dir.string();
-    // Durability: TransactionFile is the write-ahead log; a commit is in it before isql or
-    // /sparql acknowledge, and start-up rolls it forward, which is what makes `kill -9`
-    // safe. CheckpointSyncMode 2 fsyncs the database at each checkpoint so that a
-    // checkpoint (which truncates the log) is on disk before the log is reused.
+    // Durability: TransactionFile is the write-ahead log; a commit is written to it before
+    // isql or /sparql acknowledge it, and start-up rolls it forward ("N transactions
+    // replayed"), which is what makes `kill -9` safe (tested). CheckpointSyncMode 2 (full
+    // sync) puts a checkpoint on disk before the log it replaces is reused; that matters for
+    // a machine crash, not for a killed process, and is not tested here.
     // MaxQueryExecutionTime 0: Virtuoso's "anytime" queries would silently return partial
     // results at the limit; a wrong answer is worse for a knowledge base than a slow one.
     return fmt::format(R"([Database]
@@ -176,10 +180,16 @@ VirtuosoInstance::~VirtuosoInstance() {
 std::string VirtuosoInstance::sparqlUrl() const {
     return "http://127.0.0.1:" + std::to_string(httpPort_) + "/sparql";
 }
-fs::path VirtuosoInstance::logPath() const { return config_.dataDir / kLog; }
-fs::path VirtuosoInstance::passwordPath() const { return config_.dataDir / kPassword; }
+fs::path VirtuosoInstance::logPath() const {
+    return config_.dataDir / kLog;
+}
+fs::path VirtuosoInstance::passwordPath() const {
+    return config_.dataDir / kPassword;
+}
 
-bool VirtuosoInstance::running() { return process_ && process_->running(); }
+bool VirtuosoInstance::running() {
+    return process_ && process_->running();
+}
 
 Status VirtuosoInstance::prepareDataDir() {
     if (config_.dataDir.empty()) return Error{"Virtuoso: no data directory configured"};
@@ -234,7 +244,10 @@ Status VirtuosoInstance::start() {
         if (!exited) (void)process_->terminate(kKillGrace);
         process_.reset();
         const bool portTaken = ready.error().find("Failed to start listening") != std::string::npos;
-        if (!(exited && portTaken && pickPorts && attempt < kStartAttempts)) return ready;
+        // Only when we chose both ports can we choose again (virtuoso-t names no port we
+        // could tell apart from a fixed one reliably).
+        const bool bothPicked = config_.httpPort == 0 && config_.sqlPort == 0;
+        if (!(exited && portTaken && bothPicked && attempt < kStartAttempts)) return ready;
         spdlog::warn("Virtuoso in {}: a picked port was taken meanwhile; trying others",
                      config_.dataDir.string());
     }
@@ -267,9 +280,9 @@ Status VirtuosoInstance::waitUntilReady(Clock::time_point deadline) {
     std::string lastProbe;
     for (;;) {
         if (!process_->running()) {
-            return Error{"virtuoso-t (data dir " + config_.dataDir.string() + ") exited during start, " +
-                         process_->wait(milliseconds{0})->describe() + "; its output:\n" +
-                         outputTail()};
+            return Error{"virtuoso-t (data dir " + config_.dataDir.string() +
+                         ") exited during start, " + process_->wait(milliseconds{0})->describe() +
+                         "; its output:\n" + outputTail()};
         }
         if (Clock::now() >= deadline) {
             return Error{"virtuoso-t (data dir " + config_.dataDir.string() +
@@ -281,7 +294,7 @@ Status VirtuosoInstance::waitUntilReady(Clock::time_point deadline) {
         // Both listeners open means start-up is over: the SQL one opens last.
         if (acceptsConnections(httpPort_) && acceptsConnections(sqlPort_)) {
             auto probe = isqlAs(password_, "select 1;");
-            if (probe) return Done{};
+            if (probe) return lockDav();
             if (probe.error().find("Bad login") != std::string::npos) return firstTimeSetup();
             lastProbe = probe.error();
         }
@@ -293,8 +306,9 @@ Status VirtuosoInstance::waitUntilReady(Clock::time_point deadline) {
 
 Status VirtuosoInstance::firstTimeSetup() {
     if (auto probe = isqlAs("dba", "select 1;"); !probe) {
-        return Error{"Virtuoso in " + config_.dataDir.string() + " accepts neither the password in " +
-                     passwordPath().string() + " nor the default one: " + probe.error()};
+        return Error{"Virtuoso in " + config_.dataDir.string() +
+                     " accepts neither the password in " + passwordPath().string() +
+                     " nor the default one: " + probe.error()};
     }
     // SPARQL_UPDATE for the anonymous "SPARQL" user lets /sparql run SPARQL 1.1 Update
     // (INSERT/DELETE, LOAD, CLEAR, CREATE, DROP, COPY, MOVE, ADD; checked). Granted before
@@ -303,17 +317,24 @@ Status VirtuosoInstance::firstTimeSetup() {
         !grant && grant.error().find("U0013") == std::string::npos) {  // U0013: already granted
         return Error{"Virtuoso: cannot grant SPARQL_UPDATE: " + grant.error()};
     }
-    // dav/dav is the other well-known account; nobody needs it, so nobody learns its password.
-    if (auto set = isqlAs("dba", "user_set_password('dav', '" + randomSecret(32) +
-                                     "'); user_set_password('dba', '" + password_ + "');");
-        !set) {
+    if (auto set = isqlAs("dba", "user_set_password('dba', '" + password_ + "');"); !set) {
         return Error{"Virtuoso: cannot set the admin password: " + set.error()};
     }
-    if (auto check = isqlAs(password_, "select 1;"); !check) {
+    if (auto check = lockDav(); !check) {
         return Error{"Virtuoso: the new admin password is not accepted: " + check.error()};
     }
     spdlog::info("Virtuoso in {}: admin password set (in {}), SPARQL Update granted",
                  config_.dataDir.string(), passwordPath().string());
+    return Done{};
+}
+
+Status VirtuosoInstance::lockDav() {
+    // dav/dav is the other well-known account (WebDAV over HTTP). Nobody here needs it, so it
+    // gets a password nobody knows, at every start: a new database lists it in SYS_USERS
+    // before user_set_password knows it (SR286), so the first start may have to leave it.
+    auto set = isqlAs(password_, "select user_set_password(U_NAME, '" + randomSecret(32) +
+                                     "') from SYS_USERS where U_NAME = 'dav';");
+    if (!set && set.error().find("SR286") == std::string::npos) return Error{set.error()};
     return Done{};
 }
 
@@ -336,7 +357,8 @@ Status VirtuosoInstance::stop() {
         ended = process_->terminate(kKillGrace);
     }
     process_.reset();
-    if (!ended) return Error{"Virtuoso (pid " + std::to_string(pid) + ") would not stop: " + ended.error()};
+    if (!ended)
+        return Error{"Virtuoso (pid " + std::to_string(pid) + ") would not stop: " + ended.error()};
     spdlog::info("Virtuoso stopped (pid {}, {}) in {} ms: data dir {}", pid, ended->describe(),
                  msSince(t0), config_.dataDir.string());
     return Done{};
@@ -358,10 +380,10 @@ Expected<std::string> VirtuosoInstance::isql(const std::string& sql) const {
 Expected<std::string> VirtuosoInstance::isqlAs(const std::string& password,
                                                const std::string& sql) const {
     // The password is an argument: isql-vt reads it nowhere else. Loopback tool runs only.
-    auto run = runToCompletion({config_.isqlBinary, "127.0.0.1:" + std::to_string(sqlPort_), "dba",
-                                password, "VERBOSE=OFF", "BANNER=OFF", "PROMPT=OFF", "ECHO=OFF",
-                                "EXEC=" + sql},
-                               config_.isqlTimeout);
+    auto run = runToCompletion(
+        {config_.isqlBinary, "127.0.0.1:" + std::to_string(sqlPort_), "dba", password,
+         "VERBOSE=OFF", "BANNER=OFF", "PROMPT=OFF", "ECHO=OFF", "EXEC=" + sql},
+        config_.isqlTimeout);
     if (!run) return Error{run.error()};
     // isql-vt goes on after a failed statement and may still exit 0: its stderr decides.
     if (run->exitCode != 0 || run->err.find("*** Error") != std::string::npos) {

@@ -68,6 +68,7 @@ private:
     Status launch();
     Status waitUntilReady(std::chrono::steady_clock::time_point deadline);
     Status firstTimeSetup();
+    Status lockDav();
     Expected<std::string> isqlAs(const std::string& password, const std::string& sql) const;
     [[nodiscard]] std::string outputTail() const;
 

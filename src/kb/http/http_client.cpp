@@ -15,7 +15,7 @@ namespace {
 // Errors as values: refusals and resets are answers here, not exceptional.
 constexpr auto kNoThrow = asio::experimental::as_tuple(asio::use_awaitable);
 
-constexpr std::size_t kReadChunk = 16 * 1024;
+constexpr std::size_t kReadChunk = std::size_t{16} * 1024;
 
 // One request's state. It outlives the io_context that runs the exchange, so a timed-out
 // coroutine destroyed with the io_context never points at freed memory.
@@ -39,8 +39,8 @@ asio::awaitable<void> runExchange(Exchange& ex) {
     const auto executor = co_await asio::this_coro::executor;
     asio::ip::tcp::resolver resolver(executor);
     const std::string service = std::to_string(ex.port);
-    auto resolving =
-        resolver.async_resolve(ex.host, service, asio::ip::tcp::resolver::numeric_service, kNoThrow);
+    auto resolving = resolver.async_resolve(ex.host, service,
+                                            asio::ip::tcp::resolver::numeric_service, kNoThrow);
     auto [resolveError, endpoints] = co_await std::move(resolving);
     if (resolveError) {
         ex.fail("cannot resolve the host: " + resolveError.message());
@@ -107,9 +107,8 @@ bool validTarget(std::string_view target) {
 
 }  // namespace
 
-Expected<HttpResponse> httpRequest(const std::string& host, std::uint16_t port,
-                                   HttpRequest request, std::chrono::milliseconds timeout,
-                                   const ParserLimits& limits) {
+Expected<HttpResponse> httpRequest(const std::string& host, std::uint16_t port, HttpRequest request,
+                                   std::chrono::milliseconds timeout, const ParserLimits& limits) {
     Exchange ex;
     ex.host = host;
     ex.port = port;

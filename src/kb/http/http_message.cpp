@@ -90,8 +90,7 @@ bool keepAliveOf(const Headers& headers, int versionMinor) {
 std::string sanitizedValue(std::string_view value) {
     std::string out(value);
     std::replace_if(
-        out.begin(), out.end(), [](char c) { return c == '\r' || c == '\n' || c == '\0'; },
-        ' ');
+        out.begin(), out.end(), [](char c) { return c == '\r' || c == '\n' || c == '\0'; }, ' ');
     return out;
 }
 
@@ -114,8 +113,8 @@ bool statusHasNoBody(int status) {
 }  // namespace
 
 bool iequals(std::string_view a, std::string_view b) {
-    return a.size() == b.size() &&
-           std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) { return lower(x) == lower(y); });
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
+                                              [](char x, char y) { return lower(x) == lower(y); });
 }
 
 std::optional<std::string_view> findParam(const Params& params, std::string_view name) {
@@ -189,43 +188,80 @@ HttpResponse makeResponse(int status, std::string body, std::string contentType)
 
 std::string_view reasonPhrase(int status) {
     switch (status) {
-        case 100: return "Continue";
-        case 101: return "Switching Protocols";
-        case 200: return "OK";
-        case 201: return "Created";
-        case 202: return "Accepted";
-        case 204: return "No Content";
-        case 206: return "Partial Content";
-        case 301: return "Moved Permanently";
-        case 302: return "Found";
-        case 303: return "See Other";
-        case 304: return "Not Modified";
-        case 307: return "Temporary Redirect";
-        case 308: return "Permanent Redirect";
-        case 400: return "Bad Request";
-        case 401: return "Unauthorized";
-        case 403: return "Forbidden";
-        case 404: return "Not Found";
-        case 405: return "Method Not Allowed";
-        case 406: return "Not Acceptable";
-        case 408: return "Request Timeout";
-        case 409: return "Conflict";
-        case 411: return "Length Required";
-        case 412: return "Precondition Failed";
-        case 413: return "Content Too Large";
-        case 414: return "URI Too Long";
-        case 415: return "Unsupported Media Type";
-        case 417: return "Expectation Failed";
-        case 422: return "Unprocessable Content";
-        case 429: return "Too Many Requests";
-        case 431: return "Request Header Fields Too Large";
-        case 500: return "Internal Server Error";
-        case 501: return "Not Implemented";
-        case 502: return "Bad Gateway";
-        case 503: return "Service Unavailable";
-        case 504: return "Gateway Timeout";
-        case 505: return "HTTP Version Not Supported";
-        default: return "";
+        case 100:
+            return "Continue";
+        case 101:
+            return "Switching Protocols";
+        case 200:
+            return "OK";
+        case 201:
+            return "Created";
+        case 202:
+            return "Accepted";
+        case 204:
+            return "No Content";
+        case 206:
+            return "Partial Content";
+        case 301:
+            return "Moved Permanently";
+        case 302:
+            return "Found";
+        case 303:
+            return "See Other";
+        case 304:
+            return "Not Modified";
+        case 307:
+            return "Temporary Redirect";
+        case 308:
+            return "Permanent Redirect";
+        case 400:
+            return "Bad Request";
+        case 401:
+            return "Unauthorized";
+        case 403:
+            return "Forbidden";
+        case 404:
+            return "Not Found";
+        case 405:
+            return "Method Not Allowed";
+        case 406:
+            return "Not Acceptable";
+        case 408:
+            return "Request Timeout";
+        case 409:
+            return "Conflict";
+        case 411:
+            return "Length Required";
+        case 412:
+            return "Precondition Failed";
+        case 413:
+            return "Content Too Large";
+        case 414:
+            return "URI Too Long";
+        case 415:
+            return "Unsupported Media Type";
+        case 417:
+            return "Expectation Failed";
+        case 422:
+            return "Unprocessable Content";
+        case 429:
+            return "Too Many Requests";
+        case 431:
+            return "Request Header Fields Too Large";
+        case 500:
+            return "Internal Server Error";
+        case 501:
+            return "Not Implemented";
+        case 502:
+            return "Bad Gateway";
+        case 503:
+            return "Service Unavailable";
+        case 504:
+            return "Gateway Timeout";
+        case 505:
+            return "HTTP Version Not Supported";
+        default:
+            return "";
     }
 }
 
@@ -235,9 +271,12 @@ namespace detail {
 
 ParseState MessageParser::state() const {
     switch (phase_) {
-        case Phase::Done: return ParseState::Done;
-        case Phase::Error: return ParseState::Error;
-        default: return ParseState::NeedMore;
+        case Phase::Done:
+            return ParseState::Done;
+        case Phase::Error:
+            return ParseState::Error;
+        default:
+            return ParseState::NeedMore;
     }
 }
 
@@ -372,8 +411,8 @@ ParseState MessageParser::run() {
             case Phase::UntilClose: {
                 const std::size_t available = buf_.size() - pos_;
                 if (body().size() + available > limits_.maxBodyBytes) {
-                    fail(413, "body larger than " + std::to_string(limits_.maxBodyBytes) +
-                                  " bytes");
+                    fail(413,
+                         "body larger than " + std::to_string(limits_.maxBodyBytes) + " bytes");
                     return state();
                 }
                 body().append(buf_, pos_, available);
@@ -430,9 +469,8 @@ bool MessageParser::parseRequestLine(std::string_view line) {
         return true;
     } else {
         const auto scheme = target.find("://");
-        if (scheme == std::string_view::npos ||
-            !(iequals(target.substr(0, scheme), "http") ||
-              iequals(target.substr(0, scheme), "https"))) {
+        if (scheme == std::string_view::npos || !(iequals(target.substr(0, scheme), "http") ||
+                                                  iequals(target.substr(0, scheme), "https"))) {
             return fail(400, "unsupported request target form");
         }
         const auto slash = target.find_first_of("/?", scheme + 3);
@@ -536,25 +574,23 @@ bool MessageParser::finishHead() {
         const std::string cl = h.combined("Content-Length");
         const auto values = listElements(cl);
         // Repeated identical values are allowed (RFC 9112, 6.3); anything else is ambiguous.
-        if (values.empty() ||
-            !std::all_of(values.begin(), values.end(),
-                         [&](std::string_view v) { return v == values.front(); })) {
+        if (values.empty() || !std::all_of(values.begin(), values.end(), [&](std::string_view v) {
+                return v == values.front();
+            })) {
             return fail(400, "conflicting Content-Length values");
         }
         const auto v = values.front();
         std::uint64_t length = 0;
         const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), length);
         if (ec == std::errc::result_out_of_range) {
-            return fail(413, "body larger than " + std::to_string(limits_.maxBodyBytes) +
-                                 " bytes");
+            return fail(413, "body larger than " + std::to_string(limits_.maxBodyBytes) + " bytes");
         }
         if (ec != std::errc() || end != v.data() + v.size() ||
             !std::all_of(v.begin(), v.end(), isDigit)) {
             return fail(400, "malformed Content-Length");
         }
         if (length > limits_.maxBodyBytes) {
-            return fail(413, "body larger than " + std::to_string(limits_.maxBodyBytes) +
-                                 " bytes");
+            return fail(413, "body larger than " + std::to_string(limits_.maxBodyBytes) + " bytes");
         }
         remaining_ = static_cast<std::size_t>(length);
         phase_ = remaining_ == 0 ? Phase::Done : Phase::Body;
@@ -563,8 +599,7 @@ bool MessageParser::finishHead() {
         phase_ = kind_ == Kind::Request ? Phase::Done : Phase::UntilClose;
     }
     expectContinue_ = kind_ == Kind::Request && phase_ != Phase::Done &&
-                      request_.versionMinor >= 1 &&
-                      h.hasToken("Expect", "100-continue");
+                      request_.versionMinor >= 1 && h.hasToken("Expect", "100-continue");
     return true;
 }
 

@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -64,8 +65,8 @@ struct HttpRequest {
     /// The request-target as on the wire. When serializing, an empty target is built from
     /// `path` and `query`; the parser fills all three.
     std::string target;
-    std::string path;  ///< percent-decoded path ("*" for asterisk-form)
-    Params query;      ///< decoded query parameters
+    std::string path;      ///< percent-decoded path ("*" for asterisk-form)
+    Params query;          ///< decoded query parameters
     int versionMinor = 1;  ///< HTTP/1.x
     Headers headers;
     std::string body;
@@ -93,9 +94,10 @@ struct HttpResponse {
 
 /// Bounds on what a peer may make the parser buffer.
 struct ParserLimits {
-    std::size_t maxHeaderBytes = 16 * 1024;  ///< start line and header section (and trailers)
+    std::size_t maxHeaderBytes =
+        std::size_t{16} * 1024;  ///< start line and header section (and trailers)
     std::size_t maxHeaderCount = 100;
-    std::size_t maxBodyBytes = 16 * 1024 * 1024;
+    std::size_t maxBodyBytes = std::size_t{16} * 1024 * 1024;
 };
 
 enum class ParseState { NeedMore, Done, Error };
@@ -162,7 +164,7 @@ private:
     Kind kind_;
     ParserLimits limits_;
     Phase phase_ = Phase::StartLine;
-    std::string buf_;         // received, not yet consumed bytes start at pos_
+    std::string buf_;  // received, not yet consumed bytes start at pos_
     std::size_t pos_ = 0;
     std::size_t scanned_ = 0;  // where the search for the next LF resumes
     std::size_t headBytes_ = 0;
@@ -187,7 +189,13 @@ public:
     /// Appends `bytes` and parses as far as they go. Once Done, bytes fed beyond the message
     /// stay buffered for the next one; feed an empty span after take() to parse them.
     ParseState feed(std::span<const char> bytes) { return core_.feed(bytes); }
-    ParseState feed(std::string_view bytes) { return feed(std::span(bytes.data(), bytes.size())); }
+    /// Strings and literals (a literal's terminating NUL is not fed).
+    template <class Text>
+    requires std::is_convertible_v<const Text&, std::string_view> ParseState
+    feed(const Text& text) {
+        const std::string_view view(text);
+        return feed(std::span<const char>(view.data(), view.size()));
+    }
     [[nodiscard]] ParseState state() const { return core_.state(); }
     [[nodiscard]] const ParseError& error() const { return core_.error(); }
     /// Whether any byte of the next request has arrived (a server answers 408 only then).
@@ -211,7 +219,13 @@ public:
     /// The response answers a HEAD request: it has no body whatever its framing fields say.
     void setHeadRequest(bool head) { core_.setNoBody(head); }
     ParseState feed(std::span<const char> bytes) { return core_.feed(bytes); }
-    ParseState feed(std::string_view bytes) { return feed(std::span(bytes.data(), bytes.size())); }
+    /// Strings and literals (a literal's terminating NUL is not fed).
+    template <class Text>
+    requires std::is_convertible_v<const Text&, std::string_view> ParseState
+    feed(const Text& text) {
+        const std::string_view view(text);
+        return feed(std::span<const char>(view.data(), view.size()));
+    }
     /// The peer closed the connection: completes a body delimited by the close, fails an
     /// incomplete message.
     ParseState finish() { return core_.finish(); }

@@ -19,11 +19,11 @@ using std::chrono::milliseconds;
 // Errors as values: a peer going away is normal control flow here, not an exception.
 constexpr auto kNoThrow = asio::experimental::as_tuple(asio::use_awaitable);
 
-constexpr std::size_t kReadChunk = 16 * 1024;
+constexpr std::size_t kReadChunk = std::size_t{16} * 1024;
 // After an error answer the peer may still be sending (a body we refused); reading it away
 // for a moment keeps the kernel from resetting the connection before the answer is read.
 constexpr milliseconds kMaxLinger{2000};
-constexpr std::size_t kMaxLingerBytes = 1024 * 1024;
+constexpr std::size_t kMaxLingerBytes = std::size_t{1024} * 1024;
 
 std::string describe(const asio::ip::tcp::endpoint& endpoint) {
     const auto address = endpoint.address();
@@ -97,8 +97,7 @@ HttpServer::Handler wrapSync(HttpServer::SyncHandler handler) {
     return [shared](HttpRequest request) { return callSync(shared, std::move(request)); };
 }
 
-asio::awaitable<HttpResponse> callHandler(const HttpServer::Handler& handler,
-                                          HttpRequest request) {
+asio::awaitable<HttpResponse> callHandler(const HttpServer::Handler& handler, HttpRequest request) {
     bool failed = !handler;
     HttpResponse response;
     if (!failed) {
@@ -121,8 +120,9 @@ asio::awaitable<bool> writeAll(Connection& conn, const std::string& bytes, milli
 }
 
 // Sends a final error answer, then half-closes and drains what the peer still sends.
-asio::awaitable<void> answerAndClose(Connection& conn, const HttpServerLimits& limits,
-                                     int status, const std::string& message) {
+// (`message` by value: the coroutine starts only when awaited, after a temporary is gone.)
+asio::awaitable<void> answerAndClose(Connection& conn, const HttpServerLimits& limits, int status,
+                                     std::string message) {
     HttpResponse response = makeResponse(status, message + "\n");
     response.headers.set("Connection", "close");
     const std::string wire = serialize(response);
@@ -281,11 +281,11 @@ asio::awaitable<void> acceptLoop(std::shared_ptr<HttpServerState> state) {
 
 HttpServer::HttpServer(asio::io_context& io, asio::ip::tcp::endpoint endpoint, Handler handler,
                        HttpServerLimits limits)
-    : state_(std::make_shared<HttpServerState>(io, std::move(endpoint), std::move(handler),
-                                               limits)) {}
+    : state_(
+          std::make_shared<HttpServerState>(io, std::move(endpoint), std::move(handler), limits)) {}
 
-HttpServer::HttpServer(asio::io_context& io, asio::ip::tcp::endpoint endpoint,
-                       SyncHandler handler, HttpServerLimits limits)
+HttpServer::HttpServer(asio::io_context& io, asio::ip::tcp::endpoint endpoint, SyncHandler handler,
+                       HttpServerLimits limits)
     : HttpServer(io, std::move(endpoint), wrapSync(std::move(handler)), limits) {}
 
 HttpServer::~HttpServer() {
@@ -303,8 +303,7 @@ Status HttpServer::start() {
     if (ec) {
         asio::error_code ignored;
         s.acceptor.close(ignored);
-        return Error{"http server: cannot listen on " + describe(s.endpoint) + ": " +
-                     ec.message()};
+        return Error{"http server: cannot listen on " + describe(s.endpoint) + ": " + ec.message()};
     }
     s.port = s.acceptor.local_endpoint(ec).port();
     s.started = true;

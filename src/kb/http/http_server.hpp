@@ -5,12 +5,17 @@
 //
 // Threading: like ua::Server, everything runs on the io_context's thread. Call start(),
 // stop() and the destructor on that thread, or while the io_context is not running.
-#include <asio.hpp>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
+
+// After a standard header on purpose: Asio 1.22 decides between aligned_alloc and operator
+// new for its coroutine frames from a libstdc++ macro, so a translation unit that includes
+// <asio.hpp> first allocates differently from one that does not (an ODR violation that
+// AddressSanitizer reports as alloc-dealloc-mismatch).
+#include <asio.hpp>
 
 #include "kb/expected.hpp"
 #include "kb/http/http_message.hpp"

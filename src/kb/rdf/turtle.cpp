@@ -133,9 +133,8 @@ SerdStatus onError(void* handle, const SerdError* e) {
     return SERD_SUCCESS;
 }
 
-}  // namespace
-
-std::string writeTurtle(std::vector<Triple> triples, const std::vector<Prefix>& prefixes) {
+std::string write(SerdSyntax syntax, std::vector<Triple> triples,
+                  const std::vector<Prefix>& prefixes) {
     // Sorted and unique: the text depends on the set of triples only, never on the order
     // they were produced in.
     std::sort(triples.begin(), triples.end());
@@ -143,10 +142,9 @@ std::string writeTurtle(std::vector<Triple> triples, const std::vector<Prefix>& 
 
     std::string out;
     EnvPtr env(serd_env_new(nullptr));
-    std::unique_ptr<SerdWriter, WriterDeleter> writer(
-        serd_writer_new(SERD_TURTLE,
-                        static_cast<SerdStyle>(SERD_STYLE_ABBREVIATED | SERD_STYLE_CURIED),
-                        env.get(), nullptr, appendToString, &out));
+    const auto style = syntax == SERD_TURTLE ? (SERD_STYLE_ABBREVIATED | SERD_STYLE_CURIED) : 0U;
+    std::unique_ptr<SerdWriter, WriterDeleter> writer(serd_writer_new(
+        syntax, static_cast<SerdStyle>(style), env.get(), nullptr, appendToString, &out));
     for (const auto& [name, ns] : prefixes) {
         SerdNode n = serdNode(SERD_LITERAL, name);
         SerdNode u = serdNode(SERD_URI, ns);
@@ -166,6 +164,16 @@ std::string writeTurtle(std::vector<Triple> triples, const std::vector<Prefix>& 
     }
     serd_writer_finish(writer.get());
     return out;
+}
+
+}  // namespace
+
+std::string writeTurtle(std::vector<Triple> triples, const std::vector<Prefix>& prefixes) {
+    return write(SERD_TURTLE, std::move(triples), prefixes);
+}
+
+std::string writeNTriples(std::vector<Triple> triples) {
+    return write(SERD_NTRIPLES, std::move(triples), {});
 }
 
 Expected<std::vector<Triple>> readTurtle(std::string_view text, std::string_view baseIri) {

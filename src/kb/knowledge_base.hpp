@@ -1,0 +1,79 @@
+#pragma once
+// KnowledgeBase: the cell's models in a SPARQL store, kept consistent by a reasoner.
+//
+// Models arrive as named graphs (an ontology per NodeSet, the process models, a component's
+// instance data). A load replaces its graphs only if the knowledge base stays consistent:
+// the union of what is loaded and what arrives is checked by the reasoner first; an
+// inconsistent load is refused with the statements that conflict (a minimal set, found by
+// the reasoner), and the store is not touched. A load that passes is written in one SPARQL
+// update (all or nothing), together with the reasoner's inferred types, which live in their
+// own graph (kInferredGraph) so that queries can take them or leave them.
+//
+// Threading: every method may be called from any thread. Loads and updates are serialized
+// (a load's check must see the store it writes to); queries run concurrently.
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "kb/engine/konclude_reasoner.hpp"
+#include "kb/expected.hpp"
+#include "kb/rdf/triple.hpp"
+#include "kb/store/sparql_store.hpp"
+
+namespace skillcell::kb {
+
+inline constexpr const char* kRegistryGraph = "urn:skillcell:kb:graphs";
+inline constexpr const char* kInferredGraph = "urn:skillcell:kb:inferred";
+/// Graphs a load writes before it moves them in (cleared by the next load).
+inline constexpr const char* kStagingGraphPrefix = "urn:skillcell:kb:staging:";
+inline constexpr const char* kKbVocabulary = "http://skillcell.dev/ontology/kb#";
+
+/// A named graph and its content.
+struct GraphData {
+    std::string iri;
+    std::vector<rdf::Triple> triples;
+};
+
+class KnowledgeBase {
+public:
+    /// `reasoner` null: loads are not checked and nothing is inferred (for stores that are
+    /// checked elsewhere, and for benchmarks of the store alone).
+    KnowledgeBase(SparqlStore& store, const engine::KoncludeReasoner* reasoner)
+        : store_(store), reasoner_(reasoner) {}
+
+    /// Replaces each graph of `graphs` (as one transaction) if the result is consistent.
+    [[nodiscard]] Status load(const std::vector<GraphData>& graphs);
+    /// load() of one graph given as Turtle; `baseIri` resolves relative IRIs (default: the
+    /// graph's IRI).
+    [[nodiscard]] Status loadTurtle(const std::string& graphIri, std::string_view turtle);
+    /// Loads the project's ontologies: the core OPC UA ontology, the process ontology and
+    /// every embedded NodeSet converted (graph = ontology IRI); and the demo process if asked.
+    [[nodiscard]] Status loadBuiltInModels(bool withDemoProcess);
+
+    /// The graphs loaded (not the inferred one), sorted.
+    [[nodiscard]] Expected<std::vector<std::string>> graphs();
+    /// The content of one graph.
+    [[nodiscard]] Expected<std::vector<rdf::Triple>> graphContent(const std::string& graphIri);
+
+    [[nodiscard]] Expected<SparqlResponse> query(const std::string& sparql,
+                                                 const std::string& accept);
+    /// A SPARQL 1.1 Update, serialized with loads. Not checked by the reasoner: it is the
+    /// operator's tool (and the KB's own, for facts such as a component's availability).
+    [[nodiscard]] Status update(const std::string& sparqlUpdate);
+
+private:
+    Expected<std::vector<rdf::Triple>> everythingBut(const std::vector<std::string>& graphIris);
+    Status stage(const GraphData& graph, std::size_t number);
+
+    SparqlStore& store_;
+    const engine::KoncludeReasoner* reasoner_;
+    std::mutex writeMutex_;
+};
+
+/// "<iri>" with the characters SPARQL forbids in an IRI reference refused: an Error names
+/// the IRI. For building queries from names that come from outside.
+[[nodiscard]] Expected<std::string> sparqlIri(const std::string& iri);
+/// A SPARQL string literal with quotes and escapes.
+[[nodiscard]] std::string sparqlString(std::string_view text);
+
+}  // namespace skillcell::kb
