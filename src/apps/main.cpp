@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
         skillcell::apps::addLdsCommand(app),    skillcell::apps::addDiscoverCommand(app),
         skillcell::apps::addSkillCommand(app),  skillcell::apps::addCheckCommand(app),
         skillcell::apps::addDetectCommand(app), skillcell::apps::addPkiCommand(app),
-        skillcell::apps::addUserCommand(app),      skillcell::apps::addNodeset2OwlCommand(app),
+        skillcell::apps::addUserCommand(app),   skillcell::apps::addNodeset2OwlCommand(app),
     };
     for (auto& device : skillcell::apps::addDeviceCommands(app)) commands.push_back(device);
 

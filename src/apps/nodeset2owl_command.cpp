@@ -50,8 +50,8 @@ int run(const Nodeset2OwlOptions& o) {
         text << in.rdbuf();
         inputs.push_back({f, text.str()});
     }
-    auto converted = o.embedded ? kb::owl::embeddedModelOntologies()
-                                : kb::owl::convertNodeSets(inputs, o.base);
+    auto converted =
+        o.embedded ? kb::owl::embeddedModelOntologies() : kb::owl::convertNodeSets(inputs, o.base);
     if (!converted) {
         std::cerr << "nodeset2owl: " << converted.error() << "\n";
         return 1;

@@ -18,7 +18,7 @@ struct Error {
 template <class T>
 class [[nodiscard]] Expected {
 public:
-    Expected(T value) : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+    Expected(T value) : v_(std::move(value)) {}      // NOLINT(google-explicit-constructor)
     Expected(Error error) : v_(std::move(error)) {}  // NOLINT(google-explicit-constructor)
 
     [[nodiscard]] bool ok() const { return v_.index() == 0; }

@@ -12,7 +12,9 @@ namespace {
 
 const std::string kRdfType = std::string(rdf::vocab::kRdf) + "type";
 
-std::string registryMember() { return std::string(kKbVocabulary) + "Graph"; }
+std::string registryMember() {
+    return std::string(kKbVocabulary) + "Graph";
+}
 
 // One line per triple, for people: the report of a refused load.
 std::string describe(const std::vector<rdf::Triple>& triples) {
@@ -72,8 +74,8 @@ Expected<std::vector<rdf::Triple>> KnowledgeBase::everythingBut(
     }
     if (!filter.empty()) filter += "))";
     const std::string q = "CONSTRUCT { ?s ?p ?o } WHERE { GRAPH <" + std::string(kRegistryGraph) +
-                          "> { ?g a <" + registryMember() + "> } GRAPH ?g { ?s ?p ?o } " +
-                          filter + " }";
+                          "> { ?g a <" + registryMember() + "> } GRAPH ?g { ?s ?p ?o } " + filter +
+                          " }";
     // N-Triples: Virtuoso's Turtle writes an xsd:double 2 as "2.0", which reads back as an
     // xsd:decimal (and then contradicts a range of xsd:double).
     auto r = store_.query(q, media::kNTriples);
@@ -106,8 +108,9 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
             auto why = reasoner_->explainInconsistency(*rest, incoming);
             if (!why) return Error{what + " (no explanation: " + why.error() + ")"};
             if (!why->inconsistent) {
-                return Error{what + " (the reasoner found no conflict in the new statements "
-                                    "alone; the loaded models conflict among themselves)"};
+                return Error{what +
+                             " (the reasoner found no conflict in the new statements "
+                             "alone; the loaded models conflict among themselves)"};
             }
             return Error{what + "; these statements conflict" +
                          (why->runLimitHit ? " (perhaps not a minimal set)" : "") + ":" +

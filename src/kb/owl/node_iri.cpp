@@ -29,8 +29,8 @@ std::string iriSafe(std::string_view text) {
     for (char ch : text) {
         const auto c = static_cast<unsigned char>(ch);
         const bool unsafe = c <= 0x20 || c == 0x7F || c == '<' || c == '>' || c == '"' ||
-                            c == '{' || c == '}' || c == '|' || c == '\\' || c == '^' ||
-                            c == '`' || c == '%' || c == '#' || c == '/' || c == '?';
+                            c == '{' || c == '}' || c == '|' || c == '\\' || c == '^' || c == '`' ||
+                            c == '%' || c == '#' || c == '/' || c == '?';
         if (unsafe) {
             out += '%';
             out += kHex[c >> 4U];

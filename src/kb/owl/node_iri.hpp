@@ -1,8 +1,9 @@
 #pragma once
 // The IRI of an OPC UA node, stable across servers because namespace URIs are:
 //   - a type (ObjectType, VariableType, DataType, ReferenceType) with a plain browse name:
-//     <namespace URI><BrowseName>, e.g. http://skillcell.dev/UA/GripperSkills/GraspGripperSkillType,
-//     so that process models and queries can name types readably;
+//     <namespace URI><BrowseName>, e.g.
+//     http://skillcell.dev/UA/GripperSkills/GraspGripperSkillType, so that process models and
+//     queries can name types readably;
 //   - any other node: <namespace URI><identifier>, e.g. http://skillcell.dev/UA/Skills/i=6001
 //     (instance declarations share browse names, so only the id is unique).
 // A namespace URI that does not end in '/' or '#' gets a '#'.

@@ -19,12 +19,18 @@ using rdf::literal;
 using rdf::Term;
 using rdf::Triple;
 
-std::string rdfTerm(std::string_view local) { return std::string(rdf::vocab::kRdf) + std::string(local); }
+std::string rdfTerm(std::string_view local) {
+    return std::string(rdf::vocab::kRdf) + std::string(local);
+}
 std::string rdfsTerm(std::string_view local) {
     return std::string(rdf::vocab::kRdfs) + std::string(local);
 }
-std::string owlTerm(std::string_view local) { return std::string(rdf::vocab::kOwl) + std::string(local); }
-std::string xsdTerm(std::string_view local) { return std::string(rdf::vocab::kXsd) + std::string(local); }
+std::string owlTerm(std::string_view local) {
+    return std::string(rdf::vocab::kOwl) + std::string(local);
+}
+std::string xsdTerm(std::string_view local) {
+    return std::string(rdf::vocab::kXsd) + std::string(local);
+}
 
 std::string_view nodeClassTerm(ua::NodeClass c) {
     switch (c) {
@@ -146,7 +152,8 @@ private:
         const Term& s = *self;
         const Term type = iri(rdfTerm("type"));
         const std::string_view classTerm = nodeClassTerm(n.nodeClass);
-        if (classTerm.empty()) return fail("line " + std::to_string(p.line) + ": unknown node class");
+        if (classTerm.empty())
+            return fail("line " + std::to_string(p.line) + ": unknown node class");
         add(s, type, iri(opc(classTerm)));
         if (isClassLike(n.nodeClass)) {
             add(s, type, iri(owlTerm("Class")));
@@ -160,7 +167,8 @@ private:
         add(s, iri(opc(term::kNodeId)), literal(expandedNodeIdText(nsUri, n.nodeId)));
         add(s, iri(opc(term::kBrowseName)), literal(n.browseName.name));
         add(s, iri(rdfsTerm("isDefinedBy")), iri(ontologyIri()));
-        if (!n.displayName.text.empty()) add(s, iri(rdfsTerm("label")), literal(n.displayName.text));
+        if (!n.displayName.text.empty())
+            add(s, iri(rdfsTerm("label")), literal(n.displayName.text));
         if (!n.description.text.empty()) {
             add(s, iri(rdfsTerm("comment")), literal(n.description.text));
         }
@@ -280,10 +288,10 @@ private:
     }
 
     std::string ontologyIri() const {
-        return !parsed_.models.empty() ? parsed_.models.front().uri
-                                       : (!parsed_.namespaceUris.empty()
-                                              ? parsed_.namespaceUris.front()
-                                              : std::string("http://opcfoundation.org/UA/"));
+        return !parsed_.models.empty()
+                   ? parsed_.models.front().uri
+                   : (!parsed_.namespaceUris.empty() ? parsed_.namespaceUris.front()
+                                                     : std::string("http://opcfoundation.org/UA/"));
     }
 
     void add(Term s, Term p, Term o) {
@@ -345,6 +353,7 @@ Expected<std::vector<Ontology>> convertNodeSets(const std::vector<NodeSetText>& 
 
 Expected<std::vector<Ontology>> embeddedModelOntologies() {
     std::vector<NodeSetText> files;
+    files.reserve(ua::kCompanionModels.size());
     for (const auto& m : ua::kCompanionModels) {
         files.push_back({std::string(m.fileName), std::string(ua::embeddedModel(m.fileName))});
     }
@@ -353,9 +362,12 @@ Expected<std::vector<Ontology>> embeddedModelOntologies() {
 
 std::vector<rdf::Prefix> standardPrefixes() {
     std::vector<rdf::Prefix> p{
-        {"rdf", std::string(rdf::vocab::kRdf)},   {"rdfs", std::string(rdf::vocab::kRdfs)},
-        {"owl", std::string(rdf::vocab::kOwl)},   {"xsd", std::string(rdf::vocab::kXsd)},
-        {"opc", std::string(kOpc)},               {"ua", "http://opcfoundation.org/UA/"},
+        {"rdf", std::string(rdf::vocab::kRdf)},
+        {"rdfs", std::string(rdf::vocab::kRdfs)},
+        {"owl", std::string(rdf::vocab::kOwl)},
+        {"xsd", std::string(rdf::vocab::kXsd)},
+        {"opc", std::string(kOpc)},
+        {"ua", "http://opcfoundation.org/UA/"},
         {"di", std::string(ua::companion::kDiUri)},
         {"rob", std::string(ua::companion::kRoboticsUri)},
         {"skill", std::string(ua::companion::kSkillsUri)},
@@ -372,6 +384,8 @@ std::string toTurtle(const Ontology& ontology) {
     return rdf::writeTurtle(ontology.triples, standardPrefixes());
 }
 
-std::string_view coreOntologyTurtle() { return embeddedOntology("opcua-core.ttl"); }
+std::string_view coreOntologyTurtle() {
+    return embeddedOntology("opcua-core.ttl");
+}
 
 }  // namespace skillcell::kb::owl

@@ -14,11 +14,14 @@ struct Term {
     std::string datatype;  // literals: datatype IRI; empty means xsd:string
     std::string language;  // literals: language tag; then datatype is rdf:langString
 
+    // NOLINTNEXTLINE(modernize-use-nullptr): clang-tidy 14 flags the literal 0 of the defaulted <=>
     friend auto operator<=>(const Term&, const Term&) = default;
     friend bool operator==(const Term&, const Term&) = default;
 };
 
-[[nodiscard]] inline Term iri(std::string value) { return {Term::Kind::Iri, std::move(value), {}, {}}; }
+[[nodiscard]] inline Term iri(std::string value) {
+    return {Term::Kind::Iri, std::move(value), {}, {}};
+}
 [[nodiscard]] inline Term blank(std::string label) {
     return {Term::Kind::Blank, std::move(label), {}, {}};
 }
@@ -34,6 +37,7 @@ struct Triple {
     Term predicate;
     Term object;
 
+    // NOLINTNEXTLINE(modernize-use-nullptr): as above
     friend auto operator<=>(const Triple&, const Triple&) = default;
     friend bool operator==(const Triple&, const Triple&) = default;
 };

@@ -358,7 +358,8 @@ TEST_F(VirtuosoTest, AcknowledgedDataSurvivesKill9) {
     std::ifstream log(db().logPath());
     log.seekg(static_cast<std::streamoff>(logBefore));
     const std::string restartLog{std::istreambuf_iterator<char>(log), {}};
-    EXPECT_NE(restartLog.find("transactions,"), std::string::npos) << restartLog;  // replayed
+    // The restart rolled the transaction log forward (how Virtuoso words the count varies).
+    EXPECT_NE(restartLog.find("Roll forward"), std::string::npos) << restartLog;
     const std::string found = objects(db(), "urn:k");
     EXPECT_NE(found.find("via-isql"), std::string::npos) << found;
     EXPECT_NE(found.find("via-http"), std::string::npos) << found;

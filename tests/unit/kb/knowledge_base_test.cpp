@@ -79,19 +79,19 @@ protected:
 TEST_F(KnowledgeBaseTest, EveryNodeSetUnderModelsIsLoadedAsAGraph) {
     auto graphs = kb_->graphs();
     ASSERT_TRUE(graphs) << graphs.error();
-    for (const char* g : {"http://opcfoundation.org/UA/", "http://skillcell.dev/UA/GripperSkills/",
-                          "http://skillcell.dev/UA/RoboticSkills/",
-                          "http://skillcell.dev/ontology/opcua",
-                          "http://skillcell.dev/ontology/process", "http://skillcell.dev/demo"}) {
+    for (const char* g :
+         {"http://opcfoundation.org/UA/", "http://skillcell.dev/UA/GripperSkills/",
+          "http://skillcell.dev/UA/RoboticSkills/", "http://skillcell.dev/ontology/opcua",
+          "http://skillcell.dev/ontology/process", "http://skillcell.dev/demo"}) {
         EXPECT_NE(std::find(graphs->begin(), graphs->end(), g), graphs->end()) << g;
     }
 }
 
 TEST_F(KnowledgeBaseTest, FindsEverySkillTypeThatIsAGripperSkillTypeByAPropertyPath) {
-    const std::string body = select(
-        "SELECT ?t WHERE { ?t rdfs:subClassOf+ gskill:GripperSkillType } ORDER BY ?t");
-    for (const char* t : {"GraspGripperSkillType", "ReleaseGripperSkillType",
-                          "MoveGripperSkillType"}) {
+    const std::string body =
+        select("SELECT ?t WHERE { ?t rdfs:subClassOf+ gskill:GripperSkillType } ORDER BY ?t");
+    for (const char* t :
+         {"GraspGripperSkillType", "ReleaseGripperSkillType", "MoveGripperSkillType"}) {
         EXPECT_NE(body.find(std::string("http://skillcell.dev/UA/GripperSkills/") + t),
                   std::string::npos)
             << t << " in " << body;
@@ -118,8 +118,8 @@ TEST_F(KnowledgeBaseTest, GivesTheParametersOfASkillTypeWithTheirDataTypesAndUni
 TEST_F(KnowledgeBaseTest, TheDemoProcessHasFiveOrderedStepsEachRequiringASkillType) {
     // Two queries: Virtuoso 7.2 evaluates `firstStep/next*` right on its own, but joined with
     // further patterns it counts 1 here (even as a subquery).
-    const std::string ordered = select(
-        "SELECT ?s WHERE { demo:pickAndPlaceTwoBoxes proc:firstStep/proc:next* ?s }");
+    const std::string ordered =
+        select("SELECT ?s WHERE { demo:pickAndPlaceTwoBoxes proc:firstStep/proc:next* ?s }");
     for (int i = 1; i <= 5; ++i) {
         EXPECT_NE(ordered.find("http://skillcell.dev/demo#step" + std::to_string(i)),
                   std::string::npos)
@@ -192,14 +192,16 @@ TEST_F(KnowledgeBaseTest, InferredTypesAreQueryableInTheirOwnGraph) {
 }
 
 TEST_F(KnowledgeBaseTest, AcknowledgedDataSurvivesARestartAndAKillOfTheStore) {
-    auto s = kb_->loadTurtle("urn:test:durable", "<urn:test:d> <urn:test:p> \"before restart\" .\n");
+    auto s =
+        kb_->loadTurtle("urn:test:durable", "<urn:test:d> <urn:test:p> \"before restart\" .\n");
     ASSERT_TRUE(s) << s.error();
     ASSERT_TRUE(virtuoso_->stop());
     ASSERT_TRUE(virtuoso_->start());
     EXPECT_TRUE(ask("GRAPH <urn:test:durable> { <urn:test:d> <urn:test:p> \"before restart\" }"));
 
-    s = kb_->update("INSERT DATA { GRAPH <urn:test:durable> { <urn:test:d> <urn:test:p> "
-                    "\"before kill\" } }");
+    s = kb_->update(
+        "INSERT DATA { GRAPH <urn:test:durable> { <urn:test:d> <urn:test:p> "
+        "\"before kill\" } }");
     ASSERT_TRUE(s) << s.error();
     virtuoso_->kill();
     auto restarted = virtuoso_->start();

@@ -25,7 +25,9 @@ const std::string kUa = "http://opcfoundation.org/UA/";
 const std::string kGripper = "http://skillcell.dev/UA/GripperSkills/";
 const std::string kRobotic = "http://skillcell.dev/UA/RoboticSkills/";
 
-std::set<Triple> asSet(const std::vector<Triple>& v) { return {v.begin(), v.end()}; }
+std::set<Triple> asSet(const std::vector<Triple>& v) {
+    return {v.begin(), v.end()};
+}
 
 bool has(const std::vector<Triple>& ts, const Triple& t) {
     return std::find(ts.begin(), ts.end(), t) != ts.end();
@@ -109,9 +111,9 @@ TEST(NodeIri, TypesByNameOtherNodesById) {
               kGripper + "GraspGripperSkillType");
     EXPECT_EQ(owl::nodeIri(kGripper, ua::NodeId(2, 5009), ua::NodeClass::Variable, "GripForce"),
               kGripper + "i=5009");
-    EXPECT_EQ(owl::nodeIri("urn:x", ua::NodeId(3, std::string("a b/c#d")),
-                           ua::NodeClass::Object, "x"),
-              "urn:x#s=a%20b%2Fc%23d");
+    EXPECT_EQ(
+        owl::nodeIri("urn:x", ua::NodeId(3, std::string("a b/c#d")), ua::NodeClass::Object, "x"),
+        "urn:x#s=a%20b%2Fc%23d");
     // A type whose browse name is no plain name is named by its id.
     EXPECT_EQ(owl::nodeIri(kUa, ua::NodeId(0, 1), ua::NodeClass::DataType, "a b"), kUa + "i=1");
     EXPECT_EQ(owl::expandedNodeIdText(kUa, ua::NodeId(0, 85)), "nsu=" + kUa + ";i=85");
@@ -166,24 +168,24 @@ TEST_F(EmbeddedOntologies, EachIsAnOntologyImportingItsRequiredModelsAndTheCore)
 
 TEST_F(EmbeddedOntologies, TypesAreClassesWithHasSubtypeAsSubClassOf) {
     const std::string grasp = kGripper + "GraspGripperSkillType";
-    EXPECT_TRUE(has(*all_, {iri(grasp), iri(kRdfType),
-                            iri(std::string(rdf::vocab::kOwl) + "Class")}));
+    EXPECT_TRUE(
+        has(*all_, {iri(grasp), iri(kRdfType), iri(std::string(rdf::vocab::kOwl) + "Class")}));
     EXPECT_TRUE(has(*all_, {iri(grasp), iri(kSubClassOf), iri(kGripper + "GripperSkillType")}));
     // ... up to namespace 0, through the Skills model.
-    EXPECT_TRUE(has(*all_, {iri(kUa + "BaseObjectType"), iri(kUa + "HasSubtype"),
-                            iri(kUa + "FolderType")}));
-    EXPECT_TRUE(has(*all_, {iri(kUa + "FolderType"), iri(kSubClassOf),
-                            iri(kUa + "BaseObjectType")}));
+    EXPECT_TRUE(has(
+        *all_, {iri(kUa + "BaseObjectType"), iri(kUa + "HasSubtype"), iri(kUa + "FolderType")}));
+    EXPECT_TRUE(
+        has(*all_, {iri(kUa + "FolderType"), iri(kSubClassOf), iri(kUa + "BaseObjectType")}));
 }
 
 TEST_F(EmbeddedOntologies, ReferenceTypesAreObjectPropertiesWithTheirHierarchy) {
     EXPECT_TRUE(has(*all_, {iri(kUa + "HasComponent"), iri(kRdfType),
                             iri(std::string(rdf::vocab::kOwl) + "ObjectProperty")}));
-    EXPECT_TRUE(has(*all_, {iri(kUa + "HasComponent"), iri(kSubPropertyOf),
-                            iri(kUa + "Aggregates")}));
+    EXPECT_TRUE(
+        has(*all_, {iri(kUa + "HasComponent"), iri(kSubPropertyOf), iri(kUa + "Aggregates")}));
     EXPECT_TRUE(has(*all_, {iri(kUa + "Aggregates"), iri(kSubPropertyOf), iri(kUa + "HasChild")}));
-    EXPECT_TRUE(has(*all_, {iri(kUa + "HasChild"), iri(kSubPropertyOf),
-                            iri(kUa + "HierarchicalReferences")}));
+    EXPECT_TRUE(has(
+        *all_, {iri(kUa + "HasChild"), iri(kSubPropertyOf), iri(kUa + "HierarchicalReferences")}));
 }
 
 TEST_F(EmbeddedOntologies, SkillParametersCarryTheirDataTypeAndUnits) {
@@ -198,8 +200,8 @@ TEST_F(EmbeddedOntologies, SkillParametersCarryTheirDataTypeAndUnits) {
         }
     }
     ASSERT_FALSE(maxVelocity.empty());
-    EXPECT_TRUE(has(*all_, {iri(maxVelocity), iri(owl::opc(owl::term::kDataType)),
-                            iri(kUa + "Double")}));
+    EXPECT_TRUE(
+        has(*all_, {iri(maxVelocity), iri(owl::opc(owl::term::kDataType)), iri(kUa + "Double")}));
     EXPECT_EQ(objects(*all_, maxVelocity, owl::opc(owl::term::kEngineeringUnits)),
               std::vector<rdf::Term>{literal("m/s")});
     EXPECT_EQ(objects(*all_, maxVelocity, owl::opc(owl::term::kEuRangeHigh)).size(), 1U);
