@@ -23,6 +23,8 @@ Command addPkiCommand(CLI::App& app);
 Command addUserCommand(CLI::App& app);
 /// `skillcell nodeset2owl`: NodeSet2 files to OWL ontologies (src/kb/owl).
 Command addNodeset2OwlCommand(CLI::App& app);
+/// `skillcell kb`: the knowledge base (src/kb).
+Command addKbCommand(CLI::App& app);
 /// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq, schmalz).
 std::vector<Command> addDeviceCommands(CLI::App& app);
 

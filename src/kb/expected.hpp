@@ -10,9 +10,19 @@
 
 namespace skillcell::kb {
 
+/// What kind of failure, for the edges that map failures to protocol answers (HTTP status,
+/// OPC UA status code).
+enum class ErrorKind {
+    Failed,       // anything else
+    BadInput,     // the caller's request is wrong (a SPARQL syntax error, a bad IRI)
+    Refused,      // well-formed, but refused (a load that would make the KB inconsistent)
+    Unavailable,  // an engine cannot be reached or did not answer in time
+};
+
 /// The failure of an Expected: a message for people.
 struct Error {
     std::string message;
+    ErrorKind kind = ErrorKind::Failed;
 };
 
 template <class T>
@@ -28,6 +38,12 @@ public:
         static const std::string kNone;
         return ok() ? kNone : std::get<1>(v_).message;
     }
+    /// The failure's kind; Failed when there is a value (ask ok() first).
+    [[nodiscard]] ErrorKind errorKind() const {
+        return ok() ? ErrorKind::Failed : std::get<1>(v_).kind;
+    }
+    /// The failure itself, to pass on.
+    [[nodiscard]] Error failure() const { return ok() ? Error{} : std::get<1>(v_); }
     T& value() & { return std::get<0>(v_); }
     const T& value() const& { return std::get<0>(v_); }
     T&& value() && { return std::get<0>(std::move(v_)); }

@@ -1,6 +1,7 @@
 #include "kb/knowledge_base.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <set>
 
 #include "kb/owl/embedded_ontologies.hpp"
@@ -34,10 +35,10 @@ Expected<std::string> sparqlIri(const std::string& iri) {
         const auto u = static_cast<unsigned char>(c);
         if (u <= 0x20 || c == '<' || c == '>' || c == '"' || c == '{' || c == '}' || c == '|' ||
             c == '^' || c == '`' || c == '\\') {
-            return Error{"'" + iri + "' is not an IRI SPARQL can take"};
+            return Error{"'" + iri + "' is not an IRI SPARQL can take", ErrorKind::BadInput};
         }
     }
-    if (iri.empty()) return Error{"empty IRI"};
+    if (iri.empty()) return Error{"empty IRI", ErrorKind::BadInput};
     return "<" + iri + ">";
 }
 
@@ -69,7 +70,7 @@ Expected<std::vector<rdf::Triple>> KnowledgeBase::everythingBut(
     std::string filter;
     for (const auto& g : graphIris) {
         auto ref = sparqlIri(g);
-        if (!ref) return Error{ref.error()};
+        if (!ref) return ref.failure();
         filter += (filter.empty() ? "FILTER(?g NOT IN (" : ", ") + *ref;
     }
     if (!filter.empty()) filter += "))";
@@ -79,7 +80,7 @@ Expected<std::vector<rdf::Triple>> KnowledgeBase::everythingBut(
     // N-Triples: Virtuoso's Turtle writes an xsd:double 2 as "2.0", which reads back as an
     // xsd:decimal (and then contradicts a range of xsd:double).
     auto r = store_.query(q, media::kNTriples);
-    if (!r) return Error{r.error()};
+    if (!r) return r.failure();
     return rdf::readTurtle(r->body);
 }
 
@@ -87,7 +88,7 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
     std::vector<std::string> names;
     std::vector<rdf::Triple> incoming;
     for (const auto& g : graphs) {
-        if (auto ref = sparqlIri(g.iri); !ref) return Error{ref.error()};
+        if (auto ref = sparqlIri(g.iri); !ref) return ref.failure();
         names.push_back(g.iri);
         incoming.insert(incoming.end(), g.triples.begin(), g.triples.end());
     }
@@ -95,7 +96,9 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
     std::vector<rdf::Triple> inferred;
     if (reasoner_ != nullptr) {
         auto rest = everythingBut(names);
-        if (!rest) return Error{"cannot read the knowledge base: " + rest.error()};
+        if (!rest) {
+            return Error{"cannot read the knowledge base: " + rest.error(), rest.errorKind()};
+        }
         std::vector<rdf::Triple> all = *rest;
         all.insert(all.end(), incoming.begin(), incoming.end());
         const std::string text = rdf::writeNTriples(all);
@@ -106,15 +109,19 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
             for (const auto& n : names) what += "<" + n + "> ";
             what += "would make the knowledge base inconsistent";
             auto why = reasoner_->explainInconsistency(*rest, incoming);
-            if (!why) return Error{what + " (no explanation: " + why.error() + ")"};
+            if (!why) {
+                return Error{what + " (no explanation: " + why.error() + ")", ErrorKind::Refused};
+            }
             if (!why->inconsistent) {
                 return Error{what +
-                             " (the reasoner found no conflict in the new statements "
-                             "alone; the loaded models conflict among themselves)"};
+                                 " (the reasoner found no conflict in the new statements "
+                                 "alone; the loaded models conflict among themselves)",
+                             ErrorKind::Refused};
             }
             return Error{what + "; these statements conflict" +
-                         (why->runLimitHit ? " (perhaps not a minimal set)" : "") + ":" +
-                         describe(why->conflict)};
+                             (why->runLimitHit ? " (perhaps not a minimal set)" : "") + ":" +
+                             describe(why->conflict),
+                         ErrorKind::Refused};
         }
         // What the reasoner adds: the types not stated anywhere.
         std::set<std::pair<std::string, std::string>> stated;
@@ -131,44 +138,91 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
             inferred.push_back({rdf::iri(a.individual), rdf::iri(kRdfType), rdf::iri(a.cls)});
         }
     }
-    // Each graph is written to a staging graph first, in pieces (Virtuoso compiles a request
-    // to SQL and refuses one that grows beyond 10000 lines), then everything is moved in with
-    // one request, which Virtuoso runs as one transaction: a reader sees the old models or
-    // the new ones, and a crash while staging leaves only staging graphs, cleared by the
-    // next load.
-    std::vector<GraphData> staged;
-    for (std::size_t i = 0; i < graphs.size(); ++i) {
-        staged.push_back({std::string(kStagingGraphPrefix) + std::to_string(i), graphs[i].triples});
-    }
+    // The inferred graph changes by what changed: a small load stays a small request.
+    std::vector<rdf::Triple> added;
+    std::vector<rdf::Triple> removed;
     if (reasoner_ != nullptr) {
-        staged.push_back({std::string(kStagingGraphPrefix) + "inferred", std::move(inferred)});
+        if (!inferredKnown_) {
+            auto current = graphContent(kInferredGraph);
+            if (!current) return current.failure();
+            inferred_ = std::set<rdf::Triple>(current->begin(), current->end());
+            inferredKnown_ = true;
+        }
+        const std::set<rdf::Triple> now(inferred.begin(), inferred.end());
+        std::set_difference(now.begin(), now.end(), inferred_.begin(), inferred_.end(),
+                            std::back_inserter(added));
+        std::set_difference(inferred_.begin(), inferred_.end(), now.begin(), now.end(),
+                            std::back_inserter(removed));
+        inferred = std::vector<rdf::Triple>(now.begin(), now.end());
     }
-    for (std::size_t i = 0; i < staged.size(); ++i) {
-        if (auto s = stage(staged[i], i); !s) return Error{"store: " + s.error()};
-    }
+    std::size_t size = added.size() + removed.size();
+    for (const auto& g : graphs) size += g.triples.size();
+
     std::string u;
-    for (std::size_t i = 0; i < graphs.size(); ++i) {
-        u += "MOVE SILENT GRAPH <" + staged[i].iri + "> TO GRAPH <" + graphs[i].iri + "> ;\n";
-        u += "INSERT DATA { GRAPH <" + std::string(kRegistryGraph) + "> { <" + graphs[i].iri +
-             "> a <" + registryMember() + "> } } ;\n";
+    if (size <= kTriplesPerRequest) {
+        // One request, which Virtuoso runs as one transaction: a reader sees the old models
+        // or the new ones.
+        for (std::size_t i = 0; i < graphs.size(); ++i) {
+            u += "DROP SILENT GRAPH <" + graphs[i].iri + "> ;\n";
+            u += insertText(graphs[i].iri, graphs[i].triples, i);
+            u += "INSERT DATA { GRAPH <" + std::string(kRegistryGraph) + "> { <" + graphs[i].iri +
+                 "> a <" + registryMember() + "> } } ;\n";
+        }
+        if (!removed.empty()) {
+            u += "DELETE DATA { GRAPH <" + std::string(kInferredGraph) + "> {\n" +
+                 rdf::writeNTriples(removed) + "} } ;\n";
+        }
+        if (!added.empty()) u += insertText(kInferredGraph, added, graphs.size());
+    } else {
+        // Too big for one request (Virtuoso compiles a request to SQL and refuses one that
+        // grows beyond 10000 lines): each graph goes to a staging graph first, in pieces,
+        // then everything is moved in with one request. Until then the staging graphs are
+        // visible to queries over every named graph (not to queries of the registered
+        // graphs); a crash while staging leaves only staging graphs, which the next large
+        // load clears.
+        std::vector<GraphData> staged;
+        for (std::size_t i = 0; i < graphs.size(); ++i) {
+            staged.push_back(
+                {std::string(kStagingGraphPrefix) + std::to_string(i), graphs[i].triples});
+        }
+        if (reasoner_ != nullptr) {
+            staged.push_back({std::string(kStagingGraphPrefix) + "inferred", inferred});
+        }
+        for (std::size_t i = 0; i < staged.size(); ++i) {
+            if (auto s = stage(staged[i], i); !s) {
+                return Error{"store: " + s.error(), s.errorKind()};
+            }
+        }
+        for (std::size_t i = 0; i < graphs.size(); ++i) {
+            // DROP first: Virtuoso 7.2's MOVE adds to the target without clearing it.
+            u += "DROP SILENT GRAPH <" + graphs[i].iri + "> ;\n";
+            u += "MOVE SILENT GRAPH <" + staged[i].iri + "> TO GRAPH <" + graphs[i].iri + "> ;\n";
+            u += "INSERT DATA { GRAPH <" + std::string(kRegistryGraph) + "> { <" + graphs[i].iri +
+                 "> a <" + registryMember() + "> } } ;\n";
+        }
+        if (reasoner_ != nullptr) {
+            u += "DROP SILENT GRAPH <" + std::string(kInferredGraph) + "> ;\n";
+            u += "MOVE SILENT GRAPH <" + staged.back().iri + "> TO GRAPH <" +
+                 std::string(kInferredGraph) + "> ;\n";
+        }
     }
-    if (reasoner_ != nullptr) {
-        u += "MOVE SILENT GRAPH <" + staged.back().iri + "> TO GRAPH <" +
-             std::string(kInferredGraph) + "> ;\n";
+    if (auto s = store_.update(u); !s) {
+        inferredKnown_ = false;  // the request may or may not have run: read it again
+        return Error{"store: " + s.error(), s.errorKind()};
     }
-    if (auto s = store_.update(u); !s) return Error{"store: " + s.error()};
+    if (reasoner_ != nullptr) inferred_ = std::set<rdf::Triple>(inferred.begin(), inferred.end());
     return Done{};
 }
 
-Status KnowledgeBase::stage(const GraphData& graph, std::size_t number) {
-    if (auto s = store_.update("DROP SILENT GRAPH <" + graph.iri + ">"); !s) return s;
+std::string KnowledgeBase::insertText(const std::string& graphIri,
+                                      const std::vector<rdf::Triple>& triples, std::size_t number) {
     // Blank node labels are per document, and Virtuoso takes a label as one node across a
-    // request: they get the staging graph's number. Triples with blank nodes go in an INSERT
-    // with an empty WHERE, since Virtuoso refuses blank nodes in INSERT DATA (a template's
-    // blank nodes are new nodes, as loaded).
+    // request: they get a number of their own. Triples with blank nodes go in an INSERT with
+    // an empty WHERE, since Virtuoso refuses blank nodes in INSERT DATA (a template's blank
+    // nodes are new nodes, as loaded).
     std::vector<rdf::Triple> ground;
     std::vector<rdf::Triple> withBlanks;
-    for (auto t : graph.triples) {
+    for (auto t : triples) {
         bool blank = false;
         for (auto* term : {&t.subject, &t.object}) {
             if (term->kind == rdf::Term::Kind::Blank) {
@@ -178,34 +232,51 @@ Status KnowledgeBase::stage(const GraphData& graph, std::size_t number) {
         }
         (blank ? withBlanks : ground).push_back(std::move(t));
     }
-    constexpr std::size_t kGroundPerRequest = 1000;
-    for (std::size_t at = 0; at < ground.size(); at += kGroundPerRequest) {
-        const auto end = ground.begin() + static_cast<std::ptrdiff_t>(
-                                              std::min(ground.size(), at + kGroundPerRequest));
-        std::vector<rdf::Triple> piece(ground.begin() + static_cast<std::ptrdiff_t>(at), end);
-        auto s = store_.update("INSERT DATA { GRAPH <" + graph.iri + "> {\n" +
-                               rdf::writeNTriples(std::move(piece)) + "} }");
-        if (!s) return s;
+    std::string u;
+    if (!ground.empty()) {
+        u += "INSERT DATA { GRAPH <" + graphIri + "> {\n" + rdf::writeNTriples(std::move(ground)) +
+             "} } ;\n";
     }
-    // Blank-node structures must not be cut apart (a cut would make two nodes of one).
     if (!withBlanks.empty()) {
-        auto s = store_.update("INSERT { GRAPH <" + graph.iri + "> {\n" +
-                               rdf::writeNTriples(std::move(withBlanks)) + "} } WHERE {}");
-        if (!s) return s;
+        u += "INSERT { GRAPH <" + graphIri + "> {\n" + rdf::writeNTriples(std::move(withBlanks)) +
+             "} } WHERE {} ;\n";
+    }
+    return u;
+}
+
+Status KnowledgeBase::stage(const GraphData& graph, std::size_t number) {
+    if (auto s = store_.update("DROP SILENT GRAPH <" + graph.iri + ">"); !s) return s;
+    // Pieces of at most kTriplesPerRequest; blank-node structures stay whole (a cut would
+    // make two nodes of one).
+    std::vector<rdf::Triple> ground;
+    std::vector<rdf::Triple> withBlanks;
+    for (const auto& t : graph.triples) {
+        const bool blank =
+            t.subject.kind == rdf::Term::Kind::Blank || t.object.kind == rdf::Term::Kind::Blank;
+        (blank ? withBlanks : ground).push_back(t);
+    }
+    for (std::size_t at = 0; at < ground.size(); at += kTriplesPerRequest) {
+        const auto end = ground.begin() + static_cast<std::ptrdiff_t>(
+                                              std::min(ground.size(), at + kTriplesPerRequest));
+        const std::vector<rdf::Triple> piece(ground.begin() + static_cast<std::ptrdiff_t>(at), end);
+        if (auto s = store_.update(insertText(graph.iri, piece, number)); !s) return s;
+    }
+    if (!withBlanks.empty()) {
+        if (auto s = store_.update(insertText(graph.iri, withBlanks, number)); !s) return s;
     }
     return Done{};
 }
 
 Status KnowledgeBase::loadTurtle(const std::string& graphIri, std::string_view turtle) {
     auto triples = rdf::readTurtle(turtle, graphIri);
-    if (!triples) return Error{"<" + graphIri + ">: " + triples.error()};
+    if (!triples) return Error{"<" + graphIri + ">: " + triples.error(), ErrorKind::BadInput};
     return load({GraphData{graphIri, std::move(*triples)}});
 }
 
 Status KnowledgeBase::loadBuiltInModels(bool withDemoProcess) {
     std::vector<GraphData> graphs;
     auto ontologies = owl::embeddedModelOntologies();
-    if (!ontologies) return Error{ontologies.error()};
+    if (!ontologies) return ontologies.failure();
     for (auto& o : *ontologies) graphs.push_back({o.iri, std::move(o.triples)});
     struct File {
         const char* name;
@@ -224,7 +295,7 @@ Status KnowledgeBase::loadBuiltInModels(bool withDemoProcess) {
 
 Expected<std::vector<std::string>> KnowledgeBase::graphs() {
     auto content = graphContent(kRegistryGraph);
-    if (!content) return Error{content.error()};
+    if (!content) return content.failure();
     std::vector<std::string> out;
     for (const auto& t : *content) {
         if (t.predicate.value == kRdfType && t.object.value == registryMember()) {
@@ -237,10 +308,10 @@ Expected<std::vector<std::string>> KnowledgeBase::graphs() {
 
 Expected<std::vector<rdf::Triple>> KnowledgeBase::graphContent(const std::string& graphIri) {
     auto ref = sparqlIri(graphIri);
-    if (!ref) return Error{ref.error()};
+    if (!ref) return ref.failure();
     auto r = store_.query("CONSTRUCT { ?s ?p ?o } WHERE { GRAPH " + *ref + " { ?s ?p ?o } }",
                           media::kNTriples);
-    if (!r) return Error{r.error()};
+    if (!r) return r.failure();
     return rdf::readTurtle(r->body);
 }
 

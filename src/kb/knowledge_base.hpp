@@ -12,6 +12,7 @@
 // Threading: every method may be called from any thread. Loads and updates are serialized
 // (a load's check must see the store it writes to); queries run concurrently.
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -64,10 +65,20 @@ public:
 private:
     Expected<std::vector<rdf::Triple>> everythingBut(const std::vector<std::string>& graphIris);
     Status stage(const GraphData& graph, std::size_t number);
+    static std::string insertText(const std::string& graphIri,
+                                  const std::vector<rdf::Triple>& triples, std::size_t number);
+
+    /// Triples per update request: Virtuoso compiles a request to SQL, and refuses one of
+    /// more than 10000 lines (a few thousand triples).
+    static constexpr std::size_t kTriplesPerRequest = 1000;
 
     SparqlStore& store_;
     const engine::KoncludeReasoner* reasoner_;
     std::mutex writeMutex_;
+    // The inferred graph as last written (the KB is its only writer), so that a load
+    // writes what changed; read from the store when not known.
+    std::set<rdf::Triple> inferred_;
+    bool inferredKnown_ = false;
 };
 
 /// "<iri>" with the characters SPARQL forbids in an IRI reference refused: an Error names

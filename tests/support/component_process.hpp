@@ -58,6 +58,7 @@ public:
         // The READY line, or EOF if the process died: bounded by the process itself.
         while (out != nullptr && std::fgets(line, sizeof line, out) != nullptr) {
             const std::string l(line);
+            output_.push_back(l.substr(0, l.find_last_not_of("\r\n") + 1));
             if (l.starts_with("READY ")) {
                 url_ = l.substr(6, l.find_last_not_of("\r\n") - 5);
                 break;
@@ -90,12 +91,15 @@ public:
     }
 
     [[nodiscard]] const std::string& url() const { return url_; }
+    /// What it printed up to its READY line (one entry per line).
+    [[nodiscard]] const std::vector<std::string>& output() const { return output_; }
     [[nodiscard]] const std::filesystem::path& pkiDir() const { return pki_; }
 
 private:
     pid_t pid_ = 0;
     std::string name_;  // "device world", for messages
     std::string url_;
+    std::vector<std::string> output_;
     std::filesystem::path pki_;
 };
 

@@ -13,3 +13,11 @@ target_link_libraries(test_kb_engine PRIVATE skillcell_kb_engine skillcell_kb_rd
 # The knowledge base over a real Virtuoso and Konclude (src/kb).
 skillcell_unit_test(test_kb kb/knowledge_base_test.cpp)
 target_link_libraries(test_kb PRIVATE skillcell_kb)
+
+# `skillcell kb` in a cell: discovery-driven loading of a component's skills.
+skillcell_cell_test(test_kb_component kb/kb_component_test.cpp)
+target_link_libraries(test_kb_component PRIVATE skillcell_kb_http)
+
+# A component's skills as RDF (src/kb/component_graph).
+skillcell_unit_test(test_kb_component_graph kb/component_graph_test.cpp)
+target_link_libraries(test_kb_component_graph PRIVATE skillcell_kb_components)

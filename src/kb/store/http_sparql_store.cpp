@@ -10,10 +10,12 @@ namespace {
 
 // The engine's own words for a refusal, shortened: Virtuoso answers a syntax error with a
 // plain-text page that starts with the message that matters.
-std::string engineMessage(const http::HttpResponse& r) {
+// A 4xx is the request's fault (a syntax error), anything else the engine's.
+Error engineError(const http::HttpResponse& r) {
     std::string body = r.body.substr(0, 2000);
     while (!body.empty() && (body.back() == '\n' || body.back() == '\r')) body.pop_back();
-    return "HTTP " + std::to_string(r.status) + (body.empty() ? "" : ": " + body);
+    return Error{"HTTP " + std::to_string(r.status) + (body.empty() ? "" : ": " + body),
+                 r.status >= 400 && r.status < 500 ? ErrorKind::BadInput : ErrorKind::Failed};
 }
 
 Expected<http::HttpResponse> post(const HttpSparqlEndpoint& e, const http::Params& form,
@@ -25,7 +27,10 @@ Expected<http::HttpResponse> post(const HttpSparqlEndpoint& e, const http::Param
     if (!accept.empty()) request.headers.add("Accept", accept);
     request.body = http::formUrlEncode(form);
     auto response = http::httpRequest(e.host, e.port, std::move(request), e.timeout);
-    if (!response) return Error{"SPARQL endpoint " + e.url() + ": " + response.error()};
+    if (!response) {
+        return Error{"SPARQL endpoint " + e.url() + ": " + response.error(),
+                     ErrorKind::Unavailable};
+    }
     return response;
 }
 
@@ -67,8 +72,8 @@ std::string HttpSparqlEndpoint::url() const {
 Expected<SparqlResponse> HttpSparqlStore::query(const std::string& sparql,
                                                 const std::string& accept) {
     auto response = post(endpoint_, {{"query", sparql}}, accept);
-    if (!response) return Error{response.error()};
-    if (response->status != 200) return Error{engineMessage(*response)};
+    if (!response) return response.failure();
+    if (response->status != 200) return engineError(*response);
     SparqlResponse out;
     out.contentType = std::string(response->headers.get("Content-Type").value_or(""));
     out.body = std::move(response->body);
@@ -77,8 +82,8 @@ Expected<SparqlResponse> HttpSparqlStore::query(const std::string& sparql,
 
 Status HttpSparqlStore::update(const std::string& sparqlUpdate) {
     auto response = post(endpoint_, {{"update", sparqlUpdate}}, "");
-    if (!response) return Error{response.error()};
-    if (response->status < 200 || response->status > 299) return Error{engineMessage(*response)};
+    if (!response) return response.failure();
+    if (response->status < 200 || response->status > 299) return engineError(*response);
     return Done{};
 }
 

@@ -7,10 +7,15 @@
 #include <filesystem>
 #include <memory>
 #include <random>
+#include <thread>
 
 #include "kb/engine/konclude_reasoner.hpp"
 #include "kb/engine/virtuoso_instance.hpp"
+#include "kb/http/http_client.hpp"
+#include "kb/http/http_server.hpp"
 #include "kb/knowledge_base.hpp"
+#include "kb/rdf/turtle.hpp"
+#include "kb/sparql_endpoint.hpp"
 #include "kb/store/http_sparql_store.hpp"
 
 namespace skillcell::kb {
@@ -180,6 +185,15 @@ TEST_F(KnowledgeBaseTest, AnInconsistentModelIsRefusedNamingTheConflictAndNothin
     EXPECT_EQ(processAfter->size(), processBefore->size());
 }
 
+TEST_F(KnowledgeBaseTest, ALoadReplacesItsGraph) {
+    ASSERT_TRUE(kb_->loadTurtle("urn:test:replace", "<urn:test:r> <urn:test:p> \"old\" .\n"));
+    ASSERT_TRUE(kb_->loadTurtle("urn:test:replace", "<urn:test:r> <urn:test:p> \"new\" .\n"));
+    auto content = kb_->graphContent("urn:test:replace");
+    ASSERT_TRUE(content) << content.error();
+    ASSERT_EQ(content->size(), 1U);
+    EXPECT_EQ(content->front().object.value, "new");
+}
+
 TEST_F(KnowledgeBaseTest, InferredTypesAreQueryableInTheirOwnGraph) {
     // A dock is what holds a tool (the domain of proc:holds); nobody says it is a dock.
     auto s = kb_->loadTurtle("urn:test:inferred",
@@ -212,5 +226,146 @@ TEST_F(KnowledgeBaseTest, AcknowledgedDataSurvivesARestartAndAKillOfTheStore) {
     EXPECT_TRUE(ask("gskill:GraspGripperSkillType rdfs:subClassOf gskill:GripperSkillType"));
 }
 
+// --- The SPARQL 1.1 Protocol endpoint over the same knowledge base ------------------------
+
+namespace endpoint {
+
+http::HttpRequest get(const std::string& path, http::Params query = {}, std::string accept = {}) {
+    http::HttpRequest r;
+    r.method = "GET";
+    r.path = path;
+    r.query = std::move(query);
+    if (!accept.empty()) r.headers.add("Accept", accept);
+    return r;
+}
+
+http::HttpRequest post(const std::string& path, const std::string& contentType, std::string body) {
+    http::HttpRequest r;
+    r.method = "POST";
+    r.path = path;
+    r.headers.add("Content-Type", contentType);
+    r.body = std::move(body);
+    return r;
+}
+
+}  // namespace endpoint
+
+TEST_F(KnowledgeBaseTest, TheEndpointAnswersQueriesByGetAndPostInTheAskedMediaType) {
+    SparqlEndpoint e(*kb_);
+    const std::string q =
+        "ASK { <http://skillcell.dev/UA/GripperSkills/GraspGripperSkillType> "
+        "<http://www.w3.org/2000/01/rdf-schema#subClassOf>+ "
+        "<http://skillcell.dev/UA/GripperSkills/GripperSkillType> }";
+    auto r = e.handle(endpoint::get("/sparql", {{"query", q}}));
+    EXPECT_EQ(r.status, 200) << r.body;
+    EXPECT_NE(r.body.find("true"), std::string::npos) << r.body;
+    EXPECT_NE(r.headers.get("Content-Type").value_or("").find("sparql-results+json"),
+              std::string::npos);
+
+    r = e.handle(endpoint::post("/sparql", "application/x-www-form-urlencoded",
+                                http::formUrlEncode({{"query", q}})));
+    EXPECT_EQ(r.status, 200) << r.body;
+    r = e.handle(endpoint::post("/sparql", "application/sparql-query", q));
+    EXPECT_EQ(r.status, 200) << r.body;
+
+    auto turtle = endpoint::get("/sparql",
+                                {{"query",
+                                  "CONSTRUCT { ?t a <urn:x:GripperType> } WHERE { ?t "
+                                  "<http://www.w3.org/2000/01/rdf-schema#subClassOf> "
+                                  "<http://skillcell.dev/UA/GripperSkills/GripperSkillType> }"}},
+                                "text/turtle");
+    r = e.handle(turtle);
+    EXPECT_EQ(r.status, 200) << r.body;
+    EXPECT_NE(r.headers.get("Content-Type").value_or("").find("text/turtle"), std::string::npos);
+    auto parsed = rdf::readTurtle(r.body);
+    ASSERT_TRUE(parsed) << parsed.error();
+    EXPECT_EQ(parsed->size(), 3U) << r.body;
+}
+
+TEST_F(KnowledgeBaseTest, TheEndpointRunsUpdatesByPostOnly) {
+    SparqlEndpoint e(*kb_);
+    const std::string u = "INSERT DATA { GRAPH <urn:test:ep> { <urn:test:e> <urn:test:p> 1 } }";
+    auto r = e.handle(endpoint::post("/sparql", "application/sparql-update", u));
+    EXPECT_EQ(r.status, 200) << r.body;
+    r = e.handle(endpoint::post("/sparql", "application/x-www-form-urlencoded",
+                                http::formUrlEncode({{"update", u}})));
+    EXPECT_EQ(r.status, 200) << r.body;
+    EXPECT_TRUE(ask("GRAPH <urn:test:ep> { <urn:test:e> <urn:test:p> 1 }"));
+    r = e.handle(endpoint::get("/sparql", {{"update", u}}));
+    EXPECT_EQ(r.status, 400) << r.body;
+}
+
+TEST_F(KnowledgeBaseTest, TheEndpointAnswersBadRequestsPrecisely) {
+    SparqlEndpoint e(*kb_);
+    auto r = e.handle(endpoint::get("/sparql", {{"query", "SELECT ?x WHERE { ?x"}}));
+    EXPECT_EQ(r.status, 400);
+    EXPECT_NE(r.body.find("SP030"), std::string::npos) << r.body;  // Virtuoso's syntax error
+    EXPECT_EQ(e.handle(endpoint::get("/sparql")).status, 400);
+    EXPECT_EQ(e.handle(endpoint::post("/sparql", "application/x-www-form-urlencoded",
+                                      http::formUrlEncode({{"query", "ASK {}"}, {"update", "x"}})))
+                  .status,
+              400);
+    EXPECT_EQ(e.handle(endpoint::post("/sparql", "text/plain", "ASK {}")).status, 415);
+    EXPECT_EQ(e.handle(endpoint::post("/sparql", "application/x-www-form-urlencoded", "query=%zz"))
+                  .status,
+              400);
+    EXPECT_EQ(e.handle(endpoint::get("/nothing")).status, 404);
+    auto del = endpoint::get("/sparql");
+    del.method = "DELETE";
+    r = e.handle(del);
+    EXPECT_EQ(r.status, 405);
+    EXPECT_EQ(r.headers.get("Allow").value_or(""), "GET, POST");
+}
+
+TEST_F(KnowledgeBaseTest, TheEndpointLoadsGraphsCheckedByTheReasoner) {
+    SparqlEndpoint e(*kb_);
+    auto put = endpoint::post("/graphs", "text/turtle",
+                              "<urn:test:g#a> a <http://skillcell.dev/ontology/process#Step> .\n");
+    put.method = "PUT";
+    put.query = {{"graph", "urn:test:put"}};
+    auto r = e.handle(put);
+    EXPECT_EQ(r.status, 200) << r.body;
+    r = e.handle(endpoint::get("/graphs"));
+    EXPECT_NE(r.body.find("urn:test:put\n"), std::string::npos) << r.body;
+
+    put.body += "<urn:test:g#a> a <http://skillcell.dev/ontology/process#Process> .\n";
+    r = e.handle(put);
+    EXPECT_EQ(r.status, 409) << r.body;
+    EXPECT_NE(r.body.find("process#Process"), std::string::npos) << r.body;
+    put.body = "this is not turtle";
+    EXPECT_EQ(e.handle(put).status, 400);
+    put.query.clear();
+    EXPECT_EQ(e.handle(put).status, 400);
+}
+
+TEST_F(KnowledgeBaseTest, TheEndpointSaysServiceUnavailableWhenTheStoreIsGone) {
+    HttpSparqlEndpoint nowhere;
+    nowhere.port = 1;  // nothing listens on port 1 of the loopback
+    nowhere.timeout = std::chrono::milliseconds(2000);
+    HttpSparqlStore gone(nowhere);
+    KnowledgeBase cut(gone, nullptr);
+    SparqlEndpoint e(cut);
+    auto r = e.handle(endpoint::get("/sparql", {{"query", "ASK {}"}}));
+    EXPECT_EQ(r.status, 503) << r.body;
+}
+
+TEST_F(KnowledgeBaseTest, TheEndpointServesOverHttp) {
+    SparqlEndpoint e(*kb_);
+    asio::io_context io;
+    http::HttpServer server(
+        io, {asio::ip::make_address("127.0.0.1"), 0},
+        http::HttpServer::SyncHandler([&e](const http::HttpRequest& r) { return e.handle(r); }));
+    ASSERT_TRUE(server.start());
+    std::thread ioThread([&io] { io.run(); });
+    auto reply = http::httpRequest(
+        "127.0.0.1", server.port(),
+        endpoint::get("/sparql", {{"query", "ASK { ?s ?p ?o }"}}, media::kSparqlJson),
+        std::chrono::seconds(10));
+    asio::post(io, [&server] { server.stop(); });
+    ioThread.join();
+    ASSERT_TRUE(reply) << reply.error();
+    EXPECT_EQ(reply->status, 200) << reply->body;
+    EXPECT_NE(reply->body.find("true"), std::string::npos) << reply->body;
+}
 }  // namespace
 }  // namespace skillcell::kb

@@ -1,0 +1,303 @@
+// `skillcell kb`: the knowledge base as a component of the cell (docs/knowledge_base.md).
+//
+// It starts and supervises a private Virtuoso in its data directory (or uses the SPARQL 1.1
+// endpoint given by --sparql-url), loads the project's ontologies and every embedded NodeSet
+// as OWL (checked by Konclude), and then serves:
+//   - a SPARQL 1.1 Protocol endpoint at http://<http-host>:<http-port>/sparql, and /graphs
+//     (kb/sparql_endpoint.hpp);
+//   - Objects/KnowledgeBase on its OPC UA server: Query(Query, Accept) -> (Result,
+//     ContentType) for Observers, Update(Update) for Engineers;
+//   - discovery-driven loading: every component discovery finds gets a graph with its skills
+//     (kb/component_graph.hpp), kept current as skills come and go.
+// Prints "SPARQL <url>" once the endpoint listens, then the server process's "READY <url>".
+#include <spdlog/spdlog.h>
+
+#include <asio/thread_pool.hpp>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "commands.hpp"
+#include "kb/component_graph.hpp"
+#include "kb/engine/konclude_reasoner.hpp"
+#include "kb/engine/virtuoso_instance.hpp"
+#include "kb/http/http_server.hpp"
+#include "kb/knowledge_base.hpp"
+#include "kb/sparql_endpoint.hpp"
+#include "kb/store/http_sparql_store.hpp"
+#include "server_process.hpp"
+#include "ua/address_space/ns0_ids.hpp"
+
+namespace skillcell::apps {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct KbOptions {
+    ServerProcessOptions process;
+    std::string dataDir;
+    std::string sparqlUrl;
+    std::string httpHost = "127.0.0.1";
+    std::uint16_t httpPort = 8870;  // not 8890, Virtuoso's own default
+    std::uint16_t virtuosoHttpPort = 0;
+    std::uint16_t virtuosoSqlPort = 0;
+    bool demoProcess = false;
+    bool noReasoner = false;
+    std::vector<std::string> loads;  // GRAPH=FILE
+};
+
+fs::path defaultDataDir() {
+    const char* home = std::getenv("HOME");
+    return fs::path(home != nullptr ? home : "/tmp") / ".local/share/skillcell/kb";
+}
+
+ua::StatusCode statusOf(const kb::Error& e) {
+    switch (e.kind) {
+        case kb::ErrorKind::BadInput:
+            return ua::status::BadSyntaxError;
+        case kb::ErrorKind::Refused:
+            return ua::status::BadInvalidState;
+        case kb::ErrorKind::Unavailable:
+            return ua::status::BadResourceUnavailable;
+        case kb::ErrorKind::Failed:
+            break;
+    }
+    return ua::status::BadInternalError;
+}
+
+const ua::Variant* stringInput(std::span<const ua::Variant> in, std::size_t i) {
+    return i < in.size() && in[i].get<ua::String>() != nullptr ? &in[i] : nullptr;
+}
+
+ua::Argument argument(const char* name, const char* text) {
+    ua::Argument a;
+    a.name = name;
+    a.dataType = ua::NodeId(ua::ns0::String);
+    a.description = ua::LocalizedText{"", text};
+    return a;
+}
+
+// Objects/KnowledgeBase with Query and Update. The methods block the server's thread while
+// the store works (a SPARQL query takes milliseconds here); long analyses belong on /sparql.
+ua::StatusCode addKnowledgeBaseNodes(ua::AddressSpace& as, kb::KnowledgeBase& knowledge) {
+    const ua::NodeId object(1, ua::String("KnowledgeBase"));
+    if (auto r = as.addObject(ua::NodeId(ua::ns0::ObjectsFolder), object, "KnowledgeBase"); !r) {
+        return r.status();
+    }
+    auto query = as.addMethod(
+        object, ua::NodeId(1, ua::String("KnowledgeBase.Query")), "Query",
+        {argument("Query", "a SPARQL 1.1 query"),
+         argument("Accept",
+                  "the media type of the result (empty: SPARQL JSON results, or "
+                  "Turtle for CONSTRUCT)")},
+        {argument("Result", "the result, serialized"), argument("ContentType", "its media type")},
+        [&knowledge](const ua::Caller&, const ua::NodeId&, std::span<const ua::Variant> in,
+                     std::vector<ua::Variant>& out) -> ua::StatusCode {
+            const auto* q = stringInput(in, 0);
+            const auto* accept = stringInput(in, 1);
+            if (q == nullptr || accept == nullptr) return ua::status::BadInvalidArgument;
+            std::string acceptText = *accept->get<ua::String>();
+            if (acceptText.empty()) {
+                acceptText = std::string(kb::media::kSparqlJson) + ", " + kb::media::kTurtle;
+            }
+            auto r = knowledge.query(*q->get<ua::String>(), acceptText);
+            if (!r) {
+                spdlog::warn("kb: Query refused: {}", r.error());
+                return statusOf(r.failure());
+            }
+            out.emplace_back(ua::String(std::move(r->body)));
+            out.emplace_back(ua::String(std::move(r->contentType)));
+            return ua::status::Good;
+        });
+    if (!query) return query.status();
+    (*query)->requiredRole = ua::Role::Observer;  // a question, not a change
+    auto update = as.addMethod(
+        object, ua::NodeId(1, ua::String("KnowledgeBase.Update")), "Update",
+        {argument("Update", "a SPARQL 1.1 update request (all of it, or nothing)")}, {},
+        [&knowledge](const ua::Caller&, const ua::NodeId&, std::span<const ua::Variant> in,
+                     std::vector<ua::Variant>&) -> ua::StatusCode {
+            const auto* u = stringInput(in, 0);
+            if (u == nullptr) return ua::status::BadInvalidArgument;
+            auto s = knowledge.update(*u->get<ua::String>());
+            if (!s) {
+                spdlog::warn("kb: Update refused: {}", s.error());
+                return statusOf(s.failure());
+            }
+            return ua::status::Good;
+        });
+    if (!update) return update.status();
+    (*update)->requiredRole = ua::Role::Engineer;  // it changes the plant's models
+    return ua::status::Good;
+}
+
+// What the KB runs while its server runs: the HTTP endpoint, the workers that call the
+// store off the I/O thread, and discovery-driven loading.
+struct KbComponent {
+    explicit KbComponent(kb::KnowledgeBase& knowledge) : endpoint(knowledge), kb(knowledge) {}
+    ~KbComponent() {
+        if (detector) detector->unsubscribe(subscription);
+        if (http) http->stop();
+        workers.join();  // before the KB goes: jobs use it
+    }
+    KbComponent(const KbComponent&) = delete;
+    KbComponent& operator=(const KbComponent&) = delete;
+
+    kb::SparqlEndpoint endpoint;
+    kb::KnowledgeBase& kb;
+    asio::thread_pool workers{2};
+    // Discovery jobs one after another, in the order the events came.
+    asio::strand<asio::thread_pool::executor_type> loads{asio::make_strand(workers)};
+    kb::ComponentGraphs graphs;  // used on `loads` only
+    std::unique_ptr<kb::http::HttpServer> http;
+    std::shared_ptr<skills::SkillDetector> detector;
+    std::size_t subscription = 0;
+};
+
+void recordComponent(KbComponent& c, const std::string& componentUri) {
+    // The detector's map may be read from any thread.
+    std::vector<skills::SkillInstance> live;
+    for (auto& s : c.detector->instances()) {
+        if (s.componentUri == componentUri) live.push_back(std::move(s));
+    }
+    const kb::GraphData graph = c.graphs.update(componentUri, live);
+    if (auto s = c.kb.load({graph}); !s) {
+        spdlog::error("kb: cannot record {}: {}", componentUri, s.error());
+        return;
+    }
+    spdlog::info("kb: recorded {} ({} skills available)", componentUri, live.size());
+}
+
+ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const KbOptions& o,
+                                            kb::KnowledgeBase& knowledge) {
+    if (auto s = addKnowledgeBaseNodes(ctx.server.addressSpace(), knowledge); s.isBad()) return s;
+    auto c = std::make_shared<KbComponent>(knowledge);
+    asio::error_code ec;
+    const auto address = asio::ip::make_address(o.httpHost, ec);
+    if (ec) {
+        spdlog::critical("kb: --http-host {}: {}", o.httpHost, ec.message());
+        return ua::status::BadInvalidArgument;
+    }
+    auto* component = c.get();
+    kb::http::HttpServer::Handler handler =
+        [component](kb::http::HttpRequest request) -> asio::awaitable<kb::http::HttpResponse> {
+        const auto io = co_await asio::this_coro::executor;
+        // The store blocks: answer on a worker, then come back to the connection's thread.
+        co_await asio::post(component->workers, asio::use_awaitable);
+        kb::http::HttpResponse response = component->endpoint.handle(request);
+        co_await asio::post(io, asio::use_awaitable);
+        co_return response;
+    };
+    c->http = std::make_unique<kb::http::HttpServer>(
+        ctx.io, asio::ip::tcp::endpoint(address, o.httpPort), std::move(handler));
+    if (auto s = c->http->start(); !s) {
+        spdlog::critical("kb: SPARQL endpoint: {}", s.error());
+        return ua::status::BadResourceUnavailable;
+    }
+    std::cout << "SPARQL http://" << o.httpHost << ":" << c->http->port() << "/sparql" << std::endl;
+    if (ctx.detector) {
+        c->detector = ctx.detector;
+        c->subscription = ctx.detector->subscribe([component](const skills::SkillEvent& e) {
+            asio::post(component->loads, [component, uri = e.instance.componentUri] {
+                recordComponent(*component, uri);
+            });
+        });
+    }
+    return ComponentContent(std::move(c));
+}
+
+int run(KbOptions& o) {
+    std::optional<kb::engine::VirtuosoInstance> virtuoso;
+    std::string sparqlUrl = o.sparqlUrl;
+    if (sparqlUrl.empty()) {
+        kb::engine::VirtuosoConfig config;
+        config.dataDir = o.dataDir.empty() ? defaultDataDir() : fs::path(o.dataDir);
+        config.httpPort = o.virtuosoHttpPort;
+        config.sqlPort = o.virtuosoSqlPort;
+        virtuoso.emplace(config);
+        if (auto s = virtuoso->start(); !s) {
+            spdlog::critical("kb: cannot start Virtuoso: {}", s.error());
+            return 1;
+        }
+        sparqlUrl = virtuoso->sparqlUrl();
+    }
+    auto endpoint = kb::HttpSparqlEndpoint::fromUrl(sparqlUrl);
+    if (!endpoint) {
+        spdlog::critical("kb: {}", endpoint.error());
+        return 2;
+    }
+    kb::HttpSparqlStore store(*endpoint);
+    std::optional<kb::engine::KoncludeReasoner> reasoner;
+    if (!o.noReasoner) reasoner.emplace();
+    kb::KnowledgeBase knowledge(store, reasoner ? &*reasoner : nullptr);
+    if (auto s = knowledge.loadBuiltInModels(o.demoProcess); !s) {
+        spdlog::critical("kb: cannot load the built-in models: {}", s.error());
+        return 1;
+    }
+    for (const auto& spec : o.loads) {
+        const auto eq = spec.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size()) {
+            spdlog::critical("kb: --load {}: expected GRAPH=FILE", spec);
+            return 2;
+        }
+        std::ifstream in(spec.substr(eq + 1), std::ios::binary);
+        if (!in) {
+            spdlog::critical("kb: --load: cannot read {}", spec.substr(eq + 1));
+            return 1;
+        }
+        std::ostringstream text;
+        text << in.rdbuf();
+        if (auto s = knowledge.loadTurtle(spec.substr(0, eq), text.str()); !s) {
+            spdlog::critical("kb: --load {}: {}", spec, s.error());
+            return 1;
+        }
+    }
+    spdlog::info("kb: store {} ready, reasoner {}", sparqlUrl, reasoner ? "Konclude" : "off");
+    o.process.usesDetector = true;
+    const int rc = runServerProcess(
+        o.process, [&](const ComponentContext& ctx) { return startComponent(ctx, o, knowledge); });
+    if (virtuoso) {
+        if (auto s = virtuoso->stop(); !s) spdlog::error("kb: Virtuoso: {}", s.error());
+    }
+    return rc;
+}
+
+}  // namespace
+
+Command addKbCommand(CLI::App& app) {
+    auto o = std::make_shared<KbOptions>();
+    o->process.port = 4850;
+    o->process.applicationUri = "urn:skillcell:kb";
+    o->process.applicationName = "skillcell knowledge base";
+    auto* cmd = app.add_subcommand(
+        "kb",
+        "Run the knowledge base: a supervised Virtuoso (or --sparql-url), the project's "
+        "ontologies and NodeSets as OWL checked by Konclude, a SPARQL 1.1 endpoint, Query and "
+        "Update on its OPC UA server, and a graph per component that discovery finds.");
+    addServerProcessOptions(cmd, o->process);
+    addDiscoveryOptions(cmd, o->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--data-dir", o->dataDir,
+                    "Virtuoso's data directory, kept across restarts (default: "
+                    "~/.local/share/skillcell/kb)");
+    cmd->add_option("--sparql-url", o->sparqlUrl,
+                    "use this SPARQL 1.1 endpoint (http://HOST:PORT/PATH) instead of starting "
+                    "Virtuoso");
+    cmd->add_option("--http-host", o->httpHost, "address of the SPARQL endpoint")
+        ->capture_default_str();
+    cmd->add_option("--http-port", o->httpPort, "port of the SPARQL endpoint (0: any free one)")
+        ->capture_default_str();
+    cmd->add_option("--virtuoso-http-port", o->virtuosoHttpPort,
+                    "Virtuoso's own HTTP port on 127.0.0.1 (0: a free one, kept in the data "
+                    "directory)");
+    cmd->add_option("--virtuoso-sql-port", o->virtuosoSqlPort,
+                    "Virtuoso's SQL port on 127.0.0.1 (0: a free one, kept)");
+    cmd->add_flag("--demo-process", o->demoProcess,
+                  "also load the paper's demo process (models/owl/demo-process.ttl)");
+    cmd->add_flag("--no-reasoner", o->noReasoner,
+                  "load without checking consistency and infer nothing (not for production)");
+    cmd->add_option("--load", o->loads, "load a Turtle file into a graph: GRAPH=FILE (checked)");
+    return {cmd, [o] { return run(*o); }};
+}
+
+}  // namespace skillcell::apps
