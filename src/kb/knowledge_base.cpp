@@ -85,6 +85,11 @@ Expected<std::vector<rdf::Triple>> KnowledgeBase::everythingBut(
 }
 
 Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
+    if (graphs.size() > kMaxGraphsPerLoad) {
+        return Error{"at most " + std::to_string(kMaxGraphsPerLoad) + " graphs per load, not " +
+                         std::to_string(graphs.size()),
+                     ErrorKind::BadInput};
+    }
     std::vector<std::string> names;
     std::vector<rdf::Triple> incoming;
     for (const auto& g : graphs) {

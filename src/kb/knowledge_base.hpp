@@ -42,7 +42,12 @@ public:
     KnowledgeBase(SparqlStore& store, const engine::KoncludeReasoner* reasoner)
         : store_(store), reasoner_(reasoner) {}
 
+    /// Graphs one load may replace: its final request has a few operations per graph, and
+    /// Virtuoso refuses requests of too many (SQ200).
+    static constexpr std::size_t kMaxGraphsPerLoad = 64;
+
     /// Replaces each graph of `graphs` (as one transaction) if the result is consistent.
+    /// More than kMaxGraphsPerLoad graphs: BadInput.
     [[nodiscard]] Status load(const std::vector<GraphData>& graphs);
     /// load() of one graph given as Turtle; `baseIri` resolves relative IRIs (default: the
     /// graph's IRI).

@@ -1,0 +1,196 @@
+// The knowledge base's query latency for what the MES asks before every step: "an available
+// skill of type X (any subtype) with constraints", with 10, 100 and 500 components recorded.
+// It runs a private Virtuoso (kb/engine), loads the project's models and synthetic
+// component graphs (as discovery records them, kb/component_graph), and times two queries
+// through the KB's store client:
+//   grasp: an available GripperSkillType instance with grip type "parallel", offered by an
+//          available component, with its discovery URL;
+//   move:  an available MoveSkillType instance whose type declares a MaxVelocity parameter
+//          with an EURange reaching at least 1 m/s (a constraint on the skill model).
+// Only the last component's skills fit, so every query searches all components; each answer
+// is checked. Baseline in the same run: ASK {} (the HTTP and engine round trip alone).
+// Usage: skillcell_bench_kb_query [--components 10,100,500] [--queries N]
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <random>
+#include <sstream>
+
+#include "kb/component_graph.hpp"
+#include "kb/engine/virtuoso_instance.hpp"
+#include "kb/knowledge_base.hpp"
+#include "kb/store/http_sparql_store.hpp"
+#include "latency_stats.hpp"
+
+namespace {
+
+using namespace skillcell;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+const char* const kPrefixes =
+    "PREFIX rdfs: <http://www.w3.org/2000/01/rdf-schema#>\n"
+    "PREFIX opc: <http://skillcell.dev/ontology/opcua#>\n"
+    "PREFIX ua: <http://opcfoundation.org/UA/>\n"
+    "PREFIX gskill: <http://skillcell.dev/UA/GripperSkills/>\n"
+    "PREFIX rskill: <http://skillcell.dev/UA/RoboticSkills/>\n"
+    "PREFIX proc: <http://skillcell.dev/ontology/process#>\n";
+
+const std::string kGraspQuery =
+    std::string(kPrefixes) +
+    "SELECT ?skill ?url WHERE {"
+    "  ?skill a ?type ; proc:available true ; proc:gripType \"parallel\" ."
+    "  ?type rdfs:subClassOf* gskill:GripperSkillType ."
+    "  ?component proc:offers ?skill ; proc:available true ;"
+    "             proc:discoveryUrl ?url } LIMIT 1";
+const std::string kMoveQuery =
+    std::string(kPrefixes) +
+    "SELECT ?skill WHERE {"
+    "  ?skill a ?type ; proc:available true ."
+    "  ?type rdfs:subClassOf* rskill:MoveSkillType ."
+    "  ?type rdfs:subClassOf* ?declaring ."
+    "  ?declaring ua:HasComponent ?set . ?set opc:browseName \"ParameterSet\" ."
+    "  ?set ua:HasComponent ?p . ?p opc:browseName \"MaxVelocity\" ;"
+    "     opc:euRangeHigh ?max . FILTER(?max >= 1.0) } LIMIT 1";
+
+skills::SkillInstance skill(const std::string& component, const std::string& name,
+                            const std::string& ns, const std::string& type, std::uint32_t id) {
+    skills::SkillInstance s;
+    s.componentUri = component;
+    s.endpointUrl = "opc.tcp://198.18.0." + std::to_string(component.size()) + ":4840";
+    s.nodeId = ua::NodeId(2, ua::String("Skills/" + name));
+    s.browsePath = {{component, "Skills"}, {component, name}};
+    s.types = {{skills::GlobalNodeId(std::string_view(ns), id), type}};
+    return s;
+}
+
+// n components; only the last one's skills are available and fit the queries.
+std::vector<kb::GraphData> components(std::size_t n) {
+    kb::ComponentGraphs graphs;
+    std::vector<kb::GraphData> out;
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::string uri = "urn:bench:component:" + std::to_string(i);
+        const bool fits = i + 1 == n;
+        std::vector<skills::SkillInstance> skills{
+            skill(uri, "Grasp", "http://skillcell.dev/UA/GripperSkills/", "GraspGripperSkillType",
+                  1002),
+            skill(uri, "Release", "http://skillcell.dev/UA/GripperSkills/",
+                  "ReleaseGripperSkillType", 1003),
+            skill(uri, "MoveLinear", "http://skillcell.dev/UA/RoboticSkills/",
+                  "CartesianLinearMoveSkillType", 1004),
+            skill(uri, "MovePtp", "http://skillcell.dev/UA/RoboticSkills/",
+                  "CartesianPtpMoveSkillType", 1005)};
+        // Seen, then (for all but the last) gone: recorded with proc:available false.
+        (void)graphs.update(uri, skills);
+        kb::GraphData g = graphs.update(uri, fits ? skills : std::vector<skills::SkillInstance>{});
+        const std::string grasp = kb::componentIri(uri) + "/ns%3D2%3Bs%3DSkills%2FGrasp";
+        g.triples.push_back({kb::rdf::iri(grasp),
+                             kb::rdf::iri(std::string(kb::kProcessVocabulary) + "gripType"),
+                             kb::rdf::literal(i % 2 == 0 || fits ? "parallel" : "vacuum")});
+        out.push_back(std::move(g));
+    }
+    return out;
+}
+
+bench::Samples timeQuery(kb::KnowledgeBase& kb, const std::string& q, int count,
+                         const std::string& mustContain, bool& wrong) {
+    bench::Samples samples;
+    for (int i = 0; i < count; ++i) {
+        const auto t0 = Clock::now();
+        auto r = kb.query(q, kb::media::kSparqlJson);
+        samples.push_back(Clock::now() - t0);
+        if (!r || r->body.find(mustContain) == std::string::npos) {
+            std::cerr << "wrong answer: " << (r ? r->body : r.error()) << "\n";
+            wrong = true;
+            break;
+        }
+    }
+    return samples;
+}
+
+void print(const char* what, std::size_t n, const bench::Samples& s, double baselineMedianUs) {
+    const auto st = bench::summarize(s);
+    std::printf(
+        "%-9s components=%-4zu n=%-4zu median=%8.0f us  p99=%8.0f us  (%.1fx the ASK {} "
+        "round trip)\n",
+        what, n, st.n, st.medianUs, st.p99Us, st.medianUs / baselineMedianUs);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::size_t> sizes{10, 100, 500};
+    int count = 200;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--components" && i + 1 < argc) {
+            sizes.clear();
+            std::stringstream list(argv[++i]);
+            for (std::string item; std::getline(list, item, ',');)
+                sizes.push_back(std::stoul(item));
+        } else if (a == "--queries" && i + 1 < argc) {
+            count = std::stoi(argv[++i]);
+        } else {
+            std::cerr
+                << "usage: skillcell_bench_kb_query [--components 10,100,500] [--queries N]\n";
+            return a == "--help" ? 0 : 2;
+        }
+    }
+    spdlog::set_level(spdlog::level::warn);
+    std::random_device rd;
+    const fs::path dir = fs::temp_directory_path() / ("skillcell-bench-kb-" + std::to_string(rd()));
+    int rc = 0;
+    {
+        kb::engine::VirtuosoConfig config;
+        config.dataDir = dir;
+        kb::engine::VirtuosoInstance virtuoso(config);
+        if (auto s = virtuoso.start(); !s) {
+            std::cerr << "Virtuoso: " << s.error() << "\n";
+            return 1;
+        }
+        kb::HttpSparqlStore store(*kb::HttpSparqlEndpoint::fromUrl(virtuoso.sparqlUrl()));
+        kb::KnowledgeBase knowledge(store, nullptr);  // the store's speed, not the reasoner's
+        if (auto s = knowledge.loadBuiltInModels(false); !s) {
+            std::cerr << s.error() << "\n";
+            return 1;
+        }
+        std::printf("Virtuoso 7.2, SPARQL over HTTP on loopback, %d queries each\n", count);
+        for (const std::size_t n : sizes) {
+            const auto t0 = Clock::now();
+            auto graphs = components(n);
+            // In loads of 40 components: each is one request of ~800 triples.
+            for (std::size_t at = 0; at < graphs.size() && rc == 0; at += 40) {
+                const std::vector<kb::GraphData> batch(
+                    graphs.begin() + static_cast<std::ptrdiff_t>(at),
+                    graphs.begin() + static_cast<std::ptrdiff_t>(std::min(graphs.size(), at + 40)));
+                if (auto s = knowledge.load(batch); !s) {
+                    std::cerr << s.error().substr(0, 2000) << "\n";
+                    rc = 1;
+                }
+            }
+            if (rc != 0) break;
+            std::printf("loaded %zu components in %.0f ms\n", n,
+                        std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+            bool wrong = false;
+            const std::string last = "urn:bench:component:" + std::to_string(n - 1);
+            const auto baseline =
+                bench::summarize(timeQuery(knowledge, "ASK {}", count, "boolean", wrong));
+            const std::string lastIri = kb::componentIri(last);
+            print("grasp", n, timeQuery(knowledge, kGraspQuery, count, lastIri + "/", wrong),
+                  baseline.medianUs);
+            print("move", n, timeQuery(knowledge, kMoveQuery, count, lastIri + "/", wrong),
+                  baseline.medianUs);
+            std::printf("%-9s components=%-4zu median=%8.0f us\n", "ASK {}", n, baseline.medianUs);
+            if (wrong) {
+                rc = 1;
+                break;
+            }
+        }
+        (void)virtuoso.stop();
+    }
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    return rc;
+}
