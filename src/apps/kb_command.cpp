@@ -45,6 +45,7 @@ struct KbOptions {
     std::uint16_t virtuosoSqlPort = 0;
     bool demoProcess = false;
     bool noReasoner = false;
+    bool httpWrites = false;
     std::vector<std::string> loads;  // GRAPH=FILE
 };
 
@@ -135,7 +136,8 @@ ua::StatusCode addKnowledgeBaseNodes(ua::AddressSpace& as, kb::KnowledgeBase& kn
 // What the KB runs while its server runs: the HTTP endpoint, the workers that call the
 // store off the I/O thread, and discovery-driven loading.
 struct KbComponent {
-    explicit KbComponent(kb::KnowledgeBase& knowledge) : endpoint(knowledge), kb(knowledge) {}
+    KbComponent(kb::KnowledgeBase& knowledge, bool httpWrites)
+        : endpoint(knowledge, httpWrites), kb(knowledge) {}
     ~KbComponent() {
         if (detector) detector->unsubscribe(subscription);
         if (http) http->stop();
@@ -172,7 +174,7 @@ void recordComponent(KbComponent& c, const std::string& componentUri) {
 ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const KbOptions& o,
                                             kb::KnowledgeBase& knowledge) {
     if (auto s = addKnowledgeBaseNodes(ctx.server.addressSpace(), knowledge); s.isBad()) return s;
-    auto c = std::make_shared<KbComponent>(knowledge);
+    auto c = std::make_shared<KbComponent>(knowledge, o.httpWrites);
     asio::error_code ec;
     const auto address = asio::ip::make_address(o.httpHost, ec);
     if (ec) {
@@ -292,6 +294,9 @@ Command addKbCommand(CLI::App& app) {
                     "directory)");
     cmd->add_option("--virtuoso-sql-port", o->virtuosoSqlPort,
                     "Virtuoso's SQL port on 127.0.0.1 (0: a free one, kept)");
+    cmd->add_flag("--http-writes", o->httpWrites,
+                  "let the SPARQL endpoint take updates and graph loads (HTTP has no users: "
+                  "anyone who reaches the port may then change the models)");
     cmd->add_flag("--demo-process", o->demoProcess,
                   "also load the paper's demo process (models/owl/demo-process.ttl)");
     cmd->add_flag("--no-reasoner", o->noReasoner,

@@ -42,29 +42,6 @@ Expected<std::string> sparqlIri(const std::string& iri) {
     return "<" + iri + ">";
 }
 
-std::string sparqlString(std::string_view text) {
-    std::string out = "\"";
-    for (char c : text) {
-        switch (c) {
-            case '"':
-                out += "\\\"";
-                break;
-            case '\\':
-                out += "\\\\";
-                break;
-            case '\n':
-                out += "\\n";
-                break;
-            case '\r':
-                out += "\\r";
-                break;
-            default:
-                out += c;
-        }
-    }
-    return out + "\"";
-}
-
 Expected<std::vector<rdf::Triple>> KnowledgeBase::everythingBut(
     const std::vector<std::string>& graphIris) {
     std::string filter;

@@ -89,7 +89,5 @@ private:
 /// "<iri>" with the characters SPARQL forbids in an IRI reference refused: an Error names
 /// the IRI. For building queries from names that come from outside.
 [[nodiscard]] Expected<std::string> sparqlIri(const std::string& iri);
-/// A SPARQL string literal with quotes and escapes.
-[[nodiscard]] std::string sparqlString(std::string_view text);
 
 }  // namespace skillcell::kb

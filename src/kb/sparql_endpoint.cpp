@@ -28,6 +28,13 @@ http::HttpResponse methodNotAllowed(const char* allow) {
     return r;
 }
 
+http::HttpResponse writesRefused() {
+    return http::makeResponse(403,
+                              "this endpoint takes queries only (skillcell kb --http-writes "
+                              "opens it to updates and loads; OPC UA's Update needs no such "
+                              "switch, it checks the user's role)\n");
+}
+
 // The media type of a request body, without parameters; empty when there is none.
 std::string contentTypeOf(const http::HttpRequest& request) {
     const auto header = request.headers.get("Content-Type");
@@ -89,6 +96,7 @@ http::HttpResponse SparqlEndpoint::sparql(const http::HttpRequest& request) {
         return http::makeResponse(400, "no 'query' (or, with POST, 'update') parameter\n");
     }
     if (update) {
+        if (!acceptWrites_) return writesRefused();
         auto s = kb_.update(*update);
         if (!s) return errorResponse(s.failure());
         return http::makeResponse(200, "OK\n");
@@ -108,6 +116,7 @@ http::HttpResponse SparqlEndpoint::graphs(const http::HttpRequest& request) {
         return http::makeResponse(200, std::move(body));
     }
     if (request.method == "PUT") {
+        if (!acceptWrites_) return writesRefused();
         const auto graph = http::findParam(request.query, "graph");
         if (!graph || graph->empty()) {
             return http::makeResponse(400, "PUT /graphs needs ?graph=<IRI>\n");

@@ -13,6 +13,10 @@
 // SELECT and ASK, Turtle for CONSTRUCT and DESCRIBE), as the store serializes them. A bad
 // query or update is 400 with the engine's message; a load the reasoner refuses is 409 with
 // the conflicting statements; an unreachable store 503.
+//
+// HTTP has no users here (OPC UA has, and its Update needs the Engineer role): unless the
+// endpoint is told to take writes, updates and PUT are 403, so that a query port left open
+// cannot change the plant's models.
 #include "kb/http/http_message.hpp"
 #include "kb/knowledge_base.hpp"
 
@@ -20,7 +24,8 @@ namespace skillcell::kb {
 
 class SparqlEndpoint {
 public:
-    explicit SparqlEndpoint(KnowledgeBase& kb) : kb_(kb) {}
+    /// `acceptWrites`: take SPARQL updates and graph loads (else 403).
+    SparqlEndpoint(KnowledgeBase& kb, bool acceptWrites) : kb_(kb), acceptWrites_(acceptWrites) {}
 
     /// Answers one request. Blocks while the store works: call it off the I/O thread.
     [[nodiscard]] http::HttpResponse handle(const http::HttpRequest& request);
@@ -30,6 +35,7 @@ private:
     http::HttpResponse graphs(const http::HttpRequest& request);
 
     KnowledgeBase& kb_;
+    bool acceptWrites_;
 };
 
 }  // namespace skillcell::kb

@@ -251,7 +251,7 @@ http::HttpRequest post(const std::string& path, const std::string& contentType, 
 }  // namespace endpoint
 
 TEST_F(KnowledgeBaseTest, TheEndpointAnswersQueriesByGetAndPostInTheAskedMediaType) {
-    SparqlEndpoint e(*kb_);
+    SparqlEndpoint e(*kb_, true);
     const std::string q =
         "ASK { <http://skillcell.dev/UA/GripperSkills/GraspGripperSkillType> "
         "<http://www.w3.org/2000/01/rdf-schema#subClassOf>+ "
@@ -283,7 +283,7 @@ TEST_F(KnowledgeBaseTest, TheEndpointAnswersQueriesByGetAndPostInTheAskedMediaTy
 }
 
 TEST_F(KnowledgeBaseTest, TheEndpointRunsUpdatesByPostOnly) {
-    SparqlEndpoint e(*kb_);
+    SparqlEndpoint e(*kb_, true);
     const std::string u = "INSERT DATA { GRAPH <urn:test:ep> { <urn:test:e> <urn:test:p> 1 } }";
     auto r = e.handle(endpoint::post("/sparql", "application/sparql-update", u));
     EXPECT_EQ(r.status, 200) << r.body;
@@ -295,8 +295,21 @@ TEST_F(KnowledgeBaseTest, TheEndpointRunsUpdatesByPostOnly) {
     EXPECT_EQ(r.status, 400) << r.body;
 }
 
+TEST_F(KnowledgeBaseTest, AReadOnlyEndpointRefusesUpdatesAndLoads) {
+    SparqlEndpoint e(*kb_, false);
+    auto r = e.handle(endpoint::post("/sparql", "application/sparql-update",
+                                     "INSERT DATA { GRAPH <urn:test:ro> { <urn:a> <urn:b> 1 } }"));
+    EXPECT_EQ(r.status, 403) << r.body;
+    auto put = endpoint::post("/graphs", "text/turtle", "<urn:a> <urn:b> 1 .\n");
+    put.method = "PUT";
+    put.query = {{"graph", "urn:test:ro"}};
+    EXPECT_EQ(e.handle(put).status, 403);
+    EXPECT_FALSE(ask("GRAPH <urn:test:ro> { ?s ?p ?o }"));
+    EXPECT_EQ(e.handle(endpoint::get("/sparql", {{"query", "ASK {}"}})).status, 200);
+}
+
 TEST_F(KnowledgeBaseTest, TheEndpointAnswersBadRequestsPrecisely) {
-    SparqlEndpoint e(*kb_);
+    SparqlEndpoint e(*kb_, true);
     auto r = e.handle(endpoint::get("/sparql", {{"query", "SELECT ?x WHERE { ?x"}}));
     EXPECT_EQ(r.status, 400);
     EXPECT_NE(r.body.find("SP030"), std::string::npos) << r.body;  // Virtuoso's syntax error
@@ -318,7 +331,7 @@ TEST_F(KnowledgeBaseTest, TheEndpointAnswersBadRequestsPrecisely) {
 }
 
 TEST_F(KnowledgeBaseTest, TheEndpointLoadsGraphsCheckedByTheReasoner) {
-    SparqlEndpoint e(*kb_);
+    SparqlEndpoint e(*kb_, true);
     auto put = endpoint::post("/graphs", "text/turtle",
                               "<urn:test:g#a> a <http://skillcell.dev/ontology/process#Step> .\n");
     put.method = "PUT";
@@ -344,13 +357,13 @@ TEST_F(KnowledgeBaseTest, TheEndpointSaysServiceUnavailableWhenTheStoreIsGone) {
     nowhere.timeout = std::chrono::milliseconds(2000);
     HttpSparqlStore gone(nowhere);
     KnowledgeBase cut(gone, nullptr);
-    SparqlEndpoint e(cut);
+    SparqlEndpoint e(cut, true);
     auto r = e.handle(endpoint::get("/sparql", {{"query", "ASK {}"}}));
     EXPECT_EQ(r.status, 503) << r.body;
 }
 
 TEST_F(KnowledgeBaseTest, TheEndpointServesOverHttp) {
-    SparqlEndpoint e(*kb_);
+    SparqlEndpoint e(*kb_, true);
     asio::io_context io;
     http::HttpServer server(
         io, {asio::ip::make_address("127.0.0.1"), 0},
