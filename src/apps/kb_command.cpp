@@ -16,6 +16,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
+#include <set>
 #include <sstream>
 
 #include "commands.hpp"
@@ -24,6 +26,7 @@
 #include "kb/engine/virtuoso_instance.hpp"
 #include "kb/http/http_server.hpp"
 #include "kb/knowledge_base.hpp"
+#include "kb/owl/model_repository.hpp"
 #include "kb/sparql_endpoint.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "server_process.hpp"
@@ -47,6 +50,7 @@ struct KbOptions {
     bool noReasoner = false;
     bool httpWrites = false;
     std::vector<std::string> loads;  // GRAPH=FILE
+    std::string modelsDir;
 };
 
 fs::path defaultDataDir() {
@@ -152,6 +156,9 @@ struct KbComponent {
     // Discovery jobs one after another, in the order the events came.
     asio::strand<asio::thread_pool::executor_type> loads{asio::make_strand(workers)};
     kb::ComponentGraphs graphs;  // used on `loads` only
+    // Models beyond the compiled-in ones (--models), and the model URIs in the KB or tried.
+    std::optional<kb::owl::ModelRepository> models;
+    std::set<std::string> modelsLoaded;  // used on `loads` only
     std::unique_ptr<kb::http::HttpServer> http;
     std::shared_ptr<skills::SkillDetector> detector;
     std::size_t subscription = 0;
@@ -164,6 +171,29 @@ void recordComponent(KbComponent& c, const std::string& componentUri) {
         if (s.componentUri == componentUri) live.push_back(std::move(s));
     }
     const kb::GraphData graph = c.graphs.update(componentUri, live);
+    // The models of the component's skill types first, so that its skills are typed by
+    // classes the KB knows.
+    for (const auto& ns : c.graphs.typeNamespaces()) {
+        if (!c.modelsLoaded.insert(ns).second) continue;  // loaded, or tried once
+        std::vector<kb::GraphData> needed;
+        if (c.models) {
+            for (const auto* o : c.models->withRequirements(ns)) {
+                if (c.modelsLoaded.count(o->iri) != 0 && o->iri != ns) continue;
+                needed.push_back({o->iri, o->triples});
+                c.modelsLoaded.insert(o->iri);
+            }
+        }
+        if (needed.empty()) {
+            spdlog::warn("kb: no model for namespace {} of {} (give --models DIR)", ns,
+                         componentUri);
+            continue;
+        }
+        if (auto s = c.kb.load(needed); !s) {
+            spdlog::error("kb: cannot load the model {}: {}", ns, s.error());
+            continue;
+        }
+        spdlog::info("kb: loaded the model {} for {}", ns, componentUri);
+    }
     if (auto s = c.kb.load({graph}); !s) {
         spdlog::error("kb: cannot record {}: {}", componentUri, s.error());
         return;
@@ -175,6 +205,19 @@ ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const K
                                             kb::KnowledgeBase& knowledge) {
     if (auto s = addKnowledgeBaseNodes(ctx.server.addressSpace(), knowledge); s.isBad()) return s;
     auto c = std::make_shared<KbComponent>(knowledge, o.httpWrites);
+    if (!o.modelsDir.empty()) {
+        auto repository = kb::owl::ModelRepository::fromDirectory(o.modelsDir);
+        if (!repository) {
+            spdlog::critical("kb: --models: {}", repository.error());
+            return ua::status::BadInvalidArgument;
+        }
+        spdlog::info("kb: {} model(s) in {}", repository->uris().size(), o.modelsDir);
+        c->models = std::move(*repository);
+    }
+    // What is loaded already (the compiled-in models, --load) needs no loading.
+    if (auto loaded = knowledge.graphs()) {
+        c->modelsLoaded.insert(loaded->begin(), loaded->end());
+    }
     asio::error_code ec;
     const auto address = asio::ip::make_address(o.httpHost, ec);
     if (ec) {
@@ -302,6 +345,10 @@ Command addKbCommand(CLI::App& app) {
     cmd->add_flag("--no-reasoner", o->noReasoner,
                   "load without checking consistency and infer nothing (not for production)");
     cmd->add_option("--load", o->loads, "load a Turtle file into a graph: GRAPH=FILE (checked)");
+    cmd->add_option("--models", o->modelsDir,
+                    "NodeSet2 files (*.xml) of models beyond skillcell's own: loaded when a "
+                    "component with skills of their types appears")
+        ->check(CLI::ExistingDirectory);
     return {cmd, [o] { return run(*o); }};
 }
 

@@ -11,6 +11,7 @@
 #include "server_process.hpp"
 #include "skills/noop_behaviour.hpp"
 #include "skills/skill_server.hpp"
+#include "ua/nodeset/nodeset_loader.hpp"
 
 namespace skillcell::apps {
 namespace {
@@ -18,6 +19,7 @@ namespace {
 struct ServerCommandOptions {
     ServerProcessOptions process;
     std::vector<std::string> noopSkills;  // "<SkillTypeBrowseName>=<InstanceName>"
+    std::vector<std::string> nodesets;    // NodeSet2 files with skill types of their own
     int noopSkillMs = 0;
 };
 
@@ -31,7 +33,7 @@ ua::Result<ComponentContent> populate(const ServerCommandOptions& options, ua::S
         server.fireEvent(std::move(event));
     };
     if (const auto s = addDemoNodes(server.addressSpace(), fireDemoEvent); s.isBad()) return s;
-    if (options.noopSkills.empty()) return ComponentContent{};
+    if (options.noopSkills.empty() && options.nodesets.empty()) return ComponentContent{};
 
     std::string error;
     std::shared_ptr<skills::SkillServer> skillServer =
@@ -39,6 +41,14 @@ ua::Result<ComponentContent> populate(const ServerCommandOptions& options, ua::S
     if (!skillServer) {
         spdlog::critical("{}", error);
         return ua::status::BadConfigurationError;
+    }
+    // After the SkillServer, which loads the companion models the files may require.
+    for (const auto& file : options.nodesets) {
+        if (const auto s = ua::loadNodeSetFile(server.addressSpace(), file); !s.ok()) {
+            spdlog::critical("--nodeset: {}", s.error);
+            return ua::status::BadConfigurationError;
+        }
+        spdlog::info("loaded {}", file);
     }
     for (const auto& spec : options.noopSkills) {
         const auto eq = spec.find('=');
@@ -48,7 +58,7 @@ ua::Result<ComponentContent> populate(const ServerCommandOptions& options, ua::S
         if (!type || name.empty()) {
             spdlog::critical(
                 "--noop-skill {}: '{}' is not a skill type of the companion models "
-                "(see docs/models/)",
+                "(see docs/models/) or of a --nodeset",
                 spec, typeName);
             return ua::status::BadTypeDefinitionInvalid;
         }
@@ -81,8 +91,12 @@ Command addServerCommand(CLI::App& app) {
     addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
     cmd->add_option("--noop-skill", options->noopSkills,
                     "offer a skill that does nothing, successfully: TYPE=NAME with TYPE a "
-                    "concrete skill type of the companion models, e.g. "
+                    "concrete skill type of the companion models or of a --nodeset, e.g. "
                     "CartesianLinearMoveSkillType=Move (repeatable)");
+    cmd->add_option("--nodeset", options->nodesets,
+                    "load a NodeSet2 file (after the companion models), e.g. one with a skill "
+                    "type of its own for --noop-skill (repeatable)")
+        ->check(CLI::ExistingFile);
     cmd->add_option("--noop-skill-ms", options->noopSkillMs,
                     "how long a no-op skill runs before it finishes")
         ->check(CLI::Range(0, 3'600'000))

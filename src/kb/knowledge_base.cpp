@@ -304,6 +304,8 @@ Expected<SparqlResponse> KnowledgeBase::query(const std::string& sparql,
 
 Status KnowledgeBase::update(const std::string& sparqlUpdate) {
     const std::lock_guard lock(writeMutex_);
+    // An update may touch the inferred graph: the next load reads it again.
+    inferredKnown_ = false;
     return store_.update(sparqlUpdate);
 }
 

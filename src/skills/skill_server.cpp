@@ -48,6 +48,11 @@ std::optional<ua::NodeId> SkillServer::findSkillType(std::string_view typeName) 
         auto id = ua::findTypeByName(as, model.uri, typeName);
         if (id && as.isSubtypeOf(*id, *skillType)) return id;
     }
+    // Then the models loaded besides them (a NodeSet2 file of a skill type of one's own).
+    for (const auto& uri : as.namespaces()) {
+        auto id = ua::findTypeByName(as, uri, typeName);
+        if (id && as.isSubtypeOf(*id, *skillType)) return id;
+    }
     return std::nullopt;
 }
 

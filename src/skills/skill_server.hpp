@@ -25,8 +25,9 @@ public:
     [[nodiscard]] ua::Result<std::shared_ptr<Skill>> add(
         const ua::NodeId& type, std::string name, std::unique_ptr<SkillBehaviour> behaviour,
         SkillState initialState = SkillState::Ready);
-    /// The concrete skill type called `typeName` in one of the companion models (e.g.
-    /// "CartesianLinearMoveSkillType"), for command lines; nullopt if there is none.
+    /// The skill type called `typeName` (e.g. "CartesianLinearMoveSkillType") in one of the
+    /// companion models, else in another model loaded into the server; for command lines.
+    /// nullopt if there is none.
     [[nodiscard]] std::optional<ua::NodeId> findSkillType(std::string_view typeName) const;
 
     [[nodiscard]] const ua::NodeId& folder() const { return folder_; }

@@ -1,6 +1,7 @@
 # unit tests of src/kb: Turtle, NodeSet2 -> OWL.
 skillcell_unit_test(test_kb_owl kb/owl_test.cpp)
 target_link_libraries(test_kb_owl PRIVATE skillcell_kb_owl)
+target_compile_definitions(test_kb_owl PRIVATE SKILLCELL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 
 # HTTP/1.1 messages, client and server (src/kb/http).
 skillcell_unit_test(test_kb_http kb/http_test.cpp)
@@ -17,6 +18,7 @@ target_link_libraries(test_kb PRIVATE skillcell_kb)
 # `skillcell kb` in a cell: discovery-driven loading of a component's skills.
 skillcell_cell_test(test_kb_component kb/kb_component_test.cpp)
 target_link_libraries(test_kb_component PRIVATE skillcell_kb_http)
+target_compile_definitions(test_kb_component PRIVATE SKILLCELL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 
 # A component's skills as RDF (src/kb/component_graph).
 skillcell_unit_test(test_kb_component_graph kb/component_graph_test.cpp)

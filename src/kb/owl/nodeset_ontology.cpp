@@ -320,7 +320,7 @@ Expected<Ontology> nodeSetToOntology(const ua::AddressSpace& known,
 }
 
 Expected<std::vector<Ontology>> convertNodeSets(const std::vector<NodeSetText>& files,
-                                                bool includeBase) {
+                                                bool includeBase, bool afterCompanionModels) {
     std::vector<Ontology> out;
     const std::string_view baseXml = ua::embeddedModel("Opc.Ua.NodeSet2.Base.xml");
     if (includeBase) {
@@ -337,6 +337,9 @@ Expected<std::vector<Ontology>> convertNodeSets(const std::vector<NodeSetText>& 
     }
     ua::AddressSpace known;
     if (auto s = ua::loadBaseNodeSet(known); !s.ok()) return Error{s.error};
+    if (afterCompanionModels) {
+        if (auto s = ua::loadCompanionModels(known); !s.ok()) return Error{s.error};
+    }
     for (const auto& f : files) {
         ua::ParsedNodeSet parsed;
         if (auto s = ua::parseNodeSet(known, f.xml, f.name, parsed); !s.ok()) {

@@ -51,8 +51,11 @@ struct NodeSetText {
 /// Converts NodeSets in order: each may require namespace 0 (loaded from the embedded base
 /// NodeSet) and the ones before it. The base NodeSet's own ontology comes first when
 /// `includeBase`. On error nothing is returned; the message names the file and line.
+/// With `afterCompanionModels`, the embedded companion models are loaded first (not
+/// converted), so that the files may require them too.
 [[nodiscard]] Expected<std::vector<Ontology>> convertNodeSets(const std::vector<NodeSetText>& files,
-                                                              bool includeBase);
+                                                              bool includeBase,
+                                                              bool afterCompanionModels = false);
 
 /// The embedded NodeSets (models/*.xml): namespace 0 and every companion model, in
 /// dependency order, each as an ontology.

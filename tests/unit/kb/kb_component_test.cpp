@@ -49,6 +49,7 @@ bool ask(std::uint16_t port, const std::string& pattern) {
     r.query = {{"query",
                 "PREFIX proc: <http://skillcell.dev/ontology/process#>\n"
                 "PREFIX rskill: <http://skillcell.dev/UA/RoboticSkills/>\n"
+                "PREFIX rdfs: <http://www.w3.org/2000/01/rdf-schema#>\n"
                 "ASK { " +
                     pattern + " }"}};
     r.headers.add("Accept", "application/sparql-results+json");
@@ -114,6 +115,48 @@ TEST(KnowledgeBaseComponent, LearnsAComponentsSkillsByDiscoveryAndKeepsThemMarke
                   "SELECT ?g ?s ?v WHERE { GRAPH ?g { ?s "
                   "<http://skillcell.dev/ontology/process#available> ?v } }");
     EXPECT_TRUE(ask(port, "?c proc:applicationUri \"urn:test:mover\" ; proc:available false"));
+}
+
+TEST(KnowledgeBaseComponent, LoadsTheModelOfASkillTypeOfItsOwnWhenItsComponentAppears) {
+    std::random_device rd;
+    const fs::path data = fs::temp_directory_path() / ("skillcell-kb-cell-" + std::to_string(rd()));
+    struct Cleanup {
+        fs::path dir;
+        ~Cleanup() {
+            std::error_code ec;
+            fs::remove_all(dir, ec);
+        }
+    } cleanup{data};
+    const std::string examples = SKILLCELL_SOURCE_DIR "/examples/dispense_skill";
+    test::ComponentProcess kb(
+        SKILLCELL_BINARY,
+        with({"kb", "--http-port", "0", "--data-dir", data.string(), "--models", examples},
+             kFastMdns),
+        true);
+    ASSERT_FALSE(kb.url().empty()) << "skillcell kb did not start";
+    const std::uint16_t port = sparqlPort(kb);
+    ASSERT_NE(port, 0) << "no SPARQL line";
+    // Not a model the KB carries: it is loaded when a component offers a skill of its type.
+    const std::string typed =
+        "<http://skillcell.dev/UA/Examples/Dispense/DispenseSkillType> "
+        "<http://www.w3.org/2000/01/rdf-schema#subClassOf>+ "
+        "<http://skillcell.dev/UA/Skills/SkillType>";
+    EXPECT_FALSE(ask(port, typed));
+    test::ComponentProcess dispenser(
+        SKILLCELL_BINARY,
+        with({"server", "--application-uri", "urn:test:dispenser", "--nodeset",
+              examples + "/Example.DispenseSkill.NodeSet2.xml", "--noop-skill",
+              "DispenseSkillType=Dispense"},
+             kFastMdns),
+        true);
+    ASSERT_FALSE(dispenser.url().empty());
+    ASSERT_TRUE(askUntilTrue(port,
+                             "?c proc:applicationUri \"urn:test:dispenser\" ; proc:offers ?s . ?s "
+                             "a <http://skillcell.dev/UA/Examples/Dispense/DispenseSkillType> ; "
+                             "proc:available true",
+                             30s))
+        << "the KB did not learn the dispense skill within 30 s";
+    EXPECT_TRUE(ask(port, typed));
 }
 
 }  // namespace

@@ -2,10 +2,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 #include <random>
 #include <set>
 
 #include "kb/owl/embedded_ontologies.hpp"
+#include "kb/owl/model_repository.hpp"
 #include "kb/owl/node_iri.hpp"
 #include "kb/owl/nodeset_ontology.hpp"
 #include "kb/owl/ua_vocabulary.hpp"
@@ -250,6 +253,43 @@ TEST(NodeSetOntology, MalformedXmlIsAnErrorNamingTheFile) {
     auto r = owl::convertNodeSets({{"broken.xml", "<UANodeSet><UAObject"}}, false);
     ASSERT_FALSE(r);
     EXPECT_NE(r.error().find("broken.xml"), std::string::npos) << r.error();
+}
+
+TEST(ModelRepository, ConvertsADirectorysNodeSetsThatRequireTheCompanionModels) {
+    auto repo =
+        owl::ModelRepository::fromDirectory(SKILLCELL_SOURCE_DIR "/examples/dispense_skill");
+    ASSERT_TRUE(repo) << repo.error();
+    const std::string dispense = "http://skillcell.dev/UA/Examples/Dispense/";
+    ASSERT_EQ(repo->uris(), std::vector<std::string>{dispense});
+    const auto chain = repo->withRequirements(dispense);
+    ASSERT_EQ(chain.size(), 1U);  // what it requires is compiled in, not in the directory
+    EXPECT_TRUE(has(chain.front()->triples, {iri(dispense + "DispenseSkillType"), iri(kSubClassOf),
+                                             iri("http://skillcell.dev/UA/Skills/SkillType")}));
+    EXPECT_TRUE(repo->withRequirements("urn:not:here").empty());
+}
+
+TEST(ModelRepository, SaysWhichRequiredModelNobodyProvides) {
+    const auto dir = std::filesystem::temp_directory_path() / "skillcell-models-test";
+    std::filesystem::create_directories(dir);
+    {
+        std::ofstream f(dir / "Needy.NodeSet2.xml");
+        f << R"(<?xml version="1.0" encoding="utf-8"?>
+<UANodeSet xmlns="http://opcfoundation.org/UA/2011/03/UANodeSet.xsd">
+  <NamespaceUris><Uri>urn:test:needy</Uri></NamespaceUris>
+  <Models><Model ModelUri="urn:test:needy" Version="1.0">
+    <RequiredModel ModelUri="urn:test:missing" Version="1.0"/>
+  </Model></Models>
+</UANodeSet>)";
+    }
+    auto repo = owl::ModelRepository::fromDirectory(dir);
+    std::filesystem::remove_all(dir);
+    ASSERT_FALSE(repo);
+    EXPECT_NE(repo.error().find("urn:test:missing"), std::string::npos) << repo.error();
+    EXPECT_NE(repo.error().find("Needy.NodeSet2.xml"), std::string::npos) << repo.error();
+
+    auto none = owl::ModelRepository::fromDirectory("/nonexistent/skillcell/models");
+    ASSERT_FALSE(none);
+    EXPECT_NE(none.error().find("/nonexistent/skillcell/models"), std::string::npos);
 }
 
 }  // namespace
