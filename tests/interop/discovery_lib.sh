@@ -29,6 +29,8 @@
 #   dl_re STRING               STRING with the extended-regex metacharacters escaped.
 
 DL_HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+# shellcheck source=SCRIPTDIR/interop_lib.sh
+source "$DL_HERE/interop_lib.sh"
 DL_NETNS_WRAPPER="$DL_HERE/../netns/run_in_private_netns.sh"
 DL_TMP=""
 DL_NAMES=()
@@ -46,12 +48,7 @@ dl_init() {
   local script=$1
   shift
   # DL_NEEDS_NODE=0: a driver of skillcell processes only (tests/netns/secure_cell.sh)
-  if [ "${DL_NEEDS_NODE:-1}" = 1 ] &&
-    { ! command -v node >/dev/null || [ ! -d "$DL_HERE/node_modules/node-opcua" ]; }; then
-    echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
-    [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
-    exit 77
-  fi
+  if [ "${DL_NEEDS_NODE:-1}" = 1 ]; then interop_require_node; fi
   if [ "${SKILLCELL_INTEROP_IN_NETNS:-0}" != 1 ]; then
     export SKILLCELL_INTEROP_IN_NETNS=1
     exec "$DL_NETNS_WRAPPER" bash "$script" "$@" # exits 77 when no namespace can be made

@@ -5,9 +5,7 @@
 # Usage: node_loads_skill_models.sh MODELS_DIR
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-if ! command -v node >/dev/null || [ ! -d "$here/node_modules/node-opcua" ]; then
-  echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
-  exit 77
-fi
+# shellcheck source=SCRIPTDIR/interop_lib.sh
+source "$here/interop_lib.sh"
+interop_require_node
 exec timeout 120 node "$here/load_skill_models.js" "$1"

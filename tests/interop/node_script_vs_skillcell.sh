@@ -21,18 +21,10 @@ if [ "${1:-}" = -- ]; then
   script_args=("$@")
 fi
 here=$(cd "$(dirname "$0")" && pwd)
-if ! command -v node >/dev/null || [ ! -d "$here/node_modules/node-opcua" ]; then
-  echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
-  exit 77
-fi
-tmp=$(mktemp -d)
-pid=""
-cleanup() {
-  [ -n "$pid" ] && kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+# shellcheck source=SCRIPTDIR/interop_lib.sh
+source "$here/interop_lib.sh"
+interop_require_node
+interop_temp_dir
 mkfifo "$tmp/ready"
 "$skillcell" server --port 0 --host 127.0.0.1 --no-discovery --pki-dir "$tmp/pki" --insecure \
   ${server_args[@]+"${server_args[@]}"} >"$tmp/ready" 2>"$tmp/server.log" &

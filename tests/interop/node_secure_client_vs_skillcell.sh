@@ -13,18 +13,10 @@
 set -euo pipefail
 skillcell=$1
 here=$(cd "$(dirname "$0")" && pwd)
-if ! command -v node >/dev/null || [ ! -d "$here/node_modules/node-opcua" ]; then
-  echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
-  exit 77
-fi
-tmp=$(mktemp -d)
-pid=""
-cleanup() {
-  [ -n "$pid" ] && kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+# shellcheck source=SCRIPTDIR/interop_lib.sh
+source "$here/interop_lib.sh"
+interop_require_node
+interop_temp_dir
 pki=$tmp/pki
 printf '%s\n' 'op-secret-1' | "$skillcell" user add operator --role Operator --pki-dir "$pki"
 printf '%s\n' 'obs-secret-2' | "$skillcell" user add observer --role Observer --pki-dir "$pki"

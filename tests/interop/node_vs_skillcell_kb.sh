@@ -7,18 +7,10 @@
 set -euo pipefail
 skillcell=$1
 here=$(cd "$(dirname "$0")" && pwd)
-if ! command -v node >/dev/null || [ ! -d "$here/node_modules/node-opcua" ]; then
-  echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
-  exit 77
-fi
-tmp=$(mktemp -d)
-pid=""
-cleanup() {
-  [ -n "$pid" ] && kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+# shellcheck source=SCRIPTDIR/interop_lib.sh
+source "$here/interop_lib.sh"
+interop_require_node
+interop_temp_dir
 mkfifo "$tmp/out"
 "$skillcell" kb --port 0 --host 127.0.0.1 --no-discovery --insecure --http-port 0 \
   --data-dir "$tmp/data" --pki-dir "$tmp/pki" >"$tmp/out" 2>"$tmp/kb.log" &

@@ -15,18 +15,10 @@ set -euo pipefail
 skillcell=$1
 models=$2
 here=$(cd "$(dirname "$0")" && pwd)
-if ! command -v node >/dev/null || [ ! -d "$here/node_modules/node-opcua" ]; then
-  echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
-  exit 77
-fi
-tmp=$(mktemp -d)
-pid=""
-cleanup() {
-  [ -n "$pid" ] && kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+# shellcheck source=SCRIPTDIR/interop_lib.sh
+source "$here/interop_lib.sh"
+interop_require_node
+interop_temp_dir
 export SKILLCELL_INTEROP_PKI="$tmp/pki"  # node-opcua's certificates: never under $HOME
 mkfifo "$tmp/ready"
 timeout 170 node "$here/skill_server.js" "$models" >"$tmp/ready" 2>"$tmp/server.log" &

@@ -1,0 +1,29 @@
+# shellcheck shell=bash
+# The preamble every interop driver shares. Source it from a bash script running under
+# set -euo pipefail.
+#
+#   interop_require_node     skips (exit 77) when node or node-opcua is missing; with
+#                            SKILLCELL_REQUIRE_NODE=1 (CI) that is a failure (exit 1) instead.
+#   interop_temp_dir         creates $tmp, removed at exit, and installs the trap that first
+#                            stops the background process whose pid the driver keeps in $pid.
+
+INTEROP_HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+
+interop_require_node() {
+  if ! command -v node >/dev/null || [ ! -d "$INTEROP_HERE/node_modules/node-opcua" ]; then
+    echo "!!! SKIPPED: node or node-opcua missing (run scripts/install-deps.sh) !!!" >&2
+    [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
+    exit 77
+  fi
+}
+
+interop_cleanup() {
+  if [ -n "${pid:-}" ]; then kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null; fi
+  rm -rf "$tmp"
+}
+
+interop_temp_dir() {
+  tmp=$(mktemp -d)
+  pid=""
+  trap interop_cleanup EXIT
+}
