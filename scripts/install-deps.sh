@@ -11,8 +11,9 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   liborocos-kdl-dev libeigen3-dev libmodbus-dev pkg-config
   iproute2 util-linux procps
-  # the knowledge base: Turtle (libserd), the triple store (Virtuoso), the reasoner (Konclude)
-  libserd-dev virtuoso-opensource konclude
+  # the knowledge base: Turtle (libserd), the triple store (Virtuoso), the reasoner (Konclude);
+  # the MES's journal (SQLite)
+  libserd-dev virtuoso-opensource konclude libsqlite3-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -25,6 +25,9 @@ Command addUserCommand(CLI::App& app);
 Command addNodeset2OwlCommand(CLI::App& app);
 /// `skillcell kb`: the knowledge base (src/kb).
 Command addKbCommand(CLI::App& app);
+/// `skillcell mes`: the semantic MES; `skillcell run`: hand it a process (src/mes).
+Command addMesCommand(CLI::App& app);
+Command addRunCommand(CLI::App& app);
 /// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq, schmalz).
 std::vector<Command> addDeviceCommands(CLI::App& app);
 

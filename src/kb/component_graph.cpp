@@ -17,14 +17,13 @@ rdf::Term boolean(bool b) {
     return rdf::literal(b ? "true" : "false", std::string(rdf::vocab::kXsd) + "boolean");
 }
 
-// The IRI of a skill type as the NodeSet converter names it (kb/owl/node_iri.hpp).
-std::string typeIri(const skills::SkillTypeRef& t) {
+}  // namespace
+
+std::string skillTypeIri(const skills::SkillTypeRef& t) {
     ua::NodeId id;
     std::visit([&](const auto& v) { id = ua::NodeId(0, v); }, t.id.identifier);
     return owl::nodeIri(t.id.namespaceUri, id, ua::NodeClass::ObjectType, t.browseName);
 }
-
-}  // namespace
 
 std::string componentIri(const std::string& applicationUri) {
     return "urn:skillcell:component:" + http::percentEncode(applicationUri);
@@ -58,7 +57,7 @@ GraphData ComponentGraphs::update(const std::string& applicationUri,
             rdf::iri(componentIri(applicationUri) + "/" + http::percentEncode(key));
         add(component, proc("offers"), skill);
         add(skill, rdfType(), rdf::iri(proc("SkillInstance")));
-        if (!s.types.empty()) add(skill, rdfType(), rdf::iri(typeIri(s.type())));
+        if (!s.types.empty()) add(skill, rdfType(), rdf::iri(skillTypeIri(s.type())));
         add(skill, proc("skillNodeId"), rdf::literal(key));
         add(skill, proc("skillName"), rdf::literal(s.browsePathString()));
         add(skill, proc("available"), boolean(present.count(key) != 0));

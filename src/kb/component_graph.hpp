@@ -22,6 +22,9 @@ inline constexpr const char* kProcessVocabulary = "http://skillcell.dev/ontology
 [[nodiscard]] std::string componentIri(const std::string& applicationUri);
 /// The graph that holds what discovery says about a component.
 [[nodiscard]] std::string componentGraphIri(const std::string& applicationUri);
+/// The IRI of a skill type as the NodeSet converter names it (kb/owl/node_iri.hpp): what a
+/// process's proc:requiresSkillType holds.
+[[nodiscard]] std::string skillTypeIri(const skills::SkillTypeRef& type);
 
 class ComponentGraphs {
 public:

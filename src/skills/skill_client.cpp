@@ -276,6 +276,11 @@ asio::awaitable<SkillOutcome> SkillClient::run(std::map<std::string, Variant> pa
     co_return co_await waitForEnd(timeout);
 }
 
+void SkillClient::adoptRun(ua::DateTime startedAt) {
+    runStartedAt_ = startedAt;
+    cancelled_ = false;
+}
+
 void SkillClient::cancel() {
     cancelled_ = true;
     wakeUp_.cancel();

@@ -97,6 +97,10 @@ public:
     asio::awaitable<ua::StatusCode> start();
     /// Waits for the end of the run start() began. On timeout or cancel() it calls Halt.
     asio::awaitable<SkillOutcome> waitForEnd(std::chrono::milliseconds timeout);
+    /// Takes over a run someone else started (a restarted MES finding its step's skill
+    /// Running): waitForEnd() then waits for the first end at or after `startedAt` (the
+    /// server's time of the transition to Running).
+    void adoptRun(ua::DateTime startedAt);
     /// Writes `parameters`, starts, waits for the end: the whole invocation.
     asio::awaitable<SkillOutcome> run(std::map<std::string, ua::Variant> parameters,
                                       std::chrono::milliseconds timeout);

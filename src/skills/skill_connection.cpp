@@ -13,23 +13,28 @@ SkillConnection::SkillConnection(Token, asio::any_io_executor executor, std::str
 
 SkillConnection::~SkillConnection() = default;
 
+namespace {
+
+void say(std::string* why, const std::string& text) {
+    if (why != nullptr) *why = text;
+}
+
+}  // namespace
+
 asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::open(
     asio::any_io_executor executor, std::string endpointUrl, std::string typeName,
     ua::ClientConfig config, std::string* why) {
     auto c = std::make_unique<SkillConnection>(Token{}, executor, endpointUrl);
-    auto say = [&](const std::string& text) {
-        if (why != nullptr) *why = text;
-    };
     const ua::StatusCode connected = co_await c->client_->connect(endpointUrl, config);
     if (connected.isBad()) {
-        say("cannot connect to " + endpointUrl + ": " + std::string(ua::statusName(connected)));
+        say(why, "cannot connect to " + endpointUrl + ": " + std::string(ua::statusName(connected)));
         co_return connected;
     }
     RemoteSkillBrowser browser;
     auto found = co_await browser.browse(*c->client_);
     if (!found) {
-        say("cannot browse the skills of " + endpointUrl + ": " +
-            std::string(ua::statusName(found.status())));
+        say(why, "cannot browse the skills of " + endpointUrl + ": " +
+                     std::string(ua::statusName(found.status())));
         co_await c->client_->disconnect();
         co_return found.status();
     }
@@ -38,20 +43,56 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::o
                            [&](const SkillTypeRef& t) { return t.browseName == typeName; });
     });
     if (it == found->end()) {
-        say(endpointUrl + " offers no " + typeName);
+        say(why, endpointUrl + " offers no " + typeName);
         co_await c->client_->disconnect();
         co_return ua::status::BadNotFound;
     }
-    c->remote_ = *it;
-    auto attached = co_await SkillClient::attach(*c->client_, it->nodeId);
+    const ua::StatusCode attached = co_await c->attachTo(*it, why);
+    if (attached.isBad()) co_return attached;
+    co_return c;
+}
+
+asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::open(
+    asio::any_io_executor executor, SkillInstance instance, ua::ClientConfig config,
+    std::string* why) {
+    auto c = std::make_unique<SkillConnection>(Token{}, executor, instance.endpointUrl);
+    const ua::StatusCode connected = co_await c->client_->connect(instance.endpointUrl, config);
+    if (connected.isBad()) {
+        say(why, "cannot connect to " + instance.endpointUrl + ": " +
+                     std::string(ua::statusName(connected)));
+        co_return connected;
+    }
+    const ua::StatusCode attached = co_await c->attachTo(instance, why);
+    if (attached.isBad()) co_return attached;
+    co_return c;
+}
+
+asio::awaitable<ua::StatusCode> SkillConnection::attachTo(const RemoteSkill& skill,
+                                                          std::string* why) {
+    remote_ = skill;
+    auto attached = co_await SkillClient::attach(*client_, skill.nodeId);
     if (!attached) {
-        say("cannot use " + it->browsePathString() + " at " + endpointUrl + ": " +
-            std::string(ua::statusName(attached.status())));
-        co_await c->client_->disconnect();
+        say(why, "cannot use " + skill.browsePathString() + " at " + endpointUrl_ + ": " +
+                     std::string(ua::statusName(attached.status())));
+        co_await client_->disconnect();
         co_return attached.status();
     }
-    c->skill_ = std::move(*attached);
-    co_return c;
+    skill_ = std::move(*attached);
+    co_return ua::status::Good;
+}
+
+asio::awaitable<ua::Result<ua::DateTime>> SkillConnection::lastTransitionTime() {
+    std::vector<ua::QualifiedName> path;  // a named local: GCC 12 and temporaries in co_await
+    path.push_back(ua::QualifiedName{0, ua::String("LastTransition")});
+    path.push_back(ua::QualifiedName{0, ua::String("TransitionTime")});
+    auto node = co_await client_->translateBrowsePath(remote_.nodeId, std::move(path));
+    if (!node) co_return node.status();
+    auto value = co_await client_->readValue(*node);
+    if (!value) co_return value.status();
+    if (value->isEmpty()) co_return ua::DateTime{};  // no transition yet
+    const auto* time = value->get<ua::DateTime>();
+    if (time == nullptr) co_return ua::status::BadTypeMismatch;
+    co_return *time;
 }
 
 asio::awaitable<ua::Result<ua::Variant>> SkillConnection::readParameter(std::string name) {

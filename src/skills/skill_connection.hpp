@@ -24,6 +24,11 @@ public:
     static asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> open(
         asio::any_io_executor executor, std::string endpointUrl, std::string typeName,
         ua::ClientConfig config, std::string* why);
+    /// Opens a session to the component of `instance` (as the SkillDetector found it) and
+    /// attaches a SkillClient to exactly that skill.
+    static asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> open(
+        asio::any_io_executor executor, SkillInstance instance, ua::ClientConfig config,
+        std::string* why);
     ~SkillConnection();
     SkillConnection(const SkillConnection&) = delete;
     SkillConnection& operator=(const SkillConnection&) = delete;
@@ -33,6 +38,9 @@ public:
     [[nodiscard]] const std::string& endpointUrl() const { return endpointUrl_; }
     /// The current value of one of the skill's parameters (BadNoMatch for an unknown name).
     asio::awaitable<ua::Result<ua::Variant>> readParameter(std::string name);
+    /// The skill's LastTransition/TransitionTime (the server's clock; zero before the first
+    /// transition): a Start that reached the skill changes it.
+    asio::awaitable<ua::Result<ua::DateTime>> lastTransitionTime();
     /// Deletes the subscription and closes the session.
     asio::awaitable<void> close();
 
@@ -44,6 +52,9 @@ public:
     SkillConnection(Token, asio::any_io_executor executor, std::string endpointUrl);
 
 private:
+    /// Connects and attaches to `skill`: the rest of both open()s.
+    asio::awaitable<ua::StatusCode> attachTo(const RemoteSkill& skill, std::string* why);
+
     std::string endpointUrl_;
     std::unique_ptr<ua::Client> client_;
     std::shared_ptr<SkillClient> skill_;

@@ -215,16 +215,19 @@ asio::awaitable<std::string> ToolChanger::attachAt(RobotMotion& move, KDL::Frame
     }
     if (auto why = co_await moveTo(move, approach, kLinear, generation); !why.empty())
         co_return why;
-    if (appUri.empty() || tool.powerCommand.empty()) co_return std::string();
+    // The attach ends when the tool can be used: its adapter's skills are detected (the one
+    // the table names for this tool, whether or not the caller named it).
+    if (tool.powerCommand.empty()) co_return std::string();
     if (!detector_) {
-        spdlog::warn("tool changer: no detector: not waiting for {}", appUri);
+        spdlog::warn("tool changer: no detector: not waiting for {}", tool.applicationUri);
         co_return std::string();
     }
-    if (!co_await waitForComponent(appUri)) {
-        co_return "tool " + tool.id + " is attached and powered, but its adapter " + appUri +
-            " was not detected within " + std::to_string(options_.detectionTimeout.count()) + " ms";
+    if (!co_await waitForComponent(tool.applicationUri)) {
+        co_return "tool " + tool.id + " is attached and powered, but its adapter " +
+            tool.applicationUri + " was not detected within " +
+            std::to_string(options_.detectionTimeout.count()) + " ms";
     }
-    spdlog::info("tool changer: tool {} detected as {}", tool.id, appUri);
+    spdlog::info("tool changer: tool {} detected as {}", tool.id, tool.applicationUri);
     co_return std::string();
 }
 
@@ -266,6 +269,13 @@ asio::awaitable<std::string> ToolChanger::detachAt(RobotMotion& move, KDL::Frame
     co_return std::string();
 }
 
+bool ToolChanger::isWanted(const ToolEntry& mounted, const ToolRequest& request) const {
+    if (!request.toolAppUri.empty()) return mounted.applicationUri == request.toolAppUri;
+    // No tool named: the one at ToolPosition is wanted, and the mounted one came from there.
+    const auto dock = docks_.find(mounted.id);
+    return dock != docks_.end() && near(dock->second, request.toolPosition, 1e-3, 1e-3);
+}
+
 asio::awaitable<std::string> ToolChanger::run(ToolRequest request) {
     auto self = shared_from_this();
     const std::uint64_t generation = subSkill_.begin();
@@ -282,7 +292,7 @@ asio::awaitable<std::string> ToolChanger::run(ToolRequest request) {
             pin.reading.kind == PinReading::Kind::Tool ? pin.reading.tool : nullptr;
         if (pin.status.isBad()) {
             why = "cannot read the identification pin: " + std::string(ua::statusName(pin.status));
-        } else if (current != nullptr && current->applicationUri == request.toolAppUri) {
+        } else if (current != nullptr && isWanted(*current, request)) {
             spdlog::info("tool changer: tool {} is attached already", current->id);
         } else if (current != nullptr && !docks_.contains(current->id)) {
             why = "tool " + current->id +

@@ -3,8 +3,9 @@
 // tools by running the robot's CartesianLinearMove skill (given by endpoint, or the one the
 // SkillDetector finds; it waits for the robot to be announced), switching the coupling and
 // reading the tool's identification pin (ToolChangerIo), and powering the tool (its
-// adapter process). An attach with a ToolAppUri ends when the SkillDetector sees the tool's
-// adapter: the tool's skills are there for the next step. Plug & Produce, by the changer.
+// adapter process). An attach of a powered tool ends when the SkillDetector sees the tool's
+// adapter (the application URI its table entry names): the tool's skills are there for the
+// next step. Plug & Produce, by the changer.
 //
 // Every operation: to the approach 5 cm back along the flange's z axis from the tool position
 // (point to point), in linearly, lock or open, back out linearly.
@@ -48,7 +49,7 @@ struct ToolRequest {
     ToolOperation operation = ToolOperation::Attach;
     KDL::Frame toolPosition;   // the flange pose at the dock
     std::string moveEndpoint;  // empty: the detected CartesianLinearMove
-    std::string toolAppUri;    // Attach, Change: the tool wanted (empty: any, no detection)
+    std::string toolAppUri;    // Attach, Change: the tool wanted (empty: the one at the dock)
 };
 
 class ToolChanger : public std::enable_shared_from_this<ToolChanger> {
@@ -107,6 +108,9 @@ private:
     asio::awaitable<std::string> detachAt(RobotMotion& move, KDL::Frame position,
                                           std::uint64_t generation);
     asio::awaitable<bool> waitForComponent(std::string applicationUri);
+    /// Whether the mounted tool is the one a ChangeTool asks for (by ToolAppUri, or else by
+    /// the dock it was taken from).
+    [[nodiscard]] bool isWanted(const ToolEntry& mounted, const ToolRequest& request) const;
     [[nodiscard]] KDL::Frame approachOf(const KDL::Frame& position) const;
 
     asio::any_io_executor executor_;

@@ -28,10 +28,6 @@ public:
         request.moveEndpoint = p.get<ua::String>("MoveSkillControllerEndpoint").value_or("");
         if (operation_ != ToolOperation::Detach) {
             request.toolAppUri = p.get<ua::String>("ToolAppUri").value_or("");
-            if (operation_ == ToolOperation::Change && request.toolAppUri.empty()) {
-                run.failed("ChangeTool needs the ToolAppUri of the tool wanted");
-                return;
-            }
             if (!request.toolAppUri.empty() &&
                 changer_->tools().byApplicationUri(request.toolAppUri) == nullptr) {
                 run.failed("no tool of this changer has the application URI " + request.toolAppUri);

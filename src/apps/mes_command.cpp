@@ -1,0 +1,267 @@
+// `skillcell mes`: the semantic MES as a component of the cell (docs/mes.md), and
+// `skillcell run`: hand it a process and follow it.
+//
+// The MES serves the ExecuteProcess skill (ProcessIri) and Objects/ProcessExecution (what it
+// is doing). For a run it reads the process from the knowledge base's SPARQL endpoint (--kb),
+// picks the skills from what discovery finds, runs them, and records every step in its SQLite
+// journal (--journal), from which a restarted MES resumes an interrupted run.
+#include <spdlog/spdlog.h>
+
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <asio/io_context.hpp>
+#include <asio/thread_pool.hpp>
+#include <asio/use_awaitable.hpp>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include "client_security_options.hpp"
+#include "commands.hpp"
+#include "kb/store/http_sparql_store.hpp"
+#include "mes/mes_component.hpp"
+#include "server_process.hpp"
+#include "skills/skill_client.hpp"
+
+namespace skillcell::apps {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct MesOptions {
+    ServerProcessOptions process;
+    std::string kbUrl = "http://127.0.0.1:8870/sparql";
+    std::string journal;
+    int skillWaitMs = 10'000;
+    int stepTimeoutMs = 300'000;
+};
+
+fs::path defaultJournal() {
+    const char* home = std::getenv("HOME");
+    return fs::path(home != nullptr ? home : "/tmp") / ".local/share/skillcell/mes/journal.sqlite";
+}
+
+/// What `skillcell mes` keeps alive, destroyed in reverse: the component (it halts a run),
+/// the executor, the journal and the thread the KB's blocking HTTP requests run on.
+struct MesContent {
+    std::unique_ptr<asio::thread_pool> kbThread;
+    std::unique_ptr<kb::HttpSparqlStore> store;
+    std::unique_ptr<mes::Journal> journal;
+    std::shared_ptr<mes::ProcessExecutor> executor;
+    std::unique_ptr<mes::MesComponent> component;
+    ~MesContent() {
+        component.reset();
+        executor.reset();
+        if (kbThread) kbThread->join();
+    }
+};
+
+int runMes(MesOptions& o) {
+    auto endpoint = kb::HttpSparqlEndpoint::fromUrl(o.kbUrl);
+    if (!endpoint) {
+        spdlog::critical("mes: --kb {}: {}", o.kbUrl, endpoint.error());
+        return 2;
+    }
+    const fs::path journalPath = o.journal.empty() ? defaultJournal() : fs::path(o.journal);
+    std::error_code ec;
+    if (journalPath.has_parent_path()) fs::create_directories(journalPath.parent_path(), ec);
+    auto journal = mes::Journal::open(journalPath.string());
+    if (!journal) {
+        spdlog::critical("mes: {}", journal.error());
+        return 1;
+    }
+    if (auto open = (*journal)->unfinishedRuns(); open && !open->empty()) {
+        for (const auto& r : *open) {
+            spdlog::warn("mes: run {} of {} is {}{}: ExecuteProcess with this ProcessIri resumes it",
+                         r.id, r.processIri, mes::toString(r.state),
+                         r.reason.empty() ? "" : " (" + r.reason + ")");
+        }
+    }
+    spdlog::info("mes: journal {}, knowledge base {}", journalPath.string(), endpoint->url());
+    o.process.usesDetector = true;
+    auto journalHolder = std::make_shared<std::unique_ptr<mes::Journal>>(std::move(*journal));
+    return runServerProcess(
+        o.process, [&o, journalHolder, endpoint = *endpoint](
+                       const ComponentContext& c) -> ua::Result<ComponentContent> {
+            auto content = std::make_shared<MesContent>();
+            content->kbThread = std::make_unique<asio::thread_pool>(1);
+            content->store = std::make_unique<kb::HttpSparqlStore>(endpoint);
+            content->journal = std::move(*journalHolder);
+            mes::ExecutorOptions options;
+            options.skillWait = std::chrono::milliseconds(o.skillWaitMs);
+            options.stepTimeout = std::chrono::milliseconds(o.stepTimeoutMs);
+            options.client.applicationUri = c.applicationUri;
+            options.client.sessionName = "skillcell mes";
+            options.client.security = c.clientSecurity;
+            // The KB's HTTP client blocks: its requests run on a thread of their own, and
+            // the answer comes back to the server's executor.
+            auto* pool = content->kbThread.get();
+            auto* store = content->store.get();
+            mes::ProcessReader reader =
+                [pool, store](std::string iri) -> asio::awaitable<kb::Expected<mes::ProcessDescription>> {
+                auto answer = co_await asio::co_spawn(
+                    pool->get_executor(),
+                    [store, iri]() -> asio::awaitable<std::optional<kb::Expected<mes::ProcessDescription>>> {
+                        co_return mes::readProcess(*store, iri);
+                    },
+                    asio::use_awaitable);
+                co_return std::move(*answer);
+            };
+            content->executor = mes::ProcessExecutor::create(c.detector, *content->journal,
+                                                             std::move(reader), options);
+            std::string error;
+            auto component = mes::MesComponent::create(c.server, content->executor, &error);
+            if (!component) {
+                spdlog::critical("mes: {}", error);
+                return component.status();
+            }
+            content->component = std::move(*component);
+            return ComponentContent(content);
+        });
+}
+
+// --- skillcell run ------------------------------------------------------------------------
+
+struct RunOptions {
+    std::string processIri;
+    std::string mesUrl = "opc.tcp://localhost:4851";
+    double timeoutSeconds = 3600;
+    ClientSecurityOptions security;
+};
+
+/// Objects/ProcessExecution as last reported.
+struct ProgressView {
+    std::map<std::string, ua::Variant> values;
+    [[nodiscard]] std::string text(const std::string& name) const {
+        const auto it = values.find(name);
+        const auto* s = it == values.end() ? nullptr : it->second.get<ua::String>();
+        return s != nullptr ? std::string(*s) : std::string();
+    }
+    [[nodiscard]] std::int32_t number(const std::string& name) const {
+        const auto it = values.find(name);
+        const auto* n = it == values.end() ? nullptr : it->second.get<std::int32_t>();
+        return n != nullptr ? *n : 0;
+    }
+    [[nodiscard]] std::string line() const {
+        std::string out = "PROGRESS step " + std::to_string(number("Step")) + "/" +
+                          std::to_string(number("Steps")) + " " + text("State");
+        if (!text("SkillType").empty()) out += " " + text("SkillType");
+        if (!text("Skill").empty()) out += " " + text("Skill") + " @ " + text("Component");
+        if (!text("Message").empty()) out += " - " + text("Message");
+        return out;
+    }
+};
+
+asio::awaitable<int> runProcess(ua::Client& client, const RunOptions& o) {
+    auto config = commandClientConfig(o.security, "skillcell run");
+    if (!config) co_return 2;
+    const std::string url = o.mesUrl;
+    if (const auto s = co_await client.connect(url, std::move(*config)); s.isBad()) {
+        std::cerr << "cannot connect to the MES at " << o.mesUrl << ": "
+                  << explainConnectFailure(s) << "\n";
+        co_return 2;
+    }
+    auto attached =
+        co_await skills::SkillClient::attach(client, ua::NodeId(1, ua::String("Skills/ExecuteProcess")));
+    if (!attached) {
+        std::cerr << o.mesUrl << " offers no ExecuteProcess skill: "
+                  << ua::statusName(attached.status()) << "\n";
+        (void)co_await client.disconnect();
+        co_return 2;
+    }
+    auto skill = *attached;
+    // Progress: the MES's status variables, printed when State changes.
+    auto view = std::make_shared<ProgressView>();
+    auto last = std::make_shared<std::string>();
+    ua::SubscriptionSettings settings(50, 600, 10);
+    auto subscription = co_await client.createSubscription(settings);
+    if (subscription) {
+        for (const char* name : {"ProcessIri", "Run", "Step", "Steps", "SkillType", "Component",
+                                 "Skill", "Message", "State"}) {
+            const std::string key = name;
+            auto item = co_await (*subscription)
+                            ->monitorDataChange(mes::progressVariable(name), ua::AttributeId::Value,
+                                                0, 20, std::nullopt,
+                                                [view, last, key](const ua::DataValue& v) {
+                                                    view->values[key] = v.value.value_or(ua::Variant());
+                                                    if (key != "State") return;
+                                                    const std::string line = view->line();
+                                                    if (line == *last) return;
+                                                    *last = line;
+                                                    std::cout << line << std::endl;
+                                                });
+            if (!item) spdlog::warn("run: cannot follow {}: {}", key, ua::statusName(item.status()));
+        }
+    }
+    std::map<std::string, ua::Variant> values;
+    values.emplace("ProcessIri", ua::Variant(ua::String(o.processIri)));
+    const auto timeout = std::chrono::milliseconds(static_cast<long>(o.timeoutSeconds * 1000));
+    const auto outcome = co_await skill->run(std::move(values), timeout);
+    std::cout << "OUTCOME " << skills::name(outcome.kind);
+    if (outcome.status.isBad()) std::cout << " " << ua::statusName(outcome.status);
+    if (!outcome.reason.empty()) std::cout << " (" << outcome.reason << ")";
+    std::cout << std::endl;
+    if (subscription) (void)co_await (*subscription)->remove();
+    co_await skill->detach();
+    (void)co_await client.disconnect();
+    co_return outcome.ok() ? 0 : 1;
+}
+
+}  // namespace
+
+Command addMesCommand(CLI::App& app) {
+    auto o = std::make_shared<MesOptions>();
+    o->process.port = 4851;
+    o->process.applicationUri = "urn:skillcell:mes";
+    o->process.applicationName = "skillcell semantic MES";
+    auto* cmd = app.add_subcommand(
+        "mes",
+        "Run the semantic MES: the ExecuteProcess skill reads a process from the knowledge "
+        "base, runs each step on a suitable skill that discovery finds, and records every step "
+        "in a journal; ExecuteProcess of a process with an interrupted or stopped run resumes "
+        "it. Objects/ProcessExecution shows what it is doing.");
+    addServerProcessOptions(cmd, o->process);
+    addDiscoveryOptions(cmd, o->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--kb", o->kbUrl, "the knowledge base's SPARQL endpoint")
+        ->capture_default_str();
+    cmd->add_option("--journal", o->journal,
+                    "the SQLite journal (default: ~/.local/share/skillcell/mes/journal.sqlite)");
+    cmd->add_option("--skill-wait-ms", o->skillWaitMs,
+                    "how long a step waits for a suitable skill to be detected")
+        ->check(CLI::Range(0, 600'000))
+        ->capture_default_str();
+    cmd->add_option("--step-timeout-ms", o->stepTimeoutMs, "the longest a skill may run")
+        ->check(CLI::Range(100, 86'400'000))
+        ->capture_default_str();
+    return {cmd, [o] { return runMes(*o); }};
+}
+
+Command addRunCommand(CLI::App& app) {
+    auto o = std::make_shared<RunOptions>();
+    auto* cmd = app.add_subcommand(
+        "run",
+        "Hand a process to the MES (its ExecuteProcess skill) and follow it: PROGRESS lines "
+        "as steps start and end, then OUTCOME. Exit code 0 when the process completed, 1 when "
+        "it stopped (the reason is printed; running it again resumes it), 2 when the MES "
+        "cannot be reached.");
+    cmd->add_option("process", o->processIri, "the process's IRI, e.g. "
+                                              "http://skillcell.dev/demo#pickAndPlaceTwoBoxes")
+        ->required();
+    cmd->add_option("--mes", o->mesUrl, "the MES's endpoint")->capture_default_str();
+    cmd->add_option("--timeout", o->timeoutSeconds, "seconds to wait for the end; then Halt")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    addClientSecurityOptions(cmd, o->security);
+    return {cmd, [o] {
+                asio::io_context io{1};
+                ua::Client client(io.get_executor());
+                int code = 1;
+                asio::co_spawn(
+                    io, [&]() -> asio::awaitable<void> { code = co_await runProcess(client, *o); },
+                    asio::detached);
+                io.run();
+                return code;
+            }};
+}
+
+}  // namespace skillcell::apps

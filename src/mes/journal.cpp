@@ -1,0 +1,284 @@
+#include "mes/journal.hpp"
+
+#include <sqlite3.h>
+
+#include <chrono>
+#include <map>
+
+namespace skillcell::mes {
+namespace {
+
+// A prepared statement that finalizes itself.
+class Statement {
+public:
+    Statement(sqlite3* db, const std::string& sql) {
+        status_ = sqlite3_prepare_v2(db, sql.c_str(), static_cast<int>(sql.size()), &stmt_,
+                                     nullptr);
+    }
+    ~Statement() { sqlite3_finalize(stmt_); }
+    Statement(const Statement&) = delete;
+    Statement& operator=(const Statement&) = delete;
+
+    [[nodiscard]] bool prepared() const { return status_ == SQLITE_OK; }
+    void bind(int i, const std::string& text) {
+        sqlite3_bind_text(stmt_, i, text.c_str(), static_cast<int>(text.size()),
+                          SQLITE_TRANSIENT);
+    }
+    void bind(int i, std::int64_t number) { sqlite3_bind_int64(stmt_, i, number); }
+    /// SQLITE_ROW, SQLITE_DONE or an error code.
+    int step() { return sqlite3_step(stmt_); }
+    [[nodiscard]] std::string text(int column) const {
+        const auto* p = sqlite3_column_text(stmt_, column);
+        return p != nullptr ? std::string(reinterpret_cast<const char*>(p)) : std::string();
+    }
+    [[nodiscard]] std::int64_t number(int column) const {
+        return sqlite3_column_int64(stmt_, column);
+    }
+
+private:
+    sqlite3_stmt* stmt_ = nullptr;
+    int status_ = SQLITE_ERROR;
+};
+
+template <class E>
+std::optional<E> parseState(const std::string& text, std::initializer_list<E> all) {
+    for (E e : all) {
+        if (text == toString(e)) return e;
+    }
+    return std::nullopt;
+}
+
+constexpr const char* kSchema = R"(
+CREATE TABLE IF NOT EXISTS runs (
+  id INTEGER PRIMARY KEY AUTOINCREMENT,
+  process TEXT NOT NULL,
+  state TEXT NOT NULL,
+  reason TEXT NOT NULL DEFAULT '',
+  started_ms INTEGER NOT NULL,
+  ended_ms INTEGER NOT NULL DEFAULT 0
+);
+CREATE TABLE IF NOT EXISTS steps (
+  run INTEGER NOT NULL REFERENCES runs(id),
+  idx INTEGER NOT NULL,
+  attempt INTEGER NOT NULL,
+  step TEXT NOT NULL,
+  state TEXT NOT NULL,
+  skill_type TEXT NOT NULL,
+  component TEXT NOT NULL,
+  endpoint TEXT NOT NULL,
+  skill_node TEXT NOT NULL,
+  transition_before INTEGER NOT NULL,
+  reason TEXT NOT NULL,
+  started_ms INTEGER NOT NULL,
+  ended_ms INTEGER NOT NULL,
+  PRIMARY KEY (run, idx, attempt)
+);
+)";
+
+}  // namespace
+
+const char* toString(RunState state) {
+    switch (state) {
+        case RunState::Running:
+            return "running";
+        case RunState::Stopped:
+            return "stopped";
+        case RunState::Completed:
+            return "completed";
+    }
+    return "?";
+}
+
+const char* toString(StepState state) {
+    switch (state) {
+        case StepState::Starting:
+            return "starting";
+        case StepState::Running:
+            return "running";
+        case StepState::Finished:
+            return "finished";
+        case StepState::Failed:
+            return "failed";
+    }
+    return "?";
+}
+
+std::int64_t unixMillis() {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
+
+const StepRecord* RunRecord::lastAttempt(int index) const {
+    const StepRecord* last = nullptr;
+    for (const auto& s : steps) {
+        if (s.index == index && (last == nullptr || s.attempt > last->attempt)) last = &s;
+    }
+    return last;
+}
+
+kb::Expected<std::unique_ptr<Journal>> Journal::open(const std::string& path) {
+    sqlite3* db = nullptr;
+    const int rc = sqlite3_open_v2(path.c_str(), &db,
+                                   SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE |
+                                       SQLITE_OPEN_FULLMUTEX,
+                                   nullptr);
+    if (rc != SQLITE_OK) {
+        std::string why = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
+        sqlite3_close(db);
+        return kb::Error{"cannot open the journal " + path + ": " + why,
+                         kb::ErrorKind::BadInput};
+    }
+    auto journal = std::make_unique<Journal>(Token{}, db, path);
+    // Another MES on the same file waits up to 2 s for a write lock, then fails clearly.
+    sqlite3_busy_timeout(db, 2000);
+    for (const char* sql : {"PRAGMA journal_mode=WAL", "PRAGMA synchronous=FULL",
+                            "PRAGMA foreign_keys=ON", kSchema}) {
+        if (auto s = journal->exec(sql); !s) {
+            return kb::Error{"cannot use " + path + " as the journal: " + s.error(),
+                             kb::ErrorKind::BadInput};
+        }
+    }
+    return journal;
+}
+
+Journal::~Journal() { sqlite3_close(db_); }
+
+kb::Error Journal::error(const std::string& what) const {
+    return kb::Error{"journal " + path_ + ": " + what + ": " + sqlite3_errmsg(db_)};
+}
+
+kb::Status Journal::exec(const std::string& sql) {
+    char* message = nullptr;
+    if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
+        std::string why = message != nullptr ? message : sqlite3_errmsg(db_);
+        sqlite3_free(message);
+        return kb::Error{why};
+    }
+    return kb::Done{};
+}
+
+kb::Expected<std::int64_t> Journal::beginRun(const std::string& processIri) {
+    Statement s(db_, "INSERT INTO runs (process, state, started_ms) VALUES (?1, ?2, ?3)");
+    if (!s.prepared()) return error("prepare");
+    s.bind(1, processIri);
+    s.bind(2, std::string(toString(RunState::Running)));
+    s.bind(3, unixMillis());
+    if (s.step() != SQLITE_DONE) return error("cannot begin a run");
+    return static_cast<std::int64_t>(sqlite3_last_insert_rowid(db_));
+}
+
+kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
+    Statement s(db_,
+                "INSERT OR REPLACE INTO steps (run, idx, attempt, step, state, skill_type, "
+                "component, endpoint, skill_node, transition_before, reason, started_ms, "
+                "ended_ms) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)");
+    if (!s.prepared()) return error("prepare");
+    s.bind(1, run);
+    s.bind(2, std::int64_t{step.index});
+    s.bind(3, std::int64_t{step.attempt});
+    s.bind(4, step.stepIri);
+    s.bind(5, std::string(toString(step.state)));
+    s.bind(6, step.skillTypeIri);
+    s.bind(7, step.componentUri);
+    s.bind(8, step.endpointUrl);
+    s.bind(9, step.skillNodeId);
+    s.bind(10, step.transitionTimeBefore);
+    s.bind(11, step.reason);
+    s.bind(12, step.startedMs);
+    s.bind(13, step.endedMs);
+    if (s.step() != SQLITE_DONE) return error("cannot record step " + std::to_string(step.index));
+    return kb::Done{};
+}
+
+kb::Status Journal::setRunState(std::int64_t run, RunState state, const std::string& reason) {
+    Statement s(db_, "UPDATE runs SET state = ?1, reason = ?2, ended_ms = ?3 WHERE id = ?4");
+    if (!s.prepared()) return error("prepare");
+    s.bind(1, std::string(toString(state)));
+    s.bind(2, reason);
+    s.bind(3, state == RunState::Running ? std::int64_t{0} : unixMillis());
+    s.bind(4, run);
+    if (s.step() != SQLITE_DONE) return error("cannot update run " + std::to_string(run));
+    if (sqlite3_changes(db_) != 1) return kb::Error{"journal: no run " + std::to_string(run)};
+    return kb::Done{};
+}
+
+kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
+                                                   const std::string& text, std::int64_t number) {
+    Statement s(db_, "SELECT id, process, state, reason, started_ms, ended_ms FROM runs WHERE " +
+                         where + " ORDER BY id");
+    if (!s.prepared()) return error("prepare");
+    if (!text.empty()) s.bind(1, text);
+    if (number != 0) s.bind(text.empty() ? 1 : 2, number);
+    std::vector<RunRecord> out;
+    std::map<std::int64_t, std::size_t> byId;
+    int rc = 0;
+    while ((rc = s.step()) == SQLITE_ROW) {
+        RunRecord r;
+        r.id = s.number(0);
+        r.processIri = s.text(1);
+        const auto state = parseState(
+            s.text(2), {RunState::Running, RunState::Stopped, RunState::Completed});
+        if (!state) return kb::Error{"journal " + path_ + ": run " + std::to_string(r.id) +
+                                     " has the unknown state '" + s.text(2) + "'"};
+        r.state = *state;
+        r.reason = s.text(3);
+        r.startedMs = s.number(4);
+        r.endedMs = s.number(5);
+        byId[r.id] = out.size();
+        out.push_back(std::move(r));
+    }
+    if (rc != SQLITE_DONE) return error("cannot read the runs");
+    for (auto& r : out) {
+        Statement q(db_,
+                    "SELECT idx, attempt, step, state, skill_type, component, endpoint, "
+                    "skill_node, transition_before, reason, started_ms, ended_ms FROM steps "
+                    "WHERE run = ?1 ORDER BY idx, attempt");
+        if (!q.prepared()) return error("prepare");
+        q.bind(1, r.id);
+        while ((rc = q.step()) == SQLITE_ROW) {
+            StepRecord st;
+            st.index = static_cast<int>(q.number(0));
+            st.attempt = static_cast<int>(q.number(1));
+            st.stepIri = q.text(2);
+            const auto state =
+                parseState(q.text(3), {StepState::Starting, StepState::Running,
+                                       StepState::Finished, StepState::Failed});
+            if (!state) return kb::Error{"journal " + path_ + ": a step of run " +
+                                         std::to_string(r.id) + " has the unknown state '" +
+                                         q.text(3) + "'"};
+            st.state = *state;
+            st.skillTypeIri = q.text(4);
+            st.componentUri = q.text(5);
+            st.endpointUrl = q.text(6);
+            st.skillNodeId = q.text(7);
+            st.transitionTimeBefore = q.number(8);
+            st.reason = q.text(9);
+            st.startedMs = q.number(10);
+            st.endedMs = q.number(11);
+            r.steps.push_back(std::move(st));
+        }
+        if (rc != SQLITE_DONE) return error("cannot read the steps");
+    }
+    return out;
+}
+
+kb::Expected<std::optional<RunRecord>> Journal::run(std::int64_t id) {
+    auto found = runs("id = ?1", {}, id);
+    if (!found) return found.failure();
+    if (found->empty()) return std::optional<RunRecord>();
+    return std::optional<RunRecord>(std::move(found->front()));
+}
+
+kb::Expected<std::optional<RunRecord>> Journal::unfinishedRun(const std::string& processIri) {
+    auto found = runs("process = ?1 AND state <> 'completed'", processIri, 0);
+    if (!found) return found.failure();
+    if (found->empty()) return std::optional<RunRecord>();
+    return std::optional<RunRecord>(std::move(found->back()));
+}
+
+kb::Expected<std::vector<RunRecord>> Journal::unfinishedRuns() {
+    return runs("state <> 'completed'", {}, 0);
+}
+
+}  // namespace skillcell::mes

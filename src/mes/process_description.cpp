@@ -1,0 +1,254 @@
+#include "mes/process_description.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <map>
+#include <set>
+
+#include "kb/knowledge_base.hpp"
+#include "kb/rdf/turtle.hpp"
+
+namespace skillcell::mes {
+namespace {
+
+using kb::rdf::Term;
+using kb::rdf::Triple;
+
+std::string p(const char* local) { return std::string(kProcessNs) + local; }
+
+// The triples by subject, for walking the description.
+class Graph {
+public:
+    explicit Graph(const std::vector<Triple>& triples) {
+        for (const auto& t : triples) bySubject_[t.subject].push_back(&t);
+    }
+    [[nodiscard]] std::vector<const Term*> objects(const Term& subject,
+                                                   const std::string& predicate) const {
+        std::vector<const Term*> out;
+        const auto it = bySubject_.find(subject);
+        if (it == bySubject_.end()) return out;
+        for (const Triple* t : it->second) {
+            if (t->predicate.value == predicate) out.push_back(&t->object);
+        }
+        return out;
+    }
+    [[nodiscard]] const Term* object(const Term& subject, const std::string& predicate) const {
+        const auto all = objects(subject, predicate);
+        return all.empty() ? nullptr : all.front();
+    }
+    [[nodiscard]] std::optional<std::string> literal(const Term& subject,
+                                                     const std::string& predicate) const {
+        const Term* o = object(subject, predicate);
+        if (o == nullptr || o->kind != Term::Kind::Literal) return std::nullopt;
+        return o->value;
+    }
+
+private:
+    std::map<Term, std::vector<const Triple*>> bySubject_;
+};
+
+std::optional<double> number(const std::string& text) {
+    double v = 0;
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+    if (ec != std::errc() || ptr != end) return std::nullopt;
+    return v;
+}
+
+std::string name(const Term& t) {
+    return t.kind == Term::Kind::Blank ? "_:" + t.value : "<" + t.value + ">";
+}
+
+kb::Error bad(std::string message) { return kb::Error{std::move(message), kb::ErrorKind::BadInput}; }
+
+kb::Expected<devices::Pose6> pose(const Graph& g, const Term& node, const std::string& what) {
+    devices::Pose6 out;
+    const std::pair<const char*, double*> parts[] = {{"x", &out.x},    {"y", &out.y},
+                                                     {"z", &out.z},    {"roll", &out.a},
+                                                     {"pitch", &out.b}, {"yaw", &out.c}};
+    for (const auto& [local, field] : parts) {
+        const auto text = g.literal(node, p(local));
+        const auto v = text ? number(*text) : std::nullopt;
+        if (!v) return bad(what + ": the pose " + name(node) + " has no number proc:" + local);
+        *field = *v;
+    }
+    return out;
+}
+
+kb::Expected<DerivationSource> source(const Graph& g, const Term& node, const std::string& what) {
+    DerivationSource s;
+    s.iri = node.value;
+    for (const auto& [local, field] :
+         {std::pair{"pose", &s.pose}, std::pair{"targetPose", &s.targetPose}}) {
+        if (const Term* n = g.object(node, p(local))) {
+            auto v = pose(g, *n, what);
+            if (!v) return v.failure();
+            *field = *v;
+        }
+    }
+    s.objectId = g.literal(node, p("objectId")).value_or("");
+    s.applicationUri = g.literal(node, p("applicationUri")).value_or("");
+    s.gripType = g.literal(node, p("gripType")).value_or("");
+    if (!s.pose && !s.targetPose && s.objectId.empty() && s.applicationUri.empty()) {
+        return bad(what + ": " + name(node) +
+                   " has no facts to derive a value from (proc:pose, proc:targetPose, "
+                   "proc:objectId, proc:applicationUri)");
+    }
+    return s;
+}
+
+kb::Expected<StepParameter> parameter(const Graph& g, const Term& node, const std::string& step) {
+    StepParameter out;
+    const auto parameterName = g.literal(node, p("parameterName"));
+    if (!parameterName || parameterName->empty()) {
+        return bad(step + ": the parameter " + name(node) + " has no proc:parameterName");
+    }
+    out.name = *parameterName;
+    const std::string what = step + ", parameter " + out.name;
+    if (const auto text = g.literal(node, p("textValue"))) {
+        out.value = *text;
+    } else if (const auto num = g.literal(node, p("numberValue"))) {
+        const auto v = number(*num);
+        if (!v) return bad(what + ": proc:numberValue '" + *num + "' is not a number");
+        out.value = *v;
+    } else if (const Term* pv = g.object(node, p("poseValue"))) {
+        auto v = pose(g, *pv, what);
+        if (!v) return v.failure();
+        out.value = *v;
+    } else if (const Term* from = g.object(node, p("derivedFrom"))) {
+        auto v = source(g, *from, what);
+        if (!v) return v.failure();
+        out.value = *v;
+    } else {
+        return bad(what +
+                   ": no value (proc:textValue, proc:numberValue, proc:poseValue) and nothing "
+                   "to derive it from (proc:derivedFrom)");
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string shortName(const std::string& iri) {
+    const auto cut = iri.find_last_of("/#");
+    return cut == std::string::npos || cut + 1 == iri.size() ? iri : iri.substr(cut + 1);
+}
+
+std::string ProcessStep::label() const {
+    return "step " + std::to_string(index) + " (" + shortName(skillTypeIri) + ")";
+}
+
+kb::Expected<std::string> processQuery(const std::string& processIri) {
+    auto iri = kb::sparqlIri(processIri);
+    if (!iri) return iri.failure();
+    const std::string P = *iri;
+    const std::string hasStep = "<" + p("hasStep") + ">";
+    const std::string hasParameter = "<" + p("hasParameter") + ">";
+    const std::string derivedFrom = "<" + p("derivedFrom") + ">";
+    // One response: parameters and poses are blank nodes, whose labels hold within it only.
+    // Plain UNION branches (no property paths: see docs/knowledge_base.md on Virtuoso).
+    return "CONSTRUCT { ?a ?b ?c } WHERE {\n"
+           "  { " + P + " ?b ?c . BIND(" + P + " AS ?a) }\n"
+           "  UNION { " + P + " " + hasStep + " ?a . ?a ?b ?c }\n"
+           "  UNION { " + P + " " + hasStep + " ?s . ?s " + hasParameter + " ?a . ?a ?b ?c }\n"
+           "  UNION { " + P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q <" +
+           p("poseValue") + "> ?a . ?a ?b ?c }\n"
+           "  UNION { " + P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " +
+           derivedFrom + " ?a . ?a ?b ?c }\n"
+           "  UNION { " + P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " +
+           derivedFrom + " ?r . ?r <" + p("pose") + "> ?a . ?a ?b ?c }\n"
+           "  UNION { " + P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " +
+           derivedFrom + " ?r . ?r <" + p("targetPose") + "> ?a . ?a ?b ?c }\n"
+           "}";
+}
+
+kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
+                                              const std::vector<Triple>& triples) {
+    const Graph g(triples);
+    const Term process = kb::rdf::iri(processIri);
+    const auto steps = g.objects(process, p("hasStep"));
+    if (steps.empty()) {
+        return bad("the knowledge base has no process <" + processIri +
+                   "> with steps (proc:hasStep)");
+    }
+    // The order: proc:firstStep, then proc:next; every step exactly once.
+    const Term* first = g.object(process, p("firstStep"));
+    if (first == nullptr) {
+        if (steps.size() != 1) return bad("the process <" + processIri + "> has no proc:firstStep");
+        first = steps.front();
+    }
+    std::set<Term> members;
+    for (const Term* s : steps) members.insert(*s);
+    ProcessDescription out;
+    out.iri = processIri;
+    std::map<std::string, int> position;
+    for (const Term* s = first; s != nullptr; s = g.object(*s, p("next"))) {
+        if (!members.contains(*s)) {
+            return bad("the process <" + processIri + ">: " + name(*s) +
+                       " follows in the proc:next chain but is not one of its steps");
+        }
+        if (position.contains(s->value)) {
+            return bad("the process <" + processIri + ">: the proc:next chain loops at " +
+                       name(*s));
+        }
+        ProcessStep step;
+        step.iri = s->value;
+        step.index = static_cast<int>(out.steps.size()) + 1;
+        position[step.iri] = step.index;
+        const Term* type = g.object(*s, p("requiresSkillType"));
+        if (type == nullptr || type->kind != Term::Kind::Iri) {
+            return bad("step " + std::to_string(step.index) + " " + name(*s) +
+                       " has no proc:requiresSkillType");
+        }
+        step.skillTypeIri = type->value;
+        if (const auto declared = g.literal(*s, p("stepIndex"))) {
+            const auto v = number(*declared);
+            if (!v || *v != step.index) {
+                return bad(step.label() + " " + name(*s) + ": proc:stepIndex " + *declared +
+                           " disagrees with its place in the proc:next chain");
+            }
+        }
+        for (const Term* d : g.objects(*s, p("dependsOn"))) step.dependsOn.push_back(d->value);
+        std::set<std::string> names;
+        for (const Term* pn : g.objects(*s, p("hasParameter"))) {
+            auto parsed = parameter(g, *pn, step.label());
+            if (!parsed) return parsed.failure();
+            if (!names.insert(parsed->name).second) {
+                return bad(step.label() + ": the parameter " + parsed->name + " is given twice");
+            }
+            step.parameters.push_back(std::move(*parsed));
+        }
+        std::sort(step.parameters.begin(), step.parameters.end(),
+                  [](const StepParameter& a, const StepParameter& b) { return a.name < b.name; });
+        out.steps.push_back(std::move(step));
+    }
+    if (out.steps.size() != members.size()) {
+        return bad("the process <" + processIri + "> has " + std::to_string(members.size()) +
+                   " steps, but its proc:next chain reaches " + std::to_string(out.steps.size()));
+    }
+    for (const auto& step : out.steps) {
+        for (const auto& d : step.dependsOn) {
+            const auto it = position.find(d);
+            if (it == position.end() || it->second >= step.index) {
+                return bad(step.label() + " depends on <" + d +
+                           ">, which is not an earlier step of the process");
+            }
+        }
+    }
+    return out;
+}
+
+kb::Expected<ProcessDescription> readProcess(kb::SparqlStore& store,
+                                             const std::string& processIri) {
+    auto query = processQuery(processIri);
+    if (!query) return query.failure();
+    auto response = store.query(*query, kb::media::kNTriples);
+    if (!response) return response.failure();
+    auto triples = kb::rdf::readTurtle(response->body);
+    if (!triples) {
+        return kb::Error{"the knowledge base's answer is not N-Triples: " + triples.error()};
+    }
+    return parseProcess(processIri, *triples);
+}
+
+}  // namespace skillcell::mes

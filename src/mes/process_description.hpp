@@ -1,0 +1,73 @@
+#pragma once
+// ProcessDescription: a process as the knowledge base describes it (models/owl/process.ttl),
+// read into values the MES runs: the steps in order, each with the skill type it requires and
+// its parameters, given or to be derived from facts (a dock's pose, an object's id and target).
+//
+// readProcess() asks the KB one CONSTRUCT query (one response keeps the blank nodes of
+// parameters and poses consistent) and checks what it gets: a process without steps, a broken
+// proc:next chain, a step without a skill type, a dependency on a later step, or a parameter
+// without a value are errors that name the step and the parameter.
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "devices/common/frame.hpp"
+#include "kb/expected.hpp"
+#include "kb/rdf/triple.hpp"
+#include "kb/store/sparql_store.hpp"
+
+namespace skillcell::mes {
+
+inline constexpr const char* kProcessNs = "http://skillcell.dev/ontology/process#";
+
+/// The facts of a resource or product a parameter is derived from.
+struct DerivationSource {
+    std::string iri;
+    std::optional<devices::Pose6> pose;        // proc:pose (a dock)
+    std::optional<devices::Pose6> targetPose;  // proc:targetPose (where an object goes)
+    std::string objectId;                      // proc:objectId
+    std::string applicationUri;                // proc:applicationUri
+    std::string gripType;                      // proc:gripType
+    friend bool operator==(const DerivationSource&, const DerivationSource&) = default;
+};
+
+struct StepParameter {
+    std::string name;  // the BrowseName in the skill's ParameterSet
+    std::variant<std::string, double, devices::Pose6, DerivationSource> value;
+    friend bool operator==(const StepParameter&, const StepParameter&) = default;
+};
+
+struct ProcessStep {
+    std::string iri;
+    int index = 0;  // position in the process, from 1 (proc:next order)
+    std::string skillTypeIri;
+    std::vector<StepParameter> parameters;  // by name
+    std::vector<std::string> dependsOn;     // step IRIs, each earlier in the order
+    friend bool operator==(const ProcessStep&, const ProcessStep&) = default;
+
+    /// "step 2 (PickAndPlaceSkillType)": how messages name it.
+    [[nodiscard]] std::string label() const;
+};
+
+struct ProcessDescription {
+    std::string iri;
+    std::vector<ProcessStep> steps;  // in execution order
+};
+
+/// The process `processIri` from triples (what readProcess parses; tests feed it directly).
+[[nodiscard]] kb::Expected<ProcessDescription> parseProcess(
+    const std::string& processIri, const std::vector<kb::rdf::Triple>& triples);
+
+/// The SPARQL query readProcess sends.
+[[nodiscard]] kb::Expected<std::string> processQuery(const std::string& processIri);
+
+/// Reads the process `processIri` from the KB. Unavailable when the KB cannot be reached;
+/// BadInput when the IRI names no process or the description is incomplete.
+[[nodiscard]] kb::Expected<ProcessDescription> readProcess(kb::SparqlStore& store,
+                                                           const std::string& processIri);
+
+/// The last segment of an IRI ("ChangeToolSkillType"), for messages.
+[[nodiscard]] std::string shortName(const std::string& iri);
+
+}  // namespace skillcell::mes

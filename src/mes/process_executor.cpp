@@ -1,0 +1,402 @@
+#include "mes/process_executor.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <asio/experimental/as_tuple.hpp>
+#include <asio/steady_timer.hpp>
+#include <asio/use_awaitable.hpp>
+
+#include "skills/skill_connection.hpp"
+
+namespace skillcell::mes {
+namespace {
+
+using skills::SkillOutcome;
+using skills::SkillState;
+
+// How many skill instances one step tries before it gives up: a bound on a cell whose
+// components keep failing in turn.
+constexpr int kMaxInstancesPerStep = 8;
+
+std::string describe(const SkillOutcome& o) {
+    std::string text(skills::name(o.kind));
+    if (o.status.isBad()) text += " (" + std::string(ua::statusName(o.status)) + ")";
+    if (!o.reason.empty()) text += ": " + o.reason;
+    return text;
+}
+
+std::string where(const skills::SkillInstance& s) {
+    return s.browsePathString() + " of " + s.componentUri;
+}
+
+}  // namespace
+
+std::shared_ptr<ProcessExecutor> ProcessExecutor::create(
+    std::shared_ptr<skills::SkillDetector> detector, Journal& journal, ProcessReader reader,
+    ExecutorOptions options) {
+    return std::make_shared<ProcessExecutor>(Token{}, std::move(detector), journal,
+                                             std::move(reader), std::move(options));
+}
+
+ProcessExecutor::ProcessExecutor(Token, std::shared_ptr<skills::SkillDetector> detector,
+                                 Journal& journal, ProcessReader reader, ExecutorOptions options)
+    : detector_(std::move(detector)),
+      journal_(journal),
+      reader_(std::move(reader)),
+      options_(std::move(options)),
+      runner_(detector_->executor()) {}
+
+void ProcessExecutor::report(Progress p) {
+    progress_ = std::move(p);
+    if (onProgress) onProgress(progress_);
+}
+
+kb::Status ProcessExecutor::record(std::int64_t run, const StepRecord& step) {
+    auto s = journal_.recordStep(run, step);
+    if (!s) spdlog::error("mes: {}", s.error());
+    return s;
+}
+
+void ProcessExecutor::halt() {
+    runner_.halt();
+    if (auto timer = waitTimer_.lock()) timer->cancel();
+    if (auto adopted = adopted_.lock()) adopted->cancel();
+}
+
+asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri) {
+    auto self = shared_from_this();
+    ProcessOutcome out;
+    if (busy_) {
+        out.reason = "the MES is running a process already";
+        co_return out;
+    }
+    busy_ = true;
+    struct Idle {
+        bool& busy;
+        ~Idle() { busy = false; }
+    } idle{busy_};
+    const std::uint64_t generation = runner_.begin();
+    Progress p;
+    p.processIri = processIri;
+    p.state = "reading";
+    p.message = "asking the knowledge base for the process";
+    report(p);
+    auto description = co_await reader_(processIri);
+    if (!description) {
+        out.reason = "cannot read the process " + processIri + ": " + description.error();
+        p.state = "stopped";
+        p.message = out.reason;
+        report(p);
+        co_return out;
+    }
+    const auto& steps = description->steps;
+    p.steps = static_cast<int>(steps.size());
+
+    // Resume the unfinished run of this process, or begin one.
+    RunRecord previous;
+    auto unfinished = journal_.unfinishedRun(processIri);
+    if (!unfinished) {
+        out.reason = unfinished.error();
+        co_return out;
+    }
+    if (*unfinished) {
+        previous = std::move(**unfinished);
+        for (const auto& r : previous.steps) {
+            const bool same = r.index >= 1 && r.index <= p.steps &&
+                              steps[static_cast<std::size_t>(r.index - 1)].iri == r.stepIri;
+            if (!same) {
+                out.run = previous.id;
+                out.reason = "run " + std::to_string(previous.id) + " of " + processIri +
+                             " cannot be resumed: the process changed since (step " +
+                             std::to_string(r.index) + " was <" + r.stepIri + ">)";
+                co_return out;
+            }
+        }
+        if (auto s = journal_.setRunState(previous.id, RunState::Running, {}); !s) {
+            out.reason = s.error();
+            co_return out;
+        }
+        spdlog::info("mes: resuming run {} of {} (it was {}{})", previous.id, processIri,
+                     toString(unfinished->value().state),
+                     previous.reason.empty() ? "" : ": " + previous.reason);
+    } else {
+        auto id = journal_.beginRun(processIri);
+        if (!id) {
+            out.reason = id.error();
+            co_return out;
+        }
+        previous.id = *id;
+        previous.processIri = processIri;
+        spdlog::info("mes: run {} of {}: {} steps", previous.id, processIri, steps.size());
+    }
+    out.run = previous.id;
+    p.run = previous.id;
+
+    auto stop = [&](std::string reason) {
+        out.reason = std::move(reason);
+        if (auto s = journal_.setRunState(out.run, RunState::Stopped, out.reason); !s) {
+            out.reason += " (and the journal failed: " + s.error() + ")";
+        }
+        spdlog::warn("mes: run {} stopped: {}", out.run, out.reason);
+        p.state = "stopped";
+        p.message = out.reason;
+        report(p);
+    };
+
+    for (const auto& step : steps) {
+        p.step = step.index;
+        p.skillType = shortName(step.skillTypeIri);
+        p.component.clear();
+        p.skill.clear();
+        if (runner_.halted(generation)) {
+            stop("halted before " + step.label());
+            co_return out;
+        }
+        const StepRecord* last = previous.lastAttempt(step.index);
+        int attempt = last != nullptr ? last->attempt + 1 : 1;
+        if (last != nullptr && last->state == StepState::Finished) {
+            p.component = last->componentUri;
+            p.state = "done";
+            p.message = "finished in an earlier attempt";
+            report(p);
+            continue;
+        }
+        if (last != nullptr &&
+            (last->state == StepState::Starting || last->state == StepState::Running)) {
+            // The MES stopped while this step was being started or run: ask its skill.
+            auto [settled, why] = co_await settle(*last, generation);
+            StepRecord r = *last;
+            r.endedMs = unixMillis();
+            r.state = settled == Settled::Finished ? StepState::Finished : StepState::Failed;
+            r.reason = why;
+            if (auto s = record(out.run, r); !s) {
+                stop(s.error());
+                co_return out;
+            }
+            spdlog::info("mes: {} (attempt {}, interrupted): {}", step.label(), r.attempt, why);
+            if (settled == Settled::Finished) {
+                p.component = r.componentUri;
+                p.state = "finished";
+                p.message = why;
+                report(p);
+                continue;
+            }
+            if (settled == Settled::Failed) {
+                stop(step.label() + ": " + why);
+                co_return out;
+            }
+        }
+        auto result = co_await runStep(out.run, step, attempt, generation);
+        if (!result.ok) {
+            stop(result.reason);
+            co_return out;
+        }
+    }
+    if (auto s = journal_.setRunState(out.run, RunState::Completed, {}); !s) {
+        out.reason = s.error();
+        co_return out;
+    }
+    out.completed = true;
+    p.state = "completed";
+    p.message = "every step finished";
+    report(p);
+    spdlog::info("mes: run {} of {} completed", out.run, processIri);
+    co_return out;
+}
+
+asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecutor::settle(
+    const StepRecord& r, std::uint64_t generation) {
+    auto self = shared_from_this();
+    skills::SkillInstance target;
+    target.componentUri = r.componentUri;
+    target.endpointUrl = r.endpointUrl;
+    target.nodeId = ua::NodeId::parse(r.skillNodeId).value_or(ua::NodeId());
+    // Where the detector sees the component now (it may have moved).
+    for (const auto& s : detector_->instances()) {
+        if (s.componentUri == r.componentUri && s.nodeId.toString() == r.skillNodeId) target = s;
+    }
+    std::string why;
+    auto conn = co_await skills::SkillConnection::open(detector_->executor(), target,
+                                                       options_.client, &why);
+    if (!conn) {
+        co_return std::pair(Settled::Failed, "cannot tell whether the skill " + r.skillNodeId +
+                                                 " of " + r.componentUri + " ran: " + why);
+    }
+    auto& skill = (*conn)->skill();
+    auto time = co_await (*conn)->lastTransitionTime();
+    std::pair<Settled, std::string> result{Settled::Failed, {}};
+    const auto state = skill.state();
+    if (!time) {
+        result.second = "cannot read the LastTransition of " + r.skillNodeId + " of " +
+                        r.componentUri + ": " + std::string(ua::statusName(time.status()));
+    } else if (time->ticks == r.transitionTimeBefore && state == SkillState::Ready) {
+        result = {Settled::NotStarted, "Start never reached the skill: the MES stopped first"};
+    } else if (state == SkillState::Running || state == SkillState::Suspended) {
+        // Still running the Start this step gave: wait for its end as if we had stayed.
+        spdlog::info("mes: {} of {} is still running the interrupted step: waiting for it",
+                     r.skillNodeId, r.componentUri);
+        skill.adoptRun(ua::DateTime{r.transitionTimeBefore + 1});
+        adopted_ = skill.shared_from_this();
+        const SkillOutcome o = co_await skill.waitForEnd(options_.stepTimeout);
+        adopted_.reset();
+        result = o.ok() ? std::pair(Settled::Finished, std::string("finished (after a restart of "
+                                                                   "the MES)"))
+                        : std::pair(Settled::Failed, describe(o));
+    } else if (state == SkillState::Ready) {
+        result = {Settled::Finished, "finished while the MES was not running"};
+    } else {
+        result.second = "the skill is " +
+                        std::string(state ? skills::name(*state) : std::string_view("unknown")) +
+                        ": it failed while the MES was not running";
+    }
+    co_await (*conn)->close();
+    if (runner_.halted(generation) && result.first != Settled::Finished) {
+        result = {Settled::Failed, "halted"};
+    }
+    co_return result;
+}
+
+asio::awaitable<std::vector<skills::SkillInstance>> ProcessExecutor::waitForCandidates(
+    const ProcessStep& step, const std::set<SkillKey>& excluded) {
+    auto self = shared_from_this();
+    auto found = candidates(step, detector_->instances(), excluded);
+    if (!found.empty()) co_return found;
+    Progress p = progress_;
+    p.state = "waiting";
+    p.component.clear();
+    p.skill.clear();
+    p.message = "waiting up to " + std::to_string(options_.skillWait.count()) +
+                " ms for a suitable " + shortName(step.skillTypeIri);
+    report(p);
+    auto timer = std::make_shared<asio::steady_timer>(detector_->executor(), options_.skillWait);
+    waitTimer_ = timer;
+    const std::size_t id =
+        detector_->subscribe([timer, step, excluded](const skills::SkillEvent& e) {
+            if (e.kind == skills::SkillEvent::Kind::Added && !excluded.contains(keyOf(e.instance)) &&
+                unsuitability(step, e.instance).empty()) {
+                timer->cancel();
+            }
+        });
+    co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+    detector_->unsubscribe(id);
+    co_return candidates(step, detector_->instances(), excluded);
+}
+
+std::string ProcessExecutor::noSkillReason(const ProcessStep& step,
+                                           const std::set<SkillKey>& tried) const {
+    const std::string type = shortName(step.skillTypeIri);
+    std::string text = step.label() + ": no " + (tried.empty() ? "" : "other ") +
+                       "available skill of type " + type + " can run it";
+    // Instances of the type that do not fit say why.
+    std::string unfit;
+    for (const auto& s : detector_->instances()) {
+        const std::string why = unsuitability(step, s);
+        if (!why.empty() && why.rfind("it is not", 0) != 0) {
+            unfit += (unfit.empty() ? "" : "; ") + where(s) + ": " + why;
+        }
+    }
+    if (!unfit.empty()) text += " (unsuitable: " + unfit + ")";
+    return text;
+}
+
+asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
+    std::int64_t run, const ProcessStep& step, int attempt, std::uint64_t generation) {
+    auto self = shared_from_this();
+    std::set<SkillKey> tried;
+    std::string lastFailure;
+    Progress p = progress_;
+    for (int i = 0; i < kMaxInstancesPerStep; ++i) {
+        p.state = "choosing";
+        p.component.clear();
+        p.skill.clear();
+        p.message.clear();
+        report(p);
+        const auto found = co_await waitForCandidates(step, tried);
+        if (runner_.halted(generation)) co_return StepResult{false, "halted in " + step.label()};
+        if (found.empty()) {
+            co_return StepResult{false, noSkillReason(step, tried) +
+                                            (lastFailure.empty() ? "" : "; " + lastFailure)};
+        }
+        const skills::SkillInstance& skill = found.front();
+        auto values = parameterValues(step, skill);
+        if (!values) co_return StepResult{false, values.error()};
+        p.component = skill.componentUri;
+        p.skill = skill.browsePathString();
+        std::string why;
+        auto conn = co_await skills::SkillConnection::open(detector_->executor(), skill,
+                                                           options_.client, &why);
+        if (!conn) {
+            tried.insert(keyOf(skill));
+            lastFailure = where(skill) + ": " + why;
+            p.state = "unreachable";
+            p.message = why;
+            report(p);
+            continue;
+        }
+        skills::SkillClient& client = (*conn)->skill();
+        // A skill left Halted by an earlier fault is reset: this step runs it afresh.
+        if (client.state() == SkillState::Halted) {
+            spdlog::info("mes: resetting {} (Halted)", where(skill));
+            (void)co_await client.call(skills::SkillMethod::Reset);
+        }
+        auto before = co_await (*conn)->lastTransitionTime();
+        if (!before) {
+            tried.insert(keyOf(skill));
+            lastFailure = where(skill) + ": cannot read its LastTransition: " +
+                          std::string(ua::statusName(before.status()));
+            co_await (*conn)->close();
+            continue;
+        }
+        StepRecord r;
+        r.index = step.index;
+        r.attempt = attempt;
+        r.stepIri = step.iri;
+        r.state = StepState::Starting;
+        r.skillTypeIri = step.skillTypeIri;
+        r.componentUri = skill.componentUri;
+        r.endpointUrl = skill.endpointUrl;
+        r.skillNodeId = skill.nodeId.toString();
+        r.transitionTimeBefore = before->ticks;
+        r.startedMs = unixMillis();
+        if (auto s = record(run, r); !s) {
+            co_await (*conn)->close();
+            co_return StepResult{false, s.error()};
+        }
+        p.state = "running";
+        p.message.clear();
+        report(p);
+        spdlog::info("mes: {} on {} (attempt {})", step.label(), where(skill), attempt);
+        const SkillOutcome outcome =
+            co_await runner_.run(client, std::move(*values), options_.stepTimeout);
+        r.endedMs = unixMillis();
+        r.state = outcome.ok() ? StepState::Finished : StepState::Failed;
+        r.reason = outcome.ok() ? std::string() : describe(outcome);
+        const auto recorded = record(run, r);
+        co_await (*conn)->close();
+        if (!recorded) co_return StepResult{false, recorded.error()};
+        if (outcome.ok()) {
+            p.state = "finished";
+            report(p);
+            co_return StepResult{true, {}};
+        }
+        p.state = "failed";
+        p.message = r.reason;
+        report(p);
+        spdlog::warn("mes: {} on {}: {}", step.label(), where(skill), r.reason);
+        if (runner_.halted(generation)) co_return StepResult{false, "halted in " + step.label()};
+        const bool anotherMayDo =
+            outcome.kind == SkillOutcome::Kind::Lost || outcome.kind == SkillOutcome::Kind::Refused;
+        if (!anotherMayDo) {
+            co_return StepResult{false, step.label() + " failed on " + where(skill) + ": " +
+                                            r.reason};
+        }
+        tried.insert(keyOf(skill));
+        lastFailure = where(skill) + ": " + r.reason;
+        ++attempt;
+    }
+    co_return StepResult{false, step.label() + ": gave up after " +
+                                    std::to_string(kMaxInstancesPerStep) +
+                                    " skill instances; last: " + lastFailure};
+}
+
+}  // namespace skillcell::mes

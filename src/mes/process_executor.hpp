@@ -1,0 +1,127 @@
+#pragma once
+// ProcessExecutor: runs a process, step by step, on whatever skills the cell offers (paper,
+// section VII-C). For each step it picks a suitable live skill instance (step_binding.hpp)
+// from the SkillDetector's map, derives the parameter values, runs the skill with a
+// SkillClient, and records intent and result in the Journal before going on.
+//
+// Faults stop the run in a defined state (RunState::Stopped, with the reason): a skill that
+// ends Halted or times out, a step no skill can run, a process the KB cannot describe. A skill
+// that cannot be reached, refuses its parameters or Start, or whose component disappears
+// mid-step is replaced by another suitable instance when there is one; a Halted one is not,
+// since what it did to the cell is unknown.
+//
+// execute() resumes the process's unfinished run if the journal has one: finished steps are
+// skipped, and a step the journal shows as being started is settled by asking its skill
+// (unchanged LastTransition: Start never reached it, so it runs; Running: the run is waited
+// for; Ready or Halted after a transition: it finished or failed while nobody watched).
+//
+// Threading: on the detector's executor.
+#include <asio/any_io_executor.hpp>
+#include <asio/awaitable.hpp>
+#include <asio/steady_timer.hpp>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <set>
+#include <string>
+
+#include "mes/journal.hpp"
+#include "mes/process_description.hpp"
+#include "mes/step_binding.hpp"
+#include "skills/skill_detector.hpp"
+#include "skills/sub_skill_runner.hpp"
+#include "ua/client/client.hpp"
+
+namespace skillcell::mes {
+
+struct ExecutorOptions {
+    ExecutorOptions() = default;  // not an aggregate: see ua::ClientConfig
+    /// How long a step waits for a suitable skill to be detected before it fails.
+    std::chrono::milliseconds skillWait{10'000};
+    /// The longest a single skill may run.
+    std::chrono::milliseconds stepTimeout{300'000};
+    /// How the MES connects to the skills (its identity, security and user).
+    ua::ClientConfig client;
+};
+
+/// What the executor is doing, for progress displays and the MES's status variables.
+struct Progress {
+    std::int64_t run = 0;
+    std::string processIri;
+    int step = 0;  // from 1; 0 before the first step
+    int steps = 0;
+    std::string skillType;  // short name
+    std::string component;  // application URI
+    std::string skill;      // browse path
+    std::string state;      // "choosing", "running", "finished", "failed", "skipped", ...
+    std::string message;
+};
+
+struct ProcessOutcome {
+    bool completed = false;
+    std::int64_t run = 0;  // 0 when no run was begun
+    std::string reason;    // why it stopped
+};
+
+/// Reads a process description (from the KB; tests give their own).
+using ProcessReader =
+    std::function<asio::awaitable<kb::Expected<ProcessDescription>>(std::string processIri)>;
+
+class ProcessExecutor : public std::enable_shared_from_this<ProcessExecutor> {
+public:
+    [[nodiscard]] static std::shared_ptr<ProcessExecutor> create(
+        std::shared_ptr<skills::SkillDetector> detector, Journal& journal, ProcessReader reader,
+        ExecutorOptions options = {});
+
+    [[nodiscard]] const asio::any_io_executor& executor() const { return detector_->executor(); }
+    /// Runs (or resumes) `processIri` to its end or its first unrecoverable fault.
+    asio::awaitable<ProcessOutcome> execute(std::string processIri);
+    /// Ends the current execute(): the skill running now is halted, the run stops.
+    void halt();
+    /// Forwarded to the skill running now.
+    void suspend() { runner_.suspend(); }
+    void resume() { runner_.resume(); }
+
+    /// Called on every change of what the executor does (on the executor).
+    std::function<void(const Progress&)> onProgress;
+
+    struct Token {
+    private:
+        friend class ProcessExecutor;
+        Token() = default;
+    };
+    ProcessExecutor(Token, std::shared_ptr<skills::SkillDetector> detector, Journal& journal,
+                    ProcessReader reader, ExecutorOptions options);
+
+private:
+    struct StepResult {
+        bool ok = false;
+        std::string reason;
+    };
+    enum class Settled : std::uint8_t { NotStarted, Finished, Failed };
+
+    asio::awaitable<StepResult> runStep(std::int64_t run, const ProcessStep& step, int attempt,
+                                        std::uint64_t generation);
+    /// What became of an attempt the journal shows as Starting (after a crash).
+    asio::awaitable<std::pair<Settled, std::string>> settle(const StepRecord& record,
+                                                            std::uint64_t generation);
+    /// Suitable instances now, or after waiting up to skillWait for one to appear.
+    asio::awaitable<std::vector<skills::SkillInstance>> waitForCandidates(
+        const ProcessStep& step, const std::set<SkillKey>& excluded);
+    [[nodiscard]] std::string noSkillReason(const ProcessStep& step,
+                                            const std::set<SkillKey>& tried) const;
+    void report(Progress p);
+    kb::Status record(std::int64_t run, const StepRecord& step);
+
+    std::shared_ptr<skills::SkillDetector> detector_;
+    Journal& journal_;
+    ProcessReader reader_;
+    ExecutorOptions options_;
+    skills::SubSkillRunner runner_;
+    Progress progress_;
+    bool busy_ = false;
+    std::weak_ptr<asio::steady_timer> waitTimer_;      // waitForCandidates, for halt()
+    std::weak_ptr<skills::SkillClient> adopted_;       // settle()'s wait, for halt()
+};
+
+}  // namespace skillcell::mes

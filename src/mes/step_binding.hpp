@@ -1,0 +1,41 @@
+#pragma once
+// Step binding: which live skill instances can run a process step, and the values of the
+// step's parameters for one of them. Nothing here talks to a server: the instances come
+// from the SkillDetector, with the parameters (names and data types) it browsed.
+//
+// A skill instance suits a step when its type chain holds the step's skill type (any subtype
+// counts) and its ParameterSet declares every parameter the step gives. A derived value takes
+// the form the skill's parameter declares: a 3DFrame from a resource's target pose or pose,
+// a String from an object's id or a resource's application URI.
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "kb/expected.hpp"
+#include "mes/process_description.hpp"
+#include "skills/skill_detector.hpp"
+
+namespace skillcell::mes {
+
+/// A skill instance, as (component URI, node id text): what the MES remembers it tried.
+using SkillKey = std::pair<std::string, std::string>;
+[[nodiscard]] SkillKey keyOf(const skills::SkillInstance& skill);
+
+/// Why `skill` cannot run `step`; empty when it can.
+[[nodiscard]] std::string unsuitability(const ProcessStep& step,
+                                        const skills::SkillInstance& skill);
+
+/// The instances among `live` that suit `step`, leaving out `excluded`; in a stable order
+/// (component URI, then browse path) so that runs are reproducible.
+[[nodiscard]] std::vector<skills::SkillInstance> candidates(
+    const ProcessStep& step, const std::vector<skills::SkillInstance>& live,
+    const std::set<SkillKey>& excluded);
+
+/// The values to write before `skill` runs `step`. BadInput when a value cannot take the form
+/// the parameter declares (a pose for a String, nothing to derive a 3DFrame from).
+[[nodiscard]] kb::Expected<std::map<std::string, ua::Variant>> parameterValues(
+    const ProcessStep& step, const skills::SkillInstance& skill);
+
+}  // namespace skillcell::mes

@@ -1,0 +1,126 @@
+// The MES's journal: what it records survives closing and reopening the file, the run to
+// resume is the latest unfinished one of its process, and a file that is not a journal is
+// refused with its name.
+#include "mes/journal.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace skillcell::mes {
+namespace {
+
+namespace fs = std::filesystem;
+
+class JournalTest : public testing::Test {
+protected:
+    void SetUp() override {
+        std::random_device rd;
+        dir_ = fs::temp_directory_path() / ("skillcell-journal-" + std::to_string(rd()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+    [[nodiscard]] std::string file() const { return (dir_ / "journal.sqlite").string(); }
+
+    fs::path dir_;
+};
+
+StepRecord step(int index, int attempt, StepState state) {
+    StepRecord s;
+    s.index = index;
+    s.attempt = attempt;
+    s.stepIri = "http://example.org/p#s" + std::to_string(index);
+    s.state = state;
+    s.skillTypeIri = "http://skillcell.dev/UA/ToolChangerSkills/ChangeToolSkillType";
+    s.componentUri = "urn:c";
+    s.endpointUrl = "opc.tcp://127.0.0.1:4841";
+    s.skillNodeId = "ns=1;s=Skills/ChangeTool";
+    s.transitionTimeBefore = 133'000'000'000'000'000 + index;
+    s.startedMs = 1000 * index;
+    return s;
+}
+
+TEST_F(JournalTest, KeepsRunsAndStepsAcrossReopening) {
+    std::int64_t id = 0;
+    {
+        auto j = Journal::open(file());
+        ASSERT_TRUE(j) << j.error();
+        auto run = (*j)->beginRun("http://example.org/p");
+        ASSERT_TRUE(run) << run.error();
+        id = *run;
+        ASSERT_TRUE((*j)->recordStep(id, step(1, 1, StepState::Starting)));
+        auto done = step(1, 1, StepState::Finished);
+        done.endedMs = 5000;
+        ASSERT_TRUE((*j)->recordStep(id, done));  // replaces the Starting row
+        auto failed = step(2, 1, StepState::Failed);
+        failed.reason = "Lost (BadConnectionClosed)";
+        ASSERT_TRUE((*j)->recordStep(id, failed));
+        ASSERT_TRUE((*j)->recordStep(id, step(2, 2, StepState::Starting)));
+    }
+    auto j = Journal::open(file());
+    ASSERT_TRUE(j) << j.error();
+    auto run = (*j)->run(id);
+    ASSERT_TRUE(run && *run);
+    const RunRecord& r = **run;
+    EXPECT_EQ(r.processIri, "http://example.org/p");
+    EXPECT_EQ(r.state, RunState::Running);
+    ASSERT_EQ(r.steps.size(), 3U);
+    EXPECT_EQ(r.steps[0].state, StepState::Finished);
+    EXPECT_EQ(r.steps[0].endedMs, 5000);
+    EXPECT_EQ(r.steps[0].transitionTimeBefore, 133'000'000'000'000'001);
+    EXPECT_EQ(r.steps[0].skillNodeId, "ns=1;s=Skills/ChangeTool");
+    EXPECT_EQ(r.steps[1].reason, "Lost (BadConnectionClosed)");
+    const StepRecord* last = r.lastAttempt(2);
+    ASSERT_NE(last, nullptr);
+    EXPECT_EQ(last->attempt, 2);
+    EXPECT_EQ(last->state, StepState::Starting);
+    EXPECT_EQ(r.lastAttempt(3), nullptr);
+}
+
+TEST_F(JournalTest, TheRunToResumeIsTheLatestUnfinishedOneOfItsProcess) {
+    auto j = Journal::open(file());
+    ASSERT_TRUE(j) << j.error();
+    Journal& journal = **j;
+    const auto a1 = *journal.beginRun("urn:a");
+    ASSERT_TRUE(journal.setRunState(a1, RunState::Completed, {}));
+    const auto b1 = *journal.beginRun("urn:b");
+    ASSERT_TRUE(journal.setRunState(b1, RunState::Stopped, "step 3: no vacuum gripper"));
+    auto none = journal.unfinishedRun("urn:a");
+    ASSERT_TRUE(none);
+    EXPECT_FALSE(*none) << "a completed run is not resumed";
+    auto b = journal.unfinishedRun("urn:b");
+    ASSERT_TRUE(b && *b);
+    EXPECT_EQ((*b)->id, b1);
+    EXPECT_EQ((*b)->state, RunState::Stopped);
+    EXPECT_EQ((*b)->reason, "step 3: no vacuum gripper");
+    EXPECT_GT((*b)->endedMs, 0);
+    const auto a2 = *journal.beginRun("urn:a");
+    auto a = journal.unfinishedRun("urn:a");
+    ASSERT_TRUE(a && *a);
+    EXPECT_EQ((*a)->id, a2);
+    auto all = journal.unfinishedRuns();
+    ASSERT_TRUE(all);
+    EXPECT_EQ(all->size(), 2U);
+    EXPECT_FALSE(journal.setRunState(9999, RunState::Completed, {})) << "no such run";
+}
+
+TEST_F(JournalTest, RefusesAFileThatIsNotAJournalNamingIt) {
+    {
+        std::ofstream out(file());
+        out << "this is not an SQLite database, but long enough to look like a header.....\n";
+    }
+    auto j = Journal::open(file());
+    ASSERT_FALSE(j);
+    EXPECT_NE(j.error().find(file()), std::string::npos) << j.error();
+    auto missing = Journal::open((dir_ / "no/such/dir/journal.sqlite").string());
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.error().find("no/such/dir"), std::string::npos) << missing.error();
+}
+
+}  // namespace
+}  // namespace skillcell::mes

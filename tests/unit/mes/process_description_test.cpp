@@ -1,0 +1,131 @@
+// A process from the knowledge base's triples: the paper's demo process as the KB holds it
+// (models/owl/demo-process.ttl), in the proc:next order with every parameter; and broken
+// descriptions refused with the step and the fault named.
+#include "mes/process_description.hpp"
+
+#include <gtest/gtest.h>
+
+#include "kb/owl/embedded_ontologies.hpp"
+#include "kb/rdf/turtle.hpp"
+
+namespace skillcell::mes {
+namespace {
+
+constexpr const char* kDemo = "http://skillcell.dev/demo#pickAndPlaceTwoBoxes";
+constexpr const char* kPrefixes =
+    "@prefix proc: <http://skillcell.dev/ontology/process#> .\n"
+    "@prefix t: <http://skillcell.dev/UA/ToolChangerSkills/> .\n"
+    "@prefix : <http://example.org/p#> .\n";
+
+std::vector<kb::rdf::Triple> triples(std::string_view turtle) {
+    auto t = kb::rdf::readTurtle(turtle);
+    EXPECT_TRUE(t) << t.error();
+    return t ? *t : std::vector<kb::rdf::Triple>{};
+}
+
+std::string refusal(const std::string& turtle) {
+    auto p = parseProcess("http://example.org/p#p", triples(std::string(kPrefixes) + turtle));
+    EXPECT_FALSE(p);
+    if (!p) {
+        EXPECT_EQ(p.errorKind(), kb::ErrorKind::BadInput);
+    }
+    return p.error();
+}
+
+TEST(ProcessDescription, ReadsThePapersDemoProcessInOrderWithItsParameters) {
+    auto p = parseProcess(kDemo, triples(kb::owl::embeddedOntology("demo-process.ttl")));
+    ASSERT_TRUE(p) << p.error();
+    ASSERT_EQ(p->steps.size(), 5U);
+    const char* types[] = {"ChangeToolSkillType", "PickAndPlaceSkillType", "ChangeToolSkillType",
+                           "PickAndPlaceSkillType", "DetachToolSkillType"};
+    for (std::size_t i = 0; i < 5; ++i) {
+        EXPECT_EQ(p->steps[i].index, static_cast<int>(i) + 1);
+        EXPECT_EQ(shortName(p->steps[i].skillTypeIri), types[i]);
+        EXPECT_EQ(p->steps[i].iri, "http://skillcell.dev/demo#step" + std::to_string(i + 1));
+    }
+    // Step 1: the parallel gripper's dock gives ToolPosition.
+    ASSERT_EQ(p->steps[0].parameters.size(), 1U);
+    const auto& position = p->steps[0].parameters[0];
+    EXPECT_EQ(position.name, "ToolPosition");
+    const auto* dock = std::get_if<DerivationSource>(&position.value);
+    ASSERT_NE(dock, nullptr);
+    EXPECT_EQ(dock->iri, "http://skillcell.dev/demo#parallelDock");
+    ASSERT_TRUE(dock->pose);
+    EXPECT_DOUBLE_EQ(dock->pose->x, 0.3);
+    EXPECT_DOUBLE_EQ(dock->pose->y, -0.45);
+    EXPECT_DOUBLE_EQ(dock->pose->a, 3.141592653589793);
+    // Step 4: box B gives ObjectId and PlacePosition (its target).
+    const auto& pick = p->steps[3].parameters;
+    ASSERT_EQ(pick.size(), 2U);
+    EXPECT_EQ(pick[0].name, "ObjectId");
+    EXPECT_EQ(pick[1].name, "PlacePosition");
+    const auto* box = std::get_if<DerivationSource>(&pick[0].value);
+    ASSERT_NE(box, nullptr);
+    EXPECT_EQ(box->objectId, "boxB");
+    ASSERT_TRUE(box->targetPose);
+    EXPECT_DOUBLE_EQ(box->targetPose->y, -0.2);
+    EXPECT_DOUBLE_EQ(box->targetPose->z, 0.02);
+    EXPECT_EQ(p->steps[4].dependsOn, std::vector<std::string>{"http://skillcell.dev/demo#step4"});
+}
+
+TEST(ProcessDescription, TakesGivenValues) {
+    auto p = parseProcess("http://example.org/p#p",
+                          triples(std::string(kPrefixes) +
+                                  ":p proc:hasStep :a ; proc:firstStep :a .\n"
+                                  ":a proc:requiresSkillType t:AttachToolSkillType ;\n"
+                                  "  proc:hasParameter [ proc:parameterName \"ToolAppUri\" ; "
+                                  "proc:textValue \"urn:x\" ] ,\n"
+                                  "  [ proc:parameterName \"Speed\" ; proc:numberValue 0.25 ] ,\n"
+                                  "  [ proc:parameterName \"ToolPosition\" ; proc:poseValue [ "
+                                  "proc:x 1 ; proc:y 2 ; proc:z 3 ; proc:roll 0 ; proc:pitch 0 ; "
+                                  "proc:yaw 1.5 ] ] .\n"));
+    ASSERT_TRUE(p) << p.error();
+    const auto& ps = p->steps.at(0).parameters;
+    ASSERT_EQ(ps.size(), 3U);
+    EXPECT_EQ(std::get<double>(ps[0].value), 0.25);
+    EXPECT_EQ(std::get<std::string>(ps[1].value), "urn:x");
+    EXPECT_EQ(std::get<devices::Pose6>(ps[2].value), (devices::Pose6{1, 2, 3, 0, 0, 1.5}));
+}
+
+TEST(ProcessDescription, RefusesBrokenDescriptionsNamingTheFault) {
+    EXPECT_NE(refusal(":q proc:hasStep :a .").find("no process"), std::string::npos);
+    EXPECT_NE(refusal(":p proc:hasStep :a , :b ; proc:firstStep :a .\n"
+                      ":a proc:next :b ; proc:requiresSkillType t:X .\n"
+                      ":b proc:next :a ; proc:requiresSkillType t:X .")
+                  .find("loops"),
+              std::string::npos);
+    EXPECT_NE(refusal(":p proc:hasStep :a , :b ; proc:firstStep :a .\n"
+                      ":a proc:requiresSkillType t:X . :b proc:requiresSkillType t:X .")
+                  .find("reaches 1"),
+              std::string::npos);
+    EXPECT_NE(refusal(":p proc:hasStep :a ; proc:firstStep :a .").find("requiresSkillType"),
+              std::string::npos);
+    EXPECT_NE(refusal(":p proc:hasStep :a , :b ; proc:firstStep :a .\n"
+                      ":a proc:next :b ; proc:requiresSkillType t:X ; proc:dependsOn :b .\n"
+                      ":b proc:requiresSkillType t:X .")
+                  .find("not an earlier step"),
+              std::string::npos);
+    const std::string noValue = refusal(
+        ":p proc:hasStep :a ; proc:firstStep :a .\n"
+        ":a proc:requiresSkillType t:X ; proc:hasParameter [ proc:parameterName \"P\" ] .");
+    EXPECT_NE(noValue.find("step 1 (X), parameter P: no value"), std::string::npos) << noValue;
+    const std::string badPose = refusal(
+        ":p proc:hasStep :a ; proc:firstStep :a .\n"
+        ":a proc:requiresSkillType t:X ; proc:hasParameter [ proc:parameterName \"P\" ; "
+        "proc:poseValue [ proc:x 1 ] ] .");
+    EXPECT_NE(badPose.find("no number proc:y"), std::string::npos) << badPose;
+    EXPECT_NE(refusal(":p proc:hasStep :a ; proc:firstStep :a .\n"
+                      ":a proc:requiresSkillType t:X ; proc:stepIndex 2 .")
+                  .find("disagrees"),
+              std::string::npos);
+}
+
+TEST(ProcessDescription, TheQueryRefusesAnIriThatWouldBreakIt) {
+    EXPECT_FALSE(processQuery("http://example.org/p> } DROP ALL { <x"));
+    auto q = processQuery(kDemo);
+    ASSERT_TRUE(q) << q.error();
+    EXPECT_NE(q->find(std::string("<") + kDemo + ">"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace skillcell::mes
