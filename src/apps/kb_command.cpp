@@ -13,9 +13,11 @@
 #include <spdlog/spdlog.h>
 
 #include <asio/thread_pool.hpp>
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -143,6 +145,7 @@ struct KbComponent {
     KbComponent(kb::KnowledgeBase& knowledge, bool httpWrites)
         : endpoint(knowledge, httpWrites), kb(knowledge) {}
     ~KbComponent() {
+        stopping = true;  // queued discovery jobs end at once: the KB is going
         if (detector) detector->unsubscribe(subscription);
         if (http) http->stop();
         workers.join();  // before the KB goes: jobs use it
@@ -162,9 +165,19 @@ struct KbComponent {
     std::unique_ptr<kb::http::HttpServer> http;
     std::shared_ptr<skills::SkillDetector> detector;
     std::size_t subscription = 0;
+    std::atomic<bool> stopping{false};
+    // Components with a recording queued: a burst of skill events (a component with three
+    // skills appearing or leaving) becomes one recording.
+    std::mutex pendingMutex;
+    std::set<std::string> pending;
 };
 
 void recordComponent(KbComponent& c, const std::string& componentUri) {
+    {
+        const std::lock_guard lock(c.pendingMutex);
+        c.pending.erase(componentUri);  // events from now on queue another recording
+    }
+    if (c.stopping) return;
     // The detector's map may be read from any thread.
     std::vector<skills::SkillInstance> live;
     for (auto& s : c.detector->instances()) {
@@ -244,6 +257,10 @@ ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const K
     if (ctx.detector) {
         c->detector = ctx.detector;
         c->subscription = ctx.detector->subscribe([component](const skills::SkillEvent& e) {
+            {
+                const std::lock_guard lock(component->pendingMutex);
+                if (!component->pending.insert(e.instance.componentUri).second) return;
+            }
             asio::post(component->loads, [component, uri = e.instance.componentUri] {
                 recordComponent(*component, uri);
             });

@@ -72,17 +72,19 @@ int runMes(MesOptions& o) {
     }
     if (auto open = (*journal)->unfinishedRuns(); open && !open->empty()) {
         for (const auto& r : *open) {
-            spdlog::warn("mes: run {} of {} is {}{}: ExecuteProcess with this ProcessIri resumes it",
-                         r.id, r.processIri, mes::toString(r.state),
-                         r.reason.empty() ? "" : " (" + r.reason + ")");
+            spdlog::warn(
+                "mes: run {} of {} is {}{}: ExecuteProcess with this ProcessIri resumes it", r.id,
+                r.processIri, mes::toString(r.state),
+                r.reason.empty() ? "" : " (" + r.reason + ")");
         }
     }
     spdlog::info("mes: journal {}, knowledge base {}", journalPath.string(), endpoint->url());
     o.process.usesDetector = true;
     auto journalHolder = std::make_shared<std::unique_ptr<mes::Journal>>(std::move(*journal));
     return runServerProcess(
-        o.process, [&o, journalHolder, endpoint = *endpoint](
-                       const ComponentContext& c) -> ua::Result<ComponentContent> {
+        o.process,
+        [&o, journalHolder,
+         endpoint = *endpoint](const ComponentContext& c) -> ua::Result<ComponentContent> {
             auto content = std::make_shared<MesContent>();
             content->kbThread = std::make_unique<asio::thread_pool>(1);
             content->store = std::make_unique<kb::HttpSparqlStore>(endpoint);
@@ -98,13 +100,15 @@ int runMes(MesOptions& o) {
             auto* pool = content->kbThread.get();
             auto* store = content->store.get();
             mes::ProcessReader reader =
-                [pool, store](std::string iri) -> asio::awaitable<kb::Expected<mes::ProcessDescription>> {
-                auto answer = co_await asio::co_spawn(
-                    pool->get_executor(),
-                    [store, iri]() -> asio::awaitable<std::optional<kb::Expected<mes::ProcessDescription>>> {
-                        co_return mes::readProcess(*store, iri);
-                    },
-                    asio::use_awaitable);
+                [pool,
+                 store](std::string iri) -> asio::awaitable<kb::Expected<mes::ProcessDescription>> {
+                // A named lambda: GCC 12 destroys temporaries of a co_await expression twice.
+                auto read = [store, iri]()
+                    -> asio::awaitable<std::optional<kb::Expected<mes::ProcessDescription>>> {
+                    co_return mes::readProcess(*store, iri);
+                };
+                auto answer = co_await asio::co_spawn(pool->get_executor(), std::move(read),
+                                                      asio::use_awaitable);
                 co_return std::move(*answer);
             };
             content->executor = mes::ProcessExecutor::create(c.detector, *content->journal,
@@ -129,74 +133,66 @@ struct RunOptions {
     ClientSecurityOptions security;
 };
 
-/// Objects/ProcessExecution as last reported.
-struct ProgressView {
-    std::map<std::string, ua::Variant> values;
-    [[nodiscard]] std::string text(const std::string& name) const {
-        const auto it = values.find(name);
-        const auto* s = it == values.end() ? nullptr : it->second.get<ua::String>();
-        return s != nullptr ? std::string(*s) : std::string();
-    }
-    [[nodiscard]] std::int32_t number(const std::string& name) const {
-        const auto it = values.find(name);
-        const auto* n = it == values.end() ? nullptr : it->second.get<std::int32_t>();
-        return n != nullptr ? *n : 0;
-    }
-    [[nodiscard]] std::string line() const {
-        std::string out = "PROGRESS step " + std::to_string(number("Step")) + "/" +
-                          std::to_string(number("Steps")) + " " + text("State");
-        if (!text("SkillType").empty()) out += " " + text("SkillType");
-        if (!text("Skill").empty()) out += " " + text("Skill") + " @ " + text("Component");
-        if (!text("Message").empty()) out += " - " + text("Message");
-        return out;
-    }
-};
+/// Prints a progress line unless it is the one shown last.
+void show(std::string& shown, const std::string& line) {
+    if (line.empty() || line == shown) return;
+    shown = line;
+    std::cout << "PROGRESS " << line << std::endl;
+}
 
 asio::awaitable<int> runProcess(ua::Client& client, const RunOptions& o) {
     auto config = commandClientConfig(o.security, "skillcell run");
     if (!config) co_return 2;
     const std::string url = o.mesUrl;
     if (const auto s = co_await client.connect(url, std::move(*config)); s.isBad()) {
-        std::cerr << "cannot connect to the MES at " << o.mesUrl << ": "
-                  << explainConnectFailure(s) << "\n";
+        std::cerr << "cannot connect to the MES at " << o.mesUrl << ": " << explainConnectFailure(s)
+                  << "\n";
         co_return 2;
     }
-    auto attached =
-        co_await skills::SkillClient::attach(client, ua::NodeId(1, ua::String("Skills/ExecuteProcess")));
+    auto attached = co_await skills::SkillClient::attach(
+        client, ua::NodeId(1, ua::String("Skills/ExecuteProcess")));
     if (!attached) {
-        std::cerr << o.mesUrl << " offers no ExecuteProcess skill: "
-                  << ua::statusName(attached.status()) << "\n";
+        std::cerr << o.mesUrl
+                  << " offers no ExecuteProcess skill: " << ua::statusName(attached.status())
+                  << "\n";
         (void)co_await client.disconnect();
         co_return 2;
     }
     auto skill = *attached;
-    // Progress: the MES's status variables, printed when State changes.
-    auto view = std::make_shared<ProgressView>();
-    auto last = std::make_shared<std::string>();
+    // Progress: the MES's Progress variable, one line per change (queued, so that quick
+    // changes between two publishes are all shown).
+    auto shown = std::make_shared<std::string>();
     ua::SubscriptionSettings settings(50, 600, 10);
     auto subscription = co_await client.createSubscription(settings);
     if (subscription) {
-        for (const char* name : {"ProcessIri", "Run", "Step", "Steps", "SkillType", "Component",
-                                 "Skill", "Message", "State"}) {
-            const std::string key = name;
-            auto item = co_await (*subscription)
-                            ->monitorDataChange(mes::progressVariable(name), ua::AttributeId::Value,
-                                                0, 20, std::nullopt,
-                                                [view, last, key](const ua::DataValue& v) {
-                                                    view->values[key] = v.value.value_or(ua::Variant());
-                                                    if (key != "State") return;
-                                                    const std::string line = view->line();
-                                                    if (line == *last) return;
-                                                    *last = line;
-                                                    std::cout << line << std::endl;
-                                                });
-            if (!item) spdlog::warn("run: cannot follow {}: {}", key, ua::statusName(item.status()));
+        // Named locals: GCC 12 destroys temporaries of a co_await expression twice.
+        ua::Subscription::DataChangeCallback onChange = [shown](const ua::DataValue& v) {
+            const auto* line = v.value ? v.value->get<ua::String>() : nullptr;
+            if (line != nullptr) show(*shown, *line);
+        };
+        const ua::NodeId node = mes::progressVariable("Progress");
+        auto item = co_await (*subscription)
+                        ->monitorDataChange(node, ua::AttributeId::Value, 0, 100, std::nullopt,
+                                            std::move(onChange));
+        if (!item)
+            spdlog::warn("run: cannot follow the progress: {}", ua::statusName(item.status()));
+    }
+    // A Halted ExecuteProcess is the previous run's stop: reset it, so that this one can
+    // start (and resume that run).
+    if (skill->state() == skills::SkillState::Halted) {
+        std::cout << "PROGRESS the MES's last run stopped (ExecuteProcess is Halted): Reset\n";
+        if (const auto s = co_await skill->call(skills::SkillMethod::Reset); s.isBad()) {
+            std::cerr << "cannot reset ExecuteProcess: " << ua::statusName(s) << "\n";
         }
     }
     std::map<std::string, ua::Variant> values;
     values.emplace("ProcessIri", ua::Variant(ua::String(o.processIri)));
     const auto timeout = std::chrono::milliseconds(static_cast<long>(o.timeoutSeconds * 1000));
     const auto outcome = co_await skill->run(std::move(values), timeout);
+    // The last progress (the end of the run) may not have been published yet.
+    if (auto last = co_await client.readValue(mes::progressVariable("Progress"))) {
+        if (const auto* line = last->get<ua::String>()) show(*shown, *line);
+    }
     std::cout << "OUTCOME " << skills::name(outcome.kind);
     if (outcome.status.isBad()) std::cout << " " << ua::statusName(outcome.status);
     if (!outcome.reason.empty()) std::cout << " (" << outcome.reason << ")";
@@ -244,8 +240,9 @@ Command addRunCommand(CLI::App& app) {
         "as steps start and end, then OUTCOME. Exit code 0 when the process completed, 1 when "
         "it stopped (the reason is printed; running it again resumes it), 2 when the MES "
         "cannot be reached.");
-    cmd->add_option("process", o->processIri, "the process's IRI, e.g. "
-                                              "http://skillcell.dev/demo#pickAndPlaceTwoBoxes")
+    cmd->add_option("process", o->processIri,
+                    "the process's IRI, e.g. "
+                    "http://skillcell.dev/demo#pickAndPlaceTwoBoxes")
         ->required();
     cmd->add_option("--mes", o->mesUrl, "the MES's endpoint")->capture_default_str();
     cmd->add_option("--timeout", o->timeoutSeconds, "seconds to wait for the end; then Halt")

@@ -12,8 +12,8 @@ namespace {
 class Statement {
 public:
     Statement(sqlite3* db, const std::string& sql) {
-        status_ = sqlite3_prepare_v2(db, sql.c_str(), static_cast<int>(sql.size()), &stmt_,
-                                     nullptr);
+        status_ =
+            sqlite3_prepare_v2(db, sql.c_str(), static_cast<int>(sql.size()), &stmt_, nullptr);
     }
     ~Statement() { sqlite3_finalize(stmt_); }
     Statement(const Statement&) = delete;
@@ -21,8 +21,7 @@ public:
 
     [[nodiscard]] bool prepared() const { return status_ == SQLITE_OK; }
     void bind(int i, const std::string& text) {
-        sqlite3_bind_text(stmt_, i, text.c_str(), static_cast<int>(text.size()),
-                          SQLITE_TRANSIENT);
+        sqlite3_bind_text(stmt_, i, text.c_str(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
     }
     void bind(int i, std::int64_t number) { sqlite3_bind_int64(stmt_, i, number); }
     /// SQLITE_ROW, SQLITE_DONE or an error code.
@@ -119,15 +118,13 @@ const StepRecord* RunRecord::lastAttempt(int index) const {
 
 kb::Expected<std::unique_ptr<Journal>> Journal::open(const std::string& path) {
     sqlite3* db = nullptr;
-    const int rc = sqlite3_open_v2(path.c_str(), &db,
-                                   SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE |
-                                       SQLITE_OPEN_FULLMUTEX,
-                                   nullptr);
+    const int rc = sqlite3_open_v2(
+        path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+        nullptr);
     if (rc != SQLITE_OK) {
         std::string why = db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
         sqlite3_close(db);
-        return kb::Error{"cannot open the journal " + path + ": " + why,
-                         kb::ErrorKind::BadInput};
+        return kb::Error{"cannot open the journal " + path + ": " + why, kb::ErrorKind::BadInput};
     }
     auto journal = std::make_unique<Journal>(Token{}, db, path);
     // Another MES on the same file waits up to 2 s for a write lock, then fails clearly.
@@ -142,7 +139,9 @@ kb::Expected<std::unique_ptr<Journal>> Journal::open(const std::string& path) {
     return journal;
 }
 
-Journal::~Journal() { sqlite3_close(db_); }
+Journal::~Journal() {
+    sqlite3_close(db_);
+}
 
 kb::Error Journal::error(const std::string& what) const {
     return kb::Error{"journal " + path_ + ": " + what + ": " + sqlite3_errmsg(db_)};
@@ -217,10 +216,11 @@ kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
         RunRecord r;
         r.id = s.number(0);
         r.processIri = s.text(1);
-        const auto state = parseState(
-            s.text(2), {RunState::Running, RunState::Stopped, RunState::Completed});
-        if (!state) return kb::Error{"journal " + path_ + ": run " + std::to_string(r.id) +
-                                     " has the unknown state '" + s.text(2) + "'"};
+        const auto state =
+            parseState(s.text(2), {RunState::Running, RunState::Stopped, RunState::Completed});
+        if (!state)
+            return kb::Error{"journal " + path_ + ": run " + std::to_string(r.id) +
+                             " has the unknown state '" + s.text(2) + "'"};
         r.state = *state;
         r.reason = s.text(3);
         r.startedMs = s.number(4);
@@ -241,12 +241,11 @@ kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
             st.index = static_cast<int>(q.number(0));
             st.attempt = static_cast<int>(q.number(1));
             st.stepIri = q.text(2);
-            const auto state =
-                parseState(q.text(3), {StepState::Starting, StepState::Running,
-                                       StepState::Finished, StepState::Failed});
-            if (!state) return kb::Error{"journal " + path_ + ": a step of run " +
-                                         std::to_string(r.id) + " has the unknown state '" +
-                                         q.text(3) + "'"};
+            const auto state = parseState(q.text(3), {StepState::Starting, StepState::Running,
+                                                      StepState::Finished, StepState::Failed});
+            if (!state)
+                return kb::Error{"journal " + path_ + ": a step of run " + std::to_string(r.id) +
+                                 " has the unknown state '" + q.text(3) + "'"};
             st.state = *state;
             st.skillTypeIri = q.text(4);
             st.componentUri = q.text(5);

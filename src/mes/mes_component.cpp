@@ -40,8 +40,8 @@ private:
     std::shared_ptr<ProcessExecutor> executor_;
 };
 
-constexpr const char* kTextVariables[] = {"ProcessIri", "SkillType", "Component",
-                                          "Skill",      "State",     "Message"};
+constexpr const char* kTextVariables[] = {"ProcessIri", "SkillType", "Component", "Skill",
+                                          "State",      "Message",   "Progress"};
 constexpr const char* kNumberVariables[] = {"Run", "Step", "Steps"};
 
 }  // namespace
@@ -62,8 +62,7 @@ ua::Result<std::unique_ptr<MesComponent>> MesComponent::create(
     auto component = std::make_unique<MesComponent>(Token{});
     ua::AddressSpace& as = server.addressSpace();
     const ua::NodeId object(1, ua::String("ProcessExecution"));
-    if (auto r = as.addObject(ua::NodeId(ua::ns0::ObjectsFolder), object, "ProcessExecution");
-        !r) {
+    if (auto r = as.addObject(ua::NodeId(ua::ns0::ObjectsFolder), object, "ProcessExecution"); !r) {
         return r.status();
     }
     for (const char* name : kTextVariables) {
@@ -89,6 +88,7 @@ ua::Result<std::unique_ptr<MesComponent>> MesComponent::create(
         for (const auto& [name, value] : texts) {
             (void)as.setValue(progressVariable(name), ua::Variant(ua::String(*value)));
         }
+        (void)as.setValue(progressVariable("Progress"), ua::Variant(ua::String(p.line())));
         (void)as.setValue(progressVariable("Run"), ua::Variant(static_cast<std::int32_t>(p.run)));
         (void)as.setValue(progressVariable("Step"), ua::Variant(std::int32_t{p.step}));
         (void)as.setValue(progressVariable("Steps"), ua::Variant(std::int32_t{p.steps}));

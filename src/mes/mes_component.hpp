@@ -1,8 +1,8 @@
 #pragma once
 // MesComponent: what `skillcell mes` serves: the ExecuteProcess skill (ProcessIri) over a
 // ProcessExecutor, and Objects/ProcessExecution, whose variables show what the MES is doing
-// (Run, Step, Steps, SkillType, Component, Skill, State, Message) for progress displays
-// (`skillcell run` subscribes to them). Build and destroy it on the server's thread.
+// (Run, Step, Steps, SkillType, Component, Skill, State, Message, and all of it as one line in
+// Progress, which `skillcell run` subscribes to). Build and destroy it on the server's thread.
 #include <memory>
 #include <string>
 

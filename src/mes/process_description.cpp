@@ -14,7 +14,9 @@ namespace {
 using kb::rdf::Term;
 using kb::rdf::Triple;
 
-std::string p(const char* local) { return std::string(kProcessNs) + local; }
+std::string p(const char* local) {
+    return std::string(kProcessNs) + local;
+}
 
 // The triples by subject, for walking the description.
 class Graph {
@@ -59,12 +61,14 @@ std::string name(const Term& t) {
     return t.kind == Term::Kind::Blank ? "_:" + t.value : "<" + t.value + ">";
 }
 
-kb::Error bad(std::string message) { return kb::Error{std::move(message), kb::ErrorKind::BadInput}; }
+kb::Error bad(std::string message) {
+    return kb::Error{std::move(message), kb::ErrorKind::BadInput};
+}
 
 kb::Expected<devices::Pose6> pose(const Graph& g, const Term& node, const std::string& what) {
     devices::Pose6 out;
-    const std::pair<const char*, double*> parts[] = {{"x", &out.x},    {"y", &out.y},
-                                                     {"z", &out.z},    {"roll", &out.a},
+    const std::pair<const char*, double*> parts[] = {{"x", &out.x},     {"y", &out.y},
+                                                     {"z", &out.z},     {"roll", &out.a},
                                                      {"pitch", &out.b}, {"yaw", &out.c}};
     for (const auto& [local, field] : parts) {
         const auto text = g.literal(node, p(local));
@@ -148,17 +152,29 @@ kb::Expected<std::string> processQuery(const std::string& processIri) {
     // One response: parameters and poses are blank nodes, whose labels hold within it only.
     // Plain UNION branches (no property paths: see docs/knowledge_base.md on Virtuoso).
     return "CONSTRUCT { ?a ?b ?c } WHERE {\n"
-           "  { " + P + " ?b ?c . BIND(" + P + " AS ?a) }\n"
-           "  UNION { " + P + " " + hasStep + " ?a . ?a ?b ?c }\n"
-           "  UNION { " + P + " " + hasStep + " ?s . ?s " + hasParameter + " ?a . ?a ?b ?c }\n"
-           "  UNION { " + P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q <" +
-           p("poseValue") + "> ?a . ?a ?b ?c }\n"
-           "  UNION { " + P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " +
-           derivedFrom + " ?a . ?a ?b ?c }\n"
-           "  UNION { " + P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " +
-           derivedFrom + " ?r . ?r <" + p("pose") + "> ?a . ?a ?b ?c }\n"
-           "  UNION { " + P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " +
-           derivedFrom + " ?r . ?r <" + p("targetPose") + "> ?a . ?a ?b ?c }\n"
+           "  { " +
+           P + " ?b ?c . BIND(" + P +
+           " AS ?a) }\n"
+           "  UNION { " +
+           P + " " + hasStep +
+           " ?a . ?a ?b ?c }\n"
+           "  UNION { " +
+           P + " " + hasStep + " ?s . ?s " + hasParameter +
+           " ?a . ?a ?b ?c }\n"
+           "  UNION { " +
+           P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q <" + p("poseValue") +
+           "> ?a . ?a ?b ?c }\n"
+           "  UNION { " +
+           P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " + derivedFrom +
+           " ?a . ?a ?b ?c }\n"
+           "  UNION { " +
+           P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " + derivedFrom +
+           " ?r . ?r <" + p("pose") +
+           "> ?a . ?a ?b ?c }\n"
+           "  UNION { " +
+           P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " + derivedFrom +
+           " ?r . ?r <" + p("targetPose") +
+           "> ?a . ?a ?b ?c }\n"
            "}";
 }
 

@@ -31,6 +31,15 @@ std::string where(const skills::SkillInstance& s) {
 
 }  // namespace
 
+std::string Progress::line() const {
+    std::string out = "step " + std::to_string(step) + "/" + std::to_string(steps);
+    if (!skillType.empty()) out += " " + skillType;
+    out += " " + state;
+    if (!skill.empty()) out += " " + skill + " @ " + component;
+    if (!message.empty()) out += " - " + message;
+    return out;
+}
+
 std::shared_ptr<ProcessExecutor> ProcessExecutor::create(
     std::shared_ptr<skills::SkillDetector> detector, Journal& journal, ProcessReader reader,
     ExecutorOptions options) {
@@ -186,7 +195,7 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri)
                 co_return out;
             }
         }
-        auto result = co_await runStep(out.run, step, attempt, generation);
+        auto result = co_await runStep(out.run, step, attempt, generation, p);
         if (!result.ok) {
             stop(result.reason);
             co_return out;
@@ -272,8 +281,8 @@ asio::awaitable<std::vector<skills::SkillInstance>> ProcessExecutor::waitForCand
     waitTimer_ = timer;
     const std::size_t id =
         detector_->subscribe([timer, step, excluded](const skills::SkillEvent& e) {
-            if (e.kind == skills::SkillEvent::Kind::Added && !excluded.contains(keyOf(e.instance)) &&
-                unsuitability(step, e.instance).empty()) {
+            if (e.kind == skills::SkillEvent::Kind::Added &&
+                !excluded.contains(keyOf(e.instance)) && unsuitability(step, e.instance).empty()) {
                 timer->cancel();
             }
         });
@@ -300,11 +309,10 @@ std::string ProcessExecutor::noSkillReason(const ProcessStep& step,
 }
 
 asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
-    std::int64_t run, const ProcessStep& step, int attempt, std::uint64_t generation) {
+    std::int64_t run, const ProcessStep& step, int attempt, std::uint64_t generation, Progress p) {
     auto self = shared_from_this();
     std::set<SkillKey> tried;
     std::string lastFailure;
-    Progress p = progress_;
     for (int i = 0; i < kMaxInstancesPerStep; ++i) {
         p.state = "choosing";
         p.component.clear();
@@ -387,8 +395,8 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         const bool anotherMayDo =
             outcome.kind == SkillOutcome::Kind::Lost || outcome.kind == SkillOutcome::Kind::Refused;
         if (!anotherMayDo) {
-            co_return StepResult{false, step.label() + " failed on " + where(skill) + ": " +
-                                            r.reason};
+            co_return StepResult{false,
+                                 step.label() + " failed on " + where(skill) + ": " + r.reason};
         }
         tried.insert(keyOf(skill));
         lastFailure = where(skill) + ": " + r.reason;

@@ -55,6 +55,10 @@ struct Progress {
     std::string skill;      // browse path
     std::string state;      // "choosing", "running", "finished", "failed", "skipped", ...
     std::string message;
+
+    /// "step 3/5 ChangeToolSkillType running Skills/ChangeTool @ urn:... - message": what a
+    /// display prints, and the MES's Progress variable holds.
+    [[nodiscard]] std::string line() const;
 };
 
 struct ProcessOutcome {
@@ -100,8 +104,9 @@ private:
     };
     enum class Settled : std::uint8_t { NotStarted, Finished, Failed };
 
+    /// `p`: the progress so far (run, step), to report this step's on.
     asio::awaitable<StepResult> runStep(std::int64_t run, const ProcessStep& step, int attempt,
-                                        std::uint64_t generation);
+                                        std::uint64_t generation, Progress p);
     /// What became of an attempt the journal shows as Starting (after a crash).
     asio::awaitable<std::pair<Settled, std::string>> settle(const StepRecord& record,
                                                             std::uint64_t generation);
@@ -120,8 +125,8 @@ private:
     skills::SubSkillRunner runner_;
     Progress progress_;
     bool busy_ = false;
-    std::weak_ptr<asio::steady_timer> waitTimer_;      // waitForCandidates, for halt()
-    std::weak_ptr<skills::SkillClient> adopted_;       // settle()'s wait, for halt()
+    std::weak_ptr<asio::steady_timer> waitTimer_;  // waitForCandidates, for halt()
+    std::weak_ptr<skills::SkillClient> adopted_;   // settle()'s wait, for halt()
 };
 
 }  // namespace skillcell::mes

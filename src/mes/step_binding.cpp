@@ -18,7 +18,9 @@ bool isNs0(const skills::GlobalNodeId& id, std::uint32_t numeric) {
     return id.namespaceUri == kUaNamespace && n != nullptr && *n == numeric;
 }
 
-kb::Error bad(std::string message) { return kb::Error{std::move(message), kb::ErrorKind::BadInput}; }
+kb::Error bad(std::string message) {
+    return kb::Error{std::move(message), kb::ErrorKind::BadInput};
+}
 
 // A number in the form of the parameter's data type.
 kb::Expected<ua::Variant> numberAs(double v, const skills::GlobalNodeId& type,
@@ -39,8 +41,7 @@ kb::Expected<ua::Variant> numberAs(double v, const skills::GlobalNodeId& type,
         if (!fits(std::numeric_limits<std::uint32_t>())) return bad(what + ": not a UInt32");
         return ua::Variant(static_cast<std::uint32_t>(v));
     }
-    return bad(what + ": a number, but the skill's parameter has the data type " +
-               type.toString());
+    return bad(what + ": a number, but the skill's parameter has the data type " + type.toString());
 }
 
 kb::Expected<ua::Variant> valueFor(const StepParameter& given,
@@ -73,8 +74,8 @@ kb::Expected<ua::Variant> valueFor(const StepParameter& given,
         return bad(what + ": a String, but" + source +
                    " has neither an object id nor an application URI");
     }
-    return bad(what + ": nothing derives a value of the data type " +
-               declared.dataType.toString() + " from" + source);
+    return bad(what + ": nothing derives a value of the data type " + declared.dataType.toString() +
+               " from" + source);
 }
 
 const skills::SkillParameter* declared(const skills::SkillInstance& skill,

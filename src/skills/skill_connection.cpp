@@ -27,7 +27,8 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::o
     auto c = std::make_unique<SkillConnection>(Token{}, executor, endpointUrl);
     const ua::StatusCode connected = co_await c->client_->connect(endpointUrl, config);
     if (connected.isBad()) {
-        say(why, "cannot connect to " + endpointUrl + ": " + std::string(ua::statusName(connected)));
+        say(why,
+            "cannot connect to " + endpointUrl + ": " + std::string(ua::statusName(connected)));
         co_return connected;
     }
     RemoteSkillBrowser browser;

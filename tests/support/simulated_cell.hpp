@@ -43,9 +43,11 @@ inline void PrintTo(const ParallelGripperModel& model, std::ostream* out) {
 }
 
 struct SimulatedCell {
-    /// `objects`: `--object` specs for the world model.
+    /// `objects`: `--object` specs for the world model. `vacuumPowered` false: the changer
+    /// has no adapter process for the vacuum gripper (as if its adapter were unplugged).
     SimulatedCell(const std::string& binary, const std::vector<std::string>& objects,
-                  bool withPickAndPlace, ParallelGripperModel parallel = kRobotiq2f85)
+                  bool withPickAndPlace, ParallelGripperModel parallel = kRobotiq2f85,
+                  bool vacuumPowered = true)
         : parallelUri(parallel.applicationUri) {
         std::vector<std::string> args = {"world",
                                          "--dock",
@@ -62,16 +64,25 @@ struct SimulatedCell {
         tools = world->pkiDir().string() + "-tools";
         const std::string common = " --port 0 --host 127.0.0.1 --insecure --speed 20 --world " +
                                    world->url() + " --mdns-ttl 5 --mdns-query-period 1";
-        changer =
-            start(binary,
-                  {"toolchanger", "--world", world->url(), "--tool",
-                   std::string("parallel:1.0-1.5:") + parallel.applicationUri, "--tool",
-                   std::string("vacuum:2.0-2.5:") + kSchmalzUri, "--power",
-                   "parallel=" + binary + " device " + parallel.command + " --pki-dir " + tools +
-                       "-parallel --grip-offset " + parallel.gripOffset + common,
-                   "--power",
-                   "vacuum=" + binary + " device schmalz --pki-dir " + tools + "-schmalz" + common,
-                   "--detection-timeout-ms", "20000"});
+        std::vector<std::string> changerArgs = {
+            "toolchanger",
+            "--world",
+            world->url(),
+            "--tool",
+            std::string("parallel:1.0-1.5:") + parallel.applicationUri,
+            "--tool",
+            std::string("vacuum:2.0-2.5:") + kSchmalzUri,
+            "--power",
+            "parallel=" + binary + " device " + parallel.command + " --pki-dir " + tools +
+                "-parallel --grip-offset " + parallel.gripOffset + common,
+            "--detection-timeout-ms",
+            "20000"};
+        if (vacuumPowered) {
+            changerArgs.insert(changerArgs.end(),
+                               {"--power", "vacuum=" + binary + " device schmalz --pki-dir " +
+                                               tools + "-schmalz" + common});
+        }
+        changer = start(binary, std::move(changerArgs));
         if (withPickAndPlace) {
             pickplace = start(
                 binary, {"pickplace", "--world", world->url(), "--detection-timeout-ms", "5000"});

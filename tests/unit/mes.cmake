@@ -5,3 +5,7 @@ skillcell_unit_test(test_mes_process_description mes/process_description_test.cp
 target_link_libraries(test_mes_process_description PRIVATE skillcell_mes)
 skillcell_unit_test(test_mes_step_binding mes/step_binding_test.cpp)
 target_link_libraries(test_mes_step_binding PRIVATE skillcell_mes)
+
+# The MES in the paper's work cell, every component a process (private network namespace).
+skillcell_cell_test(test_mes_cell mes/mes_cell_test.cpp)
+target_link_libraries(test_mes_cell PRIVATE skillcell_mes)

@@ -62,7 +62,8 @@ TEST(StepBinding, AnInstanceOfTheTypeOrASubtypeFitsIfItHasTheParameters) {
     EXPECT_EQ(unsuitability(other, s), "it is not a DetachToolSkillType");
     auto withAppUri = exact;
     withAppUri.parameters.push_back({"ToolAppUri", std::string("urn:tool")});
-    EXPECT_EQ(unsuitability(withAppUri, changer("urn:c2", false)), "it has no parameter ToolAppUri");
+    EXPECT_EQ(unsuitability(withAppUri, changer("urn:c2", false)),
+              "it has no parameter ToolAppUri");
 
     const std::vector<skills::SkillInstance> live = {changer("urn:c2", false), changer("urn:c1")};
     auto found = candidates(withAppUri, live, {});

@@ -1,0 +1,244 @@
+// The semantic MES in the paper's work cell, every component a process with discovery on (in
+// a private network namespace): the knowledge base with the demo process, the world model,
+// UR5, tool changer with both grippers' adapters, pick and place, and `skillcell mes`.
+// `skillcell run` hands it the demo process; the test checks the world (both boxes at their
+// targets, no tool mounted) and the journal (every step run exactly once). Then the faults:
+// the MES killed mid-process and restarted, and the vacuum gripper's adapter missing until
+// the process has stopped for want of it.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <future>
+#include <random>
+#include <thread>
+
+#include "devices/world/world_link.hpp"
+#include "mes/journal.hpp"
+#include "simulated_cell.hpp"
+
+namespace skillcell::mes {
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+
+constexpr const char* kDemo = "http://skillcell.dev/demo#pickAndPlaceTwoBoxes";
+const std::vector<std::string> kBoxes = {"boxA:0.04,0.1,0.05@0.45,0.15,0.025",
+                                         "boxB:0.04,0.04,0.04@0.45,-0.05,0.02"};
+
+std::vector<std::string> withFastMdns(std::vector<std::string> args) {
+    for (const char* a : {"--mdns-ttl", "5", "--mdns-query-period", "1"}) args.emplace_back(a);
+    return args;
+}
+
+// The port of the KB's "SPARQL http://127.0.0.1:PORT/sparql" line.
+std::string sparqlUrl(const test::ComponentProcess& kb) {
+    for (const auto& line : kb.output()) {
+        if (line.rfind("SPARQL ", 0) == 0) return line.substr(7);
+    }
+    return {};
+}
+
+struct RunResult {
+    int exitCode = -1;
+    std::string output;
+};
+
+// `skillcell run` to its end (bounded by its --timeout).
+RunResult runProcess(const std::string& mesUrl) {
+    const std::string command = std::string(SKILLCELL_BINARY) + " run " + kDemo + " --mes " +
+                                mesUrl + " --insecure --timeout 240 2>&1";
+    RunResult r;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (pipe == nullptr) return r;
+    std::array<char, 512> buffer{};
+    while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.output += buffer.data();
+    const int status = ::pclose(pipe);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+void expectAt(devices::WorldLink& w, const std::string& id, double x, double y, double z) {
+    const auto p = w.objectPose(id);
+    ASSERT_TRUE(p.ok()) << id;
+    EXPECT_NEAR(p->p.x(), x, 1e-3) << id;
+    EXPECT_NEAR(p->p.y(), y, 1e-3) << id;
+    EXPECT_NEAR(p->p.z(), z, 1e-3) << id;
+}
+
+// Attempts that really ran the skill: finished ones, and failed ones whose Start got through.
+int runsOf(const RunRecord& run, int index) {
+    int n = 0;
+    for (const auto& s : run.steps) {
+        if (s.index != index) continue;
+        if (s.state == StepState::Finished) ++n;
+        if (s.state == StepState::Failed &&
+            s.reason.find("Start never reached") == std::string::npos)
+            ++n;
+    }
+    return n;
+}
+
+class MesCell : public testing::Test {
+protected:
+    void SetUp() override {
+        std::random_device rd;
+        dir_ = fs::temp_directory_path() / ("skillcell-mes-cell-" + std::to_string(rd()));
+        fs::create_directories(dir_);
+        kb_ = std::make_unique<test::ComponentProcess>(
+            SKILLCELL_BINARY,
+            withFastMdns(
+                {"kb", "--demo-process", "--http-port", "0", "--data-dir", (dir_ / "kb").string()}),
+            true);
+        ASSERT_FALSE(kb_->url().empty()) << "the KB did not start";
+        kbUrl_ = sparqlUrl(*kb_);
+        ASSERT_FALSE(kbUrl_.empty());
+    }
+    void TearDown() override {
+        mes_.reset();
+        kb_.reset();
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+    void startMes() {
+        mes_ = std::make_unique<test::ComponentProcess>(
+            SKILLCELL_BINARY,
+            withFastMdns({"mes", "--kb", kbUrl_, "--journal", journalPath(), "--skill-wait-ms",
+                          "15000", "--step-timeout-ms", "120000"}),
+            true);
+    }
+    [[nodiscard]] std::string journalPath() const { return (dir_ / "journal.sqlite").string(); }
+    [[nodiscard]] std::optional<RunRecord> lastRun() const {
+        auto j = Journal::open(journalPath());
+        if (!j) return std::nullopt;
+        auto r = (*j)->run(1);
+        if (!r || !*r) return std::nullopt;
+        return **r;
+    }
+
+    fs::path dir_;
+    std::unique_ptr<test::ComponentProcess> kb_, mes_;
+    std::string kbUrl_;
+};
+
+TEST_F(MesCell, RunsThePapersProcessOnTheSkillsDiscoveryFinds) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, kBoxes, true);
+    ASSERT_TRUE(cell.ready());
+    startMes();
+    ASSERT_FALSE(mes_->url().empty());
+
+    const RunResult result = runProcess(mes_->url());
+    EXPECT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_NE(result.output.find("OUTCOME Finished"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("step 3/5 ChangeToolSkillType running Skills/ChangeTool @ "
+                                 "urn:skillcell:device:kelvin-toolchanger"),
+              std::string::npos)
+        << result.output;
+    EXPECT_NE(result.output.find("step 5/5 DetachToolSkillType completed"), std::string::npos)
+        << result.output;
+
+    auto link = devices::WorldLink::connect(cell.world->url());
+    ASSERT_TRUE(link.ok());
+    expectAt(**link, "boxA", 0.25, 0.35, 0.025);
+    expectAt(**link, "boxB", 0.25, -0.2, 0.02);
+    EXPECT_EQ(*(*link)->mountedTool(), "");
+
+    const auto run = lastRun();
+    ASSERT_TRUE(run);
+    EXPECT_EQ(run->state, RunState::Completed);
+    ASSERT_EQ(run->steps.size(), 5U);
+    for (int i = 1; i <= 5; ++i) {
+        const StepRecord* s = run->lastAttempt(i);
+        ASSERT_NE(s, nullptr);
+        EXPECT_EQ(s->state, StepState::Finished) << i;
+        EXPECT_EQ(s->attempt, 1) << i;
+        EXPECT_GE(s->endedMs, s->startedMs);
+    }
+    EXPECT_EQ(run->steps[0].componentUri, "urn:skillcell:device:kelvin-toolchanger");
+    EXPECT_EQ(run->steps[1].componentUri, "urn:skillcell:device:pick-and-place");
+}
+
+TEST_F(MesCell, AKilledMesResumesWhereItStoppedRunningEveryStepOnce) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, kBoxes, true);
+    ASSERT_TRUE(cell.ready());
+    startMes();
+    ASSERT_FALSE(mes_->url().empty());
+    auto first = std::async(std::launch::async, runProcess, mes_->url());
+
+    // Kill the MES once step 2 (the first pick and place) has been started.
+    bool killed = false;
+    for (int i = 0; i < 600 && !killed; ++i) {  // bounded: 60 s
+        if (auto run = lastRun(); run && run->lastAttempt(2) != nullptr) {
+            EXPECT_EQ(mes_->kill(SIGKILL) != -1, true);
+            killed = true;
+            break;
+        }
+        std::this_thread::sleep_for(100ms);  // a bounded poll of the journal file
+    }
+    ASSERT_TRUE(killed) << "step 2 never started";
+    const RunResult lost = first.get();
+    EXPECT_EQ(lost.exitCode, 1) << lost.output;
+    EXPECT_NE(lost.output.find("OUTCOME Lost"), std::string::npos) << lost.output;
+
+    startMes();
+    ASSERT_FALSE(mes_->url().empty());
+    const RunResult result = runProcess(mes_->url());
+    EXPECT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_NE(result.output.find("step 1/5 ChangeToolSkillType done"), std::string::npos)
+        << result.output;
+
+    auto link = devices::WorldLink::connect(cell.world->url());
+    ASSERT_TRUE(link.ok());
+    expectAt(**link, "boxA", 0.25, 0.35, 0.025);
+    expectAt(**link, "boxB", 0.25, -0.2, 0.02);
+    const auto run = lastRun();
+    ASSERT_TRUE(run);
+    EXPECT_EQ(run->state, RunState::Completed);
+    for (int i = 1; i <= 5; ++i) {
+        EXPECT_EQ(runsOf(*run, i), 1) << "step " << i;
+        ASSERT_NE(run->lastAttempt(i), nullptr);
+        EXPECT_EQ(run->lastAttempt(i)->state, StepState::Finished) << i;
+    }
+}
+
+TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, kBoxes, true, test::kRobotiq2f85,
+                             /*vacuumPowered=*/false);
+    ASSERT_TRUE(cell.ready());
+    startMes();
+    ASSERT_FALSE(mes_->url().empty());
+
+    RunResult result = runProcess(mes_->url());
+    EXPECT_EQ(result.exitCode, 1) << result.output;
+    EXPECT_NE(result.output.find("OUTCOME Failed"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("step 4 (PickAndPlaceSkillType)"), std::string::npos)
+        << result.output;
+    EXPECT_NE(result.output.find("GraspGripperSkillType"), std::string::npos) << result.output;
+    auto run = lastRun();
+    ASSERT_TRUE(run);
+    EXPECT_EQ(run->state, RunState::Stopped);
+    EXPECT_NE(run->reason.find("GraspGripperSkillType"), std::string::npos) << run->reason;
+
+    // Plug the vacuum gripper's adapter in; the same process, run again, resumes at step 4.
+    test::DeviceProcess vacuum(
+        SKILLCELL_BINARY, withFastMdns({"schmalz", "--speed", "20", "--world", cell.world->url()}),
+        true);
+    ASSERT_FALSE(vacuum.url().empty());
+    result = runProcess(mes_->url());
+    EXPECT_EQ(result.exitCode, 0) << result.output;
+    run = lastRun();
+    ASSERT_TRUE(run);
+    EXPECT_EQ(run->state, RunState::Completed);
+    EXPECT_EQ(runsOf(*run, 3), 1);
+    EXPECT_EQ(runsOf(*run, 4), 2) << "the failed attempt and the one that finished";
+    auto link = devices::WorldLink::connect(cell.world->url());
+    ASSERT_TRUE(link.ok());
+    expectAt(**link, "boxB", 0.25, -0.2, 0.02);
+    EXPECT_EQ(*(*link)->mountedTool(), "");
+}
+
+}  // namespace
+}  // namespace skillcell::mes
