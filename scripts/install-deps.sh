@@ -12,8 +12,8 @@ packages=(
   liborocos-kdl-dev libeigen3-dev libmodbus-dev pkg-config
   iproute2 util-linux procps
   # the knowledge base: Turtle (libserd), the triple store (Virtuoso), the reasoner (Konclude);
-  # the MES's journal (SQLite)
-  libserd-dev virtuoso-opensource konclude libsqlite3-dev
+  # the MES's journal (SQLite; the sqlite3 shell to look into it)
+  libserd-dev virtuoso-opensource konclude libsqlite3-dev sqlite3
 )
 missing=()
 for p in "${packages[@]}"; do

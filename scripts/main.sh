@@ -1,31 +1,35 @@
 #!/usr/bin/env bash
-# The main job, until the demo of a whole work cell exists: installs what is missing, builds,
-# and shows Plug & Produce discovery and the OPC UA stack at work on one machine, with
-# security on as in a real cell (a cell CA, users with roles, no --insecure anywhere):
-#   a Local Discovery Server (LDS-ME) and a demo server find each other by mDNS, the server
-#   registers with the LDS over a secured channel, our `discover` lists both, our client
-#   browses the server, node-opcua's client browses, reads, writes and calls on it over
-#   Aes256_Sha256_RsaPss/SignAndEncrypt as an operator, a skill of the server runs (our
-#   SkillClient, then node-opcua finding it through the type hierarchy), an observer and an
-#   unsecured client are refused, and when the server stops its goodbye removes it from the
-#   LDS.
+# The main job, until `skillcell demo` exists: installs what is missing, builds, and runs the
+# paper's work cell with security on (a cell CA issues every certificate, users with roles,
+# no --insecure anywhere), every component a process that finds the others by mDNS:
+#   a Local Discovery Server, the knowledge base (Virtuoso + Konclude, with the demo
+#   process), the world model, the UR5, the Kelvin tool changer (which powers the Robotiq
+#   2F-85 and Schmalz ECBPi adapters as it attaches them), the pick-and-place composite and
+#   the semantic MES. An operator hands the MES the demo process (`skillcell run`); the MES
+#   reads it from the knowledge base, runs each step on the skills discovery found, and
+#   journals them. Then: the world model's boxes where the process put them, the journal,
+#   and an observer and an unsecured client refused.
 # mDNS stays inside a private network namespace (multicast on loopback only), so nothing is
-# sent to the machine's real network; that needs root. Without it, the job runs without
-# discovery.
+# sent to the machine's real network; that needs root.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake --preset default >/dev/null
 cmake --build --preset default -j "$(nproc)" --target skillcell
 
-if [ "${SKILLCELL_MAIN_IN_NETNS:-0}" != 1 ] && unshare -n true 2>/dev/null; then
+if [ "${SKILLCELL_MAIN_IN_NETNS:-0}" != 1 ]; then
+  if ! unshare -n true 2>/dev/null; then
+    echo "the work cell needs a private network namespace for its mDNS: run as root" >&2
+    exit 1
+  fi
   exec env SKILLCELL_MAIN_IN_NETNS=1 tests/netns/run_in_private_netns.sh bash "$0" "$@"
 fi
 
-skillcell=build/src/apps/skillcell
+skillcell=$PWD/build/src/apps/skillcell
 tmp=$(mktemp -d)
 pids=()
 cleanup() {
+  # The tool changer powers its tools off when it stops: stop it before the rest.
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
   wait 2>/dev/null || true
   rm -rf "$tmp"
@@ -45,76 +49,85 @@ printf 'cell-pw\n' >"$tmp/cell.pw"
 "$skillcell" user add cell --role Operator --users "$tmp/users" <"$tmp/cell.pw" >/dev/null
 operator=(--pki-dir "$tmp/pki-cli" --user operator --password-file "$tmp/operator.pw")
 observer=(--pki-dir "$tmp/pki-cli" --user observer --password-file "$tmp/observer.pw")
-# node-opcua's client gets its certificate from the cell CA too.
-"$skillcell" pki issue --ca "$SKILLCELL_CA_DIR" --uri urn:skillcell:interop:node-opcua-client \
-  --pki-dir "$tmp/pki-node" >/dev/null
-export SKILLCELL_NODE_SECURITY=SignAndEncrypt SKILLCELL_NODE_USER=operator:operator-pw
-export SKILLCELL_NODE_CERTIFICATE=$tmp/pki-node/own/certs/cert.der
-export SKILLCELL_NODE_PRIVATE_KEY=$tmp/pki-node/own/private/key.pem
-export SKILLCELL_NODE_PKI=$tmp/pki-node  # it trusts the cell CA
+
+# What every component takes: loopback, quick mDNS, its PKI, the users, and whom it acts as.
+component() {
+  local name=$1
+  echo --port 0 --host 127.0.0.1 --mdns-ttl 5 --mdns-query-period 1 --pki-dir "$tmp/pki-$name" \
+    --users "$tmp/users"
+}
+acts_as_cell=(--client-user cell --client-password-file "$tmp/cell.pw")
 
 # Starts a component, waits (bounded) for its READY line; sets $url and appends its pid.
+# Lines it prints before READY (the KB's "SPARQL <url>") go to $tmp/<name>.before.
 start() {
-  local name=$1; shift
+  local name=$1 timeout=$2; shift 2
   mkfifo "$tmp/$name.ready"
-  "$skillcell" "$@" --pki-dir "$tmp/pki-$name" --users "$tmp/users" --client-user cell \
-    --client-password-file "$tmp/cell.pw" >"$tmp/$name.ready" 2>"$tmp/$name.log" &
+  "$skillcell" "$@" >"$tmp/$name.ready" 2>"$tmp/$name.log" &
   pids+=($!)
   exec {fd}<"$tmp/$name.ready"
-  local word
-  if ! read -r -t 20 word url <&"$fd" || [ "$word" != READY ]; then
-    echo "$name did not start:" >&2; cat "$tmp/$name.log" >&2; exit 1
+  local word value
+  url=""
+  while read -r -t "$timeout" word value <&"$fd"; do
+    if [ "$word" = READY ]; then url=$value; break; fi
+    echo "$word $value" >>"$tmp/$name.before"
+  done
+  if [ -z "$url" ]; then
+    echo "$name did not start:" >&2; tail -n 30 "$tmp/$name.log" >&2; exit 1
   fi
+  printf '  %-12s %s\n' "$name" "$url"
 }
 
-# Skills that do nothing, successfully, for 200 ms: stand-ins until the device adapters exist.
-skill_args=(--noop-skill CartesianLinearMoveSkillType=Move --noop-skill GraspGripperSkillType=Grasp
-            --noop-skill-ms 200)
+echo "== the cell starts (each component a process; they find each other by mDNS)"
+# shellcheck disable=SC2046 # component's words are separate arguments on purpose
+start lds 20 lds $(component lds)
+# shellcheck disable=SC2046
+start kb 180 kb --demo-process --http-port 0 --data-dir "$tmp/kb" $(component kb) "${acts_as_cell[@]}"
+sparql=$(sed -n 's/^SPARQL //p' "$tmp/kb.before")
+echo "               SPARQL $sparql"
+# shellcheck disable=SC2046
+start world 20 device world $(component world) \
+  --dock 'dockP@0.3,-0.45,0.35,3.141592653589793,0,0' \
+  --dock 'dockV@0.45,-0.3,0.35,3.141592653589793,0,0' \
+  --tool 'parallel:dockP@0,0,0.15' --tool 'vacuum:dockV@0,0,0.12' \
+  --object 'boxA:0.04,0.1,0.05@0.45,0.15,0.025' --object 'boxB:0.04,0.04,0.04@0.45,-0.05,0.02'
+world=$url
+tool() {  # the adapter process the changer starts when it powers a tool
+  echo "$skillcell device $1 --world $world $(component "$1") --client-user cell" \
+    "--client-password-file $tmp/cell.pw --speed 20 $2"
+}
+# shellcheck disable=SC2046
+start toolchanger 20 device toolchanger $(component toolchanger) "${acts_as_cell[@]}" \
+  --world "$world" --detection-timeout-ms 20000 \
+  --tool parallel:1.0-1.5:urn:skillcell:device:robotiq-2f85 \
+  --tool vacuum:2.0-2.5:urn:skillcell:device:schmalz-ecbpi \
+  --power "parallel=$(tool robotiq '--grip-offset 0,0,0.15')" \
+  --power "vacuum=$(tool schmalz '')"
+# shellcheck disable=SC2046
+start pickplace 20 device pickplace $(component pickplace) "${acts_as_cell[@]}" --world "$world" \
+  --detection-timeout-ms 20000
+# shellcheck disable=SC2046
+start ur5 20 device ur5 $(component ur5) "${acts_as_cell[@]}" --world "$world" --speed 50
+# shellcheck disable=SC2046
+start mes 20 mes $(component mes) "${acts_as_cell[@]}" --kb "$sparql" \
+  --journal "$tmp/journal.sqlite"
+mes=$url
 
-if [ "${SKILLCELL_MAIN_IN_NETNS:-0}" = 1 ]; then
-  start lds lds --port 4840 --mdns-ttl 5 --mdns-query-period 1
-  lds_url=$url
-  start server server --port 4841 --mdns-ttl 5 --mdns-query-period 1 --mdns-name demo-server \
-    "${skill_args[@]}"
-  server_url=$url
-  echo "== mDNS: the servers on the network (skillcell discover)"
-  "$skillcell" discover --duration 1
-  echo
-  echo "== the LDS at $lds_url: FindServersOnNetwork, then the registered servers (FindServers)"
-  for i in $(seq 1 50); do  # the server registers as soon as it has seen the LDS: wait for it
-    "$skillcell" discover --lds "$lds_url" --registered | grep -q urn:skillcell:server && break
-    sleep 0.1
-  done
-  "$skillcell" discover --lds "$lds_url"
-  "$skillcell" discover --lds "$lds_url" --registered
-else
-  echo "(no network namespace: running without discovery; run as root to see it)"
-  start server server --port 4841 --host 127.0.0.1 --no-discovery "${skill_args[@]}"
-  server_url=$url
-fi
+echo
+echo "== the operator hands the MES the paper's process (skillcell run)"
+"$skillcell" run http://skillcell.dev/demo#pickAndPlaceTwoBoxes --mes "$mes" "${operator[@]}"
 
 echo
-echo "== our client browses $server_url"
-"$skillcell" browse "$server_url" --values --max-depth 4 "${observer[@]}"
+echo "== the world model afterwards: the boxes where the process put them, no tool mounted"
+"$skillcell" browse "$world" --values "${observer[@]}" | grep -E 'World/(Objects/box[AB]/Pose|MountedTool)'
 echo
-echo "== node-opcua's client against our server (Aes256_Sha256_RsaPss, SignAndEncrypt, operator)"
-node tests/interop/client.js "$server_url"
-echo
-echo "== a skill runs: our SkillClient writes MaxVelocity, starts Move, follows its events"
-"$skillcell" skill "$server_url" Move --set MaxVelocity=0.5 --timeout 10 "${operator[@]}"
-echo
-echo "== node-opcua finds the skill through the type hierarchy, runs it, reads its state"
-node tests/interop/skill.js "$server_url" Move
-echo
-echo "== security: an observer may look but not start a skill; a client without security is refused"
-"$skillcell" skill "$server_url" Move --timeout 10 "${observer[@]}" 2>&1 | grep -m1 -E 'OUTCOME|refused|Bad' || true
-"$skillcell" skill "$server_url" Move --timeout 10 --insecure 2>&1 | grep -m1 'cannot connect' || true
+echo "== the MES's journal"
+sqlite3 -header -column "$tmp/journal.sqlite" \
+  "SELECT idx AS step, attempt, state, substr(skill_type, instr(skill_type, 'Skills/') + 7) AS skill_type, component, ended_ms - started_ms AS ms FROM steps ORDER BY idx, attempt"
 
-if [ "${SKILLCELL_MAIN_IN_NETNS:-0}" = 1 ]; then
-  echo
-  echo "== the server stops: its goodbye and unregistration remove it from the LDS"
-  kill "${pids[1]}"
-  wait "${pids[1]}" 2>/dev/null || true
-  "$skillcell" discover --lds "$lds_url"
-  "$skillcell" discover --lds "$lds_url" --registered
-fi
+echo
+echo "== security: an observer may look but not start a process; a client without security is refused"
+"$skillcell" run http://skillcell.dev/demo#pickAndPlaceTwoBoxes --mes "$mes" "${observer[@]}" 2>&1 |
+  grep -m1 -E 'OUTCOME|refused|Bad' || true
+"$skillcell" run http://skillcell.dev/demo#pickAndPlaceTwoBoxes --mes "$mes" --insecure 2>&1 |
+  grep -m1 'cannot connect' || true

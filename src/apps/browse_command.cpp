@@ -7,12 +7,23 @@
 
 #include "client_security_options.hpp"
 #include "commands.hpp"
+#include "devices/common/frame.hpp"
 #include "ua/client/blocking_client.hpp"
 #include "ua/types/to_string.hpp"
 
 namespace skillcell::apps {
 
 namespace {
+
+/// A value as text; a 3DFrame (the poses of the skill models and the world model) as its
+/// position and orientation rather than as an opaque structure.
+std::string valueText(const ua::Variant& value) {
+    if (const auto frame = devices::frameFromVariant(value); frame.ok()) {
+        return "3DFrame" + devices::describe(*frame);
+    }
+    return ua::toString(value);
+}
+
 
 struct BrowseOptions {
     std::string url;
@@ -82,7 +93,7 @@ public:
                 } else if (value->status && value->status->isBad()) {
                     std::cout << " = (" << ua::statusName(*value->status) << ")";
                 } else if (value->value) {
-                    std::cout << " = " << ua::toString(*value->value);
+                    std::cout << " = " << valueText(*value->value);
                 }
             }
             std::cout << "\n";
