@@ -24,7 +24,6 @@ std::string valueText(const ua::Variant& value) {
     return ua::toString(value);
 }
 
-
 struct BrowseOptions {
     std::string url;
     std::string start = "i=84";

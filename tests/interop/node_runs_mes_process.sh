@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Interop: node-opcua's client hands the semantic MES (`skillcell mes`) a process through its
+# ExecuteProcess skill (execute_process.js), with the knowledge base (`skillcell kb
+# --demo-process`, its own Virtuoso in a temporary directory) behind it and no cell: the MES
+# reads the paper's process, finds no ChangeTool skill for step 1 and stops with that reason,
+# which node-opcua receives in the RunningToHalted event; a process the KB does not know
+# stops with that. Skips (exit 77) without node-opcua, unless SKILLCELL_REQUIRE_NODE=1 (CI).
+# Usage: node_runs_mes_process.sh PATH/TO/skillcell
+set -euo pipefail
+skillcell=$1
+here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=SCRIPTDIR/interop_lib.sh
+source "$here/interop_lib.sh"
+interop_require_node
+interop_temp_dir
+mes_pid=""
+trap 'if [ -n "$mes_pid" ]; then kill "$mes_pid" 2>/dev/null; wait "$mes_pid" 2>/dev/null; fi; interop_cleanup' EXIT
+
+# Starts a component; waits (bounded) for its READY line; sets $url. Earlier lines go to
+# $tmp/NAME.before.
+start() {
+  local name=$1 timeout=$2; shift 2
+  mkfifo "$tmp/$name.out"
+  "$skillcell" "$@" --port 0 --host 127.0.0.1 --no-discovery --insecure --pki-dir "$tmp/pki-$name" \
+    >"$tmp/$name.out" 2>"$tmp/$name.log" &
+  last_pid=$!
+  exec {fd}<"$tmp/$name.out"
+  local word value
+  url=""
+  while read -r -t "$timeout" word value <&"$fd"; do
+    if [ "$word" = READY ]; then url=$value; break; fi
+    echo "$word $value" >>"$tmp/$name.before"
+  done
+  if [ -z "$url" ]; then echo "$name did not start:" >&2; cat "$tmp/$name.log" >&2; exit 1; fi
+}
+
+start kb 120 kb --demo-process --http-port 0 --data-dir "$tmp/kb"
+pid=$last_pid
+sparql=$(sed -n 's/^SPARQL //p' "$tmp/kb.before")
+start mes 20 mes --kb "$sparql" --journal "$tmp/journal.sqlite" --skill-wait-ms 300
+mes_pid=$last_pid
+echo "KB $sparql, MES $url"
+fail() { echo "FAIL: $*" >&2; echo "MES log:" >&2; tail -n 40 "$tmp/mes.log" >&2; exit 1; }
+
+timeout 120 node "$here/execute_process.js" "$url" http://skillcell.dev/demo#pickAndPlaceTwoBoxes \
+  "halted:step 1 (ChangeToolSkillType): no available skill of type ChangeToolSkillType" \
+  reading waiting stopped || fail "the demo process without a cell"
+timeout 120 node "$here/execute_process.js" "$url" http://skillcell.dev/demo#noSuchProcess \
+  "halted:has no process <http://skillcell.dev/demo#noSuchProcess>" reading stopped ||
+  fail "an unknown process"
+kill -0 "$mes_pid" 2>/dev/null || fail "the MES died during the test"
+echo "OK"
