@@ -10,6 +10,7 @@
 
 #include "component_process.hpp"
 #include "kb/http/http_client.hpp"
+#include "kb/http/http_message.hpp"
 
 namespace skillcell::kb {
 namespace {
@@ -157,6 +158,92 @@ TEST(KnowledgeBaseComponent, LoadsTheModelOfASkillTypeOfItsOwnWhenItsComponentAp
                              30s))
         << "the KB did not learn the dispense skill within 30 s";
     EXPECT_TRUE(ask(port, typed));
+}
+
+// A SPARQL 1.1 update over HTTP (the KB started with --http-writes); the HTTP status.
+int update(std::uint16_t port, const std::string& sparqlUpdate) {
+    http::HttpRequest r;
+    r.method = "POST";
+    r.path = "/sparql";
+    r.headers.add("Content-Type", "application/x-www-form-urlencoded");
+    r.body = "update=" + http::percentEncode(sparqlUpdate);
+    auto reply = http::httpRequest("127.0.0.1", port, std::move(r), 30s);
+    return reply ? reply->status : 0;
+}
+
+TEST(KnowledgeBaseComponent, AnAcknowledgedUpdateSurvivesAKillOfTheKbProcess) {
+    std::random_device rd;
+    const fs::path data = fs::temp_directory_path() / ("skillcell-kb-kill-" + std::to_string(rd()));
+    struct Cleanup {
+        fs::path dir;
+        ~Cleanup() {
+            std::error_code ec;
+            fs::remove_all(dir, ec);
+        }
+    } cleanup{data};
+    const std::vector<std::string> args = {
+        "kb", "--http-port", "0", "--data-dir", data.string(), "--http-writes", "--no-discovery"};
+    const std::string fact = "GRAPH <urn:test:kill> { <urn:test:a> <urn:test:b> \"acknowledged\" }";
+    {
+        test::ComponentProcess kb(SKILLCELL_BINARY, args);
+        ASSERT_FALSE(kb.url().empty()) << "skillcell kb did not start";
+        const std::uint16_t port = sparqlPort(kb);
+        ASSERT_NE(port, 0);
+        ASSERT_EQ(update(port, "INSERT DATA { " + fact + " }"), 200);
+        // SIGKILL: no shutdown at all. Virtuoso goes with it (it is tied to the KB's life).
+        const int status = kb.kill(SIGKILL);
+        ASSERT_TRUE(WIFSIGNALED(status));
+    }
+    test::ComponentProcess again(SKILLCELL_BINARY, args);
+    ASSERT_FALSE(again.url().empty()) << "skillcell kb did not start again on the same data";
+    const std::uint16_t port = sparqlPort(again);
+    ASSERT_NE(port, 0);
+    EXPECT_TRUE(ask(port, fact)) << select(port,
+                                           "SELECT * WHERE { GRAPH <urn:test:kill> { ?s ?p ?o } }");
+    // And the KB's own models, as after any start.
+    EXPECT_TRUE(ask(port, "GRAPH <http://skillcell.dev/ontology/process> { ?s ?p ?o }"));
+}
+
+TEST(KnowledgeBaseComponent, UsesAnyStoreGivenBySparqlUrlInsteadOfItsOwnVirtuoso) {
+    std::random_device rd;
+    const fs::path data = fs::temp_directory_path() / ("skillcell-kb-url-" + std::to_string(rd()));
+    struct Cleanup {
+        fs::path dir;
+        ~Cleanup() {
+            std::error_code ec;
+            fs::remove_all(dir, ec);
+        }
+    } cleanup{data};
+    // The store: another KB's endpoint, a SPARQL 1.1 endpoint like any other.
+    test::ComponentProcess store(
+        SKILLCELL_BINARY,
+        {"kb", "--http-port", "0", "--data-dir", data.string(), "--http-writes", "--no-discovery"});
+    ASSERT_FALSE(store.url().empty());
+    const std::uint16_t storePort = sparqlPort(store);
+    ASSERT_NE(storePort, 0);
+    test::ComponentProcess kb(
+        SKILLCELL_BINARY,
+        {"kb", "--http-port", "0", "--demo-process", "--http-writes", "--no-discovery",
+         "--sparql-url", "http://127.0.0.1:" + std::to_string(storePort) + "/sparql"});
+    ASSERT_FALSE(kb.url().empty()) << "skillcell kb --sparql-url did not start";
+    const std::uint16_t port = sparqlPort(kb);
+    ASSERT_NE(port, 0);
+    for (const auto& line : kb.output()) {
+        EXPECT_EQ(line.find("starting Virtuoso"), std::string::npos) << line;
+    }
+    // What it loaded (the demo process) is in the store; what is written through it too.
+    EXPECT_TRUE(
+        ask(storePort, "GRAPH <http://skillcell.dev/demo> { ?s proc:requiresSkillType ?t }"));
+    ASSERT_EQ(update(port, "INSERT DATA { GRAPH <urn:test:url> { <urn:test:x> <urn:test:y> 1 } }"),
+              200);
+    EXPECT_TRUE(ask(storePort, "GRAPH <urn:test:url> { <urn:test:x> <urn:test:y> 1 }"));
+    EXPECT_TRUE(ask(port, "GRAPH <urn:test:url> { <urn:test:x> <urn:test:y> 1 }"));
+    // A URL that is not one is refused at once, with the reason.
+    test::ComponentProcess bad(SKILLCELL_BINARY, {"kb", "--http-port", "0", "--no-discovery",
+                                                  "--sparql-url", "ftp://127.0.0.1/sparql"});
+    EXPECT_TRUE(bad.url().empty());
+    const int status = bad.kill(SIGTERM);  // it has exited already: this reaps it
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << "wait status " << status;
 }
 
 }  // namespace
