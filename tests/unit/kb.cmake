@@ -23,3 +23,8 @@ target_compile_definitions(test_kb_component PRIVATE SKILLCELL_SOURCE_DIR="${PRO
 # A component's skills as RDF (src/kb/component_graph).
 skillcell_unit_test(test_kb_component_graph kb/component_graph_test.cpp)
 target_link_libraries(test_kb_component_graph PRIVATE skillcell_kb_components)
+
+# `skillcell nodeset2owl` on the command line: exit codes 2 (usage) and 1 (bad input), output.
+add_test(NAME cli.nodeset2owl
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/kb/nodeset2owl_cli_test.sh $<TARGET_FILE:skillcell>
+                 ${PROJECT_SOURCE_DIR}/models)
