@@ -58,23 +58,14 @@ component() {
 }
 acts_as_cell=(--client-user cell --client-password-file "$tmp/cell.pw")
 
-# Starts a component, waits (bounded) for its READY line; sets $url and appends its pid.
-# Lines it prints before READY (the KB's "SPARQL <url>") go to $tmp/<name>.before.
+# Starts a component and waits (bounded) for its READY line (interop_start); prints its URL.
+# shellcheck source=SCRIPTDIR/../tests/interop/interop_lib.sh
+source tests/interop/interop_lib.sh
 start() {
-  local name=$1 timeout=$2; shift 2
-  mkfifo "$tmp/$name.ready"
-  "$skillcell" "$@" >"$tmp/$name.ready" 2>"$tmp/$name.log" &
-  pids+=($!)
-  exec {fd}<"$tmp/$name.ready"
-  local word value
-  url=""
-  while read -r -t "$timeout" word value <&"$fd"; do
-    if [ "$word" = READY ]; then url=$value; break; fi
-    echo "$word $value" >>"$tmp/$name.before"
-  done
-  if [ -z "$url" ]; then
-    echo "$name did not start:" >&2; tail -n 30 "$tmp/$name.log" >&2; exit 1
-  fi
+  local name=$1 timeout=$2
+  shift 2
+  interop_start "$name" "$timeout" "$skillcell" "$@"
+  pids+=("$last_pid")
   printf '  %-12s %s\n' "$name" "$url"
 }
 

@@ -1,5 +1,9 @@
 #include "client_security_options.hpp"
 
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <asio/io_context.hpp>
+
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -193,6 +197,16 @@ std::string describeSecurity(const std::string& policyUri, ua::MessageSecurityMo
     if (profile == nullptr) return "None";
     return std::string(profile->shortName) +
            (mode == ua::MessageSecurityMode::Sign ? "/Sign" : "/SignAndEncrypt");
+}
+
+int runClientCommand(const std::function<asio::awaitable<int>(ua::Client&)>& body) {
+    asio::io_context io{1};
+    ua::Client client(io.get_executor());
+    int code = 1;
+    asio::co_spawn(
+        io, [&]() -> asio::awaitable<void> { code = co_await body(client); }, asio::detached);
+    io.run();
+    return code;
 }
 
 }  // namespace skillcell::apps

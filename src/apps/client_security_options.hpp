@@ -7,6 +7,7 @@
 // Passwords never appear on a command line, where `ps` shows them: they come from a file
 // (first line) or from $SKILLCELL_PASSWORD.
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -50,6 +51,10 @@ void addClientSecurityOptions(CLI::App* cmd, ClientSecurityOptions& options);
 /// why on stderr.
 [[nodiscard]] std::optional<ua::ClientConfig> commandClientConfig(
     const ClientSecurityOptions& options, const std::string& applicationName);
+
+/// The body of a client command (`skill`, `run`): runs `body` with a client on a one-thread
+/// io_context until it returns, and gives its exit code.
+[[nodiscard]] int runClientCommand(const std::function<asio::awaitable<int>(ua::Client&)>& body);
 
 /// Why a connection failed, with what to do about it when that is clear from the status.
 [[nodiscard]] std::string explainConnectFailure(ua::StatusCode status);

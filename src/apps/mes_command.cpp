@@ -250,14 +250,7 @@ Command addRunCommand(CLI::App& app) {
         ->capture_default_str();
     addClientSecurityOptions(cmd, o->security);
     return {cmd, [o] {
-                asio::io_context io{1};
-                ua::Client client(io.get_executor());
-                int code = 1;
-                asio::co_spawn(
-                    io, [&]() -> asio::awaitable<void> { code = co_await runProcess(client, *o); },
-                    asio::detached);
-                io.run();
-                return code;
+                return runClientCommand([o](ua::Client& client) { return runProcess(client, *o); });
             }};
 }
 

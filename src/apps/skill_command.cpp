@@ -170,14 +170,7 @@ Command addSkillCommand(CLI::App& app) {
     cmd->add_flag("--list", o->list, "only print the skill's state and parameters");
     addClientSecurityOptions(cmd, o->security);
     return {cmd, [o] {
-                asio::io_context io{1};
-                ua::Client client(io.get_executor());
-                int code = 1;
-                asio::co_spawn(
-                    io, [&]() -> asio::awaitable<void> { code = co_await runSkill(client, *o); },
-                    asio::detached);
-                io.run();
-                return code;
+                return runClientCommand([o](ua::Client& client) { return runSkill(client, *o); });
             }};
 }
 

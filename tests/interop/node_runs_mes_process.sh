@@ -16,22 +16,12 @@ interop_temp_dir
 mes_pid=""
 trap 'if [ -n "$mes_pid" ]; then kill "$mes_pid" 2>/dev/null; wait "$mes_pid" 2>/dev/null; fi; interop_cleanup' EXIT
 
-# Starts a component; waits (bounded) for its READY line; sets $url. Earlier lines go to
-# $tmp/NAME.before.
+# A component on loopback, without discovery or security (interop_start: READY, $url).
 start() {
-  local name=$1 timeout=$2; shift 2
-  mkfifo "$tmp/$name.out"
-  "$skillcell" "$@" --port 0 --host 127.0.0.1 --no-discovery --insecure --pki-dir "$tmp/pki-$name" \
-    >"$tmp/$name.out" 2>"$tmp/$name.log" &
-  last_pid=$!
-  exec {fd}<"$tmp/$name.out"
-  local word value
-  url=""
-  while read -r -t "$timeout" word value <&"$fd"; do
-    if [ "$word" = READY ]; then url=$value; break; fi
-    echo "$word $value" >>"$tmp/$name.before"
-  done
-  if [ -z "$url" ]; then echo "$name did not start:" >&2; cat "$tmp/$name.log" >&2; exit 1; fi
+  local name=$1 timeout=$2
+  shift 2
+  interop_start "$name" "$timeout" "$skillcell" "$@" --port 0 --host 127.0.0.1 --no-discovery \
+    --insecure --pki-dir "$tmp/pki-$name"
 }
 
 start kb 120 kb --demo-process --http-port 0 --data-dir "$tmp/kb"

@@ -1,6 +1,6 @@
 # unit tests of src/mes: the journal, process descriptions, step binding.
 skillcell_unit_test(test_mes_journal mes/journal_test.cpp)
-target_link_libraries(test_mes_journal PRIVATE skillcell_mes)
+target_link_libraries(test_mes_journal PRIVATE skillcell_mes skillcell_test_support)
 skillcell_unit_test(test_mes_process_description mes/process_description_test.cpp)
 target_link_libraries(test_mes_process_description PRIVATE skillcell_mes)
 skillcell_unit_test(test_mes_step_binding mes/step_binding_test.cpp)

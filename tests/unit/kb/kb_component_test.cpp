@@ -11,6 +11,7 @@
 #include "component_process.hpp"
 #include "kb/http/http_client.hpp"
 #include "kb/http/http_message.hpp"
+#include "temp_dir.hpp"
 
 namespace skillcell::kb {
 namespace {
@@ -74,15 +75,8 @@ std::optional<std::chrono::milliseconds> askUntilTrue(std::uint16_t port, const 
 }
 
 TEST(KnowledgeBaseComponent, LearnsAComponentsSkillsByDiscoveryAndKeepsThemMarkedWhenItLeaves) {
-    std::random_device rd;
-    const fs::path data = fs::temp_directory_path() / ("skillcell-kb-cell-" + std::to_string(rd()));
-    struct Cleanup {
-        fs::path dir;
-        ~Cleanup() {
-            std::error_code ec;
-            fs::remove_all(dir, ec);
-        }
-    } cleanup{data};
+    const test::TempDir dir("skillcell-kb-cell");
+    const fs::path& data = dir.path();
 
     test::ComponentProcess kb(
         SKILLCELL_BINARY, with({"kb", "--http-port", "0", "--data-dir", data.string()}, kFastMdns),
@@ -119,15 +113,8 @@ TEST(KnowledgeBaseComponent, LearnsAComponentsSkillsByDiscoveryAndKeepsThemMarke
 }
 
 TEST(KnowledgeBaseComponent, LoadsTheModelOfASkillTypeOfItsOwnWhenItsComponentAppears) {
-    std::random_device rd;
-    const fs::path data = fs::temp_directory_path() / ("skillcell-kb-cell-" + std::to_string(rd()));
-    struct Cleanup {
-        fs::path dir;
-        ~Cleanup() {
-            std::error_code ec;
-            fs::remove_all(dir, ec);
-        }
-    } cleanup{data};
+    const test::TempDir dir("skillcell-kb-cell");
+    const fs::path& data = dir.path();
     const std::string examples = SKILLCELL_SOURCE_DIR "/examples/dispense_skill";
     test::ComponentProcess kb(
         SKILLCELL_BINARY,
@@ -172,15 +159,8 @@ int update(std::uint16_t port, const std::string& sparqlUpdate) {
 }
 
 TEST(KnowledgeBaseComponent, AnAcknowledgedUpdateSurvivesAKillOfTheKbProcess) {
-    std::random_device rd;
-    const fs::path data = fs::temp_directory_path() / ("skillcell-kb-kill-" + std::to_string(rd()));
-    struct Cleanup {
-        fs::path dir;
-        ~Cleanup() {
-            std::error_code ec;
-            fs::remove_all(dir, ec);
-        }
-    } cleanup{data};
+    const test::TempDir dir("skillcell-kb-kill");
+    const fs::path& data = dir.path();
     const std::vector<std::string> args = {
         "kb", "--http-port", "0", "--data-dir", data.string(), "--http-writes", "--no-discovery"};
     const std::string fact = "GRAPH <urn:test:kill> { <urn:test:a> <urn:test:b> \"acknowledged\" }";
@@ -205,15 +185,8 @@ TEST(KnowledgeBaseComponent, AnAcknowledgedUpdateSurvivesAKillOfTheKbProcess) {
 }
 
 TEST(KnowledgeBaseComponent, UsesAnyStoreGivenBySparqlUrlInsteadOfItsOwnVirtuoso) {
-    std::random_device rd;
-    const fs::path data = fs::temp_directory_path() / ("skillcell-kb-url-" + std::to_string(rd()));
-    struct Cleanup {
-        fs::path dir;
-        ~Cleanup() {
-            std::error_code ec;
-            fs::remove_all(dir, ec);
-        }
-    } cleanup{data};
+    const test::TempDir dir("skillcell-kb-url");
+    const fs::path& data = dir.path();
     // The store: another KB's endpoint, a SPARQL 1.1 endpoint like any other.
     test::ComponentProcess store(
         SKILLCELL_BINARY,

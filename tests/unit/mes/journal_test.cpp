@@ -7,27 +7,17 @@
 
 #include <filesystem>
 #include <fstream>
-#include <random>
+
+#include "temp_dir.hpp"
 
 namespace skillcell::mes {
 namespace {
 
-namespace fs = std::filesystem;
-
 class JournalTest : public testing::Test {
 protected:
-    void SetUp() override {
-        std::random_device rd;
-        dir_ = fs::temp_directory_path() / ("skillcell-journal-" + std::to_string(rd()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-    [[nodiscard]] std::string file() const { return (dir_ / "journal.sqlite").string(); }
+    [[nodiscard]] std::string file() const { return dir_ / "journal.sqlite"; }
 
-    fs::path dir_;
+    test::TempDir dir_{"skillcell-journal"};
 };
 
 StepRecord step(int index, int attempt, StepState state) {
@@ -117,7 +107,7 @@ TEST_F(JournalTest, RefusesAFileThatIsNotAJournalNamingIt) {
     auto j = Journal::open(file());
     ASSERT_FALSE(j);
     EXPECT_NE(j.error().find(file()), std::string::npos) << j.error();
-    auto missing = Journal::open((dir_ / "no/such/dir/journal.sqlite").string());
+    auto missing = Journal::open(dir_ / "no/such/dir/journal.sqlite");
     ASSERT_FALSE(missing);
     EXPECT_NE(missing.error().find("no/such/dir"), std::string::npos) << missing.error();
 }

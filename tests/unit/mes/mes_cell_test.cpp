@@ -12,12 +12,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <future>
-#include <random>
 #include <thread>
 
 #include "devices/world/world_link.hpp"
 #include "mes/journal.hpp"
 #include "simulated_cell.hpp"
+#include "temp_dir.hpp"
 
 namespace skillcell::mes {
 namespace {
@@ -85,13 +85,9 @@ int runsOf(const RunRecord& run, int index) {
 class MesCell : public testing::Test {
 protected:
     void SetUp() override {
-        std::random_device rd;
-        dir_ = fs::temp_directory_path() / ("skillcell-mes-cell-" + std::to_string(rd()));
-        fs::create_directories(dir_);
         kb_ = std::make_unique<test::ComponentProcess>(
             SKILLCELL_BINARY,
-            withFastMdns(
-                {"kb", "--demo-process", "--http-port", "0", "--data-dir", (dir_ / "kb").string()}),
+            withFastMdns({"kb", "--demo-process", "--http-port", "0", "--data-dir", dir_ / "kb"}),
             true);
         ASSERT_FALSE(kb_->url().empty()) << "the KB did not start";
         kbUrl_ = sparqlUrl(*kb_);
@@ -100,8 +96,6 @@ protected:
     void TearDown() override {
         mes_.reset();
         kb_.reset();
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
     }
     void startMes() {
         mes_ = std::make_unique<test::ComponentProcess>(
@@ -110,7 +104,7 @@ protected:
                           "15000", "--step-timeout-ms", "120000"}),
             true);
     }
-    [[nodiscard]] std::string journalPath() const { return (dir_ / "journal.sqlite").string(); }
+    [[nodiscard]] std::string journalPath() const { return dir_ / "journal.sqlite"; }
     [[nodiscard]] std::optional<RunRecord> lastRun() const {
         auto j = Journal::open(journalPath());
         if (!j) return std::nullopt;
@@ -119,7 +113,7 @@ protected:
         return **r;
     }
 
-    fs::path dir_;
+    test::TempDir dir_{"skillcell-mes-cell"};
     std::unique_ptr<test::ComponentProcess> kb_, mes_;
     std::string kbUrl_;
 };
