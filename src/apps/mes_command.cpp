@@ -149,8 +149,13 @@ asio::awaitable<int> runProcess(ua::Client& client, const RunOptions& o) {
                   << "\n";
         co_return 2;
     }
-    auto attached = co_await skills::SkillClient::attach(
-        client, ua::NodeId(1, ua::String("Skills/ExecuteProcess")));
+    // A process runs for minutes: a keep-alive of 2 s, so that a busy MES is not taken for
+    // a lost one.
+    skills::SkillClientOptions followOptions;
+    followOptions.publishingIntervalMs = 50;
+    followOptions.maxKeepAliveCount = 40;
+    const ua::NodeId executeProcess(1, ua::String("Skills/ExecuteProcess"));
+    auto attached = co_await skills::SkillClient::attach(client, executeProcess, followOptions);
     if (!attached) {
         std::cerr << o.mesUrl
                   << " offers no ExecuteProcess skill: " << ua::statusName(attached.status())

@@ -6,6 +6,8 @@
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
 
+#include <algorithm>
+
 #include "skills/skill_connection.hpp"
 
 namespace skillcell::mes {
@@ -226,7 +228,7 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
     }
     std::string why;
     auto conn = co_await skills::SkillConnection::open(detector_->executor(), target,
-                                                       options_.client, &why);
+                                                       options_.client, &why, options_.skillClient);
     if (!conn) {
         co_return std::pair(Settled::Failed, "cannot tell whether the skill " + r.skillNodeId +
                                                  " of " + r.componentUri + " ran: " + why);
@@ -291,6 +293,28 @@ asio::awaitable<std::vector<skills::SkillInstance>> ProcessExecutor::waitForCand
     co_return candidates(step, detector_->instances(), excluded);
 }
 
+asio::awaitable<bool> ProcessExecutor::componentGone(std::string componentUri) {
+    auto self = shared_from_this();
+    auto listed = [this, &componentUri] {
+        const auto all = detector_->instances();
+        return std::any_of(all.begin(), all.end(),
+                           [&](const auto& s) { return s.componentUri == componentUri; });
+    };
+    if (!listed()) co_return true;
+    auto timer =
+        std::make_shared<asio::steady_timer>(detector_->executor(), options_.goneConfirmation);
+    waitTimer_ = timer;
+    const std::size_t id = detector_->subscribe([timer, componentUri](const skills::SkillEvent& e) {
+        if (e.kind == skills::SkillEvent::Kind::Removed &&
+            e.instance.componentUri == componentUri) {
+            timer->cancel();
+        }
+    });
+    co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+    detector_->unsubscribe(id);
+    co_return !listed();
+}
+
 std::string ProcessExecutor::noSkillReason(const ProcessStep& step,
                                            const std::set<SkillKey>& tried) const {
     const std::string type = shortName(step.skillTypeIri);
@@ -331,8 +355,8 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         p.component = skill.componentUri;
         p.skill = skill.browsePathString();
         std::string why;
-        auto conn = co_await skills::SkillConnection::open(detector_->executor(), skill,
-                                                           options_.client, &why);
+        auto conn = co_await skills::SkillConnection::open(
+            detector_->executor(), skill, options_.client, &why, options_.skillClient);
         if (!conn) {
             tried.insert(keyOf(skill));
             lastFailure = where(skill) + ": " + why;
@@ -392,6 +416,15 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         report(p);
         spdlog::warn("mes: {} on {}: {}", step.label(), where(skill), r.reason);
         if (runner_.halted(generation)) co_return StepResult{false, "halted in " + step.label()};
+        // Lost contact: another instance may take the step only once the component is
+        // gone; one still there may still be running the skill.
+        if (outcome.kind == SkillOutcome::Kind::Lost &&
+            !co_await componentGone(skill.componentUri)) {
+            co_return StepResult{false, step.label() + ": lost contact with " + where(skill) +
+                                            " mid-step (" + r.reason +
+                                            "), but the component is still there: it may still "
+                                            "be running the skill, so no other takes the step"};
+        }
         const bool anotherMayDo =
             outcome.kind == SkillOutcome::Kind::Lost || outcome.kind == SkillOutcome::Kind::Refused;
         if (!anotherMayDo) {

@@ -42,6 +42,19 @@ struct ExecutorOptions {
     std::chrono::milliseconds stepTimeout{300'000};
     /// How the MES connects to the skills (its identity, security and user).
     ua::ClientConfig client;
+    /// Its skill subscriptions: events at 10 ms, and a keep-alive of 1 s, so that a loaded
+    /// machine's late publish is not taken for a lost component.
+    skills::SkillClientOptions skillClient = defaultSkillClient();
+    /// How long, after losing contact mid-step, to wait for the detector to confirm that the
+    /// component is gone before the step may go to another instance.
+    std::chrono::milliseconds goneConfirmation{5'000};
+
+    [[nodiscard]] static skills::SkillClientOptions defaultSkillClient() {
+        skills::SkillClientOptions o;
+        o.publishingIntervalMs = 10;
+        o.maxKeepAliveCount = 100;
+        return o;
+    }
 };
 
 /// What the executor is doing, for progress displays and the MES's status variables.
@@ -113,6 +126,8 @@ private:
     /// Suitable instances now, or after waiting up to skillWait for one to appear.
     asio::awaitable<std::vector<skills::SkillInstance>> waitForCandidates(
         const ProcessStep& step, const std::set<SkillKey>& excluded);
+    /// Whether the detector no longer lists `componentUri`, waiting up to goneConfirmation.
+    asio::awaitable<bool> componentGone(std::string componentUri);
     [[nodiscard]] std::string noSkillReason(const ProcessStep& step,
                                             const std::set<SkillKey>& tried) const;
     void report(Progress p);

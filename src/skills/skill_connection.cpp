@@ -48,14 +48,14 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::o
         co_await c->client_->disconnect();
         co_return ua::status::BadNotFound;
     }
-    const ua::StatusCode attached = co_await c->attachTo(*it, why);
+    const ua::StatusCode attached = co_await c->attachTo(*it, why, SkillClientOptions{});
     if (attached.isBad()) co_return attached;
     co_return c;
 }
 
 asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::open(
     asio::any_io_executor executor, SkillInstance instance, ua::ClientConfig config,
-    std::string* why) {
+    std::string* why, SkillClientOptions options) {
     auto c = std::make_unique<SkillConnection>(Token{}, executor, instance.endpointUrl);
     const ua::StatusCode connected = co_await c->client_->connect(instance.endpointUrl, config);
     if (connected.isBad()) {
@@ -63,15 +63,16 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::o
                      std::string(ua::statusName(connected)));
         co_return connected;
     }
-    const ua::StatusCode attached = co_await c->attachTo(instance, why);
+    const ua::StatusCode attached = co_await c->attachTo(instance, why, options);
     if (attached.isBad()) co_return attached;
     co_return c;
 }
 
 asio::awaitable<ua::StatusCode> SkillConnection::attachTo(const RemoteSkill& skill,
-                                                          std::string* why) {
+                                                          std::string* why,
+                                                          SkillClientOptions options) {
     remote_ = skill;
-    auto attached = co_await SkillClient::attach(*client_, skill.nodeId);
+    auto attached = co_await SkillClient::attach(*client_, skill.nodeId, options);
     if (!attached) {
         say(why, "cannot use " + skill.browsePathString() + " at " + endpointUrl_ + ": " +
                      std::string(ua::statusName(attached.status())));

@@ -28,7 +28,7 @@ public:
     /// attaches a SkillClient to exactly that skill.
     static asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> open(
         asio::any_io_executor executor, SkillInstance instance, ua::ClientConfig config,
-        std::string* why);
+        std::string* why, SkillClientOptions options = {});
     ~SkillConnection();
     SkillConnection(const SkillConnection&) = delete;
     SkillConnection& operator=(const SkillConnection&) = delete;
@@ -53,7 +53,8 @@ public:
 
 private:
     /// Connects and attaches to `skill`: the rest of both open()s.
-    asio::awaitable<ua::StatusCode> attachTo(const RemoteSkill& skill, std::string* why);
+    asio::awaitable<ua::StatusCode> attachTo(const RemoteSkill& skill, std::string* why,
+                                             SkillClientOptions options);
 
     std::string endpointUrl_;
     std::unique_ptr<ua::Client> client_;
