@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
         skillcell::apps::addSkillCommand(app),  skillcell::apps::addCheckCommand(app),
         skillcell::apps::addDetectCommand(app), skillcell::apps::addPkiCommand(app),
         skillcell::apps::addUserCommand(app),   skillcell::apps::addNodeset2OwlCommand(app),
-        skillcell::apps::addKbCommand(app),    skillcell::apps::addMesCommand(app),
+        skillcell::apps::addKbCommand(app),     skillcell::apps::addMesCommand(app),
         skillcell::apps::addRunCommand(app),
     };
     for (auto& device : skillcell::apps::addDeviceCommands(app)) commands.push_back(device);
