@@ -13,7 +13,10 @@ const {
     StatusCodes,
     NodeId,
     NodeIdType,
-    UserTokenType
+    UserTokenType,
+    ClientMonitoredItem,
+    ClientSubscription,
+    TimestampsToReturn
 } = require("node-opcua");
 
 const DEMO_NAMESPACE_URI = "urn:skillcell:demo";
@@ -165,7 +168,35 @@ function percentile(sorted, p) {
     return sorted[Math.min(sorted.length, Math.max(1, rank)) - 1];
 }
 
+/// A subscription publishing every `publishingInterval` ms, once the server has created it.
+async function startSubscription(session, publishingInterval) {
+    const subscription = ClientSubscription.create(session, {
+        requestedPublishingInterval: publishingInterval, requestedLifetimeCount: 600,
+        requestedMaxKeepAliveCount: 20, maxNotificationsPerPublish: 100,
+        publishingEnabled: true, priority: 1
+    });
+    await new Promise((resolve, reject) => {
+        subscription.once("started", resolve);
+        subscription.once("internal_error", reject);
+    });
+    return subscription;
+}
+
+/// A monitored item (sampling 0, discardOldest, plus `options`: queueSize, filter), once the
+/// server has created it.
+async function monitorItem(subscription, nodeId, attributeId, options) {
+    const item = ClientMonitoredItem.create(subscription, { nodeId, attributeId },
+        { samplingInterval: 0, discardOldest: true, ...options }, TimestampsToReturn.Both);
+    await new Promise((resolve, reject) => {
+        item.once("initialized", resolve);
+        item.once("err", (e) => reject(new Error(`monitored item ${nodeId}: ${e}`)));
+    });
+    return item;
+}
+
 module.exports = {
+    monitorItem,
+    startSubscription,
     DEMO_NAMESPACE_URI,
     StatusCodes,
     checkEndpointUrl,

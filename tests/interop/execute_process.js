@@ -17,16 +17,11 @@
 "use strict";
 
 require("./log_to_stderr"); // before node-opcua: keep stdout clean
+const { AttributeIds, DataType, constructEventFilter } = require("node-opcua");
 const {
-    AttributeIds,
-    ClientMonitoredItem,
-    ClientSubscription,
-    DataType,
-    TimestampsToReturn,
-    constructEventFilter
-} = require("node-opcua");
-const { StatusCodes, checkEndpointUrl, connect, disconnect, resolveNamespaceIndex, waitFor } =
-    require("./common");
+    StatusCodes, checkEndpointUrl, connect, disconnect, monitorItem, resolveNamespaceIndex,
+    startSubscription, waitFor
+} = require("./common");
 const { childByName, findSkills } = require("./skill_model");
 
 const MES_URI = "http://skillcell.dev/UA/MesSkills/";
@@ -39,17 +34,6 @@ if (!processIri || !expected || !(expected === "ready" || expected.startsWith("h
 }
 const RUNNING_TO_READY = "ns=0;i=2414";
 const RUNNING_TO_HALTED = "ns=0;i=2412";
-
-async function monitor(subscription, nodeId, attributeId, extra) {
-    const item = ClientMonitoredItem.create(subscription, { nodeId, attributeId },
-        { samplingInterval: 0, queueSize: 100, discardOldest: true, ...extra },
-        TimestampsToReturn.Both);
-    await new Promise((resolve, reject) => {
-        item.once("initialized", resolve);
-        item.once("err", (e) => reject(new Error(`monitored item ${nodeId}: ${e}`)));
-    });
-    return item;
-}
 
 async function main() {
     let problem = null;
@@ -65,23 +49,15 @@ async function main() {
         const execution = await childByName(session, "ns=0;i=85", "ProcessExecution");
         const progressNode = await childByName(session, execution, "Progress");
 
-        const subscription = ClientSubscription.create(session, {
-            requestedPublishingInterval: 20, requestedLifetimeCount: 600,
-            requestedMaxKeepAliveCount: 20, maxNotificationsPerPublish: 100,
-            publishingEnabled: true, priority: 1
-        });
-        await new Promise((resolve, reject) => {
-            subscription.once("started", resolve);
-            subscription.once("internal_error", reject);
-        });
+        const subscription = await startSubscription(session, 20);
         const progress = [];
-        const progressItem = await monitor(subscription, progressNode, AttributeIds.Value, {});
+        const progressItem = await monitorItem(subscription, progressNode, AttributeIds.Value, { queueSize: 100 });
         progressItem.on("changed", (dv) => {
             if (dv.value && typeof dv.value.value === "string") progress.push(dv.value.value);
         });
         const fields = ["Transition.Id", "Message"];
-        const events = await monitor(subscription, id, AttributeIds.EventNotifier,
-            { filter: constructEventFilter(fields) });
+        const events = await monitorItem(subscription, id, AttributeIds.EventNotifier,
+            { queueSize: 100, filter: constructEventFilter(fields) });
         const received = [];
         events.on("changed", (values) => received.push(values.map((v) => v.value)));
         const end = waitFor(events, "changed", () => received.find((v) => v[0] &&

@@ -16,16 +16,11 @@
 "use strict";
 
 require("./log_to_stderr"); // before node-opcua: keep stdout clean
+const { AttributeIds, DataType, constructEventFilter } = require("node-opcua");
 const {
-    AttributeIds,
-    ClientMonitoredItem,
-    ClientSubscription,
-    DataType,
-    TimestampsToReturn,
-    constructEventFilter
-} = require("node-opcua");
-const { StatusCodes, checkEndpointUrl, connect, disconnect, resolveNamespaceIndex, waitFor } =
-    require("./common");
+    StatusCodes, checkEndpointUrl, connect, disconnect, monitorItem, resolveNamespaceIndex,
+    startSubscription, waitFor
+} = require("./common");
 const { childByName, findSkills } = require("./skill_model");
 
 const SKILLS_URI = "http://skillcell.dev/UA/Skills/";
@@ -60,24 +55,10 @@ async function main() {
         status = await write(0.5);
         if (status !== StatusCodes.Good) throw new Error(`MaxVelocity = 0.5: ${status.toString()}`);
 
-        const subscription = ClientSubscription.create(session, {
-            requestedPublishingInterval: 20, requestedLifetimeCount: 600,
-            requestedMaxKeepAliveCount: 20, maxNotificationsPerPublish: 100,
-            publishingEnabled: true, priority: 1
-        });
-        await new Promise((resolve, reject) => {
-            subscription.once("started", resolve);
-            subscription.once("internal_error", reject);
-        });
+        const subscription = await startSubscription(session, 20);
         const fields = ["FromState.Id", "ToState.Id", "Transition.Id", "Message", "EventType"];
-        const events = ClientMonitoredItem.create(
-            subscription, { nodeId: id, attributeId: AttributeIds.EventNotifier },
-            { samplingInterval: 0, queueSize: 100, discardOldest: true,
-              filter: constructEventFilter(fields) }, TimestampsToReturn.Both);
-        await new Promise((resolve, reject) => {
-            events.once("initialized", resolve);
-            events.once("err", (e) => reject(new Error(`event item: ${e}`)));
-        });
+        const events = await monitorItem(subscription, id, AttributeIds.EventNotifier,
+            { queueSize: 100, filter: constructEventFilter(fields) });
         const received = [];
         events.on("changed", (values) => received.push(values.map((v) => v.value)));
         const transition = (name, number) => waitFor(events, "changed", () => {

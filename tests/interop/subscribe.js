@@ -15,7 +15,6 @@ require("./log_to_stderr"); // before node-opcua: keep stdout clean
 const {
     AttributeIds,
     ClientMonitoredItem,
-    ClientSubscription,
     DataType,
     TimestampsToReturn,
     constructEventFilter
@@ -27,6 +26,7 @@ const {
     connect,
     disconnect,
     resolveNamespaceIndex,
+    startSubscription,
     stringNodeId,
     waitFor
 } = require("./common");
@@ -40,18 +40,7 @@ async function main() {
     try {
         const { index: ns } = await resolveNamespaceIndex(session, DEMO_NAMESPACE_URI);
         if (ns < 0) throw new Error(`namespace ${DEMO_NAMESPACE_URI} missing`);
-        const subscription = ClientSubscription.create(session, {
-            requestedPublishingInterval: 50,
-            requestedLifetimeCount: 600,
-            requestedMaxKeepAliveCount: 20,
-            maxNotificationsPerPublish: 100,
-            publishingEnabled: true,
-            priority: 1
-        });
-        await new Promise((resolve, reject) => {
-            subscription.once("started", resolve);
-            subscription.once("internal_error", reject);
-        });
+        const subscription = await startSubscription(session, 50);
 
         // (a) data change after a write
         const doubleId = stringNodeId(ns, "Demo.Double");
