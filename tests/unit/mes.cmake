@@ -9,3 +9,7 @@ target_link_libraries(test_mes_step_binding PRIVATE skillcell_mes)
 # The MES in the paper's work cell, every component a process (private network namespace).
 skillcell_cell_test(test_mes_cell mes/mes_cell_test.cpp)
 target_link_libraries(test_mes_cell PRIVATE skillcell_mes)
+
+# `skillcell mes` / `skillcell run` on bad input: exit codes and messages.
+add_test(NAME cli.mes
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mes/mes_cli_test.sh $<TARGET_FILE:skillcell>)
