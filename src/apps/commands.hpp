@@ -28,6 +28,8 @@ Command addKbCommand(CLI::App& app);
 /// `skillcell mes`: the semantic MES; `skillcell run`: hand it a process (src/mes).
 Command addMesCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
+/// `skillcell demo`: the paper's whole work cell, its process and its evaluation table.
+Command addDemoCommand(CLI::App& app);
 /// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq, schmalz).
 std::vector<Command> addDeviceCommands(CLI::App& app);
 

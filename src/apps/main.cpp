@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
         skillcell::apps::addDetectCommand(app), skillcell::apps::addPkiCommand(app),
         skillcell::apps::addUserCommand(app),   skillcell::apps::addNodeset2OwlCommand(app),
         skillcell::apps::addKbCommand(app),     skillcell::apps::addMesCommand(app),
-        skillcell::apps::addRunCommand(app),
+        skillcell::apps::addRunCommand(app),    skillcell::apps::addDemoCommand(app),
     };
     for (auto& device : skillcell::apps::addDeviceCommands(app)) commands.push_back(device);
 

@@ -269,11 +269,20 @@ kb::Expected<std::optional<RunRecord>> Journal::run(std::int64_t id) {
     return std::optional<RunRecord>(std::move(found->front()));
 }
 
-kb::Expected<std::optional<RunRecord>> Journal::unfinishedRun(const std::string& processIri) {
-    auto found = runs("process = ?1 AND state <> 'completed'", processIri, 0);
+kb::Expected<std::optional<RunRecord>> Journal::lastRun(const std::string& where,
+                                                        const std::string& processIri) {
+    auto found = runs(where, processIri, 0);
     if (!found) return found.failure();
     if (found->empty()) return std::optional<RunRecord>();
     return std::optional<RunRecord>(std::move(found->back()));
+}
+
+kb::Expected<std::optional<RunRecord>> Journal::unfinishedRun(const std::string& processIri) {
+    return lastRun("process = ?1 AND state <> 'completed'", processIri);
+}
+
+kb::Expected<std::optional<RunRecord>> Journal::latestRun(const std::string& processIri) {
+    return lastRun("process = ?1", processIri);
 }
 
 kb::Expected<std::vector<RunRecord>> Journal::unfinishedRuns() {

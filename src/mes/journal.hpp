@@ -85,6 +85,8 @@ public:
     /// The latest run of `processIri` that is not Completed, if any: the one to resume.
     [[nodiscard]] kb::Expected<std::optional<RunRecord>> unfinishedRun(
         const std::string& processIri);
+    /// The latest run of `processIri`, whatever its state (what a report shows).
+    [[nodiscard]] kb::Expected<std::optional<RunRecord>> latestRun(const std::string& processIri);
     /// Every run not Completed (for the MES's start-up report).
     [[nodiscard]] kb::Expected<std::vector<RunRecord>> unfinishedRuns();
 
@@ -98,6 +100,8 @@ public:
 private:
     [[nodiscard]] kb::Status exec(const std::string& sql);
     [[nodiscard]] kb::Error error(const std::string& what) const;
+    [[nodiscard]] kb::Expected<std::optional<RunRecord>> lastRun(const std::string& where,
+                                                                 const std::string& processIri);
     [[nodiscard]] kb::Expected<std::vector<RunRecord>> runs(const std::string& where,
                                                             const std::string& text,
                                                             std::int64_t number);

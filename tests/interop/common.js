@@ -34,7 +34,7 @@ function checkEndpointUrl(url, usage) {
 }
 
 // How connect() secures its connection. By default SecurityPolicy None and an anonymous
-// session; for servers with security on (scripts/main.sh), from the environment:
+// session; for servers with security on, from the environment:
 //   SKILLCELL_NODE_SECURITY     "SignAndEncrypt" or "Sign" (with Aes256_Sha256_RsaPss)
 //   SKILLCELL_NODE_CERTIFICATE  our certificate (DER file named *.der, or PEM), e.g. issued
 //   SKILLCELL_NODE_PRIVATE_KEY  by `skillcell pki issue` for NODE_CLIENT_URI; its key (PEM)

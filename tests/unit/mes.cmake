@@ -13,3 +13,8 @@ target_link_libraries(test_mes_cell PRIVATE skillcell_mes)
 # `skillcell mes` / `skillcell run` on bad input: exit codes and messages.
 add_test(NAME cli.mes
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mes/mes_cli_test.sh $<TARGET_FILE:skillcell>)
+
+# `skillcell demo` end to end: the whole cell, the process, world state, journal, table.
+add_test(NAME cli.demo
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mes/demo_test.sh $<TARGET_FILE:skillcell>)
+set_tests_properties(cli.demo PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 960)

@@ -340,6 +340,35 @@ Expected<ExitStatus> ChildProcess::wait(Duration timeout) {
     }
 }
 
+std::optional<std::string> ChildProcess::readLine(Duration timeout) {
+    const auto deadline = Clock::now() + timeout;
+    // Bounded: each pass returns, or reads what poll() saw, or waits at most until the
+    // deadline.
+    for (;;) {
+        if (const auto nl = out_.find('\n'); nl != std::string::npos) {
+            std::string line = out_.substr(0, nl);
+            out_.erase(0, nl + 1);
+            if (!line.empty() && line.back() == '\r') line.pop_back();
+            return line;
+        }
+        if (!outPipe_.valid()) return std::nullopt;
+        const auto left =
+            std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now()).count();
+        if (left <= 0) return std::nullopt;
+        pollfd fd{outPipe_.get(), POLLIN, 0};
+        const int ready = ::poll(&fd, 1, static_cast<int>(std::min<long long>(left, 60'000)));
+        if (ready < 0 && errno != EINTR) return std::nullopt;
+        if (ready <= 0) continue;
+        std::array<char, 4096> buffer{};
+        const ssize_t n = ::read(outPipe_.get(), buffer.data(), buffer.size());
+        if (n > 0) {
+            out_.append(buffer.data(), static_cast<std::size_t>(n));
+        } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
+            outPipe_.reset();  // the child closed its stdout (or it broke): what is left counts
+        }
+    }
+}
+
 Expected<ExitStatus> ChildProcess::terminate(Duration grace) {
     if (pid_ <= 0) return Error{"no process to terminate"};
     if (!running()) return *status_;

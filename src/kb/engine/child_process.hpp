@@ -93,6 +93,12 @@ public:
     /// SIGKILL and reap: the crash a supervisor must survive.
     Expected<ExitStatus> kill();
 
+    /// The next line the child wrote to a captured stdout (OutputSink::capture()), without
+    /// its '\n', taken out of capturedStdout(): for children that report on stdout while they
+    /// run (a component's READY line). Nothing when no whole line came within `timeout` or
+    /// the child closed its stdout.
+    [[nodiscard]] std::optional<std::string> readLine(Duration timeout);
+
     /// Output captured so far (OutputSink::capture()); complete once wait() has succeeded.
     [[nodiscard]] const std::string& capturedStdout() const { return out_; }
     [[nodiscard]] const std::string& capturedStderr() const { return err_; }

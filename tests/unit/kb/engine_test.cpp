@@ -76,6 +76,21 @@ TEST(ChildProcess, ReportsExitCodesAndCapturesOutput) {
     EXPECT_FALSE(child->running());
 }
 
+TEST(ChildProcess, ReadsStdoutLineByLineWhileTheChildRuns) {
+    ProcessOptions options;
+    options.stdoutTo = OutputSink::capture();
+    auto child = ChildProcess::start(
+        {"sh", "-c", "echo 'READY a'; printf 'b\\r\\npart'; exec sleep 60"}, options);
+    ASSERT_TRUE(child) << child.error();
+    EXPECT_EQ(child->readLine(10s), "READY a");
+    EXPECT_EQ(child->readLine(10s), "b") << "a CR before the LF is not part of the line";
+    const auto t0 = Clock::now();
+    EXPECT_EQ(child->readLine(200ms), std::nullopt) << "no whole line: the wait is bounded";
+    EXPECT_LT(msSince(t0), 3000);
+    ASSERT_TRUE(child->terminate(5s));
+    EXPECT_EQ(child->readLine(10s), std::nullopt) << "stdout closed, half a line left";
+}
+
 TEST(ChildProcess, PassesWorkingDirectoryAndEnvironment) {
     TempDir dir;
     ProcessOptions options;

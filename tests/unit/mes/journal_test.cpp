@@ -1,6 +1,6 @@
 // The MES's journal: what it records survives closing and reopening the file, the run to
-// resume is the latest unfinished one of its process, and a file that is not a journal is
-// refused with its name.
+// resume is the latest unfinished one of its process (the one a report shows is the latest
+// of any state), and a file that is not a journal is refused with its name.
 #include "mes/journal.hpp"
 
 #include <gtest/gtest.h>
@@ -93,9 +93,16 @@ TEST_F(JournalTest, TheRunToResumeIsTheLatestUnfinishedOneOfItsProcess) {
     auto a = journal.unfinishedRun("urn:a");
     ASSERT_TRUE(a && *a);
     EXPECT_EQ((*a)->id, a2);
+    ASSERT_TRUE(journal.setRunState(a2, RunState::Completed, {}));
+    auto latest = journal.latestRun("urn:a");
+    ASSERT_TRUE(latest && *latest);
+    EXPECT_EQ((*latest)->id, a2) << "the latest run, completed or not";
+    auto nothing = journal.latestRun("urn:never-run");
+    ASSERT_TRUE(nothing);
+    EXPECT_FALSE(*nothing);
     auto all = journal.unfinishedRuns();
     ASSERT_TRUE(all);
-    EXPECT_EQ(all->size(), 2U);
+    EXPECT_EQ(all->size(), 1U);
     EXPECT_FALSE(journal.setRunState(9999, RunState::Completed, {})) << "no such run";
 }
 

@@ -1,0 +1,49 @@
+#pragma once
+// CellProcess: one component of a cell run by `skillcell demo`, as a child process of ours:
+// the skillcell program with a subcommand (`lds`, `kb`, `device ur5`, ...), its log (stderr)
+// in a file of its own, and what it reports on stdout before it serves ("SPARQL <url>", then
+// "READY <url>"). It is stopped with SIGTERM when it goes (kb::engine::ChildProcess), so a
+// demo that fails leaves no component behind.
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kb/engine/child_process.hpp"
+#include "kb/expected.hpp"
+
+namespace skillcell::apps {
+
+class CellProcess {
+public:
+    /// Starts `argv` (argv[0] the skillcell program) with `env` added to its environment and
+    /// its stderr appended to `log`, and reads its stdout until the READY line, at most
+    /// `timeout`. The error says why it did not come (and where the log is).
+    [[nodiscard]] static kb::Expected<CellProcess> start(
+        std::string name, const std::vector<std::string>& argv,
+        const std::vector<std::pair<std::string, std::string>>& env,
+        const std::filesystem::path& log, std::chrono::milliseconds timeout);
+
+    [[nodiscard]] const std::string& name() const { return name_; }
+    /// The endpoint of its READY line.
+    [[nodiscard]] const std::string& url() const { return url_; }
+    /// The value of a "KEY value" line it printed before READY ("SPARQL"), or empty.
+    [[nodiscard]] std::string reported(const std::string& key) const;
+    [[nodiscard]] pid_t pid() const { return process_.pid(); }
+
+    /// SIGTERM, at most `grace` to end, then SIGKILL; how it ended.
+    kb::Expected<kb::engine::ExitStatus> stop(std::chrono::milliseconds grace);
+
+private:
+    CellProcess(std::string name, kb::engine::ChildProcess process)
+        : name_(std::move(name)), process_(std::move(process)) {}
+
+    std::string name_;
+    kb::engine::ChildProcess process_;
+    std::string url_;
+    std::map<std::string, std::string> reported_;
+};
+
+}  // namespace skillcell::apps
