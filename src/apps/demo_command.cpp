@@ -37,6 +37,7 @@
 #include "cell_process.hpp"
 #include "client_security_options.hpp"
 #include "commands.hpp"
+#include "devices/world/world_link.hpp"
 #include "mes/journal.hpp"
 #include "private_network.hpp"
 #include "skill_detection_clock.hpp"
@@ -57,6 +58,7 @@ struct DemoOptions {
     std::string bootProfile = "tinyua";
     int runs = 5;
     bool keepRunning = false;
+    bool swap = false;
     std::string workDir;
     double processTimeoutSeconds = 900;
 };
@@ -167,7 +169,8 @@ bool writeSecret(const fs::path& file, const std::string& text) {
 }
 
 /// The cell's security: a CA that issues every component's certificate, and the users: the
-/// operator who hands the MES a process, and "cell", whom the components act as.
+/// operator who hands the MES a process, "cell", whom the components act as, and the engineer
+/// who changes the cell's setup (--swap).
 bool prepareSecurity(const fs::path& dir, std::string* error) {
     ua::pki::CaOptions ca;
     ca.name = "skillcell demo cell CA";
@@ -178,9 +181,12 @@ bool prepareSecurity(const fs::path& dir, std::string* error) {
         *error = why;
         return false;
     }
-    for (const char* name : {"operator", "cell"}) {
+    const std::pair<const char*, ua::Role> roles[] = {{"operator", ua::Role::Operator},
+                                                      {"cell", ua::Role::Operator},
+                                                      {"engineer", ua::Role::Engineer}};
+    for (const auto& [name, role] : roles) {
         const std::string password = std::string(name) + "-" + std::to_string(::getpid());
-        if (users->setPassword(name, ua::RoleSet{ua::Role::Operator}, password).isBad() ||
+        if (users->setPassword(name, ua::RoleSet{role}, password).isBad() ||
             !writeSecret(dir / (std::string(name) + ".pw"), password)) {
             *error = std::string("cannot create the user ") + name;
             return false;
@@ -223,6 +229,8 @@ private:
     bool startInfrastructure();
     bool measure(MeasuredComponent& m, const Interruption& interruption);
     int runProcess(const Interruption& interruption);
+    /// --swap: an engineer takes the Robotiq gripper out of its dock and puts a DH AG-95 in.
+    bool swapParallelGripper();
     void showWorld();
     void showJournal();
     void showDetectionTable(const std::vector<MeasuredComponent>& measured) const;
@@ -231,6 +239,7 @@ private:
     const DemoOptions& o_;
     WorkDirectory& work_;
     std::string skillcell_;
+    std::optional<ApplicationIdentity> identity_;  // the demo's own, from the cell CA
     std::unique_ptr<SkillDetectionClock> clock_;
     std::vector<CellProcess> running_;  // in start order
     std::string worldUrl_;
@@ -315,14 +324,21 @@ bool DemoCell::startInfrastructure() {
         300s);
     if (kb) sparqlUrl_ = kb->reported("SPARQL");
     if (!keep(std::move(kb), "  SPARQL " + sparqlUrl_)) return false;
-    auto world = startProcess(
-        "world",
-        args({"device", "world", "--dock", "dockP@0.3,-0.45,0.35,3.141592653589793,0,0", "--dock",
-              "dockV@0.45,-0.3,0.35,3.141592653589793,0,0", "--tool", "parallel:dockP@0,0,0.15",
-              "--tool", "vacuum:dockV@0,0,0.12", "--object", "boxA:0.04,0.1,0.05@0.45,0.15,0.025",
-              "--object", "boxB:0.04,0.04,0.04@0.45,-0.05,0.02"},
-             "world", false),
-        30s);
+    std::vector<std::string> scene = {"device",   "world",
+                                      "--dock",   "dockP@0.3,-0.45,0.35,3.141592653589793,0,0",
+                                      "--dock",   "dockV@0.45,-0.3,0.35,3.141592653589793,0,0",
+                                      "--tool",   "parallel:dockP@0,0,0.15",
+                                      "--tool",   "vacuum:dockV@0,0,0.12",
+                                      "--object", "boxA:0.04,0.1,0.05@0.45,0.15,0.025",
+                                      "--object", "boxB:0.04,0.04,0.04@0.45,-0.05,0.02"};
+    if (o_.swap) {
+        // A shelf beside the cell with the other parallel gripper (a DH AG-95, 1 cm longer),
+        // and a free place for the Robotiq when it is taken out.
+        scene.insert(scene.end(), {"--dock", "shelf1@0.1,-0.6,0.35,3.141592653589793,0,0", "--dock",
+                                   "shelf2@0.0,-0.6,0.35,3.141592653589793,0,0", "--tool",
+                                   "ag95:shelf1@0,0,0.16"});
+    }
+    auto world = startProcess("world", args(std::move(scene), "world", false), 30s);
     if (world) worldUrl_ = world->url();
     return keep(std::move(world));
 }
@@ -430,6 +446,37 @@ int DemoCell::runProcess(const Interruption& interruption) {
     return status && status->success() ? 0 : 1;
 }
 
+bool DemoCell::swapParallelGripper() {
+    std::string error;
+    ClientUserOptions engineer;
+    engineer.name = "engineer";
+    engineer.passwordFile = (dir() / "engineer.pw").string();
+    auto security = componentClientSecurity(*identity_, engineer, false, &error);
+    if (!security) {
+        std::cerr << "demo: " << error << "\n";
+        return false;
+    }
+    ua::ClientConfig config;
+    config.applicationUri = "urn:skillcell:demo";
+    config.sessionName = "engineer";
+    config.security = *security;
+    auto world = devices::WorldLink::connect(worldUrl_, std::move(config));
+    if (!world) {
+        std::cerr << "demo: cannot reach the world model: " << ua::statusName(world.status())
+                  << "\n";
+        return false;
+    }
+    for (const auto& [tool, dock] : {std::pair{"parallel", "shelf2"}, std::pair{"ag95", "dockP"}}) {
+        if (const auto s = (*world)->moveTool(tool, dock); s.isBad()) {
+            std::cerr << "demo: moving " << tool << " to " << dock << ": " << ua::statusName(s)
+                      << " (see " << work_.log("world").string() << ")\n";
+            return false;
+        }
+        std::printf("  %s -> %s\n", tool, dock);
+    }
+    return true;
+}
+
 void DemoCell::showWorld() {
     auto browse =
         kb::engine::runToCompletion({skillcell_, "browse", worldUrl_, "--values", "--pki-dir",
@@ -521,7 +568,8 @@ int DemoCell::run(const Interruption& interruption) {
     }
     // The demo's own detector: a client of the cell like any component, with a certificate of
     // the cell CA, acting as "cell".
-    auto identity = commission("demo", "urn:skillcell:demo", &error);
+    identity_ = commission("demo", "urn:skillcell:demo", &error);
+    const auto& identity = identity_;
     if (!identity) {
         std::cerr << "demo: " << error << "\n";
         return 1;
@@ -557,7 +605,8 @@ int DemoCell::run(const Interruption& interruption) {
              {"toolchanger", "urn:skillcell:device:kelvin-toolchanger"},
              {"ur5", "urn:skillcell:device:ur5"},
              {"pickplace", "urn:skillcell:device:pick-and-place"},
-             {"mes", "urn:skillcell:mes"}}) {
+             {"mes", "urn:skillcell:mes"},
+             {"ag95", "urn:skillcell:device:dh-ag95"}}) {
         if (!commission(name, uri, &error)) {
             std::cerr << "demo: the certificate of " << name << ": " << error << "\n";
             return 1;
@@ -570,6 +619,28 @@ int DemoCell::run(const Interruption& interruption) {
     const std::string speed = std::to_string(o_.speed);
     const std::string detectionTimeout = std::to_string(o_.bootProfile == "none" ? 20'000 : 60'000);
     std::vector<MeasuredComponent> measured;
+    std::vector<std::string> changerArgs = {
+        "device",
+        "toolchanger",
+        "--world",
+        worldUrl_,
+        "--detection-timeout-ms",
+        detectionTimeout,
+        "--tool",
+        "parallel:1.0-1.5:urn:skillcell:device:robotiq-2f85",
+        "--tool",
+        "vacuum:2.0-2.5:urn:skillcell:device:schmalz-ecbpi",
+        "--power",
+        "parallel=" + adapterCommand("robotiq", "--grip-offset 0,0,0.15"),
+        "--power",
+        "vacuum=" + adapterCommand("schmalz", "")};
+    if (o_.swap) {
+        // The changer's table knows the AG-95's coding resistor and its adapter; nothing else
+        // in the cell (not the process, not the MES) hears of it.
+        changerArgs.insert(changerArgs.end(),
+                           {"--tool", "ag95:3.0-3.5:urn:skillcell:device:dh-ag95", "--power",
+                            "ag95=" + adapterCommand("ag95", "--grip-offset 0,0,0.16")});
+    }
     // name, label, application URI, the paper's figure, stays up for the process; arguments.
     auto add = [&](const char* name, const char* label, const char* uri, double paperMs, bool stays,
                    std::vector<std::string> head) {
@@ -591,11 +662,7 @@ int DemoCell::run(const Interruption& interruption) {
         {"device", "schmalz", "--world", worldUrl_, "--speed", speed, "--boot-profile",
          o_.bootProfile});
     add("toolchanger", "tool changer", "urn:skillcell:device:kelvin-toolchanger", 253, true,
-        {"device", "toolchanger", "--world", worldUrl_, "--detection-timeout-ms", detectionTimeout,
-         "--tool", "parallel:1.0-1.5:urn:skillcell:device:robotiq-2f85", "--tool",
-         "vacuum:2.0-2.5:urn:skillcell:device:schmalz-ecbpi", "--power",
-         "parallel=" + adapterCommand("robotiq", "--grip-offset 0,0,0.15"), "--power",
-         "vacuum=" + adapterCommand("schmalz", "")});
+        changerArgs);
     add("ur5", "UR5", "urn:skillcell:device:ur5", 313, true,
         {"device", "ur5", "--world", worldUrl_, "--speed", speed});
     add("pickplace", "pick-and-place", "urn:skillcell:device:pick-and-place", 211, true,
@@ -628,8 +695,24 @@ int DemoCell::run(const Interruption& interruption) {
     running_.push_back(std::move(*mes));
 
     std::printf("\n== the operator hands the MES the paper's process %s\n", kProcessIri);
-    const int outcome = runProcess(interruption);
+    int outcome = runProcess(interruption);
     if (interruption.requested()) return 130;
+    if (o_.swap && outcome == 0) {
+        std::printf(
+            "\n== Plug & Produce: an engineer takes the Robotiq 2F-85 out of dockP and puts a DH "
+            "AG-95 in;\n   the operator runs the same process again (no change to it or to the "
+            "MES)\n");
+        const auto swapped = Clock::now();
+        if (!swapParallelGripper()) return 1;
+        outcome = runProcess(interruption);
+        if (interruption.requested()) return 130;
+        const auto ag95 = clock_->waitAppeared("urn:skillcell:device:dh-ag95", swapped, 0ms);
+        std::printf("  the parallel gripper of this run: %s\n",
+                    ag95 ? "the DH AG-95 (urn:skillcell:device:dh-ag95), powered by the tool "
+                           "changer and detected"
+                         : "NOT the DH AG-95: its skills never appeared");
+        if (!ag95) outcome = 1;
+    }
 
     std::printf("\n== the world model afterwards: where the boxes are, which tool is mounted\n");
     showWorld();
@@ -725,6 +808,9 @@ Command addDemoCommand(CLI::App& app) {
     cmd->add_option("--runs", o->runs, "starts of each component for the detection times")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
+    cmd->add_flag("--swap", o->swap,
+                  "Plug & Produce: after the process, swap the Robotiq gripper in its dock for a "
+                  "DH AG-95 and run the same process again");
     cmd->add_flag("--keep-running", o->keepRunning,
                   "keep the cell running after the process, for inspection, until Ctrl-C");
     cmd->add_option("--work-dir", o->workDir,

@@ -167,6 +167,10 @@ asio::awaitable<int> runProcess(ua::Client& client, const RunOptions& o) {
     // Progress: the MES's Progress variable, one line per change (queued, so that quick
     // changes between two publishes are all shown).
     auto shown = std::make_shared<std::string>();
+    // What Progress says now is the previous run's end: not this run's progress.
+    if (auto before = co_await client.readValue(mes::progressVariable("Progress"))) {
+        if (const auto* line = before->get<ua::String>()) *shown = *line;
+    }
     ua::SubscriptionSettings settings(50, 600, 10);
     auto subscription = co_await client.createSubscription(settings);
     if (subscription) {

@@ -108,6 +108,33 @@ TEST(DeviceWorld, ToolsAreTakenAndLeftOnlyAtTheirDock) {
     EXPECT_EQ(w.unmountTool("dock1"), BadInvalidState);  // nothing mounted
 }
 
+TEST(DeviceWorld, APersonMovesAStoredToolToAFreeDockButNotAMountedOne) {
+    World w = cell();
+    std::string why;
+    ASSERT_EQ(w.addDock({"shelf", at(0.6, -0.4, 0.3, M_PI, 0, 0), {}}), Good);
+    ASSERT_EQ(w.addDock({"shelf2", at(0.7, -0.4, 0.3, M_PI, 0, 0), {}}), Good);
+    ASSERT_EQ(w.addTool({"other", at(0, 0, 0.16)}, "shelf"), Good);
+    EXPECT_EQ(w.moveTool("gripper", "shelf", &why), BadInvalidState);  // occupied
+    EXPECT_NE(why.find("holds tool other"), std::string::npos) << why;
+    EXPECT_EQ(w.moveTool("nothing", "shelf2"), BadNotFound);
+    EXPECT_EQ(w.moveTool("gripper", "nowhere"), BadNotFound);
+    // The swap: the gripper out of dock1, the other model in.
+    const auto before = w.revision();
+    EXPECT_EQ(w.moveTool("gripper", "shelf2"), Good);
+    EXPECT_EQ(w.moveTool("other", "dock1"), Good);
+    EXPECT_GT(w.revision(), before);
+    EXPECT_EQ(w.docks().at("dock1").tool, "other");
+    EXPECT_EQ(w.docks().at("shelf2").tool, "gripper");
+    EXPECT_TRUE(w.docks().at("shelf").tool.empty());
+    // The changer now takes the other model from dock1, with its own grip point.
+    w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0));
+    ASSERT_EQ(w.mountTool("dock1"), Good);
+    EXPECT_EQ(w.mountedTool(), "other");
+    EXPECT_NEAR(w.gripPoint().p.z(), 0.3 - 0.16, 1e-9);
+    EXPECT_EQ(w.moveTool("other", "shelf", &why), BadInvalidState);  // mounted
+    EXPECT_NE(why.find("mounted"), std::string::npos) << why;
+}
+
 TEST(DeviceWorld, AGraspedObjectMovesWithTheFlangeAndAReleasedOneStays) {
     World w = cell();
     std::string why;
@@ -166,6 +193,10 @@ TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
     EXPECT_EQ(w.addObject("bad", {0.04, -1, 0.04}, at(0.5, 0.1, 0.02)), BadInvalidArgument);
     EXPECT_EQ(w.addDock("dock1", at(0.3, -0.4, 0.3, M_PI, 0, 0)), Good);
     EXPECT_EQ(w.addTool("gripper", "dock1", at(0, 0, 0.15)), Good);
+    EXPECT_EQ(w.addDock("shelf", at(0.6, -0.4, 0.3, M_PI, 0, 0)), Good);
+    EXPECT_EQ(w.moveTool("gripper", "shelf"), Good);  // and back: a swap, by a person
+    EXPECT_EQ(w.moveTool("gripper", "nowhere"), ua::status::BadNotFound);
+    EXPECT_EQ(w.moveTool("gripper", "dock1"), Good);
 
     EXPECT_EQ(w.mountTool("dock1"), BadInvalidState);
     EXPECT_EQ(w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0)), Good);

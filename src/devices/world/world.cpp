@@ -77,6 +77,27 @@ ua::StatusCode World::addTool(Tool tool, const std::string& dockId, std::string*
     return ua::status::Good;
 }
 
+ua::StatusCode World::moveTool(const std::string& toolId, const std::string& dockId,
+                               std::string* why) {
+    if (!tools_.contains(toolId)) return fail(ua::status::BadNotFound, why, "no tool " + toolId);
+    const auto to = docks_.find(dockId);
+    if (to == docks_.end()) return fail(ua::status::BadNotFound, why, "no dock " + dockId);
+    if (mounted_ == toolId) {
+        return fail(ua::status::BadInvalidState, why, "tool " + toolId + " is mounted");
+    }
+    if (to->second.tool == toolId) return ua::status::Good;  // there already
+    if (!to->second.tool.empty()) {
+        return fail(ua::status::BadInvalidState, why,
+                    "dock " + dockId + " holds tool " + to->second.tool);
+    }
+    for (auto& [id, dock] : docks_) {
+        if (dock.tool == toolId) dock.tool.clear();
+    }
+    to->second.tool = toolId;
+    ++revision_;
+    return ua::status::Good;
+}
+
 ua::StatusCode World::removeObject(const std::string& id, std::string* why) {
     if (!objects_.contains(id)) return fail(ua::status::BadNotFound, why, "no object " + id);
     if (grasped_ == id) {

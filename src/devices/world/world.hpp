@@ -58,6 +58,11 @@ public:
     /// A tool, stored in `dockId` (BadNotFound for an unknown dock, BadInvalidState for an
     /// occupied one).
     ua::StatusCode addTool(Tool tool, const std::string& dockId, std::string* why = nullptr);
+    /// A person moves a stored tool to another, free dock (a tool swapped for another model
+    /// in the dock the process uses). BadNotFound for an unknown tool or dock;
+    /// BadInvalidState for a mounted tool or an occupied dock.
+    ua::StatusCode moveTool(const std::string& toolId, const std::string& dockId,
+                            std::string* why = nullptr);
     /// Removes an object that is not grasped (BadNotFound, BadInvalidState).
     ua::StatusCode removeObject(const std::string& id, std::string* why = nullptr);
 

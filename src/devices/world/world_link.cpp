@@ -66,6 +66,11 @@ ua::StatusCode WorldLink::addTool(const std::string& toolId, const std::string& 
                                      ua::Variant(ua::String(dockId)), frameToVariant(gripPoint)}));
 }
 
+ua::StatusCode WorldLink::moveTool(const std::string& toolId, const std::string& dockId) {
+    return statusOf(
+        call("MoveTool", {ua::Variant(ua::String(toolId)), ua::Variant(ua::String(dockId))}));
+}
+
 ua::Result<std::optional<WorldLink::Found>> WorldLink::objectAtGripPoint() {
     const auto out = call("ObjectAtGripPoint", {});
     if (!out) return out.status();

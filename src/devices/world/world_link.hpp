@@ -34,6 +34,8 @@ public:
     ua::StatusCode addDock(const std::string& id, const KDL::Frame& pose);
     ua::StatusCode addTool(const std::string& id, const std::string& dockId,
                            const KDL::Frame& gripPoint);
+    /// A person moves a stored tool to a free dock (World::moveTool).
+    ua::StatusCode moveTool(const std::string& id, const std::string& dockId);
 
     struct Found {
         std::string objectId;

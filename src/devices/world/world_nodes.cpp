@@ -140,6 +140,15 @@ StatusCode WorldNodes::build() {
              if (!grip) return grip.status();
              return world_.addTool(Tool{stringArg(in[0]), *grip}, stringArg(in[1]), &why);
          }});
+    methods.push_back(
+        {"MoveTool",
+         ua::Role::Engineer,  // the cell's setup changes: a person swaps a tool in its dock
+         {arg("Id", kString, "a stored (not mounted) tool"),
+          arg("DockId", kString, "the free dock it is put in")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             return world_.moveTool(stringArg(in[0]), stringArg(in[1]), &why);
+         }});
     methods.push_back({"SetFlangePose",
                        ua::Role::Operator,
                        {arg("Pose", kFrame, "the robot flange in the base frame")},

@@ -6,8 +6,8 @@
 //   World/Objects/<id>/Pose (3DFrame), Size (Double[3])
 //   World/Tools/<id>/GripPoint (3DFrame)
 //   World/Docks/<id>/Pose (3DFrame), Tool (String)
-//   methods on World: AddObject, AddDock, AddTool, SetFlangePose, MountTool, UnmountTool,
-//   Grasp, Release, ObjectAtGripPoint
+//   methods on World: AddObject, AddDock, AddTool, MoveTool, SetFlangePose, MountTool,
+//   UnmountTool, Grasp, Release, ObjectAtGripPoint
 //
 // Every change goes through a method, so the World's consistency checks decide it; a
 // refused change answers the World's status code (BadNotFound, BadInvalidState, ...) and

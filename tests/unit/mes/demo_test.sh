@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # `skillcell demo` end to end, as the README's main command runs it but quick (high speed, no
-# boot profile, one detection run per component): the whole cell starts as processes, the
-# paper's process completes, and the evidence holds:
+# boot profile, one detection run per component) and with --swap: the whole cell starts as
+# processes, the paper's process completes; an engineer swaps the Robotiq gripper in its dock
+# for a DH AG-95, and the same process completes again with it. The evidence holds:
 #   - the world model: box A and box B at the process's target poses, no tool mounted;
-#   - the MES's journal: the 5 steps, each finished at its first attempt;
+#   - the MES's journal: two completed runs, each of 5 steps finished at the first attempt;
+#   - the AG-95's adapter was powered and detected in the second run;
 #   - the detection table: a row per measured component with the paper's figure.
 # The demo makes its own network namespace (root). Without root the test is skipped (77),
 # unless SKILLCELL_REQUIRE_NETNS=1, as in CI.
@@ -26,25 +28,32 @@ fail() {
 }
 
 rc=0
-timeout 900 "$skillcell" demo --speed 50 --boot-profile none --runs 1 --work-dir "$tmp/work" \
-  >"$tmp/out" 2>&1 || rc=$?
+timeout 900 "$skillcell" demo --speed 50 --boot-profile none --runs 1 --swap \
+  --work-dir "$tmp/work" >"$tmp/out" 2>&1 || rc=$?
 cat "$tmp/out"
 [ "$rc" = 0 ] || fail "skillcell demo exited $rc"
 
 expect() { grep -qE -- "$1" "$tmp/out" || fail "missing in the demo's output: $1"; }
-expect 'outcome: Finished'
+[ "$(grep -c 'outcome: Finished' "$tmp/out")" = 2 ] || fail "not two runs that finished"
+expect 'the parallel gripper of this run: the DH AG-95'
 # The world model's poses: x y z (m) and angles; the targets of models/owl/demo-process.ttl.
 expect 'World/Objects/boxA/Pose.*0\.25(0*)?[ ,;].*0\.35(0*)?[ ,;].*0\.025'
 expect 'World/Objects/boxB/Pose.*0\.25(0*)?[ ,;].*-0\.2(0*)?[ ,;].*0\.02'
-grep -E 'World/MountedTool' "$tmp/out" | grep -qvE 'parallel|vacuum' || fail "a tool is still mounted"
+grep -E 'World/MountedTool' "$tmp/out" | grep -qvE 'parallel|vacuum|ag95' || fail "a tool is still mounted"
 for row in 'UR5 .* 313$' 'pick-and-place .* 211$' 'tool changer .* 253$' \
   'Robotiq adapter .* 8422$' 'Schmalz adapter .* 9635$'; do
   expect "$row"
 done
 
-# The journal, read by SQLite itself: steps 1..5, one attempt each, all finished.
-steps=$(sqlite3 "$tmp/work/journal.sqlite" \
-  "SELECT group_concat(idx || ':' || attempt || ':' || state, ' ') FROM (SELECT * FROM steps ORDER BY idx, attempt)")
-[ "$steps" = "1:1:finished 2:1:finished 3:1:finished 4:1:finished 5:1:finished" ] ||
-  fail "journal steps: $steps"
+# The journal, read by SQLite itself: two completed runs, each of steps 1..5, one attempt
+# each, all finished.
+journal=$tmp/work/journal.sqlite
+runs=$(sqlite3 "$journal" "SELECT group_concat(state, ' ') FROM (SELECT state FROM runs ORDER BY id)")
+[ "$runs" = "completed completed" ] || fail "journal runs: $runs"
+for run in 1 2; do
+  steps=$(sqlite3 "$journal" "SELECT group_concat(idx || ':' || attempt || ':' || state, ' ') \
+    FROM (SELECT * FROM steps WHERE run = $run ORDER BY idx, attempt)")
+  [ "$steps" = "1:1:finished 2:1:finished 3:1:finished 4:1:finished 5:1:finished" ] ||
+    fail "journal steps of run $run: $steps"
+done
 echo "ok"
