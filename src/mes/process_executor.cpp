@@ -175,6 +175,11 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri)
         if (last != nullptr &&
             (last->state == StepState::Starting || last->state == StepState::Running)) {
             // The MES stopped while this step was being started or run: ask its skill.
+            p.component = last->componentUri;
+            p.skill = last->skillNodeId;
+            p.state = "checking";
+            p.message = "the MES stopped during this step: asking the skill what became of it";
+            report(p);
             auto [settled, why] = co_await settle(*last, generation);
             StepRecord r = *last;
             r.endedMs = unixMillis();

@@ -45,9 +45,11 @@ inline void PrintTo(const ParallelGripperModel& model, std::ostream* out) {
 struct SimulatedCell {
     /// `objects`: `--object` specs for the world model. `vacuumPowered` false: the changer
     /// has no adapter process for the vacuum gripper (as if its adapter were unplugged).
+    /// `robotSpeed`: the UR5's --speed (lower: its motions, and the skills using them, last
+    /// longer).
     SimulatedCell(const std::string& binary, const std::vector<std::string>& objects,
                   bool withPickAndPlace, ParallelGripperModel parallel = kRobotiq2f85,
-                  bool vacuumPowered = true)
+                  bool vacuumPowered = true, const std::string& robotSpeed = "50")
         : parallelUri(parallel.applicationUri) {
         std::vector<std::string> args = {"world",
                                          "--dock",
@@ -87,7 +89,7 @@ struct SimulatedCell {
             pickplace = start(
                 binary, {"pickplace", "--world", world->url(), "--detection-timeout-ms", "5000"});
         }
-        robot = start(binary, {"ur5", "--speed", "50", "--world", world->url()});
+        robot = start(binary, {"ur5", "--speed", robotSpeed, "--world", world->url()});
     }
     ~SimulatedCell() {
         // The changer powers the tools off when it stops; then their PKI directories go.

@@ -3,8 +3,9 @@
 // UR5, tool changer with both grippers' adapters, pick and place, and `skillcell mes`.
 // `skillcell run` hands it the demo process; the test checks the world (both boxes at their
 // targets, no tool mounted) and the journal (every step run exactly once). Then the faults:
-// the MES killed mid-process and restarted, and the vacuum gripper's adapter missing until
-// the process has stopped for want of it.
+// the MES killed mid-process and restarted (after its step's skill ended, and while that skill
+// still runs), and the vacuum gripper's adapter missing until the process has stopped for want
+// of it.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -18,6 +19,7 @@
 #include "mes/journal.hpp"
 #include "simulated_cell.hpp"
 #include "temp_dir.hpp"
+#include "ua/client/blocking_client.hpp"
 
 namespace skillcell::mes {
 namespace {
@@ -196,6 +198,59 @@ TEST_F(MesCell, AKilledMesResumesWhereItStoppedRunningEveryStepOnce) {
         ASSERT_NE(run->lastAttempt(i), nullptr);
         EXPECT_EQ(run->lastAttempt(i)->state, StepState::Finished) << i;
     }
+}
+
+TEST_F(MesCell, AMesRestartedWhileItsSkillStillRunsWaitsForThatRunInsteadOfStartingAnother) {
+    // A slow robot: the first pick and place runs for seconds, long enough to kill the MES
+    // while it runs and start another one.
+    test::SimulatedCell cell(SKILLCELL_BINARY, kBoxes, true, test::kRobotiq2f85, true, "4");
+    ASSERT_TRUE(cell.ready());
+    startMes();
+    ASSERT_FALSE(mes_->url().empty());
+    auto first = std::async(std::launch::async, runProcess, mes_->url());
+
+    // Kill the MES once the pick-and-place skill runs step 2.
+    ua::BlockingClient observer;
+    ASSERT_TRUE(observer.connect(cell.pickplace->url()).isGood());
+    const ua::NodeId state(1, ua::String("Skills/PickAndPlace/CurrentState"));
+    bool killed = false;
+    for (int i = 0; i < 1200 && !killed; ++i) {  // bounded: 120 s
+        const auto run = lastRun();
+        const auto value = observer.readValue(state);
+        const auto* text = value.ok() ? value->get<ua::LocalizedText>() : nullptr;
+        if (run && run->lastAttempt(2) != nullptr && text != nullptr && text->text == "Running") {
+            EXPECT_EQ(mes_->kill(SIGKILL) != -1, true);
+            killed = true;
+            break;
+        }
+        std::this_thread::sleep_for(100ms);  // a bounded poll of the journal and the skill
+    }
+    ASSERT_TRUE(killed) << "step 2 never ran";
+    const RunResult lost = first.get();
+    EXPECT_EQ(lost.exitCode, 1) << lost.output;
+
+    startMes();
+    ASSERT_FALSE(mes_->url().empty());
+    const RunResult result = runProcess(mes_->url());
+    EXPECT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_NE(result.output.find("finished (after a restart of the MES)"), std::string::npos)
+        << result.output;
+    const auto value = observer.readValue(state);
+    (void)observer.disconnect();
+
+    auto link = devices::WorldLink::connect(cell.world->url());
+    ASSERT_TRUE(link.ok());
+    expectAt(**link, "boxA", 0.25, 0.35, 0.025);
+    expectAt(**link, "boxB", 0.25, -0.2, 0.02);
+    const auto run = lastRun();
+    ASSERT_TRUE(run);
+    EXPECT_EQ(run->state, RunState::Completed);
+    const StepRecord* step2 = run->lastAttempt(2);
+    ASSERT_NE(step2, nullptr);
+    EXPECT_EQ(step2->attempt, 1) << "the running attempt was adopted, not started again";
+    EXPECT_EQ(step2->state, StepState::Finished);
+    EXPECT_EQ(step2->reason, "finished (after a restart of the MES)");
+    for (int i = 1; i <= 5; ++i) EXPECT_EQ(runsOf(*run, i), 1) << "step " << i;
 }
 
 TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
