@@ -8,7 +8,9 @@
 //   - Objects/KnowledgeBase on its OPC UA server: Query(Query, Accept) -> (Result,
 //     ContentType) for Observers, Update(Update) for Engineers;
 //   - discovery-driven loading: every component discovery finds gets a graph with its skills
-//     (kb/component_graph.hpp), kept current as skills come and go.
+//     and their parameter values as read from it (kb/component_graph.hpp,
+//     kb/component_reader.hpp), kept current as skills come and go, and the models of every
+//     namespace in its NamespaceArray that --models holds.
 // Prints "SPARQL <url>" once the endpoint listens, then the server process's "READY <url>".
 #include <spdlog/spdlog.h>
 
@@ -24,6 +26,7 @@
 
 #include "commands.hpp"
 #include "kb/component_graph.hpp"
+#include "kb/component_reader.hpp"
 #include "kb/engine/konclude_reasoner.hpp"
 #include "kb/engine/virtuoso_instance.hpp"
 #include "kb/http/http_server.hpp"
@@ -142,10 +145,11 @@ ua::StatusCode addKnowledgeBaseNodes(ua::AddressSpace& as, kb::KnowledgeBase& kn
 // What the KB runs while its server runs: the HTTP endpoint, the workers that call the
 // store off the I/O thread, and discovery-driven loading.
 struct KbComponent {
-    KbComponent(kb::KnowledgeBase& knowledge, bool httpWrites)
-        : endpoint(knowledge, httpWrites), kb(knowledge) {}
+    KbComponent(kb::KnowledgeBase& knowledge, bool httpWrites, ua::ClientConfig readerConfig)
+        : endpoint(knowledge, httpWrites), kb(knowledge), reader(std::move(readerConfig)) {}
     ~KbComponent() {
         stopping = true;  // queued discovery jobs end at once: the KB is going
+        reader.cancel();  // and a component being read is dropped
         if (detector) detector->unsubscribe(subscription);
         if (http) http->stop();
         workers.join();  // before the KB goes: jobs use it
@@ -159,6 +163,7 @@ struct KbComponent {
     // Discovery jobs one after another, in the order the events came.
     asio::strand<asio::thread_pool::executor_type> loads{asio::make_strand(workers)};
     kb::ComponentGraphs graphs;  // used on `loads` only
+    kb::ComponentReader reader;  // reads on `loads`; cancelled from anywhere
     // Models beyond the compiled-in ones (--models), and the model URIs in the KB or tried.
     std::optional<kb::owl::ModelRepository> models;
     std::set<std::string> modelsLoaded;  // used on `loads` only
@@ -172,6 +177,36 @@ struct KbComponent {
     std::set<std::string> pending;
 };
 
+// Loads the model of `ns` and the models it requires from --models, once. `fromSkillType`:
+// a skill is typed by it, so a missing model is worth a warning; a namespace the
+// component merely uses (its NamespaceArray) may well have none.
+void loadModel(KbComponent& c, const std::string& ns, const std::string& componentUri,
+               bool fromSkillType) {
+    if (!c.modelsLoaded.insert(ns).second) return;  // loaded, or tried once
+    std::vector<kb::GraphData> needed;
+    if (c.models) {
+        for (const auto* o : c.models->withRequirements(ns)) {
+            if (c.modelsLoaded.count(o->iri) != 0 && o->iri != ns) continue;
+            needed.push_back({o->iri, o->triples});
+            c.modelsLoaded.insert(o->iri);
+        }
+    }
+    if (needed.empty()) {
+        if (fromSkillType) {
+            spdlog::warn("kb: no model for namespace {} of {} (give --models DIR)", ns,
+                         componentUri);
+        } else {
+            spdlog::debug("kb: no model for namespace {} of {}", ns, componentUri);
+        }
+        return;
+    }
+    if (auto s = c.kb.load(needed); !s) {
+        spdlog::error("kb: cannot load the model {}: {}", ns, s.error());
+        return;
+    }
+    spdlog::info("kb: loaded the model {} for {}", ns, componentUri);
+}
+
 void recordComponent(KbComponent& c, const std::string& componentUri) {
     {
         const std::lock_guard lock(c.pendingMutex);
@@ -183,41 +218,47 @@ void recordComponent(KbComponent& c, const std::string& componentUri) {
     for (auto& s : c.detector->instances()) {
         if (s.componentUri == componentUri) live.push_back(std::move(s));
     }
-    const kb::GraphData graph = c.graphs.update(componentUri, live);
+    // What the component says now: its parameter values and its NamespaceArray. One that
+    // cannot be read is recorded all the same, without values.
+    kb::ComponentReading reading;
+    if (!live.empty()) {
+        auto r = c.reader.read(live.front().endpointUrl, live);
+        if (r) {
+            reading = std::move(*r);
+        } else if (!c.stopping) {
+            spdlog::warn("kb: cannot read {} at {} ({}): recorded without parameter values",
+                         componentUri, live.front().endpointUrl, ua::statusName(r.status()));
+        }
+    }
+    if (c.stopping) return;
+    const kb::GraphData graph = c.graphs.update(componentUri, live, reading.values);
     // The models of the component's skill types first, so that its skills are typed by
-    // classes the KB knows.
-    for (const auto& ns : c.graphs.typeNamespaces()) {
-        if (!c.modelsLoaded.insert(ns).second) continue;  // loaded, or tried once
-        std::vector<kb::GraphData> needed;
-        if (c.models) {
-            for (const auto* o : c.models->withRequirements(ns)) {
-                if (c.modelsLoaded.count(o->iri) != 0 && o->iri != ns) continue;
-                needed.push_back({o->iri, o->triples});
-                c.modelsLoaded.insert(o->iri);
-            }
-        }
-        if (needed.empty()) {
-            spdlog::warn("kb: no model for namespace {} of {} (give --models DIR)", ns,
-                         componentUri);
-            continue;
-        }
-        if (auto s = c.kb.load(needed); !s) {
-            spdlog::error("kb: cannot load the model {}: {}", ns, s.error());
-            continue;
-        }
-        spdlog::info("kb: loaded the model {} for {}", ns, componentUri);
+    // classes the KB knows; then those of every namespace it uses (index 0 is the OPC UA
+    // namespace, index 1 the server's own: neither has a model to load).
+    for (const auto& ns : c.graphs.typeNamespaces()) loadModel(c, ns, componentUri, true);
+    for (std::size_t i = 2; i < reading.namespaceArray.size(); ++i) {
+        loadModel(c, reading.namespaceArray[i], componentUri, false);
     }
     if (auto s = c.kb.load({graph}); !s) {
         spdlog::error("kb: cannot record {}: {}", componentUri, s.error());
         return;
     }
-    spdlog::info("kb: recorded {} ({} skills available)", componentUri, live.size());
+    spdlog::info("kb: recorded {} ({} skills available, {} with parameter values)", componentUri,
+                 live.size(), reading.values.size());
 }
 
 ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const KbOptions& o,
                                             kb::KnowledgeBase& knowledge) {
     if (auto s = addKnowledgeBaseNodes(ctx.server.addressSpace(), knowledge); s.isBad()) return s;
-    auto c = std::make_shared<KbComponent>(knowledge, o.httpWrites);
+    // How the KB reads the components it records: as the KB's client, within bounds (a
+    // component that hangs costs a few seconds, and nothing at shutdown).
+    ua::ClientConfig readerConfig;
+    readerConfig.applicationUri = ctx.applicationUri;
+    readerConfig.sessionName = "knowledge base";
+    readerConfig.security = ctx.clientSecurity;
+    readerConfig.connectTimeout = std::chrono::milliseconds(2000);
+    readerConfig.requestTimeout = std::chrono::milliseconds(3000);
+    auto c = std::make_shared<KbComponent>(knowledge, o.httpWrites, std::move(readerConfig));
     if (!o.modelsDir.empty()) {
         auto repository = kb::owl::ModelRepository::fromDirectory(o.modelsDir);
         if (!repository) {

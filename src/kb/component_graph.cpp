@@ -1,5 +1,11 @@
 #include "kb/component_graph.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+
 #include "kb/http/http_message.hpp"
 #include "kb/owl/node_iri.hpp"
 #include "kb/rdf/turtle.hpp"
@@ -16,8 +22,25 @@ std::string rdfType() {
 rdf::Term boolean(bool b) {
     return rdf::literal(b ? "true" : "false", std::string(rdf::vocab::kXsd) + "boolean");
 }
+// An xsd:decimal: no exponent (1e-7 is not a decimal), the shortest digits that read back
+// as the same double. The process ontology's numbers are decimals (docs/knowledge_base.md).
+rdf::Term decimal(double v) {
+    std::array<char, 512> text{};  // DBL_MAX in fixed notation has 309 digits
+    const auto [end, ec] =
+        std::to_chars(text.data(), text.data() + text.size(), v, std::chars_format::fixed);
+    const std::string lexical = ec == std::errc() ? std::string(text.data(), end) : "0";
+    return rdf::literal(lexical, std::string(rdf::vocab::kXsd) + "decimal");
+}
+std::string lowerCase(std::string text) {
+    for (char& ch : text) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return text;
+}
 
 }  // namespace
+
+skills::GlobalNodeId gripPointTypeEnumeration() {
+    return {"http://skillcell.dev/UA/GripperSkills/", 3001};
+}
 
 std::string skillTypeIri(const skills::SkillTypeRef& t) {
     ua::NodeId id;
@@ -34,7 +57,8 @@ std::string componentGraphIri(const std::string& applicationUri) {
 }
 
 GraphData ComponentGraphs::update(const std::string& applicationUri,
-                                  const std::vector<skills::SkillInstance>& live) {
+                                  const std::vector<skills::SkillInstance>& live,
+                                  const SkillParameterValues& values) {
     Component& c = components_[applicationUri];
     std::set<std::string> present;
     for (const auto& s : live) {
@@ -42,6 +66,12 @@ GraphData ComponentGraphs::update(const std::string& applicationUri,
         c.skills[key] = s;
         c.endpointUrl = s.endpointUrl;
         present.insert(key);
+        const auto v = values.find(s.nodeId);
+        if (v != values.end()) {
+            c.values[key] = v->second;
+        } else {
+            c.values.erase(key);  // not read now: what was read before may no longer hold
+        }
     }
     GraphData g{componentGraphIri(applicationUri), {}};
     const rdf::Term component = rdf::iri(componentIri(applicationUri));
@@ -61,6 +91,37 @@ GraphData ComponentGraphs::update(const std::string& applicationUri,
         add(skill, proc("skillNodeId"), rdf::literal(key));
         add(skill, proc("skillName"), rdf::literal(s.browsePathString()));
         add(skill, proc("available"), boolean(present.count(key) != 0));
+        const auto v = c.values.find(key);
+        if (v == c.values.end()) continue;
+        for (const ParameterValue& p : v->second) {
+            const std::string parameterIri =
+                skill.value + "/parameter/" + http::percentEncode(p.name);
+            const rdf::Term parameter = rdf::iri(parameterIri);
+            add(skill, proc("hasParameterValue"), parameter);
+            add(parameter, rdfType(), rdf::iri(proc("Parameter")));
+            add(parameter, proc("parameterName"), rdf::literal(p.name));
+            if (const auto* text = std::get_if<std::string>(&p.value)) {
+                add(parameter, proc("textValue"), rdf::literal(*text));
+                if (p.dataType == gripPointTypeEnumeration()) {
+                    add(skill, proc("gripType"), rdf::literal(lowerCase(*text)));
+                }
+            } else if (const auto* number = std::get_if<double>(&p.value)) {
+                if (std::isfinite(*number)) add(parameter, proc("numberValue"), decimal(*number));
+            } else {
+                const auto& pose = std::get<PoseValue>(p.value);
+                const std::pair<const char*, double> parts[] = {
+                    {"x", pose.x},       {"y", pose.y},         {"z", pose.z},
+                    {"roll", pose.roll}, {"pitch", pose.pitch}, {"yaw", pose.yaw}};
+                const bool finite =
+                    std::all_of(std::begin(parts), std::end(parts),
+                                [](const auto& part) { return std::isfinite(part.second); });
+                if (!finite) continue;  // no decimal for it: the parameter without a value
+                const rdf::Term node = rdf::iri(parameterIri + "/pose");
+                add(parameter, proc("poseValue"), node);
+                add(node, rdfType(), rdf::iri(proc("Pose")));
+                for (const auto& [local, part] : parts) add(node, proc(local), decimal(part));
+            }
+        }
     }
     return g;
 }

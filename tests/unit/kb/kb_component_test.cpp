@@ -147,6 +147,98 @@ TEST(KnowledgeBaseComponent, LoadsTheModelOfASkillTypeOfItsOwnWhenItsComponentAp
     EXPECT_TRUE(ask(port, typed));
 }
 
+TEST(KnowledgeBaseComponent, RecordsTheParameterValuesAndGripTypesItReadsFromComponents) {
+    const test::TempDir dir("skillcell-kb-cell");
+    const fs::path& data = dir.path();
+    test::ComponentProcess kb(
+        SKILLCELL_BINARY, with({"kb", "--http-port", "0", "--data-dir", data.string()}, kFastMdns),
+        true);
+    ASSERT_FALSE(kb.url().empty()) << "skillcell kb did not start";
+    const std::uint16_t port = sparqlPort(kb);
+    ASSERT_NE(port, 0) << "no SPARQL line";
+    // A Grasp skill with the model's defaults (GripPointType 0, PARALLEL), and the Schmalz
+    // adapter, whose Grasp says VACUUM and has the grip point it was started with.
+    test::ComponentProcess parallel(SKILLCELL_BINARY,
+                                    with({"server", "--application-uri", "urn:test:parallel",
+                                          "--noop-skill", "GraspGripperSkillType=Grasp"},
+                                         kFastMdns),
+                                    true);
+    ASSERT_FALSE(parallel.url().empty());
+    test::ComponentProcess vacuum(SKILLCELL_BINARY,
+                                  with({"device", "schmalz", "--application-uri", "urn:test:vacuum",
+                                        "--grip-offset", "0,0,0.12"},
+                                       kFastMdns),
+                                  true);
+    ASSERT_FALSE(vacuum.url().empty());
+    const std::string grasp =
+        "?s a <http://skillcell.dev/UA/GripperSkills/GraspGripperSkillType> ; "
+        "proc:available true ; ";
+    ASSERT_TRUE(askUntilTrue(port,
+                             "?c proc:applicationUri \"urn:test:parallel\" ; proc:offers ?s . " +
+                                 grasp + "proc:gripType \"parallel\"",
+                             30s))
+        << "the KB did not record the parallel grasp's grip type within 30 s";
+    ASSERT_TRUE(askUntilTrue(port,
+                             "?c proc:applicationUri \"urn:test:vacuum\" ; proc:offers ?s . " +
+                                 grasp + "proc:gripType \"vacuum\"",
+                             30s))
+        << "the KB did not record the vacuum grasp's grip type within 30 s";
+    // The enumeration by its name (EnumStrings on the component), the pose as decimals.
+    EXPECT_TRUE(ask(port,
+                    "?c proc:applicationUri \"urn:test:parallel\" ; proc:offers ?s . ?s "
+                    "proc:hasParameterValue ?p . ?p a proc:Parameter ; proc:parameterName "
+                    "\"GripPointType\" ; proc:textValue \"PARALLEL\""));
+    EXPECT_TRUE(ask(port,
+                    "?c proc:applicationUri \"urn:test:vacuum\" ; proc:offers ?s . ?s "
+                    "proc:hasParameterValue ?p . ?p proc:parameterName \"GripPointType\" ; "
+                    "proc:textValue \"VACUUM\""));
+    const std::string offset =
+        "?c proc:applicationUri \"urn:test:vacuum\" ; proc:offers ?s . ?s proc:skillName ?n ; "
+        "proc:hasParameterValue ?p . FILTER(STRENDS(?n, \"Grasp\")) ?p proc:parameterName "
+        "\"GripPointOffset\" ; proc:poseValue ?pose . ?pose a proc:Pose ; proc:x ?x ; proc:z ?z "
+        ". ";
+    EXPECT_TRUE(ask(port, offset + "FILTER(?x = 0 && ?z = 0.12)"))
+        << select(port,
+                  "SELECT ?p ?o WHERE { ?s <http://skillcell.dev/ontology/process#poseValue> ?p . "
+                  "?p ?q ?o }");
+    EXPECT_FALSE(ask(port, offset + "FILTER(?z != 0.12)"));
+}
+
+TEST(KnowledgeBaseComponent, LoadsTheModelsOfTheNamespacesAComponentUsesNotOnlyOfItsSkillTypes) {
+    const test::TempDir dir("skillcell-kb-cell");
+    const fs::path& data = dir.path();
+    const std::string examples = SKILLCELL_SOURCE_DIR "/examples/dispense_skill";
+    test::ComponentProcess kb(
+        SKILLCELL_BINARY,
+        with({"kb", "--http-port", "0", "--data-dir", data.string(), "--models", examples},
+             kFastMdns),
+        true);
+    ASSERT_FALSE(kb.url().empty()) << "skillcell kb did not start";
+    const std::uint16_t port = sparqlPort(kb);
+    ASSERT_NE(port, 0) << "no SPARQL line";
+    const std::string dispenseModel =
+        "<http://skillcell.dev/UA/Examples/Dispense/DispenseSkillType> "
+        "<http://www.w3.org/2000/01/rdf-schema#subClassOf>+ "
+        "<http://skillcell.dev/UA/Skills/SkillType>";
+    EXPECT_FALSE(ask(port, dispenseModel));
+    // The dispense model is in its NamespaceArray, but it offers only a move skill.
+    test::ComponentProcess mover(SKILLCELL_BINARY,
+                                 with({"server", "--application-uri", "urn:test:mover", "--nodeset",
+                                       examples + "/Example.DispenseSkill.NodeSet2.xml",
+                                       "--noop-skill", "CartesianLinearMoveSkillType=Move"},
+                                      kFastMdns),
+                                 true);
+    ASSERT_FALSE(mover.url().empty());
+    // The models come before the component's graph: once its skill is there, so are they.
+    ASSERT_TRUE(askUntilTrue(port,
+                             "?c proc:applicationUri \"urn:test:mover\" ; proc:offers ?s . ?s a "
+                             "rskill:CartesianLinearMoveSkillType ; proc:available true",
+                             30s))
+        << "the KB did not learn the move skill within 30 s";
+    EXPECT_TRUE(ask(port, dispenseModel));
+    EXPECT_FALSE(ask(port, "?s a <http://skillcell.dev/UA/Examples/Dispense/DispenseSkillType>"));
+}
+
 // A SPARQL 1.1 update over HTTP (the KB started with --http-writes); the HTTP status.
 int update(std::uint16_t port, const std::string& sparqlUpdate) {
     http::HttpRequest r;
