@@ -42,19 +42,11 @@ struct ExecutorOptions {
     std::chrono::milliseconds stepTimeout{300'000};
     /// How the MES connects to the skills (its identity, security and user).
     ua::ClientConfig client;
-    /// Its skill subscriptions: events at 10 ms, and a keep-alive of 1 s, so that a loaded
-    /// machine's late publish is not taken for a lost component.
-    skills::SkillClientOptions skillClient = defaultSkillClient();
+    /// Its skill subscriptions (events at 10 ms, a keep-alive of 1 s).
+    skills::SkillClientOptions skillClient;
     /// How long, after losing contact mid-step, to wait for the detector to confirm that the
     /// component is gone before the step may go to another instance.
     std::chrono::milliseconds goneConfirmation{5'000};
-
-    [[nodiscard]] static skills::SkillClientOptions defaultSkillClient() {
-        skills::SkillClientOptions o;
-        o.publishingIntervalMs = 10;
-        o.maxKeepAliveCount = 100;
-        return o;
-    }
 };
 
 /// What the executor is doing, for progress displays and the MES's status variables.

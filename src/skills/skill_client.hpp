@@ -63,9 +63,13 @@ struct SkillTransitionRecord {
 
 struct SkillClientOptions {
     SkillClientOptions() = default;  // not an aggregate: GCC 12 (see ua::ClientConfig)
-    /// Asked of the server for the event subscription; it may revise it upwards.
+    /// Asked of the server for the event subscription; it may revise it upwards. Events come
+    /// within one interval.
     double publishingIntervalMs = 10;
-    std::uint32_t maxKeepAliveCount = 10;
+    /// Publishes without events before the server sends a keep-alive: 100 x 10 ms, so the
+    /// client takes a server for lost after 1.5 s of silence. Much less (0.15 s) mistook a
+    /// loaded machine's late publish, under the sanitizers on 2 cores, for a lost component.
+    std::uint32_t maxKeepAliveCount = 100;
 };
 
 class SkillClient : public std::enable_shared_from_this<SkillClient> {

@@ -71,6 +71,15 @@ void expectAt(devices::WorldLink& w, const std::string& id, double x, double y, 
     EXPECT_NEAR(p->p.z(), z, 1e-3) << id;
 }
 
+// The demo process's work done: both boxes at their targets, no tool mounted.
+void expectTheProcessDone(const test::SimulatedCell& cell) {
+    auto link = devices::WorldLink::connect(cell.world->url());
+    ASSERT_TRUE(link.ok());
+    expectAt(**link, "boxA", 0.25, 0.35, 0.025);
+    expectAt(**link, "boxB", 0.25, -0.2, 0.02);
+    EXPECT_EQ(*(*link)->mountedTool(), "");
+}
+
 // Attempts that really ran the skill: finished ones, and failed ones whose Start got through.
 int runsOf(const RunRecord& run, int index) {
     int n = 0;
@@ -136,11 +145,7 @@ TEST_F(MesCell, RunsThePapersProcessOnTheSkillsDiscoveryFinds) {
     EXPECT_NE(result.output.find("step 5/5 DetachToolSkillType completed"), std::string::npos)
         << result.output;
 
-    auto link = devices::WorldLink::connect(cell.world->url());
-    ASSERT_TRUE(link.ok());
-    expectAt(**link, "boxA", 0.25, 0.35, 0.025);
-    expectAt(**link, "boxB", 0.25, -0.2, 0.02);
-    EXPECT_EQ(*(*link)->mountedTool(), "");
+    expectTheProcessDone(cell);
 
     const auto run = lastRun();
     ASSERT_TRUE(run);
@@ -186,10 +191,7 @@ TEST_F(MesCell, AKilledMesResumesWhereItStoppedRunningEveryStepOnce) {
     EXPECT_NE(result.output.find("step 1/5 ChangeToolSkillType done"), std::string::npos)
         << result.output;
 
-    auto link = devices::WorldLink::connect(cell.world->url());
-    ASSERT_TRUE(link.ok());
-    expectAt(**link, "boxA", 0.25, 0.35, 0.025);
-    expectAt(**link, "boxB", 0.25, -0.2, 0.02);
+    expectTheProcessDone(cell);
     const auto run = lastRun();
     ASSERT_TRUE(run);
     EXPECT_EQ(run->state, RunState::Completed);
@@ -235,13 +237,9 @@ TEST_F(MesCell, AMesRestartedWhileItsSkillStillRunsWaitsForThatRunInsteadOfStart
     EXPECT_EQ(result.exitCode, 0) << result.output;
     EXPECT_NE(result.output.find("finished (after a restart of the MES)"), std::string::npos)
         << result.output;
-    const auto value = observer.readValue(state);
     (void)observer.disconnect();
 
-    auto link = devices::WorldLink::connect(cell.world->url());
-    ASSERT_TRUE(link.ok());
-    expectAt(**link, "boxA", 0.25, 0.35, 0.025);
-    expectAt(**link, "boxB", 0.25, -0.2, 0.02);
+    expectTheProcessDone(cell);
     const auto run = lastRun();
     ASSERT_TRUE(run);
     EXPECT_EQ(run->state, RunState::Completed);
@@ -283,10 +281,7 @@ TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
     EXPECT_EQ(run->state, RunState::Completed);
     EXPECT_EQ(runsOf(*run, 3), 1);
     EXPECT_EQ(runsOf(*run, 4), 2) << "the failed attempt and the one that finished";
-    auto link = devices::WorldLink::connect(cell.world->url());
-    ASSERT_TRUE(link.ok());
-    expectAt(**link, "boxB", 0.25, -0.2, 0.02);
-    EXPECT_EQ(*(*link)->mountedTool(), "");
+    expectTheProcessDone(cell);
 }
 
 }  // namespace
