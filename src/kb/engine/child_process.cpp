@@ -42,7 +42,9 @@ std::string resolveProgram(const std::string& program) {
         const auto colon = dirs.find(':');
         const std::string dir(dirs.substr(0, colon));
         dirs = colon == std::string_view::npos ? std::string_view{} : dirs.substr(colon + 1);
-        const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
+        std::string candidate = dir.empty() ? std::string(".") : dir;
+        candidate += "/";
+        candidate += program;
         if (::access(candidate.c_str(), X_OK) == 0) return candidate;
     }
     return program;  // execve reports ENOENT, with the name as given
@@ -57,7 +59,12 @@ std::vector<std::string> childEnvironment(const ProcessOptions& options) {
                                             [&](const auto& kv) { return kv.first == name; });
         if (!overridden) env.emplace_back(entry);
     }
-    for (const auto& [name, value] : options.envAdd) env.push_back(name + "=" + value);
+    for (const auto& [name, value] : options.envAdd) {
+        std::string entry = name;
+        entry += "=";
+        entry += value;
+        env.push_back(std::move(entry));
+    }
     return env;
 }
 
