@@ -3,6 +3,7 @@
 #   run without a process, or with an MES nobody serves       -> 2
 #   mes with a --kb that is not an http:// URL                -> 2
 #   mes with a journal that cannot be opened                  -> 1, naming the file
+#   demo with a boot profile, run count or speed it does not know -> 2, naming the option
 # Usage: mes_cli_test.sh PATH/TO/skillcell
 set -euo pipefail
 skillcell=$1
@@ -29,4 +30,11 @@ expect "--kb ftp://127.0.0.1/sparql"
 printf 'not a database, but long enough to look like a header of one.........\n' >"$tmp/bad.sqlite"
 run 1 mes "${common[@]}" --kb http://127.0.0.1:1/sparql --journal "$tmp/bad.sqlite"
 expect "$tmp/bad.sqlite"
+# demo: options out of range are refused before anything starts.
+run 2 demo --boot-profile fast
+expect "--boot-profile"
+run 2 demo --runs 0
+expect "--runs"
+run 2 demo --speed 0
+expect "--speed"
 echo "ok"
