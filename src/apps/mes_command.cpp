@@ -111,8 +111,19 @@ int runMes(MesOptions& o) {
                                                       asio::use_awaitable);
                 co_return std::move(*answer);
             };
-            content->executor = mes::ProcessExecutor::create(c.detector, *content->journal,
-                                                             std::move(reader), options);
+            mes::FactReader facts = [pool, store](std::vector<std::string> properties)
+                -> asio::awaitable<kb::Expected<mes::SkillFacts>> {
+                auto read = [store, properties]()
+                    -> asio::awaitable<std::optional<kb::Expected<mes::SkillFacts>>> {
+                    co_return mes::readFacts(*store, properties);
+                };
+                auto answer = co_await asio::co_spawn(pool->get_executor(), std::move(read),
+                                                      asio::use_awaitable);
+                co_return std::move(*answer);
+            };
+            content->executor = mes::ProcessExecutor::create(
+                c.detector, *content->journal,
+                mes::KnowledgeReaders{std::move(reader), std::move(facts)}, options);
             std::string error;
             auto component = mes::MesComponent::create(c.server, content->executor, &error);
             if (!component) {

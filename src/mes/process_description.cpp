@@ -4,6 +4,7 @@
 #include <charconv>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "kb/knowledge_base.hpp"
 #include "kb/rdf/turtle.hpp"
@@ -131,7 +132,40 @@ kb::Expected<StepParameter> parameter(const Graph& g, const Term& node, const st
     return out;
 }
 
+kb::Expected<FactRequirement> requirement(const Graph& g, const Term& node,
+                                          const std::string& step) {
+    FactRequirement out;
+    // The property by its IRI: an xsd:anyURI literal (what process.ttl declares), or an IRI.
+    if (const Term* property = g.object(node, p("factProperty"));
+        property != nullptr && property->kind != Term::Kind::Blank) {
+        out.propertyIri = property->value;
+    }
+    if (out.propertyIri.empty()) {
+        return bad(step + ": the requirement " + name(node) + " has no proc:factProperty");
+    }
+    const auto value = g.literal(node, p("factValue"));
+    if (!value) {
+        return bad(step + ": the requirement " + name(node) + " on " + shortName(out.propertyIri) +
+                   " has no proc:factValue");
+    }
+    out.value = *value;
+    if (const Term* type = g.object(node, p("ofSkillType"))) {
+        if (type->kind != Term::Kind::Iri) {
+            return bad(step + ": the requirement " + name(node) +
+                       " has a proc:ofSkillType that is not an IRI");
+        }
+        out.skillTypeIri = type->value;
+    }
+    return out;
+}
+
 }  // namespace
+
+std::string FactRequirement::describe() const {
+    const std::string fact = shortName(propertyIri) + " \"" + value + "\"";
+    return skillTypeIri.empty() ? fact
+                                : "an available " + shortName(skillTypeIri) + " with " + fact;
+}
 
 std::string shortName(const std::string& iri) {
     const auto cut = iri.find_last_of("/#");
@@ -149,7 +183,8 @@ kb::Expected<std::string> processQuery(const std::string& processIri) {
     const std::string hasStep = "<" + p("hasStep") + ">";
     const std::string hasParameter = "<" + p("hasParameter") + ">";
     const std::string derivedFrom = "<" + p("derivedFrom") + ">";
-    // One response: parameters and poses are blank nodes, whose labels hold within it only.
+    // One response: parameters, poses and requirements are blank nodes, whose labels hold
+    // within it only.
     // Plain UNION branches (no property paths: see docs/knowledge_base.md on Virtuoso).
     return "CONSTRUCT { ?a ?b ?c } WHERE {\n"
            "  { " +
@@ -161,6 +196,9 @@ kb::Expected<std::string> processQuery(const std::string& processIri) {
            "  UNION { " +
            P + " " + hasStep + " ?s . ?s " + hasParameter +
            " ?a . ?a ?b ?c }\n"
+           "  UNION { " +
+           P + " " + hasStep + " ?s . ?s <" + p("requiresFact") +
+           "> ?a . ?a ?b ?c }\n"
            "  UNION { " +
            P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q <" + p("poseValue") +
            "> ?a . ?a ?b ?c }\n"
@@ -236,6 +274,17 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
         }
         std::sort(step.parameters.begin(), step.parameters.end(),
                   [](const StepParameter& a, const StepParameter& b) { return a.name < b.name; });
+        for (const Term* r : g.objects(*s, p("requiresFact"))) {
+            auto parsed = requirement(g, *r, step.label());
+            if (!parsed) return parsed.failure();
+            step.requirements.push_back(std::move(*parsed));
+        }
+        // A stable order: the description's triples come in no particular one.
+        std::sort(step.requirements.begin(), step.requirements.end(),
+                  [](const FactRequirement& a, const FactRequirement& b) {
+                      return std::tie(a.skillTypeIri, a.propertyIri, a.value) <
+                             std::tie(b.skillTypeIri, b.propertyIri, b.value);
+                  });
         out.steps.push_back(std::move(step));
     }
     if (out.steps.size() != members.size()) {

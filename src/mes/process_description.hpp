@@ -4,9 +4,10 @@
 // its parameters, given or to be derived from facts (a dock's pose, an object's id and target).
 //
 // readProcess() asks the KB one CONSTRUCT query (one response keeps the blank nodes of
-// parameters and poses consistent) and checks what it gets: a process without steps, a broken
-// proc:next chain, a step without a skill type, a dependency on a later step, or a parameter
-// without a value are errors that name the step and the parameter.
+// parameters, poses and requirements consistent) and checks what it gets: a process without
+// steps, a broken proc:next chain, a step without a skill type, a dependency on a later step,
+// a parameter without a value, or a requirement without a property or value are errors that
+// name the step and the parameter.
 #include <optional>
 #include <string>
 #include <variant>
@@ -38,12 +39,27 @@ struct StepParameter {
     friend bool operator==(const StepParameter&, const StepParameter&) = default;
 };
 
+/// A fact the knowledge base must hold for a skill to suit a step (proc:requiresFact): the
+/// skill instance has `propertyIri` with `value`. With a `skillTypeIri` it concerns the cell:
+/// some available skill of that type (or a subtype) must have the fact.
+struct FactRequirement {
+    std::string propertyIri;
+    std::string value;         // its lexical form; numbers compare by value
+    std::string skillTypeIri;  // empty: the skill that runs the step
+    friend bool operator==(const FactRequirement&, const FactRequirement&) = default;
+
+    /// 'gripType "parallel"', or 'an available GraspGripperSkillType with gripType
+    /// "parallel"': how messages name it.
+    [[nodiscard]] std::string describe() const;
+};
+
 struct ProcessStep {
     std::string iri;
     int index = 0;  // position in the process, from 1 (proc:next order)
     std::string skillTypeIri;
     std::vector<StepParameter> parameters;  // by name
     std::vector<std::string> dependsOn;     // step IRIs, each earlier in the order
+    std::vector<FactRequirement> requirements;
     friend bool operator==(const ProcessStep&, const ProcessStep&) = default;
 
     /// "step 2 (PickAndPlaceSkillType)": how messages name it.

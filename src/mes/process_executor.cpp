@@ -43,17 +43,17 @@ std::string Progress::line() const {
 }
 
 std::shared_ptr<ProcessExecutor> ProcessExecutor::create(
-    std::shared_ptr<skills::SkillDetector> detector, Journal& journal, ProcessReader reader,
+    std::shared_ptr<skills::SkillDetector> detector, Journal& journal, KnowledgeReaders kb,
     ExecutorOptions options) {
-    return std::make_shared<ProcessExecutor>(Token{}, std::move(detector), journal,
-                                             std::move(reader), std::move(options));
+    return std::make_shared<ProcessExecutor>(Token{}, std::move(detector), journal, std::move(kb),
+                                             std::move(options));
 }
 
 ProcessExecutor::ProcessExecutor(Token, std::shared_ptr<skills::SkillDetector> detector,
-                                 Journal& journal, ProcessReader reader, ExecutorOptions options)
+                                 Journal& journal, KnowledgeReaders kb, ExecutorOptions options)
     : detector_(std::move(detector)),
       journal_(journal),
-      reader_(std::move(reader)),
+      kb_(std::move(kb)),
       options_(std::move(options)),
       runner_(detector_->executor()) {}
 
@@ -92,7 +92,7 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri)
     p.state = "reading";
     p.message = "asking the knowledge base for the process";
     report(p);
-    auto description = co_await reader_(processIri);
+    auto description = co_await kb_.process(processIri);
     if (!description) {
         out.reason = "cannot read the process " + processIri + ": " + description.error();
         p.state = "stopped";
@@ -272,30 +272,92 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
     co_return result;
 }
 
-asio::awaitable<std::vector<skills::SkillInstance>> ProcessExecutor::waitForCandidates(
-    const ProcessStep& step, const std::set<SkillKey>& excluded) {
+asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
+    const ProcessStep& step, std::vector<skills::SkillInstance> typed,
+    const std::vector<skills::SkillInstance>& live) {
     auto self = shared_from_this();
-    auto found = candidates(step, detector_->instances(), excluded);
-    if (!found.empty()) co_return found;
-    Progress p = progress_;
-    p.state = "waiting";
-    p.component.clear();
-    p.skill.clear();
-    p.message = "waiting up to " + std::to_string(options_.skillWait.count()) +
-                " ms for a suitable " + shortName(step.skillTypeIri);
-    report(p);
-    auto timer = std::make_shared<asio::steady_timer>(detector_->executor(), options_.skillWait);
-    waitTimer_ = timer;
-    const std::size_t id =
-        detector_->subscribe([timer, step, excluded](const skills::SkillEvent& e) {
-            if (e.kind == skills::SkillEvent::Kind::Added &&
-                !excluded.contains(keyOf(e.instance)) && unsuitability(step, e.instance).empty()) {
-                timer->cancel();
-            }
-        });
-    co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
-    detector_->unsubscribe(id);
-    co_return candidates(step, detector_->instances(), excluded);
+    Choice c;
+    if (!kb_.facts) {
+        c.unmet = "it has requirements (" + step.requirements.front().describe() +
+                  "), and this MES has no knowledge base to check them";
+        co_return c;
+    }
+    auto properties = requiredProperties(step);
+    auto facts = co_await kb_.facts(std::move(properties));
+    if (!facts) {
+        c.unmet =
+            "cannot ask the knowledge base whether its requirements are met: " + facts.error();
+        co_return c;
+    }
+    c.unmet = unmetCellRequirements(step, live, *facts);
+    if (!c.unmet.empty()) co_return c;
+    std::string unfit;
+    for (auto& s : typed) {
+        const std::string why = unmetSkillRequirements(step, s, *facts);
+        if (why.empty()) {
+            c.skills.push_back(std::move(s));
+        } else {
+            unfit += (unfit.empty() ? "" : "; ") + where(s) + ": " + why;
+        }
+    }
+    if (c.skills.empty()) c.unmet = "no skill of its type meets its requirements: " + unfit;
+    co_return c;
+}
+
+asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(const ProcessStep& step,
+                                                                 const std::set<SkillKey>& excluded,
+                                                                 std::uint64_t generation) {
+    using Clock = std::chrono::steady_clock;
+    // How often to ask the KB again while the skills are there but their facts are not.
+    constexpr std::chrono::milliseconds kFactRetry{250};
+    auto self = shared_from_this();
+    const auto deadline = Clock::now() + options_.skillWait;
+    std::string shown;
+    for (;;) {
+        const auto live = detector_->instances();
+        auto typed = candidates(step, live, excluded);
+        Choice c;
+        bool askAgain = false;  // whether the KB may soon know what it does not know now
+        if (typed.empty() || step.requirements.empty()) {
+            c.skills = std::move(typed);
+        } else {
+            c = co_await withRequirements(step, std::move(typed), live);
+            askAgain = c.skills.empty() && static_cast<bool>(kb_.facts);
+        }
+        if (!c.skills.empty() || runner_.halted(generation) || Clock::now() >= deadline) {
+            co_return c;
+        }
+        Progress p = progress_;
+        p.state = "waiting";
+        p.component.clear();
+        p.skill.clear();
+        p.message = "waiting up to " + std::to_string(options_.skillWait.count()) +
+                    " ms for a suitable " + shortName(step.skillTypeIri) +
+                    (c.unmet.empty() ? "" : ": " + c.unmet);
+        if (p.message != shown) {
+            shown = p.message;
+            report(p);
+        }
+        const auto wake = askAgain ? std::min(deadline, Clock::now() + kFactRetry) : deadline;
+        auto timer = std::make_shared<asio::steady_timer>(detector_->executor(), wake);
+        waitTimer_ = timer;
+        // A new instance of the step's type, or of a type a requirement names, may fit.
+        const std::size_t id =
+            detector_->subscribe([timer, step, excluded](const skills::SkillEvent& e) {
+                if (e.kind != skills::SkillEvent::Kind::Added) return;
+                const bool wanted = (!excluded.contains(keyOf(e.instance)) &&
+                                     unsuitability(step, e.instance).empty()) ||
+                                    std::any_of(step.requirements.begin(), step.requirements.end(),
+                                                [&](const FactRequirement& r) {
+                                                    return !r.skillTypeIri.empty() &&
+                                                           isOfType(e.instance, r.skillTypeIri);
+                                                });
+                if (wanted) timer->cancel();
+            });
+        co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        detector_->unsubscribe(id);
+        if (runner_.halted(generation)) co_return Choice{};
+    }
 }
 
 asio::awaitable<bool> ProcessExecutor::componentGone(std::string componentUri) {
@@ -348,13 +410,18 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         p.skill.clear();
         p.message.clear();
         report(p);
-        const auto found = co_await waitForCandidates(step, tried);
+        const Choice found = co_await choose(step, tried, generation);
         if (runner_.halted(generation)) co_return StepResult{false, "halted in " + step.label()};
-        if (found.empty()) {
-            co_return StepResult{false, noSkillReason(step, tried) +
-                                            (lastFailure.empty() ? "" : "; " + lastFailure)};
+        if (found.skills.empty()) {
+            std::string why = found.unmet.empty() ? noSkillReason(step, tried) : step.label();
+            if (!found.unmet.empty()) {
+                why += ": " + found.unmet;
+                why += " (waited " + std::to_string(options_.skillWait.count()) + " ms)";
+            }
+            if (!lastFailure.empty()) why += "; " + lastFailure;
+            co_return StepResult{false, why};
         }
-        const skills::SkillInstance& skill = found.front();
+        const skills::SkillInstance& skill = found.skills.front();
         auto values = parameterValues(step, skill);
         if (!values) co_return StepResult{false, values.error()};
         p.component = skill.componentUri;

@@ -4,6 +4,12 @@
 // from the SkillDetector's map, derives the parameter values, runs the skill with a
 // SkillClient, and records intent and result in the Journal before going on.
 //
+// A step's requirements (proc:requiresFact) are facts the KB must hold: of the skill chosen,
+// or of some available skill of a given type (a gripper of the grip type a pick was planned
+// for). Liveness comes from the detector, facts from the KB; the KB records a new component
+// about a second after discovery, so while a step's skills are there but its facts are not,
+// the MES asks the KB again, four times a second, up to skillWait.
+//
 // Faults stop the run in a defined state (RunState::Stopped, with the reason): a skill that
 // ends Halted or times out, a step no skill can run, a process the KB cannot describe. A skill
 // that cannot be reached, refuses its parameters or Start, or whose component disappears
@@ -27,6 +33,7 @@
 
 #include "mes/journal.hpp"
 #include "mes/process_description.hpp"
+#include "mes/skill_facts.hpp"
 #include "mes/step_binding.hpp"
 #include "skills/skill_detector.hpp"
 #include "skills/sub_skill_runner.hpp"
@@ -75,11 +82,20 @@ struct ProcessOutcome {
 /// Reads a process description (from the KB; tests give their own).
 using ProcessReader =
     std::function<asio::awaitable<kb::Expected<ProcessDescription>>(std::string processIri)>;
+/// Reads what the KB says of the skill instances for some properties.
+using FactReader =
+    std::function<asio::awaitable<kb::Expected<SkillFacts>>(std::vector<std::string> properties)>;
+
+/// How the executor reaches the knowledge base.
+struct KnowledgeReaders {
+    ProcessReader process;
+    FactReader facts;  // may be empty: then a step with requirements cannot run
+};
 
 class ProcessExecutor : public std::enable_shared_from_this<ProcessExecutor> {
 public:
     [[nodiscard]] static std::shared_ptr<ProcessExecutor> create(
-        std::shared_ptr<skills::SkillDetector> detector, Journal& journal, ProcessReader reader,
+        std::shared_ptr<skills::SkillDetector> detector, Journal& journal, KnowledgeReaders kb,
         ExecutorOptions options = {});
 
     [[nodiscard]] const asio::any_io_executor& executor() const { return detector_->executor(); }
@@ -100,7 +116,7 @@ public:
         Token() = default;
     };
     ProcessExecutor(Token, std::shared_ptr<skills::SkillDetector> detector, Journal& journal,
-                    ProcessReader reader, ExecutorOptions options);
+                    KnowledgeReaders kb, ExecutorOptions options);
 
 private:
     struct StepResult {
@@ -115,9 +131,18 @@ private:
     /// What became of an attempt the journal shows as Starting (after a crash).
     asio::awaitable<std::pair<Settled, std::string>> settle(const StepRecord& record,
                                                             std::uint64_t generation);
-    /// Suitable instances now, or after waiting up to skillWait for one to appear.
-    asio::awaitable<std::vector<skills::SkillInstance>> waitForCandidates(
-        const ProcessStep& step, const std::set<SkillKey>& excluded);
+    struct Choice {
+        std::vector<skills::SkillInstance> skills;  // suitable and available, best first
+        std::string unmet;  // when there are none: the requirements not met, and why
+    };
+    /// Suitable instances now, or after waiting up to skillWait for one to appear (or for
+    /// the KB to record the facts that make one suitable).
+    asio::awaitable<Choice> choose(const ProcessStep& step, const std::set<SkillKey>& excluded,
+                                   std::uint64_t generation);
+    /// Which of `typed` (suitable by type) meet the step's requirements, by the KB's facts.
+    asio::awaitable<Choice> withRequirements(const ProcessStep& step,
+                                             std::vector<skills::SkillInstance> typed,
+                                             const std::vector<skills::SkillInstance>& live);
     /// Whether the detector no longer lists `componentUri`, waiting up to goneConfirmation.
     asio::awaitable<bool> componentGone(std::string componentUri);
     [[nodiscard]] std::string noSkillReason(const ProcessStep& step,
@@ -127,12 +152,12 @@ private:
 
     std::shared_ptr<skills::SkillDetector> detector_;
     Journal& journal_;
-    ProcessReader reader_;
+    KnowledgeReaders kb_;
     ExecutorOptions options_;
     skills::SubSkillRunner runner_;
     Progress progress_;
     bool busy_ = false;
-    std::weak_ptr<asio::steady_timer> waitTimer_;  // waitForCandidates, for halt()
+    std::weak_ptr<asio::steady_timer> waitTimer_;  // choose(), for halt()
     std::weak_ptr<skills::SkillClient> adopted_;   // settle()'s wait, for halt()
 };
 

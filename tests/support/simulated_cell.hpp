@@ -51,15 +51,12 @@ struct SimulatedCell {
                   bool withPickAndPlace, ParallelGripperModel parallel = kRobotiq2f85,
                   bool vacuumPowered = true, const std::string& robotSpeed = "50")
         : parallelUri(parallel.applicationUri) {
-        std::vector<std::string> args = {"world",
-                                         "--dock",
-                                         std::string("dockP@") + kParallelDock,
-                                         "--dock",
-                                         std::string("dockV@") + kVacuumDock,
-                                         "--tool",
+        std::vector<std::string> args = {"world", "--dock", std::string("dockP@") + kParallelDock,
+                                         "--dock", std::string("dockV@") + kVacuumDock, "--tool",
                                          std::string("parallel:dockP@") + parallel.gripOffset,
-                                         "--tool",
-                                         "vacuum:dockV@0,0,0.12"};
+                                         "--tool", "vacuum:dockV@0,0,0.12",
+                                         // A free place beside the cell, to rearrange tools.
+                                         "--dock", "shelf@0.0,-0.6,0.35,3.141592653589793,0,0"};
         for (const auto& o : objects) args.insert(args.end(), {"--object", o});
         world = start(binary, std::move(args));
         if (world->url().empty()) return;

@@ -4,8 +4,9 @@
 // `skillcell run` hands it the demo process; the test checks the world (both boxes at their
 // targets, no tool mounted) and the journal (every step run exactly once). Then the faults:
 // the MES killed mid-process and restarted (after its step's skill ended, and while that skill
-// still runs), and the vacuum gripper's adapter missing until the process has stopped for want
-// of it.
+// still runs), the vacuum gripper's adapter missing until the process has stopped for want
+// of it, and a vacuum gripper in the parallel gripper's dock (the pick that needs a parallel
+// grip does not start).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -267,7 +268,9 @@ TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
     EXPECT_NE(result.output.find("OUTCOME Failed"), std::string::npos) << result.output;
     EXPECT_NE(result.output.find("step 4 (PickAndPlaceSkillType)"), std::string::npos)
         << result.output;
-    EXPECT_NE(result.output.find("GraspGripperSkillType"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("GraspGripperSkillType with gripType \"vacuum\""),
+              std::string::npos)
+        << result.output;
     auto run = lastRun();
     ASSERT_TRUE(run);
     EXPECT_EQ(run->state, RunState::Stopped);
@@ -284,8 +287,43 @@ TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
     ASSERT_TRUE(run);
     EXPECT_EQ(run->state, RunState::Completed);
     EXPECT_EQ(runsOf(*run, 3), 1);
-    EXPECT_EQ(runsOf(*run, 4), 2) << "the failed attempt and the one that finished";
+    EXPECT_EQ(runsOf(*run, 4), 1) << "no pick without a vacuum gripper: only the one that finished";
     expectTheProcessDone(cell);
+}
+
+TEST_F(MesCell, AWrongGripperInTheDockStopsTheProcessBeforeThePickNamingTheGripType) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, kBoxes, true);
+    ASSERT_TRUE(cell.ready());
+    // Someone swapped the grippers' docks: the tool change of step 1 mounts the vacuum one.
+    {
+        auto link = devices::WorldLink::connect(cell.world->url());
+        ASSERT_TRUE(link.ok());
+        for (const auto& [tool, dock] :
+             {std::pair{"vacuum", "shelf"}, std::pair{"parallel", "dockV"},
+              std::pair{"vacuum", "dockP"}}) {
+            ASSERT_TRUE((*link)->moveTool(tool, dock).isGood()) << tool << " -> " << dock;
+        }
+    }
+    startMes();
+    ASSERT_FALSE(mes_->url().empty());
+
+    const RunResult result = runProcess(mes_->url());
+    EXPECT_EQ(result.exitCode, 1) << result.output;
+    const auto run = lastRun();
+    ASSERT_TRUE(run);
+    EXPECT_EQ(run->state, RunState::Stopped);
+    // The reason names the step, what it requires and what the cell has instead.
+    for (const std::string part :
+         {"step 2 (PickAndPlaceSkillType)", "GraspGripperSkillType with gripType \"parallel\"",
+          "urn:skillcell:device:schmalz-ecbpi has gripType \"vacuum\""}) {
+        EXPECT_NE(run->reason.find(part), std::string::npos) << part << " in: " << run->reason;
+        EXPECT_NE(result.output.find(part), std::string::npos) << part << " in: " << result.output;
+    }
+    EXPECT_EQ(runsOf(*run, 1), 1);
+    EXPECT_EQ(run->lastAttempt(2), nullptr) << "the pick never started";
+    auto link = devices::WorldLink::connect(cell.world->url());
+    ASSERT_TRUE(link.ok());
+    expectAt(**link, "boxA", 0.45, 0.15, 0.025);  // where it was
 }
 
 }  // namespace

@@ -66,6 +66,34 @@ TEST(ProcessDescription, ReadsThePapersDemoProcessInOrderWithItsParameters) {
     EXPECT_DOUBLE_EQ(box->targetPose->y, -0.2);
     EXPECT_DOUBLE_EQ(box->targetPose->z, 0.02);
     EXPECT_EQ(p->steps[4].dependsOn, std::vector<std::string>{"http://skillcell.dev/demo#step4"});
+    // Each pick and place requires a gripper of its grip type in the cell; nothing else does.
+    const std::string gripType = "http://skillcell.dev/ontology/process#gripType";
+    const std::string grasp = "http://skillcell.dev/UA/GripperSkills/GraspGripperSkillType";
+    const std::vector<FactRequirement> parallel{{gripType, "parallel", grasp}};
+    const std::vector<FactRequirement> vacuum{{gripType, "vacuum", grasp}};
+    EXPECT_EQ(p->steps[1].requirements, parallel);
+    EXPECT_EQ(p->steps[3].requirements, vacuum);
+    EXPECT_EQ(p->steps[3].requirements[0].describe(),
+              "an available GraspGripperSkillType with gripType \"vacuum\"");
+    for (const std::size_t i : {0U, 2U, 4U}) EXPECT_TRUE(p->steps[i].requirements.empty()) << i;
+}
+
+TEST(ProcessDescription, TakesRequirementsOnTheSkillOrOnTheCell) {
+    auto p = parseProcess(
+        "http://example.org/p#p",
+        triples(std::string(kPrefixes) +
+                ":p proc:hasStep :a ; proc:firstStep :a .\n"
+                ":a proc:requiresSkillType t:ChangeToolSkillType ;\n"
+                "  proc:requiresFact [ proc:factProperty proc:reach ; proc:factValue 0.85 ] ,\n"
+                "  [ proc:factProperty \"http://skillcell.dev/ontology/process#gripType\" ; "
+                "proc:factValue \"vacuum\" ; proc:ofSkillType t:Grasp ] .\n"));
+    ASSERT_TRUE(p) << p.error();
+    const auto& r = p->steps.at(0).requirements;
+    ASSERT_EQ(r.size(), 2U);
+    EXPECT_EQ(r[0], (FactRequirement{"http://skillcell.dev/ontology/process#reach", "0.85", ""}));
+    EXPECT_EQ(r[0].describe(), "reach \"0.85\"");
+    EXPECT_EQ(r[1].skillTypeIri, "http://skillcell.dev/UA/ToolChangerSkills/Grasp");
+    EXPECT_EQ(r[1].propertyIri, "http://skillcell.dev/ontology/process#gripType");
 }
 
 TEST(ProcessDescription, TakesGivenValues) {
@@ -118,6 +146,15 @@ TEST(ProcessDescription, RefusesBrokenDescriptionsNamingTheFault) {
                       ":a proc:requiresSkillType t:X ; proc:stepIndex 2 .")
                   .find("disagrees"),
               std::string::npos);
+    const std::string noProperty = refusal(
+        ":p proc:hasStep :a ; proc:firstStep :a .\n"
+        ":a proc:requiresSkillType t:X ; proc:requiresFact [ proc:factValue 1 ] .");
+    EXPECT_NE(noProperty.find("step 1 (X): the requirement _:"), std::string::npos) << noProperty;
+    EXPECT_NE(noProperty.find("has no proc:factProperty"), std::string::npos) << noProperty;
+    const std::string noFactValue = refusal(
+        ":p proc:hasStep :a ; proc:firstStep :a .\n"
+        ":a proc:requiresSkillType t:X ; proc:requiresFact [ proc:factProperty proc:reach ] .");
+    EXPECT_NE(noFactValue.find("on reach has no proc:factValue"), std::string::npos) << noFactValue;
 }
 
 TEST(ProcessDescription, TheQueryRefusesAnIriThatWouldBreakIt) {

@@ -1,0 +1,184 @@
+#include "mes/skill_facts.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <optional>
+
+#include "kb/component_graph.hpp"
+#include "kb/knowledge_base.hpp"
+#include "kb/rdf/turtle.hpp"
+
+namespace skillcell::mes {
+namespace {
+
+std::string proc(const char* local) {
+    return std::string(kProcessNs) + local;
+}
+
+std::optional<double> number(const std::string& text) {
+    double v = 0;
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+    if (text.empty() || ec != std::errc() || ptr != end) return std::nullopt;
+    return v;
+}
+
+// Text compares as written; two numbers by value ("0.50" is "0.5").
+bool sameValue(const std::string& a, const std::string& b) {
+    if (a == b) return true;
+    const auto x = number(a);
+    const auto y = number(b);
+    return x && y && *x == *y;
+}
+
+std::string where(const skills::SkillInstance& s) {
+    return s.browsePathString() + " of " + s.componentUri;
+}
+
+}  // namespace
+
+void SkillFacts::add(const SkillKey& skill, const std::string& propertyIri, std::string value) {
+    auto& values = values_[skill][propertyIri];
+    if (std::find(values.begin(), values.end(), value) == values.end()) {
+        values.push_back(std::move(value));
+    }
+}
+
+std::vector<std::string> SkillFacts::values(const SkillKey& skill,
+                                            const std::string& propertyIri) const {
+    const auto s = values_.find(skill);
+    if (s == values_.end()) return {};
+    const auto p = s->second.find(propertyIri);
+    return p == s->second.end() ? std::vector<std::string>{} : p->second;
+}
+
+bool SkillFacts::has(const SkillKey& skill, const FactRequirement& requirement) const {
+    const auto all = values(skill, requirement.propertyIri);
+    return std::any_of(all.begin(), all.end(),
+                       [&](const std::string& v) { return sameValue(v, requirement.value); });
+}
+
+std::vector<std::string> requiredProperties(const ProcessStep& step) {
+    std::set<std::string> out;
+    for (const auto& r : step.requirements) out.insert(r.propertyIri);
+    return {out.begin(), out.end()};
+}
+
+bool isOfType(const skills::SkillInstance& skill, const std::string& typeIri) {
+    return std::any_of(skill.types.begin(), skill.types.end(),
+                       [&](const auto& t) { return kb::skillTypeIri(t) == typeIri; });
+}
+
+kb::Expected<std::string> factQuery(const std::vector<std::string>& propertyIris) {
+    if (propertyIris.empty()) {
+        return kb::Error{"no property to ask the knowledge base about", kb::ErrorKind::BadInput};
+    }
+    // One branch per property: VALUES with a variable predicate would do, but plain patterns
+    // are what every store gets right (docs/knowledge_base.md on Virtuoso).
+    std::string where;
+    for (const auto& property : propertyIris) {
+        auto ref = kb::sparqlIri(property);
+        if (!ref) return ref.failure();
+        where += std::string(where.empty() ? "  " : "  UNION ") + "{ ?s " + *ref + " ?v . BIND(" +
+                 *ref + " AS ?p) }\n";
+    }
+    const std::string applicationUri = "<" + proc("applicationUri") + ">";
+    const std::string offers = "<" + proc("offers") + ">";
+    const std::string nodeId = "<" + proc("skillNodeId") + ">";
+    return "CONSTRUCT { ?c " + applicationUri + " ?uri . ?c " + offers + " ?s . ?s " + nodeId +
+           " ?id . ?s ?p ?v }\nWHERE {\n  ?c " + applicationUri + " ?uri ; " + offers +
+           " ?s .\n  ?s " + nodeId + " ?id .\n" + where + "}";
+}
+
+SkillFacts parseFacts(const std::vector<kb::rdf::Triple>& triples) {
+    using kb::rdf::Term;
+    std::map<Term, std::string> applicationUri;  // component -> its URI
+    std::map<Term, Term> offeredBy;              // skill -> component
+    std::map<Term, std::string> nodeId;          // skill -> its node id text
+    std::vector<const kb::rdf::Triple*> rest;
+    for (const auto& t : triples) {
+        const auto& p = t.predicate.value;
+        if (p == proc("applicationUri")) {
+            applicationUri[t.subject] = t.object.value;
+        } else if (p == proc("offers")) {
+            offeredBy[t.object] = t.subject;
+        } else if (p == proc("skillNodeId")) {
+            nodeId[t.subject] = t.object.value;
+        } else {
+            rest.push_back(&t);
+        }
+    }
+    SkillFacts out;
+    for (const auto* t : rest) {
+        const auto component = offeredBy.find(t->subject);
+        const auto id = nodeId.find(t->subject);
+        if (component == offeredBy.end() || id == nodeId.end()) continue;
+        const auto uri = applicationUri.find(component->second);
+        if (uri == applicationUri.end()) continue;
+        out.add({uri->second, id->second}, t->predicate.value, t->object.value);
+    }
+    return out;
+}
+
+kb::Expected<SkillFacts> readFacts(kb::SparqlStore& store,
+                                   const std::vector<std::string>& propertyIris) {
+    auto query = factQuery(propertyIris);
+    if (!query) return query.failure();
+    auto response = store.query(*query, kb::media::kNTriples);
+    if (!response) return response.failure();
+    auto triples = kb::rdf::readTurtle(response->body);
+    if (!triples) {
+        return kb::Error{"the knowledge base's answer is not N-Triples: " + triples.error()};
+    }
+    return parseFacts(*triples);
+}
+
+std::string unmetSkillRequirements(const ProcessStep& step, const skills::SkillInstance& skill,
+                                   const SkillFacts& facts) {
+    std::string out;
+    for (const auto& r : step.requirements) {
+        if (!r.skillTypeIri.empty() || facts.has(keyOf(skill), r)) continue;
+        const auto has = facts.values(keyOf(skill), r.propertyIri);
+        std::string what = "the knowledge base does not give it " + r.describe();
+        if (!has.empty()) {
+            std::string values;
+            for (const auto& v : has) values += (values.empty() ? "\"" : ", \"") + v + "\"";
+            what += " (it has " + values + ")";
+        }
+        out += (out.empty() ? "" : "; ") + what;
+    }
+    return out;
+}
+
+std::string unmetCellRequirements(const ProcessStep& step,
+                                  const std::vector<skills::SkillInstance>& live,
+                                  const SkillFacts& facts) {
+    std::string out;
+    for (const auto& r : step.requirements) {
+        if (r.skillTypeIri.empty()) continue;
+        std::string offered;
+        bool met = false;
+        for (const auto& s : live) {
+            if (!isOfType(s, r.skillTypeIri)) continue;
+            if (facts.has(keyOf(s), r)) {
+                met = true;
+                break;
+            }
+            const auto has = facts.values(keyOf(s), r.propertyIri);
+            std::string values;
+            for (const auto& v : has) values += (values.empty() ? "\"" : ", \"") + v + "\"";
+            offered += (offered.empty() ? "" : "; ") + where(s) + " has " +
+                       (values.empty() ? "no " + shortName(r.propertyIri) +
+                                             " in the knowledge base (not recorded yet?)"
+                                       : shortName(r.propertyIri) + " " + values);
+        }
+        if (met) continue;
+        std::string what = "the step requires " + r.describe() + ", and ";
+        what += offered.empty() ? "none of that type is available"
+                                : "the available ones do not fit: " + offered;
+        out += (out.empty() ? "" : "; ") + what;
+    }
+    return out;
+}
+
+}  // namespace skillcell::mes

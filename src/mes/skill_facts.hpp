@@ -1,0 +1,65 @@
+#pragma once
+// SkillFacts: what the knowledge base says of the cell's skill instances beyond their type (a
+// grasp skill's proc:gripType, ...), and whether they meet a step's requirements. The paper
+// (section VII-C) selects skills by suitability, physical properties and availability; here
+// suitability is the type and the facts, availability the SkillDetector's map.
+//
+// Facts come from the KB, liveness from the detector, never the other way round: the KB
+// records a component about a second after discovery and keeps a departed one's facts, so
+// an instance counts only when the detector lists it *and* the KB has the fact. Until the KB
+// has recorded a new instance it has no facts, and the MES asks again (process_executor).
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "kb/expected.hpp"
+#include "kb/rdf/triple.hpp"
+#include "kb/store/sparql_store.hpp"
+#include "mes/process_description.hpp"
+#include "mes/step_binding.hpp"
+
+namespace skillcell::mes {
+
+class SkillFacts {
+public:
+    void add(const SkillKey& skill, const std::string& propertyIri, std::string value);
+    /// Whether the KB says `skill` has the requirement's property with its value.
+    [[nodiscard]] bool has(const SkillKey& skill, const FactRequirement& requirement) const;
+    /// The values the KB gives `skill` for `propertyIri` (none when it has not recorded it).
+    [[nodiscard]] std::vector<std::string> values(const SkillKey& skill,
+                                                  const std::string& propertyIri) const;
+
+private:
+    std::map<SkillKey, std::map<std::string, std::vector<std::string>>> values_;
+};
+
+/// The properties `step`'s requirements ask about (sorted, each once).
+[[nodiscard]] std::vector<std::string> requiredProperties(const ProcessStep& step);
+
+/// The CONSTRUCT query for every skill instance's values of `propertyIris`, with the
+/// component's application URI and the skill's node id (what SkillKey holds).
+[[nodiscard]] kb::Expected<std::string> factQuery(const std::vector<std::string>& propertyIris);
+/// The facts in factQuery's answer.
+[[nodiscard]] SkillFacts parseFacts(const std::vector<kb::rdf::Triple>& triples);
+/// Asks the KB (blocking). Unavailable when it cannot be reached.
+[[nodiscard]] kb::Expected<SkillFacts> readFacts(kb::SparqlStore& store,
+                                                 const std::vector<std::string>& propertyIris);
+
+/// Why `skill` lacks `step`'s own requirements (those without a skill type); empty when it
+/// has them all.
+[[nodiscard]] std::string unmetSkillRequirements(const ProcessStep& step,
+                                                 const skills::SkillInstance& skill,
+                                                 const SkillFacts& facts);
+
+/// Why the cell (the `live` instances, with `facts`) fails `step`'s requirements on the cell
+/// (those with a skill type); empty when each is met by some live instance. The reason names
+/// the requirement and what the live instances of that type have instead.
+[[nodiscard]] std::string unmetCellRequirements(const ProcessStep& step,
+                                                const std::vector<skills::SkillInstance>& live,
+                                                const SkillFacts& facts);
+
+/// Whether `skill` is of the type `typeIri` or a subtype of it (its browsed type chain).
+[[nodiscard]] bool isOfType(const skills::SkillInstance& skill, const std::string& typeIri);
+
+}  // namespace skillcell::mes

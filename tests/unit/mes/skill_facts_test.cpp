@@ -1,0 +1,146 @@
+// Facts from the knowledge base and a step's requirements: the facts of factQuery's answer by
+// skill instance, a requirement on the skill that runs the step, one on the cell (some live
+// skill of a type has the fact), numbers by value, and reasons that say what the live skills
+// have instead.
+#include "mes/skill_facts.hpp"
+
+#include <gtest/gtest.h>
+
+#include "kb/rdf/turtle.hpp"
+
+namespace skillcell::mes {
+namespace {
+
+constexpr const char* kGs = "http://skillcell.dev/UA/GripperSkills/";
+constexpr const char* kCs = "http://skillcell.dev/UA/CompositeSkills/";
+const std::string kGripType = std::string(kProcessNs) + "gripType";
+const std::string kGrasp = std::string(kGs) + "GraspGripperSkillType";
+
+skills::SkillInstance grasp(const char* component) {
+    skills::SkillInstance s;
+    s.componentUri = component;
+    s.nodeId = ua::NodeId(1, ua::String("Skills/Grasp"));
+    s.browsePath = {{kGs, "Skills"}, {kGs, "Grasp"}};
+    s.types = {{skills::GlobalNodeId(kGs, 1002U), "GraspGripperSkillType"},
+               {skills::GlobalNodeId(kGs, 1001U), "GripperSkillType"}};
+    return s;
+}
+
+skills::SkillInstance pickAndPlace() {
+    skills::SkillInstance s;
+    s.componentUri = "urn:pnp";
+    s.nodeId = ua::NodeId(1, ua::String("Skills/PickAndPlace"));
+    s.browsePath = {{kCs, "Skills"}, {kCs, "PickAndPlace"}};
+    s.types = {{skills::GlobalNodeId(kCs, 1002U), "PickAndPlaceSkillType"}};
+    return s;
+}
+
+ProcessStep pickStep(std::vector<FactRequirement> requirements) {
+    ProcessStep step;
+    step.index = 2;
+    step.skillTypeIri = std::string(kCs) + "PickAndPlaceSkillType";
+    step.requirements = std::move(requirements);
+    return step;
+}
+
+TEST(SkillFacts, ReadsTheFactsOfEachSkillInstanceFromTheQuerysAnswer) {
+    const std::string id = grasp("urn:robotiq").nodeId.toString();
+    auto triples = kb::rdf::readTurtle(
+        "@prefix proc: <http://skillcell.dev/ontology/process#> .\n"
+        "<urn:c:robotiq> proc:applicationUri \"urn:robotiq\" ; proc:offers <urn:c:robotiq/g> .\n"
+        "<urn:c:robotiq/g> proc:skillNodeId \"" +
+        id +
+        "\" ; proc:gripType \"parallel\" .\n"
+        "<urn:c:schmalz> proc:applicationUri \"urn:schmalz\" ; proc:offers <urn:c:schmalz/g> .\n"
+        "<urn:c:schmalz/g> proc:skillNodeId \"" +
+        id +
+        "\" ; proc:gripType \"vacuum\" .\n"
+        // A skill whose component the answer does not name has no facts.
+        "<urn:c:orphan/g> proc:skillNodeId \"x\" ; proc:gripType \"parallel\" .\n");
+    ASSERT_TRUE(triples) << triples.error();
+    const SkillFacts facts = parseFacts(*triples);
+    EXPECT_EQ(facts.values(keyOf(grasp("urn:robotiq")), kGripType),
+              std::vector<std::string>{"parallel"});
+    EXPECT_EQ(facts.values(keyOf(grasp("urn:schmalz")), kGripType),
+              std::vector<std::string>{"vacuum"});
+    EXPECT_TRUE(facts.values({"urn:orphan", "x"}, kGripType).empty());
+    EXPECT_TRUE(facts.has(keyOf(grasp("urn:robotiq")), {kGripType, "parallel", ""}));
+    EXPECT_FALSE(facts.has(keyOf(grasp("urn:robotiq")), {kGripType, "vacuum", ""}));
+}
+
+TEST(SkillFacts, NumbersCompareByValueAndTextAsWritten) {
+    SkillFacts facts;
+    facts.add({"urn:ur5", "s"}, "urn:reach", "0.850");
+    facts.add({"urn:ur5", "s"}, "urn:name", "Parallel");
+    EXPECT_TRUE(facts.has({"urn:ur5", "s"}, {"urn:reach", "0.85", ""}));
+    EXPECT_FALSE(facts.has({"urn:ur5", "s"}, {"urn:reach", "0.9", ""}));
+    EXPECT_FALSE(facts.has({"urn:ur5", "s"}, {"urn:name", "parallel", ""}));
+    EXPECT_FALSE(facts.has({"urn:other", "s"}, {"urn:reach", "0.85", ""}));
+}
+
+TEST(SkillFacts, ACellRequirementIsMetBySomeLiveSkillOfTheTypeWithTheFact) {
+    const auto step = pickStep({{kGripType, "parallel", kGrasp}});
+    SkillFacts facts;
+    facts.add(keyOf(grasp("urn:schmalz")), kGripType, "vacuum");
+    facts.add(keyOf(grasp("urn:robotiq")), kGripType, "parallel");
+    facts.add(keyOf(grasp("urn:ag95")), kGripType, "parallel");
+
+    // The mounted gripper is the only live one: a parallel one meets it, whichever model.
+    EXPECT_EQ(unmetCellRequirements(step, {pickAndPlace(), grasp("urn:robotiq")}, facts), "");
+    EXPECT_EQ(unmetCellRequirements(step, {pickAndPlace(), grasp("urn:ag95")}, facts), "");
+
+    // A vacuum gripper mounted: the reason names the requirement and what is there instead.
+    const std::string wrong =
+        unmetCellRequirements(step, {pickAndPlace(), grasp("urn:schmalz")}, facts);
+    EXPECT_NE(wrong.find("requires an available GraspGripperSkillType with gripType "
+                         "\"parallel\""),
+              std::string::npos)
+        << wrong;
+    EXPECT_NE(wrong.find("Skills/Grasp of urn:schmalz has gripType \"vacuum\""), std::string::npos)
+        << wrong;
+
+    // Facts of a gripper that is not live do not count (the KB keeps departed components).
+    const std::string none = unmetCellRequirements(step, {pickAndPlace()}, facts);
+    EXPECT_NE(none.find("none of that type is available"), std::string::npos) << none;
+
+    // A live gripper the KB has not recorded yet.
+    const std::string unknown =
+        unmetCellRequirements(step, {pickAndPlace(), grasp("urn:new")}, facts);
+    EXPECT_NE(unknown.find("urn:new has no gripType in the knowledge base"), std::string::npos)
+        << unknown;
+
+    // A requirement on the skill itself is not the cell's.
+    EXPECT_EQ(unmetCellRequirements(pickStep({{kGripType, "parallel", ""}}), {}, facts), "");
+}
+
+TEST(SkillFacts, ASkillRequirementConcernsTheSkillThatRunsTheStep) {
+    ProcessStep step = pickStep({{kGripType, "vacuum", ""}});
+    step.skillTypeIri = kGrasp;
+    SkillFacts facts;
+    facts.add(keyOf(grasp("urn:schmalz")), kGripType, "vacuum");
+    facts.add(keyOf(grasp("urn:robotiq")), kGripType, "parallel");
+    EXPECT_EQ(unmetSkillRequirements(step, grasp("urn:schmalz"), facts), "");
+    EXPECT_EQ(unmetSkillRequirements(step, grasp("urn:robotiq"), facts),
+              "the knowledge base does not give it gripType \"vacuum\" (it has \"parallel\")");
+    EXPECT_EQ(unmetSkillRequirements(step, grasp("urn:new"), facts),
+              "the knowledge base does not give it gripType \"vacuum\"");
+    // Cell requirements are not the skill's.
+    EXPECT_EQ(
+        unmetSkillRequirements(pickStep({{kGripType, "x", kGrasp}}), grasp("urn:robotiq"), facts),
+        "");
+}
+
+TEST(SkillFacts, TheQueryAsksForEachPropertyAndRefusesABrokenIri) {
+    EXPECT_EQ(requiredProperties(pickStep(
+                  {{kGripType, "a", kGrasp}, {"urn:reach", "1", ""}, {kGripType, "b", ""}})),
+              (std::vector<std::string>{kGripType, "urn:reach"}));
+    auto q = factQuery({kGripType, "urn:reach"});
+    ASSERT_TRUE(q) << q.error();
+    EXPECT_NE(q->find("<" + kGripType + ">"), std::string::npos) << *q;
+    EXPECT_NE(q->find("UNION"), std::string::npos) << *q;
+    EXPECT_FALSE(factQuery({"urn:x> } DROP ALL { <y"}));
+    EXPECT_FALSE(factQuery({}));
+}
+
+}  // namespace
+}  // namespace skillcell::mes
