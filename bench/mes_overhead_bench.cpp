@@ -147,7 +147,9 @@ int main(int argc, char** argv) {
         [&description](std::string) -> asio::awaitable<kb::Expected<mes::ProcessDescription>> {
         co_return description;
     };
-    auto executor = mes::ProcessExecutor::create(detector, **journal, reader);
+    // No fact reader: the benchmark's steps have no requirements.
+    auto executor =
+        mes::ProcessExecutor::create(detector, **journal, mes::KnowledgeReaders{reader, {}});
     std::map<int, Clock::time_point> began;
     bench::Samples stepTimes;
     executor->onProgress = [&](const mes::Progress& p) {
