@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Interop: node-opcua's client calls the world model's MoveTool (`skillcell device world`) with
+# the server's default security, and its role check (MoveTool needs Engineer).
+# Usage: node_world_move_tool.sh PATH/TO/skillcell
+#   1. an Operator and an Engineer (`skillcell user add`); the world with docks d1, d2, d3 and
+#      the tools parallel (in d1) and suction (in d2), on loopback;
+#   2. node's first connection is refused, its certificate trusted with `skillcell pki trust`;
+#   3. world_move_tool.js as the operator (refused, nothing moved), then as the engineer (the
+#      move, then bad input with its exact status codes);
+#   4. the refusals are in the world's log, and the world is still running and stops cleanly.
+# Everything lives in a temporary directory. Skips (77) without node-opcua unless
+# SKILLCELL_REQUIRE_NODE=1.
+set -euo pipefail
+skillcell=$1
+here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=SCRIPTDIR/interop_lib.sh
+source "$here/interop_lib.sh"
+interop_require_node
+interop_temp_dir
+pki=$tmp/pki
+printf '%s\n' 'op-secret-1' | "$skillcell" user add operator --role Operator --pki-dir "$pki"
+printf '%s\n' 'eng-secret-2' | "$skillcell" user add engineer --role Engineer --pki-dir "$pki"
+
+interop_start world 20 "$skillcell" device world --port 0 --host 127.0.0.1 --no-discovery \
+  --pki-dir "$pki" --dock 'd1@0.4,-0.3,0.1' --dock 'd2@0.5,-0.3,0.1' --dock 'd3@0.6,-0.3,0.1' \
+  --tool 'parallel:d1@0,0,0.15' --tool 'suction:d2@0,0,0.12'
+pid=$last_pid
+echo "world ready at $url"
+fail() { echo "FAIL: $*" >&2; echo "world log:" >&2; tail -n 60 "$tmp/world.log" >&2; exit 1; }
+
+# common.js's connect(): Aes256_Sha256_RsaPss/SignAndEncrypt, node's own PKI (and self-signed
+# certificate) in $tmp, the user from SKILLCELL_NODE_USER.
+export SKILLCELL_NODE_SECURITY=SignAndEncrypt SKILLCELL_NODE_PKI=$tmp/node
+node_as() {
+  local user=$1
+  shift
+  SKILLCELL_NODE_USER=$user timeout 30 node "$here/world_move_tool.js" "$url" "$@"
+}
+
+node_as operator:op-secret-1 --expect-untrusted || fail "the untrusted client was not refused"
+shopt -s nullglob
+rejected=("$pki"/rejected/certs/*.der)
+[ ${#rejected[@]} -eq 1 ] || fail "expected node's certificate in rejected/, found ${#rejected[@]}"
+"$skillcell" pki trust "${rejected[0]}" --pki-dir "$pki" || fail "skillcell pki trust failed"
+
+node_as operator:op-secret-1 --as operator || fail "world_move_tool.js as the operator"
+node_as engineer:eng-secret-2 --as engineer || fail "world_move_tool.js as the engineer"
+
+# The server's side of the refusals: the role check, then World::moveTool's own.
+grep -q "Call of .*World.MoveTool refused (BadUserAccessDenied)" "$tmp/world.log" ||
+  fail "the operator's refusal was not logged"
+for status in BadNotFound BadInvalidState; do
+  grep -q "world: MoveTool refused ($status)" "$tmp/world.log" || fail "no MoveTool refusal with $status logged"
+done
+kill -0 "$pid" 2>/dev/null || fail "the world died during the test"
+kill -TERM "$pid"
+for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+kill -0 "$pid" 2>/dev/null && fail "the world still runs 5 s after SIGTERM"
+wait "$pid" || fail "the world did not exit 0 on SIGTERM"
+pid=""
+echo "OK"
