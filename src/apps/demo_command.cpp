@@ -22,6 +22,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -233,6 +234,8 @@ private:
     bool swapParallelGripper();
     void showWorld();
     void showJournal();
+    /// What the cell refuses: returns false when something it must refuse got through.
+    bool showSecurity();
     void showDetectionTable(const std::vector<MeasuredComponent>& measured) const;
     void stopAll();
 
@@ -477,6 +480,82 @@ bool DemoCell::swapParallelGripper() {
     return true;
 }
 
+// The first status name in `text` ("BadCertificateUntrusted"), or the text's first line.
+std::string statusIn(const std::string& text) {
+    const auto at = text.find("Bad");
+    if (at != std::string::npos) {
+        auto end = at;
+        while (end < text.size() && std::isalnum(static_cast<unsigned char>(text[end])) != 0) {
+            ++end;
+        }
+        return text.substr(at, end - at);
+    }
+    return text.substr(0, text.find('\n'));
+}
+
+bool DemoCell::showSecurity() {
+    bool held = true;
+    auto show = [&held](const char* what, bool refused, const std::string& answer) {
+        std::printf("  %-62s %s\n", what, refused ? answer.c_str() : "NOT REFUSED");
+        held = held && refused;
+    };
+    // A role without the right: rearranging the tools is the engineer's task.
+    std::string error;
+    ClientUserOptions operatorUser;
+    operatorUser.name = "operator";
+    operatorUser.passwordFile = (dir() / "operator.pw").string();
+    auto security = componentClientSecurity(*identity_, operatorUser, false, &error);
+    if (!security) {
+        std::cerr << "demo: " << error << "\n";
+        return false;
+    }
+    ua::ClientConfig config;
+    config.applicationUri = "urn:skillcell:demo";
+    config.sessionName = "operator";
+    config.security = *security;
+    auto world = devices::WorldLink::connect(worldUrl_, std::move(config));
+    if (!world) {
+        std::cerr << "demo: the operator cannot reach the world model: "
+                  << ua::statusName(world.status()) << "\n";
+        return false;
+    }
+    const auto moved = (*world)->moveTool("vacuum", "dockV");
+    show("the operator moving a tool (World.MoveTool, an engineer's task)", moved.isBad(),
+         std::string(ua::statusName(moved)));
+    // A client without security: no signature, no user.
+    ua::ClientConfig plain;
+    plain.applicationUri = "urn:skillcell:demo";
+    auto anonymous = devices::WorldLink::connect(worldUrl_, std::move(plain));
+    show("a client without security (SecurityPolicy None, anonymous)", !anonymous,
+         anonymous ? std::string() : std::string(ua::statusName(anonymous.status())));
+    // A certificate the cell's CA did not issue: `skillcell browse` with a PKI directory that
+    // trusts the cell's CA (so that the refusal is the server's, not the client's) but makes
+    // its own, self-signed certificate; with the operator's valid password.
+    const fs::path strangerPki = dir() / "pki-stranger";
+    std::error_code ec;
+    auto ca = ua::pki::loadCertificateAuthority(dir() / "ca", &error);
+    if (!ca || ua::pki::installCertificateAuthority(*ca, strangerPki, &error).isBad()) {
+        std::cerr << "demo: the stranger's trust list: " << error << "\n";
+        return false;
+    }
+    auto stranger = kb::engine::runToCompletion(
+        {skillcell_, "browse", worldUrl_, "--pki-dir", strangerPki.string(), "--user", "operator",
+         "--password-file", (dir() / "operator.pw").string()},
+        60s);
+    // The server's refusal, not the client's: the world model keeps the certificate in its
+    // rejected/ folder, for an operator to trust or not.
+    const bool rejectedByTheServer =
+        fs::exists(dir() / "pki-world" / "rejected" / "certs", ec) &&
+        std::any_of(fs::directory_iterator(dir() / "pki-world" / "rejected" / "certs", ec),
+                    fs::directory_iterator(), [](const fs::directory_entry&) { return true; });
+    const bool strangerRefused = stranger && stranger->exitCode != 0 && rejectedByTheServer;
+    show("a client whose certificate the cell's CA did not issue", strangerRefused,
+         stranger
+             ? statusIn(stranger->err + stranger->out) + " (kept in the world model's rejected/)"
+             : stranger.error());
+    return held;
+}
+
 void DemoCell::showWorld() {
     auto browse =
         kb::engine::runToCompletion({skillcell_, "browse", worldUrl_, "--values", "--pki-dir",
@@ -718,6 +797,8 @@ int DemoCell::run(const Interruption& interruption) {
     showWorld();
     std::printf("\n== the MES's journal\n");
     showJournal();
+    std::printf("\n== security: what the cell refuses\n");
+    if (!showSecurity()) outcome = 1;
     std::printf(
         "\n== time from starting a component to the detection of its skills by the others, beside "
         "the paper's (section VIII-C, averaged over 5 runs)\n");

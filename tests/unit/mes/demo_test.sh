@@ -6,7 +6,9 @@
 #   - the world model: box A and box B at the process's target poses, no tool mounted;
 #   - the MES's journal: two completed runs, each of 5 steps finished at the first attempt;
 #   - the AG-95's adapter was powered and detected in the second run;
-#   - the detection table: a row per measured component with the paper's figure.
+#   - the detection table: a row per measured component with the paper's figure;
+#   - the security the cell enforces: the operator refused an engineer's method, a client
+#     without security refused, a certificate the cell CA did not issue refused by the server.
 # The demo makes its own network namespace (root). Without root the test is skipped (77),
 # unless SKILLCELL_REQUIRE_NETNS=1, as in CI.
 # Usage: demo_test.sh PATH/TO/skillcell
@@ -44,6 +46,9 @@ for row in 'UR5 .* 313$' 'pick-and-place .* 211$' 'tool changer .* 253$' \
   'Robotiq adapter .* 8422$' 'Schmalz adapter .* 9635$'; do
   expect "$row"
 done
+expect 'the operator moving a tool .* BadUserAccessDenied$'
+expect 'a client without security .* BadSecurityPolicyRejected$'
+expect "certificate the cell's CA did not issue .* BadCertificateUntrusted \\(kept in the world model's rejected/\\)$"
 
 # The journal, read by SQLite itself: two completed runs, each of steps 1..5, one attempt
 # each, all finished.
