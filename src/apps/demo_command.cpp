@@ -38,6 +38,7 @@
 #include "cell_process.hpp"
 #include "client_security_options.hpp"
 #include "commands.hpp"
+#include "devices/common/frame.hpp"
 #include "devices/world/world_link.hpp"
 #include "mes/journal.hpp"
 #include "private_network.hpp"
@@ -230,6 +231,9 @@ private:
     bool startInfrastructure();
     bool measure(MeasuredComponent& m, const Interruption& interruption);
     int runProcess(const Interruption& interruption);
+    /// A session with the world model as `user` (its password file in the work directory),
+    /// with the demo's certificate; nullptr after saying why on stderr.
+    std::unique_ptr<devices::WorldLink> connectWorld(const std::string& user);
     /// --swap: an engineer takes the Robotiq gripper out of its dock and puts a DH AG-95 in.
     bool swapParallelGripper();
     void showWorld();
@@ -449,28 +453,34 @@ int DemoCell::runProcess(const Interruption& interruption) {
     return status && status->success() ? 0 : 1;
 }
 
-bool DemoCell::swapParallelGripper() {
+std::unique_ptr<devices::WorldLink> DemoCell::connectWorld(const std::string& user) {
     std::string error;
-    ClientUserOptions engineer;
-    engineer.name = "engineer";
-    engineer.passwordFile = (dir() / "engineer.pw").string();
-    auto security = componentClientSecurity(*identity_, engineer, false, &error);
+    ClientUserOptions credentials;
+    credentials.name = user;
+    credentials.passwordFile = (dir() / (user + ".pw")).string();
+    auto security = componentClientSecurity(*identity_, credentials, false, &error);
     if (!security) {
         std::cerr << "demo: " << error << "\n";
-        return false;
+        return nullptr;
     }
     ua::ClientConfig config;
     config.applicationUri = "urn:skillcell:demo";
-    config.sessionName = "engineer";
+    config.sessionName = user;
     config.security = *security;
     auto world = devices::WorldLink::connect(worldUrl_, std::move(config));
     if (!world) {
-        std::cerr << "demo: cannot reach the world model: " << ua::statusName(world.status())
-                  << "\n";
-        return false;
+        std::cerr << "demo: the " << user
+                  << " cannot reach the world model: " << ua::statusName(world.status()) << "\n";
+        return nullptr;
     }
+    return std::move(*world);
+}
+
+bool DemoCell::swapParallelGripper() {
+    auto world = connectWorld("engineer");
+    if (!world) return false;
     for (const auto& [tool, dock] : {std::pair{"parallel", "shelf2"}, std::pair{"ag95", "dockP"}}) {
-        if (const auto s = (*world)->moveTool(tool, dock); s.isBad()) {
+        if (const auto s = world->moveTool(tool, dock); s.isBad()) {
             std::cerr << "demo: moving " << tool << " to " << dock << ": " << ua::statusName(s)
                       << " (see " << work_.log("world").string() << ")\n";
             return false;
@@ -500,26 +510,9 @@ bool DemoCell::showSecurity() {
         held = held && refused;
     };
     // A role without the right: rearranging the tools is the engineer's task.
-    std::string error;
-    ClientUserOptions operatorUser;
-    operatorUser.name = "operator";
-    operatorUser.passwordFile = (dir() / "operator.pw").string();
-    auto security = componentClientSecurity(*identity_, operatorUser, false, &error);
-    if (!security) {
-        std::cerr << "demo: " << error << "\n";
-        return false;
-    }
-    ua::ClientConfig config;
-    config.applicationUri = "urn:skillcell:demo";
-    config.sessionName = "operator";
-    config.security = *security;
-    auto world = devices::WorldLink::connect(worldUrl_, std::move(config));
-    if (!world) {
-        std::cerr << "demo: the operator cannot reach the world model: "
-                  << ua::statusName(world.status()) << "\n";
-        return false;
-    }
-    const auto moved = (*world)->moveTool("vacuum", "dockV");
+    auto world = connectWorld("operator");
+    if (!world) return false;
+    const auto moved = world->moveTool("vacuum", "dockV");
     show("the operator moving a tool (World.MoveTool, an engineer's task)", moved.isBad(),
          std::string(ua::statusName(moved)));
     // A client without security: no signature, no user.
@@ -533,6 +526,7 @@ bool DemoCell::showSecurity() {
     // its own, self-signed certificate; with the operator's valid password.
     const fs::path strangerPki = dir() / "pki-stranger";
     std::error_code ec;
+    std::string error;
     auto ca = ua::pki::loadCertificateAuthority(dir() / "ca", &error);
     if (!ca || ua::pki::installCertificateAuthority(*ca, strangerPki, &error).isBad()) {
         std::cerr << "demo: the stranger's trust list: " << error << "\n";
@@ -557,27 +551,19 @@ bool DemoCell::showSecurity() {
 }
 
 void DemoCell::showWorld() {
-    auto browse =
-        kb::engine::runToCompletion({skillcell_, "browse", worldUrl_, "--values", "--pki-dir",
-                                     (dir() / "pki-operator").string(), "--user", "operator",
-                                     "--password-file", (dir() / "operator.pw").string()},
-                                    60s);
-    if (!browse || browse->exitCode != 0) {
-        std::cerr << "demo: cannot browse the world model: "
-                  << (browse ? browse->err : browse.error()) << "\n";
-        return;
+    auto world = connectWorld("operator");
+    if (!world) return;
+    for (const char* box : {"boxA", "boxB"}) {
+        const auto pose = world->objectPose(box);
+        std::printf("  World/Objects/%s/Pose = %s\n", box,
+                    pose ? ("3DFrame" + devices::describe(*pose)).c_str()
+                         : ua::statusName(pose.status()).data());
     }
-    std::istringstream lines(browse->out);
-    for (std::string line; std::getline(lines, line);) {
-        const bool boxPose = line.find("World/Objects/") != std::string::npos &&
-                             line.find("/Pose") != std::string::npos;
-        if (boxPose || line.find("World/MountedTool") != std::string::npos) {
-            std::printf("  %s\n", line.c_str());
-        }
-    }
+    const auto tool = world->mountedTool();
+    std::printf("  World/MountedTool = %s\n",
+                tool ? ("\"" + *tool + "\"").c_str() : ua::statusName(tool.status()).data());
 }
 
-/// "http://.../ToolChangerSkills/ChangeToolSkillType" -> "ChangeToolSkillType".
 std::string shortIri(const std::string& iri) {
     const auto cut = iri.find_last_of("/#");
     return cut == std::string::npos ? iri : iri.substr(cut + 1);
