@@ -102,7 +102,12 @@ kb::Expected<DerivationSource> source(const Graph& g, const Term& node, const st
     return s;
 }
 
-kb::Expected<StepParameter> parameter(const Graph& g, const Term& node, const std::string& step) {
+// The step's requirements, by the node that names them in the description.
+using RequirementNodes = std::map<Term, std::size_t>;
+
+kb::Expected<StepParameter> parameter(const Graph& g, const Term& node, const std::string& step,
+                                      const RequirementNodes& requirements,
+                                      const std::vector<FactRequirement>& stepRequirements) {
     StepParameter out;
     const auto parameterName = g.literal(node, p("parameterName"));
     if (!parameterName || parameterName->empty()) {
@@ -124,10 +129,18 @@ kb::Expected<StepParameter> parameter(const Graph& g, const Term& node, const st
         auto v = source(g, *from, what);
         if (!v) return v.failure();
         out.value = *v;
+    } else if (const Term* of = g.object(node, p("endpointOf"))) {
+        const auto it = requirements.find(*of);
+        if (it == requirements.end() || stepRequirements[it->second].skillTypeIri.empty()) {
+            return bad(what + ": proc:endpointOf " + name(*of) +
+                       " is not one of the step's requirements on the cell (proc:requiresFact "
+                       "with proc:ofSkillType)");
+        }
+        out.value = RequirementEndpoint{it->second};
     } else {
         return bad(what +
                    ": no value (proc:textValue, proc:numberValue, proc:poseValue) and nothing "
-                   "to derive it from (proc:derivedFrom)");
+                   "to derive it from (proc:derivedFrom, proc:endpointOf)");
     }
     return out;
 }
@@ -263,9 +276,26 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
             }
         }
         for (const Term* d : g.objects(*s, p("dependsOn"))) step.dependsOn.push_back(d->value);
+        // Requirements first, in a stable order (the triples come in none): parameters may
+        // name them (proc:endpointOf).
+        std::vector<std::pair<FactRequirement, Term>> requirements;
+        for (const Term* r : g.objects(*s, p("requiresFact"))) {
+            auto parsed = requirement(g, *r, step.label());
+            if (!parsed) return parsed.failure();
+            requirements.emplace_back(std::move(*parsed), *r);
+        }
+        std::sort(requirements.begin(), requirements.end(), [](const auto& a, const auto& b) {
+            return std::tie(a.first.skillTypeIri, a.first.propertyIri, a.first.value) <
+                   std::tie(b.first.skillTypeIri, b.first.propertyIri, b.first.value);
+        });
+        RequirementNodes nodes;
+        for (auto& [r, node] : requirements) {
+            nodes.emplace(node, step.requirements.size());
+            step.requirements.push_back(std::move(r));
+        }
         std::set<std::string> names;
         for (const Term* pn : g.objects(*s, p("hasParameter"))) {
-            auto parsed = parameter(g, *pn, step.label());
+            auto parsed = parameter(g, *pn, step.label(), nodes, step.requirements);
             if (!parsed) return parsed.failure();
             if (!names.insert(parsed->name).second) {
                 return bad(step.label() + ": the parameter " + parsed->name + " is given twice");
@@ -274,17 +304,6 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
         }
         std::sort(step.parameters.begin(), step.parameters.end(),
                   [](const StepParameter& a, const StepParameter& b) { return a.name < b.name; });
-        for (const Term* r : g.objects(*s, p("requiresFact"))) {
-            auto parsed = requirement(g, *r, step.label());
-            if (!parsed) return parsed.failure();
-            step.requirements.push_back(std::move(*parsed));
-        }
-        // A stable order: the description's triples come in no particular one.
-        std::sort(step.requirements.begin(), step.requirements.end(),
-                  [](const FactRequirement& a, const FactRequirement& b) {
-                      return std::tie(a.skillTypeIri, a.propertyIri, a.value) <
-                             std::tie(b.skillTypeIri, b.propertyIri, b.value);
-                  });
         out.steps.push_back(std::move(step));
     }
     if (out.steps.size() != members.size()) {

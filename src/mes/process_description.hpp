@@ -33,12 +33,6 @@ struct DerivationSource {
     friend bool operator==(const DerivationSource&, const DerivationSource&) = default;
 };
 
-struct StepParameter {
-    std::string name;  // the BrowseName in the skill's ParameterSet
-    std::variant<std::string, double, devices::Pose6, DerivationSource> value;
-    friend bool operator==(const StepParameter&, const StepParameter&) = default;
-};
-
 /// A fact the knowledge base must hold for a skill to suit a step (proc:requiresFact): the
 /// skill instance has `propertyIri` with `value`. With a `skillTypeIri` it concerns the cell:
 /// some available skill of that type (or a subtype) must have the fact.
@@ -53,13 +47,27 @@ struct FactRequirement {
     [[nodiscard]] std::string describe() const;
 };
 
+/// A parameter whose value is the endpoint URL of the skill that meets one of the step's
+/// requirements on the cell (proc:endpointOf): the gripper a pick was checked against is the
+/// one it uses.
+struct RequirementEndpoint {
+    std::size_t requirement = 0;  // its index in ProcessStep::requirements
+    friend bool operator==(const RequirementEndpoint&, const RequirementEndpoint&) = default;
+};
+
+struct StepParameter {
+    std::string name;  // the BrowseName in the skill's ParameterSet
+    std::variant<std::string, double, devices::Pose6, DerivationSource, RequirementEndpoint> value;
+    friend bool operator==(const StepParameter&, const StepParameter&) = default;
+};
+
 struct ProcessStep {
     std::string iri;
     int index = 0;  // position in the process, from 1 (proc:next order)
     std::string skillTypeIri;
-    std::vector<StepParameter> parameters;  // by name
-    std::vector<std::string> dependsOn;     // step IRIs, each earlier in the order
-    std::vector<FactRequirement> requirements;
+    std::vector<StepParameter> parameters;      // by name
+    std::vector<std::string> dependsOn;         // step IRIs, each earlier in the order
+    std::vector<FactRequirement> requirements;  // in a stable order (RequirementEndpoint)
     friend bool operator==(const ProcessStep&, const ProcessStep&) = default;
 
     /// "step 2 (PickAndPlaceSkillType)": how messages name it.

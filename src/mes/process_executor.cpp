@@ -289,8 +289,10 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
             "cannot ask the knowledge base whether its requirements are met: " + facts.error();
         co_return c;
     }
-    c.unmet = unmetCellRequirements(step, live, *facts);
+    auto cell = matchCellRequirements(step, live, *facts);
+    c.unmet = std::move(cell.unmet);
     if (!c.unmet.empty()) co_return c;
+    c.cellMatches = std::move(cell.byRequirement);
     std::string unfit;
     for (auto& s : typed) {
         const std::string why = unmetSkillRequirements(step, s, *facts);
@@ -422,7 +424,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
             co_return StepResult{false, why};
         }
         const skills::SkillInstance& skill = found.skills.front();
-        auto values = parameterValues(step, skill);
+        auto values = parameterValues(step, skill, found.cellMatches);
         if (!values) co_return StepResult{false, values.error()};
         p.component = skill.componentUri;
         p.skill = skill.browsePathString();

@@ -134,6 +134,8 @@ private:
     struct Choice {
         std::vector<skills::SkillInstance> skills;  // suitable and available, best first
         std::string unmet;  // when there are none: the requirements not met, and why
+        /// The instances meeting the step's requirements on the cell (CellMatch).
+        std::vector<std::optional<skills::SkillInstance>> cellMatches;
     };
     /// Suitable instances now, or after waiting up to skillWait for one to appear (or for
     /// the KB to record the facts that make one suitable).

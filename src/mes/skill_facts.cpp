@@ -150,33 +150,41 @@ std::string unmetSkillRequirements(const ProcessStep& step, const skills::SkillI
     return out;
 }
 
-std::string unmetCellRequirements(const ProcessStep& step,
-                                  const std::vector<skills::SkillInstance>& live,
-                                  const SkillFacts& facts) {
-    std::string out;
-    for (const auto& r : step.requirements) {
+CellMatch matchCellRequirements(const ProcessStep& step,
+                                const std::vector<skills::SkillInstance>& live,
+                                const SkillFacts& facts) {
+    // The same choice for the same cell, whatever order the detector lists it in.
+    std::vector<const skills::SkillInstance*> ordered;
+    for (const auto& s : live) ordered.push_back(&s);
+    std::sort(ordered.begin(), ordered.end(), [](const auto* a, const auto* b) {
+        return std::pair(a->componentUri, a->browsePathString()) <
+               std::pair(b->componentUri, b->browsePathString());
+    });
+    CellMatch out;
+    out.byRequirement.resize(step.requirements.size());
+    for (std::size_t i = 0; i < step.requirements.size(); ++i) {
+        const auto& r = step.requirements[i];
         if (r.skillTypeIri.empty()) continue;
         std::string offered;
-        bool met = false;
-        for (const auto& s : live) {
-            if (!isOfType(s, r.skillTypeIri)) continue;
-            if (facts.has(keyOf(s), r)) {
-                met = true;
+        for (const auto* s : ordered) {
+            if (!isOfType(*s, r.skillTypeIri)) continue;
+            if (facts.has(keyOf(*s), r)) {
+                out.byRequirement[i] = *s;
                 break;
             }
-            const auto has = facts.values(keyOf(s), r.propertyIri);
+            const auto has = facts.values(keyOf(*s), r.propertyIri);
             std::string values;
             for (const auto& v : has) values += (values.empty() ? "\"" : ", \"") + v + "\"";
-            offered += (offered.empty() ? "" : "; ") + where(s) + " has " +
+            offered += (offered.empty() ? "" : "; ") + where(*s) + " has " +
                        (values.empty() ? "no " + shortName(r.propertyIri) +
                                              " in the knowledge base (not recorded yet?)"
                                        : shortName(r.propertyIri) + " " + values);
         }
-        if (met) continue;
+        if (out.byRequirement[i]) continue;
         std::string what = "the step requires " + r.describe() + ", and ";
         what += offered.empty() ? "none of that type is available"
                                 : "the available ones do not fit: " + offered;
-        out += (out.empty() ? "" : "; ") + what;
+        out.unmet += (out.unmet.empty() ? "" : "; ") + what;
     }
     return out;
 }

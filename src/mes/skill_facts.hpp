@@ -9,6 +9,7 @@
 // an instance counts only when the detector lists it *and* the KB has the fact. Until the KB
 // has recorded a new instance it has no facts, and the MES asks again (process_executor).
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -52,12 +53,19 @@ private:
                                                  const skills::SkillInstance& skill,
                                                  const SkillFacts& facts);
 
-/// Why the cell (the `live` instances, with `facts`) fails `step`'s requirements on the cell
-/// (those with a skill type); empty when each is met by some live instance. The reason names
-/// the requirement and what the live instances of that type have instead.
-[[nodiscard]] std::string unmetCellRequirements(const ProcessStep& step,
-                                                const std::vector<skills::SkillInstance>& live,
-                                                const SkillFacts& facts);
+/// How the cell meets `step`'s requirements on the cell (those with a skill type).
+struct CellMatch {
+    /// Parallel to step.requirements: for a requirement on the cell, the live instance that
+    /// meets it (the first by component URI and browse path); nothing for one on the skill,
+    /// or one unmet.
+    std::vector<std::optional<skills::SkillInstance>> byRequirement;
+    /// Why some are unmet, naming each and what the live instances of its type have
+    /// instead; empty when all are met.
+    std::string unmet;
+};
+[[nodiscard]] CellMatch matchCellRequirements(const ProcessStep& step,
+                                              const std::vector<skills::SkillInstance>& live,
+                                              const SkillFacts& facts);
 
 /// Whether `skill` is of the type `typeIri` or a subtype of it (its browsed type chain).
 [[nodiscard]] bool isOfType(const skills::SkillInstance& skill, const std::string& typeIri);

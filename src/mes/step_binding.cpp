@@ -44,11 +44,18 @@ kb::Expected<ua::Variant> numberAs(double v, const skills::GlobalNodeId& type,
     return bad(what + ": a number, but the skill's parameter has the data type " + type.toString());
 }
 
-kb::Expected<ua::Variant> valueFor(const StepParameter& given,
-                                   const skills::SkillParameter& declared,
-                                   const std::string& what) {
+kb::Expected<ua::Variant> valueFor(
+    const StepParameter& given, const skills::SkillParameter& declared, const std::string& what,
+    const std::vector<std::optional<skills::SkillInstance>>& cellMatches) {
     const bool frame = isNs0(declared.dataType, ua::ns0::ThreeDFrame);
     const bool text = isNs0(declared.dataType, ua::ns0::String);
+    if (const auto* of = std::get_if<RequirementEndpoint>(&given.value)) {
+        if (!text) return bad(what + ": an endpoint, but the skill's parameter is not a String");
+        if (of->requirement >= cellMatches.size() || !cellMatches[of->requirement]) {
+            return bad(what + ": no skill meets the requirement whose endpoint it takes");
+        }
+        return ua::Variant(ua::String(cellMatches[of->requirement]->endpointUrl));
+    }
     if (const auto* s = std::get_if<std::string>(&given.value)) {
         if (!text) return bad(what + ": a text, but the skill's parameter is not a String");
         return ua::Variant(ua::String(*s));
@@ -117,13 +124,14 @@ std::vector<skills::SkillInstance> candidates(const ProcessStep& step,
 }
 
 kb::Expected<std::map<std::string, ua::Variant>> parameterValues(
-    const ProcessStep& step, const skills::SkillInstance& skill) {
+    const ProcessStep& step, const skills::SkillInstance& skill,
+    const std::vector<std::optional<skills::SkillInstance>>& cellMatches) {
     std::map<std::string, ua::Variant> out;
     for (const auto& p : step.parameters) {
         const auto* d = declared(skill, p.name);
         const std::string what = step.label() + ", parameter " + p.name;
         if (d == nullptr) return bad(what + ": " + skill.browsePathString() + " lacks it");
-        auto v = valueFor(p, *d, what);
+        auto v = valueFor(p, *d, what, cellMatches);
         if (!v) return v.failure();
         out.emplace(p.name, std::move(*v));
     }

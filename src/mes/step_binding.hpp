@@ -8,6 +8,7 @@
 // the form the skill's parameter declares: a 3DFrame from a resource's target pose or pose,
 // a String from an object's id or a resource's application URI.
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -33,9 +34,13 @@ using SkillKey = std::pair<std::string, std::string>;
     const ProcessStep& step, const std::vector<skills::SkillInstance>& live,
     const std::set<SkillKey>& excluded);
 
-/// The values to write before `skill` runs `step`. BadInput when a value cannot take the form
-/// the parameter declares (a pose for a String, nothing to derive a 3DFrame from).
+/// The values to write before `skill` runs `step`. `cellMatches`: for each of the step's
+/// requirements on the cell, the instance that meets it (skill_facts.hpp), whose endpoint a
+/// RequirementEndpoint parameter takes. BadInput when a value cannot take the form the
+/// parameter declares (a pose for a String, nothing to derive a 3DFrame from, no instance
+/// for an endpoint).
 [[nodiscard]] kb::Expected<std::map<std::string, ua::Variant>> parameterValues(
-    const ProcessStep& step, const skills::SkillInstance& skill);
+    const ProcessStep& step, const skills::SkillInstance& skill,
+    const std::vector<std::optional<skills::SkillInstance>>& cellMatches = {});
 
 }  // namespace skillcell::mes

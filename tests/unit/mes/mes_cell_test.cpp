@@ -50,18 +50,22 @@ struct RunResult {
     std::string output;
 };
 
-// `skillcell run` to its end (bounded by its --timeout).
-RunResult runProcess(const std::string& mesUrl) {
-    const std::string command = std::string(SKILLCELL_BINARY) + " run " + kDemo + " --mes " +
-                                mesUrl + " --insecure --timeout 240 2>&1";
+// A command's output and exit code; the command bounds itself (its --timeout).
+RunResult shell(const std::string& command) {
     RunResult r;
-    FILE* pipe = ::popen(command.c_str(), "r");
+    FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
     if (pipe == nullptr) return r;
     std::array<char, 512> buffer{};
     while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.output += buffer.data();
     const int status = ::pclose(pipe);
     r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return r;
+}
+
+// `skillcell run` to its end (bounded by its --timeout).
+RunResult runProcess(const std::string& mesUrl) {
+    return shell(std::string(SKILLCELL_BINARY) + " run " + kDemo + " --mes " + mesUrl +
+                 " --insecure --timeout 240");
 }
 
 void expectAt(devices::WorldLink& w, const std::string& id, double x, double y, double z) {
@@ -162,6 +166,18 @@ TEST_F(MesCell, RunsThePapersProcessOnTheSkillsDiscoveryFinds) {
     }
     EXPECT_EQ(run->steps[0].componentUri, "urn:skillcell:device:kelvin-toolchanger");
     EXPECT_EQ(run->steps[1].componentUri, "urn:skillcell:device:pick-and-place");
+
+    // The MES filled in the gripper it checked each pick against: the pick-and-place skill's
+    // ToolSkillControllerEndpoint holds an endpoint (the vacuum gripper's, of step 4), not
+    // the empty "use the detected one".
+    const RunResult browse =
+        shell(std::string(SKILLCELL_BINARY) + " browse " + cell.pickplace->url() +
+              " --values --insecure --pki-dir " + (dir_ / "browser"));
+    ASSERT_EQ(browse.exitCode, 0) << browse.output;
+    const auto at = browse.output.find("ToolSkillControllerEndpoint");
+    ASSERT_NE(at, std::string::npos) << browse.output;
+    const std::string line = browse.output.substr(at, browse.output.find('\n', at) - at);
+    EXPECT_NE(line.find("opc.tcp://127.0.0.1:"), std::string::npos) << line;
 }
 
 TEST_F(MesCell, AKilledMesResumesWhereItStoppedRunningEveryStepOnce) {

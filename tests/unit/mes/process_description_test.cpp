@@ -54,11 +54,14 @@ TEST(ProcessDescription, ReadsThePapersDemoProcessInOrderWithItsParameters) {
     EXPECT_DOUBLE_EQ(dock->pose->x, 0.3);
     EXPECT_DOUBLE_EQ(dock->pose->y, -0.45);
     EXPECT_DOUBLE_EQ(dock->pose->a, 3.141592653589793);
-    // Step 4: box B gives ObjectId and PlacePosition (its target).
+    // Step 4: box B gives ObjectId and PlacePosition (its target); the gripper that meets
+    // the step's requirement gives its endpoint.
     const auto& pick = p->steps[3].parameters;
-    ASSERT_EQ(pick.size(), 2U);
+    ASSERT_EQ(pick.size(), 3U);
     EXPECT_EQ(pick[0].name, "ObjectId");
     EXPECT_EQ(pick[1].name, "PlacePosition");
+    EXPECT_EQ(pick[2].name, "ToolSkillControllerEndpoint");
+    EXPECT_EQ(std::get<RequirementEndpoint>(pick[2].value).requirement, 0U);
     const auto* box = std::get_if<DerivationSource>(&pick[0].value);
     ASSERT_NE(box, nullptr);
     EXPECT_EQ(box->objectId, "boxB");
@@ -151,6 +154,21 @@ TEST(ProcessDescription, RefusesBrokenDescriptionsNamingTheFault) {
         ":a proc:requiresSkillType t:X ; proc:requiresFact [ proc:factValue 1 ] .");
     EXPECT_NE(noProperty.find("step 1 (X): the requirement _:"), std::string::npos) << noProperty;
     EXPECT_NE(noProperty.find("has no proc:factProperty"), std::string::npos) << noProperty;
+    const std::string notACellRequirement = refusal(
+        ":p proc:hasStep :a ; proc:firstStep :a .\n"
+        ":a proc:requiresSkillType t:X ; proc:requiresFact :r ; proc:hasParameter [ "
+        "proc:parameterName \"E\" ; proc:endpointOf :r ] .\n"
+        ":r proc:factProperty proc:reach ; proc:factValue 1 .");
+    EXPECT_NE(notACellRequirement.find("step 1 (X), parameter E: proc:endpointOf "
+                                       "<http://example.org/p#r> is not one of the step's "
+                                       "requirements on the cell"),
+              std::string::npos)
+        << notACellRequirement;
+    EXPECT_NE(refusal(":p proc:hasStep :a ; proc:firstStep :a .\n"
+                      ":a proc:requiresSkillType t:X ; proc:hasParameter [ "
+                      "proc:parameterName \"E\" ; proc:endpointOf :elsewhere ] .")
+                  .find("is not one of the step's requirements"),
+              std::string::npos);
     const std::string noFactValue = refusal(
         ":p proc:hasStep :a ; proc:firstStep :a .\n"
         ":a proc:requiresSkillType t:X ; proc:requiresFact [ proc:factProperty proc:reach ] .");

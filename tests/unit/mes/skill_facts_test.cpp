@@ -85,13 +85,24 @@ TEST(SkillFacts, ACellRequirementIsMetBySomeLiveSkillOfTheTypeWithTheFact) {
     facts.add(keyOf(grasp("urn:robotiq")), kGripType, "parallel");
     facts.add(keyOf(grasp("urn:ag95")), kGripType, "parallel");
 
-    // The mounted gripper is the only live one: a parallel one meets it, whichever model.
-    EXPECT_EQ(unmetCellRequirements(step, {pickAndPlace(), grasp("urn:robotiq")}, facts), "");
-    EXPECT_EQ(unmetCellRequirements(step, {pickAndPlace(), grasp("urn:ag95")}, facts), "");
+    // The mounted gripper is the only live one: a parallel one meets it, whichever model,
+    // and is the match (whose endpoint a parameter may take).
+    for (const char* model : {"urn:robotiq", "urn:ag95"}) {
+        const CellMatch m = matchCellRequirements(step, {pickAndPlace(), grasp(model)}, facts);
+        EXPECT_EQ(m.unmet, "") << model;
+        ASSERT_EQ(m.byRequirement.size(), 1U);
+        ASSERT_TRUE(m.byRequirement[0]) << model;
+        EXPECT_EQ(m.byRequirement[0]->componentUri, model);
+    }
+    // Two fit: the first by component URI, whatever order the detector lists them in.
+    EXPECT_EQ(matchCellRequirements(step, {grasp("urn:robotiq"), grasp("urn:ag95")}, facts)
+                  .byRequirement[0]
+                  ->componentUri,
+              "urn:ag95");
 
     // A vacuum gripper mounted: the reason names the requirement and what is there instead.
     const std::string wrong =
-        unmetCellRequirements(step, {pickAndPlace(), grasp("urn:schmalz")}, facts);
+        matchCellRequirements(step, {pickAndPlace(), grasp("urn:schmalz")}, facts).unmet;
     EXPECT_NE(wrong.find("requires an available GraspGripperSkillType with gripType "
                          "\"parallel\""),
               std::string::npos)
@@ -100,17 +111,20 @@ TEST(SkillFacts, ACellRequirementIsMetBySomeLiveSkillOfTheTypeWithTheFact) {
         << wrong;
 
     // Facts of a gripper that is not live do not count (the KB keeps departed components).
-    const std::string none = unmetCellRequirements(step, {pickAndPlace()}, facts);
+    const std::string none = matchCellRequirements(step, {pickAndPlace()}, facts).unmet;
     EXPECT_NE(none.find("none of that type is available"), std::string::npos) << none;
 
     // A live gripper the KB has not recorded yet.
     const std::string unknown =
-        unmetCellRequirements(step, {pickAndPlace(), grasp("urn:new")}, facts);
+        matchCellRequirements(step, {pickAndPlace(), grasp("urn:new")}, facts).unmet;
     EXPECT_NE(unknown.find("urn:new has no gripType in the knowledge base"), std::string::npos)
         << unknown;
 
     // A requirement on the skill itself is not the cell's.
-    EXPECT_EQ(unmetCellRequirements(pickStep({{kGripType, "parallel", ""}}), {}, facts), "");
+    const CellMatch own = matchCellRequirements(pickStep({{kGripType, "parallel", ""}}), {}, facts);
+    EXPECT_EQ(own.unmet, "");
+    ASSERT_EQ(own.byRequirement.size(), 1U);
+    EXPECT_FALSE(own.byRequirement[0]);
 }
 
 TEST(SkillFacts, ASkillRequirementConcernsTheSkillThatRunsTheStep) {

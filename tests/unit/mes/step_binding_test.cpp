@@ -111,5 +111,33 @@ TEST(StepBinding, DerivedValuesTakeTheFormTheParameterDeclares) {
     EXPECT_NE(bad.error().find("a number"), std::string::npos) << bad.error();
 }
 
+TEST(StepBinding, AnEndpointParameterTakesTheEndpointOfTheSkillThatMetItsRequirement) {
+    auto step = changeStep(std::string(kTc) + "ChangeToolSkillType");
+    step.requirements = {{"urn:gripType", "vacuum", "urn:Grasp"}};
+    step.parameters.push_back({"MoveSkillControllerEndpoint", RequirementEndpoint{0}});
+    skills::SkillInstance gripper;
+    gripper.endpointUrl = "opc.tcp://198.18.0.7:4840";
+    auto values = parameterValues(step, changer("urn:c1"), {gripper});
+    ASSERT_TRUE(values) << values.error();
+    const auto* text = values->at("MoveSkillControllerEndpoint").get<ua::String>();
+    ASSERT_NE(text, nullptr);
+    EXPECT_EQ(std::string(*text), "opc.tcp://198.18.0.7:4840");
+
+    // No instance met it (or none was given): refused, not an empty endpoint.
+    for (const auto& matches : {std::vector<std::optional<skills::SkillInstance>>{},
+                                std::vector<std::optional<skills::SkillInstance>>{std::nullopt}}) {
+        auto bad = parameterValues(step, changer("urn:c1"), matches);
+        ASSERT_FALSE(bad);
+        EXPECT_NE(bad.error().find("parameter MoveSkillControllerEndpoint: no skill meets"),
+                  std::string::npos)
+            << bad.error();
+    }
+    // An endpoint for a parameter that is not a String.
+    step.parameters = {{"ToolPosition", RequirementEndpoint{0}}};
+    auto bad = parameterValues(step, changer("urn:c1"), {gripper});
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().find("not a String"), std::string::npos) << bad.error();
+}
+
 }  // namespace
 }  // namespace skillcell::mes
