@@ -155,6 +155,7 @@ CellMatch matchCellRequirements(const ProcessStep& step,
                                 const SkillFacts& facts) {
     // The same choice for the same cell, whatever order the detector lists it in.
     std::vector<const skills::SkillInstance*> ordered;
+    ordered.reserve(live.size());
     for (const auto& s : live) ordered.push_back(&s);
     std::sort(ordered.begin(), ordered.end(), [](const auto* a, const auto* b) {
         return std::pair(a->componentUri, a->browsePathString()) <
