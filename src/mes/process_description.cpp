@@ -322,16 +322,23 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
     return out;
 }
 
-kb::Expected<ProcessDescription> readProcess(kb::SparqlStore& store,
-                                             const std::string& processIri) {
-    auto query = processQuery(processIri);
-    if (!query) return query.failure();
-    auto response = store.query(*query, kb::media::kNTriples);
+kb::Expected<std::vector<Triple>> constructTriples(kb::SparqlStore& store,
+                                                   const std::string& query) {
+    auto response = store.query(query, kb::media::kNTriples);
     if (!response) return response.failure();
     auto triples = kb::rdf::readTurtle(response->body);
     if (!triples) {
         return kb::Error{"the knowledge base's answer is not N-Triples: " + triples.error()};
     }
+    return triples;
+}
+
+kb::Expected<ProcessDescription> readProcess(kb::SparqlStore& store,
+                                             const std::string& processIri) {
+    auto query = processQuery(processIri);
+    if (!query) return query.failure();
+    auto triples = constructTriples(store, *query);
+    if (!triples) return triples.failure();
     return parseProcess(processIri, *triples);
 }
 

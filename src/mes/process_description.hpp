@@ -86,6 +86,11 @@ struct ProcessDescription {
 /// The SPARQL query readProcess sends.
 [[nodiscard]] kb::Expected<std::string> processQuery(const std::string& processIri);
 
+/// Runs a CONSTRUCT `query` on the KB and parses its answer (N-Triples). Unavailable when the
+/// KB cannot be reached.
+[[nodiscard]] kb::Expected<std::vector<kb::rdf::Triple>> constructTriples(kb::SparqlStore& store,
+                                                                          const std::string& query);
+
 /// Reads the process `processIri` from the KB. Unavailable when the KB cannot be reached;
 /// BadInput when the IRI names no process or the description is incomplete.
 [[nodiscard]] kb::Expected<ProcessDescription> readProcess(kb::SparqlStore& store,

@@ -6,7 +6,6 @@
 
 #include "kb/component_graph.hpp"
 #include "kb/knowledge_base.hpp"
-#include "kb/rdf/turtle.hpp"
 
 namespace skillcell::mes {
 namespace {
@@ -124,12 +123,8 @@ kb::Expected<SkillFacts> readFacts(kb::SparqlStore& store,
                                    const std::vector<std::string>& propertyIris) {
     auto query = factQuery(propertyIris);
     if (!query) return query.failure();
-    auto response = store.query(*query, kb::media::kNTriples);
-    if (!response) return response.failure();
-    auto triples = kb::rdf::readTurtle(response->body);
-    if (!triples) {
-        return kb::Error{"the knowledge base's answer is not N-Triples: " + triples.error()};
-    }
+    auto triples = constructTriples(store, *query);
+    if (!triples) return triples.failure();
     return parseFacts(*triples);
 }
 
