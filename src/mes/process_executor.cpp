@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <asio/co_spawn.hpp>
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
@@ -55,17 +56,30 @@ ProcessExecutor::ProcessExecutor(Token, std::shared_ptr<skills::SkillDetector> d
       journal_(journal),
       kb_(std::move(kb)),
       options_(std::move(options)),
-      runner_(detector_->executor()) {}
+      runner_(detector_->executor()),
+      journalThread_(std::make_unique<asio::thread_pool>(1)) {}
 
 void ProcessExecutor::report(Progress p) {
     progress_ = std::move(p);
     if (onProgress) onProgress(progress_);
 }
 
-kb::Status ProcessExecutor::record(std::int64_t run, const StepRecord& step) {
-    auto s = journal_.recordStep(run, step);
+template <class Write>
+asio::awaitable<std::invoke_result_t<const Write&>> ProcessExecutor::journaled(const Write& write) {
+    using Result = std::invoke_result_t<const Write&>;
+    auto self = shared_from_this();
+    // co_spawn needs a default-constructible result: the optional.
+    auto work = [write]() -> asio::awaitable<std::optional<Result>> { co_return write(); };
+    auto done = co_await asio::co_spawn(journalThread_->get_executor(), std::move(work),
+                                        asio::use_awaitable);
+    co_return std::move(*done);
+}
+
+asio::awaitable<kb::Status> ProcessExecutor::record(std::int64_t run, StepRecord step) {
+    auto write = [this, run, &step] { return journal_.recordStep(run, step); };
+    auto s = co_await journaled(write);
     if (!s) spdlog::error("mes: {}", s.error());
-    return s;
+    co_return s;
 }
 
 void ProcessExecutor::halt() {
@@ -105,7 +119,8 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri)
 
     // Resume the unfinished run of this process, or begin one.
     RunRecord previous;
-    auto unfinished = journal_.unfinishedRun(processIri);
+    auto findUnfinished = [this, &processIri] { return journal_.unfinishedRun(processIri); };
+    auto unfinished = co_await journaled(findUnfinished);
     if (!unfinished) {
         out.reason = unfinished.error();
         co_return out;
@@ -123,7 +138,10 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri)
                 co_return out;
             }
         }
-        if (auto s = journal_.setRunState(previous.id, RunState::Running, {}); !s) {
+        auto resume = [this, id = previous.id] {
+            return journal_.setRunState(id, RunState::Running, {});
+        };
+        if (auto s = co_await journaled(resume); !s) {
             out.reason = s.error();
             co_return out;
         }
@@ -131,7 +149,8 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri)
                      toString(unfinished->value().state),
                      previous.reason.empty() ? "" : ": " + previous.reason);
     } else {
-        auto id = journal_.beginRun(processIri);
+        auto begin = [this, &processIri] { return journal_.beginRun(processIri); };
+        auto id = co_await journaled(begin);
         if (!id) {
             out.reason = id.error();
             co_return out;
@@ -143,25 +162,15 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri)
     out.run = previous.id;
     p.run = previous.id;
 
-    auto stop = [&](std::string reason) {
-        out.reason = std::move(reason);
-        if (auto s = journal_.setRunState(out.run, RunState::Stopped, out.reason); !s) {
-            out.reason += " (and the journal failed: " + s.error() + ")";
-        }
-        spdlog::warn("mes: run {} stopped: {}", out.run, out.reason);
-        p.state = "stopped";
-        p.message = out.reason;
-        report(p);
-    };
-
+    std::string stopReason;  // set (and the loop left) when the run stops
     for (const auto& step : steps) {
         p.step = step.index;
         p.skillType = shortName(step.skillTypeIri);
         p.component.clear();
         p.skill.clear();
         if (runner_.halted(generation)) {
-            stop("halted before " + step.label());
-            co_return out;
+            stopReason = "halted before " + step.label();
+            break;
         }
         const StepRecord* last = previous.lastAttempt(step.index);
         int attempt = last != nullptr ? last->attempt + 1 : 1;
@@ -185,9 +194,9 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri)
             r.endedMs = unixMillis();
             r.state = settled == Settled::Finished ? StepState::Finished : StepState::Failed;
             r.reason = why;
-            if (auto s = record(out.run, r); !s) {
-                stop(s.error());
-                co_return out;
+            if (auto s = co_await record(out.run, r); !s) {
+                stopReason = s.error();
+                break;
             }
             spdlog::info("mes: {} (attempt {}, interrupted): {}", step.label(), r.attempt, why);
             if (settled == Settled::Finished) {
@@ -198,17 +207,34 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri)
                 continue;
             }
             if (settled == Settled::Failed) {
-                stop(step.label() + ": " + why);
-                co_return out;
+                stopReason = step.label() + ": " + why;
+                break;
             }
         }
         auto result = co_await runStep(out.run, step, attempt, generation, p);
         if (!result.ok) {
-            stop(result.reason);
-            co_return out;
+            stopReason = std::move(result.reason);
+            break;
         }
     }
-    if (auto s = journal_.setRunState(out.run, RunState::Completed, {}); !s) {
+    if (!stopReason.empty()) {
+        out.reason = std::move(stopReason);
+        auto stopped = [this, run = out.run, reason = out.reason] {
+            return journal_.setRunState(run, RunState::Stopped, reason);
+        };
+        if (auto s = co_await journaled(stopped); !s) {
+            out.reason += " (and the journal failed: " + s.error() + ")";
+        }
+        spdlog::warn("mes: run {} stopped: {}", out.run, out.reason);
+        p.state = "stopped";
+        p.message = out.reason;
+        report(p);
+        co_return out;
+    }
+    auto completed = [this, run = out.run] {
+        return journal_.setRunState(run, RunState::Completed, {});
+    };
+    if (auto s = co_await journaled(completed); !s) {
         out.reason = s.error();
         co_return out;
     }
@@ -464,7 +490,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         r.skillNodeId = skill.nodeId.toString();
         r.transitionTimeBefore = before->ticks;
         r.startedMs = unixMillis();
-        if (auto s = record(run, r); !s) {
+        if (auto s = co_await record(run, r); !s) {
             co_await (*conn)->close();
             co_return StepResult{false, s.error()};
         }
@@ -477,7 +503,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         r.endedMs = unixMillis();
         r.state = outcome.ok() ? StepState::Finished : StepState::Failed;
         r.reason = outcome.ok() ? std::string() : describe(outcome);
-        const auto recorded = record(run, r);
+        const auto recorded = co_await record(run, r);
         co_await (*conn)->close();
         if (!recorded) co_return StepResult{false, recorded.error()};
         if (outcome.ok()) {

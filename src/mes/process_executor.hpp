@@ -21,15 +21,18 @@
 // (unchanged LastTransition: Start never reached it, so it runs; Running: the run is waited
 // for; Ready or Halted after a transition: it finished or failed while nobody watched).
 //
-// Threading: on the detector's executor.
+// Threading: on the detector's executor; journal calls run on a thread of their own, each
+// awaited before the run goes on (intent before Start, result before the next step).
 #include <asio/any_io_executor.hpp>
 #include <asio/awaitable.hpp>
 #include <asio/steady_timer.hpp>
+#include <asio/thread_pool.hpp>
 #include <chrono>
 #include <functional>
 #include <memory>
 #include <set>
 #include <string>
+#include <type_traits>
 
 #include "mes/journal.hpp"
 #include "mes/process_description.hpp"
@@ -150,7 +153,12 @@ private:
     [[nodiscard]] std::string noSkillReason(const ProcessStep& step,
                                             const std::set<SkillKey>& tried) const;
     void report(Progress p);
-    kb::Status record(std::int64_t run, const StepRecord& step);
+    /// Runs `write` (a call of the journal) on the journal's thread, and resumes on the
+    /// executor with its result: an fsync'd write must not hold up the server's thread (its
+    /// other sessions, the progress variables).
+    template <class Write>
+    asio::awaitable<std::invoke_result_t<const Write&>> journaled(const Write& write);
+    asio::awaitable<kb::Status> record(std::int64_t run, StepRecord step);
 
     std::shared_ptr<skills::SkillDetector> detector_;
     Journal& journal_;
@@ -161,6 +169,9 @@ private:
     bool busy_ = false;
     std::weak_ptr<asio::steady_timer> waitTimer_;  // choose(), for halt()
     std::weak_ptr<skills::SkillClient> adopted_;   // settle()'s wait, for halt()
+    /// Where journal calls run (journaled()): one thread, so they stay in order. Last, so
+    /// that it is joined before the rest goes.
+    std::unique_ptr<asio::thread_pool> journalThread_;
 };
 
 }  // namespace skillcell::mes
