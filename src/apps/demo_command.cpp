@@ -538,10 +538,8 @@ bool DemoCell::showSecurity() {
         60s);
     // The server's refusal, not the client's: the world model keeps the certificate in its
     // rejected/ folder, for an operator to trust or not.
-    const bool rejectedByTheServer =
-        fs::exists(dir() / "pki-world" / "rejected" / "certs", ec) &&
-        std::any_of(fs::directory_iterator(dir() / "pki-world" / "rejected" / "certs", ec),
-                    fs::directory_iterator(), [](const fs::directory_entry&) { return true; });
+    const fs::path rejected = dir() / "pki-world" / "rejected" / "certs";
+    const bool rejectedByTheServer = fs::is_directory(rejected, ec) && !fs::is_empty(rejected, ec);
     const bool strangerRefused = stranger && stranger->exitCode != 0 && rejectedByTheServer;
     show("a client whose certificate the cell's CA did not issue", strangerRefused,
          stranger

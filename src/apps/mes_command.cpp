@@ -7,17 +7,15 @@
 // journal (--journal), from which a restarted MES resumes an interrupted run.
 #include <spdlog/spdlog.h>
 
-#include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <asio/io_context.hpp>
 #include <asio/thread_pool.hpp>
-#include <asio/use_awaitable.hpp>
 #include <filesystem>
 #include <iostream>
-#include <optional>
 
 #include "client_security_options.hpp"
 #include "commands.hpp"
+#include "devices/common/blocking_call.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "mes/mes_component.hpp"
 #include "server_process.hpp"
@@ -103,23 +101,13 @@ int runMes(MesOptions& o) {
                 [pool,
                  store](std::string iri) -> asio::awaitable<kb::Expected<mes::ProcessDescription>> {
                 // A named lambda: GCC 12 destroys temporaries of a co_await expression twice.
-                auto read = [store, iri]()
-                    -> asio::awaitable<std::optional<kb::Expected<mes::ProcessDescription>>> {
-                    co_return mes::readProcess(*store, iri);
-                };
-                auto answer = co_await asio::co_spawn(pool->get_executor(), std::move(read),
-                                                      asio::use_awaitable);
-                co_return std::move(*answer);
+                auto read = [store, iri] { return mes::readProcess(*store, iri); };
+                co_return co_await devices::blockingCall(*pool, std::move(read));
             };
             mes::FactReader facts = [pool, store](std::vector<std::string> properties)
                 -> asio::awaitable<kb::Expected<mes::SkillFacts>> {
-                auto read = [store, properties]()
-                    -> asio::awaitable<std::optional<kb::Expected<mes::SkillFacts>>> {
-                    co_return mes::readFacts(*store, properties);
-                };
-                auto answer = co_await asio::co_spawn(pool->get_executor(), std::move(read),
-                                                      asio::use_awaitable);
-                co_return std::move(*answer);
+                auto read = [store, properties] { return mes::readFacts(*store, properties); };
+                co_return co_await devices::blockingCall(*pool, std::move(read));
             };
             content->executor = mes::ProcessExecutor::create(
                 c.detector, *content->journal,

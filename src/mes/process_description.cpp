@@ -50,14 +50,6 @@ private:
     std::map<Term, std::vector<const Triple*>> bySubject_;
 };
 
-std::optional<double> number(const std::string& text) {
-    double v = 0;
-    const char* end = text.data() + text.size();
-    const auto [ptr, ec] = std::from_chars(text.data(), end, v);
-    if (ec != std::errc() || ptr != end) return std::nullopt;
-    return v;
-}
-
 std::string name(const Term& t) {
     return t.kind == Term::Kind::Blank ? "_:" + t.value : "<" + t.value + ">";
 }
@@ -73,7 +65,7 @@ kb::Expected<devices::Pose6> pose(const Graph& g, const Term& node, const std::s
                                                      {"pitch", &out.b}, {"yaw", &out.c}};
     for (const auto& [local, field] : parts) {
         const auto text = g.literal(node, p(local));
-        const auto v = text ? number(*text) : std::nullopt;
+        const auto v = text ? parseNumber(*text) : std::nullopt;
         if (!v) return bad(what + ": the pose " + name(node) + " has no number proc:" + local);
         *field = *v;
     }
@@ -118,7 +110,7 @@ kb::Expected<StepParameter> parameter(const Graph& g, const Term& node, const st
     if (const auto text = g.literal(node, p("textValue"))) {
         out.value = *text;
     } else if (const auto num = g.literal(node, p("numberValue"))) {
-        const auto v = number(*num);
+        const auto v = parseNumber(*num);
         if (!v) return bad(what + ": proc:numberValue '" + *num + "' is not a number");
         out.value = *v;
     } else if (const Term* pv = g.object(node, p("poseValue"))) {
@@ -173,6 +165,14 @@ kb::Expected<FactRequirement> requirement(const Graph& g, const Term& node,
 }
 
 }  // namespace
+
+std::optional<double> parseNumber(const std::string& text) {
+    double v = 0;
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+    if (ec != std::errc() || ptr != end) return std::nullopt;
+    return v;
+}
 
 std::string FactRequirement::describe() const {
     const std::string fact = shortName(propertyIri) + " \"" + value + "\"";
@@ -269,7 +269,7 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
         }
         step.skillTypeIri = type->value;
         if (const auto declared = g.literal(*s, p("stepIndex"))) {
-            const auto v = number(*declared);
+            const auto v = parseNumber(*declared);
             if (!v || *v != step.index) {
                 return bad(step.label() + " " + name(*s) + ": proc:stepIndex " + *declared +
                            " disagrees with its place in the proc:next chain");

@@ -96,6 +96,9 @@ struct ProcessDescription {
 [[nodiscard]] kb::Expected<ProcessDescription> readProcess(kb::SparqlStore& store,
                                                            const std::string& processIri);
 
+/// A number in a literal's lexical form ("0.85", "-2", "1e-3"); nothing when it is not one.
+[[nodiscard]] std::optional<double> parseNumber(const std::string& text);
+
 /// The last segment of an IRI ("ChangeToolSkillType"), for messages.
 [[nodiscard]] std::string shortName(const std::string& iri);
 

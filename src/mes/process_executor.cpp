@@ -2,13 +2,13 @@
 
 #include <spdlog/spdlog.h>
 
-#include <asio/co_spawn.hpp>
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
 
 #include <algorithm>
 
+#include "devices/common/blocking_call.hpp"
 #include "skills/skill_connection.hpp"
 
 namespace skillcell::mes {
@@ -26,10 +26,6 @@ std::string describe(const SkillOutcome& o) {
     if (o.status.isBad()) text += " (" + std::string(ua::statusName(o.status)) + ")";
     if (!o.reason.empty()) text += ": " + o.reason;
     return text;
-}
-
-std::string where(const skills::SkillInstance& s) {
-    return s.browsePathString() + " of " + s.componentUri;
 }
 
 }  // namespace
@@ -65,14 +61,9 @@ void ProcessExecutor::report(Progress p) {
 }
 
 template <class Write>
-asio::awaitable<std::invoke_result_t<const Write&>> ProcessExecutor::journaled(const Write& write) {
-    using Result = std::invoke_result_t<const Write&>;
+asio::awaitable<std::invoke_result_t<Write&>> ProcessExecutor::journaled(Write write) {
     auto self = shared_from_this();
-    // co_spawn needs a default-constructible result: the optional.
-    auto work = [write]() -> asio::awaitable<std::optional<Result>> { co_return write(); };
-    auto done = co_await asio::co_spawn(journalThread_->get_executor(), std::move(work),
-                                        asio::use_awaitable);
-    co_return std::move(*done);
+    co_return co_await devices::blockingCall(*journalThread_, std::move(write));
 }
 
 asio::awaitable<kb::Status> ProcessExecutor::record(std::int64_t run, StepRecord step) {
@@ -441,9 +432,11 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         const Choice found = co_await choose(step, tried, generation);
         if (runner_.halted(generation)) co_return StepResult{false, "halted in " + step.label()};
         if (found.skills.empty()) {
-            std::string why = found.unmet.empty() ? noSkillReason(step, tried) : step.label();
-            if (!found.unmet.empty()) {
-                why += ": " + found.unmet;
+            std::string why;
+            if (found.unmet.empty()) {
+                why = noSkillReason(step, tried);
+            } else {
+                why = step.label() + ": " + found.unmet;
                 why += " (waited " + std::to_string(options_.skillWait.count()) + " ms)";
             }
             if (!lastFailure.empty()) why += "; " + lastFailure;

@@ -157,7 +157,7 @@ private:
     /// executor with its result: an fsync'd write must not hold up the server's thread (its
     /// other sessions, the progress variables).
     template <class Write>
-    asio::awaitable<std::invoke_result_t<const Write&>> journaled(const Write& write);
+    asio::awaitable<std::invoke_result_t<Write&>> journaled(Write write);
     asio::awaitable<kb::Status> record(std::int64_t run, StepRecord step);
 
     std::shared_ptr<skills::SkillDetector> detector_;

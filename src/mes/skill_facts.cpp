@@ -1,7 +1,6 @@
 #include "mes/skill_facts.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <optional>
 
 #include "kb/component_graph.hpp"
@@ -14,24 +13,19 @@ std::string proc(const char* local) {
     return std::string(kProcessNs) + local;
 }
 
-std::optional<double> number(const std::string& text) {
-    double v = 0;
-    const char* end = text.data() + text.size();
-    const auto [ptr, ec] = std::from_chars(text.data(), end, v);
-    if (text.empty() || ec != std::errc() || ptr != end) return std::nullopt;
-    return v;
-}
-
 // Text compares as written; two numbers by value ("0.50" is "0.5").
 bool sameValue(const std::string& a, const std::string& b) {
     if (a == b) return true;
-    const auto x = number(a);
-    const auto y = number(b);
+    const auto x = parseNumber(a);
+    const auto y = parseNumber(b);
     return x && y && *x == *y;
 }
 
-std::string where(const skills::SkillInstance& s) {
-    return s.browsePathString() + " of " + s.componentUri;
+// '"parallel", "vacuum"': values as reasons list them.
+std::string quoted(const std::vector<std::string>& values) {
+    std::string out;
+    for (const auto& v : values) out += (out.empty() ? "\"" : ", \"") + v + "\"";
+    return out;
 }
 
 }  // namespace
@@ -61,11 +55,6 @@ std::vector<std::string> requiredProperties(const ProcessStep& step) {
     std::set<std::string> out;
     for (const auto& r : step.requirements) out.insert(r.propertyIri);
     return {out.begin(), out.end()};
-}
-
-bool isOfType(const skills::SkillInstance& skill, const std::string& typeIri) {
-    return std::any_of(skill.types.begin(), skill.types.end(),
-                       [&](const auto& t) { return kb::skillTypeIri(t) == typeIri; });
 }
 
 kb::Expected<std::string> factQuery(const std::vector<std::string>& propertyIris) {
@@ -133,13 +122,9 @@ std::string unmetSkillRequirements(const ProcessStep& step, const skills::SkillI
     std::string out;
     for (const auto& r : step.requirements) {
         if (!r.skillTypeIri.empty() || facts.has(keyOf(skill), r)) continue;
-        const auto has = facts.values(keyOf(skill), r.propertyIri);
+        const std::string has = quoted(facts.values(keyOf(skill), r.propertyIri));
         std::string what = "the knowledge base does not give it " + r.describe();
-        if (!has.empty()) {
-            std::string values;
-            for (const auto& v : has) values += (values.empty() ? "\"" : ", \"") + v + "\"";
-            what += " (it has " + values + ")";
-        }
+        if (!has.empty()) what += " (it has " + has + ")";
         out += (out.empty() ? "" : "; ") + what;
     }
     return out;
@@ -168,13 +153,11 @@ CellMatch matchCellRequirements(const ProcessStep& step,
                 out.byRequirement[i] = *s;
                 break;
             }
-            const auto has = facts.values(keyOf(*s), r.propertyIri);
-            std::string values;
-            for (const auto& v : has) values += (values.empty() ? "\"" : ", \"") + v + "\"";
+            const std::string has = quoted(facts.values(keyOf(*s), r.propertyIri));
             offered += (offered.empty() ? "" : "; ") + where(*s) + " has " +
-                       (values.empty() ? "no " + shortName(r.propertyIri) +
-                                             " in the knowledge base (not recorded yet?)"
-                                       : shortName(r.propertyIri) + " " + values);
+                       (has.empty() ? "no " + shortName(r.propertyIri) +
+                                          " in the knowledge base (not recorded yet?)"
+                                    : shortName(r.propertyIri) + " " + has);
         }
         if (out.byRequirement[i]) continue;
         std::string what = "the step requires " + r.describe() + ", and ";

@@ -67,7 +67,4 @@ struct CellMatch {
                                               const std::vector<skills::SkillInstance>& live,
                                               const SkillFacts& facts);
 
-/// Whether `skill` is of the type `typeIri` or a subtype of it (its browsed type chain).
-[[nodiscard]] bool isOfType(const skills::SkillInstance& skill, const std::string& typeIri);
-
 }  // namespace skillcell::mes

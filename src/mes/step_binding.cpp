@@ -98,11 +98,17 @@ SkillKey keyOf(const skills::SkillInstance& skill) {
     return {skill.componentUri, skill.nodeId.toString()};
 }
 
+std::string where(const skills::SkillInstance& skill) {
+    return skill.browsePathString() + " of " + skill.componentUri;
+}
+
+bool isOfType(const skills::SkillInstance& skill, const std::string& typeIri) {
+    return std::any_of(skill.types.begin(), skill.types.end(),
+                       [&](const auto& t) { return kb::skillTypeIri(t) == typeIri; });
+}
+
 std::string unsuitability(const ProcessStep& step, const skills::SkillInstance& skill) {
-    const bool typed = std::any_of(skill.types.begin(), skill.types.end(), [&](const auto& t) {
-        return kb::skillTypeIri(t) == step.skillTypeIri;
-    });
-    if (!typed) return "it is not a " + shortName(step.skillTypeIri);
+    if (!isOfType(skill, step.skillTypeIri)) return "it is not a " + shortName(step.skillTypeIri);
     for (const auto& p : step.parameters) {
         if (declared(skill, p.name) == nullptr) return "it has no parameter " + p.name;
     }

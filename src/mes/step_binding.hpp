@@ -24,6 +24,12 @@ namespace skillcell::mes {
 using SkillKey = std::pair<std::string, std::string>;
 [[nodiscard]] SkillKey keyOf(const skills::SkillInstance& skill);
 
+/// "Skills/Grasp of urn:...": how messages name a skill instance.
+[[nodiscard]] std::string where(const skills::SkillInstance& skill);
+
+/// Whether `skill` is of the type `typeIri` or a subtype of it (its browsed type chain).
+[[nodiscard]] bool isOfType(const skills::SkillInstance& skill, const std::string& typeIri);
+
 /// Why `skill` cannot run `step`; empty when it can.
 [[nodiscard]] std::string unsuitability(const ProcessStep& step,
                                         const skills::SkillInstance& skill);
