@@ -138,10 +138,6 @@ double seconds(Clock::duration d) {
     return std::chrono::duration<double>(d).count();
 }
 
-std::string statusText(ua::StatusCode s) {
-    return std::string(ua::statusName(s));
-}
-
 /// Our Server on loopback, port 0, on its own io_context thread; the producers post work to
 /// its io_context.
 using ServerThread = test::RunningServer;

@@ -1,29 +1,47 @@
 #!/usr/bin/env bash
-# Installs what building and testing skillcell needs on a fresh Debian 12 machine:
-# the Debian packages, and the pinned node-opcua interop peer (tests/interop/package.json).
-# Safe to run again: it installs only what is missing.
+# Installs what skillcell needs on a fresh Debian 12 machine; safe to run again: it installs
+# only what is missing.
+#
+#   scripts/install-deps.sh          everything: the main job's packages and the tests' (CI)
+#   scripts/install-deps.sh --main   only what building and running `skillcell demo` needs
+#
+# The tests add: clang and its sanitizer runtime (the fuzz targets), clang-format and
+# clang-tidy (lint), stress-ng (the suite under load), Node.js with the pinned node-opcua
+# interop peer (tests/interop/package.json), and python3 (the netns harness, fuzz seeds).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+scope=all
+case "${1:-}" in
+  --main) scope=main ;;
+  "") ;;
+  *) echo "usage: $0 [--main]" >&2; exit 2 ;;
+esac
+
 packages=(
-  build-essential cmake ninja-build ccache clang clang-format clang-tidy libclang-rt-14-dev
+  build-essential cmake ninja-build ccache
   libasio-dev libspdlog-dev libfmt-dev libcli11-dev libpugixml-dev libmdnsd-dev libssl-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev  # CMake configures the tests' targets even when it builds one
   liborocos-kdl-dev libeigen3-dev libmodbus-dev pkg-config
   iproute2 util-linux procps
   # the knowledge base: Turtle (libserd), the triple store (Virtuoso), the reasoner (Konclude);
   # the MES's journal (SQLite; the sqlite3 shell to look into it)
   libserd-dev virtuoso-opensource konclude libsqlite3-dev sqlite3
 )
+if [ "$scope" = all ]; then
+  packages+=(clang clang-format clang-tidy libclang-rt-14-dev stress-ng)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-# Node.js may come from Debian or elsewhere (NodeSource ships npm inside nodejs): check the
-# commands, not the package names.
-command -v node >/dev/null || missing+=(nodejs)
-command -v npm >/dev/null || missing+=(npm)
-command -v python3 >/dev/null || missing+=(python3)  # the netns test harness and fuzz seeds
+if [ "$scope" = all ]; then
+  # Node.js may come from Debian or elsewhere (NodeSource ships npm inside nodejs): check the
+  # commands, not the package names.
+  command -v node >/dev/null || missing+=(nodejs)
+  command -v npm >/dev/null || missing+=(npm)
+  command -v python3 >/dev/null || missing+=(python3)
+fi
 if ((${#missing[@]})); then
   echo "install-deps: installing ${missing[*]}"
   SUDO=""
@@ -32,7 +50,7 @@ if ((${#missing[@]})); then
   $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
-if [ ! -d tests/interop/node_modules/node-opcua ]; then
+if [ "$scope" = all ] && [ ! -d tests/interop/node_modules/node-opcua ]; then
   echo "install-deps: installing the node-opcua interop peer (pinned in tests/interop/package-lock.json)"
   (cd tests/interop && npm ci --no-audit --no-fund --loglevel=error)
 fi

@@ -7,7 +7,7 @@
 # Arguments go to `skillcell demo` (e.g. --speed 50 --boot-profile none --keep-running).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh --main
 cmake --preset default >/dev/null
 cmake --build --preset default -j "$(nproc)" --target skillcell
 exec build/src/apps/skillcell demo "$@"

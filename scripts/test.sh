@@ -1,32 +1,87 @@
 #!/usr/bin/env bash
 # The test command of the README and of CI: installs what is missing, builds, and runs
 # every test twice: once optimised, once under AddressSanitizer + UndefinedBehaviorSanitizer;
-# then runs each fuzz target for a short time.
+# then runs each fuzz target for a short time. At the end (also when a phase fails) it prints
+# how long each phase took, and after each test phase its slowest tests
+# (docs/development.md has the figures and how to read them).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
 
 export SKILLCELL_REQUIRE_NODE=1   # interop tests fail (not skip) when node-opcua is missing
 export SKILLCELL_REQUIRE_NETNS=1  # and network-namespace tests when namespaces cannot be made
 jobs=$(nproc)
 
-echo "== build and test (RelWithDebInfo)"
+phases=()
+seconds=()
+phase_start=$SECONDS
+phase_name=""
+begin() {  # begin NAME: ends the phase before, starts the next
+  finish
+  phase_name=$1
+  phase_start=$SECONDS
+  echo "== $1"
+}
+finish() {
+  if [ -n "$phase_name" ]; then
+    phases+=("$phase_name")
+    seconds+=($((SECONDS - phase_start)))
+    phase_name=""
+  fi
+}
+report() {
+  local status=$?
+  [ -n "$phase_name" ] && phases+=("$phase_name (failed)") && seconds+=($((SECONDS - phase_start)))
+  echo
+  echo "== time per phase"
+  printf '%-28s %8s\n' phase seconds
+  local total=0
+  for i in "${!phases[@]}"; do
+    printf '%-28s %8d\n' "${phases[$i]}" "${seconds[$i]}"
+    total=$((total + seconds[i]))
+  done
+  printf '%-28s %8d\n' total "$total"
+  exit "$status"
+}
+trap report EXIT
+
+# The slowest tests of a build directory's last run (CTest keeps each test's time there).
+slowest() {
+  local cost="$1/Testing/Temporary/CTestCostData.txt"
+  [ -f "$cost" ] || return 0
+  echo "-- slowest tests, seconds:"
+  awk '/^---/ { exit } NF >= 3 { printf "%8.1f  %s\n", $3, $1 }' "$cost" | sort -rn | head -n 12
+}
+
+begin install
+bash scripts/install-deps.sh
+
+begin "configure + format check"
 cmake --preset default >/dev/null
 # Formatting is checked on every run; clang-tidy (scripts/lint.sh without LINT_SKIP_TIDY)
 # takes too long on 2 cores for every run and is run by developers before they push.
-LINT_SKIP_TIDY=1 bash scripts/lint.sh build
-cmake --build --preset default -j "$jobs"
-ctest --preset default -j "$jobs"
+LINT_SKIP_TIDY=1 bash scripts/lint.sh
 
-echo "== build and test (ASan + UBSan)"
+begin "build (RelWithDebInfo)"
+cmake --build --preset default -j "$jobs"
+
+begin "test (RelWithDebInfo)"
+ctest --preset default -j "$jobs"
+slowest build
+
+begin "build (ASan + UBSan)"
 cmake --preset asan >/dev/null
 cmake --build --preset asan -j "$jobs"
+
+begin "test (ASan + UBSan)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --preset asan -j "$jobs"
+slowest build-asan
 
-echo "== fuzz (short runs)"
+begin "fuzz build"
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j "$jobs" --target fuzz_message_decoder fuzz_mdns_datagram
+
+begin "fuzz (short runs)"
 for target in build-fuzz/fuzz/fuzz_*; do
   [ -x "$target" ] || continue
   corpus="fuzz/corpus/$(basename "$target")"
@@ -38,4 +93,5 @@ for target in build-fuzz/fuzz/fuzz_*; do
   fi
   tail -n 1 "$log"
 done
+finish
 echo "== all tests passed"

@@ -25,6 +25,11 @@ struct Error {
     ErrorKind kind = ErrorKind::Failed;
 };
 
+/// A failure of the caller's input.
+[[nodiscard]] inline Error badInput(std::string message) {
+    return Error{std::move(message), ErrorKind::BadInput};
+}
+
 template <class T>
 class [[nodiscard]] Expected {
 public:

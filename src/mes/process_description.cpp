@@ -54,10 +54,6 @@ std::string name(const Term& t) {
     return t.kind == Term::Kind::Blank ? "_:" + t.value : "<" + t.value + ">";
 }
 
-kb::Error bad(std::string message) {
-    return kb::Error{std::move(message), kb::ErrorKind::BadInput};
-}
-
 kb::Expected<devices::Pose6> pose(const Graph& g, const Term& node, const std::string& what) {
     devices::Pose6 out;
     const std::pair<const char*, double*> parts[] = {{"x", &out.x},     {"y", &out.y},
@@ -66,7 +62,8 @@ kb::Expected<devices::Pose6> pose(const Graph& g, const Term& node, const std::s
     for (const auto& [local, field] : parts) {
         const auto text = g.literal(node, p(local));
         const auto v = text ? parseNumber(*text) : std::nullopt;
-        if (!v) return bad(what + ": the pose " + name(node) + " has no number proc:" + local);
+        if (!v)
+            return kb::badInput(what + ": the pose " + name(node) + " has no number proc:" + local);
         *field = *v;
     }
     return out;
@@ -87,9 +84,9 @@ kb::Expected<DerivationSource> source(const Graph& g, const Term& node, const st
     s.applicationUri = g.literal(node, p("applicationUri")).value_or("");
     s.gripType = g.literal(node, p("gripType")).value_or("");
     if (!s.pose && !s.targetPose && s.objectId.empty() && s.applicationUri.empty()) {
-        return bad(what + ": " + name(node) +
-                   " has no facts to derive a value from (proc:pose, proc:targetPose, "
-                   "proc:objectId, proc:applicationUri)");
+        return kb::badInput(what + ": " + name(node) +
+                            " has no facts to derive a value from (proc:pose, proc:targetPose, "
+                            "proc:objectId, proc:applicationUri)");
     }
     return s;
 }
@@ -103,7 +100,7 @@ kb::Expected<StepParameter> parameter(const Graph& g, const Term& node, const st
     StepParameter out;
     const auto parameterName = g.literal(node, p("parameterName"));
     if (!parameterName || parameterName->empty()) {
-        return bad(step + ": the parameter " + name(node) + " has no proc:parameterName");
+        return kb::badInput(step + ": the parameter " + name(node) + " has no proc:parameterName");
     }
     out.name = *parameterName;
     const std::string what = step + ", parameter " + out.name;
@@ -111,7 +108,7 @@ kb::Expected<StepParameter> parameter(const Graph& g, const Term& node, const st
         out.value = *text;
     } else if (const auto num = g.literal(node, p("numberValue"))) {
         const auto v = parseNumber(*num);
-        if (!v) return bad(what + ": proc:numberValue '" + *num + "' is not a number");
+        if (!v) return kb::badInput(what + ": proc:numberValue '" + *num + "' is not a number");
         out.value = *v;
     } else if (const Term* pv = g.object(node, p("poseValue"))) {
         auto v = pose(g, *pv, what);
@@ -124,15 +121,17 @@ kb::Expected<StepParameter> parameter(const Graph& g, const Term& node, const st
     } else if (const Term* of = g.object(node, p("endpointOf"))) {
         const auto it = requirements.find(*of);
         if (it == requirements.end() || stepRequirements[it->second].skillTypeIri.empty()) {
-            return bad(what + ": proc:endpointOf " + name(*of) +
-                       " is not one of the step's requirements on the cell (proc:requiresFact "
-                       "with proc:ofSkillType)");
+            return kb::badInput(
+                what + ": proc:endpointOf " + name(*of) +
+                " is not one of the step's requirements on the cell (proc:requiresFact "
+                "with proc:ofSkillType)");
         }
         out.value = RequirementEndpoint{it->second};
     } else {
-        return bad(what +
-                   ": no value (proc:textValue, proc:numberValue, proc:poseValue) and nothing "
-                   "to derive it from (proc:derivedFrom, proc:endpointOf)");
+        return kb::badInput(
+            what +
+            ": no value (proc:textValue, proc:numberValue, proc:poseValue) and nothing "
+            "to derive it from (proc:derivedFrom, proc:endpointOf)");
     }
     return out;
 }
@@ -146,18 +145,18 @@ kb::Expected<FactRequirement> requirement(const Graph& g, const Term& node,
         out.propertyIri = property->value;
     }
     if (out.propertyIri.empty()) {
-        return bad(step + ": the requirement " + name(node) + " has no proc:factProperty");
+        return kb::badInput(step + ": the requirement " + name(node) + " has no proc:factProperty");
     }
     const auto value = g.literal(node, p("factValue"));
     if (!value) {
-        return bad(step + ": the requirement " + name(node) + " on " + shortName(out.propertyIri) +
-                   " has no proc:factValue");
+        return kb::badInput(step + ": the requirement " + name(node) + " on " +
+                            shortName(out.propertyIri) + " has no proc:factValue");
     }
     out.value = *value;
     if (const Term* type = g.object(node, p("ofSkillType"))) {
         if (type->kind != Term::Kind::Iri) {
-            return bad(step + ": the requirement " + name(node) +
-                       " has a proc:ofSkillType that is not an IRI");
+            return kb::badInput(step + ": the requirement " + name(node) +
+                                " has a proc:ofSkillType that is not an IRI");
         }
         out.skillTypeIri = type->value;
     }
@@ -235,13 +234,14 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
     const Term process = kb::rdf::iri(processIri);
     const auto steps = g.objects(process, p("hasStep"));
     if (steps.empty()) {
-        return bad("the knowledge base has no process <" + processIri +
-                   "> with steps (proc:hasStep)");
+        return kb::badInput("the knowledge base has no process <" + processIri +
+                            "> with steps (proc:hasStep)");
     }
     // The order: proc:firstStep, then proc:next; every step exactly once.
     const Term* first = g.object(process, p("firstStep"));
     if (first == nullptr) {
-        if (steps.size() != 1) return bad("the process <" + processIri + "> has no proc:firstStep");
+        if (steps.size() != 1)
+            return kb::badInput("the process <" + processIri + "> has no proc:firstStep");
         first = steps.front();
     }
     std::set<Term> members;
@@ -251,12 +251,12 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
     std::map<std::string, int> position;
     for (const Term* s = first; s != nullptr; s = g.object(*s, p("next"))) {
         if (!members.contains(*s)) {
-            return bad("the process <" + processIri + ">: " + name(*s) +
-                       " follows in the proc:next chain but is not one of its steps");
+            return kb::badInput("the process <" + processIri + ">: " + name(*s) +
+                                " follows in the proc:next chain but is not one of its steps");
         }
         if (position.contains(s->value)) {
-            return bad("the process <" + processIri + ">: the proc:next chain loops at " +
-                       name(*s));
+            return kb::badInput("the process <" + processIri + ">: the proc:next chain loops at " +
+                                name(*s));
         }
         ProcessStep step;
         step.iri = s->value;
@@ -264,15 +264,15 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
         position[step.iri] = step.index;
         const Term* type = g.object(*s, p("requiresSkillType"));
         if (type == nullptr || type->kind != Term::Kind::Iri) {
-            return bad("step " + std::to_string(step.index) + " " + name(*s) +
-                       " has no proc:requiresSkillType");
+            return kb::badInput("step " + std::to_string(step.index) + " " + name(*s) +
+                                " has no proc:requiresSkillType");
         }
         step.skillTypeIri = type->value;
         if (const auto declared = g.literal(*s, p("stepIndex"))) {
             const auto v = parseNumber(*declared);
             if (!v || *v != step.index) {
-                return bad(step.label() + " " + name(*s) + ": proc:stepIndex " + *declared +
-                           " disagrees with its place in the proc:next chain");
+                return kb::badInput(step.label() + " " + name(*s) + ": proc:stepIndex " +
+                                    *declared + " disagrees with its place in the proc:next chain");
             }
         }
         for (const Term* d : g.objects(*s, p("dependsOn"))) step.dependsOn.push_back(d->value);
@@ -298,7 +298,8 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
             auto parsed = parameter(g, *pn, step.label(), nodes, step.requirements);
             if (!parsed) return parsed.failure();
             if (!names.insert(parsed->name).second) {
-                return bad(step.label() + ": the parameter " + parsed->name + " is given twice");
+                return kb::badInput(step.label() + ": the parameter " + parsed->name +
+                                    " is given twice");
             }
             step.parameters.push_back(std::move(*parsed));
         }
@@ -307,15 +308,16 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
         out.steps.push_back(std::move(step));
     }
     if (out.steps.size() != members.size()) {
-        return bad("the process <" + processIri + "> has " + std::to_string(members.size()) +
-                   " steps, but its proc:next chain reaches " + std::to_string(out.steps.size()));
+        return kb::badInput(
+            "the process <" + processIri + "> has " + std::to_string(members.size()) +
+            " steps, but its proc:next chain reaches " + std::to_string(out.steps.size()));
     }
     for (const auto& step : out.steps) {
         for (const auto& d : step.dependsOn) {
             const auto it = position.find(d);
             if (it == position.end() || it->second >= step.index) {
-                return bad(step.label() + " depends on <" + d +
-                           ">, which is not an earlier step of the process");
+                return kb::badInput(step.label() + " depends on <" + d +
+                                    ">, which is not an earlier step of the process");
             }
         }
     }

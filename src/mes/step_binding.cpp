@@ -18,10 +18,6 @@ bool isNs0(const skills::GlobalNodeId& id, std::uint32_t numeric) {
     return id.namespaceUri == kUaNamespace && n != nullptr && *n == numeric;
 }
 
-kb::Error bad(std::string message) {
-    return kb::Error{std::move(message), kb::ErrorKind::BadInput};
-}
-
 // A number in the form of the parameter's data type.
 kb::Expected<ua::Variant> numberAs(double v, const skills::GlobalNodeId& type,
                                    const std::string& what) {
@@ -34,14 +30,17 @@ kb::Expected<ua::Variant> numberAs(double v, const skills::GlobalNodeId& type,
                v <= static_cast<double>(limits.max());
     };
     if (isNs0(type, ids::Int32)) {
-        if (!fits(std::numeric_limits<std::int32_t>())) return bad(what + ": not an Int32");
+        if (!fits(std::numeric_limits<std::int32_t>()))
+            return kb::badInput(what + ": not an Int32");
         return ua::Variant(static_cast<std::int32_t>(v));
     }
     if (isNs0(type, ids::UInt32)) {
-        if (!fits(std::numeric_limits<std::uint32_t>())) return bad(what + ": not a UInt32");
+        if (!fits(std::numeric_limits<std::uint32_t>()))
+            return kb::badInput(what + ": not a UInt32");
         return ua::Variant(static_cast<std::uint32_t>(v));
     }
-    return bad(what + ": a number, but the skill's parameter has the data type " + type.toString());
+    return kb::badInput(what + ": a number, but the skill's parameter has the data type " +
+                        type.toString());
 }
 
 kb::Expected<ua::Variant> valueFor(
@@ -50,21 +49,24 @@ kb::Expected<ua::Variant> valueFor(
     const bool frame = isNs0(declared.dataType, ua::ns0::ThreeDFrame);
     const bool text = isNs0(declared.dataType, ua::ns0::String);
     if (const auto* of = std::get_if<RequirementEndpoint>(&given.value)) {
-        if (!text) return bad(what + ": an endpoint, but the skill's parameter is not a String");
+        if (!text)
+            return kb::badInput(what + ": an endpoint, but the skill's parameter is not a String");
         if (of->requirement >= cellMatches.size() || !cellMatches[of->requirement]) {
-            return bad(what + ": no skill meets the requirement whose endpoint it takes");
+            return kb::badInput(what + ": no skill meets the requirement whose endpoint it takes");
         }
         return ua::Variant(ua::String(cellMatches[of->requirement]->endpointUrl));
     }
     if (const auto* s = std::get_if<std::string>(&given.value)) {
-        if (!text) return bad(what + ": a text, but the skill's parameter is not a String");
+        if (!text)
+            return kb::badInput(what + ": a text, but the skill's parameter is not a String");
         return ua::Variant(ua::String(*s));
     }
     if (const auto* n = std::get_if<double>(&given.value)) {
         return numberAs(*n, declared.dataType, what);
     }
     if (const auto* pose = std::get_if<devices::Pose6>(&given.value)) {
-        if (!frame) return bad(what + ": a pose, but the skill's parameter is not a 3DFrame");
+        if (!frame)
+            return kb::badInput(what + ": a pose, but the skill's parameter is not a 3DFrame");
         return devices::frameToVariant(devices::toFrame(*pose));
     }
     const auto& from = std::get<DerivationSource>(given.value);
@@ -72,17 +74,17 @@ kb::Expected<ua::Variant> valueFor(
     if (frame) {
         // An object goes to its target; a dock (or any placed resource) gives its pose.
         const auto& pose = from.targetPose ? from.targetPose : from.pose;
-        if (!pose) return bad(what + ": a 3DFrame, but" + source + " has no pose");
+        if (!pose) return kb::badInput(what + ": a 3DFrame, but" + source + " has no pose");
         return devices::frameToVariant(devices::toFrame(*pose));
     }
     if (text) {
         if (!from.objectId.empty()) return ua::Variant(ua::String(from.objectId));
         if (!from.applicationUri.empty()) return ua::Variant(ua::String(from.applicationUri));
-        return bad(what + ": a String, but" + source +
-                   " has neither an object id nor an application URI");
+        return kb::badInput(what + ": a String, but" + source +
+                            " has neither an object id nor an application URI");
     }
-    return bad(what + ": nothing derives a value of the data type " + declared.dataType.toString() +
-               " from" + source);
+    return kb::badInput(what + ": nothing derives a value of the data type " +
+                        declared.dataType.toString() + " from" + source);
 }
 
 const skills::SkillParameter* declared(const skills::SkillInstance& skill,
@@ -136,7 +138,7 @@ kb::Expected<std::map<std::string, ua::Variant>> parameterValues(
     for (const auto& p : step.parameters) {
         const auto* d = declared(skill, p.name);
         const std::string what = step.label() + ", parameter " + p.name;
-        if (d == nullptr) return bad(what + ": " + skill.browsePathString() + " lacks it");
+        if (d == nullptr) return kb::badInput(what + ": " + skill.browsePathString() + " lacks it");
         auto v = valueFor(p, *d, what, cellMatches);
         if (!v) return v.failure();
         out.emplace(p.name, std::move(*v));

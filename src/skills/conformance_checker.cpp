@@ -38,10 +38,6 @@ struct RangeValue {
     static auto tie(auto& s) { return std::tie(s.low, s.high); }
 };
 
-std::string statusText(ua::StatusCode s) {
-    return std::string(ua::statusName(s));
-}
-
 std::string nodeClassName(ua::NodeClass c) {
     switch (c) {
         case ua::NodeClass::Object:

@@ -18,10 +18,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using std::chrono::milliseconds;
 
-std::string statusText(ua::StatusCode s) {
-    return std::string(ua::statusName(s));
-}
-
 std::string stateText(std::optional<SkillState> s) {
     return s ? std::string(name(*s)) : std::string("unknown");
 }

@@ -4,6 +4,7 @@
 #include <asio/post.hpp>
 
 #include "ua/address_space/instantiate.hpp"
+#include "ua/address_space/ns0_ids.hpp"
 #include "ua/nodeset/companion_models.hpp"
 #include "ua/server/subscriptions/event.hpp"
 
@@ -14,8 +15,6 @@ using ua::AddressSpace;
 using ua::NodeId;
 using ua::QualifiedName;
 using ua::Variant;
-
-constexpr std::uint32_t kHasComponent = 47;
 
 /// The optional children our model requires of every skill: ProgramStateMachineType
 /// declares the methods OptionalPlaceholder (OPC 10000-10 1.05), ARCHITECTURE.md requires
@@ -135,7 +134,7 @@ ua::StatusCode Skill::build(const SkillConfig& config) {
     for (auto& p : parameterRangePaths(as, config.type)) {
         options.optionalChildren.push_back(std::move(p));
     }
-    auto id = ua::instantiate(as, config.type, config.parent, NodeId(kHasComponent),
+    auto id = ua::instantiate(as, config.type, config.parent, NodeId(ua::ns0::HasComponent),
                               QualifiedName{config.parent.namespaceIndex(), config.name}, options);
     if (!id) return id.status();
     nodeId_ = *id;

@@ -3,6 +3,7 @@
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/use_awaitable.hpp>
 
+#include "ua/address_space/ns0_ids.hpp"
 #include "ua/client/subscription.hpp"
 
 namespace skillcell::skills {
@@ -13,8 +14,6 @@ using ua::QualifiedName;
 using ua::StatusCode;
 using ua::Variant;
 
-constexpr std::uint32_t kTransitionEventType = 2311;
-constexpr std::uint32_t kBaseEventType = 2041;
 constexpr std::size_t kMaxTransitionsKept = 256;
 
 /// Select clauses, in the order onEvent reads them.
@@ -26,11 +25,11 @@ ua::EventFilter transitionEventFilter() {
         op.browsePath = std::move(path);
         filter.selectClauses.push_back(std::move(op));
     };
-    select(kBaseEventType, {{0, "Time"}});
-    select(kBaseEventType, {{0, "Message"}});
-    select(kTransitionEventType, {{0, "FromState"}, {0, "Id"}});
-    select(kTransitionEventType, {{0, "ToState"}, {0, "Id"}});
-    select(kTransitionEventType, {{0, "Transition"}, {0, "Id"}});
+    select(ua::ns0::BaseEventType, {{0, "Time"}});
+    select(ua::ns0::BaseEventType, {{0, "Message"}});
+    select(ua::ns0::TransitionEventType, {{0, "FromState"}, {0, "Id"}});
+    select(ua::ns0::TransitionEventType, {{0, "ToState"}, {0, "Id"}});
+    select(ua::ns0::TransitionEventType, {{0, "Transition"}, {0, "Id"}});
     return filter;
 }
 

@@ -4,13 +4,11 @@
 #include <cmath>
 #include <type_traits>
 
+#include "ua/address_space/ns0_ids.hpp"
 #include "ua/encoding/codec.hpp"
 
 namespace skillcell::skills {
 namespace {
-
-constexpr std::uint32_t kHasComponent = 47;
-constexpr std::uint32_t kHasProperty = 46;
 
 std::optional<double> numeric(const ua::Scalar& s) {
     return std::visit(
@@ -28,7 +26,7 @@ std::optional<double> numeric(const ua::Scalar& s) {
 std::optional<ua::Range> rangeProperty(const ua::AddressSpace& as, const ua::NodeId& variable,
                                        const char* name) {
     for (const auto& r : as.find(variable)->references) {
-        if (!r.isForward || r.referenceTypeId != ua::NodeId(kHasProperty)) continue;
+        if (!r.isForward || r.referenceTypeId != ua::NodeId(ua::ns0::HasProperty)) continue;
         const ua::Node* p = as.find(r.target);
         if (p == nullptr || p->browseName.name != name) continue;
         const ua::DataValue dv = as.readValue(*p);
@@ -53,8 +51,8 @@ std::vector<ParameterDeclaration> declaredParameters(const ua::AddressSpace& as,
     const ua::Node* set = as.find(parameterSet);
     if (set == nullptr) return out;
     for (const auto& r : set->references) {
-        if (!r.isForward || (r.referenceTypeId != ua::NodeId(kHasComponent) &&
-                             r.referenceTypeId != ua::NodeId(kHasProperty))) {
+        if (!r.isForward || (r.referenceTypeId != ua::NodeId(ua::ns0::HasComponent) &&
+                             r.referenceTypeId != ua::NodeId(ua::ns0::HasProperty))) {
             continue;
         }
         const ua::Node* v = as.find(r.target);

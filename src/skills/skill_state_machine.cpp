@@ -23,17 +23,17 @@ struct TransitionRow {
     std::uint32_t nodeId;  // namespace 0
 };
 using S = SkillState;
-using T = SkillTransition;
+using Tr = SkillTransition;
 constexpr std::array<TransitionRow, 9> kTransitions = {{
-    {T::HaltedToReady, "HaltedToReady", S::Halted, S::Ready, 2408},
-    {T::ReadyToRunning, "ReadyToRunning", S::Ready, S::Running, 2410},
-    {T::RunningToHalted, "RunningToHalted", S::Running, S::Halted, 2412},
-    {T::RunningToReady, "RunningToReady", S::Running, S::Ready, 2414},
-    {T::RunningToSuspended, "RunningToSuspended", S::Running, S::Suspended, 2416},
-    {T::SuspendedToRunning, "SuspendedToRunning", S::Suspended, S::Running, 2418},
-    {T::SuspendedToHalted, "SuspendedToHalted", S::Suspended, S::Halted, 2420},
-    {T::SuspendedToReady, "SuspendedToReady", S::Suspended, S::Ready, 2422},
-    {T::ReadyToHalted, "ReadyToHalted", S::Ready, S::Halted, 2424},
+    {Tr::HaltedToReady, "HaltedToReady", S::Halted, S::Ready, 2408},
+    {Tr::ReadyToRunning, "ReadyToRunning", S::Ready, S::Running, 2410},
+    {Tr::RunningToHalted, "RunningToHalted", S::Running, S::Halted, 2412},
+    {Tr::RunningToReady, "RunningToReady", S::Running, S::Ready, 2414},
+    {Tr::RunningToSuspended, "RunningToSuspended", S::Running, S::Suspended, 2416},
+    {Tr::SuspendedToRunning, "SuspendedToRunning", S::Suspended, S::Running, 2418},
+    {Tr::SuspendedToHalted, "SuspendedToHalted", S::Suspended, S::Halted, 2420},
+    {Tr::SuspendedToReady, "SuspendedToReady", S::Suspended, S::Ready, 2422},
+    {Tr::ReadyToHalted, "ReadyToHalted", S::Ready, S::Halted, 2424},
 }};
 
 struct MethodRow {
@@ -123,18 +123,18 @@ std::optional<SkillTransition> transitionFor(SkillMethod method, SkillState stat
     switch (method) {
         case SkillMethod::Start:
             if (state != S::Ready) return std::nullopt;
-            return T::ReadyToRunning;
+            return Tr::ReadyToRunning;
         case SkillMethod::Suspend:
             if (state != S::Running) return std::nullopt;
-            return T::RunningToSuspended;
+            return Tr::RunningToSuspended;
         case SkillMethod::Resume:
             if (state != S::Suspended) return std::nullopt;
-            return T::SuspendedToRunning;
+            return Tr::SuspendedToRunning;
         case SkillMethod::Halt:
             return transitionBetween(state, S::Halted);
         case SkillMethod::Reset:
             if (state != S::Halted) return std::nullopt;
-            return T::HaltedToReady;
+            return Tr::HaltedToReady;
     }
     return std::nullopt;
 }

@@ -70,11 +70,4 @@ inline constexpr std::array kAllMethods = {SkillMethod::Start, SkillMethod::Susp
 [[nodiscard]] std::optional<SkillState> stateFromNodeId(const ua::NodeId& id);
 [[nodiscard]] std::optional<SkillTransition> transitionFromNodeId(const ua::NodeId& id);
 
-/// NodeIds of namespace 0 the skill layer needs.
-namespace ns0_ids {
-inline constexpr std::uint32_t ProgramStateMachineType = 2391;
-inline constexpr std::uint32_t ProgramTransitionEventType = 2378;
-inline constexpr std::uint32_t TransitionEventType = 2311;
-}  // namespace ns0_ids
-
 }  // namespace skillcell::skills

@@ -4,11 +4,10 @@
 #include <string_view>
 
 #include "skills/skill_state_machine.hpp"
+#include "ua/address_space/ns0_ids.hpp"
 
 namespace skillcell::skills {
 namespace {
-
-constexpr std::uint32_t kBaseEventType = 2041;
 
 struct FieldRow {
     TransitionEventField field;
@@ -17,18 +16,17 @@ struct FieldRow {
 };
 
 using F = TransitionEventField;
-constexpr std::uint32_t kTransitionEventType = ns0_ids::TransitionEventType;
 constexpr std::array<FieldRow, static_cast<std::size_t>(F::Count)> kRows = {{
-    {F::EventId, kBaseEventType, {"EventId", ""}},
-    {F::EventType, kBaseEventType, {"EventType", ""}},
-    {F::SourceNode, kBaseEventType, {"SourceNode", ""}},
-    {F::Time, kBaseEventType, {"Time", ""}},
-    {F::Transition, kTransitionEventType, {"Transition", ""}},
-    {F::TransitionId, kTransitionEventType, {"Transition", "Id"}},
-    {F::FromState, kTransitionEventType, {"FromState", ""}},
-    {F::FromStateId, kTransitionEventType, {"FromState", "Id"}},
-    {F::ToState, kTransitionEventType, {"ToState", ""}},
-    {F::ToStateId, kTransitionEventType, {"ToState", "Id"}},
+    {F::EventId, ua::ns0::BaseEventType, {"EventId", ""}},
+    {F::EventType, ua::ns0::BaseEventType, {"EventType", ""}},
+    {F::SourceNode, ua::ns0::BaseEventType, {"SourceNode", ""}},
+    {F::Time, ua::ns0::BaseEventType, {"Time", ""}},
+    {F::Transition, ua::ns0::TransitionEventType, {"Transition", ""}},
+    {F::TransitionId, ua::ns0::TransitionEventType, {"Transition", "Id"}},
+    {F::FromState, ua::ns0::TransitionEventType, {"FromState", ""}},
+    {F::FromStateId, ua::ns0::TransitionEventType, {"FromState", "Id"}},
+    {F::ToState, ua::ns0::TransitionEventType, {"ToState", ""}},
+    {F::ToStateId, ua::ns0::TransitionEventType, {"ToState", "Id"}},
 }};
 
 template <class T>

@@ -29,10 +29,6 @@ constexpr std::chrono::milliseconds kDestructorGrace{5000};
 // Only without pidfd (old kernels): how often a waiting caller looks again.
 constexpr int kFallbackPollMs = 10;
 
-std::string errnoText(int err) {
-    return std::strerror(err);
-}  // NOLINT(concurrency-mt-unsafe)
-
 /// The executable argv[0] names: as given with a '/', else the first match in PATH.
 std::string resolveProgram(const std::string& program) {
     if (program.find('/') != std::string::npos) return program;
@@ -146,11 +142,15 @@ enum ChildStep : int { kDeathSignal = 1, kRedirect, kChdir, kExec };
     ::_exit(127);  // not reached: fail() exits
 }
 
-std::string tail(const std::string& text, std::size_t max = 2000) {
-    return text.size() <= max ? text : "..." + text.substr(text.size() - max);
+}  // namespace
+
+std::string errnoText(int err) {
+    return std::strerror(err);  // NOLINT(concurrency-mt-unsafe)
 }
 
-}  // namespace
+std::string tail(const std::string& text, std::size_t max) {
+    return text.size() <= max ? text : "..." + text.substr(text.size() - max);
+}
 
 UniqueFd& UniqueFd::operator=(UniqueFd&& other) noexcept {
     if (this != &other) reset(std::exchange(other.fd_, -1));

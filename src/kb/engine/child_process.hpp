@@ -119,6 +119,11 @@ private:
     std::optional<ExitStatus> status_;
 };
 
+/// strerror's text for `err`, for messages.
+[[nodiscard]] std::string errnoText(int err);
+/// The last `max` characters of a program's output, marked as cut when they are not all.
+[[nodiscard]] std::string tail(const std::string& text, std::size_t max = 2000);
+
 /// What a short tool printed and how it ended.
 struct RunResult {
     int exitCode = 0;

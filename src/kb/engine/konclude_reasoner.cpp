@@ -55,10 +55,6 @@ private:
     fs::path path_;
 };
 
-std::string tail(const std::string& text, std::size_t max = 2000) {
-    return text.size() <= max ? text : "..." + text.substr(text.size() - max);
-}
-
 /// Konclude's "{error}" lines: it reports failures (a file no parser accepts) there and
 /// still exits 0 with a verdict on whatever it did read.
 std::string errorLines(const std::string& console) {

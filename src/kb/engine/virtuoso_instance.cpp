@@ -4,14 +4,17 @@
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <netinet/in.h>
+#include <poll.h>
 #include <spdlog/spdlog.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 #include <fstream>
 #include <random>
@@ -34,14 +37,13 @@ constexpr const char* kPassword = "admin-password";
 constexpr int kStartAttempts = 3;  // with picked ports: another process may take one first
 constexpr milliseconds kReadyProbeInterval{100};
 constexpr milliseconds kKillGrace{5000};
+// An orphan is sent SIGKILL, so only uninterruptible I/O can keep it longer than this.
+constexpr milliseconds kOrphanExitBound{10'000};
+constexpr const char* kLockFile = "virtuoso.lck";
 
 long long msSince(Clock::time_point t0) {
     return std::chrono::duration_cast<milliseconds>(Clock::now() - t0).count();
 }
-
-std::string errnoText(int err) {
-    return std::strerror(err);
-}  // NOLINT(concurrency-mt-unsafe)
 
 /// Free ports on 127.0.0.1, all distinct: the sockets stay bound until every port is known.
 Expected<std::vector<std::uint16_t>> pickFreePorts(std::size_t count) {
@@ -118,7 +120,7 @@ std::string iniText(const fs::path& dir, std::uint16_t sqlPort, std::uint16_t ht
     return fmt::format(R"([Database]
 DatabaseFile       = {0}/virtuoso.db
 ErrorLogFile       = {0}/{3}
-LockFile           = {0}/virtuoso.lck
+LockFile           = {0}/{4}
 TransactionFile    = {0}/virtuoso.trx
 xa_persistent_file = {0}/virtuoso.pxa
 ErrorLogLevel      = 7
@@ -166,7 +168,7 @@ MaxQueryExecutionTime      = 0
 MaxQueryCostEstimationTime = 400
 DefaultQuery               = SELECT * WHERE {{ ?s ?p ?o }} LIMIT 10
 )",
-                       d, sqlPort, httpPort, kLog);
+                       d, sqlPort, httpPort, kLog, kLockFile);
 }
 
 }  // namespace
@@ -220,10 +222,86 @@ Status VirtuosoInstance::prepareDataDir() {
     return writeFileAtomically(passwordPath(), password_ + "\n", 0600);
 }
 
+namespace {
+
+/// The pid a virtuoso.lck names ("VIRT_PID=<pid>"); 0 when there is none.
+pid_t lockHolder(const fs::path& lockFile) {
+    std::ifstream in(lockFile);
+    std::string line;
+    constexpr std::string_view kKey = "VIRT_PID=";
+    while (std::getline(in, line)) {
+        if (line.rfind(kKey, 0) != 0) continue;
+        try {
+            const long pid = std::stol(line.substr(kKey.size()));
+            return pid > 0 ? static_cast<pid_t>(pid) : 0;
+        } catch (const std::exception&) {
+            return 0;
+        }
+    }
+    return 0;
+}
+
+/// Whether `pid` is a virtuoso-t whose working directory is `dir`: ours, since we start it
+/// there. Anything else (a reused pid, another Virtuoso) is not ours to stop.
+bool isVirtuosoIn(pid_t pid, const fs::path& dir) {
+    const fs::path proc = "/proc/" + std::to_string(pid);
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink(proc / "exe", ec);
+    if (ec || exe.filename().string().rfind("virtuoso", 0) != 0) return false;
+    const fs::path cwd = fs::read_symlink(proc / "cwd", ec);
+    return !ec && fs::equivalent(cwd, dir, ec) && !ec;
+}
+
+}  // namespace
+
+Status VirtuosoInstance::stopOrphan() {
+    const fs::path lockFile = config_.dataDir / kLockFile;
+    const pid_t pid = lockHolder(lockFile);
+    if (pid == 0) return Done{};
+    std::error_code ec;
+    // A pidfd names this process and no later one with the same pid: no race with reuse.
+    const UniqueFd pidfd(static_cast<int>(::syscall(SYS_pidfd_open, pid, 0)));
+    if (!pidfd.valid() || !isVirtuosoIn(pid, config_.dataDir)) {
+        // Gone, a zombie nobody has reaped, or a reused pid: no Virtuoso holds our data, but
+        // virtuoso-t may still believe the pid in the file.
+        spdlog::info(
+            "Virtuoso data dir {}: removing a stale lock file (pid {} is no Virtuoso "
+            "of ours)",
+            config_.dataDir.string(), pid);
+        fs::remove(lockFile, ec);
+        return Done{};
+    }
+    spdlog::warn(
+        "Virtuoso (pid {}) of an earlier knowledge base still runs on data dir {}: "
+        "stopping it before starting ours",
+        pid, config_.dataDir.string());
+    // SIGKILL, as PR_SET_PDEATHSIG would have: the transaction log makes it safe (tested).
+    if (::syscall(SYS_pidfd_send_signal, pidfd.get(), SIGKILL, nullptr, 0) != 0 && errno != ESRCH) {
+        return Error{"cannot stop the earlier Virtuoso (pid " + std::to_string(pid) +
+                     ") on data dir " + config_.dataDir.string() + ": " + errnoText(errno)};
+    }
+    // A pidfd polls readable once the process has exited, its files (and locks) released.
+    pollfd fd{pidfd.get(), POLLIN, 0};
+    int ready = 0;
+    do {
+        ready = ::poll(&fd, 1, static_cast<int>(kOrphanExitBound.count()));
+    } while (ready < 0 && errno == EINTR);
+    if (ready <= 0) {
+        return Error{"the earlier Virtuoso (pid " + std::to_string(pid) + ") on data dir " +
+                     config_.dataDir.string() + " did not end within " +
+                     std::to_string(kOrphanExitBound.count()) + " ms of SIGKILL"};
+    }
+    // Its lock file outlives it, and so may its pid, as a zombie until someone reaps it.
+    fs::remove(lockFile, ec);
+    spdlog::info("the earlier Virtuoso (pid {}) has ended", pid);
+    return Done{};
+}
+
 Status VirtuosoInstance::start() {
     if (running()) return Done{};
     const auto t0 = Clock::now();
     if (auto st = prepareDataDir(); !st) return st;
+    if (auto st = stopOrphan(); !st) return st;
     const bool pickPorts = config_.httpPort == 0 || config_.sqlPort == 0;
     const auto deadline = t0 + config_.startTimeout;
     for (int attempt = 1;; ++attempt) {

@@ -7,6 +7,11 @@
 // Durability: every commit is appended to the transaction log (virtuoso.trx) before it is
 // acknowledged, and a restart rolls that log forward, so data acknowledged before a
 // `kill -9` is there after the next start() (tested).
+//
+// Orphans: the kernel kills our virtuoso-t when the KB dies (PR_SET_PDEATHSIG), but a big
+// process takes a while to exit, and it holds virtuoso.lck until it has. A KB restarted at
+// once would find its data directory locked; start() therefore ends a virtuoso-t that still
+// runs on this data directory and waits for its end (tested).
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -65,6 +70,7 @@ public:
 
 private:
     Status prepareDataDir();
+    Status stopOrphan();
     Status launch();
     Status waitUntilReady(std::chrono::steady_clock::time_point deadline);
     Status firstTimeSetup();

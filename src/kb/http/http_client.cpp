@@ -9,13 +9,13 @@
 #include <asio.hpp>
 #include <asio/experimental/as_tuple.hpp>
 
+#include "ua/transport/no_throw.hpp"
+
 namespace skillcell::kb::http {
 namespace {
 
 // Errors as values: refusals and resets are answers here, not exceptional.
-constexpr auto kNoThrow = asio::experimental::as_tuple(asio::use_awaitable);
-
-constexpr std::size_t kReadChunk = std::size_t{16} * 1024;
+using ua::kNoThrow;
 
 // One request's state. It outlives the io_context that runs the exchange, so a timed-out
 // coroutine destroyed with the io_context never points at freed memory.

@@ -17,6 +17,9 @@
 
 namespace skillcell::kb::http {
 
+/// How much a client or server reads from its socket at a time.
+inline constexpr std::size_t kReadChunk = std::size_t{16} * 1024;
+
 /// Name/value pairs in their order of appearance (query strings, form bodies, parameters).
 using Params = std::vector<std::pair<std::string, std::string>>;
 

@@ -10,6 +10,8 @@
 
 #include <asio/experimental/as_tuple.hpp>
 
+#include "ua/transport/no_throw.hpp"
+
 namespace skillcell::kb::http {
 namespace {
 
@@ -17,9 +19,8 @@ using Clock = std::chrono::steady_clock;
 using std::chrono::milliseconds;
 
 // Errors as values: a peer going away is normal control flow here, not an exception.
-constexpr auto kNoThrow = asio::experimental::as_tuple(asio::use_awaitable);
+using ua::kNoThrow;
 
-constexpr std::size_t kReadChunk = std::size_t{16} * 1024;
 // After an error answer the peer may still be sending (a body we refused); reading it away
 // for a moment keeps the kernel from resetting the connection before the answer is read.
 constexpr milliseconds kMaxLinger{2000};

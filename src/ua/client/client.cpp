@@ -20,7 +20,6 @@
 #include <asio/connect.hpp>
 #include <asio/detached.hpp>
 #include <asio/dispatch.hpp>
-#include <asio/experimental/as_tuple.hpp>
 #include <asio/ip/tcp.hpp>
 #include <asio/post.hpp>
 #include <asio/steady_timer.hpp>
@@ -28,6 +27,7 @@
 #include <asio/write.hpp>
 
 #include "ua/crypto/security_policy_profile.hpp"
+#include "ua/transport/no_throw.hpp"
 #include "ua/transport/rsa_security_policy.hpp"
 #include "ua/transport/secure_channel.hpp"
 #include "ua/transport/security_policy.hpp"
@@ -38,7 +38,6 @@ namespace {
 
 using asio::ip::tcp;
 // Completion token that yields (error_code, ...) instead of throwing.
-constexpr auto kNoThrow = asio::experimental::as_tuple(asio::use_awaitable);
 
 SteadyTime steadyNow() {
     return std::chrono::steady_clock::now();

@@ -10,17 +10,17 @@
 
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
-#include <asio/experimental/as_tuple.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
 
+#include "ua/address_space/ns0_ids.hpp"
 #include "ua/client/client.hpp"
+#include "ua/transport/no_throw.hpp"
 
 namespace skillcell::ua {
 
 namespace {
 
-constexpr auto kNoThrow = asio::experimental::as_tuple(asio::use_awaitable);
 using Clock = std::chrono::steady_clock;
 
 /// Publish requests kept at the server while subscriptions exist: one can be answered
@@ -36,7 +36,6 @@ constexpr unsigned kMaxConsecutiveErrors = 5;
 /// responses for a subscription: delivery and scheduling take time too.
 constexpr double kWatchdogFactor = 1.5;
 constexpr std::chrono::milliseconds kWatchdogSlack{100};
-constexpr std::uint32_t kBaseEventType = 2041;
 
 /// Statuses after which the session (and so every subscription in it) is gone.
 bool isSessionLost(StatusCode s) {
@@ -635,7 +634,7 @@ EventFilter makeEventFilter(const std::vector<std::string>& baseEventFields) {
     EventFilter filter;
     for (const auto& field : baseEventFields) {
         SimpleAttributeOperand op;
-        op.typeDefinitionId = NodeId(kBaseEventType);
+        op.typeDefinitionId = NodeId(ns0::BaseEventType);
         op.browsePath.push_back(QualifiedName{0, String(field)});
         op.attributeId = static_cast<std::uint32_t>(AttributeId::Value);
         filter.selectClauses.push_back(std::move(op));

@@ -21,10 +21,6 @@ namespace {
 
 constexpr long kDay = 86400;
 
-void setError(std::string* error, std::string why) {
-    if (error != nullptr) *error = std::move(why);
-}
-
 std::string opensslError(const std::string& what) {
     const unsigned long e = ERR_get_error();
     ERR_clear_error();

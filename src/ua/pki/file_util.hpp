@@ -1,10 +1,12 @@
 #pragma once
-// Small file helpers the PKI files share.
+// Small helpers the PKI files share: files, and the optional error text of their functions.
 #include <sys/types.h>
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace skillcell::ua::pki {
@@ -17,5 +19,10 @@ namespace skillcell::ua::pki {
 
 /// The whole file; empty when it cannot be read.
 [[nodiscard]] std::vector<std::uint8_t> readWholeFile(const std::filesystem::path& path);
+
+/// Fills in a caller's `std::string* error`, when it gave one.
+inline void setError(std::string* error, std::string why) {
+    if (error != nullptr) *error = std::move(why);
+}
 
 }  // namespace skillcell::ua::pki

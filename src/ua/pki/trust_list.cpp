@@ -53,10 +53,6 @@ std::string lower(std::string_view s) {
     return out;
 }
 
-void setError(std::string* error, std::string why) {
-    if (error != nullptr) *error = std::move(why);
-}
-
 }  // namespace
 
 StatusCode createPkiLayout(const fs::path& root, std::string* error) {

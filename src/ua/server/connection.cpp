@@ -5,15 +5,13 @@
 
 #include <spdlog/spdlog.h>
 
-#include <asio/experimental/as_tuple.hpp>
-
 #include "ua/messages/secure_channel.hpp"
+#include "ua/transport/no_throw.hpp"
 
 namespace skillcell::ua {
 namespace {
 
 // Errors as values: a closed socket is normal control flow here, not an exception.
-constexpr auto kNoThrow = asio::experimental::as_tuple(asio::use_awaitable);
 
 struct Frame {
     MessageHeader header;

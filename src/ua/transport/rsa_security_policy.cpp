@@ -4,10 +4,11 @@
 
 #include <algorithm>
 
+#include "ua/transport/tcp_framing.hpp"
+
 namespace skillcell::ua {
 namespace {
 
-constexpr std::size_t kSequenceHeaderSize = 8;
 constexpr std::size_t kAesBlock = 16;
 constexpr std::size_t kIvLength = 16;
 /// RSA keys above 2048 bits need a second padding-size byte (OPC 10000-6, 6.7.2.5).

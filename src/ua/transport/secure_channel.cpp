@@ -13,10 +13,8 @@ namespace skillcell::ua {
 
 namespace {
 
-constexpr std::size_t kSequenceHeaderSize = 8;  // SequenceNumber + RequestId
 /// Message header + SecureChannelId + TokenId.
 constexpr std::size_t kSymmetricSecurityHeaderEnd = kMessageHeaderSize + 8;
-constexpr std::size_t kMaxReasonLength = 4096;
 /// OPC 10000-6, 6.7.2.4 (legacy sequence numbers): a sender may wrap only once it is past
 /// UInt32Max - 1024, and the first number after the wrap is below 1024.
 constexpr std::uint32_t kWrapThreshold = std::numeric_limits<std::uint32_t>::max() - 1024;

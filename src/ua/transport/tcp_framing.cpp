@@ -9,7 +9,6 @@ namespace skillcell::ua {
 namespace {
 
 /// ERR and abort reasons, like endpoint URLs, are at most 4096 bytes (OPC 10000-6, 7.1.2.5).
-constexpr std::size_t kMaxReasonLength = 4096;
 
 struct TypeName {
     MessageType type;

@@ -16,6 +16,10 @@ inline constexpr std::uint32_t kProtocolVersion = 0;
 /// Smallest buffer a peer may announce (OPC 10000-6, 7.1.2.3).
 inline constexpr std::uint32_t kMinBufferSize = 8192;
 inline constexpr std::size_t kMaxEndpointUrlLength = 4096;
+/// Longest reason an Error or CloseSecureChannel message may carry (OPC 10000-6, 7.1.2.5).
+inline constexpr std::size_t kMaxReasonLength = 4096;
+/// SequenceNumber and RequestId, in front of every chunk's body (OPC 10000-6, 6.7.2.4).
+inline constexpr std::size_t kSequenceHeaderSize = 8;
 
 enum class MessageType : std::uint8_t {
     Hello,         // "HEL"

@@ -2,6 +2,7 @@
 // StatusCode: the 32-bit result of every OPC UA operation (OPC 10000-4, 7.39).
 // The numeric values are facts of the standard (Schema/StatusCode.csv).
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 namespace skillcell::ua {
@@ -21,6 +22,10 @@ struct StatusCode {
 
 /// Symbolic name of a status code ("BadNodeIdUnknown"), or "UnknownStatusCode".
 [[nodiscard]] std::string_view statusName(StatusCode s);
+/// The same, as a string for messages.
+[[nodiscard]] inline std::string statusText(StatusCode s) {
+    return std::string(statusName(s));
+}
 
 namespace status {
 // clang-format off

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -378,6 +379,69 @@ TEST_F(VirtuosoTest, AcknowledgedDataSurvivesKill9) {
     const std::string found = objects(db(), "urn:k");
     EXPECT_NE(found.find("via-isql"), std::string::npos) << found;
     EXPECT_NE(found.find("via-http"), std::string::npos) << found;
+}
+
+/// The pid virtuoso.lck names, 0 when there is none yet.
+pid_t lockHolder(const fs::path& dataDir) {
+    std::ifstream in(dataDir / "virtuoso.lck");
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.rfind("VIRT_PID=", 0) == 0) return static_cast<pid_t>(std::stol(line.substr(9)));
+    }
+    return 0;
+}
+
+// A KB killed with SIGKILL leaves its virtuoso-t to the kernel (PR_SET_PDEATHSIG), which may
+// still be exiting, lock held, when the KB is restarted. Here the "orphan" is a virtuoso-t
+// started on the data directory by someone else than the instance: start() must stop it and
+// start its own, with the data intact.
+TEST_F(VirtuosoTest, StartStopsAnOrphanedVirtuosoOnItsDataDirectory) {
+    ASSERT_TRUE(
+        db().isql(R"(SPARQL INSERT DATA { GRAPH <urn:o> { <urn:a> <urn:p> "before-orphan" } };)"));
+    ASSERT_TRUE(db().stop());
+    ProcessOptions options;
+    options.workingDir = db().dataDir();
+    options.stdoutTo = OutputSink::discard();
+    options.stderrTo = OutputSink::discard();
+    auto orphan = ChildProcess::start({"/usr/bin/virtuoso-t", "+foreground", "+configfile",
+                                       (db().dataDir() / "virtuoso.ini").string()},
+                                      options);
+    ASSERT_TRUE(orphan) << orphan.error();
+    // Bounded: the orphan writes its lock file early in its start-up.
+    const auto deadline = Clock::now() + 30s;
+    while (lockHolder(db().dataDir()) != orphan->pid() && Clock::now() < deadline) {
+        ASSERT_FALSE(orphan->wait(20ms)) << "the orphan virtuoso-t ended by itself";
+    }
+    ASSERT_EQ(lockHolder(db().dataDir()), orphan->pid());
+
+    auto started = db().start();
+    ASSERT_TRUE(started) << started.error();
+    auto ended = orphan->wait(0ms);
+    ASSERT_TRUE(ended) << "the orphan still runs beside the new Virtuoso";
+    EXPECT_EQ(ended->signal, SIGKILL);
+    EXPECT_NE(lockHolder(db().dataDir()), orphan->pid());
+    EXPECT_NE(objects(db(), "urn:o").find("before-orphan"), std::string::npos);
+}
+
+// A lock file that names a process which is no Virtuoso (here: one that has ended and not
+// been reaped, a zombie, as an orphan becomes when nobody reaps it) does not keep a start
+// from succeeding.
+TEST_F(VirtuosoTest, StartTakesOverALockFileOfAProcessThatHasEnded) {
+    ASSERT_TRUE(db().stop());
+    const pid_t zombie = ::fork();
+    ASSERT_GE(zombie, 0);
+    if (zombie == 0) ::_exit(0);
+    siginfo_t info{};
+    // Waits for its end without reaping it: the pid stays taken, by a zombie.
+    ASSERT_EQ(::waitid(P_PID, static_cast<id_t>(zombie), &info, WEXITED | WNOWAIT), 0);
+    {
+        std::ofstream lock(db().dataDir() / "virtuoso.lck", std::ios::trunc);
+        lock << "VIRT_PID=" << zombie << "\n";
+    }
+    auto started = db().start();
+    ::waitpid(zombie, nullptr, 0);
+    ASSERT_TRUE(started) << started.error();
+    EXPECT_TRUE(db().isql("select 1;"));
 }
 
 TEST_F(VirtuosoTest, SecondInstanceIsIndependent) {
