@@ -16,8 +16,9 @@ using ua::Variant;
 
 constexpr std::size_t kMaxTransitionsKept = 256;
 
-/// Select clauses, in the order onEvent reads them.
-ua::EventFilter transitionEventFilter() {
+/// Select clauses, in the order onEvent reads them: fewer than transitionEventFilter() has,
+/// since a client needs only the transition and its time.
+ua::EventFilter clientEventFilter() {
     ua::EventFilter filter;
     auto select = [&filter](std::uint32_t type, std::vector<QualifiedName> path) {
         ua::SimpleAttributeOperand op;
@@ -149,7 +150,7 @@ asio::awaitable<StatusCode> SkillClient::subscribe(SkillClientOptions options) {
     auto sub = co_await client_.createSubscription(settings, std::move(onStatus));
     if (!sub) co_return sub.status();
     subscription_ = *sub;
-    ua::EventFilter filter = transitionEventFilter();
+    ua::EventFilter filter = clientEventFilter();
     auto item =
         co_await subscription_->monitorEvents(skill_, std::move(filter), std::move(onEvents));
     if (!item) co_return item.status();
