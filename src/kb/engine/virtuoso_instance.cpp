@@ -241,15 +241,20 @@ pid_t lockHolder(const fs::path& lockFile) {
     return 0;
 }
 
-/// Whether `pid` is a virtuoso-t whose working directory is `dir`: ours, since we start it
-/// there. Anything else (a reused pid, another Virtuoso) is not ours to stop.
-bool isVirtuosoIn(pid_t pid, const fs::path& dir) {
+/// Whether `pid` is a virtuoso-t on `dir`, ours since we start it there. Its name (comm)
+/// stays until it is reaped; its working directory goes late in its exit, after its locks,
+/// so one that cannot be read any more belongs to a Virtuoso that is ending. Anything else
+/// (a reused pid, another Virtuoso) is not ours to stop.
+bool isVirtuosoOn(pid_t pid, const fs::path& dir) {
     const fs::path proc = "/proc/" + std::to_string(pid);
+    std::ifstream commFile(proc / "comm");
+    std::string comm;
+    std::getline(commFile, comm);
+    if (comm.rfind("virtuoso", 0) != 0) return false;
     std::error_code ec;
-    const fs::path exe = fs::read_symlink(proc / "exe", ec);
-    if (ec || exe.filename().string().rfind("virtuoso", 0) != 0) return false;
     const fs::path cwd = fs::read_symlink(proc / "cwd", ec);
-    return !ec && fs::equivalent(cwd, dir, ec) && !ec;
+    if (ec) return true;
+    return fs::equivalent(cwd, dir, ec) && !ec;
 }
 
 }  // namespace
@@ -258,19 +263,11 @@ Status VirtuosoInstance::stopOrphan() {
     const fs::path lockFile = config_.dataDir / kLockFile;
     const pid_t pid = lockHolder(lockFile);
     if (pid == 0) return Done{};
-    std::error_code ec;
     // A pidfd names this process and no later one with the same pid: no race with reuse.
     const UniqueFd pidfd(static_cast<int>(::syscall(SYS_pidfd_open, pid, 0)));
-    if (!pidfd.valid() || !isVirtuosoIn(pid, config_.dataDir)) {
-        // Gone, a zombie nobody has reaped, or a reused pid: no Virtuoso holds our data, but
-        // virtuoso-t may still believe the pid in the file.
-        spdlog::info(
-            "Virtuoso data dir {}: removing a stale lock file (pid {} is no Virtuoso "
-            "of ours)",
-            config_.dataDir.string(), pid);
-        fs::remove(lockFile, ec);
-        return Done{};
-    }
+    // Gone, or a reused pid: virtuoso-t locks the file itself, with a lock its holder's exit
+    // releases, so a stale file does not stop it (tried: a dead or an unrelated pid in it).
+    if (!pidfd.valid() || !isVirtuosoOn(pid, config_.dataDir)) return Done{};
     spdlog::warn(
         "Virtuoso (pid {}) of an earlier knowledge base still runs on data dir {}: "
         "stopping it before starting ours",
@@ -280,7 +277,7 @@ Status VirtuosoInstance::stopOrphan() {
         return Error{"cannot stop the earlier Virtuoso (pid " + std::to_string(pid) +
                      ") on data dir " + config_.dataDir.string() + ": " + errnoText(errno)};
     }
-    // A pidfd polls readable once the process has exited, its files (and locks) released.
+    // A pidfd polls readable once the process has exited, its files and their locks released.
     pollfd fd{pidfd.get(), POLLIN, 0};
     int ready = 0;
     do {
@@ -291,8 +288,6 @@ Status VirtuosoInstance::stopOrphan() {
                      config_.dataDir.string() + " did not end within " +
                      std::to_string(kOrphanExitBound.count()) + " ms of SIGKILL"};
     }
-    // Its lock file outlives it, and so may its pid, as a zombie until someone reaps it.
-    fs::remove(lockFile, ec);
     spdlog::info("the earlier Virtuoso (pid {}) has ended", pid);
     return Done{};
 }

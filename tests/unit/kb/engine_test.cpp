@@ -7,7 +7,6 @@
 #include <spdlog/spdlog.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -421,27 +420,6 @@ TEST_F(VirtuosoTest, StartStopsAnOrphanedVirtuosoOnItsDataDirectory) {
     EXPECT_EQ(ended->signal, SIGKILL);
     EXPECT_NE(lockHolder(db().dataDir()), orphan->pid());
     EXPECT_NE(objects(db(), "urn:o").find("before-orphan"), std::string::npos);
-}
-
-// A lock file that names a process which is no Virtuoso (here: one that has ended and not
-// been reaped, a zombie, as an orphan becomes when nobody reaps it) does not keep a start
-// from succeeding.
-TEST_F(VirtuosoTest, StartTakesOverALockFileOfAProcessThatHasEnded) {
-    ASSERT_TRUE(db().stop());
-    const pid_t zombie = ::fork();
-    ASSERT_GE(zombie, 0);
-    if (zombie == 0) ::_exit(0);
-    siginfo_t info{};
-    // Waits for its end without reaping it: the pid stays taken, by a zombie.
-    ASSERT_EQ(::waitid(P_PID, static_cast<id_t>(zombie), &info, WEXITED | WNOWAIT), 0);
-    {
-        std::ofstream lock(db().dataDir() / "virtuoso.lck", std::ios::trunc);
-        lock << "VIRT_PID=" << zombie << "\n";
-    }
-    auto started = db().start();
-    ::waitpid(zombie, nullptr, 0);
-    ASSERT_TRUE(started) << started.error();
-    EXPECT_TRUE(db().isql("select 1;"));
 }
 
 TEST_F(VirtuosoTest, SecondInstanceIsIndependent) {
