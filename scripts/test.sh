@@ -49,7 +49,9 @@ slowest() {
   local cost="$1/Testing/Temporary/CTestCostData.txt"
   [ -f "$cost" ] || return 0
   echo "-- slowest tests, seconds:"
-  awk '/^---/ { exit } NF >= 3 { printf "%8.1f  %s\n", $3, $1 }' "$cost" | sort -rn | head -n 12
+  # No `head`: under pipefail, a reader that stops early fails the pipeline (SIGPIPE).
+  awk '/^---/ { exit } NF >= 3 { printf "%8.1f  %s\n", $3, $1 }' "$cost" | sort -rn |
+    awk 'NR <= 12'
 }
 
 begin install
