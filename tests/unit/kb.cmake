@@ -8,11 +8,11 @@ skillcell_unit_test(test_kb_http kb/http_test.cpp)
 target_link_libraries(test_kb_http PRIVATE skillcell_kb_http)
 
 # Virtuoso and Konclude as child processes, against the real binaries (src/kb/engine).
-skillcell_unit_test_sharing_fixture(test_kb_engine VirtuosoTest kb/engine_test.cpp)
+skillcell_unit_test(test_kb_engine SHARED_FIXTURE VirtuosoTest kb/engine_test.cpp)
 target_link_libraries(test_kb_engine PRIVATE skillcell_kb_engine skillcell_kb_rdf)
 
 # The knowledge base over a real Virtuoso and Konclude (src/kb).
-skillcell_unit_test_sharing_fixture(test_kb KnowledgeBaseTest kb/knowledge_base_test.cpp)
+skillcell_unit_test(test_kb SHARED_FIXTURE KnowledgeBaseTest kb/knowledge_base_test.cpp)
 target_link_libraries(test_kb PRIVATE skillcell_kb)
 
 # `skillcell kb` in a cell: discovery-driven loading of a component's skills.

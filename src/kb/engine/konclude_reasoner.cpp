@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -34,7 +33,7 @@ public:
         std::string pattern = (base / "skillcell-konclude-XXXXXX").string();
         if (ec || ::mkdtemp(pattern.data()) == nullptr) {
             return Error{"cannot create a temporary directory in " + base.string() + ": " +
-                         std::strerror(errno)};  // NOLINT(concurrency-mt-unsafe)
+                         errnoText(errno)};
         }
         TempDir dir;
         dir.path_ = pattern;

@@ -224,23 +224,6 @@ Status VirtuosoInstance::prepareDataDir() {
 
 namespace {
 
-/// The pid a virtuoso.lck names ("VIRT_PID=<pid>"); 0 when there is none.
-pid_t lockHolder(const fs::path& lockFile) {
-    std::ifstream in(lockFile);
-    std::string line;
-    constexpr std::string_view kKey = "VIRT_PID=";
-    while (std::getline(in, line)) {
-        if (line.rfind(kKey, 0) != 0) continue;
-        try {
-            const long pid = std::stol(line.substr(kKey.size()));
-            return pid > 0 ? static_cast<pid_t>(pid) : 0;
-        } catch (const std::exception&) {
-            return 0;
-        }
-    }
-    return 0;
-}
-
 /// Whether `pid` is a virtuoso-t on `dir`, ours since we start it there. Its name (comm)
 /// stays until it is reaped; its working directory goes late in its exit, after its locks,
 /// so one that cannot be read any more belongs to a Virtuoso that is ending. Anything else
@@ -259,9 +242,24 @@ bool isVirtuosoOn(pid_t pid, const fs::path& dir) {
 
 }  // namespace
 
+pid_t VirtuosoInstance::lockHolder() const {
+    std::ifstream in(config_.dataDir / kLockFile);
+    std::string line;
+    constexpr std::string_view kKey = "VIRT_PID=";
+    while (std::getline(in, line)) {
+        if (line.rfind(kKey, 0) != 0) continue;
+        try {
+            const long pid = std::stol(line.substr(kKey.size()));
+            return pid > 0 ? static_cast<pid_t>(pid) : 0;
+        } catch (const std::exception&) {
+            return 0;
+        }
+    }
+    return 0;
+}
+
 Status VirtuosoInstance::stopOrphan() {
-    const fs::path lockFile = config_.dataDir / kLockFile;
-    const pid_t pid = lockHolder(lockFile);
+    const pid_t pid = lockHolder();
     if (pid == 0) return Done{};
     // A pidfd names this process and no later one with the same pid: no race with reuse.
     const UniqueFd pidfd(static_cast<int>(::syscall(SYS_pidfd_open, pid, 0)));

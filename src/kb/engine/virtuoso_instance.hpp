@@ -63,6 +63,9 @@ public:
     [[nodiscard]] std::filesystem::path logPath() const;
     [[nodiscard]] const std::filesystem::path& dataDir() const { return config_.dataDir; }
     [[nodiscard]] std::filesystem::path passwordPath() const;
+    /// The pid that the data directory's lock file (virtuoso.lck) names: the virtuoso-t that
+    /// runs, or last ran, on it; 0 when there is none.
+    [[nodiscard]] pid_t lockHolder() const;
 
     /// Runs `sql` (one or more statements, each ended by ';') through isql-vt as dba; its
     /// output without banners. Fails when isql reports an error.

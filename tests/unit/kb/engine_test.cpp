@@ -380,16 +380,6 @@ TEST_F(VirtuosoTest, AcknowledgedDataSurvivesKill9) {
     EXPECT_NE(found.find("via-http"), std::string::npos) << found;
 }
 
-/// The pid virtuoso.lck names, 0 when there is none yet.
-pid_t lockHolder(const fs::path& dataDir) {
-    std::ifstream in(dataDir / "virtuoso.lck");
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.rfind("VIRT_PID=", 0) == 0) return static_cast<pid_t>(std::stol(line.substr(9)));
-    }
-    return 0;
-}
-
 // A KB killed with SIGKILL leaves its virtuoso-t to the kernel (PR_SET_PDEATHSIG), which may
 // still be exiting, lock held, when the KB is restarted. Here the "orphan" is a virtuoso-t
 // started on the data directory by someone else than the instance: start() must stop it and
@@ -402,23 +392,23 @@ TEST_F(VirtuosoTest, StartStopsAnOrphanedVirtuosoOnItsDataDirectory) {
     options.workingDir = db().dataDir();
     options.stdoutTo = OutputSink::discard();
     options.stderrTo = OutputSink::discard();
-    auto orphan = ChildProcess::start({"/usr/bin/virtuoso-t", "+foreground", "+configfile",
-                                       (db().dataDir() / "virtuoso.ini").string()},
+    auto orphan = ChildProcess::start({VirtuosoConfig{}.virtuosoBinary, "+foreground",
+                                       "+configfile", (db().dataDir() / "virtuoso.ini").string()},
                                       options);
     ASSERT_TRUE(orphan) << orphan.error();
     // Bounded: the orphan writes its lock file early in its start-up.
     const auto deadline = Clock::now() + 30s;
-    while (lockHolder(db().dataDir()) != orphan->pid() && Clock::now() < deadline) {
+    while (db().lockHolder() != orphan->pid() && Clock::now() < deadline) {
         ASSERT_FALSE(orphan->wait(20ms)) << "the orphan virtuoso-t ended by itself";
     }
-    ASSERT_EQ(lockHolder(db().dataDir()), orphan->pid());
+    ASSERT_EQ(db().lockHolder(), orphan->pid());
 
     auto started = db().start();
     ASSERT_TRUE(started) << started.error();
     auto ended = orphan->wait(0ms);
     ASSERT_TRUE(ended) << "the orphan still runs beside the new Virtuoso";
     EXPECT_EQ(ended->signal, SIGKILL);
-    EXPECT_NE(lockHolder(db().dataDir()), orphan->pid());
+    EXPECT_NE(db().lockHolder(), orphan->pid());
     EXPECT_NE(objects(db(), "urn:o").find("before-orphan"), std::string::npos);
 }
 
