@@ -91,6 +91,8 @@ public:
     }
 
     [[nodiscard]] const std::string& url() const { return url_; }
+    /// 0 once it has been waited for.
+    [[nodiscard]] pid_t pid() const { return pid_; }
     /// What it printed up to its READY line (one entry per line).
     [[nodiscard]] const std::vector<std::string>& output() const { return output_; }
     [[nodiscard]] const std::filesystem::path& pkiDir() const { return pki_; }

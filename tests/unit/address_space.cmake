@@ -1,25 +1,19 @@
-# unit tests of src/ua/address_space, src/ua/nodeset and the address-space service sets
-skillcell_unit_test(test_address_space address_space_test.cpp)
-target_link_libraries(test_address_space PRIVATE skillcell_ua_nodeset)
+# The address space and what fills it: the binary encoding, nodes and references, NodeSet2
+# loading and writing, instantiation of types, dynamic structures, and the skill models as
+# NodeSets.
+skillcell_unit_test(test_ua_nodes
+  encoding_test.cpp
+  address_space_test.cpp
+  nodeset_test.cpp
+  instantiate_test.cpp
+  dynamic_structure_test.cpp
+  nodeset_roundtrip_test.cpp
+  skill_models_test.cpp)
+target_link_libraries(test_ua_nodes PRIVATE skillcell_ua_encoding skillcell_ua_nodeset
+                                            skillcell_ua_services skillcell_ua_server)
+target_compile_definitions(test_ua_nodes PRIVATE SKILLCELL_MODELS_DIR="${PROJECT_SOURCE_DIR}/models")
 
-skillcell_unit_test(test_nodeset nodeset_test.cpp)
-target_link_libraries(test_nodeset PRIVATE skillcell_ua_nodeset)
-target_compile_definitions(test_nodeset PRIVATE
-  SKILLCELL_MODELS_DIR="${PROJECT_SOURCE_DIR}/models")
-
+# The attribute, view and method services on an address space, without a server: the file
+# stands in for the server's Session, so it cannot share an executable with the server.
 skillcell_unit_test(test_services services_test.cpp)
 target_link_libraries(test_services PRIVATE skillcell_ua_services)
-
-skillcell_unit_test(test_instantiate instantiate_test.cpp)
-target_link_libraries(test_instantiate PRIVATE skillcell_ua_nodeset)
-
-skillcell_unit_test(test_dynamic_structure dynamic_structure_test.cpp)
-target_link_libraries(test_dynamic_structure PRIVATE skillcell_ua_nodeset)
-
-skillcell_unit_test(test_nodeset_roundtrip nodeset_roundtrip_test.cpp)
-target_link_libraries(test_nodeset_roundtrip PRIVATE skillcell_ua_nodeset skillcell_ua_server)
-target_compile_definitions(test_nodeset_roundtrip PRIVATE
-  SKILLCELL_MODELS_DIR="${PROJECT_SOURCE_DIR}/models")
-
-skillcell_unit_test(test_skill_models skill_models_test.cpp)
-target_link_libraries(test_skill_models PRIVATE skillcell_ua_nodeset)

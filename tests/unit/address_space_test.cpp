@@ -7,6 +7,8 @@
 #include "ua/encoding/codec.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
 
+namespace address_space_test {
+
 using namespace skillcell::ua;
 
 namespace {
@@ -214,3 +216,5 @@ TEST(ServerObject, NeedsTheBaseNodeSet) {
     AddressSpace as;
     EXPECT_EQ(installServerObject(as, ServerInfo{}), status::BadNodeIdUnknown);
 }
+
+}  // namespace address_space_test

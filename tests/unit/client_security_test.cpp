@@ -12,6 +12,8 @@
 #include "ua/server/user_database.hpp"
 #include "ua/transport/rsa_security_policy.hpp"
 
+namespace client_security_test {
+
 using namespace skillcell::ua;
 using skillcell::test::makeTestCertificate;
 using skillcell::test::RunningServer;
@@ -233,3 +235,5 @@ TEST(BestSecurity, NoneOnlyWhenAllowed) {
     ASSERT_EQ(allowed.connect(insecure.url(), config), status::Good);
     EXPECT_EQ(allowed.security().first, kSecurityPolicyNoneUri);
 }
+
+}  // namespace client_security_test

@@ -5,6 +5,8 @@
 #include "ua/client/blocking_client.hpp"
 #include "ua/messages/view.hpp"
 
+namespace client_server_test {
+
 using namespace skillcell;
 using namespace skillcell::ua;
 using test::RunningServer;
@@ -172,3 +174,5 @@ TEST(ClientServerLimits, ConnectToAClosedPortFailsFast) {
     EXPECT_EQ(c.connect("opc.tcp://127.0.0.1:" + std::to_string(port), config),
               status::BadConnectionRejected);
 }
+
+}  // namespace client_server_test

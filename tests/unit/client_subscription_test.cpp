@@ -33,7 +33,7 @@
 #include "ua/client/subscription.hpp"
 #include "ua/transport/secure_channel.hpp"
 
-namespace skillcell::ua {
+namespace skillcell::ua::client_subscription_test {
 namespace {
 
 using asio::ip::tcp;
@@ -625,4 +625,4 @@ TEST(BlockingClientSubscription, CallbacksRunOnTheClientThread) {
 }
 
 }  // namespace
-}  // namespace skillcell::ua
+}  // namespace skillcell::ua::client_subscription_test

@@ -26,7 +26,7 @@
 #include "ua/client/client.hpp"
 #include "ua/transport/secure_channel.hpp"
 
-namespace skillcell::ua {
+namespace skillcell::ua::client_test {
 namespace {
 
 using asio::ip::tcp;
@@ -750,4 +750,4 @@ TEST(BlockingClient, DestructsCleanlyWithoutConnecting) {
 }
 
 }  // namespace
-}  // namespace skillcell::ua
+}  // namespace skillcell::ua::client_test

@@ -31,7 +31,7 @@
 #include "ua/address_space/instantiate.hpp"
 #include "ua/nodeset/companion_models.hpp"
 
-namespace skillcell::skills {
+namespace skillcell::skills::conformance_checker_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -825,4 +825,4 @@ TEST(ConformanceReport, JsonEscapesWhatServersSend) {
 }
 
 }  // namespace
-}  // namespace skillcell::skills
+}  // namespace skillcell::skills::conformance_checker_test

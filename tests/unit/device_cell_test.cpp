@@ -14,7 +14,7 @@
 #include "devices/world/world_nodes.hpp"
 #include "running_server.hpp"
 
-namespace skillcell::devices {
+namespace skillcell::devices::device_cell_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -177,4 +177,4 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
 }
 
 }  // namespace
-}  // namespace skillcell::devices
+}  // namespace skillcell::devices::device_cell_test

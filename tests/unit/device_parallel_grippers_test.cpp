@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <modbus.h>
 
+#include <cctype>
 #include <cerrno>
 #include <mutex>
 
@@ -18,7 +19,7 @@
 #include "devices/robotiq/simulated_gripper_port.hpp"
 #include "running_server.hpp"
 
-namespace skillcell::devices {
+namespace skillcell::devices::device_parallel_grippers_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -220,7 +221,16 @@ TEST_P(ParallelGripperModels, TheSameSkillsBehaveTheSame) {
     EXPECT_TRUE(near(*offset, KDL::Frame(KDL::Vector(0, 0, model.gripOffsetZ)), 1e-12, 1e-12));
 }
 
-INSTANTIATE_TEST_SUITE_P(Models, ParallelGripperModels, testing::Values(&robotiq2f85, &dhAg95));
+// Named after the model, not the address of its function, so that a test's name (and CTest's)
+// is the same in every build.
+INSTANTIATE_TEST_SUITE_P(Models, ParallelGripperModels, testing::Values(&robotiq2f85, &dhAg95),
+                         [](const testing::TestParamInfo<Model (*)()>& param) {
+                             std::string name;
+                             for (const char c : param.param().name) {
+                                 if (std::isalnum(static_cast<unsigned char>(c)) != 0) name += c;
+                             }
+                             return name;
+                         });
 
 namespace {
 
@@ -310,4 +320,4 @@ TEST(DeviceAg95Protocol, RegistersAsDhDocumentsThem) {
     EXPECT_TRUE(readState());
 }
 
-}  // namespace skillcell::devices
+}  // namespace skillcell::devices::device_parallel_grippers_test

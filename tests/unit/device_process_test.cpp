@@ -12,7 +12,7 @@
 #include "devices/common/frame.hpp"
 #include "devices/world/world_link.hpp"
 
-namespace skillcell::devices {
+namespace skillcell::devices::device_process_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -95,4 +95,4 @@ TEST(DeviceProcesses, TheRobotPicksAndPlacesABoxWithTheVacuumGripper) {
 }
 
 }  // namespace
-}  // namespace skillcell::devices
+}  // namespace skillcell::devices::device_process_test

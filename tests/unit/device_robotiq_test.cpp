@@ -17,7 +17,7 @@
 #include "devices/robotiq/simulated_gripper_port.hpp"
 #include "running_server.hpp"
 
-namespace skillcell::devices::robotiq {
+namespace skillcell::devices::robotiq::device_robotiq_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -426,4 +426,4 @@ TEST(DeviceRobotiqSkills, SuspendHoldsTheFingersAndResumeFinishesTheMove) {
 }
 
 }  // namespace
-}  // namespace skillcell::devices::robotiq
+}  // namespace skillcell::devices::robotiq::device_robotiq_test

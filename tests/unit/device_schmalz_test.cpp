@@ -12,7 +12,7 @@
 #include "devices/schmalz/io_link_master.hpp"
 #include "running_server.hpp"
 
-namespace skillcell::devices::schmalz {
+namespace skillcell::devices::schmalz::device_schmalz_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -205,4 +205,4 @@ TEST(DeviceSchmalzSkills, GraspAndReleaseAndAGraspWithNoPartFails) {
 }
 
 }  // namespace
-}  // namespace skillcell::devices::schmalz
+}  // namespace skillcell::devices::schmalz::device_schmalz_test

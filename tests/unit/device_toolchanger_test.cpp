@@ -5,7 +5,13 @@
 // it changes to the vacuum gripper and detaches it. The test checks the world model.
 #include <gtest/gtest.h>
 
+#include <poll.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "client_thread.hpp"
 #include "devices/common/frame.hpp"
@@ -13,7 +19,7 @@
 #include "devices/world/world_link.hpp"
 #include "simulated_cell.hpp"
 
-namespace skillcell::devices {
+namespace skillcell::devices::device_toolchanger_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -137,5 +143,49 @@ TEST(ToolChangerProcess, ChangesToolsFoundByTheirPinAndPowersTheirAdapters) {
     EXPECT_EQ(*w.mountedTool(), "");
 }
 
+// The processes a process has started, as the kernel lists them for each of its threads.
+std::vector<pid_t> childrenOf(pid_t pid) {
+    std::vector<pid_t> children;
+    std::error_code ec;
+    for (const auto& task :
+         std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
+        std::ifstream in(task.path() / "children");
+        for (pid_t child = 0; in >> child;) children.push_back(child);
+    }
+    return children;
+}
+
+// A changer killed outright (no shutdown, so no powering off) must not leave its tools'
+// adapters running: an adapter would go on answering for a tool that nobody powers, and a
+// restarted changer would power a second one.
+TEST(ToolChangerProcess, AToolsAdapterEndsWhenTheChangerIsKilled) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, {}, false);
+    ASSERT_TRUE(cell.ready());
+    test::ClientThread client;
+    auto change =
+        client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    ASSERT_TRUE(change);
+    const auto outcome = client.invoke(
+        change,
+        {{"ToolPosition", pose(kParallelDock)}, {"ToolAppUri", test::textValue(kRobotiqUri)}}, 60s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+
+    const std::vector<pid_t> adapters = childrenOf(cell.changer->pid());
+    ASSERT_FALSE(adapters.empty()) << "the changer powered no adapter process";
+    std::vector<int> ends;  // pidfds: readable once their process has ended
+    for (const pid_t adapter : adapters) {
+        const int fd = static_cast<int>(::syscall(SYS_pidfd_open, adapter, 0));
+        if (fd >= 0) ends.push_back(fd);
+    }
+    ASSERT_EQ(ends.size(), adapters.size()) << "an adapter ended before the changer was killed";
+
+    cell.changer->kill(SIGKILL);
+    for (const int fd : ends) {
+        pollfd ended{fd, POLLIN, 0};
+        EXPECT_EQ(::poll(&ended, 1, 10000), 1) << "an adapter outlived its changer by 10 s";
+        ::close(fd);
+    }
+}
+
 }  // namespace
-}  // namespace skillcell::devices
+}  // namespace skillcell::devices::device_toolchanger_test

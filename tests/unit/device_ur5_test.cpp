@@ -20,7 +20,7 @@
 #include "ua/encoding/codec.hpp"
 #include "ua/messages/data_access.hpp"
 
-namespace skillcell::devices {
+namespace skillcell::devices::device_ur5_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -474,4 +474,4 @@ TEST(DeviceUr5Skills, SuspendResumeAndHaltWorkMidMotion) {
 }
 
 }  // namespace
-}  // namespace skillcell::devices
+}  // namespace skillcell::devices::device_ur5_test

@@ -12,7 +12,7 @@
 #include "devices/world/world_link.hpp"
 #include "simulated_cell.hpp"
 
-namespace skillcell::devices {
+namespace skillcell::devices::device_work_cell_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -116,4 +116,4 @@ INSTANTIATE_TEST_SUITE_P(ParallelGrippers, WorkCell,
                          });
 
 }  // namespace
-}  // namespace skillcell::devices
+}  // namespace skillcell::devices::device_work_cell_test

@@ -13,7 +13,7 @@
 #include "running_server.hpp"
 #include "ua/client/blocking_client.hpp"
 
-namespace skillcell::devices {
+namespace skillcell::devices::device_world_test {
 namespace {
 
 using ua::status::BadInvalidArgument;
@@ -280,4 +280,4 @@ TEST(DeviceWorldNodes, MalformedCallsGetPreciseStatusCodesAndChangeNothing) {
 }
 
 }  // namespace
-}  // namespace skillcell::devices
+}  // namespace skillcell::devices::device_world_test

@@ -4,7 +4,7 @@
 
 #include "ua/discovery/dns_message.hpp"
 
-namespace skillcell::ua::mdns {
+namespace skillcell::ua::mdns::dns_message_test {
 namespace {
 
 DnsRecord srvRecord() {
@@ -181,4 +181,4 @@ TEST(DnsMessage, EncoderRefusesWhatCannotBeEncoded) {
 }
 
 }  // namespace
-}  // namespace skillcell::ua::mdns
+}  // namespace skillcell::ua::mdns::dns_message_test

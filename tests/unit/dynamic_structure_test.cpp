@@ -6,6 +6,8 @@
 #include "ua/address_space/dynamic_structure.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
 
+namespace dynamic_structure_test {
+
 using namespace skillcell::ua;
 
 namespace {
@@ -291,3 +293,5 @@ TEST(DynamicStructure, XmlValuesAndNamespaceZeroFrames) {
     EXPECT_EQ(types.builtinTypeOf(NodeId(ns0::Duration)), BuiltinType::Double);
     EXPECT_EQ(types.builtinTypeOf(NodeId(2, 2u)), BuiltinType::Int32);
 }
+
+}  // namespace dynamic_structure_test

@@ -7,6 +7,8 @@
 
 #include "ua/encoding/codec.hpp"
 
+namespace encoding_test {
+
 using namespace skillcell::ua;
 using Bytes = std::vector<std::uint8_t>;
 
@@ -234,3 +236,5 @@ TEST(Encoding, StructuresAndExtensionObjects) {
     eo.typeId = NodeId(1u);
     EXPECT_EQ(fromExtensionObject(eo, back), status::BadDataTypeIdUnknown);
 }
+
+}  // namespace encoding_test

@@ -10,7 +10,7 @@
 #include "ua/nodeset/companion_models.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
 
-namespace skillcell::examples {
+namespace skillcell::examples::example_dispense_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -53,4 +53,4 @@ TEST(ExampleDispenseSkill, RunsFromItsOwnNodeSetAndOneClass) {
 }
 
 }  // namespace
-}  // namespace skillcell::examples
+}  // namespace skillcell::examples::example_dispense_test

@@ -10,7 +10,7 @@
 #include <limits>
 #include <numbers>
 
-namespace skillcell::devices::pickplace {
+namespace skillcell::devices::pickplace::grasp_planner_test {
 namespace {
 
 constexpr double kTol = 1e-9;
@@ -460,4 +460,4 @@ TEST(GraspPlanner, RefusesOtherBadInput) {
 }
 
 }  // namespace
-}  // namespace skillcell::devices::pickplace
+}  // namespace skillcell::devices::pickplace::grasp_planner_test

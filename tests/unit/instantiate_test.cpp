@@ -5,6 +5,8 @@
 #include "ua/address_space/instantiate.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
 
+namespace instantiate_test {
+
 using namespace skillcell::ua;
 
 namespace {
@@ -214,3 +216,5 @@ TEST(Instantiate, VariableTypeAndErrors) {
                   .status(),
               status::BadReferenceTypeIdInvalid);
 }
+
+}  // namespace instantiate_test

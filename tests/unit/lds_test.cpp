@@ -12,7 +12,7 @@
 #include "ua/discovery/registered_server_table.hpp"
 #include "ua/discovery/server_on_network_directory.hpp"
 
-namespace skillcell::ua::lds {
+namespace skillcell::ua::lds::lds_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -268,4 +268,4 @@ TEST_F(LdsServices, FindServersOnNetworkNeedsTheMulticastExtension) {
 }
 
 }  // namespace
-}  // namespace skillcell::ua::lds
+}  // namespace skillcell::ua::lds::lds_test

@@ -1,16 +1,11 @@
 # unit tests of src/mes: the journal, process descriptions, step binding, skill facts.
-skillcell_unit_test(test_mes_journal mes/journal_test.cpp)
-target_link_libraries(test_mes_journal PRIVATE skillcell_mes skillcell_test_support)
-skillcell_unit_test(test_mes_process_description mes/process_description_test.cpp)
-target_link_libraries(test_mes_process_description PRIVATE skillcell_mes)
-skillcell_unit_test(test_mes_step_binding mes/step_binding_test.cpp)
-target_link_libraries(test_mes_step_binding PRIVATE skillcell_mes)
-skillcell_unit_test(test_mes_skill_facts mes/skill_facts_test.cpp)
-target_link_libraries(test_mes_skill_facts PRIVATE skillcell_mes)
-
-# The MES in the paper's work cell, every component a process (private network namespace).
-skillcell_cell_test(test_mes_cell mes/mes_cell_test.cpp)
-target_link_libraries(test_mes_cell PRIVATE skillcell_mes)
+# (The MES in the paper's work cell, every component a process, is in cells.cmake.)
+skillcell_unit_test(test_mes_units
+  mes/journal_test.cpp
+  mes/process_description_test.cpp
+  mes/step_binding_test.cpp
+  mes/skill_facts_test.cpp)
+target_link_libraries(test_mes_units PRIVATE skillcell_mes skillcell_test_support)
 
 # `skillcell mes` / `skillcell run` on bad input: exit codes and messages.
 add_test(NAME cli.mes

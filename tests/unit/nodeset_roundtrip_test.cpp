@@ -10,6 +10,8 @@
 #include "ua/nodeset/nodeset_loader.hpp"
 #include "ua/server/server.hpp"
 
+namespace nodeset_roundtrip_test {
+
 using namespace skillcell::ua;
 
 namespace {
@@ -292,3 +294,5 @@ TEST(NodeSetRoundTrip, ServerCreateTime) {
     }
     std::printf("[ timing ] Server::create (best of 5): %.3f ms\n", best);
 }
+
+}  // namespace nodeset_roundtrip_test

@@ -8,6 +8,8 @@
 #include "ua/encoding/codec.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
 
+namespace nodeset_test {
+
 using namespace skillcell::ua;
 
 namespace {
@@ -305,3 +307,5 @@ TEST(NodeSet, OtherErrors) {
     EXPECT_EQ(loadError("<Nodes/>"),
               "models/x.xml:1: root element is 'Nodes', expected 'UANodeSet'");
 }
+
+}  // namespace nodeset_test

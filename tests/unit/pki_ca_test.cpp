@@ -12,7 +12,7 @@
 #include "ua/pki/own_certificate.hpp"
 #include "ua/pki/trust_list.hpp"
 
-namespace skillcell::ua::pki {
+namespace skillcell::ua::pki::pki_ca_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -150,4 +150,4 @@ TEST(CellCa, RevokedComponentIsRefusedOnceTheCrlIsInstalled) {
 }
 
 }  // namespace
-}  // namespace skillcell::ua::pki
+}  // namespace skillcell::ua::pki::pki_ca_test

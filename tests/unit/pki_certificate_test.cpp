@@ -10,7 +10,7 @@
 #include "ua/pki/own_certificate.hpp"
 #include "ua/types/hex.hpp"
 
-namespace skillcell::ua::pki {
+namespace skillcell::ua::pki::pki_certificate_test {
 namespace {
 
 TEST(Certificate, SplitsAConcatenatedChain) {
@@ -78,4 +78,4 @@ TEST(Certificate, PublicKeyMatchesThePrivateKey) {
 }
 
 }  // namespace
-}  // namespace skillcell::ua::pki
+}  // namespace skillcell::ua::pki::pki_certificate_test

@@ -12,7 +12,7 @@
 #include "ua/pki/file_util.hpp"
 #include "ua/pki/trust_list.hpp"
 
-namespace skillcell::ua::pki {
+namespace skillcell::ua::pki::pki_validator_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -339,4 +339,4 @@ TEST_F(ValidatorTest, SelfSignedWithoutKeyCertSign) {
 }
 
 }  // namespace
-}  // namespace skillcell::ua::pki
+}  // namespace skillcell::ua::pki::pki_validator_test

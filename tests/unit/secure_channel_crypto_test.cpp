@@ -12,6 +12,8 @@
 #include "ua/transport/rsa_security_policy.hpp"
 #include "ua/transport/secure_channel.hpp"
 
+namespace secure_channel_crypto_test {
+
 using namespace skillcell::ua;
 using skillcell::test::makeTestCertificate;
 using skillcell::test::TestCertificate;
@@ -307,3 +309,5 @@ TEST(CryptoPrimitives, RsaRoundTripsAndRefusesForeignSignatures) {
     }
     EXPECT_FALSE(crypto::RsaKey::fromCertificate(pattern(50)).ok());
 }
+
+}  // namespace secure_channel_crypto_test

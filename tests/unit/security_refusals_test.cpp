@@ -18,6 +18,8 @@
 #include "ua/pki/trust_list.hpp"
 #include "ua/server/user_database.hpp"
 
+namespace security_refusals_test {
+
 using namespace skillcell::ua;
 using skillcell::test::makeTestCertificate;
 using skillcell::test::RunningServer;
@@ -249,3 +251,5 @@ TEST_F(SecurityRefusals, ConfigurationNeedsAnEngineer) {
     EXPECT_TRUE(engineer.call(NodeId(85), kConfigure, {}).ok());
     EXPECT_TRUE(engineer.call(NodeId(85), kTwice, {Variant(1.0)}).ok());  // and what operators do
 }
+
+}  // namespace security_refusals_test

@@ -13,6 +13,8 @@
 #include "ua/messages/discovery.hpp"
 #include "ua/server/service_table.hpp"
 
+namespace server_protocol_test {
+
 using namespace skillcell;
 using namespace skillcell::ua;
 using test::RawConnection;
@@ -327,3 +329,5 @@ TEST(ServerLimits, SilentConnectionIsClosedAfterTheHelloTimeout) {
     EXPECT_EQ(c.readError(), status::BadTimeout);
     EXPECT_TRUE(c.closedByPeer());
 }
+
+}  // namespace server_protocol_test

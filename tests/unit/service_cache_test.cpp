@@ -4,7 +4,7 @@
 
 #include "ua/discovery/service_cache.hpp"
 
-namespace skillcell::ua::mdns {
+namespace skillcell::ua::mdns::service_cache_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -162,9 +162,9 @@ TEST_F(ServiceCacheTest, AFloodOfAnnouncementsIsBounded) {
 }
 
 }  // namespace
-}  // namespace skillcell::ua::mdns
+}  // namespace skillcell::ua::mdns::service_cache_test
 
-namespace skillcell::ua::mdns {
+namespace skillcell::ua::mdns::service_cache_test {
 namespace {
 
 TEST(ServiceCacheLiteral, AnIpv4LiteralTargetNeedsNoAddressRecord) {
@@ -192,4 +192,4 @@ TEST(ServiceCacheLiteral, AsksForTheAddressOfATargetThatCameWithout) {
 }
 
 }  // namespace
-}  // namespace skillcell::ua::mdns
+}  // namespace skillcell::ua::mdns::service_cache_test

@@ -3,6 +3,8 @@
 
 #include "ua/server/session_manager.hpp"
 
+namespace session_test {
+
 using namespace skillcell::ua;
 using namespace std::chrono_literals;
 
@@ -82,3 +84,5 @@ TEST(SessionManager, CloseRemovesTheSession) {
     m.close(token);
     EXPECT_EQ(m.authorize(token, 1, now).status(), status::BadSessionIdInvalid);
 }
+
+}  // namespace session_test

@@ -15,7 +15,7 @@
 #include "skills/skill_client.hpp"
 #include "skills/skill_server.hpp"
 
-namespace skillcell::skills {
+namespace skillcell::skills::skill_client_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -241,4 +241,4 @@ TEST(SkillClient, ReportsAKilledServerProcessAsLost) {
 }
 
 }  // namespace
-}  // namespace skillcell::skills
+}  // namespace skillcell::skills::skill_client_test

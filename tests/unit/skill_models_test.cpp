@@ -14,6 +14,8 @@
 #include "ua/nodeset/nodeset_exporter.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
 
+namespace skill_models_test {
+
 using namespace skillcell::ua;
 namespace cm = skillcell::ua::companion;
 
@@ -473,3 +475,5 @@ TEST(SkillModels, SurviveExportAndReload) {
     EXPECT_NE(b.dataTypes().find(typeId(b, cm::kGripperSkillsUri, "GripPointTypeEnumeration")),
               nullptr);
 }
+
+}  // namespace skill_models_test

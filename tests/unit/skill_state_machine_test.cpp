@@ -4,7 +4,7 @@
 
 #include "skills/skill_state_machine.hpp"
 
-namespace skillcell::skills {
+namespace skillcell::skills::skill_state_machine_test {
 namespace {
 
 using S = SkillState;
@@ -73,4 +73,4 @@ TEST(SkillStateMachine, StatesAndMethodsRoundTrip) {
 }
 
 }  // namespace
-}  // namespace skillcell::skills
+}  // namespace skillcell::skills::skill_state_machine_test

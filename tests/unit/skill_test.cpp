@@ -13,7 +13,7 @@
 #include "ua/client/blocking_client.hpp"
 #include "ua/nodeset/companion_models.hpp"
 
-namespace skillcell::skills {
+namespace skillcell::skills::skill_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -412,4 +412,4 @@ TEST(SkillCreation, OnlyConcreteSkillTypesMakeSkills) {
 }
 
 }  // namespace
-}  // namespace skillcell::skills
+}  // namespace skillcell::skills::skill_test

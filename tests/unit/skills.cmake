@@ -1,19 +1,22 @@
-# The skill layer: the state machine table, skills served by a component, the SkillClient.
-skillcell_unit_test(test_skill_state_machine skill_state_machine_test.cpp)
-target_link_libraries(test_skill_state_machine PRIVATE skillcell_skills)
-
-skillcell_unit_test(test_skill skill_test.cpp)
-target_link_libraries(test_skill PRIVATE skillcell_skills skillcell_test_support)
-
-skillcell_unit_test(test_skill_client skill_client_test.cpp)
-target_link_libraries(test_skill_client PRIVATE skillcell_skills skillcell_test_support)
-# One test starts a real `skillcell server` process and kills it mid-run.
-target_compile_definitions(test_skill_client PRIVATE SKILLCELL_BINARY="$<TARGET_FILE:skillcell>")
-add_dependencies(test_skill_client skillcell)
-
-# The example of a new skill type (examples/dispense_skill) keeps working.
-skillcell_unit_test(test_example_dispense example_dispense_test.cpp)
-target_include_directories(test_example_dispense PRIVATE ${PROJECT_SOURCE_DIR}/examples/dispense_skill)
-target_link_libraries(test_example_dispense PRIVATE skillcell_skills skillcell_test_support)
-target_compile_definitions(test_example_dispense PRIVATE
+# The skill layer: the state machine table, skills served by a component, the SkillClient,
+# the example of a new skill type (examples/dispense_skill), and the conformance checker
+# (`skillcell check`, docs/conformance.md) against servers holding conforming and broken skills.
+skillcell_unit_test(test_skills
+  skill_state_machine_test.cpp
+  skill_test.cpp
+  skill_client_test.cpp
+  example_dispense_test.cpp
+  conformance_checker_test.cpp)
+target_include_directories(test_skills PRIVATE ${PROJECT_SOURCE_DIR}/examples/dispense_skill)
+target_link_libraries(test_skills PRIVATE skillcell_skills skillcell_test_support)
+target_compile_definitions(test_skills PRIVATE
+  # One test starts a real `skillcell server` process and kills it mid-run.
+  SKILLCELL_BINARY="$<TARGET_FILE:skillcell>"
   SKILLCELL_EXAMPLE_MODEL="${PROJECT_SOURCE_DIR}/examples/dispense_skill/Example.DispenseSkill.NodeSet2.xml")
+add_dependencies(test_skills skillcell)
+
+# The command as a device maker runs it, against `skillcell server --noop-skill`: output and
+# exit codes (0 passed, 1 failed, 2 usage or connection error).
+add_test(NAME cli.check_vs_noop_skill
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/check_command_vs_noop_skill.sh $<TARGET_FILE:skillcell>)
+set_tests_properties(cli.check_vs_noop_skill PROPERTIES TIMEOUT 120)

@@ -6,6 +6,8 @@
 #include "ua/encoding/codec.hpp"
 #include "ua/server/subscriptions/subscription_engine.hpp"
 
+namespace subscription_core_test {
+
 using namespace skillcell::ua;
 using namespace std::chrono_literals;
 
@@ -728,3 +730,5 @@ TEST_F(Core, InvalidEventFiltersAreReportedPerElement) {
 }
 
 }  // namespace
+
+}  // namespace subscription_core_test

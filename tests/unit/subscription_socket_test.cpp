@@ -9,6 +9,8 @@
 #include "ua/messages/subscription.hpp"
 #include "ua/server/service_table.hpp"
 
+namespace subscription_socket_test {
+
 using namespace skillcell;
 using namespace skillcell::ua;
 using test::RawConnection;
@@ -208,3 +210,5 @@ TEST(SubscriptionSocket, ClosedSessionFreesItsSubscriptions) {
 }
 
 }  // namespace
+
+}  // namespace subscription_socket_test

@@ -12,6 +12,8 @@
 #include "ua/transport/secure_channel.hpp"
 #include "ua/transport/tcp_framing.hpp"
 
+namespace transport_test {
+
 using namespace skillcell::ua;
 using Bytes = std::vector<std::uint8_t>;
 using skillcell::test::decodeService;
@@ -1114,3 +1116,5 @@ TEST(SecureChannel, SecuredPolicyRequiresSecuredMode) {
     r.securityMode = MessageSecurityMode::SignAndEncrypt;
     EXPECT_TRUE(s.openOrRenew(r, kChannelId, {}).ok());
 }
+
+}  // namespace transport_test

@@ -10,7 +10,7 @@
 #include "kb/rdf/turtle.hpp"
 #include "ua/encoding/binary_writer.hpp"
 
-namespace skillcell::kb {
+namespace skillcell::kb::component_graph_test {
 namespace {
 
 const std::string kProc = kProcessVocabulary;
@@ -180,4 +180,4 @@ TEST(ComponentReader, ConvertsValuesAsTheKnowledgeBaseRecordsThem) {
 }
 
 }  // namespace
-}  // namespace skillcell::kb
+}  // namespace skillcell::kb::component_graph_test

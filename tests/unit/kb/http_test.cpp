@@ -20,6 +20,8 @@
 #include "kb/http/http_message.hpp"
 #include "kb/http/http_server.hpp"
 
+namespace http_test {
+
 using namespace skillcell::kb::http;
 using std::chrono::milliseconds;
 using Clock = std::chrono::steady_clock;
@@ -891,3 +893,5 @@ TEST(HttpClient, RejectsInvalidRequestsAndMalformedAnswers) {
     ASSERT_FALSE(response.ok());
     EXPECT_NE(response.error().find("malformed response"), std::string::npos) << response.error();
 }
+
+}  // namespace http_test

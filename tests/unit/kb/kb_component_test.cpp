@@ -13,7 +13,7 @@
 #include "kb/http/http_message.hpp"
 #include "temp_dir.hpp"
 
-namespace skillcell::kb {
+namespace skillcell::kb::kb_component_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -312,4 +312,4 @@ TEST(KnowledgeBaseComponent, UsesAnyStoreGivenBySparqlUrlInsteadOfItsOwnVirtuoso
 }
 
 }  // namespace
-}  // namespace skillcell::kb
+}  // namespace skillcell::kb::kb_component_test

@@ -14,7 +14,7 @@
 #include "kb/owl/ua_vocabulary.hpp"
 #include "kb/rdf/turtle.hpp"
 
-namespace skillcell::kb {
+namespace skillcell::kb::owl_test {
 namespace {
 
 using rdf::iri;
@@ -293,4 +293,4 @@ TEST(ModelRepository, SaysWhichRequiredModelNobodyProvides) {
 }
 
 }  // namespace
-}  // namespace skillcell::kb
+}  // namespace skillcell::kb::owl_test

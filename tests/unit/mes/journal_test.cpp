@@ -10,7 +10,7 @@
 
 #include "temp_dir.hpp"
 
-namespace skillcell::mes {
+namespace skillcell::mes::journal_test {
 namespace {
 
 class JournalTest : public testing::Test {
@@ -120,4 +120,4 @@ TEST_F(JournalTest, RefusesAFileThatIsNotAJournalNamingIt) {
 }
 
 }  // namespace
-}  // namespace skillcell::mes
+}  // namespace skillcell::mes::journal_test

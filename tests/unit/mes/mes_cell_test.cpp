@@ -22,7 +22,7 @@
 #include "temp_dir.hpp"
 #include "ua/client/blocking_client.hpp"
 
-namespace skillcell::mes {
+namespace skillcell::mes::mes_cell_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -343,4 +343,4 @@ TEST_F(MesCell, AWrongGripperInTheDockStopsTheProcessBeforeThePickNamingTheGripT
 }
 
 }  // namespace
-}  // namespace skillcell::mes
+}  // namespace skillcell::mes::mes_cell_test

@@ -8,7 +8,7 @@
 #include "kb/owl/embedded_ontologies.hpp"
 #include "kb/rdf/turtle.hpp"
 
-namespace skillcell::mes {
+namespace skillcell::mes::process_description_test {
 namespace {
 
 constexpr const char* kDemo = "http://skillcell.dev/demo#pickAndPlaceTwoBoxes";
@@ -183,4 +183,4 @@ TEST(ProcessDescription, TheQueryRefusesAnIriThatWouldBreakIt) {
 }
 
 }  // namespace
-}  // namespace skillcell::mes
+}  // namespace skillcell::mes::process_description_test

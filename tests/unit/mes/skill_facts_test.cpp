@@ -8,7 +8,7 @@
 
 #include "kb/rdf/turtle.hpp"
 
-namespace skillcell::mes {
+namespace skillcell::mes::skill_facts_test {
 namespace {
 
 constexpr const char* kGs = "http://skillcell.dev/UA/GripperSkills/";
@@ -157,4 +157,4 @@ TEST(SkillFacts, TheQueryAsksForEachPropertyAndRefusesABrokenIri) {
 }
 
 }  // namespace
-}  // namespace skillcell::mes
+}  // namespace skillcell::mes::skill_facts_test

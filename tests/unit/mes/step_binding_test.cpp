@@ -7,7 +7,7 @@
 
 #include "ua/address_space/ns0_ids.hpp"
 
-namespace skillcell::mes {
+namespace skillcell::mes::step_binding_test {
 namespace {
 
 constexpr const char* kUa = "http://opcfoundation.org/UA/";
@@ -140,4 +140,4 @@ TEST(StepBinding, AnEndpointParameterTakesTheEndpointOfTheSkillThatMetItsRequire
 }
 
 }  // namespace
-}  // namespace skillcell::mes
+}  // namespace skillcell::mes::step_binding_test
