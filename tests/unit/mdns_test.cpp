@@ -16,7 +16,7 @@
 #include "ua/discovery/server_registrar.hpp"
 #include "ua/discovery/server_watcher.hpp"
 
-namespace skillcell::ua::mdns {
+namespace skillcell::ua::mdns::mdns_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -506,4 +506,4 @@ TEST(Mdns, TheLdsAnnouncesARegisteredServerOnItsBehalfUntilItUnregisters) {
 }
 
 }  // namespace
-}  // namespace skillcell::ua::mdns
+}  // namespace skillcell::ua::mdns::mdns_test

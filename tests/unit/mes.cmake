@@ -1,5 +1,5 @@
 # unit tests of src/mes: the journal, process descriptions, step binding, skill facts.
-# (The MES in the paper's work cell, every component a process, is in cells.cmake.)
+# (The MES in the paper's work cell, every component a process, is in namespaces.cmake.)
 skillcell_unit_test(test_mes_units
   mes/journal_test.cpp
   mes/process_description_test.cpp

@@ -7,7 +7,7 @@
 //
 // Every wait is on a condition with a deadline; servers are frozen (not slept) to provoke
 // timeouts. The detector runs on a thread of the test, its queries are called from the test
-// thread (test_skill_detector is also built with ThreadSanitizer, preset "tsan").
+// thread (these tests also run under ThreadSanitizer, preset "tsan").
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -26,7 +26,7 @@
 #include "ua/client/blocking_client.hpp"
 #include "ua/nodeset/companion_models.hpp"
 
-namespace skillcell::skills {
+namespace skillcell::skills::skill_detector_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -766,4 +766,4 @@ TEST(GlobalNodeId, NamesANodeByNamespaceUri) {
 }
 
 }  // namespace
-}  // namespace skillcell::skills
+}  // namespace skillcell::skills::skill_detector_test

@@ -27,7 +27,7 @@
 #include "kb/engine/virtuoso_instance.hpp"
 #include "kb/rdf/turtle.hpp"
 
-namespace skillcell::kb::engine {
+namespace skillcell::kb::engine::engine_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -735,4 +735,4 @@ TEST(Konclude, NothingToExplainInAConsistentSet) {
 }
 
 }  // namespace
-}  // namespace skillcell::kb::engine
+}  // namespace skillcell::kb::engine::engine_test

@@ -18,7 +18,7 @@
 #include "kb/sparql_endpoint.hpp"
 #include "kb/store/http_sparql_store.hpp"
 
-namespace skillcell::kb {
+namespace skillcell::kb::knowledge_base_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -381,4 +381,4 @@ TEST_F(KnowledgeBaseTest, TheEndpointServesOverHttp) {
     EXPECT_NE(reply->body.find("true"), std::string::npos) << reply->body;
 }
 }  // namespace
-}  // namespace skillcell::kb
+}  // namespace skillcell::kb::knowledge_base_test
