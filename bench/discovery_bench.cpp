@@ -22,16 +22,16 @@
 #include <string>
 #include <thread>
 
-#include "child_process.hpp"
 #include "latency_stats.hpp"
+#include "process/child_process.hpp"
 #include "ua/discovery/mdns_responder.hpp"
 #include "ua/discovery/server_watcher.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
-using skillcell::bench::ChildProcess;
 using skillcell::bench::Samples;
+using skillcell::process::ChildProcess;
 using Clock = std::chrono::steady_clock;
 namespace mdns = skillcell::ua::mdns;
 namespace lds = skillcell::ua::lds;
@@ -131,12 +131,16 @@ int run(const Options& o) {
     for (int i = 0; i <= o.count; ++i) {
         const std::string name = "bench-" + std::to_string(i);
         const auto t0 = Clock::now();
-        ChildProcess child(
+        auto child = ChildProcess::start(
             {o.skillcell, "--log-level", "warn", "server", "--insecure", "--port", "0", "--host",
              "127.0.0.1", "--application-uri", "urn:skillcell:bench", "--mdns-name", name,
              "--mdns-ttl", std::to_string(o.ttl), "--pki-dir", (tmp / "pki").string()},
-            log);
-        auto line = child.readLine(20s);
+            skillcell::process::reportingChild(log));
+        if (!child) {
+            std::fprintf(stderr, "start %d: %s\n", i, child.error().c_str());
+            return 1;
+        }
+        auto line = child->readLine(20s);
         const auto tReady = Clock::now();
         auto tAnnounced = timeline.waitFor("announced " + name, 10s);
         auto tDescribed = timeline.waitFor("described " + name, 10s);
@@ -148,12 +152,12 @@ int run(const Options& o) {
         const bool kill = i > 0 && i > o.count - o.killed;
         const auto tStop = Clock::now();
         if (kill) {
-            ::kill(child.pid(), SIGKILL);
+            ::kill(child->pid(), SIGKILL);
         } else {
-            ::kill(child.pid(), SIGTERM);
+            ::kill(child->pid(), SIGTERM);
         }
         auto tGone = timeline.waitFor("gone " + name, std::chrono::seconds(o.ttl + 10));
-        child.stop(5s);
+        (void)child->terminate(5s);
         if (!tGone) {
             std::fprintf(stderr, "stop %d: never gone\n", i);
             return 1;

@@ -34,8 +34,8 @@
 #include <asio/io_context.hpp>
 
 #include "apps/demo_nodes.hpp"
-#include "child_process.hpp"
 #include "latency_stats.hpp"
+#include "process/child_process.hpp"
 #include "running_server.hpp"
 #include "tcp_ping_pong.hpp"
 #include "ua/client/blocking_client.hpp"
@@ -258,7 +258,7 @@ std::optional<double> jsonNumber(const std::string& json, const std::string& sec
 /// node-opcua client against node-opcua server; std::nullopt and a reason when skipped.
 std::optional<Row> runNode(std::size_t count, std::string& why) {
     const std::filesystem::path dir = SKILLCELL_INTEROP_DIR;
-    if (bench::findInPath("node").empty() ||
+    if (process::findInPath("node").empty() ||
         !std::filesystem::is_directory(dir / "node_modules" / "node-opcua")) {
         why = "node or tests/interop/node_modules/node-opcua missing (npm ci in tests/interop)";
         return std::nullopt;
@@ -266,8 +266,15 @@ std::optional<Row> runNode(std::size_t count, std::string& why) {
     const auto logDir = std::filesystem::temp_directory_path();
     const auto serverLog = (logDir / "skillcell-bench-node-server.log").string();
     const auto clientLog = (logDir / "skillcell-bench-node-client.log").string();
-    bench::ChildProcess server({"node", (dir / "server.js").string(), "--port", "0"}, serverLog);
-    const auto ready = server.readLine(30s);
+    std::filesystem::remove(serverLog);  // this run's log only
+    std::filesystem::remove(clientLog);
+    auto server = process::ChildProcess::start(
+        {"node", (dir / "server.js").string(), "--port", "0"}, process::reportingChild(serverLog));
+    if (!server) {
+        why = server.error();
+        return std::nullopt;
+    }
+    const auto ready = server->readLine(30s);
     if (!ready || ready->rfind("READY ", 0) != 0) {
         why = "server.js did not print READY within 30 s (log: " + serverLog + ")";
         return std::nullopt;
@@ -275,15 +282,19 @@ std::optional<Row> runNode(std::size_t count, std::string& why) {
     const std::string url = ready->substr(6);
     std::cerr << "node-opcua: server.js at " << url << ", running bench_client.js (" << count
               << " Reads + " << count << " Calls)...\n";
-    bench::ChildProcess client(
-        {"node", (dir / "bench_client.js").string(), url, std::to_string(count)}, clientLog);
+    auto client = process::ChildProcess::start(
+        {"node", (dir / "bench_client.js").string(), url, std::to_string(count)},
+        process::reportingChild(clientLog));
+    if (!client) {
+        why = client.error();
+        return std::nullopt;
+    }
     // bench_client.js bounds itself at 120 s; allow for its start-up on top.
-    const auto line = client.readLine(150s);
-    const auto exit = client.waitExit(10s);
-    server.stop();
-    if (!line || !exit || *exit != 0) {
-        why = "bench_client.js failed (" +
-              (exit ? bench::describeWaitStatus(*exit) : std::string("no exit")) +
+    const auto line = client->readLine(150s);
+    const auto exit = client->wait(10s);
+    (void)server->terminate(std::chrono::seconds(5));
+    if (!line || !exit || !exit->success()) {
+        why = "bench_client.js failed (" + (exit ? exit->describe() : exit.error()) +
               ", log: " + clientLog + ")";
         return std::nullopt;
     }

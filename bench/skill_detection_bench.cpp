@@ -24,16 +24,16 @@
 #include <string>
 #include <thread>
 
-#include "child_process.hpp"
 #include "latency_stats.hpp"
+#include "process/child_process.hpp"
 #include "skills/skill_detector.hpp"
 #include "ua/discovery/mdns_responder.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
-using skillcell::bench::ChildProcess;
 using skillcell::bench::Samples;
+using skillcell::process::ChildProcess;
 using Clock = std::chrono::steady_clock;
 namespace mdns = skillcell::ua::mdns;
 namespace skills = skillcell::skills;
@@ -179,8 +179,12 @@ int run(const Options& o) {
         }
         timeline.clear();
         const auto t0 = Clock::now();
-        ChildProcess child(argv, log);
-        auto line = child.readLine(20s);
+        auto child = ChildProcess::start(argv, skillcell::process::reportingChild(log));
+        if (!child) {
+            std::fprintf(stderr, "start %d: %s\n", i, child.error().c_str());
+            return 1;
+        }
+        auto line = child->readLine(20s);
         const auto tReady = Clock::now();
         if (!line || line->rfind("READY ", 0) != 0) {
             std::fprintf(stderr, "start %d: no READY line (see %s)\n", i, log.c_str());
@@ -196,9 +200,9 @@ int run(const Options& o) {
         }
         const bool kill = i > 0 && i > o.count - o.killed;
         const auto tStop = Clock::now();
-        ::kill(child.pid(), kill ? SIGKILL : SIGTERM);
+        ::kill(child->pid(), kill ? SIGKILL : SIGTERM);
         auto tGone = timeline.waitFor("removed " + port, std::chrono::seconds(o.ttl + 10));
-        child.stop(5s);
+        (void)child->terminate(5s);
         if (!tGone) {
             std::fprintf(stderr, "stop %d: its skills were never removed\n", i);
             return 1;

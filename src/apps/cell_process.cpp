@@ -8,11 +8,9 @@ kb::Expected<CellProcess> CellProcess::start(
     std::string name, const std::vector<std::string>& argv,
     const std::vector<std::pair<std::string, std::string>>& env, const std::filesystem::path& log,
     std::chrono::milliseconds timeout) {
-    kb::engine::ProcessOptions options;
+    process::ProcessOptions options = process::reportingChild(log);
     options.envAdd = env;
-    options.stdoutTo = kb::engine::OutputSink::capture();
-    options.stderrTo = kb::engine::OutputSink::toFile(log);
-    auto child = kb::engine::ChildProcess::start(argv, options);
+    auto child = process::ChildProcess::start(argv, options);
     if (!child) return kb::Error{name + ": " + child.error()};
     CellProcess p(std::move(name), std::move(*child));
     const auto deadline = Clock::now() + timeout;
@@ -44,7 +42,7 @@ std::string CellProcess::reported(const std::string& key) const {
     return it == reported_.end() ? std::string() : it->second;
 }
 
-kb::Expected<kb::engine::ExitStatus> CellProcess::stop(std::chrono::milliseconds grace) {
+kb::Expected<process::ExitStatus> CellProcess::stop(std::chrono::milliseconds grace) {
     return process_.terminate(grace);
 }
 

@@ -2,7 +2,7 @@
 // CellProcess: one component of a cell run by `skillcell demo`, as a child process of ours:
 // the skillcell program with a subcommand (`lds`, `kb`, `device ur5`, ...), its log (stderr)
 // in a file of its own, and what it reports on stdout before it serves ("SPARQL <url>", then
-// "READY <url>"). It is stopped with SIGTERM when it goes (kb::engine::ChildProcess), so a
+// "READY <url>"). It is stopped with SIGTERM when it goes (process::ChildProcess), so a
 // demo that fails leaves no component behind.
 #include <chrono>
 #include <filesystem>
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "kb/engine/child_process.hpp"
 #include "kb/expected.hpp"
+#include "process/child_process.hpp"
 
 namespace skillcell::apps {
 
@@ -34,14 +34,14 @@ public:
     [[nodiscard]] pid_t pid() const { return process_.pid(); }
 
     /// SIGTERM, at most `grace` to end, then SIGKILL; how it ended.
-    kb::Expected<kb::engine::ExitStatus> stop(std::chrono::milliseconds grace);
+    kb::Expected<process::ExitStatus> stop(std::chrono::milliseconds grace);
 
 private:
-    CellProcess(std::string name, kb::engine::ChildProcess process)
+    CellProcess(std::string name, process::ChildProcess process)
         : name_(std::move(name)), process_(std::move(process)) {}
 
     std::string name_;
-    kb::engine::ChildProcess process_;
+    process::ChildProcess process_;
     std::string url_;
     std::map<std::string, std::string> reported_;
 };

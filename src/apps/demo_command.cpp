@@ -411,11 +411,9 @@ int DemoCell::runProcess(const Interruption& interruption) {
                                      (dir() / "operator.pw").string(),
                                      "--timeout",
                                      std::to_string(o_.processTimeoutSeconds)};
-    kb::engine::ProcessOptions options;
+    process::ProcessOptions options = process::reportingChild(work_.log("run"));
     options.envAdd = environment();
-    options.stdoutTo = kb::engine::OutputSink::capture();
-    options.stderrTo = kb::engine::OutputSink::toFile(work_.log("run"));
-    auto child = kb::engine::ChildProcess::start(argv, options);
+    auto child = process::ChildProcess::start(argv, options);
     if (!child) {
         std::cerr << "demo: " << child.error() << "\n";
         return 1;
@@ -532,7 +530,7 @@ bool DemoCell::showSecurity() {
         std::cerr << "demo: the stranger's trust list: " << error << "\n";
         return false;
     }
-    auto stranger = kb::engine::runToCompletion(
+    auto stranger = process::runToCompletion(
         {skillcell_, "browse", worldUrl_, "--pki-dir", strangerPki.string(), "--user", "operator",
          "--password-file", (dir() / "operator.pw").string()},
         60s);

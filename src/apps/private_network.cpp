@@ -10,7 +10,7 @@
 #include <chrono>
 #include <cstring>
 
-#include "kb/engine/child_process.hpp"
+#include "process/child_process.hpp"
 #include "ua/discovery/network_interfaces.hpp"
 
 namespace skillcell::apps {
@@ -45,8 +45,8 @@ std::string enterPrivateNetwork() {
     ::close(fd);
     if (rc != 0) return std::string("cannot bring the loopback up: ") + std::strerror(err);
     // Multicast needs a route; the kernel adds none for loopback. iproute2 says it best.
-    auto route = kb::engine::runToCompletion({"ip", "route", "add", "224.0.0.0/4", "dev", "lo"},
-                                             std::chrono::seconds(10));
+    auto route = process::runToCompletion({"ip", "route", "add", "224.0.0.0/4", "dev", "lo"},
+                                          std::chrono::seconds(10));
     if (!route) return "cannot route multicast over the loopback: " + route.error();
     if (route->exitCode != 0) {
         return "cannot route multicast over the loopback: ip route: " + route->err;

@@ -9,12 +9,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "child_process.hpp"
+#include "process/child_process.hpp"
 
 namespace skillcell::test {
 
@@ -29,7 +29,7 @@ protected:
         const std::filesystem::path dir = SKILLCELL_INTEROP_DIR;
         const char* require = std::getenv("SKILLCELL_REQUIRE_NODE");
         const bool required = require != nullptr && std::string_view(require) == "1";
-        if (bench::findInPath("node").empty() ||
+        if (process::findInPath("node").empty() ||
             !std::filesystem::is_directory(dir / "node_modules" / "node-opcua")) {
             unavailable_ = "node or " + (dir / "node_modules" / "node-opcua").string() +
                            " missing (npm ci in tests/interop)";
@@ -38,22 +38,22 @@ protected:
             unavailableIsFailure_ = required;
             return;
         }
-        try {
-            std::vector<std::string> argv{"node", (dir / "server.js").string(), "--port", "0"};
-            argv.insert(argv.end(), extraArgs.begin(), extraArgs.end());
-            server_ = std::make_unique<bench::ChildProcess>(argv);
-        } catch (const std::exception& e) {
-            startError_ = e.what();
+        std::vector<std::string> argv{"node", (dir / "server.js").string(), "--port", "0"};
+        argv.insert(argv.end(), extraArgs.begin(), extraArgs.end());
+        auto started = process::ChildProcess::start(argv, process::reportingChild());
+        if (!started) {
+            startError_ = started.error();
             return;
         }
+        server_.emplace(std::move(*started));
         // node-opcua needs several seconds to load the standard nodeset; read with a bound
         // instead of sleeping. Anything before READY would be a protocol breach of server.js.
         const auto line = server_->readLine(30s);
         if (!line || line->rfind("READY ", 0) != 0) {
             startError_ = "server.js did not print READY within 30 s (got: '" +
                           line.value_or("<nothing>") + "', " +
-                          (server_->waitExit(0ms) ? "it exited" : "still running") + ")";
-            server_->stop();
+                          (server_->running() ? "still running" : "it exited") + ")";
+            (void)server_->terminate(5s);
             return;
         }
         url_ = line->substr(6);
@@ -63,8 +63,9 @@ protected:
     static void TearDownTestSuite() {
         using namespace std::chrono_literals;
         if (server_) {
-            const int s = server_->stop(5s);
-            std::cerr << "node-opcua server stopped: " << bench::describeWaitStatus(s) << "\n";
+            const auto ended = server_->terminate(5s);
+            std::cerr << "node-opcua server stopped: "
+                      << (ended ? ended->describe() : ended.error()) << "\n";
             server_.reset();
         }
     }
@@ -78,7 +79,7 @@ protected:
             GTEST_SKIP() << "!!! node-opcua interop skipped: " << unavailable_ << " !!!";
         }
         ASSERT_TRUE(startError_.empty()) << startError_;
-        ASSERT_FALSE(server_->waitExit(0ms).has_value()) << "node-opcua server died";
+        ASSERT_TRUE(server_->running()) << "node-opcua server died";
     }
 
     /// True when SetUp() skipped or failed: a derived SetUp() returns then.
@@ -86,7 +87,7 @@ protected:
     [[nodiscard]] static const std::string& url() { return url_; }
 
 private:
-    static inline std::unique_ptr<bench::ChildProcess> server_;
+    static inline std::optional<process::ChildProcess> server_;
     static inline std::string url_;
     static inline std::string unavailable_;
     static inline bool unavailableIsFailure_ = false;

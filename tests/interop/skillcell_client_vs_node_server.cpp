@@ -17,7 +17,6 @@
 #include <string>
 #include <vector>
 
-#include "child_process.hpp"
 #include "node_server_suite.hpp"
 #include "ua/client/blocking_client.hpp"
 #include "ua/types/to_string.hpp"
@@ -30,7 +29,6 @@ namespace skillcell::test {
 namespace {
 
 using namespace std::chrono_literals;
-using bench::ChildProcess;
 using ua::AttributeId;
 using ua::BlockingClient;
 using ua::NodeId;

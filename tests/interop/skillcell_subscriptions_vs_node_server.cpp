@@ -2,7 +2,7 @@
 // (tests/interop/server.js): a data change on Demo.Double written by us, and an event raised
 // by Demo.FireEvent on the Server object, each received within a bounded wait.
 //
-// The suite starts `node server.js --port 0` once (bench/child_process, as the other interop
+// The suite starts `node server.js --port 0` once (process::ChildProcess, as the other interop
 // suite does) and reads its READY line with a bounded wait. Without node or node-opcua the
 // tests skip loudly, unless SKILLCELL_REQUIRE_NODE=1, where that is a failure.
 #include <gtest/gtest.h>
@@ -17,7 +17,6 @@
 #include <string>
 #include <vector>
 
-#include "child_process.hpp"
 #include "node_server_suite.hpp"
 #include "ua/client/blocking_client.hpp"
 
@@ -29,7 +28,6 @@ namespace skillcell::test {
 namespace {
 
 using namespace std::chrono_literals;
-using bench::ChildProcess;
 using ua::BlockingClient;
 using ua::NodeId;
 using ua::StatusCode;

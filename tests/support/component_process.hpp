@@ -4,18 +4,16 @@
 // the cell does. Its URL is read from its READY line; it is stopped with SIGTERM (or
 // kill()ed) and waited for. `binary` is the skillcell executable.
 #include <gtest/gtest.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include <sys/types.h>
 
+#include <chrono>
 #include <csignal>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
-extern char** environ;  // NOLINT: POSIX
+#include "process/child_process.hpp"
 
 namespace skillcell::test {
 
@@ -39,40 +37,34 @@ public:
         if (!discovery) args.emplace_back("--no-discovery");
         args.emplace_back("--pki-dir");
         args.push_back(pki_.string());
-        int fds[2];
-        if (::pipe(fds) != 0) return;
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
-        posix_spawn_file_actions_addclose(&actions, fds[0]);
-        std::vector<char*> argv;
-        for (auto& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        if (posix_spawn(&pid_, binary.c_str(), &actions, nullptr, argv.data(), environ) != 0) {
-            pid_ = 0;
+        auto started = process::ChildProcess::start(args, process::reportingChild());
+        if (!started) {
+            ADD_FAILURE() << started.error();
+            return;
         }
-        posix_spawn_file_actions_destroy(&actions);
-        ::close(fds[1]);
-        FILE* out = ::fdopen(fds[0], "r");
-        char line[256];
-        // The READY line, or EOF if the process died: bounded by the process itself.
-        while (out != nullptr && std::fgets(line, sizeof line, out) != nullptr) {
-            const std::string l(line);
-            output_.push_back(l.substr(0, l.find_last_not_of("\r\n") + 1));
-            if (l.starts_with("READY ")) {
-                url_ = l.substr(6, l.find_last_not_of("\r\n") - 5);
+        child_.emplace(std::move(*started));
+        // The READY line, or the end of its output if the process died; bounded, for a
+        // component that hangs: under the sanitizers on a loaded machine a start takes seconds.
+        using Clock = std::chrono::steady_clock;
+        const auto deadline = Clock::now() + kReadyTimeout;
+        for (auto now = Clock::now(); now < deadline; now = Clock::now()) {
+            const auto line = child_->readLine(
+                std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now));
+            if (!line) break;
+            output_.push_back(*line);
+            if (line->starts_with("READY ")) {
+                url_ = line->substr(6);
                 break;
             }
         }
-        if (out != nullptr) std::fclose(out);
     }
     ~ComponentProcess() {
         // A component stops cleanly on SIGTERM: exit status 0 (under the sanitizers, also no
         // leak and no report at exit).
-        const int status = kill(SIGTERM);
-        if (status != -1 && !(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
-            ADD_FAILURE() << "component " << name_ << " did not exit 0 on SIGTERM (wait status "
-                          << status << ")";
+        const auto ended = kill(SIGTERM);
+        if (ended && !ended->success()) {
+            ADD_FAILURE() << "component " << name_
+                          << " did not exit 0 on SIGTERM: " << ended->describe();
         }
         std::error_code ec;
         if (!pki_.empty()) std::filesystem::remove_all(pki_, ec);
@@ -80,25 +72,32 @@ public:
     ComponentProcess(const ComponentProcess&) = delete;
     ComponentProcess& operator=(const ComponentProcess&) = delete;
 
-    /// Sends `signal` and waits for the process to end; its wait status (-1: none ran).
-    int kill(int signal = SIGKILL) {
-        if (pid_ <= 0) return -1;
-        ::kill(pid_, signal);
-        int status = 0;
-        if (::waitpid(pid_, &status, 0) != pid_) status = -1;
-        pid_ = 0;
-        return status;
+    /// Sends `signal` and waits, bounded, for the process to end; how it ended (nothing when
+    /// none ran, or it outlived the bound and was killed).
+    std::optional<process::ExitStatus> kill(int signal = SIGKILL) {
+        if (!child_) return std::nullopt;
+        ::kill(child_->pid(), signal);
+        auto ended = child_->wait(kStopTimeout);
+        if (!ended) {
+            ADD_FAILURE() << "component " << name_ << ": " << ended.error();
+            (void)child_->kill();
+        }
+        child_.reset();
+        return ended ? std::optional(*ended) : std::nullopt;
     }
 
     [[nodiscard]] const std::string& url() const { return url_; }
     /// 0 once it has been waited for.
-    [[nodiscard]] pid_t pid() const { return pid_; }
+    [[nodiscard]] pid_t pid() const { return child_ ? child_->pid() : 0; }
     /// What it printed up to its READY line (one entry per line).
     [[nodiscard]] const std::vector<std::string>& output() const { return output_; }
     [[nodiscard]] const std::filesystem::path& pkiDir() const { return pki_; }
 
 private:
-    pid_t pid_ = 0;
+    static constexpr std::chrono::seconds kReadyTimeout{120};
+    static constexpr std::chrono::seconds kStopTimeout{60};
+
+    std::optional<process::ChildProcess> child_;
     std::string name_;  // "device world", for messages
     std::string url_;
     std::vector<std::string> output_;

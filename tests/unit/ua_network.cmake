@@ -12,7 +12,7 @@ add_library(skillcell_test_support STATIC
   ${PROJECT_SOURCE_DIR}/tests/support/socket_io.cpp
   ${PROJECT_SOURCE_DIR}/tests/support/test_nodes.cpp)
 target_include_directories(skillcell_test_support PUBLIC ${PROJECT_SOURCE_DIR}/tests/support)
-target_link_libraries(skillcell_test_support PUBLIC skillcell_ua_server)
+target_link_libraries(skillcell_test_support PUBLIC skillcell_ua_server skillcell_process)
 
 # OPC UA over the network: framing and the transport; the RSA security policies on a
 # channel pair (every policy and mode, tampering, replay); the server's protocol and

@@ -3,8 +3,9 @@
 // adapter) is powered when it is attached and loses power when it is detached. Here each
 // tool's adapter is a process: power on starts it, power off sends SIGTERM (so the adapter
 // says goodbye on the network, as a board with a supervisor would on a power-fail warning)
-// and waits for it, bounded, then SIGKILL. A child dies with the changer (PDEATHSIG), so a
-// crashed changer leaves no tool powered. A tool's stdout goes to the changer's stderr.
+// and waits for it, bounded, then SIGKILL. A child gets SIGTERM when the changer dies
+// (process::ChildProcess, death signal SIGTERM), so a crashed changer leaves no tool powered.
+// A tool's stdout goes to the changer's stderr.
 //
 // Threading: on() and off() block (off waits for the child): call them from an I/O thread.
 #include <chrono>
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "process/child_process.hpp"
 #include "ua/types/status_code.hpp"
 
 namespace skillcell::devices::toolchanger {
@@ -38,7 +40,7 @@ public:
 private:
     std::chrono::milliseconds stopTimeout_;
     std::mutex mutex_;
-    std::map<std::string, int> children_;  // tool id -> pid
+    std::map<std::string, process::ChildProcess> children_;  // by tool id
 };
 
 }  // namespace skillcell::devices::toolchanger

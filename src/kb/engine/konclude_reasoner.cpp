@@ -14,8 +14,8 @@
 #include <sstream>
 #include <utility>
 
-#include "kb/engine/child_process.hpp"
 #include "kb/rdf/turtle.hpp"
+#include "process/child_process.hpp"
 
 namespace skillcell::kb::engine {
 namespace {
@@ -33,7 +33,7 @@ public:
         std::string pattern = (base / "skillcell-konclude-XXXXXX").string();
         if (ec || ::mkdtemp(pattern.data()) == nullptr) {
             return Error{"cannot create a temporary directory in " + base.string() + ": " +
-                         errnoText(errno)};
+                         process::errnoText(errno)};
         }
         TempDir dir;
         dir.path_ = pattern;
@@ -212,7 +212,7 @@ private:
 Expected<std::vector<ClassAssertion>> parseRealization(std::string_view owlXml) {
     if (owlXml.find("<Ontology") == std::string_view::npos) {
         return Error{"Konclude realization output is not OWL/XML: " +
-                     tail(std::string(owlXml), 300)};
+                     process::tail(std::string(owlXml), 300)};
     }
     std::map<std::string, std::string> prefixes;
     for (auto at = owlXml.find("<Prefix "); at != std::string_view::npos;
@@ -288,25 +288,26 @@ Expected<KoncludeReasoner::Output> KoncludeReasoner::run(std::string_view comman
         argv.emplace_back("-o");
         argv.push_back(result.string());
     }
-    ProcessOptions options;
+    process::ProcessOptions options;
     options.workingDir = dir->path();
-    auto ran = runToCompletion(argv, config_.timeout, options);
+    auto ran = process::runToCompletion(argv, config_.timeout, options);
     if (!ran) return Error{"Konclude " + std::string(command) + ": " + ran.error()};
     Output output{ran->out + ran->err, {}};
     if (ran->exitCode != 0) {
         return Error{"Konclude " + std::string(command) + " failed (exit code " +
-                     std::to_string(ran->exitCode) + "): " + tail(output.console)};
+                     std::to_string(ran->exitCode) + "): " + process::tail(output.console)};
     }
     // An inconsistent ontology makes Konclude log its precomputation steps as failed.
     const bool inconsistent = output.console.find(" is inconsistent.") != std::string::npos;
     if (const std::string errors = errorLines(output.console); !errors.empty() && !inconsistent) {
-        return Error{"Konclude " + std::string(command) + " reported errors:\n" + tail(errors)};
+        return Error{"Konclude " + std::string(command) + " reported errors:\n" +
+                     process::tail(errors)};
     }
     if (wantResult) {
         std::ifstream in(result, std::ios::binary);
         if (!in) {
             return Error{"Konclude " + std::string(command) +
-                         " wrote no result: " + tail(output.console)};
+                         " wrote no result: " + process::tail(output.console)};
         }
         std::ostringstream text;
         text << in.rdbuf();
@@ -328,7 +329,7 @@ Expected<bool> KoncludeReasoner::isConsistent(std::string_view turtle) const {
     auto output = run("consistency", turtle, false);
     if (!output) return Error{output.error()};
     if (auto consistent = verdict(output->console)) return *consistent;
-    return Error{"Konclude consistency gave no verdict: " + tail(output->console)};
+    return Error{"Konclude consistency gave no verdict: " + process::tail(output->console)};
 }
 
 Expected<Realization> KoncludeReasoner::realize(std::string_view turtle) const {

@@ -47,10 +47,10 @@ long long msSince(Clock::time_point t0) {
 
 /// Free ports on 127.0.0.1, all distinct: the sockets stay bound until every port is known.
 Expected<std::vector<std::uint16_t>> pickFreePorts(std::size_t count) {
-    std::vector<UniqueFd> sockets;
+    std::vector<process::UniqueFd> sockets;
     std::vector<std::uint16_t> ports;
     for (std::size_t i = 0; i < count; ++i) {
-        UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
+        process::UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
         sockaddr_in addr{};
         addr.sin_family = AF_INET;
         addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
@@ -58,7 +58,7 @@ Expected<std::vector<std::uint16_t>> pickFreePorts(std::size_t count) {
         auto* any = reinterpret_cast<sockaddr*>(&addr);  // NOLINT: the sockets API
         if (!fd.valid() || ::bind(fd.get(), any, len) != 0 ||
             ::getsockname(fd.get(), any, &len) != 0) {
-            return Error{"cannot pick a free port on 127.0.0.1: " + errnoText(errno)};
+            return Error{"cannot pick a free port on 127.0.0.1: " + process::errnoText(errno)};
         }
         ports.push_back(ntohs(addr.sin_port));
         sockets.push_back(std::move(fd));
@@ -68,7 +68,7 @@ Expected<std::vector<std::uint16_t>> pickFreePorts(std::size_t count) {
 
 /// Whether something accepts TCP connections on 127.0.0.1:port (answered at once on loopback).
 bool acceptsConnections(std::uint16_t port) {
-    const UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
+    const process::UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
     sockaddr_in addr{};
     addr.sin_family = AF_INET;
     addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
@@ -92,18 +92,19 @@ std::string randomSecret(std::size_t length) {
 /// file or the new one, never half of one.
 Status writeFileAtomically(const fs::path& path, const std::string& text, mode_t mode) {
     const fs::path tmp = path.string() + ".tmp";
-    const UniqueFd fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, mode));
-    if (!fd.valid()) return Error{"cannot write " + tmp.string() + ": " + errnoText(errno)};
+    const process::UniqueFd fd(::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, mode));
+    if (!fd.valid())
+        return Error{"cannot write " + tmp.string() + ": " + process::errnoText(errno)};
     ::fchmod(fd.get(), mode);  // the umask may have narrowed or the file existed
     std::size_t done = 0;
     while (done < text.size()) {
         const ssize_t n = ::write(fd.get(), text.data() + done, text.size() - done);
         if (n < 0 && errno == EINTR) continue;
-        if (n < 0) return Error{"cannot write " + tmp.string() + ": " + errnoText(errno)};
+        if (n < 0) return Error{"cannot write " + tmp.string() + ": " + process::errnoText(errno)};
         done += static_cast<std::size_t>(n);
     }
     if (::fsync(fd.get()) != 0 || ::rename(tmp.c_str(), path.c_str()) != 0) {
-        return Error{"cannot write " + path.string() + ": " + errnoText(errno)};
+        return Error{"cannot write " + path.string() + ": " + process::errnoText(errno)};
     }
     return Done{};
 }
@@ -262,7 +263,7 @@ Status VirtuosoInstance::stopOrphan() {
     const pid_t pid = lockHolder();
     if (pid == 0) return Done{};
     // A pidfd names this process and no later one with the same pid: no race with reuse.
-    const UniqueFd pidfd(static_cast<int>(::syscall(SYS_pidfd_open, pid, 0)));
+    const process::UniqueFd pidfd(static_cast<int>(::syscall(SYS_pidfd_open, pid, 0)));
     // Gone, or a reused pid: virtuoso-t locks the file itself, with a lock its holder's exit
     // releases, so a stale file does not stop it (tried: a dead or an unrelated pid in it).
     if (!pidfd.valid() || !isVirtuosoOn(pid, config_.dataDir)) return Done{};
@@ -273,7 +274,8 @@ Status VirtuosoInstance::stopOrphan() {
     // SIGKILL, as PR_SET_PDEATHSIG would have: the transaction log makes it safe (tested).
     if (::syscall(SYS_pidfd_send_signal, pidfd.get(), SIGKILL, nullptr, 0) != 0 && errno != ESRCH) {
         return Error{"cannot stop the earlier Virtuoso (pid " + std::to_string(pid) +
-                     ") on data dir " + config_.dataDir.string() + ": " + errnoText(errno)};
+                     ") on data dir " + config_.dataDir.string() + ": " +
+                     process::errnoText(errno)};
     }
     // A pidfd polls readable once the process has exited, its files and their locks released.
     pollfd fd{pidfd.get(), POLLIN, 0};
@@ -334,11 +336,11 @@ Status VirtuosoInstance::launch() {
     }
     std::error_code ec;
     outputOffset_ = fs::exists(dir / kConsole) ? fs::file_size(dir / kConsole, ec) : 0;
-    ProcessOptions options;
+    process::ProcessOptions options;
     options.workingDir = dir;
-    options.stdoutTo = OutputSink::toFile(dir / kConsole);
-    options.stderrTo = OutputSink::toFile(dir / kConsole);
-    auto child = ChildProcess::start(
+    options.stdoutTo = process::OutputSink::toFile(dir / kConsole);
+    options.stderrTo = process::OutputSink::toFile(dir / kConsole);
+    auto child = process::ChildProcess::start(
         {config_.virtuosoBinary, "+foreground", "+configfile", (dir / kIni).string()}, options);
     if (!child) return Error{child.error()};
     process_.emplace(std::move(*child));
@@ -451,7 +453,7 @@ Expected<std::string> VirtuosoInstance::isql(const std::string& sql) const {
 Expected<std::string> VirtuosoInstance::isqlAs(const std::string& password,
                                                const std::string& sql) const {
     // The password is an argument: isql-vt reads it nowhere else. Loopback tool runs only.
-    auto run = runToCompletion(
+    auto run = process::runToCompletion(
         {config_.isqlBinary, "127.0.0.1:" + std::to_string(sqlPort_), "dba", password,
          "VERBOSE=OFF", "BANNER=OFF", "PROMPT=OFF", "ECHO=OFF", "EXEC=" + sql},
         config_.isqlTimeout);

@@ -18,8 +18,8 @@
 #include <optional>
 #include <string>
 
-#include "kb/engine/child_process.hpp"
 #include "kb/expected.hpp"
+#include "process/child_process.hpp"
 
 namespace skillcell::kb::engine {
 
@@ -82,7 +82,7 @@ private:
     [[nodiscard]] std::string outputTail() const;
 
     VirtuosoConfig config_;
-    std::optional<ChildProcess> process_;
+    std::optional<process::ChildProcess> process_;
     std::uint16_t httpPort_ = 0;
     std::uint16_t sqlPort_ = 0;
     std::string password_;

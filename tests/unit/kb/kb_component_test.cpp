@@ -263,8 +263,8 @@ TEST(KnowledgeBaseComponent, AnAcknowledgedUpdateSurvivesAKillOfTheKbProcess) {
         ASSERT_NE(port, 0);
         ASSERT_EQ(update(port, "INSERT DATA { " + fact + " }"), 200);
         // SIGKILL: no shutdown at all. Virtuoso goes with it (it is tied to the KB's life).
-        const int status = kb.kill(SIGKILL);
-        ASSERT_TRUE(WIFSIGNALED(status));
+        const auto status = kb.kill(SIGKILL);
+        ASSERT_TRUE(status && status->signal == SIGKILL);
     }
     test::ComponentProcess again(SKILLCELL_BINARY, args);
     ASSERT_FALSE(again.url().empty()) << "skillcell kb did not start again on the same data";
@@ -307,8 +307,9 @@ TEST(KnowledgeBaseComponent, UsesAnyStoreGivenBySparqlUrlInsteadOfItsOwnVirtuoso
     test::ComponentProcess bad(SKILLCELL_BINARY, {"kb", "--http-port", "0", "--no-discovery",
                                                   "--sparql-url", "ftp://127.0.0.1/sparql"});
     EXPECT_TRUE(bad.url().empty());
-    const int status = bad.kill(SIGTERM);  // it has exited already: this reaps it
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << "wait status " << status;
+    const auto status = bad.kill(SIGTERM);  // it has exited already: this reaps it
+    ASSERT_TRUE(status);
+    EXPECT_EQ(status->code, 2) << status->describe();
 }
 
 }  // namespace

@@ -193,7 +193,7 @@ TEST_F(MesCell, AKilledMesResumesWhereItStoppedRunningEveryStepOnce) {
     bool killed = false;
     for (int i = 0; i < 600 && !killed; ++i) {  // bounded: 60 s
         if (auto run = lastRun(); run && run->lastAttempt(2) != nullptr) {
-            EXPECT_EQ(mes_->kill(SIGKILL) != -1, true);
+            EXPECT_TRUE(mes_->kill(SIGKILL).has_value());
             killed = true;
             break;
         }
@@ -245,7 +245,7 @@ TEST_F(MesCell, AMesRestartedWhileItsSkillStillRunsWaitsForThatRunInsteadOfStart
         const auto value = observer.readValue(state);
         const auto* text = value.ok() ? value->get<ua::LocalizedText>() : nullptr;
         if (run && run->lastAttempt(2) != nullptr && text != nullptr && text->text == "Running") {
-            EXPECT_EQ(mes_->kill(SIGKILL) != -1, true);
+            EXPECT_TRUE(mes_->kill(SIGKILL).has_value());
             killed = true;
             break;
         }

@@ -1,10 +1,13 @@
 #pragma once
-// ChildProcess: an outside program (virtuoso-t, isql-vt, Konclude) run as a child of ours.
-// The knowledge base depends on these engines, so their life is tied to ours: the child is
-// killed by the kernel when our thread dies (PR_SET_PDEATHSIG), and by us when the object
-// goes away. Waits are bounded and use a pidfd, so no polling interval decides how fast we
-// notice an exit.
+// ChildProcess: another program run as a child of ours: the knowledge base's engines
+// (virtuoso-t, isql-vt, Konclude), the demo's components, the tool changer's tool adapters.
+// Their life is tied to ours: the kernel signals the child when the thread that started it
+// dies (PR_SET_PDEATHSIG: SIGKILL, or SIGTERM for a child that should say goodbye), and we
+// stop it when the object goes away. Waits are bounded and use a pidfd, so no polling
+// interval decides how fast we notice an exit. The one launcher of the project's code.
 #include <sys/types.h>
+
+#include <csignal>
 
 #include <chrono>
 #include <filesystem>
@@ -13,9 +16,9 @@
 #include <utility>
 #include <vector>
 
-#include "kb/expected.hpp"
+#include "common/expected.hpp"
 
-namespace skillcell::kb::engine {
+namespace skillcell::process {
 
 /// An owned file descriptor; closed on destruction.
 class UniqueFd {
@@ -54,7 +57,24 @@ struct ProcessOptions {
     std::vector<std::pair<std::string, std::string>> envAdd;  // set in the child's environment
     OutputSink stdoutTo = OutputSink::ourStderr();  // never our stdout: it may be a protocol
     OutputSink stderrTo = OutputSink::ourStderr();
+    /// What the kernel sends the child when the thread that started it ends: SIGKILL for an
+    /// engine; SIGTERM for a child that must say goodbye on the network (a tool's adapter).
+    int deathSignal = SIGKILL;
 };
+
+/// Options for a child that reports on its stdout while it runs (a component's or a peer's
+/// READY line, read with ChildProcess::readLine) and logs on its stderr: appended to `log`,
+/// or to our stderr when `log` is empty.
+[[nodiscard]] inline ProcessOptions reportingChild(const std::filesystem::path& log = {}) {
+    ProcessOptions options;
+    options.stdoutTo = OutputSink::capture();
+    if (!log.empty()) options.stderrTo = OutputSink::toFile(log);
+    return options;
+}
+
+/// The executable `program` names: as given when it has a '/', else the first match in PATH;
+/// empty when there is none.
+[[nodiscard]] std::string findInPath(const std::string& program);
 
 /// How a process ended: an exit code, or the signal that ended it.
 struct ExitStatus {
@@ -137,4 +157,4 @@ struct RunResult {
 Expected<RunResult> runToCompletion(const std::vector<std::string>& argv,
                                     std::chrono::milliseconds timeout, ProcessOptions options = {});
 
-}  // namespace skillcell::kb::engine
+}  // namespace skillcell::process

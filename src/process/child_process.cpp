@@ -1,4 +1,4 @@
-#include "kb/engine/child_process.hpp"
+#include "process/child_process.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -17,7 +17,7 @@
 
 extern char** environ;  // NOLINT: POSIX
 
-namespace skillcell::kb::engine {
+namespace skillcell::process {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -29,21 +29,11 @@ constexpr std::chrono::milliseconds kDestructorGrace{5000};
 // Only without pidfd (old kernels): how often a waiting caller looks again.
 constexpr int kFallbackPollMs = 10;
 
-/// The executable argv[0] names: as given with a '/', else the first match in PATH.
+/// The executable argv[0] names; as given when PATH has none, so that execve reports
+/// ENOENT with the name the caller gave.
 std::string resolveProgram(const std::string& program) {
-    if (program.find('/') != std::string::npos) return program;
-    const char* path = std::getenv("PATH");  // NOLINT(concurrency-mt-unsafe)
-    std::string_view dirs = path != nullptr ? path : "/usr/local/bin:/usr/bin:/bin";
-    while (!dirs.empty()) {
-        const auto colon = dirs.find(':');
-        const std::string dir(dirs.substr(0, colon));
-        dirs = colon == std::string_view::npos ? std::string_view{} : dirs.substr(colon + 1);
-        std::string candidate = dir.empty() ? std::string(".") : dir;
-        candidate += "/";
-        candidate += program;
-        if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-    }
-    return program;  // execve reports ENOENT, with the name as given
+    std::string found = findInPath(program);
+    return found.empty() ? program : found;
 }
 
 std::vector<std::string> childEnvironment(const ProcessOptions& options) {
@@ -116,8 +106,8 @@ struct ChildFailure {
 enum ChildStep : int { kDeathSignal = 1, kRedirect, kChdir, kExec };
 
 /// In the child between fork and exec: only async-signal-safe calls.
-[[noreturn]] void execChild(pid_t parent, int reportFd, int stdinFd, int stdoutFd, int stderrFd,
-                            const char* cwd, const char* path, char* const* argv,
+[[noreturn]] void execChild(pid_t parent, int deathSignal, int reportFd, int stdinFd, int stdoutFd,
+                            int stderrFd, const char* cwd, const char* path, char* const* argv,
                             char* const* envp) {
     auto fail = [reportFd](int step) {
         const ChildFailure failure{step, errno};
@@ -126,7 +116,7 @@ enum ChildStep : int { kDeathSignal = 1, kRedirect, kChdir, kExec };
     };
     // Dies with the thread that started it; the check closes the race with a parent that
     // died before prctl.
-    if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0) fail(kDeathSignal);
+    if (::prctl(PR_SET_PDEATHSIG, deathSignal) != 0) fail(kDeathSignal);
     if (::getppid() != parent) ::_exit(127);
     // Blocked or ignored signals survive exec; an engine must see SIGTERM and SIGPIPE.
     sigset_t none;
@@ -143,6 +133,25 @@ enum ChildStep : int { kDeathSignal = 1, kRedirect, kChdir, kExec };
 }
 
 }  // namespace
+
+std::string findInPath(const std::string& program) {
+    if (program.empty()) return {};
+    if (program.find('/') != std::string::npos) {
+        return ::access(program.c_str(), X_OK) == 0 ? program : std::string();
+    }
+    const char* path = std::getenv("PATH");  // NOLINT(concurrency-mt-unsafe)
+    std::string_view dirs = path != nullptr ? path : "/usr/local/bin:/usr/bin:/bin";
+    while (!dirs.empty()) {
+        const auto colon = dirs.find(':');
+        const std::string dir(dirs.substr(0, colon));
+        dirs = colon == std::string_view::npos ? std::string_view{} : dirs.substr(colon + 1);
+        std::string candidate = dir.empty() ? std::string(".") : dir;
+        candidate += "/";
+        candidate += program;
+        if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+    }
+    return {};
+}
 
 std::string errnoText(int err) {
     return std::strerror(err);  // NOLINT(concurrency-mt-unsafe)
@@ -202,9 +211,9 @@ Expected<ChildProcess> ChildProcess::start(const std::vector<std::string>& argv,
     const pid_t pid = ::fork();
     if (pid < 0) return failed("fork: " + errnoText(errno));
     if (pid == 0) {
-        execChild(parent, reportWrite.get(), devNull.get(), out->childEnd.get(),
-                  err->childEnd.get(), cwd.empty() ? nullptr : cwd.c_str(), path.c_str(),
-                  argPtrs.data(), envPtrs.data());
+        execChild(parent, options.deathSignal, reportWrite.get(), devNull.get(),
+                  out->childEnd.get(), err->childEnd.get(), cwd.empty() ? nullptr : cwd.c_str(),
+                  path.c_str(), argPtrs.data(), envPtrs.data());
     }
     reportWrite.reset();
     out->childEnd.reset();
@@ -412,4 +421,4 @@ Expected<RunResult> runToCompletion(const std::vector<std::string>& argv,
     return RunResult{status->code, child->capturedStdout(), child->capturedStderr()};
 }
 
-}  // namespace skillcell::kb::engine
+}  // namespace skillcell::process
