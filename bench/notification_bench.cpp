@@ -58,7 +58,7 @@
 
 #include "apps/demo_nodes.hpp"
 #include "latency_stats.hpp"
-#include "process/child_process.hpp"
+#include "node_peer.hpp"
 #include "running_server.hpp"
 #include "ua/client/client.hpp"
 #include "ua/client/subscription.hpp"
@@ -584,31 +584,18 @@ WriteRoundTrip runWriteRoundTrip(const std::string& url, std::size_t n,
 
 /// node-opcua's server.js; nullopt and a reason when it cannot run.
 std::optional<WriteRoundTrip> runNodeWriteRoundTrip(std::size_t n, std::string& why) {
-    const std::filesystem::path dir = SKILLCELL_INTEROP_DIR;
-    if (process::findInPath("node").empty() ||
-        !std::filesystem::is_directory(dir / "node_modules" / "node-opcua")) {
-        why = "node or tests/interop/node_modules/node-opcua missing (npm ci in tests/interop)";
-        return std::nullopt;
-    }
     const auto serverLog =
-        (std::filesystem::temp_directory_path() / "skillcell-bench-notify-node-server.log")
-            .string();
+        std::filesystem::temp_directory_path() / "skillcell-bench-notify-node-server.log";
     std::filesystem::remove(serverLog);  // this run's log only
-    auto server = process::ChildProcess::start(
-        {"node", (dir / "server.js").string(), "--port", "0"}, process::reportingChild(serverLog));
-    if (!server) {
-        why = server.error();
+    auto peer = test::startNodeServer(SKILLCELL_INTEROP_DIR, {}, serverLog);
+    if (!peer) {
+        why = peer.error();
         return std::nullopt;
     }
-    const auto ready = server->readLine(30s);
-    if (!ready || ready->rfind("READY ", 0) != 0) {
-        why = "server.js did not print READY within 30 s (log: " + serverLog + ")";
-        return std::nullopt;
-    }
-    const std::string url = ready->substr(6);
+    const std::string& url = peer->url;
     std::fprintf(stderr, "node-opcua: server.js at %s, %zu write round trips...\n", url.c_str(), n);
     auto r = runWriteRoundTrip(url, n, 0);
-    (void)server->terminate(std::chrono::seconds(5));
+    (void)peer->server.terminate(std::chrono::seconds(5));
     return r;
 }
 

@@ -35,6 +35,7 @@
 
 #include "apps/demo_nodes.hpp"
 #include "latency_stats.hpp"
+#include "node_peer.hpp"
 #include "process/child_process.hpp"
 #include "running_server.hpp"
 #include "tcp_ping_pong.hpp"
@@ -258,28 +259,17 @@ std::optional<double> jsonNumber(const std::string& json, const std::string& sec
 /// node-opcua client against node-opcua server; std::nullopt and a reason when skipped.
 std::optional<Row> runNode(std::size_t count, std::string& why) {
     const std::filesystem::path dir = SKILLCELL_INTEROP_DIR;
-    if (process::findInPath("node").empty() ||
-        !std::filesystem::is_directory(dir / "node_modules" / "node-opcua")) {
-        why = "node or tests/interop/node_modules/node-opcua missing (npm ci in tests/interop)";
-        return std::nullopt;
-    }
     const auto logDir = std::filesystem::temp_directory_path();
     const auto serverLog = (logDir / "skillcell-bench-node-server.log").string();
     const auto clientLog = (logDir / "skillcell-bench-node-client.log").string();
     std::filesystem::remove(serverLog);  // this run's log only
     std::filesystem::remove(clientLog);
-    auto server = process::ChildProcess::start(
-        {"node", (dir / "server.js").string(), "--port", "0"}, process::reportingChild(serverLog));
-    if (!server) {
-        why = server.error();
+    auto peer = test::startNodeServer(dir, {}, serverLog);
+    if (!peer) {
+        why = peer.error();
         return std::nullopt;
     }
-    const auto ready = server->readLine(30s);
-    if (!ready || ready->rfind("READY ", 0) != 0) {
-        why = "server.js did not print READY within 30 s (log: " + serverLog + ")";
-        return std::nullopt;
-    }
-    const std::string url = ready->substr(6);
+    const std::string& url = peer->url;
     std::cerr << "node-opcua: server.js at " << url << ", running bench_client.js (" << count
               << " Reads + " << count << " Calls)...\n";
     auto client = process::ChildProcess::start(
@@ -292,7 +282,7 @@ std::optional<Row> runNode(std::size_t count, std::string& why) {
     // bench_client.js bounds itself at 120 s; allow for its start-up on top.
     const auto line = client->readLine(150s);
     const auto exit = client->wait(10s);
-    (void)server->terminate(std::chrono::seconds(5));
+    (void)peer->server.terminate(std::chrono::seconds(5));
     if (!line || !exit || !exit->success()) {
         why = "bench_client.js failed (" + (exit ? exit->describe() : exit.error()) +
               ", log: " + clientLog + ")";

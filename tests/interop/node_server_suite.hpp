@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "node_peer.hpp"
 #include "process/child_process.hpp"
 
 namespace skillcell::test {
@@ -26,37 +27,22 @@ protected:
     /// SetUpTestSuite() calls it with its own.
     static void startServer(const std::vector<std::string>& extraArgs) {
         using namespace std::chrono_literals;
-        const std::filesystem::path dir = SKILLCELL_INTEROP_DIR;
         const char* require = std::getenv("SKILLCELL_REQUIRE_NODE");
         const bool required = require != nullptr && std::string_view(require) == "1";
-        if (process::findInPath("node").empty() ||
-            !std::filesystem::is_directory(dir / "node_modules" / "node-opcua")) {
-            unavailable_ = "node or " + (dir / "node_modules" / "node-opcua").string() +
-                           " missing (npm ci in tests/interop)";
+        auto peer = startNodeServer(SKILLCELL_INTEROP_DIR, extraArgs);
+        if (!peer && peer.errorKind() == ErrorKind::Unavailable) {
+            unavailable_ = peer.error();
             std::cerr << "\n!!! " << (required ? "FAILING" : "SKIPPING")
                       << " node-opcua interop: " << unavailable_ << " !!!\n\n";
             unavailableIsFailure_ = required;
             return;
         }
-        std::vector<std::string> argv{"node", (dir / "server.js").string(), "--port", "0"};
-        argv.insert(argv.end(), extraArgs.begin(), extraArgs.end());
-        auto started = process::ChildProcess::start(argv, process::reportingChild());
-        if (!started) {
-            startError_ = started.error();
+        if (!peer) {
+            startError_ = peer.error();
             return;
         }
-        server_.emplace(std::move(*started));
-        // node-opcua needs several seconds to load the standard nodeset; read with a bound
-        // instead of sleeping. Anything before READY would be a protocol breach of server.js.
-        const auto line = server_->readLine(30s);
-        if (!line || line->rfind("READY ", 0) != 0) {
-            startError_ = "server.js did not print READY within 30 s (got: '" +
-                          line.value_or("<nothing>") + "', " +
-                          (server_->running() ? "still running" : "it exited") + ")";
-            (void)server_->terminate(5s);
-            return;
-        }
-        url_ = line->substr(6);
+        url_ = peer->url;
+        server_.emplace(std::move(peer->server));
         std::cerr << "node-opcua server (pid " << server_->pid() << ") at " << url_ << "\n";
     }
 
