@@ -26,7 +26,6 @@ protected:
     /// Starts server.js with `extraArgs` (e.g. --secure); a derived suite's
     /// SetUpTestSuite() calls it with its own.
     static void startServer(const std::vector<std::string>& extraArgs) {
-        using namespace std::chrono_literals;
         const char* require = std::getenv("SKILLCELL_REQUIRE_NODE");
         const bool required = require != nullptr && std::string_view(require) == "1";
         auto peer = startNodeServer(SKILLCELL_INTEROP_DIR, extraArgs);
@@ -57,7 +56,6 @@ protected:
     }
 
     void SetUp() override {
-        using namespace std::chrono_literals;
         if (!unavailable_.empty()) {
             if (unavailableIsFailure_) {
                 FAIL() << "SKILLCELL_REQUIRE_NODE=1 but " << unavailable_;
