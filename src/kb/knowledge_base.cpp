@@ -216,11 +216,10 @@ std::string KnowledgeBase::insertText(const std::string& graphIri,
     }
     std::string u;
     if (!ground.empty()) {
-        u += "INSERT DATA { GRAPH <" + graphIri + "> {\n" + rdf::writeNTriples(std::move(ground)) +
-             "} } ;\n";
+        u += "INSERT DATA { GRAPH <" + graphIri + "> {\n" + rdf::writeNTriples(ground) + "} } ;\n";
     }
     if (!withBlanks.empty()) {
-        u += "INSERT { GRAPH <" + graphIri + "> {\n" + rdf::writeNTriples(std::move(withBlanks)) +
+        u += "INSERT { GRAPH <" + graphIri + "> {\n" + rdf::writeNTriples(withBlanks) +
              "} } WHERE {} ;\n";
     }
     return u;

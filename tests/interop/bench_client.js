@@ -12,7 +12,7 @@
 "use strict";
 
 require("./log_to_stderr"); // before node-opcua: keep stdout clean
-const { AttributeIds, DataType } = require("node-opcua");
+const { AttributeIds, DataType } = require("node-opcua-client");
 const {
     DEMO_NAMESPACE_URI,
     checkEndpointUrl,

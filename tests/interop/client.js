@@ -30,7 +30,7 @@ const {
     StatusCodes,
     VariantArrayType,
     resolveNodeId
-} = require("node-opcua");
+} = require("node-opcua-client");
 const {
     DEMO_NAMESPACE_URI,
     checkEndpointUrl,

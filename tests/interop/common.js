@@ -6,18 +6,18 @@ const os = require("os");
 const path = require("path");
 const {
     OPCUAClient,
-    OPCUACertificateManager,
     MessageSecurityMode,
     SecurityPolicy,
     AttributeIds,
     StatusCodes,
     NodeId,
-    NodeIdType,
     UserTokenType,
     ClientMonitoredItem,
     ClientSubscription,
     TimestampsToReturn
-} = require("node-opcua");
+} = require("node-opcua-client");
+const { OPCUACertificateManager } = require("node-opcua-certificate-manager");
+const { NodeIdType } = require("node-opcua-nodeid");
 
 const DEMO_NAMESPACE_URI = "urn:skillcell:demo";
 const NAMESPACE_ARRAY = "ns=0;i=2255"; // Server_NamespaceArray

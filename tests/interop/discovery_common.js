@@ -112,7 +112,8 @@ function isAddressInUse(err) {
 
 // A client without session (discovery services need none), SecurityPolicy None.
 function createDiscoveryClient() {
-    const { OPCUAClient, OPCUACertificateManager, MessageSecurityMode, SecurityPolicy } = require("node-opcua");
+    const { OPCUAClient, MessageSecurityMode, SecurityPolicy } = require("node-opcua-client");
+    const { OPCUACertificateManager } = require("node-opcua-certificate-manager");
     return OPCUAClient.create({
         applicationName: "skillcell-interop-discovery-client",
         // the applicationUri of client.js & co: they share one client certificate

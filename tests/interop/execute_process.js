@@ -17,7 +17,7 @@
 "use strict";
 
 require("./log_to_stderr"); // before node-opcua: keep stdout clean
-const { AttributeIds, DataType, constructEventFilter } = require("node-opcua");
+const { AttributeIds, DataType, constructEventFilter } = require("node-opcua-client");
 const {
     StatusCodes, checkEndpointUrl, connect, disconnect, monitorItem, resolveNamespaceIndex,
     startSubscription, waitFor

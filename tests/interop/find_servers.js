@@ -11,7 +11,7 @@
 // (exit 0) or, after --timeout seconds (default 30), "FAILED ..." (exit 1).
 "use strict";
 
-const { ApplicationType } = require("node-opcua");
+const { ApplicationType } = require("node-opcua-client");
 const { runPollScript } = require("./discovery_common");
 
 const USAGE = "usage: node find_servers.js URL EXPECTED_SUBSTRING [--absent] [--timeout S] [--period MS]";

@@ -10,7 +10,7 @@
 "use strict";
 
 require("./log_to_stderr"); // before node-opcua: keep stdout clean
-const { BrowseDirection, DataType, StatusCodes } = require("node-opcua");
+const { BrowseDirection, DataType, StatusCodes } = require("node-opcua-client");
 const { checkEndpointUrl, connect, disconnect } = require("./common");
 
 const url = process.argv[2];

@@ -24,7 +24,8 @@
 
 require("./log_to_stderr"); // before node-opcua: keep stdout clean
 const path = require("path");
-const { OPCUACertificateManager, SecurityPolicy, MessageSecurityMode } = require("node-opcua");
+const { OPCUACertificateManager } = require("node-opcua-certificate-manager");
+const { SecurityPolicy, MessageSecurityMode } = require("node-opcua-secure-channel");
 const { OPCUADiscoveryServer } = require("node-opcua-server-discovery");
 const { HOST, pkiRoot, parseArgs, requirePrivateNetwork, pickFreePort, isAddressInUse } = require("./discovery_common");
 

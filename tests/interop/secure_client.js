@@ -19,14 +19,14 @@ require("./log_to_stderr");
 const path = require("path");
 const {
     OPCUAClient,
-    OPCUACertificateManager,
     MessageSecurityMode,
     SecurityPolicy,
     UserTokenType,
     AttributeIds,
     DataType,
     StatusCodes
-} = require("node-opcua");
+} = require("node-opcua-client");
+const { OPCUACertificateManager } = require("node-opcua-certificate-manager");
 const { resolveNamespaceIndex, stringNodeId, DEMO_NAMESPACE_URI } = require("./common");
 
 const USAGE =

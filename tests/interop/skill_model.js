@@ -2,7 +2,7 @@
 // hierarchy, finding skill objects by type (a subtype counts), a child by browse name.
 "use strict";
 
-const { BrowseDirection, NodeClassMask } = require("node-opcua");
+const { BrowseDirection, NodeClassMask } = require("node-opcua-client");
 const { StatusCodes } = require("./common");
 
 async function browse(session, nodeId, options = {}) {

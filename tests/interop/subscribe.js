@@ -18,7 +18,7 @@ const {
     DataType,
     TimestampsToReturn,
     constructEventFilter
-} = require("node-opcua");
+} = require("node-opcua-client");
 const {
     DEMO_NAMESPACE_URI,
     StatusCodes,

@@ -13,7 +13,7 @@
 "use strict";
 
 require("./log_to_stderr"); // before node-opcua: keep stdout clean
-const { AttributeIds, DataType, StatusCodes } = require("node-opcua");
+const { AttributeIds, DataType, StatusCodes } = require("node-opcua-client");
 const { checkEndpointUrl, connect, disconnect, resolveNamespaceIndex, stringNodeId } = require("./common");
 
 const USAGE = "usage: node world_move_tool.js URL --expect-untrusted | --as operator|engineer";

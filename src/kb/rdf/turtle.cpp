@@ -133,12 +133,18 @@ SerdStatus onError(void* handle, const SerdError* e) {
     return SERD_SUCCESS;
 }
 
-std::string write(SerdSyntax syntax, std::vector<Triple> triples,
+std::string write(SerdSyntax syntax, const std::vector<Triple>& triples,
                   const std::vector<Prefix>& prefixes) {
     // Sorted and unique: the text depends on the set of triples only, never on the order
-    // they were produced in.
-    std::sort(triples.begin(), triples.end());
-    triples.erase(std::unique(triples.begin(), triples.end()), triples.end());
+    // they were produced in. What is sorted is pointers: a Triple is nine strings, and the
+    // knowledge base writes its whole content this way for each consistency check.
+    std::vector<const Triple*> order;
+    order.reserve(triples.size());
+    for (const auto& t : triples) order.push_back(&t);
+    std::sort(order.begin(), order.end(), [](const Triple* a, const Triple* b) { return *a < *b; });
+    order.erase(std::unique(order.begin(), order.end(),
+                            [](const Triple* a, const Triple* b) { return *a == *b; }),
+                order.end());
 
     std::string out;
     EnvPtr env(serd_env_new(nullptr));
@@ -150,7 +156,8 @@ std::string write(SerdSyntax syntax, std::vector<Triple> triples,
         SerdNode u = serdNode(SERD_URI, ns);
         serd_writer_set_prefix(writer.get(), &n, &u);
     }
-    for (const auto& t : triples) {
+    for (const Triple* triple : order) {
+        const Triple& t = *triple;
         SerdNode s = serdNodeOf(t.subject);
         SerdNode p = serdNodeOf(t.predicate);
         SerdNode o = serdNodeOf(t.object);
@@ -168,12 +175,12 @@ std::string write(SerdSyntax syntax, std::vector<Triple> triples,
 
 }  // namespace
 
-std::string writeTurtle(std::vector<Triple> triples, const std::vector<Prefix>& prefixes) {
-    return write(SERD_TURTLE, std::move(triples), prefixes);
+std::string writeTurtle(const std::vector<Triple>& triples, const std::vector<Prefix>& prefixes) {
+    return write(SERD_TURTLE, triples, prefixes);
 }
 
-std::string writeNTriples(std::vector<Triple> triples) {
-    return write(SERD_NTRIPLES, std::move(triples), {});
+std::string writeNTriples(const std::vector<Triple>& triples) {
+    return write(SERD_NTRIPLES, triples, {});
 }
 
 Expected<std::vector<Triple>> readTurtle(std::string_view text, std::string_view baseIri) {

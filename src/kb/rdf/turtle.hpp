@@ -15,11 +15,11 @@ namespace skillcell::kb::rdf {
 using Prefix = std::pair<std::string, std::string>;
 
 /// Serializes `triples` as Turtle with `prefixes` (abbreviated where they apply).
-[[nodiscard]] std::string writeTurtle(std::vector<Triple> triples,
+[[nodiscard]] std::string writeTurtle(const std::vector<Triple>& triples,
                                       const std::vector<Prefix>& prefixes = {});
 /// Serializes `triples` as N-Triples (one triple per line, full IRIs): the form SPARQL's
 /// INSERT DATA takes, and that Turtle readers read too. Sorted and unique like writeTurtle.
-[[nodiscard]] std::string writeNTriples(std::vector<Triple> triples);
+[[nodiscard]] std::string writeNTriples(const std::vector<Triple>& triples);
 /// Parses Turtle (or N-Triples); `baseIri` resolves relative IRIs. Errors name the line.
 [[nodiscard]] Expected<std::vector<Triple>> readTurtle(std::string_view text,
                                                        std::string_view baseIri = {});
