@@ -23,6 +23,7 @@ packages=(
   libasio-dev libspdlog-dev libfmt-dev libcli11-dev libpugixml-dev libmdnsd-dev libssl-dev
   libgtest-dev libgmock-dev  # CMake configures the tests' targets even when it builds one
   liborocos-kdl-dev libeigen3-dev libmodbus-dev pkg-config
+  libtomlplusplus-dev  # cell files (src/cell)
   iproute2 util-linux procps
   # the knowledge base: Turtle (libserd), the triple store (Virtuoso), the reasoner (Konclude);
   # the MES's journal (SQLite; the sqlite3 shell to look into it)

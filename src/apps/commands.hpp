@@ -30,6 +30,8 @@ Command addMesCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
 /// `skillcell demo`: the paper's whole work cell, its process and its evaluation table.
 Command addDemoCommand(CLI::App& app);
+/// `skillcell cell check FILE`: a cell file read and checked (src/cell).
+Command addCellCommand(CLI::App& app);
 /// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq, schmalz).
 std::vector<Command> addDeviceCommands(CLI::App& app);
 

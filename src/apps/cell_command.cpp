@@ -1,0 +1,96 @@
+// `skillcell cell`: a whole work cell from its cell file (docs/cells.md). `cell check FILE`
+// reads the file and lists every problem in it with file:line:column, or what the cell has.
+// Exit 0 when the file is good, 1 when it has problems, 2 on usage errors.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "cell/cell_file.hpp"
+#include "commands.hpp"
+
+namespace skillcell::apps {
+namespace {
+
+std::string describePose(const cell::Pose& p) {
+    char text[160];
+    std::snprintf(text, sizeof text, "(%.3f, %.3f, %.3f | %.3f, %.3f, %.3f)", p.x, p.y, p.z, p.a,
+                  p.b, p.c);
+    return text;
+}
+
+/// What the cell consists of, one line per part, in the order `cell up` would start them.
+void printSummary(const cell::CellFile& c) {
+    std::printf("cell %s (%s)\n", c.name.c_str(), c.path.string().c_str());
+    const bool host = c.network.kind == cell::Network::Kind::Host;
+    std::string network = host ? "host" : "a private network namespace";
+    if (host && !c.network.interfaces.empty()) {
+        network += ", interfaces";
+        for (const auto& i : c.network.interfaces) network += " " + i;
+    }
+    std::printf("  network:   %s; mDNS TTL %d s, query period %d s\n", network.c_str(),
+                c.network.mdnsTtlSeconds, c.network.mdnsQueryPeriodSeconds);
+    if (!c.security.enabled) {
+        std::printf("  security:  off (no certificates, no users: for tests on loopback)\n");
+    } else {
+        std::printf("  security:  CA %s; users %s\n",
+                    c.security.ca.empty() ? "generated" : c.security.ca.string().c_str(),
+                    c.security.users.empty() ? "generated (operator, engineer, observer)"
+                                             : c.security.users.string().c_str());
+    }
+    if (c.lds) std::printf("  lds\n");
+    if (c.kb) {
+        std::printf("  kb         %s\n", c.kb->sparqlUrl.empty()
+                                             ? "with its own Virtuoso"
+                                             : ("store " + c.kb->sparqlUrl).c_str());
+        for (const auto& p : c.kb->processes) std::printf("    process  %s\n", p.string().c_str());
+    }
+    if (c.mes) std::printf("  mes        step timeout %d ms\n", c.mes->stepTimeoutMs);
+    if (!c.docks.empty() || !c.objects.empty()) std::printf("  world\n");
+    for (const auto& d : c.docks) {
+        std::printf("    dock     %-12s %s\n", d.name.c_str(), describePose(d.pose).c_str());
+    }
+    for (const auto& o : c.objects) {
+        std::printf("    object   %-12s %.3f x %.3f x %.3f m at %s\n", o.name.c_str(), o.size[0],
+                    o.size[1], o.size[2], describePose(o.pose).c_str());
+    }
+    for (const auto& r : c.robots) {
+        std::printf("  %-10s %s, speed %g\n", r.name.c_str(), r.model.c_str(), r.speed);
+    }
+    if (c.toolChanger) std::printf("  %-10s %s\n", c.toolChanger->name.c_str(), "tool changer");
+    for (const auto& t : c.tools) {
+        std::printf("    tool     %-12s in %s, adapter %s, pin %.2f-%.2f V\n", t.name.c_str(),
+                    t.dock.c_str(), t.adapter.c_str(), t.pinVoltage[0], t.pinVoltage[1]);
+    }
+    if (c.pickAndPlace) std::printf("  %-10s %s\n", c.pickAndPlace->name.c_str(), "pick-and-place");
+}
+
+}  // namespace
+
+Command addCellCommand(CLI::App& app) {
+    auto file = std::make_shared<std::string>();
+    CLI::App* cmd =
+        app.add_subcommand("cell", "A whole work cell from its cell file (docs/cells.md)");
+    cmd->require_subcommand(1);
+    CLI::App* check = cmd->add_subcommand(
+        "check",
+        "Read a cell file and list every problem in it (FILE:LINE:COLUMN: what is wrong), or "
+        "what the cell consists of. Exit 0 when it is good, 1 when it has problems.");
+    check->add_option("FILE", *file, "the cell file (TOML), e.g. examples/cells/paper.toml")
+        ->required();
+    return {cmd, [file] {
+                auto result = cell::readCellFile(*file);
+                if (!result.cell) {
+                    for (const auto& p : result.problems) {
+                        std::fprintf(stderr, "%s\n", p.describe().c_str());
+                    }
+                    std::fprintf(stderr, "%zu problem%s; nothing would start\n",
+                                 result.problems.size(), result.problems.size() == 1 ? "" : "s");
+                    return 1;
+                }
+                printSummary(*result.cell);
+                return 0;
+            }};
+}
+
+}  // namespace skillcell::apps

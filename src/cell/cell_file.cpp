@@ -1,0 +1,649 @@
+#include "cell/cell_file.hpp"
+
+#include <toml++/toml.h>
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <initializer_list>
+#include <map>
+#include <set>
+#include <sstream>
+#include <tuple>
+
+#include "devices/toolchanger/tool_table.hpp"
+
+namespace skillcell::cell {
+namespace {
+
+std::string_view typeName(toml::node_type type) {
+    switch (type) {
+        case toml::node_type::table:
+            return "a table";
+        case toml::node_type::array:
+            return "an array";
+        case toml::node_type::string:
+            return "a string";
+        case toml::node_type::integer:
+            return "an integer";
+        case toml::node_type::floating_point:
+            return "a number";
+        case toml::node_type::boolean:
+            return "a boolean";
+        case toml::node_type::date:
+        case toml::node_type::time:
+        case toml::node_type::date_time:
+            return "a date or time";
+        case toml::node_type::none:
+            break;
+    }
+    return "nothing";
+}
+
+/// Names go into command lines and log file names, and into the devices' option syntax
+/// (ID@POSE, ID:BAND:URI): letters, digits, '-' and '_' only.
+bool isName(std::string_view s) {
+    return !s.empty() && s.size() <= 64 && std::all_of(s.begin(), s.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '_';
+    });
+}
+
+/// "a, b, c"
+template <class Names>
+std::string joined(const Names& names) {
+    std::string out;
+    for (std::string_view n : names) {
+        if (!out.empty()) out.append(", ");
+        out.append(n);
+    }
+    return out;
+}
+
+/// Reads one file, collecting every problem instead of stopping at the first.
+class Reader {
+public:
+    Reader(std::string sourceName, std::filesystem::path base)
+        : source_(std::move(sourceName)), base_(std::move(base)) {}
+
+    void problem(const toml::source_region& where, std::string message) {
+        problems_.push_back({source_, static_cast<int>(where.begin.line),
+                             static_cast<int>(where.begin.column), std::move(message)});
+    }
+    std::vector<Problem> takeProblems() { return std::move(problems_); }
+
+    /// Every key of `table` must be one of `allowed`.
+    void onlyKeys(const toml::table& table, std::string_view where,
+                  std::initializer_list<std::string_view> allowed) {
+        for (auto&& [key, node] : table) {
+            if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
+            problem(key.source(), "unknown key '" + std::string(key.str()) + "' in " +
+                                      std::string(where) + "; expected one of: " + joined(allowed));
+        }
+    }
+
+    const toml::table* table(const toml::table& parent, std::string_view key,
+                             std::string_view where) {
+        const toml::node* n = parent.get(key);
+        if (n == nullptr) return nullptr;
+        if (!n->is_table()) {
+            problem(n->source(), std::string(where) + " must be a table, not " +
+                                     std::string(typeName(n->type())));
+            return nullptr;
+        }
+        return n->as_table();
+    }
+
+    /// An array of tables ([[key]]), empty when absent.
+    std::vector<const toml::table*> tables(const toml::table& parent, std::string_view key,
+                                           std::string_view where) {
+        std::vector<const toml::table*> out;
+        const toml::node* n = parent.get(key);
+        if (n == nullptr) return out;
+        const toml::array* a = n->as_array();
+        if (a == nullptr) {
+            problem(n->source(), std::string(where) + " must be an array of tables ([[" +
+                                     std::string(where) + "]]), not " +
+                                     std::string(typeName(n->type())));
+            return out;
+        }
+        for (const auto& e : *a) {
+            if (e.is_table()) {
+                out.push_back(e.as_table());
+            } else {
+                problem(e.source(), "each " + std::string(where) + " must be a table, not " +
+                                        std::string(typeName(e.type())));
+            }
+        }
+        return out;
+    }
+
+    std::optional<std::string> string(const toml::table& t, std::string_view key,
+                                      std::string_view where, bool required) {
+        const toml::node* n = t.get(key);
+        if (n == nullptr) {
+            if (required) missing(t, key, where, "a string");
+            return std::nullopt;
+        }
+        if (auto v = n->value_exact<std::string>()) return *v;
+        wrongType(*n, key, where, "a string");
+        return std::nullopt;
+    }
+
+    std::optional<std::string> name(const toml::table& t, std::string_view where) {
+        auto v = string(t, "name", where, true);
+        if (!v) return std::nullopt;
+        if (!isName(*v)) {
+            problem(t.get("name")->source(), "name '" + *v + "' in " + std::string(where) +
+                                                 ": use 1 to 64 letters, digits, '-' or '_'");
+            return std::nullopt;
+        }
+        return v;
+    }
+
+    std::optional<bool> boolean(const toml::table& t, std::string_view key,
+                                std::string_view where) {
+        const toml::node* n = t.get(key);
+        if (n == nullptr) return std::nullopt;
+        if (auto v = n->value_exact<bool>()) return *v;
+        wrongType(*n, key, where, "true or false");
+        return std::nullopt;
+    }
+
+    std::optional<std::int64_t> integer(const toml::table& t, std::string_view key,
+                                        std::string_view where, std::int64_t lo, std::int64_t hi) {
+        const toml::node* n = t.get(key);
+        if (n == nullptr) return std::nullopt;
+        auto v = n->value_exact<std::int64_t>();
+        if (!v) {
+            wrongType(*n, key, where, "an integer");
+            return std::nullopt;
+        }
+        if (*v < lo || *v > hi) {
+            problem(n->source(), "'" + std::string(key) + "' in " + std::string(where) +
+                                     " must be from " + std::to_string(lo) + " to " +
+                                     std::to_string(hi) + ", not " + std::to_string(*v));
+            return std::nullopt;
+        }
+        return v;
+    }
+
+    std::optional<double> number(const toml::table& t, std::string_view key, std::string_view where,
+                                 double lo, double hi) {
+        const toml::node* n = t.get(key);
+        if (n == nullptr) return std::nullopt;
+        auto v = numberOf(*n);
+        if (!v) {
+            wrongType(*n, key, where, "a number");
+            return std::nullopt;
+        }
+        if (!(*v >= lo && *v <= hi)) {
+            std::ostringstream m;
+            m << "'" << key << "' in " << where << " must be from " << lo << " to " << hi
+              << ", not " << *v;
+            problem(n->source(), m.str());
+            return std::nullopt;
+        }
+        return v;
+    }
+
+    /// An array of exactly `counts` finite numbers (one of them).
+    std::optional<std::vector<double>> numbers(const toml::table& t, std::string_view key,
+                                               std::string_view where,
+                                               std::initializer_list<std::size_t> counts,
+                                               std::string_view meaning, bool required) {
+        const toml::node* n = t.get(key);
+        std::string expected = "an array of ";
+        for (auto c : counts) {
+            expected += (c == *counts.begin() ? "" : " or ") + std::to_string(c);
+        }
+        expected += " numbers (" + std::string(meaning) + ")";
+        if (n == nullptr) {
+            if (required) missing(t, key, where, expected);
+            return std::nullopt;
+        }
+        const toml::array* a = n->as_array();
+        if (a == nullptr || std::find(counts.begin(), counts.end(), a->size()) == counts.end()) {
+            wrongType(*n, key, where, expected);
+            return std::nullopt;
+        }
+        std::vector<double> out;
+        for (const auto& e : *a) {
+            auto v = numberOf(e);
+            if (!v || !std::isfinite(*v)) {
+                problem(e.source(), "'" + std::string(key) + "' in " + std::string(where) + ": " +
+                                        expected + ", but this element is " +
+                                        std::string(typeName(e.type())));
+                return std::nullopt;
+            }
+            out.push_back(*v);
+        }
+        return out;
+    }
+
+    std::optional<Pose> pose(const toml::table& t, std::string_view key, std::string_view where,
+                             bool required) {
+        auto v = numbers(t, key, where, {3, 6}, "x, y, z in m[, a, b, c in rad]", required);
+        if (!v) return std::nullopt;
+        Pose p{(*v)[0], (*v)[1], (*v)[2], 0, 0, 0};
+        if (v->size() == 6) {
+            p.a = (*v)[3];
+            p.b = (*v)[4];
+            p.c = (*v)[5];
+        }
+        return p;
+    }
+
+    /// A path: relative ones are from the cell file's folder; it must exist.
+    std::optional<std::filesystem::path> existingPath(const toml::node& n, std::string_view key,
+                                                      std::string_view where) {
+        auto v = n.value_exact<std::string>();
+        if (!v) {
+            wrongType(n, key, where, "a path (string)");
+            return std::nullopt;
+        }
+        std::filesystem::path p(*v);
+        if (p.is_relative()) p = base_ / p;
+        std::error_code ec;
+        if (!std::filesystem::exists(p, ec)) {
+            problem(n.source(), "'" + std::string(key) + "' in " + std::string(where) + ": " +
+                                    p.string() + " does not exist");
+            return std::nullopt;
+        }
+        return p.lexically_normal();
+    }
+
+    void missing(const toml::table& t, std::string_view key, std::string_view where,
+                 std::string_view expected) {
+        problem(t.source(), std::string(where) + " lacks '" + std::string(key) + "' (" +
+                                std::string(expected) + ")");
+    }
+    void wrongType(const toml::node& n, std::string_view key, std::string_view where,
+                   std::string_view expected) {
+        std::string got(typeName(n.type()));
+        if (const auto* a = n.as_array()) got = "an array of " + std::to_string(a->size());
+        problem(n.source(), "'" + std::string(key) + "' in " + std::string(where) + " must be " +
+                                std::string(expected) + ", not " + got);
+    }
+
+private:
+    static std::optional<double> numberOf(const toml::node& n) {
+        if (auto i = n.value_exact<std::int64_t>()) return static_cast<double>(*i);
+        if (auto d = n.value_exact<double>()) return *d;
+        return std::nullopt;
+    }
+
+    std::string source_;
+    std::filesystem::path base_;
+    std::vector<Problem> problems_;
+};
+
+void readNetwork(Reader& r, const toml::table& root, Network& out) {
+    const toml::table* t = r.table(root, "network", "[network]");
+    if (t == nullptr) return;
+    r.onlyKeys(*t, "[network]", {"kind", "interfaces", "mdns-ttl", "mdns-query-period"});
+    if (auto kind = r.string(*t, "kind", "[network]", false)) {
+        if (*kind == "private") {
+            out.kind = Network::Kind::PrivateNamespace;
+        } else if (*kind == "host") {
+            out.kind = Network::Kind::Host;
+        } else {
+            r.problem(t->get("kind")->source(),
+                      "'kind' in [network] must be \"private\" (a network namespace of the "
+                      "cell's own; needs root) or \"host\", not \"" +
+                          *kind + "\"");
+        }
+    }
+    if (const toml::node* n = t->get("interfaces")) {
+        const toml::array* a = n->as_array();
+        if (a == nullptr) {
+            r.wrongType(*n, "interfaces", "[network]", "an array of interface names");
+        } else {
+            for (const auto& e : *a) {
+                auto name = e.value_exact<std::string>();
+                if (!name || name->empty()) {
+                    r.problem(e.source(),
+                              "'interfaces' in [network]: each must be an "
+                              "interface name (a string)");
+                } else {
+                    out.interfaces.push_back(*name);
+                }
+            }
+            if (out.kind != Network::Kind::Host && !out.interfaces.empty()) {
+                r.problem(n->source(),
+                          "'interfaces' in [network] needs kind = \"host\": a "
+                          "private namespace has its own");
+            }
+        }
+    }
+    // RFC 6762 10: 120 s for records of a host; a TTL below the query period would expire
+    // records between two refreshes.
+    if (auto v = r.integer(*t, "mdns-ttl", "[network]", 1, 4500)) {
+        out.mdnsTtlSeconds = static_cast<int>(*v);
+    }
+    if (auto v = r.integer(*t, "mdns-query-period", "[network]", 1, 3600)) {
+        out.mdnsQueryPeriodSeconds = static_cast<int>(*v);
+    }
+}
+
+void readSecurity(Reader& r, const toml::table& root, Security& out) {
+    const toml::table* t = r.table(root, "security", "[security]");
+    if (t == nullptr) return;
+    r.onlyKeys(*t, "[security]", {"enabled", "ca", "users"});
+    if (auto v = r.boolean(*t, "enabled", "[security]")) out.enabled = *v;
+    if (const toml::node* n = t->get("ca")) {
+        if (auto p = r.existingPath(*n, "ca", "[security]")) out.ca = *p;
+    }
+    if (const toml::node* n = t->get("users")) {
+        if (auto p = r.existingPath(*n, "users", "[security]")) out.users = *p;
+    }
+    if (!out.enabled && (t->get("ca") != nullptr || t->get("users") != nullptr)) {
+        r.problem(t->source(),
+                  "[security] has 'ca' or 'users' but enabled = false: they would not be used");
+    }
+}
+
+void readKnowledgeBase(Reader& r, const toml::table& root, std::optional<KnowledgeBase>& out) {
+    const toml::table* t = r.table(root, "kb", "[kb]");
+    if (t == nullptr) return;
+    out.emplace();
+    r.onlyKeys(*t, "[kb]", {"processes", "sparql-url"});
+    if (const toml::node* n = t->get("processes")) {
+        const toml::array* a = n->as_array();
+        if (a == nullptr) {
+            r.wrongType(*n, "processes", "[kb]", "an array of Turtle files");
+        } else {
+            for (const auto& e : *a) {
+                if (auto p = r.existingPath(e, "processes", "[kb]")) out->processes.push_back(*p);
+            }
+        }
+    }
+    if (auto url = r.string(*t, "sparql-url", "[kb]", false)) {
+        if (url->rfind("http://", 0) != 0 && url->rfind("https://", 0) != 0) {
+            r.problem(
+                t->get("sparql-url")->source(),
+                "'sparql-url' in [kb] must be an http:// or https:// URL, not \"" + *url + "\"");
+        } else {
+            out->sparqlUrl = *url;
+        }
+    }
+}
+
+void readMes(Reader& r, const toml::table& root, std::optional<Mes>& out) {
+    const toml::table* t = r.table(root, "mes", "[mes]");
+    if (t == nullptr) return;
+    out.emplace();
+    r.onlyKeys(*t, "[mes]", {"step-timeout-ms"});
+    if (auto v = r.integer(*t, "step-timeout-ms", "[mes]", 100, 86'400'000)) {
+        out->stepTimeoutMs = static_cast<int>(*v);
+    }
+}
+
+/// Names must be unique among `kind`; reports the second one.
+class NameSet {
+public:
+    explicit NameSet(std::string kind) : kind_(std::move(kind)) {}
+    bool add(Reader& r, const toml::table& t, const std::string& name) {
+        auto [it, inserted] = lines_.emplace(name, static_cast<int>(t.source().begin.line));
+        if (!inserted) {
+            r.problem(t.get("name")->source(), kind_ + " '" + name +
+                                                   "' is defined twice (first on line " +
+                                                   std::to_string(it->second) + ")");
+        }
+        return inserted;
+    }
+    [[nodiscard]] bool has(const std::string& name) const { return lines_.count(name) != 0; }
+
+private:
+    std::string kind_;
+    std::map<std::string, int> lines_;
+};
+
+void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks) {
+    const toml::table* t = r.table(root, "world", "[world]");
+    if (t == nullptr) return;
+    r.onlyKeys(*t, "[world]", {"dock", "object"});
+    for (const toml::table* d : r.tables(*t, "dock", "world.dock")) {
+        r.onlyKeys(*d, "[[world.dock]]", {"name", "pose"});
+        auto name = r.name(*d, "[[world.dock]]");
+        auto pose = r.pose(*d, "pose", "[[world.dock]]", true);
+        if (name && docks.add(r, *d, *name) && pose) out.docks.push_back({*name, *pose});
+    }
+    NameSet objects("object");
+    for (const toml::table* o : r.tables(*t, "object", "world.object")) {
+        r.onlyKeys(*o, "[[world.object]]", {"name", "size", "pose"});
+        auto name = r.name(*o, "[[world.object]]");
+        auto size = r.numbers(*o, "size", "[[world.object]]", {3}, "edges x, y, z in m", true);
+        auto pose = r.pose(*o, "pose", "[[world.object]]", true);
+        if (size && std::any_of(size->begin(), size->end(), [](double e) { return e <= 0; })) {
+            r.problem(o->get("size")->source(), "'size' in [[world.object]]: edges must be > 0");
+            size.reset();
+        }
+        if (name && objects.add(r, *o, *name) && size && pose) {
+            out.objects.push_back({*name, {(*size)[0], (*size)[1], (*size)[2]}, *pose});
+        }
+    }
+}
+
+void readTools(Reader& r, const toml::table& root, CellFile& out, const NameSet& docks) {
+    NameSet names("tool");
+    std::map<std::string, const toml::node*> dockUsers;  // one tool per dock
+    struct Band {
+        std::string tool;
+        double lo, hi;
+    };
+    std::vector<Band> bands;
+    for (const toml::table* t : r.tables(root, "tool", "tool")) {
+        r.onlyKeys(*t, "[[tool]]", {"name", "dock", "adapter", "grip-offset", "pin-voltage"});
+        auto name = r.name(*t, "[[tool]]");
+        const std::string where = name ? "tool '" + *name + "'" : std::string("[[tool]]");
+        auto dock = r.string(*t, "dock", where, true);
+        if (dock && !docks.has(*dock)) {
+            r.problem(t->get("dock")->source(),
+                      where + ": dock '" + *dock + "' is not a [[world.dock]] of this cell");
+            dock.reset();
+        } else if (dock) {
+            auto [it, first] = dockUsers.emplace(*dock, t->get("dock"));
+            if (!first) {
+                r.problem(t->get("dock")->source(),
+                          where + ": dock '" + *dock + "' already holds another tool (line " +
+                              std::to_string(it->second->source().begin.line) + ")");
+                dock.reset();
+            }
+        }
+        auto adapter = r.string(*t, "adapter", where, true);
+        if (adapter) {
+            const auto& models = adapterModels();
+            if (std::find(models.begin(), models.end(), *adapter) == models.end()) {
+                r.problem(t->get("adapter")->source(),
+                          where + ": adapter '" + *adapter +
+                              "' is not a gripper model; expected one of: " + joined(models));
+                adapter.reset();
+            }
+        }
+        auto offset = r.numbers(*t, "grip-offset", where, {3},
+                                "its grip point from the mounting plate, x, y, z in m", true);
+        auto band = r.numbers(*t, "pin-voltage", where, {2},
+                              "the band the tool changer reads on its identification pin, "
+                              "min and max in V",
+                              true);
+        if (band) {
+            const double lo = (*band)[0];
+            const double hi = (*band)[1];
+            const auto* n = t->get("pin-voltage");
+            if (!(lo < hi) || lo < devices::toolchanger::kNoToolVolts) {
+                std::ostringstream m;
+                m << where << ": 'pin-voltage' must be [MIN, MAX] with MIN < MAX and MIN >= "
+                  << devices::toolchanger::kNoToolVolts << " V (below: no tool)";
+                r.problem(n->source(), m.str());
+                band.reset();
+            } else {
+                for (const auto& b : bands) {
+                    if (lo <= b.hi && b.lo <= hi) {
+                        r.problem(n->source(), where + ": 'pin-voltage' overlaps that of tool '" +
+                                                   b.tool +
+                                                   "': the changer could not tell them apart");
+                        band.reset();
+                        break;
+                    }
+                }
+                if (band && name) bands.push_back({*name, lo, hi});
+            }
+        }
+        if (name && names.add(r, *t, *name) && dock && adapter && offset && band) {
+            out.tools.push_back({*name,
+                                 *dock,
+                                 *adapter,
+                                 {(*offset)[0], (*offset)[1], (*offset)[2]},
+                                 {(*band)[0], (*band)[1]}});
+        }
+    }
+}
+
+void readDevices(Reader& r, const toml::table& root, CellFile& out, NameSet& components) {
+    for (const toml::table* t : r.tables(root, "robot", "robot")) {
+        r.onlyKeys(*t, "[[robot]]", {"name", "model", "speed"});
+        auto name = r.name(*t, "[[robot]]");
+        const std::string where = name ? "robot '" + *name + "'" : std::string("[[robot]]");
+        auto model = r.string(*t, "model", where, true);
+        if (model) {
+            const auto& models = robotModels();
+            if (std::find(models.begin(), models.end(), *model) == models.end()) {
+                r.problem(t->get("model")->source(),
+                          where + ": model '" + *model +
+                              "' is not a robot model; expected: " + joined(models));
+                model.reset();
+            }
+        }
+        Robot robot;
+        if (auto s = r.number(*t, "speed", where, 0.01, 1000)) robot.speed = *s;
+        if (name && components.add(r, *t, *name) && model) {
+            robot.name = *name;
+            robot.model = *model;
+            out.robots.push_back(std::move(robot));
+        }
+    }
+    if (const toml::table* t = r.table(root, "toolchanger", "[toolchanger]")) {
+        r.onlyKeys(*t, "[toolchanger]", {"name", "model"});
+        ToolChanger changer;
+        if (t->get("name") != nullptr) {
+            if (auto name = r.name(*t, "[toolchanger]")) changer.name = *name;
+        }
+        if (auto model = r.string(*t, "model", "[toolchanger]", false)) {
+            if (*model != "kelvin") {
+                r.problem(t->get("model")->source(),
+                          "'model' in [toolchanger] must be \"kelvin\", not \"" + *model + "\"");
+            }
+        }
+        if (components.add(r, *t, changer.name)) out.toolChanger = changer;
+    }
+    if (const toml::table* t = r.table(root, "pickplace", "[pickplace]")) {
+        r.onlyKeys(*t, "[pickplace]", {"name"});
+        PickAndPlace composite;
+        if (t->get("name") != nullptr) {
+            if (auto name = r.name(*t, "[pickplace]")) composite.name = *name;
+        }
+        if (components.add(r, *t, composite.name)) out.pickAndPlace = composite;
+    }
+}
+
+/// What one part needs of another: reported once, at the part that needs it.
+void checkDependencies(Reader& r, const toml::table& root, const CellFile& cell) {
+    auto at = [&](std::string_view key) { return root.get(key)->source(); };
+    const bool world = root.get("world") != nullptr;
+    if (cell.mes && !cell.kb) {
+        r.problem(at("mes"), "[mes] needs a [kb]: it reads the processes and skills there");
+    }
+    if (root.get("tool") != nullptr && !cell.toolChanger) {
+        r.problem(at("tool"), "[[tool]] needs a [toolchanger] to mount the tools");
+    }
+    if (cell.toolChanger && (cell.robots.empty() || !world)) {
+        r.problem(at("toolchanger"),
+                  "[toolchanger] needs a [[robot]] to move and a [world] with its docks");
+    }
+    if (cell.pickAndPlace && (cell.robots.empty() || !cell.toolChanger)) {
+        r.problem(at("pickplace"),
+                  "[pickplace] needs a [[robot]] and a [toolchanger]: it composes their skills");
+    }
+    if (!cell.robots.empty() && !world) {
+        r.problem(at("robot"), "[[robot]] needs a [world]: the robot reports its flange there");
+    }
+}
+
+}  // namespace
+
+std::string Problem::describe() const {
+    if (line <= 0) return file + ": " + message;
+    return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message;
+}
+
+const std::vector<std::string_view>& adapterModels() {
+    static const std::vector<std::string_view> models = {"robotiq-2f85", "dh-ag95",
+                                                         "schmalz-ecbpi"};
+    return models;
+}
+
+const std::vector<std::string_view>& robotModels() {
+    static const std::vector<std::string_view> models = {"ur5"};
+    return models;
+}
+
+ReadResult readCellText(std::string_view text, const std::string& sourceName,
+                        const std::filesystem::path& baseDirectory) {
+    ReadResult result;
+    toml::table root;
+    try {
+        root = toml::parse(text, sourceName);
+    } catch (const toml::parse_error& e) {
+        result.problems.push_back({sourceName, static_cast<int>(e.source().begin.line),
+                                   static_cast<int>(e.source().begin.column),
+                                   std::string(e.description())});
+        return result;
+    }
+    Reader r(sourceName, baseDirectory);
+    CellFile cell;
+    r.onlyKeys(root, "the cell file",
+               {"name", "network", "security", "lds", "kb", "mes", "world", "tool", "robot",
+                "toolchanger", "pickplace"});
+    if (auto name = r.name(root, "the cell file")) cell.name = *name;
+    readNetwork(r, root, cell.network);
+    readSecurity(r, root, cell.security);
+    if (const toml::table* t = r.table(root, "lds", "[lds]")) {
+        r.onlyKeys(*t, "[lds]", {});
+        cell.lds = true;
+    }
+    readKnowledgeBase(r, root, cell.kb);
+    readMes(r, root, cell.mes);
+    NameSet docks("dock");
+    readWorld(r, root, cell, docks);
+    readTools(r, root, cell, docks);
+    NameSet components("component");
+    readDevices(r, root, cell, components);
+    checkDependencies(r, root, cell);
+    result.problems = r.takeProblems();
+    std::stable_sort(result.problems.begin(), result.problems.end(),
+                     [](const Problem& a, const Problem& b) {
+                         return std::tie(a.line, a.column) < std::tie(b.line, b.column);
+                     });
+    if (result.problems.empty()) result.cell = std::move(cell);
+    return result;
+}
+
+ReadResult readCellFile(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        return {std::nullopt,
+                {{path.string(), 0, 0, "cannot open: " + std::string(std::strerror(errno))}}};
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    auto base = path.parent_path();
+    if (base.empty()) base = ".";
+    auto result = readCellText(text.str(), path.string(), base);
+    if (result.cell) result.cell->path = path;
+    return result;
+}
+
+}  // namespace skillcell::cell

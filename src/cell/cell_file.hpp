@@ -1,0 +1,135 @@
+#pragma once
+// A cell file: one TOML file that describes a whole work cell, its software components, its
+// simulated devices and their scene, its security and its network (docs/cells.md). This is
+// the value it is read into, and the reader, which checks everything before anything starts:
+// a wrong file gives every problem at once, each with file:line:column, and no CellFile.
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "common/expected.hpp"
+
+namespace skillcell::cell {
+
+/// A pose in the cell's base frame: metres, and radians about the fixed X, Y, Z axes (the
+/// devices layer's convention, src/devices/common/frame.hpp).
+struct Pose {
+    double x = 0, y = 0, z = 0, a = 0, b = 0, c = 0;
+    friend bool operator==(const Pose&, const Pose&) = default;
+};
+
+/// Where the cell's components find each other by mDNS.
+struct Network {
+    enum class Kind { PrivateNamespace, Host };
+    Kind kind = Kind::PrivateNamespace;   // a namespace needs root; Host uses the host's links
+    std::vector<std::string> interfaces;  // Host: the interfaces mDNS uses; empty: all
+    int mdnsTtlSeconds = 120;
+    int mdnsQueryPeriodSeconds = 30;
+};
+
+struct Security {
+    bool enabled = true;
+    /// Empty: generate a cell CA in the cell's work directory; else a directory holding one
+    /// (as `skillcell pki init` makes it).
+    std::filesystem::path ca;
+    /// Empty: generate the users operator (Operator), engineer (Engineer) and observer
+    /// (Observer) with fresh passwords; else a user database (`skillcell user add`).
+    std::filesystem::path users;
+};
+
+struct KnowledgeBase {
+    std::vector<std::filesystem::path> processes;  // Turtle files loaded at start (checked)
+    std::string sparqlUrl;  // an external SPARQL store instead of the KB's own Virtuoso
+};
+
+struct Mes {
+    int stepTimeoutMs = 300'000;
+};
+
+struct Dock {
+    std::string name;
+    Pose pose;  // the flange pose at which its tool locks
+};
+
+/// A box in the world.
+struct WorldObject {
+    std::string name;
+    std::array<double, 3> size{};  // edges, m
+    Pose pose;                     // its centre
+};
+
+/// A tool: where it is stored, what the tool changer reads on its identification pin, and
+/// the adapter that the changer powers when it is mounted.
+struct Tool {
+    std::string name;
+    std::string dock;
+    std::string adapter;                 // a gripper model: robotiq-2f85, dh-ag95, schmalz-ecbpi
+    std::array<double, 3> gripOffset{};  // its grip point from the mounting plate, m
+    std::array<double, 2> pinVoltage{};  // the band on the changer's identification pin, V
+};
+
+struct Robot {
+    std::string name;
+    std::string model;  // ur5
+    double speed = 1;   // simulated seconds per real second
+};
+
+struct ToolChanger {
+    std::string name = "toolchanger";
+    std::string model = "kelvin";
+};
+
+struct PickAndPlace {
+    std::string name = "pickplace";
+};
+
+struct CellFile {
+    std::filesystem::path path;  // where it was read from; relative paths are from its folder
+    std::string name;
+    Network network;
+    Security security;
+    bool lds = false;  // a local discovery server (LDS-ME) of the cell's own
+    std::optional<KnowledgeBase> kb;
+    std::optional<Mes> mes;
+    std::vector<Dock> docks;
+    std::vector<WorldObject> objects;
+    std::vector<Tool> tools;
+    std::vector<Robot> robots;
+    std::optional<ToolChanger> toolChanger;
+    std::optional<PickAndPlace> pickAndPlace;
+};
+
+/// One problem in a cell file, where it is.
+struct Problem {
+    std::string file;
+    int line = 0;
+    int column = 0;
+    std::string message;  // names the key and what was expected
+    /// "FILE:LINE:COLUMN: MESSAGE", as compilers print it ("FILE: MESSAGE" without a line).
+    [[nodiscard]] std::string describe() const;
+};
+
+/// A cell file, or every problem found in it.
+struct ReadResult {
+    std::optional<CellFile> cell;
+    std::vector<Problem> problems;  // empty when `cell` is set
+};
+
+/// The gripper models an adapter may be, as `skillcell device` names them.
+[[nodiscard]] const std::vector<std::string_view>& adapterModels();
+/// The robot models.
+[[nodiscard]] const std::vector<std::string_view>& robotModels();
+
+/// Reads and checks a cell file. Unknown keys, values of the wrong type or outside their
+/// range, missing keys, duplicate names, dangling references (a tool in a dock that does not
+/// exist), overlapping pin-voltage bands and missing process files are all problems.
+[[nodiscard]] ReadResult readCellFile(const std::filesystem::path& path);
+/// The same for text already in memory; `sourceName` is what problems call the file, and
+/// relative paths are resolved from `baseDirectory`.
+[[nodiscard]] ReadResult readCellText(std::string_view text, const std::string& sourceName,
+                                      const std::filesystem::path& baseDirectory);
+
+}  // namespace skillcell::cell
