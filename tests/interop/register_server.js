@@ -48,6 +48,7 @@ const {
     nodesets
 } = require("node-opcua");
 const { OPCUAClientBase } = require("node-opcua-client");
+const { RegisterServerManagerStatus } = require("node-opcua-server/dist/i_register_server_manager.js");
 const {
     HOST,
     pkiRoot,
@@ -190,6 +191,26 @@ function createServer(port, ldsUrl, opts) {
     return new OPCUAServer(options);
 }
 
+// node-opcua's RegisterServerManager, stopped while a registration request is in flight,
+// cancels that request and then sends no unregistration at all (seen with --keep-trying, which
+// renews every second: SIGTERM during a renewal left "no unregistration was sent"). So a
+// shutdown first lets the request in flight settle, bounded by 10 s.
+async function registrationSettled(server) {
+    const manager = server && server.registerServerManager;
+    if (!manager || manager.getState() !== RegisterServerManagerStatus.REGISTERING) return;
+    log("a registration request is in flight: letting it settle before unregistering");
+    await new Promise((resolve) => {
+        const timer = setTimeout(resolve, 10000);
+        const settled = () => {
+            clearTimeout(timer);
+            resolve();
+        };
+        server.once("serverRegistrationRenewed", settled);
+        server.once("serverRegistered", settled);
+        manager.once("serverRegistrationFailure", settled);
+    });
+}
+
 async function main() {
     const { positional, opts } = parseArgs(
         process.argv.slice(2),
@@ -224,6 +245,7 @@ async function main() {
         const guard = setTimeout(() => process.exit(code), 15000);
         guard.unref();
         try {
+            await registrationSettled(server);
             // unregisters from the LDS (RegisterServer2 isOnline=false) before closing
             if (server) await server.shutdown(0);
         } catch (err) {
