@@ -38,15 +38,21 @@ void printSummary(const cell::CellFile& c) {
                     c.security.users.empty() ? "generated (operator, engineer, observer)"
                                              : c.security.users.string().c_str());
     }
-    if (c.lds) std::printf("  lds\n");
+    // One line per component: its name, then what it is.
+    const auto component = [](const std::string& name, const std::string& what) {
+        std::printf("  %-13s %s\n", name.c_str(), what.c_str());
+    };
+    if (c.lds) component("lds", "local discovery server (LDS-ME)");
     if (c.kb) {
-        std::printf("  kb         %s\n", c.kb->sparqlUrl.empty()
-                                             ? "with its own Virtuoso"
-                                             : ("store " + c.kb->sparqlUrl).c_str());
+        component("kb", c.kb->sparqlUrl.empty() ? "knowledge base, with its own Virtuoso"
+                                                : "knowledge base, store " + c.kb->sparqlUrl);
         for (const auto& p : c.kb->processes) std::printf("    process  %s\n", p.string().c_str());
     }
-    if (c.mes) std::printf("  mes        step timeout %d ms\n", c.mes->stepTimeoutMs);
-    if (!c.docks.empty() || !c.objects.empty()) std::printf("  world\n");
+    if (c.mes) {
+        component("mes",
+                  "semantic MES, step timeout " + std::to_string(c.mes->stepTimeoutMs) + " ms");
+    }
+    if (!c.docks.empty() || !c.objects.empty()) component("world", "world model");
     for (const auto& d : c.docks) {
         std::printf("    dock     %-12s %s\n", d.name.c_str(), describePose(d.pose).c_str());
     }
@@ -55,14 +61,17 @@ void printSummary(const cell::CellFile& c) {
                     o.size[1], o.size[2], describePose(o.pose).c_str());
     }
     for (const auto& r : c.robots) {
-        std::printf("  %-10s %s, speed %g\n", r.name.c_str(), r.model.c_str(), r.speed);
+        char speed[32];
+        std::snprintf(speed, sizeof speed, "%g", r.speed);
+        component(r.name, "robot " + r.model + ", speed " + speed);
     }
-    if (c.toolChanger) std::printf("  %-10s %s\n", c.toolChanger->name.c_str(), "tool changer");
+    if (c.toolChanger)
+        component(c.toolChanger->name, "tool changer (" + c.toolChanger->model + ")");
     for (const auto& t : c.tools) {
         std::printf("    tool     %-12s in %s, adapter %s, pin %.2f-%.2f V\n", t.name.c_str(),
                     t.dock.c_str(), t.adapter.c_str(), t.pinVoltage[0], t.pinVoltage[1]);
     }
-    if (c.pickAndPlace) std::printf("  %-10s %s\n", c.pickAndPlace->name.c_str(), "pick-and-place");
+    if (c.pickAndPlace) component(c.pickAndPlace->name, "pick-and-place composite");
 }
 
 }  // namespace

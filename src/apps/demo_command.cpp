@@ -35,6 +35,8 @@
 #include <vector>
 
 #include "application_identity.hpp"
+#include "cell/cell_file.hpp"
+#include "cell/device_arguments.hpp"
 #include "cell_process.hpp"
 #include "client_security_options.hpp"
 #include "commands.hpp"
@@ -56,7 +58,8 @@ using Clock = std::chrono::steady_clock;
 constexpr const char* kProcessIri = "http://skillcell.dev/demo#pickAndPlaceTwoBoxes";
 
 struct DemoOptions {
-    double speed = 10;
+    std::string cellFile = SKILLCELL_DEFAULT_CELL;  // examples/cells/paper.toml of the source tree
+    double speed = 0;                               // 0: the cell file's robot speed
     std::string bootProfile = "tinyua";
     int runs = 5;
     bool keepRunning = false;
@@ -64,6 +67,36 @@ struct DemoOptions {
     std::string workDir;
     double processTimeoutSeconds = 900;
 };
+
+/// How the demo's table calls an adapter, and the paper's detection time for it
+/// (section VIII-C; 0: the paper has none).
+struct AdapterFigure {
+    std::string_view model;
+    const char* label;
+    double paperMs;
+};
+constexpr AdapterFigure kAdapterFigures[] = {{"robotiq-2f85", "Robotiq adapter", 8422},
+                                             {"schmalz-ecbpi", "Schmalz adapter", 9635},
+                                             {"dh-ag95", "AG-95 adapter", 0}};
+
+/// What the demo needs of a cell file: the paper's process runs on a tool changer that moves
+/// a UR5, the pick-and-place composite, and the KB and MES; empty when the cell has them.
+std::string whatTheDemoLacks(const cell::CellFile& c) {
+    std::string lacks;
+    auto need = [&](bool has, const char* what) {
+        if (!has) lacks += (lacks.empty() ? "" : ", ") + std::string(what);
+    };
+    need(c.lds, "[lds]");
+    need(c.kb.has_value(), "[kb]");
+    need(c.mes.has_value(), "[mes]");
+    need(c.robots.size() == 1 && c.robots[0].model == "ur5", "one [[robot]] of model ur5");
+    need(c.toolChanger.has_value(), "[toolchanger]");
+    need(!c.tools.empty(), "[[tool]]");
+    need(c.pickAndPlace.has_value(), "[pickplace]");
+    need(c.security.enabled && c.security.ca.empty() && c.security.users.empty(),
+         "[security] enabled, with the CA and users generated");
+    return lacks;
+}
 
 /// A component whose detection time the paper reports.
 struct MeasuredComponent {
@@ -203,8 +236,9 @@ bool prepareSecurity(const fs::path& dir, std::string* error) {
 
 class DemoCell {
 public:
-    DemoCell(const DemoOptions& o, WorkDirectory& work, std::string skillcell)
-        : o_(o), work_(work), skillcell_(std::move(skillcell)) {}
+    DemoCell(const DemoOptions& o, const cell::CellFile& cell, WorkDirectory& work,
+             std::string skillcell)
+        : o_(o), cell_(cell), work_(work), skillcell_(std::move(skillcell)) {}
     DemoCell(const DemoCell&) = delete;
     DemoCell& operator=(const DemoCell&) = delete;
     /// The tool changer first: it powers its tools off as it stops.
@@ -243,7 +277,13 @@ private:
     void showDetectionTable(const std::vector<MeasuredComponent>& measured) const;
     void stopAll();
 
+    /// --speed, else the cell file's robot speed: for the robot and the grippers alike.
+    [[nodiscard]] double speed() const {
+        return o_.speed > 0 ? o_.speed : cell_.robots.front().speed;
+    }
+
     const DemoOptions& o_;
+    const cell::CellFile& cell_;
     WorkDirectory& work_;
     std::string skillcell_;
     std::optional<ApplicationIdentity> identity_;  // the demo's own, from the cell CA
@@ -277,7 +317,7 @@ std::vector<std::string> DemoCell::componentArgs(const std::string& name, bool a
 std::string DemoCell::adapterCommand(const std::string& kind, const std::string& extra) const {
     std::string cmd = skillcell_ + " device " + kind + " --world " + worldUrl_;
     for (const auto& a : componentArgs(kind, true)) cmd += " " + a;
-    cmd += " --speed " + std::to_string(o_.speed) + " --boot-profile " + o_.bootProfile;
+    cmd += " --speed " + std::to_string(speed()) + " --boot-profile " + o_.bootProfile;
     if (!extra.empty()) cmd += " " + extra;
     return cmd;
 }
@@ -331,13 +371,9 @@ bool DemoCell::startInfrastructure() {
         300s);
     if (kb) sparqlUrl_ = kb->reported("SPARQL");
     if (!keep(std::move(kb), "  SPARQL " + sparqlUrl_)) return false;
-    std::vector<std::string> scene = {"device",   "world",
-                                      "--dock",   "dockP@0.3,-0.45,0.35,3.141592653589793,0,0",
-                                      "--dock",   "dockV@0.45,-0.3,0.35,3.141592653589793,0,0",
-                                      "--tool",   "parallel:dockP@0,0,0.15",
-                                      "--tool",   "vacuum:dockV@0,0,0.12",
-                                      "--object", "boxA:0.04,0.1,0.05@0.45,0.15,0.025",
-                                      "--object", "boxB:0.04,0.04,0.04@0.45,-0.05,0.02"};
+    std::vector<std::string> scene = {"device", "world"};
+    const auto fromCell = cell::worldArguments(cell_);  // docks, tools, boxes
+    scene.insert(scene.end(), fromCell.begin(), fromCell.end());
     if (o_.swap) {
         // A shelf beside the cell with the other parallel gripper (a DH AG-95, 1 cm longer),
         // and a free place for the Robotiq when it is taken out.
@@ -613,8 +649,9 @@ void DemoCell::showDetectionTable(const std::vector<MeasuredComponent>& measured
 void DemoCell::stopAll() {
     // The tool changer powers its tools off when it stops: it goes first; then the others, the
     // last started first.
-    std::stable_partition(running_.begin(), running_.end(),
-                          [](const CellProcess& p) { return p.name() == "toolchanger"; });
+    std::stable_partition(running_.begin(), running_.end(), [this](const CellProcess& p) {
+        return p.name() == cell_.toolChanger->name;
+    });
     for (auto& p : running_) {
         if (auto s = p.stop(10s); !s) std::cerr << "demo: " << s.error() << "\n";
     }
@@ -657,17 +694,22 @@ int DemoCell::run(const Interruption& interruption) {
     // Commissioning: every component gets its certificate from the cell CA before it first
     // starts, as a device gets it before it joins a plant. Else its first start would make
     // an RSA key and count that in its detection time.
-    for (const auto& [name, uri] : std::vector<std::pair<std::string, std::string>>{
-             {"lds", "urn:skillcell:lds"},
-             {"kb", "urn:skillcell:kb"},
-             {"world", "urn:skillcell:device:world"},
-             {"robotiq", "urn:skillcell:device:robotiq-2f85"},
-             {"schmalz", "urn:skillcell:device:schmalz-ecbpi"},
-             {"toolchanger", "urn:skillcell:device:kelvin-toolchanger"},
-             {"ur5", "urn:skillcell:device:ur5"},
-             {"pickplace", "urn:skillcell:device:pick-and-place"},
-             {"mes", "urn:skillcell:mes"},
-             {"ag95", "urn:skillcell:device:dh-ag95"}}) {
+    const std::string robot = cell_.robots.front().name;
+    const std::string changer = cell_.toolChanger->name;
+    const std::string pickplace = cell_.pickAndPlace->name;
+    std::vector<std::pair<std::string, std::string>> components = {
+        {"lds", "urn:skillcell:lds"},
+        {"kb", "urn:skillcell:kb"},
+        {"world", "urn:skillcell:device:world"},
+        {changer, "urn:skillcell:device:kelvin-toolchanger"},
+        {robot, "urn:skillcell:device:ur5"},
+        {pickplace, "urn:skillcell:device:pick-and-place"},
+        {"mes", "urn:skillcell:mes"}};
+    // Every adapter model: --swap powers one that the cell file does not have in a dock.
+    for (const auto& m : cell::adapterModelTable()) {
+        components.emplace_back(std::string(m.command), std::string(m.applicationUri));
+    }
+    for (const auto& [name, uri] : components) {
         if (!commission(name, uri, &error)) {
             std::cerr << "demo: the certificate of " << name << ": " << error << "\n";
             return 1;
@@ -677,24 +719,18 @@ int DemoCell::run(const Interruption& interruption) {
     std::printf("== the cell's infrastructure (each component a process; security on)\n");
     if (!startInfrastructure()) return 1;
 
-    const std::string speed = std::to_string(o_.speed);
+    const std::string speedText = std::to_string(speed());
     const std::string detectionTimeout = std::to_string(o_.bootProfile == "none" ? 20'000 : 60'000);
     std::vector<MeasuredComponent> measured;
+    // The tool table and the adapters the changer powers come from the cell file's tools.
+    const auto powerCommand = [this](const cell::Tool& tool, const cell::AdapterModel& model) {
+        return adapterCommand(std::string(model.command),
+                              "--grip-offset " + cell::vectorArgument(tool.gripOffset));
+    };
     std::vector<std::string> changerArgs = {
-        "device",
-        "toolchanger",
-        "--world",
-        worldUrl_,
-        "--detection-timeout-ms",
-        detectionTimeout,
-        "--tool",
-        "parallel:1.0-1.5:urn:skillcell:device:robotiq-2f85",
-        "--tool",
-        "vacuum:2.0-2.5:urn:skillcell:device:schmalz-ecbpi",
-        "--power",
-        "parallel=" + adapterCommand("robotiq", "--grip-offset 0,0,0.15"),
-        "--power",
-        "vacuum=" + adapterCommand("schmalz", "")};
+        "device", "toolchanger", "--world", worldUrl_, "--detection-timeout-ms", detectionTimeout};
+    const auto table = cell::toolTableArguments(cell_, powerCommand);
+    changerArgs.insert(changerArgs.end(), table.begin(), table.end());
     if (o_.swap) {
         // The changer's table knows the AG-95's coding resistor and its adapter; nothing else
         // in the cell (not the process, not the MES) hears of it.
@@ -703,8 +739,8 @@ int DemoCell::run(const Interruption& interruption) {
                             "ag95=" + adapterCommand("ag95", "--grip-offset 0,0,0.16")});
     }
     // name, label, application URI, the paper's figure, stays up for the process; arguments.
-    auto add = [&](const char* name, const char* label, const char* uri, double paperMs, bool stays,
-                   std::vector<std::string> head) {
+    auto add = [&](const std::string& name, const std::string& label, const std::string& uri,
+                   double paperMs, bool stays, std::vector<std::string> head) {
         MeasuredComponent m;
         m.name = name;
         m.label = label;
@@ -716,17 +752,26 @@ int DemoCell::run(const Interruption& interruption) {
         m.args = std::move(head);
         measured.push_back(std::move(m));
     };
-    add("robotiq", "Robotiq adapter", "urn:skillcell:device:robotiq-2f85", 8422, false,
-        {"device", "robotiq", "--world", worldUrl_, "--speed", speed, "--boot-profile",
-         o_.bootProfile, "--grip-offset", "0,0,0.15"});
-    add("schmalz", "Schmalz adapter", "urn:skillcell:device:schmalz-ecbpi", 9635, false,
-        {"device", "schmalz", "--world", worldUrl_, "--speed", speed, "--boot-profile",
-         o_.bootProfile});
-    add("toolchanger", "tool changer", "urn:skillcell:device:kelvin-toolchanger", 253, true,
-        changerArgs);
-    add("ur5", "UR5", "urn:skillcell:device:ur5", 313, true,
-        {"device", "ur5", "--world", worldUrl_, "--speed", speed});
-    add("pickplace", "pick-and-place", "urn:skillcell:device:pick-and-place", 211, true,
+    // Each tool's adapter, started on its own here (in the process, the changer powers it).
+    for (const auto& tool : cell_.tools) {
+        const cell::AdapterModel& model = *cell::findAdapterModel(tool.adapter);
+        std::string label = std::string(model.command) + " adapter";
+        double paperMs = 0;
+        for (const auto& f : kAdapterFigures) {
+            if (f.model == model.name) {
+                label = f.label;
+                paperMs = f.paperMs;
+            }
+        }
+        add(std::string(model.command), label, std::string(model.applicationUri), paperMs, false,
+            {"device", std::string(model.command), "--world", worldUrl_, "--speed", speedText,
+             "--boot-profile", o_.bootProfile, "--grip-offset",
+             cell::vectorArgument(tool.gripOffset)});
+    }
+    add(changer, "tool changer", "urn:skillcell:device:kelvin-toolchanger", 253, true, changerArgs);
+    add(robot, "UR5", "urn:skillcell:device:ur5", 313, true,
+        {"device", "ur5", "--world", worldUrl_, "--speed", speedText});
+    add(pickplace, "pick-and-place", "urn:skillcell:device:pick-and-place", 211, true,
         {"device", "pickplace", "--world", worldUrl_, "--detection-timeout-ms", detectionTimeout});
 
     std::printf(
@@ -823,6 +868,28 @@ int runDemo(const DemoOptions& o) {
         std::cerr << "demo: cannot find the skillcell program (/proc/self/exe)\n";
         return 2;
     }
+    // The cell file before anything starts: every problem in it, or nothing happens.
+    const auto read = cell::readCellFile(o.cellFile);
+    if (!read.cell) {
+        for (const auto& p : read.problems) std::cerr << p.describe() << "\n";
+        std::cerr << "demo: the cell file " << o.cellFile << " has " << read.problems.size()
+                  << " problem(s); nothing started\n";
+        return 2;
+    }
+    if (const auto lacks = whatTheDemoLacks(*read.cell); !lacks.empty()) {
+        std::cerr << "demo: " << o.cellFile << ": the demo runs the paper's process, which needs "
+                  << lacks << " in the cell file\n";
+        return 2;
+    }
+    // --swap takes the parallel gripper out of the paper's dockP (swapParallelGripper).
+    const auto& tools = read.cell->tools;
+    if (o.swap && std::none_of(tools.begin(), tools.end(), [](const cell::Tool& t) {
+            return t.name == "parallel" && t.dock == "dockP";
+        })) {
+        std::cerr << "demo: --swap needs the paper's tool 'parallel' in dock 'dockP'; "
+                  << o.cellFile << " has no such tool\n";
+        return 2;
+    }
     std::string error;
     auto work = WorkDirectory::create(o.workDir, &error);
     if (!work) {
@@ -830,11 +897,11 @@ int runDemo(const DemoOptions& o) {
         return 2;
     }
     const Interruption interruption;  // before any thread: they inherit the mask
-    std::printf("skillcell demo: the paper's work cell, every component a process (logs in %s)\n",
-                (work->path() / "logs").string().c_str());
+    std::printf("skillcell demo: the work cell of %s, every component a process (logs in %s)\n",
+                o.cellFile.c_str(), (work->path() / "logs").string().c_str());
     int rc = 0;
     {
-        DemoCell cell(o, *work, skillcell);
+        DemoCell cell(o, *read.cell, *work, skillcell);
         rc = cell.run(interruption);
         if (rc != 0) std::printf("\n== stopping the cell\n");
     }
@@ -859,10 +926,14 @@ Command addDemoCommand(CLI::App& app) {
         "world state, the MES's journal and the detection times beside the paper's. Exit code "
         "0 when the process completed, 1 when it or the cell failed (the logs are kept), 2 "
         "when the demo cannot run here, 130 when interrupted.");
-    cmd->add_option("--speed", o->speed,
-                    "simulated seconds per real second for the robot and the grippers")
-        ->check(CLI::Range(0.1, 1000.0))
+    cmd->add_option("--cell", o->cellFile,
+                    "the cell file: the scene, the robot, the tools and their adapters "
+                    "(docs/cells.md)")
         ->capture_default_str();
+    cmd->add_option("--speed", o->speed,
+                    "simulated seconds per real second for the robot and the grippers "
+                    "(default: the cell file's robot speed)")
+        ->check(CLI::Range(0.1, 1000.0));
     cmd->add_option("--boot-profile", o->bootProfile,
                     "how the gripper adapters start: tinyua, like the paper's Wi-Fi "
                     "microcontroller boards (8-10 s); none, at once")

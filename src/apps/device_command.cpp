@@ -16,6 +16,7 @@
 //            the mounted tool's Grasp and Release, the object from the world model
 #include <spdlog/spdlog.h>
 
+#include "cell/device_arguments.hpp"
 #include "commands.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/dh/ag95_component.hpp"
@@ -377,11 +378,19 @@ CLI::App* addParallelGripper(CLI::App* device, std::vector<Command>& commands,
     return cmd;
 }
 
+/// A parallel gripper's command and URI, as cell files name them
+/// (src/cell/device_arguments.cpp).
+ParallelGripperModel fromAdapterModel(std::string_view name) {
+    const cell::AdapterModel& model = *cell::findAdapterModel(name);
+    ParallelGripperModel m;
+    m.command = std::string(model.command);
+    m.applicationUri = std::string(model.applicationUri);
+    return m;
+}
+
 ParallelGripperModel robotiq2f85() {
     namespace rq = devices::robotiq;
-    ParallelGripperModel m;
-    m.command = "robotiq";
-    m.applicationUri = "urn:skillcell:device:robotiq-2f85";
+    ParallelGripperModel m = fromAdapterModel("robotiq-2f85");
     m.applicationName = "skillcell Robotiq 2F-85";
     m.description =
         "Run the Robotiq 2F-85 adapter (Modbus RTU) with the skills Grasp, Release and "
@@ -418,9 +427,7 @@ ParallelGripperModel robotiq2f85() {
 
 ParallelGripperModel dhAg95() {
     namespace dh = devices::dh;
-    ParallelGripperModel m;
-    m.command = "ag95";
-    m.applicationUri = "urn:skillcell:device:dh-ag95";
+    ParallelGripperModel m = fromAdapterModel("dh-ag95");
     m.applicationName = "skillcell DH-Robotics AG-95";
     m.description =
         "Run the DH-Robotics AG-95 adapter (Modbus RTU) with the same skills as every "
@@ -516,10 +523,12 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
 
 CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
     auto options = std::make_shared<SchmalzOptions>();
-    options->process.applicationUri = "urn:skillcell:device:schmalz-ecbpi";
+    // Its command and URI, as cell files name them (src/cell/device_arguments.cpp).
+    const cell::AdapterModel& model = *cell::findAdapterModel("schmalz-ecbpi");
+    options->process.applicationUri = std::string(model.applicationUri);
     options->process.applicationName = "skillcell Schmalz ECBPi";
     CLI::App* cmd = device->add_subcommand(
-        "schmalz",
+        std::string(model.command),
         "Run the Schmalz ECBPi vacuum gripper adapter (IO-Link process data) with the skills "
         "Grasp and Release (grip point VACUUM), on a simulated IO-Link master and ECBPi.");
     addServerProcessOptions(cmd, options->process);

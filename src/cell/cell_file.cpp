@@ -14,6 +14,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "cell/device_arguments.hpp"
 #include "devices/toolchanger/tool_table.hpp"
 
 namespace skillcell::cell {
@@ -138,6 +139,21 @@ public:
         if (!isName(*v)) {
             problem(t.get("name")->source(), "name '" + *v + "' in " + std::string(where) +
                                                  ": use 1 to 64 letters, digits, '-' or '_'");
+            return std::nullopt;
+        }
+        return v;
+    }
+
+    /// A required string that must be one of `allowed` (`what` says what they are).
+    std::optional<std::string> oneOf(const toml::table& t, std::string_view key,
+                                     std::string_view where,
+                                     const std::vector<std::string_view>& allowed,
+                                     std::string_view what) {
+        auto v = string(t, key, where, true);
+        if (v && std::find(allowed.begin(), allowed.end(), *v) == allowed.end()) {
+            problem(t.get(key)->source(), std::string(where) + ": " + std::string(key) + " '" + *v +
+                                              "' is not " + std::string(what) +
+                                              "; expected one of: " + joined(allowed));
             return std::nullopt;
         }
         return v;
@@ -453,16 +469,7 @@ void readTools(Reader& r, const toml::table& root, CellFile& out, const NameSet&
                 dock.reset();
             }
         }
-        auto adapter = r.string(*t, "adapter", where, true);
-        if (adapter) {
-            const auto& models = adapterModels();
-            if (std::find(models.begin(), models.end(), *adapter) == models.end()) {
-                r.problem(t->get("adapter")->source(),
-                          where + ": adapter '" + *adapter +
-                              "' is not a gripper model; expected one of: " + joined(models));
-                adapter.reset();
-            }
-        }
+        auto adapter = r.oneOf(*t, "adapter", where, adapterModels(), "a gripper model");
         auto offset = r.numbers(*t, "grip-offset", where, {3},
                                 "its grip point from the mounting plate, x, y, z in m", true);
         auto band = r.numbers(*t, "pin-voltage", where, {2},
@@ -507,16 +514,7 @@ void readDevices(Reader& r, const toml::table& root, CellFile& out, NameSet& com
         r.onlyKeys(*t, "[[robot]]", {"name", "model", "speed"});
         auto name = r.name(*t, "[[robot]]");
         const std::string where = name ? "robot '" + *name + "'" : std::string("[[robot]]");
-        auto model = r.string(*t, "model", where, true);
-        if (model) {
-            const auto& models = robotModels();
-            if (std::find(models.begin(), models.end(), *model) == models.end()) {
-                r.problem(t->get("model")->source(),
-                          where + ": model '" + *model +
-                              "' is not a robot model; expected: " + joined(models));
-                model.reset();
-            }
-        }
+        auto model = r.oneOf(*t, "model", where, robotModels(), "a robot model");
         Robot robot;
         if (auto s = r.number(*t, "speed", where, 0.01, 1000)) robot.speed = *s;
         if (name && components.add(r, *t, *name) && model) {
@@ -580,9 +578,12 @@ std::string Problem::describe() const {
 }
 
 const std::vector<std::string_view>& adapterModels() {
-    static const std::vector<std::string_view> models = {"robotiq-2f85", "dh-ag95",
-                                                         "schmalz-ecbpi"};
-    return models;
+    static const std::vector<std::string_view> names = [] {
+        std::vector<std::string_view> out;
+        for (const auto& m : adapterModelTable()) out.push_back(m.name);
+        return out;
+    }();
+    return names;
 }
 
 const std::vector<std::string_view>& robotModels() {

@@ -1,37 +1,89 @@
 #pragma once
 // SimulatedCell: the paper's work cell as `skillcell device` processes with discovery on (run
-// the test in a private network namespace): the world model with two tool docks, the tool
-// changer powering the Robotiq 2F-85 (parallel) and Schmalz ECBPi (vacuum) adapters, the
-// UR5, and optionally the pick-and-place composite. The changer starts before the robot, so
-// it has to find the robot by discovery.
+// the test in a private network namespace): the world model with the docks and tools of
+// examples/cells/paper.toml (the cell file the demo runs), the tool changer with that file's
+// tool table, powering the parallel gripper's adapter (a model the test chooses) and the
+// Schmalz ECBPi (vacuum), the UR5, and optionally the pick-and-place composite. The changer
+// starts before the robot, so it has to find the robot by discovery.
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "cell/cell_file.hpp"
+#include "cell/device_arguments.hpp"
 #include "component_process.hpp"
 #include "devices/common/frame.hpp"
 
 namespace skillcell::test {
 
-inline constexpr const char* kRobotiqUri = "urn:skillcell:device:robotiq-2f85";
-inline constexpr const char* kSchmalzUri = "urn:skillcell:device:schmalz-ecbpi";
-// The flange poses (tool down) at which the docks' tools lock.
-inline constexpr const char* kParallelDock = "0.3,-0.45,0.35,3.141592653589793,0,0";
-inline constexpr const char* kVacuumDock = "0.45,-0.3,0.35,3.141592653589793,0,0";
+/// The paper's cell, read once: a test that changes it changes a copy. A file that does not
+/// read is a broken test setup: it says why and aborts.
+inline const cell::CellFile& paperCell() {
+    static const cell::CellFile paper = [] {
+        auto read = cell::readCellFile(std::filesystem::path(SKILLCELL_SOURCE_DIR) /
+                                       "examples/cells/paper.toml");
+        if (!read.cell) {
+            for (const auto& p : read.problems) std::fprintf(stderr, "%s\n", p.describe().c_str());
+            std::abort();
+        }
+        return *read.cell;
+    }();
+    return paper;
+}
+
+/// A dock's pose in the devices' syntax: the flange pose at which its tool locks.
+inline std::string dockPose(std::string_view name) {
+    for (const auto& d : paperCell().docks) {
+        if (d.name == name) return cell::poseArgument(d.pose);
+    }
+    std::fprintf(stderr, "the paper's cell has no dock %s\n", std::string(name).c_str());
+    std::abort();
+}
+inline std::string parallelDock() {
+    return dockPose("dockP");
+}
+inline std::string vacuumDock() {
+    return dockPose("dockV");
+}
+
+/// The paper's boxes in `device world --object` syntax.
+inline std::vector<std::string> paperObjects() {
+    std::vector<std::string> out;
+    for (const auto& o : paperCell().objects) out.push_back(cell::objectArgument(o));
+    return out;
+}
+
+/// The application URI an adapter model announces (src/cell/device_arguments.cpp).
+inline const char* adapterUri(std::string_view model) {
+    return cell::findAdapterModel(model)->applicationUri.data();  // a literal: NUL-terminated
+}
+inline const char* robotiqUri() {
+    return adapterUri("robotiq-2f85");
+}
+inline const char* schmalzUri() {
+    return adapterUri("schmalz-ecbpi");
+}
 
 /// The parallel gripper the cell has: either model offers the same skills (issue 6: a
 /// gripper is swapped without a change outside its adapter).
 struct ParallelGripperModel {
-    const char* command;         // `skillcell device <command>`
-    const char* applicationUri;  // what its adapter announces
-    const char* gripOffset;      // its grip point from the mounting plate
+    const char* model;                 // its adapter model, as cell files name it
+    std::array<double, 3> gripOffset;  // its grip point from the mounting plate
+    [[nodiscard]] const cell::AdapterModel& adapter() const {
+        return *cell::findAdapterModel(model);
+    }
 };
-inline constexpr ParallelGripperModel kRobotiq2f85{"robotiq", kRobotiqUri, "0,0,0.15"};
-inline constexpr ParallelGripperModel kDhAg95{"ag95", "urn:skillcell:device:dh-ag95", "0,0,0.16"};
+inline constexpr ParallelGripperModel kRobotiq2f85{"robotiq-2f85", {0, 0, 0.15}};
+inline constexpr ParallelGripperModel kDhAg95{"dh-ag95", {0, 0, 0.16}};
 
 /// A pose parameter from "X,Y,Z[,A,B,C]".
-inline ua::Variant poseValue(const char* text) {
+inline ua::Variant poseValue(const std::string& text) {
     return devices::frameToVariant(devices::toFrame(*devices::parsePose6(text)));
 }
 inline ua::Variant textValue(const char* text) {
@@ -39,7 +91,7 @@ inline ua::Variant textValue(const char* text) {
 }
 
 inline void PrintTo(const ParallelGripperModel& model, std::ostream* out) {
-    *out << model.command;
+    *out << model.model;
 }
 
 struct SimulatedCell {
@@ -50,36 +102,40 @@ struct SimulatedCell {
     SimulatedCell(const std::string& binary, const std::vector<std::string>& objects,
                   bool withPickAndPlace, ParallelGripperModel parallel = kRobotiq2f85,
                   bool vacuumPowered = true, const std::string& robotSpeed = "50")
-        : parallelUri(parallel.applicationUri) {
-        std::vector<std::string> args = {"world", "--dock", std::string("dockP@") + kParallelDock,
-                                         "--dock", std::string("dockV@") + kVacuumDock, "--tool",
-                                         std::string("parallel:dockP@") + parallel.gripOffset,
-                                         "--tool", "vacuum:dockV@0,0,0.12",
-                                         // A free place beside the cell, to rearrange tools.
-                                         "--dock", "shelf@0.0,-0.6,0.35,3.141592653589793,0,0"};
+        : parallelUri(parallel.adapter().applicationUri) {
+        // The paper's cell with this test's parallel gripper in its dock, and its own boxes.
+        cell::CellFile c = paperCell();
+        for (auto& tool : c.tools) {
+            if (tool.name == "parallel") {
+                tool.adapter = parallel.model;
+                tool.gripOffset = parallel.gripOffset;
+            }
+        }
+        // A free place beside the cell, to rearrange tools.
+        c.docks.push_back({"shelf", {0.0, -0.6, 0.35, 3.141592653589793, 0, 0}});
+        c.objects.clear();
+        std::vector<std::string> args = {"world"};
+        const auto scene = cell::worldArguments(c);
+        args.insert(args.end(), scene.begin(), scene.end());
         for (const auto& o : objects) args.insert(args.end(), {"--object", o});
         world = start(binary, std::move(args));
         if (world->url().empty()) return;
         tools = world->pkiDir().string() + "-tools";
         const std::string common = " --port 0 --host 127.0.0.1 --insecure --speed 20 --world " +
                                    world->url() + " --mdns-ttl 5 --mdns-query-period 1";
-        std::vector<std::string> changerArgs = {
-            "toolchanger",
-            "--world",
-            world->url(),
-            "--tool",
-            std::string("parallel:1.0-1.5:") + parallel.applicationUri,
-            "--tool",
-            std::string("vacuum:2.0-2.5:") + kSchmalzUri,
-            "--power",
-            "parallel=" + binary + " device " + parallel.command + " --pki-dir " + tools +
-                "-parallel --grip-offset " + parallel.gripOffset + common,
-            "--detection-timeout-ms",
-            "20000"};
-        if (vacuumPowered) {
-            changerArgs.insert(changerArgs.end(),
-                               {"--power", "vacuum=" + binary + " device schmalz --pki-dir " +
-                                               tools + "-schmalz" + common});
+        const auto power = [&](const cell::Tool& tool, const cell::AdapterModel& model) {
+            return binary + " device " + std::string(model.command) + " --pki-dir " + tools + "-" +
+                   tool.name + " --grip-offset " + cell::vectorArgument(tool.gripOffset) + common;
+        };
+        std::vector<std::string> changerArgs = {"toolchanger", "--world", world->url(),
+                                                "--detection-timeout-ms", "20000"};
+        const auto table = cell::toolTableArguments(c, power);
+        for (std::size_t i = 0; i + 1 < table.size(); i += 2) {
+            // Without power for the vacuum gripper, as if its adapter were unplugged.
+            if (!vacuumPowered && table[i] == "--power" && table[i + 1].rfind("vacuum=", 0) == 0) {
+                continue;
+            }
+            changerArgs.insert(changerArgs.end(), {table[i], table[i + 1]});
         }
         changer = start(binary, std::move(changerArgs));
         if (withPickAndPlace) {
@@ -94,8 +150,8 @@ struct SimulatedCell {
         pickplace.reset();
         changer.reset();
         std::error_code ec;
-        std::filesystem::remove_all(tools + "-parallel", ec);
-        std::filesystem::remove_all(tools + "-schmalz", ec);
+        for (const auto& tool : paperCell().tools)
+            std::filesystem::remove_all(tools + "-" + tool.name, ec);
     }
     SimulatedCell(const SimulatedCell&) = delete;
     SimulatedCell& operator=(const SimulatedCell&) = delete;
@@ -106,7 +162,7 @@ struct SimulatedCell {
     }
 
     std::unique_ptr<DeviceProcess> world, changer, pickplace, robot;
-    std::string tools;        // PKI directories of the powered tools: <tools>-parallel, -schmalz
+    std::string tools;        // PKI directories of the powered tools: <tools>-<tool name>
     std::string parallelUri;  // the parallel gripper's application URI
 
 private:

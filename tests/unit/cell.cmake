@@ -1,6 +1,6 @@
 # src/cell: cell files read and checked; one input file per class of mistake in
 # tests/data/cells/.
-skillcell_unit_test(test_cell cell/cell_file_test.cpp)
+skillcell_unit_test(test_cell cell/cell_file_test.cpp cell/device_arguments_test.cpp)
 target_link_libraries(test_cell PRIVATE skillcell_cell)
 target_compile_definitions(test_cell PRIVATE SKILLCELL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 add_test(NAME cli.cell_check COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cell/cell_check_cli.sh

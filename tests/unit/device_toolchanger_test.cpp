@@ -63,12 +63,12 @@ TEST(ToolTable, RefusesBadSpecsWithTheReason) {
     EXPECT_EQ(t.entries().size(), 1U);
 }
 
-using test::kParallelDock;
-using test::kRobotiqUri;
-using test::kSchmalzUri;
-using test::kVacuumDock;
+using test::parallelDock;
+using test::robotiqUri;
+using test::schmalzUri;
+using test::vacuumDock;
 
-ua::Variant pose(const char* text) {
+ua::Variant pose(const std::string& text) {
     return test::poseValue(text);
 }
 
@@ -90,29 +90,31 @@ TEST(ToolChangerProcess, ChangesToolsFoundByTheirPinAndPowersTheirAdapters) {
     // To the parallel gripper: its adapter is powered and detected before the skill ends.
     auto outcome = client.invoke(
         change,
-        {{"ToolPosition", pose(kParallelDock)}, {"ToolAppUri", test::textValue(kRobotiqUri)}}, 60s);
+        {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
+        60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     EXPECT_EQ(*w.mountedTool(), "parallel");
     // Already mounted: nothing to do.
     outcome = client.invoke(
         change,
-        {{"ToolPosition", pose(kParallelDock)}, {"ToolAppUri", test::textValue(kRobotiqUri)}}, 60s);
+        {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
+        60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
 
     // To the vacuum gripper: the parallel one goes back to its dock first.
     outcome = client.invoke(
-        change, {{"ToolPosition", pose(kVacuumDock)}, {"ToolAppUri", test::textValue(kSchmalzUri)}},
-        60s);
+        change,
+        {{"ToolPosition", pose(vacuumDock())}, {"ToolAppUri", test::textValue(schmalzUri())}}, 60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     EXPECT_EQ(*w.mountedTool(), "vacuum");
 
     // Attaching while a tool is mounted fails with the reason, and changes nothing.
-    outcome = client.invoke(attach, {{"ToolPosition", pose(kParallelDock)}}, 60s);
+    outcome = client.invoke(attach, {{"ToolPosition", pose(parallelDock())}}, 60s);
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("attached already"), std::string::npos) << outcome.reason;
 
     // Detaching at the parallel gripper's dock (occupied) fails: the coupling stays locked.
-    outcome = client.invoke(detach, {{"ToolPosition", pose(kParallelDock)}}, 60s);
+    outcome = client.invoke(detach, {{"ToolPosition", pose(parallelDock())}}, 60s);
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("did not open"), std::string::npos) << outcome.reason;
     EXPECT_EQ(*w.mountedTool(), "vacuum");
@@ -121,7 +123,7 @@ TEST(ToolChangerProcess, ChangesToolsFoundByTheirPinAndPowersTheirAdapters) {
     }),
               ua::status::Good);
 
-    outcome = client.invoke(detach, {{"ToolPosition", pose(kVacuumDock)}}, 60s);
+    outcome = client.invoke(detach, {{"ToolPosition", pose(vacuumDock())}}, 60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     EXPECT_EQ(*w.mountedTool(), "");
 
@@ -137,7 +139,7 @@ TEST(ToolChangerProcess, ChangesToolsFoundByTheirPinAndPowersTheirAdapters) {
     // A tool the changer does not know is refused before anything moves.
     outcome = client.invoke(
         change,
-        {{"ToolPosition", pose(kVacuumDock)}, {"ToolAppUri", test::textValue("urn:nobody")}}, 60s);
+        {{"ToolPosition", pose(vacuumDock())}, {"ToolAppUri", test::textValue("urn:nobody")}}, 60s);
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("urn:nobody"), std::string::npos) << outcome.reason;
     EXPECT_EQ(*w.mountedTool(), "");
@@ -167,7 +169,8 @@ TEST(ToolChangerProcess, AToolsAdapterEndsWhenTheChangerIsKilled) {
     ASSERT_TRUE(change);
     const auto outcome = client.invoke(
         change,
-        {{"ToolPosition", pose(kParallelDock)}, {"ToolAppUri", test::textValue(kRobotiqUri)}}, 60s);
+        {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
+        60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
 
     const std::vector<pid_t> adapters = childrenOf(cell.changer->pid());

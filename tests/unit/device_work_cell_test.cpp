@@ -18,11 +18,11 @@ namespace {
 using namespace std::chrono_literals;
 using Kind = skills::SkillOutcome::Kind;
 
-using test::kParallelDock;
-using test::kSchmalzUri;
-using test::kVacuumDock;
+using test::parallelDock;
 using test::poseValue;
+using test::schmalzUri;
 using test::textValue;
+using test::vacuumDock;
 
 void expectAt(WorldLink& w, const std::string& id, double x, double y, double z) {
     const auto p = w.objectPose(id);
@@ -35,12 +35,10 @@ void expectAt(WorldLink& w, const std::string& id, double x, double y, double z)
 class WorkCell : public testing::TestWithParam<test::ParallelGripperModel> {};
 
 TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
-    // Box C is out of the robot's reach.
-    test::SimulatedCell cell(
-        SKILLCELL_BINARY,
-        {"boxA:0.04,0.1,0.05@0.45,0.15,0.025", "boxB:0.04,0.04,0.04@0.45,-0.05,0.02",
-         "boxC:0.04,0.04,0.04@1.5,0,0.02"},
-        true, GetParam());
+    // The paper's boxes, and box C out of the robot's reach.
+    auto boxes = test::paperObjects();
+    boxes.push_back("boxC:0.04,0.04,0.04@1.5,0,0.02");
+    test::SimulatedCell cell(SKILLCELL_BINARY, boxes, true, GetParam());
     ASSERT_TRUE(cell.ready());
 
     auto link = WorldLink::connect(cell.world->url());
@@ -56,7 +54,7 @@ TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
     ASSERT_TRUE(change && detach && pick);
 
     auto outcome = client.invoke(change,
-                                 {{"ToolPosition", poseValue(kParallelDock)},
+                                 {{"ToolPosition", poseValue(parallelDock())},
                                   {"ToolAppUri", textValue(cell.parallelUri.c_str())}},
                                  60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
@@ -69,8 +67,8 @@ TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
     expectAt(w, "boxA", 0.25, 0.35, 0.025);
 
     outcome = client.invoke(
-        change, {{"ToolPosition", poseValue(kVacuumDock)}, {"ToolAppUri", textValue(kSchmalzUri)}},
-        60s);
+        change,
+        {{"ToolPosition", poseValue(vacuumDock())}, {"ToolAppUri", textValue(schmalzUri())}}, 60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     outcome = pickClient.invoke(
         pick,
@@ -91,7 +89,7 @@ TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
     }),
               ua::status::Good);
 
-    outcome = client.invoke(detach, {{"ToolPosition", poseValue(kVacuumDock)}}, 60s);
+    outcome = client.invoke(detach, {{"ToolPosition", poseValue(vacuumDock())}}, 60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
 
     // The world: both boxes at their targets, no tool mounted, nothing held.
@@ -112,7 +110,7 @@ TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
 INSTANTIATE_TEST_SUITE_P(ParallelGrippers, WorkCell,
                          testing::Values(test::kRobotiq2f85, test::kDhAg95),
                          [](const testing::TestParamInfo<test::ParallelGripperModel>& model) {
-                             return std::string(model.param.command);
+                             return std::string(model.param.adapter().command);
                          });
 
 }  // namespace

@@ -49,7 +49,7 @@ TEST(CellFile, ThePapersCellReadsAsTheDemoRunsIt) {
     EXPECT_EQ(c.tools[1].pinVoltage, (std::array<double, 2>{2.0, 2.5}));
     ASSERT_EQ(c.robots.size(), 1U);
     EXPECT_EQ(c.robots[0].model, "ur5");
-    EXPECT_EQ(c.robots[0].speed, 20);
+    EXPECT_EQ(c.robots[0].speed, 10);
     ASSERT_TRUE(c.toolChanger);
     EXPECT_EQ(c.toolChanger->name, "toolchanger");
     ASSERT_TRUE(c.pickAndPlace);

@@ -29,8 +29,6 @@ using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 
 constexpr const char* kDemo = "http://skillcell.dev/demo#pickAndPlaceTwoBoxes";
-const std::vector<std::string> kBoxes = {"boxA:0.04,0.1,0.05@0.45,0.15,0.025",
-                                         "boxB:0.04,0.04,0.04@0.45,-0.05,0.02"};
 
 std::vector<std::string> withFastMdns(std::vector<std::string> args) {
     for (const char* a : {"--mdns-ttl", "5", "--mdns-query-period", "1"}) args.emplace_back(a);
@@ -138,7 +136,7 @@ protected:
 };
 
 TEST_F(MesCell, RunsThePapersProcessOnTheSkillsDiscoveryFinds) {
-    test::SimulatedCell cell(SKILLCELL_BINARY, kBoxes, true);
+    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
     ASSERT_TRUE(cell.ready());
     startMes();
     ASSERT_FALSE(mes_->url().empty());
@@ -183,7 +181,7 @@ TEST_F(MesCell, RunsThePapersProcessOnTheSkillsDiscoveryFinds) {
 }
 
 TEST_F(MesCell, AKilledMesResumesWhereItStoppedRunningEveryStepOnce) {
-    test::SimulatedCell cell(SKILLCELL_BINARY, kBoxes, true);
+    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
     ASSERT_TRUE(cell.ready());
     startMes();
     ASSERT_FALSE(mes_->url().empty());
@@ -225,7 +223,8 @@ TEST_F(MesCell, AKilledMesResumesWhereItStoppedRunningEveryStepOnce) {
 TEST_F(MesCell, AMesRestartedWhileItsSkillStillRunsWaitsForThatRunInsteadOfStartingAnother) {
     // A slow robot: the first pick and place runs for seconds, long enough to kill the MES
     // while it runs and hand the process to another one.
-    test::SimulatedCell cell(SKILLCELL_BINARY, kBoxes, true, test::kRobotiq2f85, true, "1");
+    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true, test::kRobotiq2f85, true,
+                             "1");
     ASSERT_TRUE(cell.ready());
     startMes();
     ASSERT_FALSE(mes_->url().empty());
@@ -275,7 +274,7 @@ TEST_F(MesCell, AMesRestartedWhileItsSkillStillRunsWaitsForThatRunInsteadOfStart
 }
 
 TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
-    test::SimulatedCell cell(SKILLCELL_BINARY, kBoxes, true, test::kRobotiq2f85,
+    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true, test::kRobotiq2f85,
                              /*vacuumPowered=*/false);
     ASSERT_TRUE(cell.ready());
     startMes();
@@ -310,7 +309,7 @@ TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
 }
 
 TEST_F(MesCell, AWrongGripperInTheDockStopsTheProcessBeforeThePickNamingTheGripType) {
-    test::SimulatedCell cell(SKILLCELL_BINARY, kBoxes, true);
+    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
     ASSERT_TRUE(cell.ready());
     // Someone swapped the grippers' docks: the tool change of step 1 mounts the vacuum one.
     {
