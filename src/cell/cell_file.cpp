@@ -7,10 +7,8 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <functional>
 #include <initializer_list>
 #include <map>
-#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -401,12 +399,15 @@ void readMes(Reader& r, const toml::table& root, std::optional<Mes>& out) {
 class NameSet {
 public:
     explicit NameSet(std::string kind) : kind_(std::move(kind)) {}
+    /// `t` is where the name stands: its 'name' key, or the table itself when the name is a
+    /// default ([toolchanger] without one is "toolchanger").
     bool add(Reader& r, const toml::table& t, const std::string& name) {
+        const toml::node* key = t.get("name");
+        const toml::source_region& where = key != nullptr ? key->source() : t.source();
         auto [it, inserted] = lines_.emplace(name, static_cast<int>(t.source().begin.line));
         if (!inserted) {
-            r.problem(t.get("name")->source(), kind_ + " '" + name +
-                                                   "' is defined twice (first on line " +
-                                                   std::to_string(it->second) + ")");
+            r.problem(where, kind_ + " '" + name + "' is defined twice (first on line " +
+                                 std::to_string(it->second) + ")");
         }
         return inserted;
     }
