@@ -8,16 +8,10 @@
 
 #include "cell/cell_file.hpp"
 #include "commands.hpp"
+#include "devices/common/frame.hpp"
 
 namespace skillcell::apps {
 namespace {
-
-std::string describePose(const cell::Pose& p) {
-    char text[160];
-    std::snprintf(text, sizeof text, "(%.3f, %.3f, %.3f | %.3f, %.3f, %.3f)", p.x, p.y, p.z, p.a,
-                  p.b, p.c);
-    return text;
-}
 
 /// What the cell consists of, one line per part, in the order `cell up` would start them.
 void printSummary(const cell::CellFile& c) {
@@ -54,11 +48,11 @@ void printSummary(const cell::CellFile& c) {
     }
     if (!c.docks.empty() || !c.objects.empty()) component("world", "world model");
     for (const auto& d : c.docks) {
-        std::printf("    dock     %-12s %s\n", d.name.c_str(), describePose(d.pose).c_str());
+        std::printf("    dock     %-12s %s\n", d.name.c_str(), devices::describe(d.pose).c_str());
     }
     for (const auto& o : c.objects) {
         std::printf("    object   %-12s %.3f x %.3f x %.3f m at %s\n", o.name.c_str(), o.size[0],
-                    o.size[1], o.size[2], describePose(o.pose).c_str());
+                    o.size[1], o.size[2], devices::describe(o.pose).c_str());
     }
     for (const auto& r : c.robots) {
         char speed[32];

@@ -11,15 +11,13 @@
 #include <vector>
 
 #include "common/expected.hpp"
+#include "devices/common/frame.hpp"
 
 namespace skillcell::cell {
 
-/// A pose in the cell's base frame: metres, and radians about the fixed X, Y, Z axes (the
-/// devices layer's convention, src/devices/common/frame.hpp).
-struct Pose {
-    double x = 0, y = 0, z = 0, a = 0, b = 0, c = 0;
-    friend bool operator==(const Pose&, const Pose&) = default;
-};
+/// A pose in the cell's base frame: the devices layer's six numbers, metres and radians about
+/// the fixed X, Y, Z axes (src/devices/common/frame.hpp).
+using Pose = devices::Pose6;
 
 /// Where the cell's components find each other by mDNS.
 struct Network {

@@ -78,7 +78,10 @@ std::optional<Pose6> parsePose6(std::string_view text) {
 }
 
 std::string describe(const KDL::Frame& frame) {
-    const Pose6 p = toPose6(frame);
+    return describe(toPose6(frame));
+}
+
+std::string describe(const Pose6& p) {
     char buf[160];
     std::snprintf(buf, sizeof buf, "(%.3f, %.3f, %.3f | %.3f, %.3f, %.3f)", p.x, p.y, p.z, p.a, p.b,
                   p.c);

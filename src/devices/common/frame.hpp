@@ -35,6 +35,7 @@ struct Pose6 {
 /// "x,y,z" or "x,y,z,a,b,c" (command lines, scene descriptions); nullopt if malformed.
 [[nodiscard]] std::optional<Pose6> parsePose6(std::string_view text);
 /// "(x, y, z | a, b, c)" with millimetre precision, for messages and logs.
+[[nodiscard]] std::string describe(const Pose6& pose);
 [[nodiscard]] std::string describe(const KDL::Frame& frame);
 
 /// True when both frames agree within `positionTolerance` metres and `angleTolerance`
