@@ -98,6 +98,20 @@ std::string whatTheDemoLacks(const cell::CellFile& c) {
     return lacks;
 }
 
+/// --swap: a shelf beside the cell with the other parallel gripper (a DH AG-95, 1 cm longer),
+/// and a free place for the Robotiq when it is taken out. The world model gets its docks and
+/// tool, the changer's table the AG-95's coding resistor and adapter; nothing else in the cell
+/// (not the process, not the MES) hears of it. In the cell file's terms, so that it becomes
+/// command lines by the same code as the file.
+cell::CellFile swapShelf() {
+    constexpr double kPi = 3.141592653589793;
+    cell::CellFile shelf;
+    shelf.docks = {{"shelf1", {0.1, -0.6, 0.35, kPi, 0, 0}},
+                   {"shelf2", {0.0, -0.6, 0.35, kPi, 0, 0}}};
+    shelf.tools = {{"ag95", "shelf1", "dh-ag95", {0, 0, 0.16}, {3.0, 3.5}}};
+    return shelf;
+}
+
 /// A component whose detection time the paper reports.
 struct MeasuredComponent {
     std::string name;            // the demo's name for it (logs, output)
@@ -375,11 +389,8 @@ bool DemoCell::startInfrastructure() {
     const auto fromCell = cell::worldArguments(cell_);  // docks, tools, boxes
     scene.insert(scene.end(), fromCell.begin(), fromCell.end());
     if (o_.swap) {
-        // A shelf beside the cell with the other parallel gripper (a DH AG-95, 1 cm longer),
-        // and a free place for the Robotiq when it is taken out.
-        scene.insert(scene.end(), {"--dock", "shelf1@0.1,-0.6,0.35,3.141592653589793,0,0", "--dock",
-                                   "shelf2@0.0,-0.6,0.35,3.141592653589793,0,0", "--tool",
-                                   "ag95:shelf1@0,0,0.16"});
+        const auto shelf = cell::worldArguments(swapShelf());
+        scene.insert(scene.end(), shelf.begin(), shelf.end());
     }
     auto world = startProcess("world", args(std::move(scene), "world", false), 30s);
     if (world) worldUrl_ = world->url();
@@ -732,11 +743,8 @@ int DemoCell::run(const Interruption& interruption) {
     const auto table = cell::toolTableArguments(cell_, powerCommand);
     changerArgs.insert(changerArgs.end(), table.begin(), table.end());
     if (o_.swap) {
-        // The changer's table knows the AG-95's coding resistor and its adapter; nothing else
-        // in the cell (not the process, not the MES) hears of it.
-        changerArgs.insert(changerArgs.end(),
-                           {"--tool", "ag95:3.0-3.5:urn:skillcell:device:dh-ag95", "--power",
-                            "ag95=" + adapterCommand("ag95", "--grip-offset 0,0,0.16")});
+        const auto shelf = cell::toolTableArguments(swapShelf(), powerCommand);
+        changerArgs.insert(changerArgs.end(), shelf.begin(), shelf.end());
     }
     // name, label, application URI, the paper's figure, stays up for the process; arguments.
     auto add = [&](const std::string& name, const std::string& label, const std::string& uri,
@@ -812,11 +820,12 @@ int DemoCell::run(const Interruption& interruption) {
         if (!swapParallelGripper()) return 1;
         outcome = runProcess(interruption);
         if (interruption.requested()) return 130;
-        const auto ag95 = clock_->waitAppeared("urn:skillcell:device:dh-ag95", swapped, 0ms);
-        std::printf("  the parallel gripper of this run: %s\n",
-                    ag95 ? "the DH AG-95 (urn:skillcell:device:dh-ag95), powered by the tool "
-                           "changer and detected"
-                         : "NOT the DH AG-95: its skills never appeared");
+        const std::string uri(cell::findAdapterModel("dh-ag95")->applicationUri);
+        const auto ag95 = clock_->waitAppeared(uri, swapped, 0ms);
+        std::printf(
+            "  the parallel gripper of this run: %s\n",
+            ag95 ? ("the DH AG-95 (" + uri + "), powered by the tool changer and detected").c_str()
+                 : "NOT the DH AG-95: its skills never appeared");
         if (!ag95) outcome = 1;
     }
 
