@@ -24,6 +24,7 @@ packages=(
   libgtest-dev libgmock-dev  # CMake configures the tests' targets even when it builds one
   liborocos-kdl-dev libeigen3-dev libmodbus-dev pkg-config
   libtomlplusplus-dev  # cell files (src/cell)
+  nlohmann-json3-dev  # `cell up`'s control socket (src/apps/cell_supervisor)
   iproute2 util-linux procps
   # the knowledge base: Turtle (libserd), the triple store (Virtuoso), the reasoner (Konclude);
   # the MES's journal (SQLite; the sqlite3 shell to look into it)

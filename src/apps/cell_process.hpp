@@ -33,6 +33,13 @@ public:
     [[nodiscard]] std::string reported(const std::string& key) const;
     [[nodiscard]] pid_t pid() const { return process_.pid(); }
 
+    /// True until it has ended (then reaped: ended() says how).
+    [[nodiscard]] bool running() { return process_.running(); }
+    /// How it ended, once running() is false.
+    [[nodiscard]] kb::Expected<process::ExitStatus> ended() { return process_.wait({}); }
+    /// Readable by poll() when it ends; -1 when the kernel cannot say (then poll running()).
+    [[nodiscard]] int exitFd() const { return process_.exitFd(); }
+
     /// SIGTERM, at most `grace` to end, then SIGKILL; how it ended.
     kb::Expected<process::ExitStatus> stop(std::chrono::milliseconds grace);
 

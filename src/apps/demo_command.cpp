@@ -38,15 +38,18 @@
 #include "cell/cell_file.hpp"
 #include "cell/device_arguments.hpp"
 #include "cell_process.hpp"
+#include "cell_runtime.hpp"
 #include "client_security_options.hpp"
 #include "commands.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/world/world_link.hpp"
+#include "interruption.hpp"
 #include "mes/journal.hpp"
 #include "private_network.hpp"
 #include "skill_detection_clock.hpp"
 #include "ua/pki/certificate_authority.hpp"
 #include "ua/server/user_database.hpp"
+#include "work_directory.hpp"
 
 namespace skillcell::apps {
 namespace {
@@ -114,12 +117,10 @@ cell::CellFile swapShelf() {
 
 /// A component whose detection time the paper reports.
 struct MeasuredComponent {
-    std::string name;            // the demo's name for it (logs, output)
-    std::string label;           // as the table shows it
-    std::string applicationUri;  // how the detector knows it
-    double paperMs = 0;          // Profanter et al., section VIII-C
+    ComponentLaunch launch;  // its name (logs, output), application URI and command line
+    std::string label;       // as the table shows it
+    double paperMs = 0;      // Profanter et al., section VIII-C
     bool staysForTheProcess = false;
-    std::vector<std::string> args;  // after the skillcell program
     std::vector<double> samplesMs;  // start -> skills detected
     std::vector<double> readyMs;    // start -> READY (listening), the part the process takes
 };
@@ -128,131 +129,15 @@ double milliseconds(Clock::duration d) {
     return std::chrono::duration<double, std::milli>(d).count();
 }
 
-/// SIGINT/SIGTERM are blocked in every thread of the demo (its children unblock them): the
-/// demo notices them between its bounded waits and stops its cell in order, the tool changer
-/// first, instead of dying with its components orphaned.
-class Interruption {
-public:
-    Interruption() {
-        sigemptyset(&set_);
-        sigaddset(&set_, SIGINT);
-        sigaddset(&set_, SIGTERM);
-        pthread_sigmask(SIG_BLOCK, &set_, &previous_);
-    }
-    ~Interruption() { pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
-    Interruption(const Interruption&) = delete;
-    Interruption& operator=(const Interruption&) = delete;
-
-    /// True once SIGINT or SIGTERM came (it stays pending; it is not consumed).
-    [[nodiscard]] bool requested() const {
-        sigset_t pending;
-        sigpending(&pending);
-        return sigismember(&pending, SIGINT) == 1 || sigismember(&pending, SIGTERM) == 1;
-    }
-    /// Waits for SIGINT or SIGTERM, and takes it.
-    void wait() const {
-        int sig = 0;
-        sigwait(&set_, &sig);
-    }
-
-private:
-    sigset_t set_{};
-    sigset_t previous_{};
-};
-
-/// The demo's working directory: kept when given (--work-dir), else a new one that is removed
-/// at the end unless the demo failed (its logs tell why).
-class WorkDirectory {
-public:
-    static std::optional<WorkDirectory> create(const std::string& given, std::string* error) {
-        WorkDirectory w;
-        std::error_code ec;
-        if (!given.empty()) {
-            w.path_ = fs::absolute(given, ec);
-            fs::create_directories(w.path_, ec);
-            w.keep_ = true;
-        } else {
-            std::string pattern = (fs::temp_directory_path(ec) / "skillcell-demo-XXXXXX").string();
-            if (::mkdtemp(pattern.data()) == nullptr) {
-                *error = "cannot create a directory in " + fs::temp_directory_path(ec).string();
-                return std::nullopt;
-            }
-            w.path_ = pattern;
-        }
-        if (ec) {
-            *error = "cannot create " + w.path_.string() + ": " + ec.message();
-            return std::nullopt;
-        }
-        fs::create_directories(w.path_ / "logs", ec);
-        return w;
-    }
-    WorkDirectory(WorkDirectory&& other) noexcept
-        : path_(std::move(other.path_)), keep_(std::exchange(other.keep_, true)) {}
-    WorkDirectory& operator=(WorkDirectory&&) = delete;
-    WorkDirectory(const WorkDirectory&) = delete;
-    WorkDirectory& operator=(const WorkDirectory&) = delete;
-    ~WorkDirectory() {
-        std::error_code ec;
-        if (!keep_ && !path_.empty()) fs::remove_all(path_, ec);
-    }
-
-    [[nodiscard]] const fs::path& path() const { return path_; }
-    [[nodiscard]] fs::path log(const std::string& name) const {
-        return path_ / "logs" / (name + ".log");
-    }
-    void keep() { keep_ = true; }
-
-private:
-    WorkDirectory() = default;
-    fs::path path_;
-    bool keep_ = false;
-};
-
-/// Writes `text` and a newline to `file`, readable by us only (a password).
-bool writeSecret(const fs::path& file, const std::string& text) {
-    std::ofstream out(file, std::ios::trunc);
-    out << text << '\n';
-    std::error_code ec;
-    fs::permissions(file, fs::perms::owner_read | fs::perms::owner_write, ec);
-    return static_cast<bool>(out);
-}
-
-/// The cell's security: a CA that issues every component's certificate, and the users: the
-/// operator who hands the MES a process, "cell", whom the components act as, and the engineer
-/// who changes the cell's setup (--swap).
-bool prepareSecurity(const fs::path& dir, std::string* error) {
-    ua::pki::CaOptions ca;
-    ca.name = "skillcell demo cell CA";
-    if (!ua::pki::createCertificateAuthority(dir / "ca", ca, error)) return false;
-    std::string why;
-    auto users = ua::UserDatabase::load(dir / "users", &why);
-    if (!users) {
-        *error = why;
-        return false;
-    }
-    const std::pair<const char*, ua::Role> roles[] = {{"operator", ua::Role::Operator},
-                                                      {"cell", ua::Role::Operator},
-                                                      {"engineer", ua::Role::Engineer}};
-    for (const auto& [name, role] : roles) {
-        const std::string password = std::string(name) + "-" + std::to_string(::getpid());
-        if (users->setPassword(name, ua::RoleSet{role}, password).isBad() ||
-            !writeSecret(dir / (std::string(name) + ".pw"), password)) {
-            *error = std::string("cannot create the user ") + name;
-            return false;
-        }
-    }
-    if (users->save(dir / "users", &why).isBad()) {
-        *error = why;
-        return false;
-    }
-    return true;
-}
-
 class DemoCell {
 public:
     DemoCell(const DemoOptions& o, const cell::CellFile& cell, WorkDirectory& work,
-             std::string skillcell)
-        : o_(o), cell_(cell), work_(work), skillcell_(std::move(skillcell)) {}
+             const std::string& skillcell)
+        : o_(o),
+          cell_(cell),
+          work_(work),
+          runtime_(cell, work, skillcell, runtimeOptions(o)),
+          skillcell_(skillcell) {}
     DemoCell(const DemoCell&) = delete;
     DemoCell& operator=(const DemoCell&) = delete;
     /// The tool changer first: it powers its tools off as it stops.
@@ -261,21 +146,17 @@ public:
     int run(const Interruption& interruption);
 
 private:
-    [[nodiscard]] fs::path dir() const { return work_.path(); }
-    [[nodiscard]] std::vector<std::pair<std::string, std::string>> environment() const {
-        return {{"SKILLCELL_CA_DIR", (dir() / "ca").string()}};
+    static CellRuntimeOptions runtimeOptions(const DemoOptions& o) {
+        CellRuntimeOptions r;
+        r.speed = o.speed;
+        r.bootProfile = o.bootProfile;
+        r.selfName = "demo";
+        if (o.swap) r.shelf = swapShelf();
+        return r;
     }
-    /// What every component takes: loopback, quick mDNS, its PKI, the users, whom it acts as.
-    [[nodiscard]] std::vector<std::string> componentArgs(const std::string& name,
-                                                         bool actsAsCell) const;
-    [[nodiscard]] std::string adapterCommand(const std::string& kind,
-                                             const std::string& extra) const;
-    kb::Expected<CellProcess> startProcess(const std::string& name, std::vector<std::string> args,
-                                           std::chrono::milliseconds timeout);
-    /// The component's certificate, issued by the cell CA into its PKI directory.
-    [[nodiscard]] std::optional<ApplicationIdentity> commission(const std::string& name,
-                                                                const std::string& applicationUri,
-                                                                std::string* error) const;
+    [[nodiscard]] fs::path dir() const { return work_.path(); }
+    /// Starts the component and keeps it running until the demo ends; says why not on stderr.
+    bool keep(const std::string& name);
     bool startInfrastructure();
     bool measure(MeasuredComponent& m, const Interruption& interruption);
     int runProcess(const Interruption& interruption);
@@ -291,110 +172,34 @@ private:
     void showDetectionTable(const std::vector<MeasuredComponent>& measured) const;
     void stopAll();
 
-    /// --speed, else the cell file's robot speed: for the robot and the grippers alike.
-    [[nodiscard]] double speed() const {
-        return o_.speed > 0 ? o_.speed : cell_.robots.front().speed;
-    }
-
     const DemoOptions& o_;
     const cell::CellFile& cell_;
     WorkDirectory& work_;
+    CellRuntime runtime_;
     std::string skillcell_;
-    std::optional<ApplicationIdentity> identity_;  // the demo's own, from the cell CA
     std::unique_ptr<SkillDetectionClock> clock_;
     std::vector<CellProcess> running_;  // in start order
-    std::string worldUrl_;
-    std::string sparqlUrl_;
-    std::string mesUrl_;
 };
 
-std::vector<std::string> DemoCell::componentArgs(const std::string& name, bool actsAsCell) const {
-    std::vector<std::string> a = {"--port",
-                                  "0",
-                                  "--host",
-                                  "127.0.0.1",
-                                  "--mdns-ttl",
-                                  "5",
-                                  "--mdns-query-period",
-                                  "1",
-                                  "--pki-dir",
-                                  (dir() / ("pki-" + name)).string(),
-                                  "--users",
-                                  (dir() / "users").string()};
-    if (actsAsCell) {
-        a.insert(a.end(),
-                 {"--client-user", "cell", "--client-password-file", (dir() / "cell.pw").string()});
+bool DemoCell::keep(const std::string& name) {
+    auto launch = runtime_.launch(name);
+    if (!launch) {
+        std::cerr << "demo: " << launch.error() << "\n";
+        return false;
     }
-    return a;
-}
-
-std::string DemoCell::adapterCommand(const std::string& kind, const std::string& extra) const {
-    std::string cmd = skillcell_ + " device " + kind + " --world " + worldUrl_;
-    for (const auto& a : componentArgs(kind, true)) cmd += " " + a;
-    cmd += " --speed " + std::to_string(speed()) + " --boot-profile " + o_.bootProfile;
-    if (!extra.empty()) cmd += " " + extra;
-    return cmd;
-}
-
-kb::Expected<CellProcess> DemoCell::startProcess(const std::string& name,
-                                                 std::vector<std::string> args,
-                                                 std::chrono::milliseconds timeout) {
-    args.insert(args.begin(), skillcell_);
-    return CellProcess::start(name, args, environment(), work_.log(name), timeout);
-}
-
-std::optional<ApplicationIdentity> DemoCell::commission(const std::string& name,
-                                                        const std::string& applicationUri,
-                                                        std::string* error) const {
-    const fs::path pki = dir() / ("pki-" + name);
-    std::error_code ec;
-    fs::create_directories(pki, ec);
-    if (!fs::exists(pki / "cell-ca"))
-        fs::create_directory_symlink(dir() / "ca", pki / "cell-ca", ec);
-    if (ec) {
-        *error = "cannot link " + pki.string() + "/cell-ca: " + ec.message();
-        return std::nullopt;
+    auto p = runtime_.start(*launch);
+    if (!p) {
+        std::cerr << "demo: " << p.error() << "\n";
+        return false;
     }
-    auto identity = ApplicationIdentity::load(pki, applicationUri, "skillcell " + name, error);
-    if (!identity) return std::nullopt;
-    return std::move(*identity);
+    std::printf("  %-14s %s%s\n", p->name().c_str(), p->url().c_str(),
+                name == "kb" ? ("  SPARQL " + runtime_.sparqlUrl()).c_str() : "");
+    running_.push_back(std::move(*p));
+    return true;
 }
 
 bool DemoCell::startInfrastructure() {
-    auto keep = [this](kb::Expected<CellProcess> p, const std::string& extra = {}) {
-        if (!p) {
-            std::cerr << "demo: " << p.error() << "\n";
-            return false;
-        }
-        std::printf("  %-14s %s%s\n", p->name().c_str(), p->url().c_str(), extra.c_str());
-        running_.push_back(std::move(*p));
-        return true;
-    };
-    auto args = [this](std::vector<std::string> head, const std::string& name, bool actsAsCell) {
-        auto tail = componentArgs(name, actsAsCell);
-        head.insert(head.end(), tail.begin(), tail.end());
-        return head;
-    };
-    if (!keep(startProcess("lds", args({"lds"}, "lds", false), 30s))) return false;
-    // Virtuoso's first start creates its database and Konclude checks every model: minutes
-    // on a slow machine, seconds on a fast one.
-    auto kb = startProcess(
-        "kb",
-        args({"kb", "--demo-process", "--http-port", "0", "--data-dir", (dir() / "kb").string()},
-             "kb", true),
-        300s);
-    if (kb) sparqlUrl_ = kb->reported("SPARQL");
-    if (!keep(std::move(kb), "  SPARQL " + sparqlUrl_)) return false;
-    std::vector<std::string> scene = {"device", "world"};
-    const auto fromCell = cell::worldArguments(cell_);  // docks, tools, boxes
-    scene.insert(scene.end(), fromCell.begin(), fromCell.end());
-    if (o_.swap) {
-        const auto shelf = cell::worldArguments(swapShelf());
-        scene.insert(scene.end(), shelf.begin(), shelf.end());
-    }
-    auto world = startProcess("world", args(std::move(scene), "world", false), 30s);
-    if (world) worldUrl_ = world->url();
-    return keep(std::move(world));
+    return keep("lds") && keep("kb") && keep("world");
 }
 
 bool DemoCell::measure(MeasuredComponent& m, const Interruption& interruption) {
@@ -403,19 +208,19 @@ bool DemoCell::measure(MeasuredComponent& m, const Interruption& interruption) {
     for (int run = 1; run <= o_.runs; ++run) {
         if (interruption.requested()) return false;
         const auto t0 = Clock::now();
-        auto p = startProcess(m.name, m.args, 120s);
+        auto p = runtime_.start(m.launch);
         if (!p) {
             std::printf("\n");
             std::cerr << "demo: " << p.error() << "\n";
             return false;
         }
         m.readyMs.push_back(milliseconds(Clock::now() - t0));
-        const auto detected = clock_->waitAppeared(m.applicationUri, t0, 60s);
+        const auto detected = clock_->waitAppeared(m.launch.applicationUri, t0, 60s);
         if (!detected) {
             std::printf("\n");
-            std::cerr << "demo: the skills of " << m.name
+            std::cerr << "demo: the skills of " << m.launch.name
                       << " were not detected within 60 s of its start; see "
-                      << work_.log(m.name).string() << "\n";
+                      << work_.log(m.launch.name).string() << "\n";
             return false;
         }
         m.samplesMs.push_back(milliseconds(*detected - t0));
@@ -427,15 +232,16 @@ bool DemoCell::measure(MeasuredComponent& m, const Interruption& interruption) {
         }
         if (auto s = p->stop(10s); !s || !s->success()) {
             std::printf("\n");
-            std::cerr << "demo: " << m.name << " did not stop cleanly ("
-                      << (s ? s->describe() : s.error()) << "); see " << work_.log(m.name).string()
-                      << "\n";
+            std::cerr << "demo: " << m.launch.name << " did not stop cleanly ("
+                      << (s ? s->describe() : s.error()) << "); see "
+                      << work_.log(m.launch.name).string() << "\n";
             return false;
         }
         // The next start must be detected afresh: its skills must have left first.
-        if (!clock_->waitGone(m.applicationUri, 30s)) {
+        if (!clock_->waitGone(m.launch.applicationUri, 30s)) {
             std::printf("\n");
-            std::cerr << "demo: the skills of " << m.name << " were still listed 30 s after it "
+            std::cerr << "demo: the skills of " << m.launch.name
+                      << " were still listed 30 s after it "
                       << "stopped\n";
             return false;
         }
@@ -449,17 +255,17 @@ int DemoCell::runProcess(const Interruption& interruption) {
                                      "run",
                                      kProcessIri,
                                      "--mes",
-                                     mesUrl_,
+                                     runtime_.endpoint("mes"),
                                      "--pki-dir",
-                                     (dir() / "pki-operator").string(),
+                                     runtime_.pkiDir("operator").string(),
                                      "--user",
                                      "operator",
                                      "--password-file",
-                                     (dir() / "operator.pw").string(),
+                                     runtime_.passwordFile("operator").string(),
                                      "--timeout",
                                      std::to_string(o_.processTimeoutSeconds)};
     process::ProcessOptions options = process::reportingChild(work_.log("run"));
-    options.envAdd = environment();
+    options.envAdd = runtime_.environment();
     auto child = process::ChildProcess::start(argv, options);
     if (!child) {
         std::cerr << "demo: " << child.error() << "\n";
@@ -502,8 +308,8 @@ std::unique_ptr<devices::WorldLink> DemoCell::connectWorld(const std::string& us
     std::string error;
     ClientUserOptions credentials;
     credentials.name = user;
-    credentials.passwordFile = (dir() / (user + ".pw")).string();
-    auto security = componentClientSecurity(*identity_, credentials, false, &error);
+    credentials.passwordFile = runtime_.passwordFile(user).string();
+    auto security = componentClientSecurity(runtime_.identity(), credentials, false, &error);
     if (!security) {
         std::cerr << "demo: " << error << "\n";
         return nullptr;
@@ -512,7 +318,7 @@ std::unique_ptr<devices::WorldLink> DemoCell::connectWorld(const std::string& us
     config.applicationUri = "urn:skillcell:demo";
     config.sessionName = user;
     config.security = *security;
-    auto world = devices::WorldLink::connect(worldUrl_, std::move(config));
+    auto world = devices::WorldLink::connect(runtime_.endpoint("world"), std::move(config));
     if (!world) {
         std::cerr << "demo: the " << user
                   << " cannot reach the world model: " << ua::statusName(world.status()) << "\n";
@@ -563,7 +369,7 @@ bool DemoCell::showSecurity() {
     // A client without security: no signature, no user.
     ua::ClientConfig plain;
     plain.applicationUri = "urn:skillcell:demo";
-    auto anonymous = devices::WorldLink::connect(worldUrl_, std::move(plain));
+    auto anonymous = devices::WorldLink::connect(runtime_.endpoint("world"), std::move(plain));
     show("a client without security (SecurityPolicy None, anonymous)", !anonymous,
          anonymous ? std::string() : std::string(ua::statusName(anonymous.status())));
     // A certificate the cell's CA did not issue: `skillcell browse` with a PKI directory that
@@ -572,14 +378,15 @@ bool DemoCell::showSecurity() {
     const fs::path strangerPki = dir() / "pki-stranger";
     std::error_code ec;
     std::string error;
-    auto ca = ua::pki::loadCertificateAuthority(dir() / "ca", &error);
+    auto ca =
+        ua::pki::loadCertificateAuthority(dir() / "ca", &error);  // generated: see whatTheDemoLacks
     if (!ca || ua::pki::installCertificateAuthority(*ca, strangerPki, &error).isBad()) {
         std::cerr << "demo: the stranger's trust list: " << error << "\n";
         return false;
     }
     auto stranger = process::runToCompletion(
-        {skillcell_, "browse", worldUrl_, "--pki-dir", strangerPki.string(), "--user", "operator",
-         "--password-file", (dir() / "operator.pw").string()},
+        {skillcell_, "browse", runtime_.endpoint("world"), "--pki-dir", strangerPki.string(),
+         "--user", "operator", "--password-file", runtime_.passwordFile("operator").string()},
         60s);
     // The server's refusal, not the client's: the world model keeps the certificate in its
     // rejected/ folder, for an operator to trust or not.
@@ -613,7 +420,7 @@ std::string shortIri(const std::string& iri) {
 }
 
 void DemoCell::showJournal() {
-    auto journal = mes::Journal::open((dir() / "journal.sqlite").string());
+    auto journal = mes::Journal::open(runtime_.journal().string());
     if (!journal) {
         std::cerr << "demo: " << journal.error() << "\n";
         return;
@@ -671,94 +478,49 @@ void DemoCell::stopAll() {
 
 int DemoCell::run(const Interruption& interruption) {
     std::string error;
-    if (!prepareSecurity(dir(), &error)) {
+    // The cell's CA and users, and every component's certificate (commissioning).
+    if (!runtime_.prepare(&error)) {
         std::cerr << "demo: the cell's security: " << error << "\n";
         return 1;
     }
     // The demo's own detector: a client of the cell like any component, with a certificate of
     // the cell CA, acting as "cell".
-    identity_ = commission("demo", "urn:skillcell:demo", &error);
-    const auto& identity = identity_;
-    if (!identity) {
-        std::cerr << "demo: " << error << "\n";
-        return 1;
-    }
     ClientUserOptions user;
     user.name = "cell";
-    user.passwordFile = (dir() / "cell.pw").string();
-    auto security = componentClientSecurity(*identity, user, false, &error);
+    user.passwordFile = runtime_.passwordFile("cell").string();
+    auto security = componentClientSecurity(runtime_.identity(), user, false, &error);
     if (!security) {
         std::cerr << "demo: " << error << "\n";
         return 1;
     }
     skills::SkillDetectorConfig detector;
-    detector.applicationUri = "urn:skillcell:demo";
+    detector.applicationUri = runtime_.selfUri();
     detector.security = *security;
     ua::mdns::MdnsConfig mdns;
-    mdns.queryPeriod = 1s;
+    mdns.queryPeriod = std::chrono::seconds(cell_.network.mdnsQueryPeriodSeconds);
     clock_ = SkillDetectionClock::start(detector, mdns, &error);
     if (!clock_) {
         std::cerr << "demo: mDNS: " << error << "\n";
         return 1;
     }
 
-    // Commissioning: every component gets its certificate from the cell CA before it first
-    // starts, as a device gets it before it joins a plant. Else its first start would make
-    // an RSA key and count that in its detection time.
-    const std::string robot = cell_.robots.front().name;
-    const std::string changer = cell_.toolChanger->name;
-    const std::string pickplace = cell_.pickAndPlace->name;
-    std::vector<std::pair<std::string, std::string>> components = {
-        {"lds", "urn:skillcell:lds"},
-        {"kb", "urn:skillcell:kb"},
-        {"world", "urn:skillcell:device:world"},
-        {changer, "urn:skillcell:device:kelvin-toolchanger"},
-        {robot, "urn:skillcell:device:ur5"},
-        {pickplace, "urn:skillcell:device:pick-and-place"},
-        {"mes", "urn:skillcell:mes"}};
-    // Every adapter model: --swap powers one that the cell file does not have in a dock.
-    for (const auto& m : cell::adapterModelTable()) {
-        components.emplace_back(std::string(m.command), std::string(m.applicationUri));
-    }
-    for (const auto& [name, uri] : components) {
-        if (!commission(name, uri, &error)) {
-            std::cerr << "demo: the certificate of " << name << ": " << error << "\n";
-            return 1;
-        }
-    }
-
     std::printf("== the cell's infrastructure (each component a process; security on)\n");
     if (!startInfrastructure()) return 1;
 
-    const std::string speedText = std::to_string(speed());
-    const std::string detectionTimeout = std::to_string(o_.bootProfile == "none" ? 20'000 : 60'000);
     std::vector<MeasuredComponent> measured;
-    // The tool table and the adapters the changer powers come from the cell file's tools.
-    const auto powerCommand = [this](const cell::Tool& tool, const cell::AdapterModel& model) {
-        return adapterCommand(std::string(model.command),
-                              "--grip-offset " + cell::vectorArgument(tool.gripOffset));
-    };
-    std::vector<std::string> changerArgs = {
-        "device", "toolchanger", "--world", worldUrl_, "--detection-timeout-ms", detectionTimeout};
-    const auto table = cell::toolTableArguments(cell_, powerCommand);
-    changerArgs.insert(changerArgs.end(), table.begin(), table.end());
-    if (o_.swap) {
-        const auto shelf = cell::toolTableArguments(swapShelf(), powerCommand);
-        changerArgs.insert(changerArgs.end(), shelf.begin(), shelf.end());
-    }
-    // name, label, application URI, the paper's figure, stays up for the process; arguments.
-    auto add = [&](const std::string& name, const std::string& label, const std::string& uri,
-                   double paperMs, bool stays, std::vector<std::string> head) {
+    auto add = [&](kb::Expected<ComponentLaunch> launch, const std::string& label, double paperMs,
+                   bool stays) {
+        if (!launch) {
+            std::cerr << "demo: " << launch.error() << "\n";
+            return false;
+        }
         MeasuredComponent m;
-        m.name = name;
+        m.launch = std::move(*launch);
         m.label = label;
-        m.applicationUri = uri;
         m.paperMs = paperMs;
         m.staysForTheProcess = stays;
-        auto tail = componentArgs(m.name, /*actsAsCell=*/true);
-        head.insert(head.end(), tail.begin(), tail.end());
-        m.args = std::move(head);
         measured.push_back(std::move(m));
+        return true;
     };
     // Each tool's adapter, started on its own here (in the process, the changer powers it).
     for (const auto& tool : cell_.tools) {
@@ -771,16 +533,13 @@ int DemoCell::run(const Interruption& interruption) {
                 paperMs = f.paperMs;
             }
         }
-        add(std::string(model.command), label, std::string(model.applicationUri), paperMs, false,
-            {"device", std::string(model.command), "--world", worldUrl_, "--speed", speedText,
-             "--boot-profile", o_.bootProfile, "--grip-offset",
-             cell::vectorArgument(tool.gripOffset)});
+        if (!add(runtime_.adapterLaunch(tool), label, paperMs, false)) return 1;
     }
-    add(changer, "tool changer", "urn:skillcell:device:kelvin-toolchanger", 253, true, changerArgs);
-    add(robot, "UR5", "urn:skillcell:device:ur5", 313, true,
-        {"device", "ur5", "--world", worldUrl_, "--speed", speedText});
-    add(pickplace, "pick-and-place", "urn:skillcell:device:pick-and-place", 211, true,
-        {"device", "pickplace", "--world", worldUrl_, "--detection-timeout-ms", detectionTimeout});
+    if (!add(runtime_.launch(cell_.toolChanger->name), "tool changer", 253, true) ||
+        !add(runtime_.launch(cell_.robots.front().name), "UR5", 313, true) ||
+        !add(runtime_.launch(cell_.pickAndPlace->name), "pick-and-place", 211, true)) {
+        return 1;
+    }
 
     std::printf(
         "\n== detection: each component started %d times; ms from its start until the demo's "
@@ -790,23 +549,7 @@ int DemoCell::run(const Interruption& interruption) {
         if (!measure(m, interruption)) return interruption.requested() ? 130 : 1;
     }
 
-    auto mes = startProcess(
-        "mes",
-        [&] {
-            std::vector<std::string> a = {"mes", "--kb", sparqlUrl_, "--journal",
-                                          (dir() / "journal.sqlite").string()};
-            auto tail = componentArgs("mes", true);
-            a.insert(a.end(), tail.begin(), tail.end());
-            return a;
-        }(),
-        30s);
-    if (!mes) {
-        std::cerr << "demo: " << mes.error() << "\n";
-        return 1;
-    }
-    mesUrl_ = mes->url();
-    std::printf("  %-14s %s\n", "mes", mesUrl_.c_str());
-    running_.push_back(std::move(*mes));
+    if (!keep("mes")) return 1;
 
     std::printf("\n== the operator hands the MES the paper's process %s\n", kProcessIri);
     int outcome = runProcess(interruption);
@@ -848,19 +591,12 @@ int DemoCell::run(const Interruption& interruption) {
             std::printf("  %-14s %s\n", p.name().c_str(), p.url().c_str());
         }
         std::printf("  operator: --pki-dir %s --user operator --password-file %s\n",
-                    (dir() / "pki-operator").string().c_str(),
-                    (dir() / "operator.pw").string().c_str());
+                    runtime_.pkiDir("operator").string().c_str(),
+                    runtime_.passwordFile("operator").string().c_str());
         std::fflush(stdout);
         interruption.wait();
     }
     return outcome;
-}
-
-/// Where the running skillcell program is: every component is started from the same one.
-std::string ownExecutable() {
-    std::error_code ec;
-    const auto path = fs::read_symlink("/proc/self/exe", ec);
-    return ec ? std::string() : path.string();
 }
 
 int runDemo(const DemoOptions& o) {
@@ -872,7 +608,7 @@ int runDemo(const DemoOptions& o) {
                   << why << "\n";
         return 2;
     }
-    const std::string skillcell = ownExecutable();
+    const std::string skillcell = skillcellProgram();
     if (skillcell.empty()) {
         std::cerr << "demo: cannot find the skillcell program (/proc/self/exe)\n";
         return 2;
@@ -900,7 +636,7 @@ int runDemo(const DemoOptions& o) {
         return 2;
     }
     std::string error;
-    auto work = WorkDirectory::create(o.workDir, &error);
+    auto work = WorkDirectory::create(o.workDir, "skillcell-demo", &error);
     if (!work) {
         std::cerr << "demo: " << error << "\n";
         return 2;

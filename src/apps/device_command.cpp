@@ -16,6 +16,7 @@
 //            the mounted tool's Grasp and Release, the object from the world model
 #include <spdlog/spdlog.h>
 
+#include "cell/component_uris.hpp"
 #include "cell/device_arguments.hpp"
 #include "commands.hpp"
 #include "devices/common/frame.hpp"
@@ -134,7 +135,7 @@ ua::StatusCode seedWorld(const WorldOptions& options, devices::World& world) {
 
 CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
     auto options = std::make_shared<WorldOptions>();
-    options->process.applicationUri = "urn:skillcell:device:world";
+    options->process.applicationUri = std::string(cell::kWorldUri);
     options->process.applicationName = "skillcell world model";
     CLI::App* cmd = device->add_subcommand(
         "world",
@@ -181,7 +182,7 @@ struct Ur5Content {
 
 CLI::App* addUr5(CLI::App* device, std::vector<Command>& commands) {
     auto options = std::make_shared<Ur5Options>();
-    options->process.applicationUri = "urn:skillcell:device:ur5";
+    options->process.applicationUri = std::string(cell::kUr5Uri);
     options->process.applicationName = "skillcell UR5 (simulated)";
     CLI::App* cmd = device->add_subcommand(
         "ur5",
@@ -646,7 +647,7 @@ ua::Result<ComponentContent> populateToolChanger(const ToolChangerOptions& optio
 
 CLI::App* addToolChanger(CLI::App* device, std::vector<Command>& commands) {
     auto options = std::make_shared<ToolChangerOptions>();
-    options->composite.process.applicationUri = "urn:skillcell:device:kelvin-toolchanger";
+    options->composite.process.applicationUri = std::string(cell::kToolChangerUri);
     options->composite.process.applicationName = "skillcell Kelvin tool changer";
     CLI::App* cmd = device->add_subcommand(
         "toolchanger",
@@ -698,7 +699,7 @@ struct PickPlaceContent {
 
 CLI::App* addPickPlace(CLI::App* device, std::vector<Command>& commands) {
     auto options = std::make_shared<PickPlaceOptions>();
-    options->composite.process.applicationUri = "urn:skillcell:device:pick-and-place";
+    options->composite.process.applicationUri = std::string(cell::kPickAndPlaceUri);
     options->composite.process.applicationName = "skillcell pick and place";
     CLI::App* cmd = device->add_subcommand(
         "pickplace",

@@ -24,6 +24,7 @@
 #include <set>
 #include <sstream>
 
+#include "cell/component_uris.hpp"
 #include "commands.hpp"
 #include "kb/component_graph.hpp"
 #include "kb/component_reader.hpp"
@@ -41,6 +42,9 @@ namespace skillcell::apps {
 
 namespace {
 
+/// The graph of a process loaded with --process: this, then the file's name without .ttl.
+constexpr std::string_view kProcessGraphPrefix = "http://skillcell.dev/processes/";
+
 namespace fs = std::filesystem;
 
 struct KbOptions {
@@ -54,7 +58,8 @@ struct KbOptions {
     bool demoProcess = false;
     bool noReasoner = false;
     bool httpWrites = false;
-    std::vector<std::string> loads;  // GRAPH=FILE
+    std::vector<std::string> loads;      // GRAPH=FILE
+    std::vector<std::string> processes;  // Turtle files, each in a graph of its own
     std::string modelsDir;
 };
 
@@ -338,7 +343,12 @@ int run(KbOptions& o) {
         spdlog::critical("kb: cannot load the built-in models: {}", s.error());
         return 1;
     }
-    for (const auto& spec : o.loads) {
+    std::vector<std::string> loads = o.loads;
+    for (const auto& file : o.processes) {
+        loads.push_back(std::string(kProcessGraphPrefix) +
+                        std::filesystem::path(file).stem().string() + "=" + file);
+    }
+    for (const auto& spec : loads) {
         const auto eq = spec.find('=');
         if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size()) {
             spdlog::critical("kb: --load {}: expected GRAPH=FILE", spec);
@@ -371,7 +381,7 @@ int run(KbOptions& o) {
 Command addKbCommand(CLI::App& app) {
     auto o = std::make_shared<KbOptions>();
     o->process.port = 4850;
-    o->process.applicationUri = "urn:skillcell:kb";
+    o->process.applicationUri = std::string(cell::kKbUri);
     o->process.applicationName = "skillcell knowledge base";
     auto* cmd = app.add_subcommand(
         "kb",
@@ -403,6 +413,12 @@ Command addKbCommand(CLI::App& app) {
     cmd->add_flag("--no-reasoner", o->noReasoner,
                   "load without checking consistency and infer nothing (not for production)");
     cmd->add_option("--load", o->loads, "load a Turtle file into a graph: GRAPH=FILE (checked)");
+    cmd->add_option("--process", o->processes,
+                    "load a process (Turtle, docs/processes.md) into the graph " +
+                        std::string(kProcessGraphPrefix) +
+                        "<file name without .ttl> (checked; "
+                        "repeatable)")
+        ->check(CLI::ExistingFile);
     cmd->add_option("--models", o->modelsDir,
                     "NodeSet2 files (*.xml) of models beyond skillcell's own: loaded when a "
                     "component with skills of their types appears")

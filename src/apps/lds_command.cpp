@@ -1,6 +1,7 @@
 // `skillcell lds`: a stand-alone Local Discovery Server with the multicast extension
 // (LDS-ME): servers register with it (RegisterServer, RegisterServer2), clients ask it for
 // the registered servers (FindServers) and for every server mDNS sees (FindServersOnNetwork).
+#include "cell/component_uris.hpp"
 #include "commands.hpp"
 #include "server_process.hpp"
 
@@ -8,7 +9,7 @@ namespace skillcell::apps {
 
 Command addLdsCommand(CLI::App& app) {
     auto options = std::make_shared<ServerProcessOptions>();
-    options->applicationUri = "urn:skillcell:lds";
+    options->applicationUri = std::string(cell::kLdsUri);
     options->applicationName = "skillcell LDS";
     options->applicationType = ua::ApplicationType::DiscoveryServer;
     options->isLds = true;

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "cell/component_uris.hpp"
 #include "client_security_options.hpp"
 #include "commands.hpp"
 #include "devices/common/blocking_call.hpp"
@@ -216,7 +217,7 @@ asio::awaitable<int> runProcess(ua::Client& client, const RunOptions& o) {
 Command addMesCommand(CLI::App& app) {
     auto o = std::make_shared<MesOptions>();
     o->process.port = 4851;
-    o->process.applicationUri = "urn:skillcell:mes";
+    o->process.applicationUri = std::string(cell::kMesUri);
     o->process.applicationName = "skillcell semantic MES";
     auto* cmd = app.add_subcommand(
         "mes",

@@ -157,6 +157,18 @@ public:
         return v;
     }
 
+    /// The component's optional `restart` key, into `cell.restart[component]`.
+    void restart(const toml::table& t, std::string_view where, const std::string& component,
+                 CellFile& cell) {
+        if (t.get("restart") == nullptr) return;
+        static const std::vector<std::string_view> policies = {"on-failure", "always", "never"};
+        auto v = oneOf(t, "restart", where, policies, "a restart policy");
+        if (!v) return;
+        cell.restart[component] = *v == "always"  ? RestartPolicy::Always
+                                  : *v == "never" ? RestartPolicy::Never
+                                                  : RestartPolicy::OnFailure;
+    }
+
     std::optional<bool> boolean(const toml::table& t, std::string_view key,
                                 std::string_view where) {
         const toml::node* n = t.get(key);
@@ -359,11 +371,13 @@ void readSecurity(Reader& r, const toml::table& root, Security& out) {
     }
 }
 
-void readKnowledgeBase(Reader& r, const toml::table& root, std::optional<KnowledgeBase>& out) {
+void readKnowledgeBase(Reader& r, const toml::table& root, CellFile& cell) {
     const toml::table* t = r.table(root, "kb", "[kb]");
     if (t == nullptr) return;
+    auto& out = cell.kb;
     out.emplace();
-    r.onlyKeys(*t, "[kb]", {"processes", "sparql-url"});
+    r.onlyKeys(*t, "[kb]", {"processes", "sparql-url", "restart"});
+    r.restart(*t, "[kb]", "kb", cell);
     if (const toml::node* n = t->get("processes")) {
         const toml::array* a = n->as_array();
         if (a == nullptr) {
@@ -385,11 +399,13 @@ void readKnowledgeBase(Reader& r, const toml::table& root, std::optional<Knowled
     }
 }
 
-void readMes(Reader& r, const toml::table& root, std::optional<Mes>& out) {
+void readMes(Reader& r, const toml::table& root, CellFile& cell) {
     const toml::table* t = r.table(root, "mes", "[mes]");
     if (t == nullptr) return;
+    auto& out = cell.mes;
     out.emplace();
-    r.onlyKeys(*t, "[mes]", {"step-timeout-ms"});
+    r.onlyKeys(*t, "[mes]", {"step-timeout-ms", "restart"});
+    r.restart(*t, "[mes]", "mes", cell);
     if (auto v = r.integer(*t, "step-timeout-ms", "[mes]", 100, 86'400'000)) {
         out->stepTimeoutMs = static_cast<int>(*v);
     }
@@ -421,7 +437,8 @@ private:
 void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks) {
     const toml::table* t = r.table(root, "world", "[world]");
     if (t == nullptr) return;
-    r.onlyKeys(*t, "[world]", {"dock", "object"});
+    r.onlyKeys(*t, "[world]", {"dock", "object", "restart"});
+    r.restart(*t, "[world]", "world", out);
     for (const toml::table* d : r.tables(*t, "dock", "world.dock")) {
         r.onlyKeys(*d, "[[world.dock]]", {"name", "pose"});
         auto name = r.name(*d, "[[world.dock]]");
@@ -512,8 +529,9 @@ void readTools(Reader& r, const toml::table& root, CellFile& out, const NameSet&
 
 void readDevices(Reader& r, const toml::table& root, CellFile& out, NameSet& components) {
     for (const toml::table* t : r.tables(root, "robot", "robot")) {
-        r.onlyKeys(*t, "[[robot]]", {"name", "model", "speed"});
+        r.onlyKeys(*t, "[[robot]]", {"name", "model", "speed", "restart"});
         auto name = r.name(*t, "[[robot]]");
+        if (name) r.restart(*t, "robot '" + *name + "'", *name, out);
         const std::string where = name ? "robot '" + *name + "'" : std::string("[[robot]]");
         auto model = r.oneOf(*t, "model", where, robotModels(), "a robot model");
         Robot robot;
@@ -525,11 +543,12 @@ void readDevices(Reader& r, const toml::table& root, CellFile& out, NameSet& com
         }
     }
     if (const toml::table* t = r.table(root, "toolchanger", "[toolchanger]")) {
-        r.onlyKeys(*t, "[toolchanger]", {"name", "model"});
+        r.onlyKeys(*t, "[toolchanger]", {"name", "model", "restart"});
         ToolChanger changer;
         if (t->get("name") != nullptr) {
             if (auto name = r.name(*t, "[toolchanger]")) changer.name = *name;
         }
+        r.restart(*t, "[toolchanger]", changer.name, out);
         if (auto model = r.string(*t, "model", "[toolchanger]", false)) {
             if (*model != "kelvin") {
                 r.problem(t->get("model")->source(),
@@ -539,11 +558,12 @@ void readDevices(Reader& r, const toml::table& root, CellFile& out, NameSet& com
         if (components.add(r, *t, changer.name)) out.toolChanger = changer;
     }
     if (const toml::table* t = r.table(root, "pickplace", "[pickplace]")) {
-        r.onlyKeys(*t, "[pickplace]", {"name"});
+        r.onlyKeys(*t, "[pickplace]", {"name", "restart"});
         PickAndPlace composite;
         if (t->get("name") != nullptr) {
             if (auto name = r.name(*t, "[pickplace]")) composite.name = *name;
         }
+        r.restart(*t, "[pickplace]", composite.name, out);
         if (components.add(r, *t, composite.name)) out.pickAndPlace = composite;
     }
 }
@@ -572,6 +592,23 @@ void checkDependencies(Reader& r, const toml::table& root, const CellFile& cell)
 }
 
 }  // namespace
+
+std::string_view toString(RestartPolicy policy) {
+    switch (policy) {
+        case RestartPolicy::Always:
+            return "always";
+        case RestartPolicy::Never:
+            return "never";
+        case RestartPolicy::OnFailure:
+            break;
+    }
+    return "on-failure";
+}
+
+RestartPolicy CellFile::restartPolicy(const std::string& component) const {
+    const auto it = restart.find(component);
+    return it == restart.end() ? RestartPolicy::OnFailure : it->second;
+}
 
 std::string Problem::describe() const {
     if (line <= 0) return file + ": " + message;
@@ -613,11 +650,12 @@ ReadResult readCellText(std::string_view text, const std::string& sourceName,
     readNetwork(r, root, cell.network);
     readSecurity(r, root, cell.security);
     if (const toml::table* t = r.table(root, "lds", "[lds]")) {
-        r.onlyKeys(*t, "[lds]", {});
+        r.onlyKeys(*t, "[lds]", {"restart"});
+        r.restart(*t, "[lds]", "lds", cell);
         cell.lds = true;
     }
-    readKnowledgeBase(r, root, cell.kb);
-    readMes(r, root, cell.mes);
+    readKnowledgeBase(r, root, cell);
+    readMes(r, root, cell);
     NameSet docks("dock");
     readWorld(r, root, cell, docks);
     readTools(r, root, cell, docks);

@@ -5,6 +5,7 @@
 // a wrong file gives every problem at once, each with file:line:column, and no CellFile.
 #include <array>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -84,6 +85,12 @@ struct PickAndPlace {
     std::string name = "pickplace";
 };
 
+/// What `cell up` does when a component ends without being asked to: start it again after
+/// it failed (a non-zero exit or a signal: a crash, a kill), after any end, or never. A
+/// component that keeps failing is given up after a few restarts within a minute.
+enum class RestartPolicy { OnFailure, Always, Never };
+[[nodiscard]] std::string_view toString(RestartPolicy policy);
+
 struct CellFile {
     std::filesystem::path path;  // where it was read from; relative paths are from its folder
     std::string name;
@@ -98,6 +105,10 @@ struct CellFile {
     std::vector<Robot> robots;
     std::optional<ToolChanger> toolChanger;
     std::optional<PickAndPlace> pickAndPlace;
+    /// Each component's `restart` key, by component name ("lds", "kb", "mes", "world", or a
+    /// device's name); absent: RestartPolicy::OnFailure.
+    std::map<std::string, RestartPolicy> restart;
+    [[nodiscard]] RestartPolicy restartPolicy(const std::string& component) const;
 };
 
 /// One problem in a cell file, where it is.

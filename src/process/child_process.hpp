@@ -106,6 +106,9 @@ public:
     [[nodiscard]] const std::string& name() const { return name_; }
     /// True until the process has ended (reaps it when it has).
     [[nodiscard]] bool running();
+    /// A descriptor that poll() reports readable when the process ends (its pidfd), for a
+    /// supervisor that waits for many at once; -1 on a kernel without pidfd_open.
+    [[nodiscard]] int exitFd() const { return pidfd_.get(); }
     /// Waits at most `timeout` for the end; fails (naming the program) if it is still running.
     Expected<ExitStatus> wait(Duration timeout);
     /// SIGTERM, at most `grace` to end, then SIGKILL.

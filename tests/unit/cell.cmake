@@ -5,3 +5,7 @@ target_link_libraries(test_cell PRIVATE skillcell_cell)
 target_compile_definitions(test_cell PRIVATE SKILLCELL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 add_test(NAME cli.cell_check COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cell/cell_check_cli.sh
                                      $<TARGET_FILE:skillcell> ${PROJECT_SOURCE_DIR})
+# `cell up`, `cell status`, `cell down`: a small cell in its own network namespace (root).
+add_test(NAME cli.cell_up COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cell/cell_up_cli.sh
+                                  $<TARGET_FILE:skillcell> ${PROJECT_SOURCE_DIR})
+set_tests_properties(cli.cell_up PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600)

@@ -1,0 +1,388 @@
+#include "cell_runtime.hpp"
+
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "cell/component_uris.hpp"
+#include "cell/device_arguments.hpp"
+#include "process/child_process.hpp"
+#include "ua/crypto/primitives.hpp"
+#include "ua/pki/certificate_authority.hpp"
+#include "ua/server/user_database.hpp"
+
+namespace skillcell::apps {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+namespace {
+
+/// A password for a generated user: 96 random bits, in hex.
+std::string newPassword() {
+    static constexpr char kHex[] = "0123456789abcdef";
+    std::string out;
+    for (const auto b : ua::crypto::randomBytes(12)) {
+        out += kHex[b >> 4];
+        out += kHex[b & 0xf];
+    }
+    return out;
+}
+
+/// A TCP port free right now on `host`: the kernel's choice for a socket bound to port 0.
+/// In the cell's private network namespace nobody else takes it before the component does.
+std::uint16_t freeTcpPort() {
+    const process::UniqueFd fd(::socket(AF_INET, SOCK_STREAM, 0));
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_ANY);
+    socklen_t length = sizeof a;
+    if (!fd.valid() || ::bind(fd.get(), reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+        ::getsockname(fd.get(), reinterpret_cast<sockaddr*>(&a), &length) != 0) {
+        return 0;  // the component takes any free port, and is not kept
+    }
+    return ntohs(a.sin_port);
+}
+
+struct GeneratedUser {
+    const char* name;
+    ua::Role role;
+    const char* roleName;
+};
+// "cell" is whom the components act as when they are clients of each other.
+constexpr GeneratedUser kGeneratedUsers[] = {{"operator", ua::Role::Operator, "Operator"},
+                                             {"engineer", ua::Role::Engineer, "Engineer"},
+                                             {"observer", ua::Role::Observer, "Observer"},
+                                             {"cell", ua::Role::Operator, "Operator"}};
+
+}  // namespace
+
+std::string skillcellProgram() {
+    std::error_code ec;
+    const auto path = fs::read_symlink("/proc/self/exe", ec);
+    return ec ? std::string() : path.string();
+}
+
+CellRuntime::CellRuntime(const cell::CellFile& cell, const WorkDirectory& work,
+                         std::string skillcell, CellRuntimeOptions options)
+    : cell_(cell), work_(work), skillcell_(std::move(skillcell)), options_(std::move(options)) {}
+
+fs::path CellRuntime::caDir() const {
+    return cell_.security.ca.empty() ? dir() / "ca" : cell_.security.ca;
+}
+
+fs::path CellRuntime::passwordFile(const std::string& user) const {
+    // Given users: their passwords beside their database; generated: in the work directory.
+    const fs::path folder =
+        cell_.security.users.empty() ? dir() : cell_.security.users.parent_path();
+    return folder / (user + ".pw");
+}
+
+std::vector<std::pair<std::string, std::string>> CellRuntime::environment() const {
+    if (!secure()) return {};
+    return {{"SKILLCELL_CA_DIR", caDir().string()}};
+}
+
+std::string CellRuntime::endpoint(const std::string& name) const {
+    const auto it = endpoints_.find(name);
+    return it == endpoints_.end() ? std::string() : it->second;
+}
+
+std::string CellRuntime::sparqlUrl() const {
+    if (cell_.kb && !cell_.kb->sparqlUrl.empty()) return cell_.kb->sparqlUrl;
+    return kbSparql_;
+}
+
+std::vector<Credential> CellRuntime::credentials() const {
+    return credentials_;
+}
+
+double CellRuntime::speed() const {
+    if (options_.speed > 0) return options_.speed;
+    return cell_.robots.empty() ? 1.0 : cell_.robots.front().speed;
+}
+
+std::string CellRuntime::applicationUri(const std::string& name) const {
+    if (name == "lds" && cell_.lds) return std::string(cell::kLdsUri);
+    if (name == "kb" && cell_.kb) return std::string(cell::kKbUri);
+    if (name == "mes" && cell_.mes) return std::string(cell::kMesUri);
+    if (name == "world") return std::string(cell::kWorldUri);
+    if (cell_.toolChanger && name == cell_.toolChanger->name) {
+        return cell::componentUri(cell::kToolChangerUri, name, cell::ToolChanger{}.name);
+    }
+    if (cell_.pickAndPlace && name == cell_.pickAndPlace->name) {
+        return cell::componentUri(cell::kPickAndPlaceUri, name, cell::PickAndPlace{}.name);
+    }
+    for (const auto& r : cell_.robots) {
+        if (r.name == name) return cell::componentUri(cell::kUr5Uri, name, r.model);
+    }
+    return {};
+}
+
+std::vector<std::string> CellRuntime::components() const {
+    std::vector<std::string> out;
+    if (cell_.lds) out.emplace_back("lds");
+    if (cell_.kb) out.emplace_back("kb");
+    const bool world = !cell_.docks.empty() || !cell_.objects.empty() || !cell_.robots.empty();
+    if (world) out.emplace_back("world");
+    if (cell_.toolChanger) out.push_back(cell_.toolChanger->name);
+    for (const auto& r : cell_.robots) out.push_back(r.name);
+    if (cell_.pickAndPlace) out.push_back(cell_.pickAndPlace->name);
+    if (cell_.mes) out.emplace_back("mes");
+    return out;
+}
+
+bool CellRuntime::prepare(std::string* error) {
+    std::error_code ec;
+    if (secure()) {
+        // Generated once, then kept; a folder that is there but holds no CA is an error, not
+        // something to replace.
+        if (cell_.security.ca.empty() && !fs::exists(dir() / "ca", ec)) {
+            ua::pki::CaOptions ca;
+            ca.name = "skillcell cell " + cell_.name + " CA";
+            if (!ua::pki::createCertificateAuthority(dir() / "ca", ca, error)) return false;
+        } else if (!ua::pki::loadCertificateAuthority(caDir(), error)) {
+            *error = "the cell CA " + caDir().string() + ": " + *error;
+            return false;
+        }
+        if (!prepareUsers(error)) return false;
+    }
+    // Commissioning: each component gets its certificate before it first starts, else its
+    // first start would make an RSA key and count that in its detection time.
+    std::vector<std::pair<std::string, std::string>> all;
+    for (const auto& name : components()) all.emplace_back(name, applicationUri(name));
+    for (const auto& m : cell::adapterModelTable()) {  // the demo's --swap powers any model
+        all.emplace_back(std::string(m.command), std::string(m.applicationUri));
+    }
+    all.emplace_back("operator", "urn:skillcell:operator");
+    for (const auto& [name, uri] : all) {
+        if (!commission(name, uri, error)) {
+            *error = "the certificate of " + name + ": " + *error;
+            return false;
+        }
+    }
+    identity_ = commission(options_.selfName, selfUri(), error);
+    return identity_.has_value();
+}
+
+bool CellRuntime::prepareUsers(std::string* error) {
+    if (!cell_.security.users.empty()) {
+        // The cell's own users: the components act as "cell", whose password must be there.
+        auto users = ua::UserDatabase::load(cell_.security.users, error);
+        if (!users) return false;
+        const auto& records = users->users();
+        const bool hasCell = std::any_of(records.begin(), records.end(),
+                                         [](const ua::UserRecord& u) { return u.name == "cell"; });
+        std::error_code ec;
+        if (!hasCell || !fs::exists(passwordFile("cell"), ec)) {
+            *error = cell_.security.users.string() +
+                     ": the components act as the user 'cell' (role Operator), which needs to be "
+                     "in this database with its password in " +
+                     passwordFile("cell").string();
+            return false;
+        }
+        for (const auto& u : records) {
+            if (fs::exists(passwordFile(u.name), ec)) {
+                credentials_.push_back({u.name, "", passwordFile(u.name)});
+            }
+        }
+        return true;
+    }
+    // Generated once, then kept: a second `cell up` of the same work directory finds them.
+    const fs::path file = dir() / "users";
+    std::error_code ec;
+    bool complete = fs::exists(file, ec);
+    for (const auto& u : kGeneratedUsers) complete = complete && fs::exists(passwordFile(u.name));
+    ua::UserDatabase users;
+    if (complete) {
+        auto loaded = ua::UserDatabase::load(file, error);
+        if (!loaded) return false;
+    } else {
+        for (const auto& u : kGeneratedUsers) {
+            const std::string password = newPassword();
+            if (users.setPassword(u.name, ua::RoleSet{u.role}, password).isBad() ||
+                !writeSecret(passwordFile(u.name), password)) {
+                *error = std::string("cannot create the user ") + u.name;
+                return false;
+            }
+        }
+        if (users.save(file, error).isBad()) return false;
+    }
+    for (const auto& u : kGeneratedUsers) {
+        credentials_.push_back({u.name, u.roleName, passwordFile(u.name)});
+    }
+    return true;
+}
+
+std::optional<ApplicationIdentity> CellRuntime::commission(const std::string& name,
+                                                           const std::string& uri,
+                                                           std::string* error) const {
+    const fs::path pki = pkiDir(name);
+    std::error_code ec;
+    fs::create_directories(pki, ec);
+    if (secure() && !fs::exists(pki / "cell-ca", ec)) {
+        fs::create_directory_symlink(fs::absolute(caDir(), ec), pki / "cell-ca", ec);
+    }
+    if (ec) {
+        *error = "cannot link " + pki.string() + "/cell-ca: " + ec.message();
+        return std::nullopt;
+    }
+    auto identity = ApplicationIdentity::load(pki, uri, "skillcell " + name, error);
+    if (!identity) return std::nullopt;
+    return std::move(*identity);
+}
+
+std::uint16_t CellRuntime::port(const std::string& key) {
+    if (!options_.keepPorts) return 0;
+    auto [it, inserted] = ports_.try_emplace(key, 0);
+    if (it->second == 0) it->second = freeTcpPort();
+    return it->second;
+}
+
+std::vector<std::string> CellRuntime::componentArgs(const std::string& name, bool actsAsCell,
+                                                    std::uint16_t tcpPort) const {
+    const bool host = cell_.network.kind == cell::Network::Kind::Host;
+    std::vector<std::string> a = {"--port", std::to_string(tcpPort)};
+    if (!host) a.insert(a.end(), {"--host", "127.0.0.1"});
+    for (const auto& i : cell_.network.interfaces) a.insert(a.end(), {"--mdns-interface", i});
+    a.insert(a.end(), {"--mdns-ttl", std::to_string(cell_.network.mdnsTtlSeconds),
+                       "--mdns-query-period", std::to_string(cell_.network.mdnsQueryPeriodSeconds),
+                       "--pki-dir", pkiDir(name).string()});
+    if (!secure()) {
+        a.emplace_back("--insecure");
+        return a;
+    }
+    const fs::path users = cell_.security.users.empty() ? dir() / "users" : cell_.security.users;
+    a.insert(a.end(), {"--users", users.string()});
+    if (actsAsCell) {
+        a.insert(a.end(), {"--client-user", "cell", "--client-password-file",
+                           passwordFile("cell").string()});
+    }
+    return a;
+}
+
+std::string CellRuntime::adapterCommand(const cell::Tool& tool,
+                                        const cell::AdapterModel& model) const {
+    // The tool changer splits this at blanks and runs it when it powers the tool.
+    std::string cmd =
+        skillcell_ + " device " + std::string(model.command) + " --world " + endpoint("world");
+    // Powered adapters come and go: each start takes any free port.
+    for (const auto& a : componentArgs(std::string(model.command), true, 0)) cmd += " " + a;
+    char speed[32];
+    std::snprintf(speed, sizeof speed, "%g", this->speed());
+    cmd += std::string(" --speed ") + speed + " --boot-profile " + options_.bootProfile +
+           " --grip-offset " + cell::vectorArgument(tool.gripOffset);
+    return cmd;
+}
+
+kb::Expected<ComponentLaunch> CellRuntime::adapterLaunch(const cell::Tool& tool) {
+    const cell::AdapterModel* model = cell::findAdapterModel(tool.adapter);
+    if (model == nullptr) return kb::Error{"tool " + tool.name + ": no adapter " + tool.adapter};
+    if (endpoint("world").empty()) return kb::Error{"the adapters need the world model first"};
+    ComponentLaunch l;
+    l.name = std::string(model->command);
+    l.applicationUri = std::string(model->applicationUri);
+    char speed[32];
+    std::snprintf(speed, sizeof speed, "%g", this->speed());
+    l.args = {"device",         l.name,
+              "--world",        endpoint("world"),
+              "--speed",        speed,
+              "--boot-profile", options_.bootProfile,
+              "--grip-offset",  cell::vectorArgument(tool.gripOffset)};
+    const auto tail = componentArgs(l.name, true, 0);
+    l.args.insert(l.args.end(), tail.begin(), tail.end());
+    l.readyTimeout = 120s;  // a tinyua boot takes 8-10 s, more under a sanitizer
+    return l;
+}
+
+kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
+    ComponentLaunch l;
+    l.name = name;
+    l.applicationUri = applicationUri(name);
+    if (l.applicationUri.empty()) return kb::Error{"the cell has no component " + name};
+    auto needs = [&](const std::string& other) -> std::optional<kb::Error> {
+        if (endpoint(other).empty()) {
+            return kb::Error{name + " needs " + other + ", which has not started"};
+        }
+        return std::nullopt;
+    };
+    const bool actsAsCell = name != "lds" && name != "world";
+    std::vector<std::string>& a = l.args;
+    // The tool changer and pick-and-place wait for the skills they compose; detection of a
+    // tinyua adapter takes its boot time.
+    const std::string detectionTimeout =
+        std::to_string(options_.bootProfile == "none" ? 20'000 : 60'000);
+    if (name == "lds") {
+        a = {"lds"};
+    } else if (name == "kb") {
+        a = {"kb", "--data-dir", (dir() / "kb").string(), "--http-port",
+             std::to_string(port("kb-http"))};
+        if (!cell_.kb->sparqlUrl.empty()) a.insert(a.end(), {"--sparql-url", cell_.kb->sparqlUrl});
+        for (const auto& p : cell_.kb->processes) a.insert(a.end(), {"--process", p.string()});
+        // Virtuoso's first start creates its database and Konclude checks every model:
+        // minutes on a slow machine, seconds on a fast one.
+        l.readyTimeout = 300s;
+    } else if (name == "mes") {
+        if (sparqlUrl().empty()) return kb::Error{"mes needs the knowledge base's SPARQL endpoint"};
+        a = {"mes",
+             "--kb",
+             sparqlUrl(),
+             "--journal",
+             journal().string(),
+             "--step-timeout-ms",
+             std::to_string(cell_.mes->stepTimeoutMs)};
+    } else if (name == "world") {
+        a = {"device", "world"};
+        const auto scene = cell::worldArguments(cell_);
+        a.insert(a.end(), scene.begin(), scene.end());
+        if (options_.shelf) {
+            const auto shelf = cell::worldArguments(*options_.shelf);
+            a.insert(a.end(), shelf.begin(), shelf.end());
+        }
+    } else if (cell_.toolChanger && name == cell_.toolChanger->name) {
+        if (auto e = needs("world")) return *e;
+        a = {"device",        "toolchanger", "--world", endpoint("world"), "--detection-timeout-ms",
+             detectionTimeout};
+        const auto power = [this](const cell::Tool& t, const cell::AdapterModel& m) {
+            return adapterCommand(t, m);
+        };
+        const auto table = cell::toolTableArguments(cell_, power);
+        a.insert(a.end(), table.begin(), table.end());
+        if (options_.shelf) {
+            const auto shelf = cell::toolTableArguments(*options_.shelf, power);
+            a.insert(a.end(), shelf.begin(), shelf.end());
+        }
+    } else if (cell_.pickAndPlace && name == cell_.pickAndPlace->name) {
+        if (auto e = needs("world")) return *e;
+        a = {"device",        "pickplace", "--world", endpoint("world"), "--detection-timeout-ms",
+             detectionTimeout};
+    } else {
+        if (auto e = needs("world")) return *e;
+        const auto robot = std::find_if(cell_.robots.begin(), cell_.robots.end(),
+                                        [&](const cell::Robot& r) { return r.name == name; });
+        char speed[32];
+        std::snprintf(speed, sizeof speed, "%g",
+                      options_.speed > 0 ? options_.speed : robot->speed);
+        a = {"device", robot->model, "--world", endpoint("world"), "--speed", speed};
+    }
+    a.insert(a.end(), {"--application-uri", l.applicationUri});
+    const auto tail = componentArgs(name, actsAsCell, port(name));
+    a.insert(a.end(), tail.begin(), tail.end());
+    return l;
+}
+
+kb::Expected<CellProcess> CellRuntime::start(const ComponentLaunch& launch) {
+    std::vector<std::string> argv = launch.args;
+    argv.insert(argv.begin(), skillcell_);
+    auto p =
+        CellProcess::start(launch.name, argv, environment(), log(launch.name), launch.readyTimeout);
+    if (!p) return p;
+    endpoints_[launch.name] = p->url();
+    if (launch.name == "kb") kbSparql_ = p->reported("SPARQL");
+    return p;
+}
+
+}  // namespace skillcell::apps

@@ -1,0 +1,148 @@
+#!/usr/bin/env bash
+# `skillcell cell up`, `cell status` and `cell down` on a small cell (robot_cell.toml):
+#  - a wrong cell file: exit 2, every problem with FILE:LINE:COLUMN, nothing started;
+#  - up: the endpoints and the generated users are printed, `cell status` shows every
+#    component up with the UR5's skills as detected;
+#  - a second `cell up` of the same work directory is refused while the first runs;
+#  - the UR5 killed with SIGKILL: reported with the last lines of its log, restarted
+#    (restart = "on-failure", the default) on the same endpoint, its skills detected again;
+#  - the LDS killed (restart = "never"): reported, stays down, `cell status` exits 1;
+#  - `cell down`: the supervisor ends with 0 and no component is left running;
+#  - a second `cell up` of the same work directory keeps the CA and the users, and SIGINT
+#    (Ctrl-C) stops it as cleanly.
+# `cell up` makes its own network namespace (root). Without root the test is skipped (77),
+# unless SKILLCELL_REQUIRE_NETNS=1, as in CI.
+# Usage: cell_up_cli.sh PATH/TO/skillcell SOURCE_DIR
+set -euo pipefail
+skillcell=$1
+src=$2
+if ! unshare -n true 2>/dev/null; then
+  echo "!!! SKIPPED: cannot create a network namespace (not root?) !!!" >&2
+  [ "${SKILLCELL_REQUIRE_NETNS:-0}" = 1 ] && exit 1
+  exit 77
+fi
+tmp=$(mktemp -d)
+work=$tmp/work
+supervisor=
+cleanup() {
+  # A failed test must not leave its cell behind.
+  if [ -n "$supervisor" ] && kill -0 "$supervisor" 2>/dev/null; then
+    kill -TERM "$supervisor" 2>/dev/null || true
+    timeout 60 tail --pid="$supervisor" -f /dev/null || kill -KILL "$supervisor" || true
+  fi
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+fail() {
+  echo "FAILED: $*" >&2
+  for f in "$tmp"/up*.out "$tmp"/up*.err "$work"/logs/*.log; do
+    [ -f "$f" ] && { echo "--- $f"; tail -n 20 "$f"; }
+  done
+  exit 1
+}
+status_json() { "$skillcell" cell status --json --work-dir "$work"; }
+# The value of KEY of component NAME in `cell status --json`.
+field() {
+  status_json | python3 -c "import json,sys
+d=json.load(sys.stdin)
+print(next(str(c.get('$2','')) for c in d['components'] if c['name']=='$1'))"
+}
+# Waits (at most $1 tries, 0.5 s apart) until the command in the other arguments succeeds.
+until_ok() {
+  local tries=$1
+  shift
+  for _ in $(seq "$tries"); do
+    "$@" >/dev/null 2>&1 && return 0
+    sleep 0.5
+  done
+  return 1
+}
+skills_of_ur5() { field ur5 skills | grep -q CartesianLinearMoveSkillType; }
+cell=$src/tests/unit/cell/robot_cell.toml
+
+# A wrong cell file: nothing starts.
+rc=0
+"$skillcell" cell up "$src/tests/data/cells/several_problems.toml" --work-dir "$work" \
+  >"$tmp/bad.out" 2>"$tmp/bad.err" || rc=$?
+[ "$rc" = 2 ] || fail "a wrong cell file: exit $rc, expected 2"
+grep -q "several_problems.toml:12:9: robot 'ur5': model 'ur6'" "$tmp/bad.err" ||
+  fail "no FILE:LINE:COLUMN problem: $(cat "$tmp/bad.err")"
+grep -q 'nothing started' "$tmp/bad.err" || fail "does not say that nothing started"
+[ ! -e "$work" ] || fail "a wrong cell file made the work directory"
+
+# Up.
+"$skillcell" cell up "$cell" --work-dir "$work" >"$tmp/up.out" 2>"$tmp/up.err" &
+supervisor=$!
+until_ok 240 grep -q 'is up' "$tmp/up.out" || fail "the cell did not come up"
+for line in '^  lds +opc\.tcp://' '^  world +opc\.tcp://' '^  ur5 +opc\.tcp://' \
+  "^  operator +Operator +$work/operator\.pw$" "^  engineer +Engineer +$work/engineer\.pw$"; do
+  grep -qE "$line" "$tmp/up.out" || fail "cell up did not print: $line"
+done
+until_ok 60 skills_of_ur5 || fail "the UR5's skills were not detected"
+"$skillcell" cell status --work-dir "$work" >"$tmp/status.out" || fail "status: exit $?"
+grep -qE '^  ur5 +up ' "$tmp/status.out" || fail "ur5 is not up: $(cat "$tmp/status.out")"
+grep -qE 'skill Skills/CartesianLinearMove +CartesianLinearMoveSkillType' "$tmp/status.out" ||
+  fail "status does not show the UR5's skills: $(cat "$tmp/status.out")"
+
+# One supervisor per work directory.
+rc=0
+timeout 60 "$skillcell" cell up "$cell" --work-dir "$work" >/dev/null 2>"$tmp/second.err" || rc=$?
+[ "$rc" = 1 ] || fail "a second cell up in the same work directory: exit $rc, expected 1"
+grep -q 'a cell is up already' "$tmp/second.err" || fail "second up: $(cat "$tmp/second.err")"
+
+# The UR5 killed: reported with its log, restarted on its endpoint.
+endpoint=$(field ur5 endpoint)
+pid=$(field ur5 pid)
+kill -KILL "$pid"
+restarted() { [ "$(field ur5 restarts)" = 1 ] && [ "$(field ur5 state)" = up ]; }
+until_ok 60 restarted || fail "the UR5 was not restarted"
+grep -q 'cell: ur5 ended (killed by signal 9' "$tmp/up.err" || fail "the UR5's end not reported"
+grep -q '^    | ' "$tmp/up.err" || fail "no lines of the UR5's log in the report"
+[ "$(field ur5 endpoint)" = "$endpoint" ] || fail "the UR5 came back on another endpoint"
+[ "$(field ur5 pid)" != "$pid" ] || fail "the UR5's pid did not change"
+until_ok 60 skills_of_ur5 || fail "the restarted UR5's skills were not detected"
+
+# The LDS killed: restart = "never".
+kill -KILL "$(field lds pid)"
+until_ok 60 test "$(field lds state)" = down || fail "the LDS is not reported down"
+grep -q 'cell: lds stays down (restart = "never")' "$tmp/up.err" || fail "no 'stays down'"
+rc=0
+"$skillcell" cell status --work-dir "$work" >"$tmp/status.out" || rc=$?
+[ "$rc" = 1 ] || fail "status with a component down: exit $rc, expected 1"
+
+# Down: every component ends, and the supervisor with 0.
+pids=$(status_json | python3 -c "import json,sys
+print(' '.join(str(c['pid']) for c in json.load(sys.stdin)['components'] if c.get('pid')))")
+"$skillcell" cell down --work-dir "$work" >"$tmp/down.out" || fail "cell down: exit $?"
+rc=0
+wait "$supervisor" || rc=$?
+supervisor=
+[ "$rc" = 0 ] || fail "cell up ended with $rc after cell down"
+for p in $pids; do
+  ! kill -0 "$p" 2>/dev/null || fail "component pid $p still runs after cell down"
+done
+[ ! -e "$work/control.sock" ] || fail "the control socket is left behind"
+rc=0
+"$skillcell" cell status --work-dir "$work" >/dev/null 2>&1 || rc=$?
+[ "$rc" = 2 ] || fail "status of a stopped cell: exit $rc, expected 2"
+
+# Up again on the same work directory: the same CA and users; Ctrl-C stops it.
+ca=$(sha256sum "$work/ca/certs/ca.der")
+password=$(cat "$work/operator.pw")
+"$skillcell" cell up "$cell" --work-dir "$work" >"$tmp/up2.out" 2>"$tmp/up2.err" &
+supervisor=$!
+until_ok 240 grep -q 'is up' "$tmp/up2.out" || fail "the cell did not come up again"
+[ "$(sha256sum "$work/ca/certs/ca.der")" = "$ca" ] || fail "the second up made a new CA"
+[ "$(cat "$work/operator.pw")" = "$password" ] || fail "the second up made new passwords"
+pids=$(status_json | python3 -c "import json,sys
+print(' '.join(str(c['pid']) for c in json.load(sys.stdin)['components'] if c.get('pid')))")
+kill -INT "$supervisor"
+rc=0
+wait "$supervisor" || rc=$?
+supervisor=
+[ "$rc" = 0 ] || fail "cell up ended with $rc after SIGINT"
+grep -q 'stopping cell-up-test (interrupted)' "$tmp/up2.out" || fail "no stop message"
+for p in $pids; do
+  ! kill -0 "$p" 2>/dev/null || fail "component pid $p still runs after SIGINT"
+done
+echo OK
