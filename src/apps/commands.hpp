@@ -32,6 +32,8 @@ Command addRunCommand(CLI::App& app);
 Command addDemoCommand(CLI::App& app);
 /// `skillcell cell check FILE`: a cell file read and checked (src/cell).
 Command addCellCommand(CLI::App& app);
+/// `skillcell process check|list`: processes checked against the skill models.
+Command addProcessCommand(CLI::App& app);
 /// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq, schmalz).
 std::vector<Command> addDeviceCommands(CLI::App& app);
 

@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
         skillcell::apps::addUserCommand(app),   skillcell::apps::addNodeset2OwlCommand(app),
         skillcell::apps::addKbCommand(app),     skillcell::apps::addMesCommand(app),
         skillcell::apps::addRunCommand(app),    skillcell::apps::addDemoCommand(app),
-        skillcell::apps::addCellCommand(app),
+        skillcell::apps::addCellCommand(app),   skillcell::apps::addProcessCommand(app),
     };
     for (auto& device : skillcell::apps::addDeviceCommands(app)) commands.push_back(device);
 

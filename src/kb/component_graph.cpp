@@ -136,4 +136,10 @@ std::set<std::string> ComponentGraphs::typeNamespaces() const {
     return out;
 }
 
+const std::vector<std::string>& recordedSkillProperties() {
+    static const std::vector<std::string> properties = {proc("available"), proc("gripType"),
+                                                        proc("skillName"), proc("skillNodeId")};
+    return properties;
+}
+
 }  // namespace skillcell::kb

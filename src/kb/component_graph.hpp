@@ -23,6 +23,11 @@ namespace skillcell::kb {
 
 inline constexpr const char* kProcessVocabulary = "http://skillcell.dev/ontology/process#";
 
+/// The properties recorded here for each skill instance (beyond its type and parameter
+/// values), which a process's proc:FactRequirement may ask about: proc:available,
+/// proc:gripType, proc:skillName, proc:skillNodeId.
+[[nodiscard]] const std::vector<std::string>& recordedSkillProperties();
+
 /// "urn:skillcell:component:<application URI, percent-encoded>".
 [[nodiscard]] std::string componentIri(const std::string& applicationUri);
 /// The graph that holds what discovery says about a component.

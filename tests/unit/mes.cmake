@@ -4,8 +4,15 @@ skillcell_unit_test(test_mes_units
   mes/journal_test.cpp
   mes/process_description_test.cpp
   mes/step_binding_test.cpp
-  mes/skill_facts_test.cpp)
+  mes/skill_facts_test.cpp
+  mes/process_check_test.cpp)
 target_link_libraries(test_mes_units PRIVATE skillcell_mes skillcell_test_support)
+target_compile_definitions(test_mes_units PRIVATE SKILLCELL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+
+# `skillcell process check`: exit codes, FILE:LINE problems, the clean process's steps.
+add_test(NAME cli.process_check
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mes/process_check_cli.sh $<TARGET_FILE:skillcell>
+                 ${PROJECT_SOURCE_DIR})
 
 # `skillcell mes` / `skillcell run` on bad input: exit codes and messages.
 add_test(NAME cli.mes

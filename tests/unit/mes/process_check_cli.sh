@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# `skillcell process check`: the paper's process is clean (exit 0, its steps listed); a file
+# with a misspelt parameter gives FILE:LINE and the parameters the type has (exit 1); several
+# files are all checked; a missing file or an unreachable KB is exit 2.
+# Usage: process_check_cli.sh PATH/TO/skillcell SOURCE_DIR
+set -euo pipefail
+skillcell=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+"$skillcell" process check "$src/models/owl/demo-process.ttl" >"$tmp/out" 2>"$tmp/err" ||
+  fail "the paper's process: exit $?; $(cat "$tmp/err")"
+grep -q 'pickAndPlaceTwoBoxes>, 5 steps, clean' "$tmp/out" || fail "not clean: $(cat "$tmp/out")"
+grep -qE '^  2 PickAndPlaceSkillType ObjectId PlacePosition ToolSkillControllerEndpoint$' \
+  "$tmp/out" || fail "step 2 not listed: $(cat "$tmp/out")"
+
+bad=$src/tests/data/processes/unknown_parameter.ttl
+rc=0
+"$skillcell" process check "$bad" "$src/tests/data/processes/cycle.ttl" >"$tmp/out" \
+  2>"$tmp/err" || rc=$?
+[ "$rc" = 1 ] || fail "bad files: exit $rc, expected 1"
+grep -q "^$bad:18: step s1, parameter PlacePositon: the ParameterSet of PickAndPlaceSkillType has no such parameter; it has .*PlacePosition" \
+  "$tmp/err" || fail "no FILE:LINE problem: $(cat "$tmp/err")"
+grep -q "cycle.ttl:14: process p: proc:next makes a cycle" "$tmp/err" ||
+  fail "the second file was not checked: $(cat "$tmp/err")"
+
+rc=0
+"$skillcell" process check "$tmp/none.ttl" >/dev/null 2>&1 || rc=$?
+[ "$rc" = 2 ] || fail "a missing file: exit $rc, expected 2"
+# Nothing listens on port 9 of the loopback (discard): the KB cannot be reached.
+rc=0
+"$skillcell" process check --kb http://127.0.0.1:9/sparql "$bad" >/dev/null 2>"$tmp/err" || rc=$?
+[ "$rc" = 2 ] || fail "an unreachable KB: exit $rc, expected 2"
+grep -q 'the skill models' "$tmp/err" || fail "no reason: $(cat "$tmp/err")"
+echo OK
