@@ -19,6 +19,7 @@
 #include "devices/common/blocking_call.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "mes/mes_component.hpp"
+#include "mes/process_check.hpp"
 #include "server_process.hpp"
 #include "skills/skill_client.hpp"
 
@@ -102,7 +103,7 @@ int runMes(MesOptions& o) {
                 [pool,
                  store](std::string iri) -> asio::awaitable<kb::Expected<mes::ProcessDescription>> {
                 // A named lambda: GCC 12 destroys temporaries of a co_await expression twice.
-                auto read = [store, iri] { return mes::readProcess(*store, iri); };
+                auto read = [store, iri] { return mes::readCheckedProcess(*store, iri); };
                 co_return co_await devices::blockingCall(*pool, std::move(read));
             };
             mes::FactReader facts = [pool, store](std::vector<std::string> properties)

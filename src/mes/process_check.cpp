@@ -164,13 +164,29 @@ kb::Expected<SkillModels> SkillModels::embedded() {
 }
 
 kb::Expected<SkillModels> SkillModels::fromStore(kb::SparqlStore& store) {
-    // What fromTriples reads, and nothing else: the types, their ParameterSets and the
-    // parameters' names and data types.
-    const std::string query = "CONSTRUCT { ?s ?p ?o } WHERE { ?s ?p ?o . FILTER(?p IN (<" +
-                              opcIri("browseName") + ">, <" + opcIri("dataType") + ">, <" +
-                              kSubClassOf + ">, <" + uaIri("HasComponent") + ">, <" +
-                              uaIri("HasProperty") + ">) || (?p = <" + kRdfType + "> && ?o = <" +
-                              opcIri("ObjectTypeNode") + ">)) }";
+    // What fromTriples reads, and little else: the types with their names, supertypes and
+    // components; their ParameterSets; the parameters' names and data types. Plain UNION
+    // branches, no property paths (docs/knowledge_base.md on Virtuoso).
+    const std::string type = "<" + opcIri("ObjectTypeNode") + ">";
+    const std::string name = "<" + opcIri("browseName") + ">";
+    const std::string component = "<" + uaIri("HasComponent") + ">";
+    const std::string parameterSet = "?t <" + kRdfType + "> " + type + " . ?t " + component +
+                                     " ?ps . ?ps " + name + " \"ParameterSet\" . ";
+    const std::string query =
+        "CONSTRUCT { ?a ?b ?c } WHERE {\n"
+        "  { ?a <" +
+        kRdfType + "> " + type + " . ?a ?b ?c . FILTER(?b IN (<" + kRdfType + ">, " + name + ", <" +
+        kSubClassOf + ">, " + component +
+        ")) }\n"
+        "  UNION { ?t <" +
+        kRdfType + "> " + type + " . ?t " + component + " ?a . ?a " + name +
+        " \"ParameterSet\" . ?a ?b ?c . FILTER(?b IN (" + name + ", " + component + ", <" +
+        uaIri("HasProperty") +
+        ">)) }\n"
+        "  UNION { " +
+        parameterSet + "?ps ?r ?a . ?a ?b ?c . FILTER(?b IN (" + name + ", <" + opcIri("dataType") +
+        ">)) }\n"
+        "}";
     auto triples = constructTriples(store, query);
     if (!triples) return triples.failure();
     return fromTriples(*triples);
@@ -624,6 +640,33 @@ std::vector<ProcessProblem> checkProcessText(std::string_view text, const SkillM
     auto problems = checkProcesses(*read, models, TurtleLocator(text));
     if (triples != nullptr) *triples = std::move(*read);
     return problems;
+}
+
+kb::Expected<ProcessDescription> readCheckedProcess(kb::SparqlStore& store,
+                                                    const std::string& processIri) {
+    auto query = processQuery(processIri);
+    if (!query) return query.failure();
+    auto triples = constructTriples(store, *query);
+    if (!triples) return triples.failure();
+    const bool described = std::any_of(triples->begin(), triples->end(), [&](const Triple& t) {
+        return t.subject.value == processIri && t.predicate.value == kRdfType;
+    });
+    if (described) {
+        auto models = SkillModels::fromStore(store);
+        if (!models) return models.failure();
+        const auto problems = checkProcesses(*triples, *models);
+        if (!problems.empty()) {
+            std::string text = std::to_string(problems.size()) + " problem" +
+                               (problems.size() == 1 ? "" : "s") +
+                               " in the process (`skillcell "
+                               "process check` shows where): ";
+            for (std::size_t i = 0; i < problems.size(); ++i) {
+                text += (i == 0 ? "" : "; ") + problems[i].message;
+            }
+            return kb::badInput(text);
+        }
+    }
+    return parseProcess(processIri, *triples);
 }
 
 }  // namespace skillcell::mes

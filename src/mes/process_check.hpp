@@ -18,6 +18,7 @@
 #include "kb/expected.hpp"
 #include "kb/rdf/triple.hpp"
 #include "kb/store/sparql_store.hpp"
+#include "mes/process_description.hpp"
 
 namespace skillcell::mes {
 
@@ -95,6 +96,12 @@ struct ProcessProblem {
 [[nodiscard]] std::vector<ProcessProblem> checkProcessText(
     std::string_view text, const SkillModels& models,
     std::vector<kb::rdf::Triple>* triples = nullptr);
+
+/// Reads the process `processIri` from a knowledge base and checks it against the skill
+/// models the KB holds: BadInput listing every problem (nothing has moved yet), or its
+/// description. Unavailable when the KB cannot be reached.
+[[nodiscard]] kb::Expected<ProcessDescription> readCheckedProcess(kb::SparqlStore& store,
+                                                                  const std::string& processIri);
 
 /// The IRIs of the properties the knowledge base records for a skill instance, which a
 /// proc:FactRequirement may ask about.

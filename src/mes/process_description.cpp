@@ -39,6 +39,19 @@ public:
         const auto all = objects(subject, predicate);
         return all.empty() ? nullptr : all.front();
     }
+    /// Every (predicate, value) of `subject` whose object is a literal.
+    [[nodiscard]] std::vector<std::pair<std::string, std::string>> literals(
+        const Term& subject) const {
+        std::vector<std::pair<std::string, std::string>> out;
+        const auto it = bySubject_.find(subject);
+        if (it == bySubject_.end()) return out;
+        for (const Triple* t : it->second) {
+            if (t->object.kind == Term::Kind::Literal) {
+                out.emplace_back(t->predicate.value, t->object.value);
+            }
+        }
+        return out;
+    }
     [[nodiscard]] std::optional<std::string> literal(const Term& subject,
                                                      const std::string& predicate) const {
         const Term* o = object(subject, predicate);
@@ -83,6 +96,10 @@ kb::Expected<DerivationSource> source(const Graph& g, const Term& node, const st
     s.objectId = g.literal(node, p("objectId")).value_or("");
     s.applicationUri = g.literal(node, p("applicationUri")).value_or("");
     s.gripType = g.literal(node, p("gripType")).value_or("");
+    for (const Term* held : g.objects(node, p("holds"))) {
+        for (const auto& [predicate, value] : g.literals(*held))
+            s.held.emplace_back(predicate, value);
+    }
     if (!s.pose && !s.targetPose && s.objectId.empty() && s.applicationUri.empty()) {
         return kb::badInput(what + ": " + name(node) +
                             " has no facts to derive a value from (proc:pose, proc:targetPose, "
@@ -224,6 +241,10 @@ kb::Expected<std::string> processQuery(const std::string& processIri) {
            "  UNION { " +
            P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " + derivedFrom +
            " ?r . ?r <" + p("targetPose") +
+           "> ?a . ?a ?b ?c }\n"
+           "  UNION { " +
+           P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " + derivedFrom +
+           " ?r . ?r <" + p("holds") +
            "> ?a . ?a ?b ?c }\n"
            "}";
 }

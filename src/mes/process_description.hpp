@@ -30,6 +30,9 @@ struct DerivationSource {
     std::string objectId;                      // proc:objectId
     std::string applicationUri;                // proc:applicationUri
     std::string gripType;                      // proc:gripType
+    /// The literal facts of what it proc:holds (a dock's tool: its proc:gripType), by
+    /// property IRI: what a step that takes the tool from there brings into the cell.
+    std::vector<std::pair<std::string, std::string>> held;
     friend bool operator==(const DerivationSource&, const DerivationSource&) = default;
 };
 

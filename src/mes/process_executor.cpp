@@ -9,6 +9,7 @@
 #include <algorithm>
 
 #include "devices/common/blocking_call.hpp"
+#include "mes/feasibility.hpp"
 #include "skills/skill_connection.hpp"
 
 namespace skillcell::mes {
@@ -107,6 +108,18 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri)
     }
     const auto& steps = description->steps;
     p.steps = static_cast<int>(steps.size());
+    // Before the first motion: can the cell run it at all? Every reason at once.
+    if (auto lacking = co_await feasible(*description, generation); !lacking.empty()) {
+        out.reason = "the cell cannot run " + processIri + ": ";
+        for (std::size_t i = 0; i < lacking.size(); ++i) {
+            out.reason += (i == 0 ? "" : "; ") + lacking[i];
+        }
+        spdlog::warn("mes: refused {}", out.reason);
+        p.state = "refused";
+        p.message = out.reason;
+        report(p);
+        co_return out;
+    }
 
     // Resume the unfinished run of this process, or begin one.
     RunRecord previous;
@@ -321,6 +334,47 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
     }
     if (c.skills.empty()) c.unmet = "no skill of its type meets its requirements: " + unfit;
     co_return c;
+}
+
+asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
+    const ProcessDescription& process, std::uint64_t generation) {
+    using Clock = std::chrono::steady_clock;
+    constexpr std::chrono::milliseconds kFactRetry{250};  // as choose(): the KB records late
+    auto self = shared_from_this();
+    const auto deadline = Clock::now() + options_.skillWait;
+    const auto properties = requiredProperties(process);
+    std::string shown;
+    for (;;) {
+        std::optional<SkillFacts> facts;
+        if (kb_.facts && !properties.empty()) {
+            auto read = co_await kb_.facts(properties);
+            if (!read)
+                co_return std::vector<std::string>{"cannot ask the knowledge base: " +
+                                                   read.error()};
+            facts = std::move(*read);
+        }
+        auto lacking = infeasibility(process, detector_->instances(), facts ? &*facts : nullptr);
+        if (lacking.empty() || runner_.halted(generation) || Clock::now() >= deadline) {
+            co_return lacking;
+        }
+        Progress p = progress_;
+        p.state = "checking";
+        p.message = "waiting up to " + std::to_string(options_.skillWait.count()) +
+                    " ms for what the process needs: " + lacking.front();
+        if (p.message != shown) {
+            shown = p.message;
+            report(p);
+        }
+        const auto wake = std::min(deadline, Clock::now() + kFactRetry);
+        auto timer = std::make_shared<asio::steady_timer>(detector_->executor(), wake);
+        waitTimer_ = timer;
+        const std::size_t id = detector_->subscribe([timer](const skills::SkillEvent& e) {
+            if (e.kind == skills::SkillEvent::Kind::Added) timer->cancel();
+        });
+        co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        detector_->unsubscribe(id);
+        if (runner_.halted(generation)) co_return std::vector<std::string>{"halted"};
+    }
 }
 
 asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(const ProcessStep& step,

@@ -140,6 +140,10 @@ private:
         /// The instances meeting the step's requirements on the cell (CellMatch).
         std::vector<std::optional<skills::SkillInstance>> cellMatches;
     };
+    /// Why the cell cannot run `process` (empty: it can), after waiting up to skillWait for
+    /// the skills it lacks to appear (or for the KB to record their facts).
+    asio::awaitable<std::vector<std::string>> feasible(const ProcessDescription& process,
+                                                       std::uint64_t generation);
     /// Suitable instances now, or after waiting up to skillWait for one to appear (or for
     /// the KB to record the facts that make one suitable).
     asio::awaitable<Choice> choose(const ProcessStep& step, const std::set<SkillKey>& excluded,

@@ -2,9 +2,9 @@
 # Interop: node-opcua's client hands the semantic MES (`skillcell mes`) a process through its
 # ExecuteProcess skill (execute_process.js), with the knowledge base (`skillcell kb
 # --demo-process`, its own Virtuoso in a temporary directory) behind it and no cell: the MES
-# reads the paper's process, finds no ChangeTool skill for step 1 and stops with that reason,
-# which node-opcua receives in the RunningToHalted event; a process the KB does not know
-# stops with that. Skips (exit 77) without node-opcua, unless SKILLCELL_REQUIRE_NODE=1 (CI).
+# reads the paper's process, finds before any motion that no component offers the skills of
+# its steps and refuses it, naming each, a reason node-opcua receives in the RunningToHalted
+# event; a process the KB does not know stops with that. Skips (exit 77) without node-opcua, unless SKILLCELL_REQUIRE_NODE=1 (CI).
 # Usage: node_runs_mes_process.sh PATH/TO/skillcell
 set -euo pipefail
 skillcell=$1
@@ -33,8 +33,8 @@ echo "KB $sparql, MES $url"
 fail() { echo "FAIL: $*" >&2; echo "MES log:" >&2; tail -n 40 "$tmp/mes.log" >&2; exit 1; }
 
 timeout 120 node "$here/execute_process.js" "$url" http://skillcell.dev/demo#pickAndPlaceTwoBoxes \
-  "halted:step 1 (ChangeToolSkillType): no available skill of type ChangeToolSkillType" \
-  reading waiting stopped || fail "the demo process without a cell"
+  "halted:the cell cannot run http://skillcell.dev/demo#pickAndPlaceTwoBoxes: step 1 (ChangeToolSkillType): no component in the cell offers a ChangeToolSkillType; step 2" \
+  reading checking refused || fail "the demo process without a cell"
 timeout 120 node "$here/execute_process.js" "$url" http://skillcell.dev/demo#noSuchProcess \
   "halted:has no process <http://skillcell.dev/demo#noSuchProcess>" reading stopped ||
   fail "an unknown process"

@@ -28,6 +28,10 @@ namespace {
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 
+// Processes the MES must refuse before any motion (tests/data/mes/refused_processes.ttl).
+const std::string kRefusedProcesses =
+    std::string(SKILLCELL_SOURCE_DIR) + "/tests/data/mes/refused_processes.ttl";
+constexpr const char* kRefused = "http://skillcell.dev/test/refused#";
 constexpr const char* kDemo = "http://skillcell.dev/demo#pickAndPlaceTwoBoxes";
 
 std::vector<std::string> withFastMdns(std::vector<std::string> args) {
@@ -61,9 +65,12 @@ RunResult shell(const std::string& command) {
 }
 
 // `skillcell run` to its end (bounded by its --timeout).
-RunResult runProcess(const std::string& mesUrl) {
-    return shell(std::string(SKILLCELL_BINARY) + " run " + kDemo + " --mes " + mesUrl +
+RunResult runNamedProcess(const std::string& mesUrl, const std::string& process) {
+    return shell(std::string(SKILLCELL_BINARY) + " run " + process + " --mes " + mesUrl +
                  " --insecure --timeout 240");
+}
+RunResult runProcess(const std::string& mesUrl) {
+    return runNamedProcess(mesUrl, kDemo);
 }
 
 void expectAt(devices::WorldLink& w, const std::string& id, double x, double y, double z) {
@@ -101,7 +108,8 @@ protected:
     void SetUp() override {
         kb_ = std::make_unique<test::ComponentProcess>(
             SKILLCELL_BINARY,
-            withFastMdns({"kb", "--demo-process", "--http-port", "0", "--data-dir", dir_ / "kb"}),
+            withFastMdns({"kb", "--demo-process", "--process", kRefusedProcesses, "--http-port",
+                          "0", "--data-dir", dir_ / "kb"}),
             true);
         ASSERT_FALSE(kb_->url().empty()) << "the KB did not start";
         kbUrl_ = sparqlUrl(*kb_);
@@ -344,6 +352,37 @@ TEST_F(MesCell, AWrongGripperInTheDockStopsTheProcessBeforeThePickNamingTheGripT
     auto link = devices::WorldLink::connect(cell.world->url());
     ASSERT_TRUE(link.ok());
     expectAt(**link, "boxA", 0.45, 0.15, 0.025);  // where it was
+}
+
+TEST_F(MesCell, RefusesAProcessWithAMistakeOrANeedTheCellCannotMeetBeforeAnyMotion) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
+    ASSERT_TRUE(cell.ready());
+    startMes("4000");
+    ASSERT_FALSE(mes_->url().empty());
+    // A misspelt parameter in step 2: the process check, with the parameters the type has.
+    RunResult result = runNamedProcess(mes_->url(), std::string(kRefused) + "misspelt");
+    EXPECT_EQ(result.exitCode, 1) << result.output;
+    for (const std::string part : {"1 problem in the process",
+                                   "step m2, parameter PlacePositon: the ParameterSet of "
+                                   "PickAndPlaceSkillType has no such parameter"}) {
+        EXPECT_NE(result.output.find(part), std::string::npos) << part << " in: " << result.output;
+    }
+    // A gripper no component offers and no dock holds: the feasibility check.
+    result = runNamedProcess(mes_->url(), std::string(kRefused) + "magnetic");
+    EXPECT_EQ(result.exitCode, 1) << result.output;
+    EXPECT_NE(result.output.find("the cell cannot run"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("step 2 (PickAndPlaceSkillType) requires an available "
+                                 "GraspGripperSkillType with gripType \"magnetic\""),
+              std::string::npos)
+        << result.output;
+    // Nothing moved, and no run began.
+    auto link = devices::WorldLink::connect(cell.world->url());
+    ASSERT_TRUE(link.ok());
+    expectAt(**link, "boxA", 0.45, 0.15, 0.025);
+    const auto tool = (*link)->mountedTool();
+    ASSERT_TRUE(tool.ok());
+    EXPECT_EQ(*tool, "");
+    EXPECT_FALSE(lastRun()) << "a refused process began a run";
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 // have instead.
 #include "mes/skill_facts.hpp"
 
+#include "mes/feasibility.hpp"
+
 #include <gtest/gtest.h>
 
 #include "kb/rdf/turtle.hpp"
@@ -154,6 +156,55 @@ TEST(SkillFacts, TheQueryAsksForEachPropertyAndRefusesABrokenIri) {
     EXPECT_NE(q->find("UNION"), std::string::npos) << *q;
     EXPECT_FALSE(factQuery({"urn:x> } DROP ALL { <y"}));
     EXPECT_FALSE(factQuery({}));
+}
+
+TEST(Feasibility, AStepNeedsASkillOfItsTypeAndItsCellRequirementsMetOrBroughtEarlier) {
+    SkillFacts facts;
+    facts.add(keyOf(grasp("urn:robotiq")), kGripType, "parallel");
+    // Step 2 picks with a vacuum gripper.
+    ProcessDescription process;
+    process.iri = "urn:p";
+    process.steps = {pickStep({{kGripType, "vacuum", kGrasp}})};
+
+    // No pick-and-place skill, no vacuum gripper: both said, naming the step.
+    auto lacking = infeasibility(process, {grasp("urn:robotiq")}, &facts);
+    ASSERT_EQ(lacking.size(), 2U);
+    EXPECT_EQ(lacking[0],
+              "step 2 (PickAndPlaceSkillType): no component in the cell offers a "
+              "PickAndPlaceSkillType");
+    EXPECT_NE(lacking[1].find("requires an available GraspGripperSkillType with gripType "
+                              "\"vacuum\": none is in the cell, and no earlier step mounts"),
+              std::string::npos)
+        << lacking[1];
+
+    // A live vacuum gripper the KB knows of meets it.
+    facts.add(keyOf(grasp("urn:schmalz")), kGripType, "vacuum");
+    EXPECT_TRUE(infeasibility(process, {pickAndPlace(), grasp("urn:schmalz")}, &facts).empty());
+
+    // None live, but step 1 takes its tool from a dock that holds a vacuum gripper.
+    ProcessStep change;
+    change.index = 1;
+    change.skillTypeIri = std::string(kCs) + "PickAndPlaceSkillType";
+    DerivationSource dock;
+    dock.iri = "urn:dockV";
+    dock.pose = devices::Pose6{};
+    dock.held = {{kGripType, "vacuum"}};
+    change.parameters.push_back({"ToolPosition", dock});
+    process.steps.insert(process.steps.begin(), change);
+    EXPECT_EQ(infeasibility(process, {pickAndPlace()}, &facts).size(), 1U)
+        << "step 1 lacks its parameter ToolPosition on the live skill";
+    // A tool brought by a later step does not count.
+    std::swap(process.steps[0].index, process.steps[1].index);
+    std::swap(process.steps[0], process.steps[1]);
+    const auto late = infeasibility(process, {pickAndPlace()}, &facts);
+    EXPECT_TRUE(std::any_of(late.begin(), late.end(), [](const std::string& l) {
+        return l.find("no earlier step mounts") != std::string::npos;
+    })) << late.size();
+
+    // Without a KB, requirements are left to the steps.
+    EXPECT_TRUE(infeasibility({"urn:p", {pickStep({{kGripType, "vacuum", kGrasp}})}},
+                              {pickAndPlace()}, nullptr)
+                    .empty());
 }
 
 }  // namespace
