@@ -42,9 +42,6 @@ namespace skillcell::apps {
 
 namespace {
 
-/// The graph of a process loaded with --process: this, then the file's name without .ttl.
-constexpr std::string_view kProcessGraphPrefix = "http://skillcell.dev/processes/";
-
 namespace fs = std::filesystem;
 
 struct KbOptions {
@@ -144,6 +141,32 @@ ua::StatusCode addKnowledgeBaseNodes(ua::AddressSpace& as, kb::KnowledgeBase& kn
         });
     if (!update) return update.status();
     (*update)->requiredRole = ua::Role::Engineer;  // it changes the plant's models
+    // A graph from Turtle, as at start (--process, --load): checked by the reasoner and
+    // registered, replacing the graph's earlier content; all of it or nothing.
+    auto load = as.addMethod(
+        object, ua::NodeId(1, ua::String("KnowledgeBase.Load")), "Load",
+        {argument("GraphIri", "the graph to load into (its earlier content is replaced)"),
+         argument("Turtle", "the graph's content")},
+        {},
+        [&knowledge](const ua::Caller&, const ua::NodeId&, std::span<const ua::Variant> in,
+                     std::vector<ua::Variant>&) -> ua::StatusCode {
+            const auto* graph = stringInput(in, 0);
+            const auto* turtle = stringInput(in, 1);
+            if (graph == nullptr || turtle == nullptr) return ua::status::BadInvalidArgument;
+            const std::string iri = *graph->get<ua::String>();
+            if (iri.empty() || iri.rfind("urn:skillcell:kb:", 0) == 0) {
+                return ua::status::BadInvalidArgument;  // the KB's own graphs are not for loads
+            }
+            auto s = knowledge.loadTurtle(iri, *turtle->get<ua::String>());
+            if (!s) {
+                spdlog::warn("kb: Load of <{}> refused: {}", iri, s.error());
+                return statusOf(s.failure());
+            }
+            spdlog::info("kb: loaded <{}>", iri);
+            return ua::status::Good;
+        });
+    if (!load) return load.status();
+    (*load)->requiredRole = ua::Role::Engineer;
     return ua::status::Good;
 }
 
@@ -345,7 +368,7 @@ int run(KbOptions& o) {
     }
     std::vector<std::string> loads = o.loads;
     for (const auto& file : o.processes) {
-        loads.push_back(std::string(kProcessGraphPrefix) +
+        loads.push_back(std::string(kb::kProcessGraphPrefix) +
                         std::filesystem::path(file).stem().string() + "=" + file);
     }
     for (const auto& spec : loads) {
@@ -415,7 +438,7 @@ Command addKbCommand(CLI::App& app) {
     cmd->add_option("--load", o->loads, "load a Turtle file into a graph: GRAPH=FILE (checked)");
     cmd->add_option("--process", o->processes,
                     "load a process (Turtle, docs/processes.md) into the graph " +
-                        std::string(kProcessGraphPrefix) +
+                        std::string(kb::kProcessGraphPrefix) +
                         "<file name without .ttl> (checked; "
                         "repeatable)")
         ->check(CLI::ExistingFile);

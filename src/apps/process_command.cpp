@@ -2,9 +2,13 @@
 //  - `process check FILE...` lists every problem of each file with FILE:LINE, against the
 //    skill models compiled in, or a knowledge base's with --kb. Exit 0 when every file is
 //    clean, 1 when one has problems, 2 when a file or the KB cannot be read.
+//  - `process add FILE --kb OPC-URL` checks a file against a running knowledge base's models
+//    and loads it through the KB's Load method, as an Engineer: the KB's reasoner checks it and
+//    the KB takes all of it or nothing, so a bad process changes nothing.
 //  - `process list --kb URL` shows the processes a knowledge base holds, with their steps.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -13,19 +17,31 @@
 #include <string>
 #include <vector>
 
+#include "client_security_options.hpp"
 #include "commands.hpp"
+#include "kb/knowledge_base.hpp"
 #include "kb/rdf/turtle.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "mes/process_check.hpp"
 #include "mes/process_description.hpp"
+#include "ua/client/blocking_client.hpp"
 
 namespace skillcell::apps {
 namespace {
 
 struct ProcessOptions {
     std::vector<std::string> files;
-    std::string kbUrl;  // the KB's SPARQL endpoint
+    std::string kbUrl;  // the KB's SPARQL endpoint; `add`: its OPC UA endpoint
+    ClientSecurityOptions security;
 };
+
+std::string readText(const std::string& file, bool* ok) {
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    *ok = static_cast<bool>(in) || in.eof();
+    return text.str();
+}
 
 /// The skill models: the KB's when `kbUrl` is given, else those compiled in.
 kb::Expected<mes::SkillModels> skillModels(const std::string& kbUrl) {
@@ -137,6 +153,74 @@ int list(const ProcessOptions& o) {
     return rc;
 }
 
+/// The KB's Objects/KnowledgeBase methods (`skillcell kb`).
+const ua::NodeId kKnowledgeBase(1, ua::String("KnowledgeBase"));
+
+int add(const ProcessOptions& o) {
+    const std::string& file = o.files.front();
+    bool readable = false;
+    const std::string text = readText(file, &readable);
+    if (!readable) {
+        std::cerr << "process add: cannot read " << file << "\n";
+        return 2;
+    }
+    auto config = commandClientConfig(o.security, "skillcell process add");
+    if (!config) return 2;
+    ua::BlockingClient client;
+    if (const auto s = client.connect(o.kbUrl, *config); s.isBad()) {
+        std::cerr << "process add: cannot connect to " << o.kbUrl << ": "
+                  << explainConnectFailure(s) << "\n";
+        return 2;
+    }
+    struct Disconnect {
+        ua::BlockingClient& c;
+        ~Disconnect() { (void)c.disconnect(); }
+    } disconnect{client};
+    // The KB's own models: what the MES will check the process against.
+    auto answer = client.call(kKnowledgeBase, ua::NodeId(1, ua::String("KnowledgeBase.Query")),
+                              {ua::Variant(ua::String(mes::SkillModels::query())),
+                               ua::Variant(ua::String(kb::media::kNTriples))});
+    const auto* body = answer && !answer->empty() ? (*answer)[0].get<ua::String>() : nullptr;
+    if (body == nullptr) {
+        std::cerr << "process add: the knowledge base's models: "
+                  << (answer ? "no result" : ua::statusName(answer.status())) << "\n";
+        return 2;
+    }
+    auto modelTriples = kb::rdf::readTurtle(*body);
+    if (!modelTriples) {
+        std::cerr << "process add: the knowledge base's models: " << modelTriples.error() << "\n";
+        return 2;
+    }
+    const auto models = mes::SkillModels::fromTriples(*modelTriples);
+    std::vector<kb::rdf::Triple> triples;
+    const auto problems = mes::checkProcessText(text, models, &triples);
+    for (const auto& p : problems) {
+        std::fprintf(stderr, "%s:%d: %s\n", file.c_str(), p.line, p.message.c_str());
+    }
+    if (!problems.empty()) {
+        std::fprintf(stderr, "%s: %zu problem%s; nothing was added\n", file.c_str(),
+                     problems.size(), problems.size() == 1 ? "" : "s");
+        return 1;
+    }
+    // The KB's Load: checked by its reasoner, the file's graph replaced, all or nothing.
+    const std::string graph =
+        std::string(kb::kProcessGraphPrefix) + std::filesystem::path(file).stem().string();
+    auto done = client.call(kKnowledgeBase, ua::NodeId(1, ua::String("KnowledgeBase.Load")),
+                            {ua::Variant(ua::String(graph)), ua::Variant(ua::String(text))});
+    if (!done) {
+        const auto s = done.status();
+        std::cerr << "process add: the knowledge base refused the process: " << ua::statusName(s)
+                  << (s == ua::status::BadUserAccessDenied
+                          ? " (adding a process is an Engineer's task: --user engineer)"
+                          : " (see the KB's log)")
+                  << "; nothing was added\n";
+        return 1;
+    }
+    std::printf("%s: added to %s as graph <%s> (%zu triples)\n", file.c_str(), o.kbUrl.c_str(),
+                graph.c_str(), triples.size());
+    return 0;
+}
+
 }  // namespace
 
 Command addProcessCommand(CLI::App& app) {
@@ -158,10 +242,26 @@ Command addProcessCommand(CLI::App& app) {
     checkCmd->add_option("--kb", o->kbUrl,
                          "check against this knowledge base's models (its SPARQL endpoint, as "
                          "`skillcell kb` prints it) instead of those compiled in");
+    CLI::App* addCmd = cmd->add_subcommand(
+        "add",
+        "Check a process file against a running knowledge base's skill models, then load it "
+        "(replacing an earlier version of the same file) through the KB's Load method, as "
+        "an Engineer. A process with problems changes nothing. Exit 0 when added, 1 when it "
+        "has problems or the KB refused it, 2 when the file or the KB cannot be reached.");
+    addCmd->add_option("FILE", o->files, "the process file (Turtle)")
+        ->required()
+        ->expected(1)
+        ->check(CLI::ExistingFile);
+    addCmd->add_option("--kb", o->kbUrl, "the knowledge base's OPC UA endpoint")->required();
+    addClientSecurityOptions(addCmd, o->security);
     CLI::App* listCmd = cmd->add_subcommand(
         "list", "List the processes a knowledge base holds, with their steps and parameters");
     listCmd->add_option("--kb", o->kbUrl, "the knowledge base's SPARQL endpoint")->required();
-    return {cmd, [=] { return listCmd->parsed() ? list(*o) : check(*o); }};
+    return {cmd, [=] {
+                if (listCmd->parsed()) return list(*o);
+                if (addCmd->parsed()) return add(*o);
+                return check(*o);
+            }};
 }
 
 }  // namespace skillcell::apps

@@ -28,6 +28,9 @@ inline constexpr const char* kInferredGraph = "urn:skillcell:kb:inferred";
 /// Graphs a load writes before it moves them in (cleared by the next load).
 inline constexpr const char* kStagingGraphPrefix = "urn:skillcell:kb:staging:";
 inline constexpr const char* kKbVocabulary = "http://skillcell.dev/ontology/kb#";
+/// The graph of a process file (`kb --process`, `process add`): this, then the file's name
+/// without .ttl; adding the file again replaces it.
+inline constexpr const char* kProcessGraphPrefix = "http://skillcell.dev/processes/";
 
 /// A named graph and its content.
 struct GraphData {

@@ -163,7 +163,7 @@ kb::Expected<SkillModels> SkillModels::embedded() {
     return fromTriples(all);
 }
 
-kb::Expected<SkillModels> SkillModels::fromStore(kb::SparqlStore& store) {
+std::string SkillModels::query() {
     // What fromTriples reads, and little else: the types with their names, supertypes and
     // components; their ParameterSets; the parameters' names and data types. Plain UNION
     // branches, no property paths (docs/knowledge_base.md on Virtuoso).
@@ -172,22 +172,25 @@ kb::Expected<SkillModels> SkillModels::fromStore(kb::SparqlStore& store) {
     const std::string component = "<" + uaIri("HasComponent") + ">";
     const std::string parameterSet = "?t <" + kRdfType + "> " + type + " . ?t " + component +
                                      " ?ps . ?ps " + name + " \"ParameterSet\" . ";
-    const std::string query =
-        "CONSTRUCT { ?a ?b ?c } WHERE {\n"
-        "  { ?a <" +
-        kRdfType + "> " + type + " . ?a ?b ?c . FILTER(?b IN (<" + kRdfType + ">, " + name + ", <" +
-        kSubClassOf + ">, " + component +
-        ")) }\n"
-        "  UNION { ?t <" +
-        kRdfType + "> " + type + " . ?t " + component + " ?a . ?a " + name +
-        " \"ParameterSet\" . ?a ?b ?c . FILTER(?b IN (" + name + ", " + component + ", <" +
-        uaIri("HasProperty") +
-        ">)) }\n"
-        "  UNION { " +
-        parameterSet + "?ps ?r ?a . ?a ?b ?c . FILTER(?b IN (" + name + ", <" + opcIri("dataType") +
-        ">)) }\n"
-        "}";
-    auto triples = constructTriples(store, query);
+    return "CONSTRUCT { ?a ?b ?c } WHERE {\n"
+           "  { ?a <" +
+           kRdfType + "> " + type + " . ?a ?b ?c . FILTER(?b IN (<" + kRdfType + ">, " + name +
+           ", <" + kSubClassOf + ">, " + component +
+           ")) }\n"
+           "  UNION { ?t <" +
+           kRdfType + "> " + type + " . ?t " + component + " ?a . ?a " + name +
+           " \"ParameterSet\" . ?a ?b ?c . FILTER(?b IN (" + name + ", " + component + ", <" +
+           uaIri("HasProperty") +
+           ">)) }\n"
+           "  UNION { " +
+           parameterSet + "?ps ?r ?a . ?a ?b ?c . FILTER(?b IN (" + name + ", <" +
+           opcIri("dataType") +
+           ">)) }\n"
+           "}";
+}
+
+kb::Expected<SkillModels> SkillModels::fromStore(kb::SparqlStore& store) {
+    auto triples = constructTriples(store, query());
     if (!triples) return triples.failure();
     return fromTriples(*triples);
 }
@@ -568,7 +571,8 @@ private:
     }
 
     void pose(const std::string& node, const std::string& what, int line) {
-        for (const char* axis : {"x", "y", "z"}) {
+        // All six, as the MES reads a pose (process_description.cpp).
+        for (const char* axis : {"x", "y", "z", "roll", "pitch", "yaw"}) {
             const Term* v = g_.object(node, procIri(axis));
             if (v == nullptr || !parseNumber(v->value)) {
                 problem(line, what + ": the pose has no number proc:" + std::string(axis));
@@ -589,6 +593,11 @@ private:
             problem(at, what + ": proc:derivedFrom " + source +
                             ", which the file does not describe (no statements about it)");
             return;
+        }
+        for (const char* local : {"pose", "targetPose"}) {
+            if (const Term* node = g_.object(from, procIri(local))) {
+                pose(TripleIndex::key(*node), what + " (" + source + "'s proc:" + local + ")", at);
+            }
         }
         if (dataType.empty()) return;  // the parameter is unknown: reported already
         if (isFrameType(dataType)) {

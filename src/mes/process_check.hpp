@@ -43,6 +43,9 @@ public:
     [[nodiscard]] static SkillModels fromTriples(const std::vector<kb::rdf::Triple>& triples);
     /// skillcell's own: the NodeSets compiled in, converted as the KB converts them.
     [[nodiscard]] static kb::Expected<SkillModels> embedded();
+    /// The CONSTRUCT query for what fromTriples reads, as fromStore asks it (for a KB
+    /// reached another way: its OPC UA Query method).
+    [[nodiscard]] static std::string query();
     /// Those a knowledge base holds (every model it loaded, companions included).
     [[nodiscard]] static kb::Expected<SkillModels> fromStore(kb::SparqlStore& store);
 

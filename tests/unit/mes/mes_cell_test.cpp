@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <future>
 #include <thread>
 
@@ -383,6 +384,53 @@ TEST_F(MesCell, RefusesAProcessWithAMistakeOrANeedTheCellCannotMeetBeforeAnyMoti
     ASSERT_TRUE(tool.ok());
     EXPECT_EQ(*tool, "");
     EXPECT_FALSE(lastRun()) << "a refused process began a run";
+}
+
+TEST_F(MesCell, ProcessAddLoadsACheckedProcessAndABadOneChangesNothing) {
+    const std::string skillcell = SKILLCELL_BINARY;
+    const std::string kb = " --kb " + kb_->url() + " --insecure";
+    const std::string list = skillcell + " process list --kb " + kbUrl_;
+    // A misspelt parameter: its line, and nothing in the KB.
+    const std::string bad =
+        std::string(SKILLCELL_SOURCE_DIR) + "/tests/data/processes/unknown_parameter.ttl";
+    RunResult r = shell(skillcell + " process add " + bad + kb);
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("unknown_parameter.ttl:18: step s1, parameter PlacePositon"),
+              std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("nothing was added"), std::string::npos) << r.output;
+    r = shell(list);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("pickAndPlaceTwoBoxes (5 steps)"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("http://example.com/cell#p"), std::string::npos) << r.output;
+
+    // A clean one: loaded, listed; loaded again, it replaces itself.
+    const auto good = dir_ / "detach.ttl";
+    {
+        std::ofstream out(good);
+        out << "@prefix proc: <http://skillcell.dev/ontology/process#> .\n"
+               "@prefix ex: <http://example.com/cell#> .\n"
+               "ex:dock a proc:ToolDock ; proc:pose [ a proc:Pose ; proc:x 0.3 ; proc:y -0.45 ; "
+               "proc:z 0.35 ; proc:roll 3.14 ; proc:pitch 0.0 ; proc:yaw 0.0 ] .\n"
+               "ex:p a proc:Process ; proc:firstStep ex:s1 ; proc:hasStep ex:s1 .\n"
+               "ex:s1 a proc:Step ; proc:requiresSkillType "
+               "<http://skillcell.dev/UA/ToolChangerSkills/DetachToolSkillType> ;\n"
+               "  proc:hasParameter [ a proc:Parameter ; proc:parameterName \"ToolPosition\" ; "
+               "proc:derivedFrom ex:dock ] .\n";
+    }
+    for (int time = 1; time <= 2; ++time) {
+        r = shell(skillcell + " process add " + good + kb);
+        EXPECT_EQ(r.exitCode, 0) << r.output;
+        EXPECT_NE(r.output.find("as graph <http://skillcell.dev/processes/detach>"),
+                  std::string::npos)
+            << r.output;
+        r = shell(list);
+        const auto first = r.output.find("http://example.com/cell#p (1 steps)");
+        EXPECT_NE(first, std::string::npos) << r.output;
+        EXPECT_EQ(r.output.find("http://example.com/cell#p", first + 1), std::string::npos)
+            << "listed twice after adding it " << time << " times:\n"
+            << r.output;
+    }
 }
 
 }  // namespace

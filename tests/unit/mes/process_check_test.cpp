@@ -122,8 +122,8 @@ TEST_P(BadProcess, GivesEveryProblemAtItsLine) {
     const auto problems = checkProcessText(text, models());
     std::string all;
     for (const auto& p : problems) all += "\n  " + std::to_string(p.line) + ": " + p.message;
-    // Every announced problem is there, at its line; nothing else is (a file may announce
-    // fewer only when the others follow from the same mistake: none here).
+    // Every announced problem is there, at its line, and nothing else.
+    EXPECT_EQ(problems.size(), expected.size()) << all;
     for (const auto& e : expected) {
         const bool found = std::any_of(problems.begin(), problems.end(), [&](const auto& p) {
             return p.line == e.line && p.message.find(e.text) != std::string::npos;
