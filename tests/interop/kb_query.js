@@ -3,7 +3,9 @@
 //   1. finds Objects/KnowledgeBase and its Query and Update methods by browse name;
 //   2. Query: every skill type that is a GripperSkillType, as SPARQL JSON results;
 //   3. Update: inserts a triple, and Query finds it;
-//   4. a query with a syntax error is refused with BadSyntaxError, a missing argument with
+//   4. Load: a graph from Turtle, which Query finds; Turtle with a syntax error is refused
+//      (BadSyntaxError) and changes nothing; the KB's own graphs are not for loading;
+//   5. a query with a syntax error is refused with BadSyntaxError, a missing argument with
 //      BadArgumentsMissing (or BadInvalidArgument).
 // usage: node kb_query.js opc.tcp://HOST:PORT
 // Prints "OK kb" and exits 0, or prints the failure on stderr and exits 1.
@@ -36,6 +38,7 @@ async function main() {
         const kb = await childByName(session, "i=85", "KnowledgeBase");
         const query = await childByName(session, kb, "Query");
         const update = await childByName(session, kb, "Update");
+        const load = await childByName(session, kb, "Load");
 
         const gripperTypes =
             "SELECT ?t WHERE { ?t <http://www.w3.org/2000/01/rdf-schema#subClassOf>+ " +
@@ -65,6 +68,33 @@ async function main() {
         });
         if (r.statusCode !== StatusCodes.Good || !JSON.parse(r.outputArguments[0].value).boolean) {
             throw new Error("the update is not visible to a query");
+        }
+
+        const ask = async (pattern) => {
+            const a = await session.call({ objectId: kb, methodId: query, inputArguments: [str(`ASK { ${pattern} }`), str("")] });
+            if (a.statusCode !== StatusCodes.Good) throw new Error(`ASK: ${a.statusCode.toString()}`);
+            return JSON.parse(a.outputArguments[0].value).boolean;
+        };
+        const graph = "http://skillcell.dev/processes/node";
+        r = await session.call({
+            objectId: kb,
+            methodId: load,
+            inputArguments: [str(graph), str('<urn:node:b> <urn:node:p> "loaded by node-opcua" .')]
+        });
+        if (r.statusCode !== StatusCodes.Good) throw new Error(`Load: ${r.statusCode.toString()}`);
+        if (!(await ask(`GRAPH <${graph}> { <urn:node:b> <urn:node:p> "loaded by node-opcua" }`))) {
+            throw new Error("the loaded graph is not visible to a query");
+        }
+        r = await session.call({ objectId: kb, methodId: load, inputArguments: [str(graph), str("<urn:node:c> <urn:node:p> .")] });
+        if (r.statusCode !== StatusCodes.BadSyntaxError) {
+            throw new Error(`Load of broken Turtle gave ${r.statusCode.toString()}, expected BadSyntaxError`);
+        }
+        if (!(await ask(`GRAPH <${graph}> { <urn:node:b> <urn:node:p> "loaded by node-opcua" }`))) {
+            throw new Error("a refused Load changed the graph");
+        }
+        r = await session.call({ objectId: kb, methodId: load, inputArguments: [str("urn:skillcell:kb:graphs"), str("")] });
+        if (r.statusCode !== StatusCodes.BadInvalidArgument) {
+            throw new Error(`Load into the KB's registry gave ${r.statusCode.toString()}, expected BadInvalidArgument`);
         }
 
         r = await session.call({ objectId: kb, methodId: query, inputArguments: [str("SELECT ?x WHERE { ?x"), str("")] });

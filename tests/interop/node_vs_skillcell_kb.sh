@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Interop: node-opcua's client against the knowledge base (`skillcell kb`): kb_query.js calls
-# Query and Update on Objects/KnowledgeBase. The KB starts its own Virtuoso in a temporary
+# Query, Update and Load on Objects/KnowledgeBase. The KB starts its own Virtuoso in a temporary
 # data directory and needs no discovery. Skips (exit 77) without node-opcua, unless
 # SKILLCELL_REQUIRE_NODE=1 (CI).
 # Usage: node_vs_skillcell_kb.sh PATH/TO/skillcell
