@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# `skillcell process check`: the paper's process is clean (exit 0, its steps listed); a file
+# `skillcell process check`: the paper's process and the one docs/processes.md teaches are
+# clean (exit 0, their steps listed); a file
 # with a misspelt parameter gives FILE:LINE and the parameters the type has (exit 1); several
 # files are all checked; a missing file or an unreachable KB is exit 2.
 # Usage: process_check_cli.sh PATH/TO/skillcell SOURCE_DIR
@@ -15,6 +16,12 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 grep -q 'pickAndPlaceTwoBoxes>, 5 steps, clean' "$tmp/out" || fail "not clean: $(cat "$tmp/out")"
 grep -qE '^  2 PickAndPlaceSkillType ObjectId PlacePosition ToolSkillControllerEndpoint$' \
   "$tmp/out" || fail "step 2 not listed: $(cat "$tmp/out")"
+
+# The process that docs/processes.md teaches, its Turtle blocks put together, is clean.
+awk '/^```turtle$/ {on=1; next} /^```$/ {on=0} on' "$src/docs/processes.md" >"$tmp/doc.ttl"
+"$skillcell" process check "$tmp/doc.ttl" >"$tmp/out" 2>"$tmp/err" ||
+  fail "the process of docs/processes.md: $(cat "$tmp/err")"
+grep -q 'myProcess>, 2 steps, clean' "$tmp/out" || fail "docs/processes.md: $(cat "$tmp/out")"
 
 bad=$src/tests/data/processes/unknown_parameter.ttl
 rc=0
