@@ -24,7 +24,6 @@
 #include "commands.hpp"
 #include "devices/common/frame.hpp"
 #include "interruption.hpp"
-#include "private_network.hpp"
 #include "work_directory.hpp"
 
 namespace skillcell::apps {
@@ -96,16 +95,11 @@ int cellUp(const UpOptions& o) {
     }
     const cell::CellFile& c = *read.cell;
     // The network first, while this is the only thread: a namespace is per thread, and the
-    // components inherit it. Without root, a network that is private already will do.
+    // components inherit it.
     const bool privateNetwork = c.network.kind == cell::Network::Kind::PrivateNamespace;
-    if (privateNetwork) {
-        if (const auto why = enterPrivateNetwork(); !why.empty() && !multicastOnlyOnLoopback()) {
-            std::cerr << "cell: " << o.file
-                      << " asks for a private network namespace (network.kind = \"private\"), "
-                         "and "
-                      << why << "; or use network.kind = \"host\"\n";
-            return 2;
-        }
+    if (const auto why = enterCellNetwork(c); !why.empty()) {
+        std::cerr << "cell: " << why << "\n";
+        return 2;
     }
     const std::string skillcell = skillcellProgram();
     if (skillcell.empty()) {

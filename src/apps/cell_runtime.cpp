@@ -9,6 +9,7 @@
 
 #include "cell/component_uris.hpp"
 #include "cell/device_arguments.hpp"
+#include "private_network.hpp"
 #include "process/child_process.hpp"
 #include "ua/crypto/primitives.hpp"
 #include "ua/pki/certificate_authority.hpp"
@@ -59,6 +60,16 @@ constexpr GeneratedUser kGeneratedUsers[] = {{"operator", ua::Role::Operator, "O
                                              {"cell", ua::Role::Operator, "Operator"}};
 
 }  // namespace
+
+std::string enterCellNetwork(const cell::CellFile& cell) {
+    if (cell.network.kind != cell::Network::Kind::PrivateNamespace) return {};
+    const auto why = enterPrivateNetwork();
+    if (why.empty() || multicastOnlyOnLoopback()) return {};
+    return cell.path.string() +
+           " asks for a private network namespace (network.kind = \"private\"), so that the "
+           "cell's mDNS stays off your network, and " +
+           why + "; or use network.kind = \"host\"";
+}
 
 std::string skillcellProgram() {
     std::error_code ec;

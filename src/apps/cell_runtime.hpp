@@ -28,6 +28,12 @@ namespace skillcell::apps {
 /// the same one. Empty when it cannot be read.
 [[nodiscard]] std::string skillcellProgram();
 
+/// The cell file's network, for this process and the components it will start: its own
+/// network namespace (network.kind = "private": needs root, or a network that is private
+/// already will do), or the host's. Call it before any thread starts: a namespace is per
+/// thread. Empty on success, else why not and what to do.
+[[nodiscard]] std::string enterCellNetwork(const cell::CellFile& cell);
+
 /// How one component of the cell starts.
 struct ComponentLaunch {
     std::string name;  // as the cell file names it; its log is logs/<name>.log

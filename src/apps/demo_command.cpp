@@ -45,7 +45,6 @@
 #include "devices/world/world_link.hpp"
 #include "interruption.hpp"
 #include "mes/journal.hpp"
-#include "private_network.hpp"
 #include "skill_detection_clock.hpp"
 #include "ua/pki/certificate_authority.hpp"
 #include "ua/server/user_database.hpp"
@@ -600,14 +599,6 @@ int DemoCell::run(const Interruption& interruption) {
 }
 
 int runDemo(const DemoOptions& o) {
-    // The network first, while this is the only thread: a namespace is per thread. Without
-    // root, a network that is private already will do.
-    if (const auto why = enterPrivateNetwork(); !why.empty() && !multicastOnlyOnLoopback()) {
-        std::cerr << "demo: the cell's mDNS must stay off your network, in a private network "
-                     "namespace, and "
-                  << why << "\n";
-        return 2;
-    }
     const std::string skillcell = skillcellProgram();
     if (skillcell.empty()) {
         std::cerr << "demo: cannot find the skillcell program (/proc/self/exe)\n";
@@ -624,6 +615,11 @@ int runDemo(const DemoOptions& o) {
     if (const auto lacks = whatTheDemoLacks(*read.cell); !lacks.empty()) {
         std::cerr << "demo: " << o.cellFile << ": the demo runs the paper's process, which needs "
                   << lacks << " in the cell file\n";
+        return 2;
+    }
+    // The network next, while this is the only thread: a namespace is per thread.
+    if (const auto why = enterCellNetwork(*read.cell); !why.empty()) {
+        std::cerr << "demo: " << why << "\n";
         return 2;
     }
     // --swap takes the parallel gripper out of the paper's dockP (swapParallelGripper).
