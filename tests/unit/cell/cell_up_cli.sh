@@ -9,7 +9,10 @@
 #  - the LDS killed (restart = "never"): reported, stays down, `cell status` exits 1;
 #  - `cell down`: the supervisor ends with 0 and no component is left running;
 #  - a second `cell up` of the same work directory keeps the CA and the users, and SIGINT
-#    (Ctrl-C) stops it as cleanly.
+#    (Ctrl-C) stops it as cleanly;
+#  - a cell file that names its own CA and user database: without the password of the user
+#    'cell' beside the database nothing starts; with it the components get their certificates
+#    from that CA and detect each other as that user.
 # `cell up` makes its own network namespace (root). Without root the test is skipped (77),
 # unless SKILLCELL_REQUIRE_NETNS=1, as in CI.
 # Usage: cell_up_cli.sh PATH/TO/skillcell SOURCE_DIR
@@ -145,4 +148,32 @@ grep -q 'stopping cell-up-test (interrupted)' "$tmp/up2.out" || fail "no stop me
 for p in $pids; do
   ! kill -0 "$p" 2>/dev/null || fail "component pid $p still runs after SIGINT"
 done
+# The cell's own CA and users, from files the cell file names.
+own=$tmp/own
+mkdir -p "$own"
+"$skillcell" pki init-ca --dir "$own/ca" --name "test cell CA" >/dev/null 2>&1 || fail "pki init-ca"
+echo "cell-password" | "$skillcell" user add cell --role Operator --users "$own/users" >/dev/null 2>&1 ||
+  fail "user add"
+sed -e 's/^name = "cell-up-test"$/name = "cell-up-own"/' \
+  -e 's/^enabled = true$/enabled = true\nca = "ca"\nusers = "users"/' "$cell" >"$own/cell.toml"
+grep -q '^ca = "ca"$' "$own/cell.toml" || fail "the test's cell file: $(cat "$own/cell.toml")"
+rc=0
+"$skillcell" cell up "$own/cell.toml" --work-dir "$tmp/work-own" >/dev/null 2>"$tmp/own.err" || rc=$?
+[ "$rc" = 1 ] || fail "users without cell.pw: exit $rc, expected 1"
+grep -q "$own/users: the components act as the user 'cell'.*$own/cell.pw" "$tmp/own.err" ||
+  fail "no reason for the missing password: $(cat "$tmp/own.err")"
+echo "cell-password" >"$own/cell.pw"
+"$skillcell" cell up "$own/cell.toml" --work-dir "$tmp/work-own" >"$tmp/up3.out" 2>"$tmp/up3.err" &
+supervisor=$!
+until_ok 240 grep -q 'is up' "$tmp/up3.out" || fail "the cell with its own CA did not come up"
+[ ! -e "$tmp/work-own/ca" ] || fail "a CA was generated although the cell file names one"
+[ "$(readlink -f "$tmp/work-own/pki-ur5/cell-ca")" = "$(readlink -f "$own/ca")" ] ||
+  fail "the UR5's certificate is not from the cell file's CA"
+own_skills() {
+  "$skillcell" cell status --json --work-dir "$tmp/work-own" | grep -q CartesianLinearMoveSkillType
+}
+until_ok 60 own_skills || fail "the UR5's skills were not detected as the cell file's user"
+"$skillcell" cell down --work-dir "$tmp/work-own" >/dev/null || fail "cell down: exit $?"
+wait "$supervisor" || fail "cell up (own CA) ended with $?"
+supervisor=
 echo OK
