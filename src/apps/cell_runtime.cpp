@@ -332,6 +332,8 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
         a = {"kb", "--data-dir", (dir() / "kb").string(), "--http-port",
              std::to_string(port("kb-http"))};
         if (!cell_.kb->sparqlUrl.empty()) a.insert(a.end(), {"--sparql-url", cell_.kb->sparqlUrl});
+        // The scene first: the processes refer to its docks and tools.
+        a.insert(a.end(), {"--cell", fs::absolute(cell_.path).string()});
         for (const auto& p : cell_.kb->processes) a.insert(a.end(), {"--process", p.string()});
         // Virtuoso's first start creates its database and Konclude checks every model:
         // minutes on a slow machine, seconds on a fast one.

@@ -24,7 +24,9 @@
 #include <set>
 #include <sstream>
 
+#include "cell/cell_file.hpp"
 #include "cell/component_uris.hpp"
+#include "cell/scene_graph.hpp"
 #include "commands.hpp"
 #include "kb/component_graph.hpp"
 #include "kb/component_reader.hpp"
@@ -57,6 +59,7 @@ struct KbOptions {
     bool httpWrites = false;
     std::vector<std::string> loads;      // GRAPH=FILE
     std::vector<std::string> processes;  // Turtle files, each in a graph of its own
+    std::string cellFile;                // whose scene (docks, tools, objects) to load
     std::string modelsDir;
 };
 
@@ -366,6 +369,22 @@ int run(KbOptions& o) {
         spdlog::critical("kb: cannot load the built-in models: {}", s.error());
         return 1;
     }
+    // The cell's scene: the docks, tools and objects processes refer to.
+    const std::string cellFile =
+        !o.cellFile.empty() ? o.cellFile : (o.demoProcess ? SKILLCELL_DEFAULT_CELL : "");
+    if (!cellFile.empty()) {
+        const auto read = cell::readCellFile(cellFile);
+        if (!read.cell) {
+            for (const auto& p : read.problems) spdlog::critical("kb: {}", p.describe());
+            return 2;
+        }
+        if (auto s =
+                knowledge.load({{cell::sceneGraphIri(*read.cell), cell::sceneTriples(*read.cell)}});
+            !s) {
+            spdlog::critical("kb: the scene of {}: {}", cellFile, s.error());
+            return 1;
+        }
+    }
     std::vector<std::string> loads = o.loads;
     for (const auto& file : o.processes) {
         loads.push_back(std::string(kb::kProcessGraphPrefix) +
@@ -432,7 +451,13 @@ Command addKbCommand(CLI::App& app) {
                   "let the SPARQL endpoint take updates and graph loads (HTTP has no users: "
                   "anyone who reaches the port may then change the models)");
     cmd->add_flag("--demo-process", o->demoProcess,
-                  "also load the paper's demo process (models/owl/demo-process.ttl)");
+                  "also load the paper's demo process (models/owl/demo-process.ttl) and, unless "
+                  "--cell names another, the scene of the paper's cell (" SKILLCELL_DEFAULT_CELL
+                  ")");
+    cmd->add_option("--cell", o->cellFile,
+                    "load the scene of this cell file (its docks, tools and objects, which "
+                    "processes refer to; docs/processes.md)")
+        ->check(CLI::ExistingFile);
     cmd->add_flag("--no-reasoner", o->noReasoner,
                   "load without checking consistency and infer nothing (not for production)");
     cmd->add_option("--load", o->loads, "load a Turtle file into a graph: GRAPH=FILE (checked)");

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "cell/cell_file.hpp"
+#include "cell/scene_graph.hpp"
 #include "client_security_options.hpp"
 #include "commands.hpp"
 #include "kb/knowledge_base.hpp"
@@ -33,6 +35,7 @@ struct ProcessOptions {
     std::vector<std::string> files;
     std::string kbUrl;  // the KB's SPARQL endpoint; `add`: its OPC UA endpoint
     ClientSecurityOptions security;
+    std::string cellFile;  // whose scene the processes refer to
 };
 
 std::string readText(const std::string& file, bool* ok) {
@@ -57,7 +60,8 @@ kb::Expected<mes::SkillModels> skillModels(const std::string& kbUrl) {
 }
 
 /// The problems of one file, printed as FILE:LINE: MESSAGE; false when it has any.
-bool checkFile(const std::string& file, const mes::SkillModels& models) {
+bool checkFile(const std::string& file, const mes::SkillModels& models,
+               const std::vector<kb::rdf::Triple>& scene) {
     std::ifstream in(file, std::ios::binary);
     if (!in) {
         std::fprintf(stderr, "%s: cannot open\n", file.c_str());
@@ -66,7 +70,7 @@ bool checkFile(const std::string& file, const mes::SkillModels& models) {
     std::ostringstream text;
     text << in.rdbuf();
     std::vector<kb::rdf::Triple> triples;
-    const auto problems = mes::checkProcessText(text.str(), models, &triples);
+    const auto problems = mes::checkProcessText(text.str(), models, &triples, scene);
     for (const auto& p : problems) {
         if (p.line > 0) {
             std::fprintf(stderr, "%s:%d: %s\n", file.c_str(), p.line, p.message.c_str());
@@ -88,7 +92,9 @@ bool checkFile(const std::string& file, const mes::SkillModels& models) {
         }
     }
     for (const auto& iri : processes) {
-        auto p = mes::parseProcess(iri, triples);
+        std::vector<kb::rdf::Triple> all = triples;
+        all.insert(all.end(), scene.begin(), scene.end());
+        auto p = mes::parseProcess(iri, all);
         if (!p) {
             std::fprintf(stderr, "%s: %s\n", file.c_str(), p.error().c_str());
             return false;
@@ -110,8 +116,34 @@ int check(const ProcessOptions& o) {
         std::cerr << "process check: the skill models: " << models.error() << "\n";
         return 2;
     }
+    std::vector<kb::rdf::Triple> scene;
+    if (!o.kbUrl.empty()) {
+        // What the KB holds of the cell's scene, as the MES will see it.
+        auto endpoint = kb::HttpSparqlEndpoint::fromUrl(o.kbUrl);
+        if (!endpoint) {
+            std::cerr << "process check: " << endpoint.error() << "\n";
+            return 2;
+        }
+        kb::HttpSparqlStore store(*endpoint);
+        auto resources = mes::constructTriples(store, mes::resourceQuery());
+        if (!resources) {
+            std::cerr << "process check: the knowledge base's resources: " << resources.error()
+                      << "\n";
+            return 2;
+        }
+        scene = std::move(*resources);
+    }
+    if (!o.cellFile.empty()) {
+        const auto read = cell::readCellFile(o.cellFile);
+        if (!read.cell) {
+            for (const auto& p : read.problems) std::cerr << p.describe() << "\n";
+            return 2;
+        }
+        const auto triples = cell::sceneTriples(*read.cell);
+        scene.insert(scene.end(), triples.begin(), triples.end());
+    }
     bool clean = true;
-    for (const auto& f : o.files) clean = checkFile(f, *models) && clean;
+    for (const auto& f : o.files) clean = checkFile(f, *models, scene) && clean;
     return clean ? 0 : 1;
 }
 
@@ -192,8 +224,21 @@ int add(const ProcessOptions& o) {
         return 2;
     }
     const auto models = mes::SkillModels::fromTriples(*modelTriples);
+    // The cell's scene in the KB: the docks and tools a process refers to.
+    auto resources = client.call(kKnowledgeBase, ua::NodeId(1, ua::String("KnowledgeBase.Query")),
+                                 {ua::Variant(ua::String(mes::resourceQuery())),
+                                  ua::Variant(ua::String(kb::media::kNTriples))});
+    const auto* sceneText =
+        resources && !resources->empty() ? (*resources)[0].get<ua::String>() : nullptr;
+    auto scene = sceneText != nullptr ? kb::rdf::readTurtle(*sceneText)
+                                      : kb::Expected<std::vector<kb::rdf::Triple>>(
+                                            kb::Error{"the knowledge base gave no resources"});
+    if (!scene) {
+        std::cerr << "process add: the knowledge base's resources: " << scene.error() << "\n";
+        return 2;
+    }
     std::vector<kb::rdf::Triple> triples;
-    const auto problems = mes::checkProcessText(text, models, &triples);
+    const auto problems = mes::checkProcessText(text, models, &triples, *scene);
     for (const auto& p : problems) {
         std::fprintf(stderr, "%s:%d: %s\n", file.c_str(), p.line, p.message.c_str());
     }
@@ -238,6 +283,11 @@ Command addProcessCommand(CLI::App& app) {
         "problems, 2 when the models cannot be read.");
     checkCmd->add_option("FILE", o->files, "process files (Turtle)")
         ->required()
+        ->check(CLI::ExistingFile);
+    checkCmd
+        ->add_option("--cell", o->cellFile,
+                     "the cell file whose scene (docks, tools, objects) the processes refer to, "
+                     "as a cell's knowledge base holds it")
         ->check(CLI::ExistingFile);
     checkCmd->add_option("--kb", o->kbUrl,
                          "check against this knowledge base's models (its SPARQL endpoint, as "

@@ -17,9 +17,9 @@ std::string number(double v) {
 
 const std::vector<AdapterModel>& adapterModelTable() {
     static const std::vector<AdapterModel> table = {
-        {"robotiq-2f85", "robotiq", "urn:skillcell:device:robotiq-2f85"},
-        {"dh-ag95", "ag95", "urn:skillcell:device:dh-ag95"},
-        {"schmalz-ecbpi", "schmalz", "urn:skillcell:device:schmalz-ecbpi"},
+        {"robotiq-2f85", "robotiq", "urn:skillcell:device:robotiq-2f85", "parallel"},
+        {"dh-ag95", "ag95", "urn:skillcell:device:dh-ag95", "parallel"},
+        {"schmalz-ecbpi", "schmalz", "urn:skillcell:device:schmalz-ecbpi", "vacuum"},
     };
     return table;
 }

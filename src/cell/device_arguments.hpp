@@ -16,6 +16,7 @@ struct AdapterModel {
     std::string_view name;            // in cell files: robotiq-2f85
     std::string_view command;         // `skillcell device <command>`: robotiq
     std::string_view applicationUri;  // what its adapter announces
+    std::string_view gripType;        // how it grips: "parallel" or "vacuum" (its GripPointType)
 };
 
 /// Every adapter model, in the order `skillcell device --help` lists them.

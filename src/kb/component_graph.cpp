@@ -22,14 +22,8 @@ std::string rdfType() {
 rdf::Term boolean(bool b) {
     return rdf::literal(b ? "true" : "false", std::string(rdf::vocab::kXsd) + "boolean");
 }
-// An xsd:decimal: no exponent (1e-7 is not a decimal), the shortest digits that read back
-// as the same double. The process ontology's numbers are decimals (docs/knowledge_base.md).
 rdf::Term decimal(double v) {
-    std::array<char, 512> text{};  // DBL_MAX in fixed notation has 309 digits
-    const auto [end, ec] =
-        std::to_chars(text.data(), text.data() + text.size(), v, std::chars_format::fixed);
-    const std::string lexical = ec == std::errc() ? std::string(text.data(), end) : "0";
-    return rdf::literal(lexical, std::string(rdf::vocab::kXsd) + "decimal");
+    return rdf::decimalLiteral(v);
 }
 std::string lowerCase(std::string text) {
     for (char& ch : text) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));

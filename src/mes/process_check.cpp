@@ -591,7 +591,8 @@ private:
             g_.has(from, procIri("objectId")) || g_.has(from, procIri("applicationUri"));
         if (!hasPose && !hasText && !g_.has(from, kRdfType)) {
             problem(at, what + ": proc:derivedFrom " + source +
-                            ", which the file does not describe (no statements about it)");
+                            ", which nothing describes (a resource of a cell? check with "
+                            "--cell FILE or --kb URL)");
             return;
         }
         for (const char* local : {"pose", "targetPose"}) {
@@ -635,7 +636,8 @@ std::vector<ProcessProblem> checkProcesses(const std::vector<Triple>& triples,
 }
 
 std::vector<ProcessProblem> checkProcessText(std::string_view text, const SkillModels& models,
-                                             std::vector<Triple>* triples) {
+                                             std::vector<Triple>* triples,
+                                             const std::vector<Triple>& context) {
     auto read = kb::rdf::readTurtle(text, "file:///process");
     if (!read) {
         // The reader says "line L, column C: ...".
@@ -646,7 +648,9 @@ std::vector<ProcessProblem> checkProcessText(std::string_view text, const SkillM
         }
         return {{line, "Turtle syntax: " + e}};
     }
-    auto problems = checkProcesses(*read, models, TurtleLocator(text));
+    std::vector<Triple> all = *read;
+    all.insert(all.end(), context.begin(), context.end());
+    auto problems = checkProcesses(all, models, TurtleLocator(text));
     if (triples != nullptr) *triples = std::move(*read);
     return problems;
 }
@@ -676,6 +680,21 @@ kb::Expected<ProcessDescription> readCheckedProcess(kb::SparqlStore& store,
         }
     }
     return parseProcess(processIri, *triples);
+}
+
+std::string resourceQuery() {
+    const std::string type = "<" + kRdfType + ">";
+    const std::string kinds = "FILTER(?k IN (<" + procIri("ToolDock") + ">, <" + procIri("Tool") +
+                              ">, <" + procIri("PhysicalObject") + ">))";
+    return "CONSTRUCT { ?a ?b ?c } WHERE {\n"
+           "  { ?a " +
+           type + " ?k . " + kinds +
+           " ?a ?b ?c }\n"
+           "  UNION { ?r " +
+           type + " ?k . " + kinds + " ?r ?p ?a . FILTER(?p IN (<" + procIri("pose") + ">, <" +
+           procIri("targetPose") +
+           ">)) ?a ?b ?c }\n"
+           "}";
 }
 
 }  // namespace skillcell::mes

@@ -94,11 +94,19 @@ struct ProcessProblem {
     const std::vector<kb::rdf::Triple>& triples, const SkillModels& models,
     const TurtleLocator& where = {});
 
+/// The CONSTRUCT query for the resources a knowledge base holds that processes derive values
+/// from: docks, tools and objects, with their poses (a cell's scene). Their triples are the
+/// `context` of checkProcessText for a process headed for that KB.
+[[nodiscard]] std::string resourceQuery();
+
 /// Reads a process file's Turtle and checks it; a syntax error is one problem, at its line.
 /// The triples read go to `triples` when given.
+/// `context` describes what the process refers to without describing it (a cell's scene:
+/// its docks and tools).
 [[nodiscard]] std::vector<ProcessProblem> checkProcessText(
     std::string_view text, const SkillModels& models,
-    std::vector<kb::rdf::Triple>* triples = nullptr);
+    std::vector<kb::rdf::Triple>* triples = nullptr,
+    const std::vector<kb::rdf::Triple>& context = {});
 
 /// Reads the process `processIri` from a knowledge base and checks it against the skill
 /// models the KB holds: BadInput listing every problem (nothing has moved yet), or its

@@ -6,7 +6,7 @@ skillcell_unit_test(test_mes_units
   mes/step_binding_test.cpp
   mes/skill_facts_test.cpp
   mes/process_check_test.cpp)
-target_link_libraries(test_mes_units PRIVATE skillcell_mes skillcell_test_support)
+target_link_libraries(test_mes_units PRIVATE skillcell_mes skillcell_cell skillcell_test_support)
 target_compile_definitions(test_mes_units PRIVATE SKILLCELL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 
 # `skillcell process check`: exit codes, FILE:LINE problems, the clean process's steps.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cstdarg>
 #include <cstdio>
 #include <memory>
@@ -202,6 +203,14 @@ Expected<std::vector<Triple>> readTurtle(std::string_view text, std::string_view
                           : st.error)};
     }
     return std::move(st.triples);
+}
+
+Term decimalLiteral(double v) {
+    std::array<char, 512> text{};  // DBL_MAX in fixed notation has 309 digits
+    const auto [end, ec] =
+        std::to_chars(text.data(), text.data() + text.size(), v, std::chars_format::fixed);
+    const std::string lexical = ec == std::errc() ? std::string(text.data(), end) : "0";
+    return literal(lexical, std::string(vocab::kXsd) + "decimal");
 }
 
 }  // namespace skillcell::kb::rdf

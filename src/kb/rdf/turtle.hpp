@@ -24,6 +24,11 @@ using Prefix = std::pair<std::string, std::string>;
 [[nodiscard]] Expected<std::vector<Triple>> readTurtle(std::string_view text,
                                                        std::string_view baseIri = {});
 
+/// An xsd:decimal literal of `v`: no exponent (1e-7 is no decimal), the shortest digits that
+/// read back as the same double. The process ontology's numbers are decimals: xsd:double and
+/// xsd:decimal have disjoint value spaces in OWL 2 (docs/knowledge_base.md).
+[[nodiscard]] Term decimalLiteral(double v);
+
 /// Well-known vocabularies.
 namespace vocab {
 inline constexpr std::string_view kRdf = "http://www.w3.org/1999/02/22-rdf-syntax-ns#";

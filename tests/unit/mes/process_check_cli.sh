@@ -11,7 +11,14 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-"$skillcell" process check "$src/models/owl/demo-process.ttl" >"$tmp/out" 2>"$tmp/err" ||
+# The paper's process names the docks of the paper's cell: alone, those are problems.
+rc=0
+"$skillcell" process check "$src/models/owl/demo-process.ttl" >/dev/null 2>"$tmp/err" || rc=$?
+[ "$rc" = 1 ] || fail "the paper's process without its cell: exit $rc, expected 1"
+grep -q "demo-process.ttl:52: step step1, parameter ToolPosition: proc:derivedFrom dockP" \
+  "$tmp/err" || fail "no problem for the cell's dock: $(cat "$tmp/err")"
+"$skillcell" process check --cell "$src/examples/cells/paper.toml" \
+  "$src/models/owl/demo-process.ttl" >"$tmp/out" 2>"$tmp/err" ||
   fail "the paper's process: exit $?; $(cat "$tmp/err")"
 grep -q 'pickAndPlaceTwoBoxes>, 5 steps, clean' "$tmp/out" || fail "not clean: $(cat "$tmp/out")"
 grep -qE '^  2 PickAndPlaceSkillType ObjectId PlacePosition ToolSkillControllerEndpoint$' \

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "cell/cell_file.hpp"
+#include "cell/scene_graph.hpp"
 #include "kb/owl/embedded_ontologies.hpp"
 
 namespace skillcell::mes::process_check_test {
@@ -61,7 +63,13 @@ std::vector<Expectation> expectations(const std::string& text) {
 
 TEST(ProcessCheck, ThePapersProcessIsClean) {
     const auto text = kb::owl::embeddedOntology("demo-process.ttl");
-    const auto problems = checkProcessText(text, models());
+    // It names the paper cell's docks: clean with that cell's scene, and only with it.
+    const auto cell =
+        cell::readCellFile(std::string(SKILLCELL_SOURCE_DIR) + "/examples/cells/paper.toml");
+    ASSERT_TRUE(cell.cell);
+    const auto alone = checkProcessText(text, models());
+    EXPECT_EQ(alone.size(), 3U) << "three steps take their tool from a dock of the cell";
+    const auto problems = checkProcessText(text, models(), nullptr, cell::sceneTriples(*cell.cell));
     std::string all;
     for (const auto& p : problems) all += "\n  " + std::to_string(p.line) + ": " + p.message;
     EXPECT_TRUE(problems.empty()) << all;

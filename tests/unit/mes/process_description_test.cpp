@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cell/cell_file.hpp"
+#include "cell/scene_graph.hpp"
 #include "kb/owl/embedded_ontologies.hpp"
 #include "kb/rdf/turtle.hpp"
 
@@ -33,7 +35,14 @@ std::string refusal(const std::string& turtle) {
 }
 
 TEST(ProcessDescription, ReadsThePapersDemoProcessInOrderWithItsParameters) {
-    auto p = parseProcess(kDemo, triples(kb::owl::embeddedOntology("demo-process.ttl")));
+    // The process and the paper cell's scene, whose docks it names, as the KB holds them.
+    auto all = triples(kb::owl::embeddedOntology("demo-process.ttl"));
+    const auto cell =
+        cell::readCellFile(std::string(SKILLCELL_SOURCE_DIR) + "/examples/cells/paper.toml");
+    ASSERT_TRUE(cell.cell);
+    const auto scene = cell::sceneTriples(*cell.cell);
+    all.insert(all.end(), scene.begin(), scene.end());
+    auto p = parseProcess(kDemo, all);
     ASSERT_TRUE(p) << p.error();
     ASSERT_EQ(p->steps.size(), 5U);
     const char* types[] = {"ChangeToolSkillType", "PickAndPlaceSkillType", "ChangeToolSkillType",
@@ -49,7 +58,10 @@ TEST(ProcessDescription, ReadsThePapersDemoProcessInOrderWithItsParameters) {
     EXPECT_EQ(position.name, "ToolPosition");
     const auto* dock = std::get_if<DerivationSource>(&position.value);
     ASSERT_NE(dock, nullptr);
-    EXPECT_EQ(dock->iri, "http://skillcell.dev/demo#parallelDock");
+    EXPECT_EQ(dock->iri, "http://skillcell.dev/cell/paper#dockP");
+    // What the dock holds: the tool change brings a parallel gripper.
+    EXPECT_EQ(dock->held, (std::vector<std::pair<std::string, std::string>>{
+                              {std::string(kProcessNs) + "gripType", "parallel"}}));
     ASSERT_TRUE(dock->pose);
     EXPECT_DOUBLE_EQ(dock->pose->x, 0.3);
     EXPECT_DOUBLE_EQ(dock->pose->y, -0.45);
