@@ -445,8 +445,10 @@ private:
             const std::string dep = TripleIndex::key(d);
             const int at = where_.iriLine(dep, line);
             if (!steps.count(dep)) {
-                problem(at, label + ": proc:dependsOn " + tailOfIri(dep) +
-                                ", which is not a step of " + processName);
+                std::string message = label;
+                message += ": proc:dependsOn " + tailOfIri(dep) + ", which is not a step of ";
+                message += processName;
+                problem(at, std::move(message));
                 continue;
             }
             const auto it = std::find(order.begin(), order.end(), dep);
@@ -597,7 +599,9 @@ private:
         }
         for (const char* local : {"pose", "targetPose"}) {
             if (const Term* node = g_.object(from, procIri(local))) {
-                pose(TripleIndex::key(*node), what + " (" + source + "'s proc:" + local + ")", at);
+                std::string where = what;
+                where += " (" + source + "'s proc:" + local + ")";
+                pose(TripleIndex::key(*node), where, at);
             }
         }
         if (dataType.empty()) return;  // the parameter is unknown: reported already
