@@ -89,13 +89,18 @@ bool CellSupervisor::startComponent(Component& c) {
     return true;
 }
 
-bool CellSupervisor::start(const Interruption& interruption) {
+bool CellSupervisor::listen() {
     auto control = ControlSocket::listen(controlSocketPath(runtime_.dir()));
     if (!control) {
         std::cerr << "cell: " << control.error() << "\n";
         return false;
     }
     control_.emplace(std::move(*control));
+    return true;
+}
+
+bool CellSupervisor::start(const Interruption& interruption) {
+    if (!listen()) return false;
     // Our own detector, a client of the cell like any component: `cell status` shows the
     // skills as the cell's components see them.
     std::string error;
@@ -120,6 +125,7 @@ bool CellSupervisor::start(const Interruption& interruption) {
         std::cerr << "cell: mDNS: " << error << "\n";
         return false;
     }
+    detection_ = detector_.get();
     // On a terminal, the line of the component that is starting says so (the KB's first
     // start takes minutes on a slow machine); in a file, only the result.
     const bool terminal = ::isatty(STDOUT_FILENO) == 1;
@@ -206,7 +212,7 @@ std::string CellSupervisor::statusJson() const {
     j["secure"] = runtime_.secure();
     j["sparql"] = runtime_.sparqlUrl();
     const auto instances =
-        detector_ ? detector_->instances() : std::vector<skills::SkillInstance>{};
+        detection_ != nullptr ? detection_->instances() : std::vector<skills::SkillInstance>{};
     std::map<std::string, std::vector<const skills::SkillInstance*>> byComponent;
     for (const auto& i : instances) byComponent[i.componentUri].push_back(&i);
     const auto skillsOf = [&](const std::string& uri) {
@@ -294,12 +300,7 @@ int CellSupervisor::supervise(const Interruption& interruption) {
             break;
         }
         if (interruption.requested()) break;
-        for (auto& c : components_) {
-            if (c.state == State::Up && c.process && !c.process->running()) ended(c);
-        }
-        for (auto& c : components_) {
-            if (c.state == State::Restarting && Clock::now() >= c.restartAt) restartDue(c);
-        }
+        check();
         if (control_) {
             while (auto request = control_->accept()) {
                 bool down = false;
@@ -317,6 +318,27 @@ int CellSupervisor::supervise(const Interruption& interruption) {
     stopAll();
     if (downRequest) ControlSocket::reply(*downRequest, Json{{"stopped", true}}.dump());
     return givenUp_ ? 1 : 0;
+}
+
+bool CellSupervisor::adopt(CellProcess process) {
+    for (auto& c : components_) {
+        if (c.name != process.name()) continue;
+        if (c.process) (void)c.process->stop(std::chrono::seconds(10));
+        c.endpoint = process.url();
+        c.process.emplace(std::move(process));
+        c.state = State::Up;
+        return true;
+    }
+    return false;
+}
+
+void CellSupervisor::check() {
+    for (auto& c : components_) {
+        if (c.state == State::Up && c.process && !c.process->running()) ended(c);
+    }
+    for (auto& c : components_) {
+        if (c.state == State::Restarting && Clock::now() >= c.restartAt) restartDue(c);
+    }
 }
 
 void CellSupervisor::stopAll() {

@@ -31,6 +31,8 @@ public:
     CellSupervisor(const CellSupervisor&) = delete;
     CellSupervisor& operator=(const CellSupervisor&) = delete;
 
+    /// Listens on the control socket (`cell status`, `cell down`); false after saying why.
+    [[nodiscard]] bool listen();
     /// Listens on the control socket and starts the skill detector and every component in
     /// order. False, after saying why on stderr (with the log of the one that did not come
     /// up), when one did not; the others are stopped then.
@@ -38,6 +40,16 @@ public:
     /// Supervises until SIGINT/SIGTERM or `cell down`, then stops the cell. Returns the
     /// exit code: 0 when asked to stop, 1 when a component had to be given up.
     int supervise(const Interruption& interruption);
+    /// Puts a component of the cell that was started elsewhere under supervision (the
+    /// demo starts some itself, to time their detection). False for one the cell lacks.
+    bool adopt(CellProcess process);
+    /// The detector whose skills `cell status` shows, when the caller runs one already (the
+    /// demo's); start() runs its own.
+    void showSkillsOf(const SkillDetectionClock& detector) { detection_ = &detector; }
+    /// One round of supervision without waiting, for a command that supervises between its
+    /// own work: the components that ended are reported and their restarts scheduled, and
+    /// the restarts that are due are made (a restart waits for the component's READY).
+    void check();
     /// The cell as `cell status` shows it (JSON).
     [[nodiscard]] std::string statusJson() const;
     /// Stops every component: the tool changer first, then the last started first.
@@ -69,6 +81,7 @@ private:
     std::vector<Component> components_;  // in start order
     std::optional<ControlSocket> control_;
     std::unique_ptr<SkillDetectionClock> detector_;
+    const SkillDetectionClock* detection_ = nullptr;  // detector_, or the caller's
     bool givenUp_ = false;
 };
 

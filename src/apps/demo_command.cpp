@@ -39,6 +39,7 @@
 #include "cell/device_arguments.hpp"
 #include "cell_process.hpp"
 #include "cell_runtime.hpp"
+#include "cell_supervisor.hpp"
 #include "client_security_options.hpp"
 #include "commands.hpp"
 #include "devices/common/frame.hpp"
@@ -150,6 +151,7 @@ private:
         r.speed = o.speed;
         r.bootProfile = o.bootProfile;
         r.selfName = "demo";
+        r.keepPorts = true;  // a component restarted during the demo comes back where it was
         if (o.swap) r.shelf = swapShelf();
         return r;
     }
@@ -177,7 +179,9 @@ private:
     CellRuntime runtime_;
     std::string skillcell_;
     std::unique_ptr<SkillDetectionClock> clock_;
-    std::vector<CellProcess> running_;  // in start order
+    /// The components that stay up for the process, watched and restarted as `cell up`
+    /// does; the tool changer stops first.
+    CellSupervisor supervisor_{runtime_};
 };
 
 bool DemoCell::keep(const std::string& name) {
@@ -193,7 +197,7 @@ bool DemoCell::keep(const std::string& name) {
     }
     std::printf("  %-14s %s%s\n", p->name().c_str(), p->url().c_str(),
                 name == "kb" ? ("  SPARQL " + runtime_.sparqlUrl()).c_str() : "");
-    running_.push_back(std::move(*p));
+    supervisor_.adopt(std::move(*p));
     return true;
 }
 
@@ -226,7 +230,7 @@ bool DemoCell::measure(MeasuredComponent& m, const Interruption& interruption) {
         std::printf(" %8.0f", m.samplesMs.back());
         std::fflush(stdout);
         if (m.staysForTheProcess && run == o_.runs) {
-            running_.push_back(std::move(*p));
+            supervisor_.adopt(std::move(*p));
             break;
         }
         if (auto s = p->stop(10s); !s || !s->success()) {
@@ -277,6 +281,7 @@ int DemoCell::runProcess(const Interruption& interruption) {
     const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(
                                    std::chrono::duration<double>(o_.processTimeoutSeconds + 60));
     while (Clock::now() < deadline && !interruption.requested()) {
+        supervisor_.check();  // a component that died during the process is restarted
         auto line = child->readLine(1s);
         if (!line) {
             if (!child->running()) break;
@@ -464,15 +469,7 @@ void DemoCell::showDetectionTable(const std::vector<MeasuredComponent>& measured
 }
 
 void DemoCell::stopAll() {
-    // The tool changer powers its tools off when it stops: it goes first; then the others, the
-    // last started first.
-    std::stable_partition(running_.begin(), running_.end(), [this](const CellProcess& p) {
-        return p.name() == cell_.toolChanger->name;
-    });
-    for (auto& p : running_) {
-        if (auto s = p.stop(10s); !s) std::cerr << "demo: " << s.error() << "\n";
-    }
-    running_.clear();
+    supervisor_.stopAll();
 }
 
 int DemoCell::run(const Interruption& interruption) {
@@ -502,6 +499,7 @@ int DemoCell::run(const Interruption& interruption) {
         std::cerr << "demo: mDNS: " << error << "\n";
         return 1;
     }
+    supervisor_.showSkillsOf(*clock_);
 
     std::printf("== the cell's infrastructure (each component a process; security on)\n");
     if (!startInfrastructure()) return 1;
@@ -586,14 +584,15 @@ int DemoCell::run(const Interruption& interruption) {
         std::printf(
             "\n== the cell keeps running for inspection (Ctrl-C stops it); work directory %s\n",
             dir().string().c_str());
-        for (const auto& p : running_) {
-            std::printf("  %-14s %s\n", p.name().c_str(), p.url().c_str());
+        for (const auto& name : runtime_.components()) {
+            std::printf("  %-14s %s\n", name.c_str(), runtime_.endpoint(name).c_str());
         }
         std::printf("  operator: --pki-dir %s --user operator --password-file %s\n",
                     runtime_.pkiDir("operator").string().c_str(),
                     runtime_.passwordFile("operator").string().c_str());
         std::fflush(stdout);
-        interruption.wait();
+        // Supervised as `cell up` supervises, and reachable by `cell status --work-dir`.
+        if (!supervisor_.listen() || supervisor_.supervise(interruption) != 0) outcome = 1;
     }
     return outcome;
 }
@@ -687,7 +686,9 @@ Command addDemoCommand(CLI::App& app) {
                   "Plug & Produce: after the process, swap the Robotiq gripper in its dock for a "
                   "DH AG-95 and run the same process again");
     cmd->add_flag("--keep-running", o->keepRunning,
-                  "keep the cell running after the process, for inspection, until Ctrl-C");
+                  "keep the cell running after the process, supervised, for inspection, until "
+                  "Ctrl-C or `skillcell cell down --work-dir DIR` (`cell status --work-dir "
+                  "DIR` shows it)");
     cmd->add_option("--work-dir", o->workDir,
                     "directory for the cell's CA, users, PKI, KB data, journal and logs (kept; "
                     "default: a new temporary one, removed unless the demo fails)");

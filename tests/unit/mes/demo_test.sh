@@ -8,7 +8,9 @@
 #   - the AG-95's adapter was powered and detected in the second run;
 #   - the detection table: a row per measured component with the paper's figure;
 #   - the security the cell enforces: the operator refused an engineer's method, a client
-#     without security refused, a certificate the cell CA did not issue refused by the server.
+#     without security refused, a certificate the cell CA did not issue refused by the server;
+#   - with --keep-running the cell stays up supervised as `cell up` supervises it: `cell
+#     status` shows its skills, a UR5 killed with SIGKILL is restarted, `cell down` ends it.
 # The demo makes its own network namespace (root). Without root the test is skipped (77),
 # unless SKILLCELL_REQUIRE_NETNS=1, as in CI.
 # Usage: demo_test.sh PATH/TO/skillcell
@@ -20,7 +22,8 @@ if ! unshare -n true 2>/dev/null; then
   exit 77
 fi
 tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+demo=
+trap 'if [ -n "$demo" ]; then kill -TERM "$demo" 2>/dev/null; wait "$demo" 2>/dev/null; fi; rm -rf "$tmp"' EXIT
 fail() {
   echo "FAILED: $*" >&2
   for log in "$tmp"/work/logs/*.log; do
@@ -29,9 +32,29 @@ fail() {
   exit 1
 }
 
+# With --keep-running the cell stays up after the evidence, supervised as `cell up`
+# supervises it: `cell status` shows its skills, a killed UR5 comes back, `cell down` ends
+# the demo (exit 0).
+timeout 900 "$skillcell" demo --speed 50 --boot-profile none --runs 1 --swap --keep-running \
+  --work-dir "$tmp/work" >"$tmp/out" 2>&1 &
+demo=$!
+for _ in $(seq 1800); do
+  grep -q 'the cell keeps running' "$tmp/out" && break
+  kill -0 "$demo" 2>/dev/null || break
+  sleep 0.5
+done
+grep -q 'the cell keeps running' "$tmp/out" || { cat "$tmp/out"; fail "the demo did not finish its process"; }
+status() { "$skillcell" cell status --json --work-dir "$tmp/work"; }
+ur5() { status | python3 -c "import json,sys
+print(next(str(c['$1']) for c in json.load(sys.stdin)['components'] if c['name']=='ur5'))"; }
+status | grep -q CartesianLinearMoveSkillType || fail "cell status shows no UR5 skills: $(status)"
+kill -KILL "$(ur5 pid)"
+for _ in $(seq 120); do [ "$(ur5 restarts)" = 1 ] && [ "$(ur5 state)" = up ] && break; sleep 0.5; done
+[ "$(ur5 restarts)" = 1 ] || fail "the killed UR5 was not restarted: $(status)"
+"$skillcell" cell down --work-dir "$tmp/work" >/dev/null || fail "cell down of the demo"
 rc=0
-timeout 900 "$skillcell" demo --speed 50 --boot-profile none --runs 1 --swap \
-  --work-dir "$tmp/work" >"$tmp/out" 2>&1 || rc=$?
+wait "$demo" || rc=$?
+demo=
 cat "$tmp/out"
 [ "$rc" = 0 ] || fail "skillcell demo exited $rc"
 
