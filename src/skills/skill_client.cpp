@@ -190,16 +190,20 @@ asio::awaitable<StatusCode> SkillClient::setParameter(std::string parameterName,
 }
 
 asio::awaitable<StatusCode> SkillClient::call(SkillMethod method) {
+    // A run begins: a cancel() from now on is this run's, even one that comes while the
+    // Start call is on its way (before its answer, the server may already be Running).
+    if (method == SkillMethod::Start) cancelled_ = false;
+    co_return co_await callMethod(method);
+}
+
+asio::awaitable<StatusCode> SkillClient::callMethod(SkillMethod method) {
     ua::CallRequest req;
     req.methodsToCall.push_back(ua::CallMethodRequest{skill_, methods_.at(method), {}});
     auto resp = co_await client_.request<ua::CallRequest, ua::CallResponse>(std::move(req));
     if (!resp) co_return resp.status();
     if (resp->results.size() != 1) co_return ua::status::BadUnknownResponse;
     const StatusCode s = resp->results.front().statusCode;
-    if (method == SkillMethod::Start && s.isGood()) {
-        runStartedAt_ = resp->responseHeader.timestamp;
-        cancelled_ = false;
-    }
+    if (method == SkillMethod::Start && s.isGood()) runStartedAt_ = resp->responseHeader.timestamp;
     co_return s;
 }
 
@@ -223,7 +227,8 @@ std::optional<SkillOutcome> SkillClient::endOfRun() const {
 asio::awaitable<SkillOutcome> SkillClient::haltAfter(SkillOutcome::Kind kind) {
     SkillOutcome outcome{kind, ua::status::Good, {}};
     // Halt may race with the run's own end: BadInvalidState then just means it ended.
-    const StatusCode halted = co_await call(SkillMethod::Halt);
+    const StatusCode halted = co_await callMethod(SkillMethod::Halt);
+    cancelled_ = false;  // taken: it ended this run
     if (halted.isBad() && halted != ua::status::BadInvalidState) outcome.status = halted;
     outcome.reason = kind == SkillOutcome::Kind::TimedOut ? "no end within the timeout; halted"
                                                           : "cancelled; halted";
@@ -258,6 +263,7 @@ asio::awaitable<SkillOutcome> SkillClient::waitForEnd(std::chrono::milliseconds 
 
 asio::awaitable<SkillOutcome> SkillClient::run(std::map<std::string, Variant> parameters,
                                                std::chrono::milliseconds timeout) {
+    cancelled_ = false;  // the run begins here: a cancel() from now on is its own
     for (auto& [parameterName, value] : parameters) {
         const StatusCode s = co_await setParameter(parameterName, std::move(value));
         if (s.isBad()) {
@@ -265,7 +271,12 @@ asio::awaitable<SkillOutcome> SkillClient::run(std::map<std::string, Variant> pa
                                    "parameter " + parameterName + " refused"};
         }
     }
-    const StatusCode started = co_await start();
+    if (cancelled_) {
+        cancelled_ = false;
+        co_return SkillOutcome{SkillOutcome::Kind::Cancelled, ua::status::Good,
+                               "cancelled before Start"};
+    }
+    const StatusCode started = co_await callMethod(SkillMethod::Start);
     if (started.isBad()) {
         const bool lost = started == ua::status::BadConnectionClosed ||
                           started == ua::status::BadServerNotConnected ||

@@ -95,7 +95,8 @@ public:
     /// Writes one parameter by name: BadNoMatch for a name the skill does not declare,
     /// else the server's answer (BadOutOfRange, BadTypeMismatch, BadUserAccessDenied...).
     asio::awaitable<ua::StatusCode> setParameter(std::string name, ua::Variant value);
-    /// Calls one method: Good, BadInvalidState, BadUserAccessDenied, ...
+    /// Calls one method: Good, BadInvalidState, BadUserAccessDenied, ... Start begins a run:
+    /// a cancel() from the moment it is sent is that run's.
     asio::awaitable<ua::StatusCode> call(SkillMethod method);
     /// Start: Good (then await it with waitForEnd) or the refusal.
     asio::awaitable<ua::StatusCode> start();
@@ -129,6 +130,8 @@ private:
     /// The end of the current run among the transitions received, if it came.
     [[nodiscard]] std::optional<SkillOutcome> endOfRun() const;
     asio::awaitable<SkillOutcome> haltAfter(SkillOutcome::Kind kind);
+    /// call() without beginning a run (run() began it before the parameters).
+    asio::awaitable<ua::StatusCode> callMethod(SkillMethod method);
 
     ua::Client& client_;
     ua::NodeId skill_;

@@ -166,6 +166,22 @@ TEST(SkillClient, CancelHaltsTheSkill) {
     EXPECT_EQ(cell.state("Endless"), SkillState::Halted);
 }
 
+TEST(SkillClient, ACancelWhileTheStartIsOnItsWayIsNotLost) {
+    Cell cell;
+    ClientThread t;
+    auto endless = t.attach(cell.url(), Cell::id("Endless"));
+    ASSERT_TRUE(endless);
+    auto future = asio::co_spawn(
+        t.io(),
+        [&]() -> asio::awaitable<SkillOutcome> { co_return co_await endless->run({}, 30s); },
+        asio::use_future);
+    // Runs on the client's thread once run() has sent Start and waits for its answer.
+    asio::post(t.io(), [endless] { endless->cancel(); });
+    ASSERT_EQ(future.wait_for(10s), std::future_status::ready) << "the cancel was lost";
+    EXPECT_EQ(future.get().kind, Kind::Cancelled);
+    EXPECT_EQ(cell.state("Endless"), SkillState::Halted);
+}
+
 TEST(SkillClient, ReportsAHaltByTheComponentAsFailed) {
     Cell cell;
     ClientThread owner, other;
