@@ -8,14 +8,26 @@
 //   SIGTERM -> gone     its goodbye reached us
 //   kill -9 -> gone     its records expired (bounded by the TTL it announced)
 //
+// Then the idle traffic: --idle N servers run together, each a browser (its registrar looks
+// for an LDS) and a responder; once all are described and their announcements are over, every
+// datagram on the mDNS group is counted for --idle-seconds: queries, answers, and per server.
+// Before RFC 6762's rules were followed (every server queried every 30 s and every server
+// answered every query), 30 idle servers made 1 query and 30 responses a second.
+//
 // mDNS must not reach a real network: run it inside a private network namespace,
 //   tests/netns/run_in_private_netns.sh build/bench/skillcell_bench_discovery
 // (it refuses to run where a non-loopback multicast interface is up).
 #include <spdlog/spdlog.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <asio.hpp>
 #include <condition_variable>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -40,6 +52,10 @@ struct Options {
     int count = 50;
     int killed = 5;  // of them, how many are killed instead of stopped
     int ttl = 2;
+    int idle = 30;         // servers of the idle-traffic run (0: none)
+    int idleSeconds = 60;  // how long it counts
+    int idleTtl = 120;     // the TTL they announce
+    int idleSettle = 8;    // seconds before counting: libmdnsd announces 4 times, 2 s apart
     std::string skillcell = SKILLCELL_BINARY;
 };
 
@@ -78,6 +94,112 @@ bool onlyLoopbackMulticast() {
     return true;
 }
 
+struct Traffic {
+    std::uint64_t queries = 0;
+    std::uint64_t responses = 0;
+    std::uint64_t knownAnswers = 0;  // records carried by queries
+    std::uint64_t answers = 0;       // records carried by responses
+};
+
+/// Every datagram on the mDNS group for `window`, sorted into queries and responses.
+Traffic countTraffic(std::chrono::seconds window) {
+    Traffic t;
+    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    if (fd < 0) return t;
+    const int one = 1;
+    ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    ::setsockopt(fd, SOL_SOCKET, SO_REUSEPORT, &one, sizeof one);
+    sockaddr_in local{};
+    local.sin_family = AF_INET;
+    local.sin_port = htons(5353);
+    if (::bind(fd, reinterpret_cast<sockaddr*>(&local), sizeof local) != 0) {
+        ::close(fd);
+        return t;
+    }
+    for (const auto& nic : mdns::chooseMdnsInterfaces(mdns::listIpv4Interfaces(), {})) {
+        ip_mreq m{};
+        m.imr_multiaddr.s_addr = inet_addr("224.0.0.251");
+        std::memcpy(&m.imr_interface.s_addr, nic.address.data(), 4);
+        ::setsockopt(fd, IPPROTO_IP, IP_ADD_MEMBERSHIP, &m, sizeof m);
+    }
+    timeval tick{0, 100'000};
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tick, sizeof tick);
+    std::vector<std::uint8_t> buf(9000);
+    const auto end = Clock::now() + window;
+    while (Clock::now() < end) {
+        const auto n = ::recv(fd, buf.data(), buf.size(), 0);
+        if (n <= 0) continue;
+        auto m = mdns::parseDnsMessage(std::span(buf.data(), static_cast<std::size_t>(n)));
+        if (!m) continue;
+        if (m->isResponse) {
+            ++t.responses;
+            t.answers += m->records.size();
+        } else {
+            ++t.queries;
+            t.knownAnswers += m->records.size();
+        }
+    }
+    ::close(fd);
+    return t;
+}
+
+/// Starts `o.idle` servers together, waits until all are described, then counts the traffic.
+int idleTraffic(const Options& o, const std::filesystem::path& tmp, Timeline& timeline) {
+    std::vector<ChildProcess> servers;
+    const std::string log = (tmp / "idle.log").string();
+    for (int i = 0; i < o.idle; ++i) {
+        const std::string name = "idle-" + std::to_string(i);
+        auto child = ChildProcess::start(
+            {o.skillcell, "--log-level", "warn", "server", "--insecure", "--port", "0", "--host",
+             "127.0.0.1", "--application-uri", "urn:skillcell:bench", "--mdns-name", name,
+             "--mdns-ttl", std::to_string(o.idleTtl), "--pki-dir", (tmp / "pki").string()},
+            skillcell::process::reportingChild(log));
+        if (!child) {
+            std::fprintf(stderr, "idle start %d: %s
+", i, child.error().c_str());
+            return 1;
+        }
+        servers.push_back(std::move(*child));
+    }
+    for (int i = 0; i < o.idle; ++i) {
+        if (!timeline.waitFor("described idle-" + std::to_string(i), 30s)) {
+            std::fprintf(stderr, "idle server %d never described (see %s)
+", i, log.c_str());
+            return 1;
+        }
+    }
+    // Not synchronisation: the count is of the idle cell, after the start-up announcements.
+    std::this_thread::sleep_for(std::chrono::seconds(o.idleSettle));
+    const auto t = countTraffic(std::chrono::seconds(o.idleSeconds));
+    for (auto& s : servers) (void)s.terminate(5s);
+    const double secs = o.idleSeconds;
+    std::printf(
+        "idle traffic: %d servers (TTL %d s) and this listener, over %d s
+        ", o.idle,
+        o.idleTtl,
+        o.idleSeconds);
+    std::printf(
+        "  %-34s %9.2f /s  (%.1f known answers each)
+        ", " queries ", t.queries / secs,
+                t.queries == 0
+            ? 0.0
+            : static_cast<double>(t.knownAnswers) / t.queries);
+    std::printf(
+        "  %-34s %9.2f /s  (%.1f records each)
+        ", " responses ", t.responses / secs,
+                t.responses == 0
+            ? 0.0
+            : static_cast<double>(t.answers) / t.responses);
+    std::printf(
+        "  %-34s %9.3f /s
+        ", " datagrams per server ",
+        (t.queries + t.responses) /
+        secs / o.idle);
+    std::printf("  before RFC 6762's rules, measured with 30 servers: 1 query/s, 30 responses/s
+");
+    return 0;
+}
+
 int run(const Options& o) {
     if (!onlyLoopbackMulticast()) {
         std::fprintf(stderr,
@@ -94,7 +216,6 @@ int run(const Options& o) {
     std::thread thread([&] { io.run(); });
     Timeline timeline;
     mdns::MdnsConfig config;
-    config.queryPeriod = 30s;
     std::string error;
     auto responder =
         asio::post(io, asio::use_future([&] {
@@ -168,6 +289,7 @@ int run(const Options& o) {
         described.push_back(*tDescribed - t0);
         (kill ? expired : goodbye).push_back(*tGone - tStop);
     }
+    const int idleResult = o.idle > 0 ? idleTraffic(o, tmp, timeline) : 0;
     asio::post(io, asio::use_future([&] {
                    watcher->stop();
                    (*responder)->shutdown();
@@ -192,7 +314,7 @@ int run(const Options& o) {
     std::printf("  discovery after listening (described - READY, medians): %.2f ms\n",
                 (d.medianUs - r.medianUs) / 1000);
     std::printf("  paper (Profanter et al.): 211-313 ms from power-on to skill detection\n");
-    return 0;
+    return idleResult;
 }
 
 }  // namespace
@@ -213,6 +335,14 @@ int main(int argc, char** argv) {
             ok = next(o.killed);
         } else if (arg == "--ttl") {
             ok = next(o.ttl) && o.ttl > 0;
+        } else if (arg == "--idle") {
+            ok = next(o.idle);
+        } else if (arg == "--idle-seconds") {
+            ok = next(o.idleSeconds) && o.idleSeconds > 0;
+        } else if (arg == "--idle-settle") {
+            ok = next(o.idleSettle);
+        } else if (arg == "--idle-ttl") {
+            ok = next(o.idleTtl) && o.idleTtl > 0;
         } else if (arg == "--skillcell" && i + 1 < argc) {
             o.skillcell = argv[++i];
         } else {
@@ -220,7 +350,9 @@ int main(int argc, char** argv) {
         }
         if (!ok) {
             std::fprintf(stderr,
-                         "usage: %s [--count N=50] [--killed K=5] [--ttl S=2] [--skillcell PATH]\n"
+                         "usage: %s [--count N=50] [--killed K=5] [--ttl S=2] [--idle N=30]\n"
+                         "          [--idle-seconds S=60] [--idle-ttl S=120] [--idle-settle S=8]\n"
+                         "          [--skillcell PATH]\n"
                          "Run it inside tests/netns/run_in_private_netns.sh.\n",
                          argv[0]);
             return arg == "--help" ? 0 : 2;

@@ -1,13 +1,14 @@
 // Fuzz target: one datagram as it arrives on the mDNS port. It must parse or be refused
 // (never read out of bounds); a parsed one must survive the service cache and, when it is a
-// query, libmdnsd (behind the adapter, which only sees validated datagrams); and what parses
-// must encode and parse back to the same records.
+// query, libmdnsd (behind the adapter, which only sees validated datagrams) and the response
+// planner; and what parses must encode and parse back to the same records.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 
 #include "ua/discovery/dns_message.hpp"
 #include "ua/discovery/libmdnsd_adapter/libmdnsd_adapter.h"
+#include "ua/discovery/response_planner.hpp"
 #include "ua/discovery/service_cache.hpp"
 
 namespace {
@@ -29,6 +30,27 @@ mdns_adapter* responder() {
     return a;
 }
 
+/// The records a responder publishes for one server, as the planner sees them.
+std::vector<DnsRecord> ownRecords() {
+    auto make = [](std::string name, DnsType type) {
+        DnsRecord r;
+        r.name = std::move(name);
+        r.type = static_cast<std::uint16_t>(type);
+        r.ttl = 120;
+        return r;
+    };
+    auto ptr = make("_opcua-tcp._tcp.local", DnsType::Ptr);
+    ptr.target = "fuzz._opcua-tcp._tcp.local";
+    auto srv = make("fuzz._opcua-tcp._tcp.local", DnsType::Srv);
+    srv.port = 4840;
+    srv.target = "fuzz.local";
+    auto txt = make("fuzz._opcua-tcp._tcp.local", DnsType::Txt);
+    txt.txt = {"path=/", "caps=NA"};
+    auto a = make("fuzz.local", DnsType::A);
+    a.ipv4 = {127, 0, 0, 1};
+    return {ptr, srv, txt, a};
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -40,7 +62,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto now = Clock::now();
     (void)cache.ingest(*message, {127, 0, 0, 1}, now);
     (void)cache.refreshQueries(now);
+    for (const auto& q : message->questions) {
+        cache.questionSeen(q, {"fuzz._opcua-tcp._tcp.local"}, now);
+    }
+    (void)cache.knownAnswers(now);
     (void)cache.expire(now + std::chrono::hours(48));
+
+    // The planner keeps state from one input to the next, as a responder does.
+    static ResponsePlanner planner(1);
+    static const std::vector<DnsRecord> own = ownRecords();
+    if (message->isResponse) {
+        planner.onResponse(*message, own, now);
+    } else {
+        planner.onQuery(*message, own, {127, 0, 0, 1}, now);
+    }
+    (void)planner.takeDue(now + std::chrono::seconds(2), own);
 
     if (!message->isResponse && size <= MDNS_ADAPTER_MAX_INPUT) {
         mdns_adapter* a = responder();

@@ -7,7 +7,8 @@
 #
 # The tests add: clang and its sanitizer runtime (the fuzz targets), clang-format and
 # clang-tidy (lint), stress-ng (the suite under load), Node.js with the pinned node-opcua
-# interop peer (tests/interop/package.json), and python3 (the netns harness, fuzz seeds).
+# interop peer (tests/interop/package.json), python3 (the netns harness, fuzz seeds), and
+# Avahi (mDNS interop, run only inside a test's network namespace).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -32,6 +33,8 @@ packages=(
 )
 if [ "$scope" = all ]; then
   packages+=(clang clang-format clang-tidy libclang-rt-14-dev stress-ng)
+  # mDNS interop (tests/netns/avahi_interop.sh): Avahi runs only inside the test's namespace
+  packages+=(avahi-daemon avahi-utils dbus)
 fi
 missing=()
 for p in "${packages[@]}"; do
@@ -49,7 +52,19 @@ if ((${#missing[@]})); then
   SUDO=""
   if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
   $SUDO env DEBIAN_FRONTEND=noninteractive apt-get update -q
-  $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
+  # No package may start its service here (avahi-daemon would speak mDNS on the machine's own
+  # network): a policy-rc.d that refuses, for the time of the install, unless one exists.
+  policy=""
+  if [ ! -e /usr/sbin/policy-rc.d ]; then
+    policy=/usr/sbin/policy-rc.d
+    printf '#!/bin/sh\nexit 101\n' | $SUDO tee "$policy" >/dev/null
+    $SUDO chmod 755 "$policy"
+  fi
+  rc=0
+  $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
+    "${missing[@]}" || rc=$?
+  [ -z "$policy" ] || $SUDO rm -f "$policy"
+  [ "$rc" = 0 ] || exit "$rc"
 fi
 
 if [ "$scope" = all ] && [ ! -d tests/interop/node_modules/node-opcua ]; then

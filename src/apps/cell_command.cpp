@@ -248,7 +248,7 @@ void printSummary(const cell::CellFile& c) {
         network += ", interfaces";
         for (const auto& i : c.network.interfaces) network += " " + i;
     }
-    std::printf("  network:   %s; mDNS TTL %d s, query period %d s\n", network.c_str(),
+    std::printf("  network:   %s; mDNS TTL %d s, longest query interval %d s\n", network.c_str(),
                 c.network.mdnsTtlSeconds, c.network.mdnsQueryPeriodSeconds);
     if (!c.security.enabled) {
         std::printf("  security:  off (no certificates, no users: for tests on loopback)\n");

@@ -23,7 +23,9 @@ std::string defaultMdnsName(const std::string& applicationName, const ua::mdns::
 
 void addListenerOptions(CLI::App* cmd, DiscoveryOptions& o) {
     cmd->add_option("--mdns-query-period", o.queryPeriodSeconds,
-                    "seconds between mDNS queries for every OPC UA server")
+                    "longest interval, in seconds, between this component's mDNS queries for "
+                    "every OPC UA server: they go out at once, then after 1, 2, 4 ... s up "
+                    "to this (RFC 6762 5.2)")
         ->check(CLI::Range(0.1, 3600.0))
         ->capture_default_str();
     cmd->add_option("--mdns-interface", o.interfaces,

@@ -20,7 +20,7 @@ struct DiscoveryOptions {
     bool enabled = true;
     std::string mdnsName;  // empty: derived from the application name, address and port
     int ttlSeconds = 120;
-    double queryPeriodSeconds = 30;
+    double queryPeriodSeconds = 3600;
     int registerPeriodSeconds = 600;
     int registrationTimeoutSeconds = 660;
     std::vector<std::string> interfaces;

@@ -26,7 +26,7 @@ struct Network {
     Kind kind = Kind::PrivateNamespace;   // a namespace needs root; Host uses the host's links
     std::vector<std::string> interfaces;  // Host: the interfaces mDNS uses; empty: all
     int mdnsTtlSeconds = 120;
-    int mdnsQueryPeriodSeconds = 30;
+    int mdnsQueryPeriodSeconds = 3600;
 };
 
 struct Security {

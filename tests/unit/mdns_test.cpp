@@ -250,6 +250,71 @@ TEST(Mdns, MalformedAndOversizedDatagramsAreDroppedAndCountedWithoutHarm) {
     });
 }
 
+/// Polls `done` on the loop every 10 ms until it holds, at most `timeout`.
+template <class F>
+bool waitUntil(Loop& loop, F done, std::chrono::milliseconds timeout = 5s) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (!loop.run(done)) {
+        if (std::chrono::steady_clock::now() > end) return false;
+        std::this_thread::sleep_for(10ms);
+    }
+    return true;
+}
+
+std::vector<std::uint8_t> browseQuery(std::vector<std::pair<std::string, std::uint32_t>> known) {
+    DnsMessage q;
+    q.questions = {{"_opcua-tcp._tcp.local", static_cast<std::uint16_t>(DnsType::Ptr), kClassIn}};
+    for (const auto& [name, ttl] : known) {
+        DnsRecord ptr;
+        ptr.name = "_opcua-tcp._tcp.local";
+        ptr.type = static_cast<std::uint16_t>(DnsType::Ptr);
+        ptr.ttl = ttl;
+        ptr.target = name + "._opcua-tcp._tcp.local";
+        q.records.push_back(ptr);
+    }
+    return *encodeDnsMessage(q);
+}
+
+TEST(Mdns, AServerThatOnlyAnnouncesNeverQueries) {
+    Loop loop;
+    EventLog log;
+    auto announcer = loop.run([&] { return makeResponder(loop.io()); });  // no subscriber
+    auto listener = loop.run([&] { return makeResponder(loop.io(), &log); });
+    ASSERT_TRUE(announcer && listener);
+    loop.run([&] { return announcer->announce(pump()); });
+    ASSERT_TRUE(log.waitFor("announced pump opc.tcp://127.0.0.1:4840/ua"));
+    EXPECT_EQ(loop.run([&] { return announcer->stats().queriesSent; }), 0u);
+    EXPECT_GE(loop.run([&] { return listener->stats().queriesSent; }), 1u);
+    EXPECT_TRUE(loop.run([&] { return announcer->services().empty(); }));  // keeps no cache
+    loop.run([&] {
+        announcer->shutdown();
+        listener->shutdown();
+        return 0;
+    });
+}
+
+TEST(Mdns, ABrowseThatKnowsOurServerGetsNoAnswerAndOneThatForgetsItDoes) {
+    Loop loop;
+    auto announcer = loop.run([&] { return makeResponder(loop.io()); });
+    ASSERT_TRUE(announcer);
+    loop.run([&] { return announcer->announce(pump()); });
+    RawPeer peer(loop.io());
+    // It knows pump with the full TTL (120 s): RFC 6762 7.1 says nothing to send.
+    peer.send(browseQuery({{"pump", 120}}));
+    ASSERT_TRUE(waitUntil(loop, [&] { return announcer->stats().queriesHeard >= 1; }));
+    EXPECT_EQ(loop.run([&] { return announcer->pendingAnswers(); }), 0u);
+    EXPECT_EQ(loop.run([&] { return announcer->stats().answersSent; }), 0u);
+    // Less than half the TTL left: pump answers, after its random delay.
+    peer.send(browseQuery({{"pump", 59}}));
+    ASSERT_TRUE(waitUntil(loop, [&] { return announcer->stats().queriesHeard >= 2; }));
+    EXPECT_TRUE(waitUntil(
+        loop, [&] { return announcer->stats().answersSent >= 1; }, 3s));
+    loop.run([&] {
+        announcer->shutdown();
+        return 0;
+    });
+}
+
 TEST(Mdns, BadAnnouncementsAreRefused) {
     Loop loop;
     auto r = loop.run([&] { return makeResponder(loop.io()); });

@@ -2,6 +2,9 @@
 // expiry remove it, when refresh queries go out, which address is chosen.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <set>
+
 #include "ua/discovery/service_cache.hpp"
 
 namespace skillcell::ua::mdns::service_cache_test {
@@ -178,6 +181,69 @@ TEST(ServiceCacheLiteral, AnIpv4LiteralTargetNeedsNoAddressRecord) {
     EXPECT_FALSE(parseIpv4Literal("127.0.0.256"));
     EXPECT_FALSE(parseIpv4Literal("1.2.3"));
     EXPECT_FALSE(parseIpv4Literal("a.b.c.d"));
+}
+
+TEST_F(ServiceCacheTest, KnownAnswersAreThePointersWithMoreThanHalfTheirTtlLeft) {
+    cache.ingest(announcement("pump", "host-a.local", kHostA, 4840, 100), kHostA, t0);
+    cache.ingest(announcement("press", "host-b.local", kHostB, 4840, 100), kHostB, t0 + 30s);
+    auto known = cache.knownAnswers(t0 + 40s);
+    ASSERT_EQ(known.size(), 2u);
+    EXPECT_EQ(known[0].target, "press._opcua-tcp._tcp.local");
+    EXPECT_EQ(known[0].ttl, 90u);  // what it has left
+    EXPECT_EQ(known[1].ttl, 60u);
+    // At 50 s pump has half its TTL left: no longer a known answer.
+    known = cache.knownAnswers(t0 + 50s);
+    ASSERT_EQ(known.size(), 1u);
+    EXPECT_EQ(known[0].target, "press._opcua-tcp._tcp.local");
+    EXPECT_TRUE(cache.knowsAll({"press._opcua-tcp._tcp.local"}, t0 + 50s));
+    EXPECT_FALSE(cache.knowsAll({"pump._opcua-tcp._tcp.local"}, t0 + 50s));
+    EXPECT_FALSE(cache.knowsAll({"other._opcua-tcp._tcp.local"}, t0 + 50s));
+}
+
+TEST_F(ServiceCacheTest, AnotherHostAskingFirstCountsAsOurRefresh) {
+    cache.ingest(announcement("pump", "host-a.local", kHostA, 4840, 100), kHostA, t0);
+    // Another host asks for pump's SRV and TXT and the address just before our 80 % refresh.
+    const std::set<std::string> none;
+    cache.questionSeen(
+        {"pump._opcua-tcp._tcp.local", static_cast<std::uint16_t>(DnsType::Srv), kClassIn}, none,
+        t0 + 78s);
+    cache.questionSeen(
+        {"pump._opcua-tcp._tcp.local", static_cast<std::uint16_t>(DnsType::Txt), kClassIn}, none,
+        t0 + 78s);
+    cache.questionSeen({"host-a.local", static_cast<std::uint16_t>(DnsType::A), kClassIn}, none,
+                       t0 + 78s);
+    // Its browse lists pump as known: that does not refresh our pointer.
+    cache.questionSeen(
+        {"_opcua-tcp._tcp.local", static_cast<std::uint16_t>(DnsType::Ptr), kClassIn},
+        {"pump._opcua-tcp._tcp.local"}, t0 + 78s);
+    auto q = cache.refreshQueries(t0 + 80s);
+    ASSERT_EQ(q.size(), 1u);
+    EXPECT_EQ(q[0].name, "_opcua-tcp._tcp.local");
+}
+
+TEST_F(ServiceCacheTest, AQuestionSeenLongBeforeOurRefreshDoesNotReplaceIt) {
+    cache.ingest(announcement("pump", "host-a.local", kHostA, 4840, 100), kHostA, t0);
+    cache.questionSeen(
+        {"pump._opcua-tcp._tcp.local", static_cast<std::uint16_t>(DnsType::Srv), kClassIn}, {},
+        t0 + 50s);
+    const auto q = cache.refreshQueries(t0 + 80s);
+    EXPECT_TRUE(std::any_of(q.begin(), q.end(), [](const DnsQuestion& x) {
+        return x.type == static_cast<std::uint16_t>(DnsType::Srv);
+    }));
+}
+
+TEST(ServiceCacheJitter, RefreshTimesSpreadOverTwoPercentOfTheTtl) {
+    const auto t0 = Clock::time_point{} + 1000s;
+    std::set<Clock::time_point> deadlines;
+    for (std::uint32_t seed = 1; seed <= 20; ++seed) {
+        ServiceCache cache(std::string(kOpcUaServiceType), seed);
+        cache.ingest(announcement("pump", "host-a.local", kHostA, 4840, 1000), kHostA, t0);
+        const auto d = *cache.nextDeadline();
+        EXPECT_GE(d, t0 + 800s);
+        EXPECT_LE(d, t0 + 820s);
+        deadlines.insert(d);
+    }
+    EXPECT_GT(deadlines.size(), 3u);
 }
 
 TEST(ServiceCacheLiteral, AsksForTheAddressOfATargetThatCameWithout) {

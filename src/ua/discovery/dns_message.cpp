@@ -196,6 +196,7 @@ Result<DnsMessage> parseDnsMessage(std::span<const std::uint8_t> bytes, std::str
     (void)p.u16(flags);
     for (auto& c : counts) (void)p.u16(c);
     m.isResponse = (flags & 0x8000) != 0;
+    m.truncated = (flags & 0x0200) != 0;
     if (((flags >> 11) & 0xF) != 0) {  // RFC 6762 18.3: other opcodes are silently ignored
         p.fail("opcode is not QUERY");
         return status::BadDecodingError;
@@ -234,7 +235,9 @@ Result<DnsMessage> parseDnsMessage(std::span<const std::uint8_t> bytes, std::str
 Result<std::vector<std::uint8_t>> encodeDnsMessage(const DnsMessage& message) {
     std::vector<std::uint8_t> out;
     putU16(out, message.id);
-    putU16(out, message.isResponse ? 0x8400 : 0);  // response: QR + AA
+    // A response: QR + AA; TC when more known answers follow.
+    putU16(out, static_cast<std::uint16_t>((message.isResponse ? 0x8400 : 0) |
+                                           (message.truncated ? 0x0200 : 0)));
     putU16(out, static_cast<std::uint16_t>(message.questions.size()));
     putU16(out, static_cast<std::uint16_t>(message.records.size()));
     putU16(out, 0);

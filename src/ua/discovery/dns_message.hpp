@@ -52,6 +52,8 @@ struct DnsRecord {
 struct DnsMessage {
     std::uint16_t id = 0;
     bool isResponse = false;
+    /// TC: in a query, more known answers follow in the next datagrams (RFC 6762, 7.2).
+    bool truncated = false;
     std::vector<DnsQuestion> questions;
     /// Answers, then authority, then additional records: for discovery they all count.
     std::vector<DnsRecord> records;

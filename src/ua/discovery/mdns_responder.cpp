@@ -13,6 +13,8 @@
 #include <asio/ip/v6_only.hpp>
 #include <asio/use_awaitable.hpp>
 #include <cstring>
+#include <random>
+#include <set>
 #include <thread>
 
 namespace skillcell::ua::mdns {
@@ -78,6 +80,57 @@ asio::error_code openMulticastSocket(asio::ip::udp::socket& s,
     return ec;
 }
 
+/// Splits `records` over datagrams of at most kFrameBytes, the first with `head`'s questions.
+/// For a query, every datagram but the last has TC set: more known answers follow (7.2).
+std::vector<std::vector<std::uint8_t>> packDatagrams(DnsMessage head,
+                                                     std::vector<DnsRecord> records) {
+    constexpr std::size_t kHeaderBytes = 12;
+    std::vector<std::vector<std::uint8_t>> out;
+    auto sizeOf = [](const DnsRecord& r) -> std::size_t {
+        DnsMessage one;
+        one.records = {r};
+        auto bytes = encodeDnsMessage(one);
+        return bytes ? bytes->size() - kHeaderBytes : 0;
+    };
+    DnsMessage current = std::move(head);
+    current.records.clear();
+    auto base = encodeDnsMessage(current);
+    if (!base) return out;
+    std::size_t size = base->size();
+    auto finish = [&](bool more) {
+        current.truncated = more && !current.isResponse;
+        if (auto bytes = encodeDnsMessage(current)) out.push_back(std::move(*bytes));
+        DnsMessage next;
+        next.id = current.id;
+        next.isResponse = current.isResponse;
+        current = std::move(next);
+        size = kHeaderBytes;
+    };
+    for (auto& r : records) {
+        const std::size_t n = sizeOf(r);
+        if (n == 0) continue;  // cannot be encoded: left out
+        if (size + n > static_cast<std::size_t>(kFrameBytes) && !current.records.empty()) {
+            finish(true);
+        }
+        size += n;
+        current.records.push_back(std::move(r));
+    }
+    if (!current.records.empty() || !current.questions.empty()) finish(false);
+    return out;
+}
+
+bool isBrowseQuestion(const DnsQuestion& q) {
+    return foldCase(q.name) == foldCase(kOpcUaServiceType) &&
+           (q.type == static_cast<std::uint16_t>(DnsType::Ptr) ||
+            q.type == static_cast<std::uint16_t>(DnsType::Any)) &&
+           (q.qclass & ~kClassTopBit) == kClassIn;
+}
+
+std::size_t digestOf(std::span<const std::uint8_t> bytes) {
+    return std::hash<std::string_view>{}(
+        std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
 std::string sanitizeLabel(std::string_view s) {
     std::string out;
     for (char c : s) {
@@ -109,7 +162,11 @@ MdnsResponder::MdnsResponder(asio::any_io_executor executor, MdnsConfig config)
       config_(std::move(config)),
       socket_(executor_),
       socket6_(executor_),
-      timer_(executor_) {}
+      timer_(executor_),
+      cache_(std::string(kOpcUaServiceType), std::random_device{}()),
+      browse_(config_.queryPeriod),
+      planner_(std::random_device{}()),
+      queryId_(static_cast<std::uint16_t>(1 + std::random_device{}() % 0xFFFF)) {}
 
 MdnsResponder::~MdnsResponder() = default;
 
@@ -222,9 +279,8 @@ void MdnsResponder::start() {
     std::string names;
     for (const auto& nic : nics_)
         names += (names.empty() ? "" : ", ") + nic.name + " " + toString(nic.address);
-    spdlog::info("mDNS on {} (host {}.local, TTL {} s, query period {} ms)", names, hostName_,
-                 config_.recordTtl.count(), config_.queryPeriod.count());
-    nextBrowse_ = Clock::now();  // the first query goes out at once
+    spdlog::info("mDNS on {} (host {}.local, TTL {} s, longest query interval {} ms)", names,
+                 hostName_, config_.recordTtl.count(), config_.queryPeriod.count());
     if (socket_.is_open()) asio::co_spawn(executor_, receiveLoop(socket_), asio::detached);
     if (socket6_.is_open()) asio::co_spawn(executor_, receiveLoop(socket6_), asio::detached);
     asio::co_spawn(executor_, timerLoop(), asio::detached);
@@ -235,6 +291,7 @@ std::size_t MdnsResponder::subscribe(Listener listener) {
     // A late subscriber first hears what is already known, as if it had just been announced.
     for (const auto& s : cache_.services()) listener({ServiceEvent::Kind::Announced, s, {}});
     listeners_.emplace(id, std::move(listener));
+    if (!browse_.active()) startBrowsing();
     return id;
 }
 
@@ -309,6 +366,7 @@ StatusCode MdnsResponder::announce(const ServiceAnnouncement& a) {
     mdns_adapter_set_raw(d, txt, rdata.data(), static_cast<unsigned short>(rdata.size()));
     p.records.insert(p.records.end(), {ptr, srv, txt});
     published_.emplace(key, std::move(p));
+    rebuildOwnRecords();
     spdlog::info("mDNS: announcing '{}' port {} path '{}'", a.name, a.port, a.path);
     wake();
     return status::Good;
@@ -326,6 +384,7 @@ void MdnsResponder::withdraw(std::string_view name) {
     spdlog::info("mDNS: withdrawing '{}'", it->second.announcement.name);
     withdrawRecords(it->second);
     published_.erase(it);
+    rebuildOwnRecords();
     flushOutput();
 }
 
@@ -349,6 +408,7 @@ void MdnsResponder::shutdown() {
     closed_ = true;
     published_.clear();
     hostRecords_.clear();
+    own_.clear();
     asio::error_code ec;
     socket_.close(ec);
     socket6_.close(ec);
@@ -356,8 +416,57 @@ void MdnsResponder::shutdown() {
 }
 
 void MdnsResponder::queryNow() {
-    nextBrowse_ = Clock::now();
+    startBrowsing();
+}
+
+void MdnsResponder::startBrowsing() {
+    browse_.restart(Clock::now());
     wake();
+}
+
+void MdnsResponder::rebuildOwnRecords() {
+    own_.clear();
+    const auto ttl = static_cast<std::uint32_t>(config_.recordTtl.count());
+    auto record = [ttl](std::string name, DnsType type) {
+        DnsRecord r;
+        r.name = std::move(name);
+        r.type = static_cast<std::uint16_t>(type);
+        r.ttl = ttl;
+        return r;
+    };
+    // Names as DnsRecord spells them: without libmdnsd's trailing dot.
+    auto bare = [](std::string name) {
+        if (!name.empty() && name.back() == '.') name.pop_back();
+        return name;
+    };
+    if (!hostRecords_.empty()) {
+        for (const auto& nic : nics_) {
+            auto a = record(hostName_ + ".local", DnsType::A);
+            a.ipv4 = nic.address;
+            own_.push_back(std::move(a));
+        }
+    }
+    for (const auto& [key, p] : published_) {
+        const std::string instance = instanceName(p.announcement.name);
+        auto ptr = record(std::string(kOpcUaServiceType), DnsType::Ptr);
+        ptr.target = instance;
+        auto srv = record(instance, DnsType::Srv);
+        srv.port = p.announcement.port;
+        srv.target = bare(p.hostFqdn);
+        auto txt = record(instance, DnsType::Txt);
+        const std::string rdata = txtRdata(p.announcement);
+        for (std::size_t i = 0; i < rdata.size();) {
+            const auto n = static_cast<unsigned char>(rdata[i]);
+            txt.txt.push_back(rdata.substr(i + 1, n));
+            i += 1 + n;
+        }
+        own_.insert(own_.end(), {ptr, srv, txt});
+        if (p.announcement.address) {
+            auto a = record(bare(p.hostFqdn), DnsType::A);
+            a.ipv4 = *p.announcement.address;
+            own_.push_back(std::move(a));
+        }
+    }
 }
 
 void MdnsResponder::wake() {
@@ -403,14 +512,55 @@ void MdnsResponder::handleDatagram(std::span<const std::uint8_t> bytes, const Ip
     if (msg->isResponse) {
         // RFC 6762 6: a response from any port but 5353 is not mDNS; ignore it.
         if (sourcePort != config_.port) return;
-        dispatch(cache_.ingest(*msg, source, Clock::now()));
+        const auto now = Clock::now();
+        planner_.onResponse(*msg, own_, now);
+        // Only a browser keeps what it hears: a server that only announces has no use for it.
+        if (browse_.active()) dispatch(cache_.ingest(*msg, source, now));
         wake();  // new records: new deadlines
         return;
     }
-    if (published_.empty() || closed_) return;  // nothing of ours to answer with
-    if (bytes.size() <= kLibmdnsdMaxInput) feedLibmdnsd(bytes, source, sourcePort);
-    answerWithAdditionals(*msg, source);
-    flushOutput();
+    handleQuery(*msg, bytes, source, sourcePort);
+}
+
+bool MdnsResponder::isOwnQuery(const DnsMessage& query, std::span<const std::uint8_t> bytes) const {
+    if (query.id != queryId_) return false;
+    return std::find(recentQueries_.begin(), recentQueries_.end(), digestOf(bytes)) !=
+           recentQueries_.end();
+}
+
+void MdnsResponder::handleQuery(const DnsMessage& query, std::span<const std::uint8_t> bytes,
+                                const Ipv4& source, std::uint16_t sourcePort) {
+    if (closed_ || isOwnQuery(query, bytes)) return;
+    ++stats_.queriesHeard;
+    const auto now = Clock::now();
+    if (browse_.active()) {
+        // Another browser's question, with no known answer we lack, brings us the answers
+        // ours would (7.3).
+        std::set<std::string> knownByAsker;
+        for (const auto& rr : query.records) {
+            if (rr.type == static_cast<std::uint16_t>(DnsType::Ptr)) {
+                knownByAsker.insert(foldCase(rr.target));
+            }
+        }
+        for (const auto& q : query.questions) {
+            const bool multicastAnswer = (q.qclass & kClassTopBit) == 0;
+            if (isBrowseQuestion(q) && multicastAnswer && sourcePort == config_.port &&
+                cache_.knowsAll(knownByAsker, now)) {
+                browse_.duplicateSeen(now);
+            }
+            if (multicastAnswer) cache_.questionSeen(q, knownByAsker, now);
+        }
+    }
+    if (published_.empty()) return;  // nothing of ours to answer with
+    if (sourcePort != config_.port) {
+        // A legacy unicast query (RFC 6762 6.7): libmdnsd answers it at once, to its port.
+        if (bytes.size() <= kLibmdnsdMaxInput) feedLibmdnsd(bytes, source, sourcePort);
+        answerWithAdditionals(query, source);
+        flushOutput();
+        wake();
+        return;
+    }
+    planner_.onQuery(query, own_, source, now);
     wake();
 }
 
@@ -515,30 +665,54 @@ void MdnsResponder::sendMulticast(std::span<const std::uint8_t> bytes) {
     }
 }
 
-void MdnsResponder::sendQuestions(std::vector<DnsQuestion> questions) {
+void MdnsResponder::sendQuestions(std::vector<DnsQuestion> questions, Clock::time_point now) {
     DnsMessage m;
+    m.id = queryId_;
+    const bool browse = std::any_of(questions.begin(), questions.end(), isBrowseQuestion);
     m.questions = std::move(questions);
-    auto bytes = encodeDnsMessage(m);
-    if (!bytes) return;
-    sendMulticast(*bytes);
+    // Known answers (7.1): the servers we know need not answer again.
+    for (auto& bytes : packDatagrams(
+             std::move(m), browse ? cache_.knownAnswers(now) : std::vector<DnsRecord>{})) {
+        recentQueries_.push_back(digestOf(bytes));
+        if (recentQueries_.size() > 16) recentQueries_.erase(recentQueries_.begin());
+        ++stats_.queriesSent;
+        sendMulticast(bytes);
+    }
+}
+
+void MdnsResponder::sendAnswers(std::vector<DnsRecord> records) {
+    DnsMessage m;
+    m.isResponse = true;
+    for (auto& bytes : packDatagrams(std::move(m), std::move(records))) {
+        ++stats_.answersSent;
+        sendMulticast(bytes);
+    }
 }
 
 asio::awaitable<void> MdnsResponder::timerLoop() {
     auto self = shared_from_this();
     while (!closed_) {
         const auto now = Clock::now();
+        if (auto due = planner_.takeDue(now, own_); !due.empty()) sendAnswers(std::move(due));
         flushOutput();
-        dispatch(cache_.expire(now));
-        auto questions = cache_.refreshQueries(now);
-        if (now >= nextBrowse_) {
-            questions.push_back({std::string(kOpcUaServiceType),
-                                 static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
-            nextBrowse_ = now + config_.queryPeriod;
+        std::vector<DnsQuestion> questions;
+        if (browse_.active()) {
+            dispatch(cache_.expire(now));
+            questions = cache_.refreshQueries(now);
+            if (now >= *browse_.next()) {
+                if (std::none_of(questions.begin(), questions.end(), isBrowseQuestion)) {
+                    questions.push_back({std::string(kOpcUaServiceType),
+                                         static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
+                }
+                browse_.sent(now);
+            }
         }
-        if (!questions.empty()) sendQuestions(std::move(questions));
+        if (!questions.empty()) sendQuestions(std::move(questions), now);
 
-        auto wakeAt = nextBrowse_;
-        if (auto d = cache_.nextDeadline(); d && *d < wakeAt) wakeAt = *d;
+        auto wakeAt = now + std::chrono::minutes(1);
+        for (const auto& d : {browse_.next(), cache_.nextDeadline(), planner_.nextDeadline()}) {
+            if (d && *d < wakeAt) wakeAt = *d;
+        }
         const auto sleep = std::chrono::microseconds(mdns_adapter_sleep_us(mdnsd_.get()));
         if (now + sleep < wakeAt) wakeAt = now + std::chrono::duration_cast<Clock::duration>(sleep);
         // Never spin: at least a millisecond between rounds.

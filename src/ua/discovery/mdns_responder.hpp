@@ -3,8 +3,15 @@
 // on Asio UDP multicast 224.0.0.251:5353 and [ff02::fb]:5353.
 //
 // - Publishing is libmdnsd's job: it holds our records (PTR, SRV, TXT, A), announces them,
-//   answers queries for them, re-announces them before their TTL runs out, and sends the
-//   goodbyes (TTL 0) on withdraw() and shutdown().
+//   re-announces them before their TTL runs out, sends the goodbyes (TTL 0) on withdraw() and
+//   shutdown(), and answers legacy unicast queries.
+// - Multicast queries are answered as RFC 6762 asks (ResponsePlanner): after a random delay,
+//   aggregated, without what the querier knows or another responder just sent. libmdnsd's
+//   own answering cannot (its delay is 20-120 us, known answers count whatever their TTL,
+//   nothing limits repeats), so it does not see those queries.
+// - Only a process with a subscriber browses (BrowseSchedule: at once, then backing off up to
+//   `queryPeriod`), with its known answers in the query; and only it keeps the records it
+//   hears fresh with refresh queries. A server that only announces never queries.
 // - What others announce goes into our ServiceCache (TTL-honouring, see service_cache.hpp),
 //   whose changes reach subscribers as "announced" / "gone" events.
 // - Every datagram is checked by parseDnsMessage() first; a malformed one is counted and
@@ -27,8 +34,10 @@
 #include <string>
 #include <vector>
 
+#include "ua/discovery/browse_schedule.hpp"
 #include "ua/discovery/dns_message.hpp"
 #include "ua/discovery/network_interfaces.hpp"
+#include "ua/discovery/response_planner.hpp"
 #include "ua/discovery/service_cache.hpp"
 #include "ua/types/result.hpp"
 
@@ -41,9 +50,10 @@ struct MdnsConfig {
     MdnsConfig() = default;  // not an aggregate: see ClientConfig
     /// TTL of the records we publish; peers drop us this long after our last word.
     std::chrono::seconds recordTtl{120};
-    /// How often we ask the network for every OPC UA server (records about to expire are
-    /// asked for on their own schedule, at 80-95 % of their TTL).
-    std::chrono::milliseconds queryPeriod{std::chrono::seconds(30)};
+    /// The longest interval between a browser's queries for every OPC UA server: they go out
+    /// at once, then after 1 s, 2 s, 4 s ... up to this (RFC 6762, 5.2). Records about to
+    /// expire are asked for on their own schedule, at 80-95 % of their TTL.
+    std::chrono::milliseconds queryPeriod{std::chrono::minutes(60)};
     /// Interface names; empty: see chooseMdnsInterfaces().
     std::vector<std::string> interfaces;
     /// Our host name, without ".local"; empty: gethostname().
@@ -77,6 +87,9 @@ public:
         std::uint64_t malformed = 0;
         std::uint64_t sent = 0;
         std::uint64_t sendErrors = 0;
+        std::uint64_t queriesSent = 0;   // datagrams of our queries
+        std::uint64_t answersSent = 0;   // datagrams of our answers to queries
+        std::uint64_t queriesHeard = 0;  // others' queries
     };
 
     /// Opens and binds the socket and joins the group on the chosen interfaces.
@@ -87,8 +100,7 @@ public:
     MdnsResponder(const MdnsResponder&) = delete;
     MdnsResponder& operator=(const MdnsResponder&) = delete;
 
-    /// Starts receiving and sends the first query at once, so that servers started earlier
-    /// are found now, not at their next announcement.
+    /// Starts receiving; a subscriber's browsing starts with it (see subscribe()).
     void start();
     /// Publishes (or republishes) a server. BadInvalidArgument for a bad name or port.
     StatusCode announce(const ServiceAnnouncement& announcement);
@@ -96,11 +108,12 @@ public:
     void withdraw(std::string_view name);
     /// Goodbyes for everything published, then closes the socket. Idempotent.
     void shutdown();
-    /// Asks the network for every OPC UA server now.
+    /// Asks the network for every OPC UA server now, and backs off again from 1 s.
     void queryNow();
 
     /// Calls `listener` with an Announced event for every server known now, then with every
-    /// change. Returns the id for unsubscribe().
+    /// change. Returns the id for unsubscribe(). The first subscriber starts browsing: the
+    /// first query goes out at once, so that servers started earlier are found now.
     std::size_t subscribe(Listener listener);
     void unsubscribe(std::size_t id);
 
@@ -109,6 +122,8 @@ public:
     [[nodiscard]] const std::string& hostName() const { return hostName_; }
     [[nodiscard]] const MdnsConfig& config() const { return config_; }
     [[nodiscard]] Stats stats() const { return stats_; }
+    /// Records of ours waiting for their random delay to send them (see ResponsePlanner).
+    [[nodiscard]] std::size_t pendingAnswers() const { return planner_.pendingCount(); }
 
     /// Handles one received datagram (public for tests and the fuzzer).
     void handleDatagram(std::span<const std::uint8_t> bytes, const Ipv4& source,
@@ -133,9 +148,16 @@ private:
     void feedLibmdnsd(std::span<const std::uint8_t> bytes, const Ipv4& source,
                       std::uint16_t sourcePort);
     void answerWithAdditionals(const DnsMessage& query, const Ipv4& source);
+    void handleQuery(const DnsMessage& query, std::span<const std::uint8_t> bytes,
+                     const Ipv4& source, std::uint16_t sourcePort);
+    [[nodiscard]] bool isOwnQuery(const DnsMessage& query,
+                                  std::span<const std::uint8_t> bytes) const;
+    void startBrowsing();
+    void rebuildOwnRecords();
     void flushOutput();
     void sendMulticast(std::span<const std::uint8_t> bytes);
-    void sendQuestions(std::vector<DnsQuestion> questions);
+    void sendQuestions(std::vector<DnsQuestion> questions, Clock::time_point now);
+    void sendAnswers(std::vector<DnsRecord> records);
     void dispatch(const std::vector<ServiceEvent>& events);
     void ensureHostRecords();
     void withdrawRecords(Published& p);
@@ -152,9 +174,15 @@ private:
     std::vector<mdns_adapter_record*> hostRecords_;        // our A records
     std::map<std::string, Published> published_;           // folded name -> records
     ServiceCache cache_;
+    BrowseSchedule browse_;
+    ResponsePlanner planner_;
+    std::vector<DnsRecord> own_;  // what we publish, as records (for the planner)
+    // Our queries carry this id, and we keep a digest of the last ones we sent, so that the
+    // copy the loopback brings back is not taken for another host's query.
+    std::uint16_t queryId_ = 0;
+    std::vector<std::size_t> recentQueries_;
     std::map<std::size_t, Listener> listeners_;
     std::size_t nextListener_ = 1;
-    Clock::time_point nextBrowse_{};
     Stats stats_;
     bool started_ = false;
     bool closed_ = false;

@@ -88,16 +88,21 @@ bool ServiceInstance::hasCapability(std::string_view cap) const {
 std::optional<Clock::time_point> ServiceCache::Timed::nextRefresh() const {
     if (refreshesAsked >= static_cast<int>(kRefreshPercent.size())) return std::nullopt;
     const auto ttlMs = std::chrono::duration_cast<std::chrono::milliseconds>(ttl);
-    return received + ttlMs * kRefreshPercent[static_cast<std::size_t>(refreshesAsked)] / 100;
+    const int permille =
+        kRefreshPercent[static_cast<std::size_t>(refreshesAsked)] * 10 + jitterPermille;
+    return received + ttlMs * permille / 1000;
 }
 
-ServiceCache::ServiceCache(std::string serviceType)
-    : serviceType_(std::move(serviceType)), serviceTypeKey_(foldCase(serviceType_)) {}
+ServiceCache::ServiceCache(std::string serviceType, std::optional<std::uint32_t> jitterSeed)
+    : serviceType_(std::move(serviceType)), serviceTypeKey_(foldCase(serviceType_)) {
+    if (jitterSeed) jitter_.emplace(*jitterSeed);
+}
 
 bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_point now,
                          std::vector<std::string>& goodbyes) {
     const std::string key = foldCase(rr.name);
-    const Timed timed{now, std::chrono::seconds(rr.ttl), 0};
+    const int jitter = jitter_ ? static_cast<int>((*jitter_)() % 21) : 0;
+    const Timed timed{now, std::chrono::seconds(rr.ttl), 0, jitter};
     const bool goodbye = rr.ttl == 0;
     switch (static_cast<DnsType>(rr.type)) {
         case DnsType::Ptr: {
@@ -343,6 +348,57 @@ std::optional<Clock::time_point> ServiceCache::nextDeadline() const {
         for (const auto& a : list) consider(a, refreshedHosts.contains(k));
     }
     return best;
+}
+
+std::vector<DnsRecord> ServiceCache::knownAnswers(Clock::time_point now) const {
+    std::vector<DnsRecord> out;
+    for (const auto& [key, p] : pointers_) {
+        const auto left = std::chrono::duration_cast<std::chrono::seconds>(p.expiry() - now);
+        if (left * 2 <= p.ttl) continue;
+        DnsRecord r;
+        r.name = serviceType_;
+        r.type = static_cast<std::uint16_t>(DnsType::Ptr);
+        r.ttl = static_cast<std::uint32_t>(left.count());
+        r.target = p.instance;
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+bool ServiceCache::knowsAll(const std::set<std::string>& targets, Clock::time_point now) const {
+    return std::all_of(targets.begin(), targets.end(), [&](const std::string& t) {
+        const auto it = pointers_.find(t);
+        return it != pointers_.end() && (it->second.expiry() - now) * 2 > it->second.ttl;
+    });
+}
+
+void ServiceCache::questionSeen(const DnsQuestion& question,
+                                const std::set<std::string>& knownByAsker, Clock::time_point now) {
+    // A refresh due within the next 5 % of the record's TTL is what "planning to ask" means
+    // here; the answers to the other host's question renew the record as ours would.
+    auto counts = [now](Timed& t) {
+        const auto window = std::chrono::duration_cast<Clock::duration>(t.ttl) / 20;
+        while (t.nextRefresh() && *t.nextRefresh() <= now + window) ++t.refreshesAsked;
+    };
+    if ((question.qclass & ~kClassTopBit) != kClassIn) return;
+    const std::string name = foldCase(question.name);
+    const auto type = static_cast<DnsType>(question.type);
+    const bool any = type == DnsType::Any;
+    if (name == serviceTypeKey_ && (any || type == DnsType::Ptr)) {
+        for (auto& [key, p] : pointers_) {
+            if (!knownByAsker.contains(key)) counts(p);
+        }
+        return;
+    }
+    if (auto it = srvs_.find(name); it != srvs_.end() && (any || type == DnsType::Srv)) {
+        counts(it->second);
+    }
+    if (auto it = txts_.find(name); it != txts_.end() && (any || type == DnsType::Txt)) {
+        counts(it->second);
+    }
+    if (auto it = addresses_.find(name); it != addresses_.end() && (any || type == DnsType::A)) {
+        for (auto& a : it->second) counts(a);
+    }
 }
 
 std::vector<ServiceInstance> ServiceCache::services() const {

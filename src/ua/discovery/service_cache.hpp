@@ -6,13 +6,16 @@
 //
 // A service instance is "announced" once its PTR, SRV, TXT and at least one A record are all
 // known, and "gone" when one of them is withdrawn (a goodbye: TTL 0) or expires. Before a
-// record expires the cache asks for it again at 80, 85, 90 and 95 % of its TTL (RFC 6762,
-// 5.2), so a live server is kept and a vanished one is dropped when its TTL runs out.
+// record expires the cache asks for it again at 80, 85, 90 and 95 % of its TTL, plus a random
+// 0-2 % of its own (RFC 6762, 5.2), so a live server is kept and a vanished one is dropped when
+// its TTL runs out. When another host asks the same question first, that counts as our refresh
+// (7.3): on a segment of many browsers each record is asked for about once, not once by each.
 #include <array>
 #include <chrono>
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -62,7 +65,10 @@ struct ServiceEvent {
 
 class ServiceCache {
 public:
-    explicit ServiceCache(std::string serviceType = std::string(kOpcUaServiceType));
+    /// `jitterSeed`: the seed of the random part of refresh times; none: no random part
+    /// (tests that expect exact times).
+    explicit ServiceCache(std::string serviceType = std::string(kOpcUaServiceType),
+                          std::optional<std::uint32_t> jitterSeed = std::nullopt);
 
     /// Takes in every record of a received message (answers and additional records alike).
     /// `source` is the sender's address. Returns what changed.
@@ -75,6 +81,17 @@ public:
     std::vector<DnsQuestion> refreshQueries(Clock::time_point now);
     /// The next time expire() or refreshQueries() has something to do.
     [[nodiscard]] std::optional<Clock::time_point> nextDeadline() const;
+    /// The known answers for a browse query (RFC 6762, 7.1): the PTR records with more than
+    /// half of their TTL left, with the TTL they have left.
+    [[nodiscard]] std::vector<DnsRecord> knownAnswers(Clock::time_point now) const;
+    /// Another host asked `question`, and holds `knownByAsker` (the PTR targets, folded, of its
+    /// known answers): a refresh of ours that is due soon and that the answers will renew
+    /// counts as asked (RFC 6762, 7.3).
+    void questionSeen(const DnsQuestion& question, const std::set<std::string>& knownByAsker,
+                      Clock::time_point now);
+    /// Whether every PTR target in `targets` (folded) is in our known answers now: then a
+    /// browse query of another host with those known answers brings us everything ours would.
+    [[nodiscard]] bool knowsAll(const std::set<std::string>& targets, Clock::time_point now) const;
 
     [[nodiscard]] std::vector<ServiceInstance> services() const;
     [[nodiscard]] std::size_t size() const { return announced_.size(); }
@@ -85,6 +102,7 @@ private:
         Clock::time_point received;
         std::chrono::seconds ttl{0};
         int refreshesAsked = 0;
+        int jitterPermille = 0;  // 0..20: the random part of the refresh times
         [[nodiscard]] Clock::time_point expiry() const { return received + ttl; }
         [[nodiscard]] std::optional<Clock::time_point> nextRefresh() const;
     };
@@ -121,6 +139,7 @@ private:
     std::map<std::string, std::vector<Address>> addresses_;  // folded host -> A records
     std::map<std::string, ServiceInstance> announced_;       // folded instance name
     std::vector<DnsQuestion> pending_;  // A questions for SRV targets we have no address for
+    std::optional<std::minstd_rand> jitter_;
 };
 
 }  // namespace skillcell::ua::mdns

@@ -1,0 +1,201 @@
+#include "ua/discovery/response_planner.hpp"
+
+#include <algorithm>
+
+namespace skillcell::ua::mdns {
+
+namespace {
+
+constexpr auto kRepeatGap = std::chrono::seconds(1);
+// What queries held for their known answers may take (7.2): a flood of them is bounded.
+constexpr std::size_t kMaxHeldQueries = 256;
+constexpr std::size_t kMaxHeldEntries = 4096;
+// Answers due within this much of the first one leave with it.
+constexpr auto kAggregationWindow = std::chrono::milliseconds(120);
+
+bool isIn(std::uint16_t rrclass) {
+    return (rrclass & ~kClassTopBit) == kClassIn;
+}
+
+bool hasType(const DnsRecord& r, DnsType t) {
+    return r.type == static_cast<std::uint16_t>(t);
+}
+
+/// The TTL a querier has left of each record it lists as known, by identity.
+using KnownAnswers = std::map<std::string, std::uint32_t>;
+
+bool knownEnough(const KnownAnswers& known, const DnsRecord& r) {
+    const auto it = known.find(recordIdentity(r));
+    return it != known.end() && std::uint64_t{it->second} * 2 >= r.ttl;
+}
+
+/// Our records that a question asks for and the querier does not know (7.1), with what
+/// browsers expect alongside (RFC 6763, 12.1): a known PTR brings nothing along.
+std::vector<const DnsRecord*> answersTo(const DnsQuestion& q, std::span<const DnsRecord> own,
+                                        const KnownAnswers& known) {
+    std::vector<const DnsRecord*> out;
+    auto add = [&](const DnsRecord& r) {
+        if (knownEnough(known, r)) return;
+        if (std::find(out.begin(), out.end(), &r) == out.end()) out.push_back(&r);
+    };
+    auto addressesOf = [&](const std::string& host) {
+        for (const auto& o : own) {
+            if (hasType(o, DnsType::A) && foldCase(o.name) == host) add(o);
+        }
+    };
+    const std::string name = foldCase(q.name);
+    const bool any = q.type == static_cast<std::uint16_t>(DnsType::Any);
+    for (const auto& r : own) {
+        if (foldCase(r.name) != name || !(any || q.type == r.type)) continue;
+        if (knownEnough(known, r)) continue;
+        add(r);
+        if (hasType(r, DnsType::Ptr)) {
+            const std::string instance = foldCase(r.target);
+            for (const auto& o : own) {
+                if (foldCase(o.name) != instance) continue;
+                if (hasType(o, DnsType::Srv)) {
+                    add(o);
+                    addressesOf(foldCase(o.target));
+                } else if (hasType(o, DnsType::Txt)) {
+                    add(o);
+                }
+            }
+        } else if (hasType(r, DnsType::Srv)) {
+            addressesOf(foldCase(r.target));
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string recordIdentity(const DnsRecord& r) {
+    std::string id = foldCase(r.name) + '|' + std::to_string(r.type) + '|';
+    switch (static_cast<DnsType>(r.type)) {
+        case DnsType::Ptr:
+            id += foldCase(r.target);
+            break;
+        case DnsType::Srv:
+            id += std::to_string(r.port) + ' ' + foldCase(r.target);
+            break;
+        case DnsType::Txt:
+            for (const auto& s : r.txt) id += s + '\x01';
+            break;
+        case DnsType::A:
+            id.append(r.ipv4.begin(), r.ipv4.end());
+            break;
+        case DnsType::Aaaa:
+            id.append(r.ipv6.begin(), r.ipv6.end());
+            break;
+        case DnsType::Any:
+        default:
+            id.append(r.rdata.begin(), r.rdata.end());
+            break;
+    }
+    return id;
+}
+
+void ResponsePlanner::onQuery(const DnsMessage& query, std::span<const DnsRecord> own,
+                              const Ipv4& source, Clock::time_point now) {
+    if (auto held = held_.find(source); held != held_.end()) {
+        // More known answers of a query held for them: they join it; so do its further
+        // questions (a querier sends one query at a time).
+        auto& q = held->second.query;
+        if (q.questions.size() + q.records.size() < kMaxHeldEntries) {  // a flood is bounded
+            q.questions.insert(q.questions.end(), query.questions.begin(), query.questions.end());
+            q.records.insert(q.records.end(), query.records.begin(), query.records.end());
+        }
+        return;
+    }
+    if (query.questions.empty()) return;  // known answers of a query we did not hold
+    if (query.truncated && held_.size() < kMaxHeldQueries) {
+        const auto wait =
+            std::chrono::milliseconds(std::uniform_int_distribution<int>(400, 500)(random_));
+        held_.emplace(source, Held{query, now + wait});
+        return;
+    }
+    const auto delay =
+        std::chrono::milliseconds(std::uniform_int_distribution<int>(20, 120)(random_));
+    plan(query, own, now + delay);
+}
+
+void ResponsePlanner::plan(const DnsMessage& query, std::span<const DnsRecord> own,
+                           Clock::time_point due) {
+    KnownAnswers known;
+    for (const auto& rr : query.records) {
+        if (!isIn(rr.rrclass)) continue;
+        auto& ttl = known[recordIdentity(rr)];
+        ttl = std::max(ttl, rr.ttl);
+    }
+    for (const auto& q : query.questions) {
+        if (!isIn(q.qclass)) continue;
+        for (const DnsRecord* r : answersTo(q, own, known)) schedule(*r, due);
+    }
+}
+
+void ResponsePlanner::schedule(const DnsRecord& record, Clock::time_point due) {
+    const std::string id = recordIdentity(record);
+    if (auto last = lastSent_.find(id); last != lastSent_.end()) {
+        due = std::max(due, last->second + kRepeatGap);
+    }
+    auto [it, fresh] = pending_.try_emplace(id, Pending{record, due});
+    if (!fresh) it->second.due = std::min(it->second.due, due);
+}
+
+void ResponsePlanner::onResponse(const DnsMessage& response, std::span<const DnsRecord> own,
+                                 Clock::time_point now) {
+    if (own.empty()) return;
+    std::map<std::string, std::uint32_t> ours;  // identity -> our TTL
+    for (const auto& r : own) ours.emplace(recordIdentity(r), r.ttl);
+    for (const auto& rr : response.records) {
+        if (!isIn(rr.rrclass)) continue;
+        const std::string id = recordIdentity(rr);
+        const auto it = ours.find(id);
+        if (it == ours.end() || std::uint64_t{rr.ttl} * 2 < it->second) continue;
+        pending_.erase(id);
+        lastSent_[id] = now;
+    }
+}
+
+std::optional<Clock::time_point> ResponsePlanner::nextDeadline() const {
+    std::optional<Clock::time_point> best;
+    for (const auto& [id, p] : pending_) {
+        if (!best || p.due < *best) best = p.due;
+    }
+    for (const auto& [source, h] : held_) {
+        if (!best || h.until < *best) best = h.until;
+    }
+    return best;
+}
+
+std::vector<DnsRecord> ResponsePlanner::takeDue(Clock::time_point now,
+                                                std::span<const DnsRecord> own) {
+    for (auto it = held_.begin(); it != held_.end();) {
+        if (it->second.until > now) {
+            ++it;
+            continue;
+        }
+        plan(it->second.query, own, now);  // its random delay has passed already
+        it = held_.erase(it);
+    }
+    const auto due = nextDeadline();
+    if (!due || *due > now) return {};
+    // What falls due within the next random window leaves in the same datagram; a record
+    // multicast less than a second ago waits for its own time.
+    std::vector<DnsRecord> out;
+    for (auto it = pending_.begin(); it != pending_.end();) {
+        const auto last = lastSent_.find(it->first);
+        const bool repeatTooSoon = last != lastSent_.end() && last->second + kRepeatGap > now;
+        if (it->second.due > now + kAggregationWindow || repeatTooSoon) {
+            ++it;
+            continue;
+        }
+        lastSent_[it->first] = now;
+        out.push_back(std::move(it->second.record));
+        it = pending_.erase(it);
+    }
+    std::erase_if(lastSent_, [now](const auto& kv) { return now - kv.second > kRepeatGap; });
+    return out;
+}
+
+}  // namespace skillcell::ua::mdns

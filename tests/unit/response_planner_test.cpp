@@ -1,0 +1,247 @@
+// ResponsePlanner and BrowseSchedule with a fake clock: when our answers leave and what they
+// leave out (RFC 6762 6, 7.1, 7.2, 7.4), and how a browser's queries back off (5.2, 7.3).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "ua/discovery/browse_schedule.hpp"
+#include "ua/discovery/response_planner.hpp"
+
+namespace skillcell::ua::mdns::response_planner_test {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr Ipv4 kAsker{198, 18, 0, 7};
+constexpr Ipv4 kOtherAsker{198, 18, 0, 8};
+constexpr std::uint32_t kTtl = 120;
+const std::string kType(kOpcUaServiceType);
+
+DnsRecord rec(std::string name, DnsType type, std::uint32_t ttl = kTtl) {
+    DnsRecord r;
+    r.name = std::move(name);
+    r.type = static_cast<std::uint16_t>(type);
+    r.ttl = ttl;
+    return r;
+}
+
+/// What one process publishes for the servers `names` on host h.local, 198.18.0.1.
+std::vector<DnsRecord> published(const std::vector<std::string>& names) {
+    std::vector<DnsRecord> out;
+    auto a = rec("h.local", DnsType::A);
+    a.ipv4 = {198, 18, 0, 1};
+    out.push_back(a);
+    for (const auto& n : names) {
+        auto ptr = rec(kType, DnsType::Ptr);
+        ptr.target = n + "." + kType;
+        auto srv = rec(n + "." + kType, DnsType::Srv);
+        srv.port = 4840;
+        srv.target = "h.local";
+        auto txt = rec(n + "." + kType, DnsType::Txt);
+        txt.txt = {"path=/", "caps=NA"};
+        out.insert(out.end(), {ptr, srv, txt});
+    }
+    return out;
+}
+
+DnsMessage browse(std::vector<DnsRecord> knownAnswers = {}) {
+    DnsMessage m;
+    m.questions = {{kType, static_cast<std::uint16_t>(DnsType::Ptr), kClassIn}};
+    m.records = std::move(knownAnswers);
+    return m;
+}
+
+DnsRecord ptrTo(const std::string& name, std::uint32_t ttl) {
+    auto p = rec(kType, DnsType::Ptr, ttl);
+    p.target = name + "." + kType;
+    return p;
+}
+
+std::vector<std::string> describe(const std::vector<DnsRecord>& records) {
+    std::vector<std::string> out;
+    for (const auto& r : records) {
+        out.push_back(std::to_string(r.type) + " " + r.name +
+                      (r.target.empty() ? "" : " -> " + r.target));
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+class ResponsePlannerTest : public testing::Test {
+protected:
+    Clock::time_point t0 = Clock::time_point{} + 1000s;
+    ResponsePlanner planner{42};
+    std::vector<DnsRecord> own = published({"pump", "press"});
+};
+
+TEST_F(ResponsePlannerTest, ABrowseIsAnsweredAfter20To120MsWithServiceAndAddressRecords) {
+    planner.onQuery(browse(), own, kAsker, t0);
+    const auto due = planner.nextDeadline();
+    ASSERT_TRUE(due);
+    EXPECT_GE(*due - t0, 20ms);
+    EXPECT_LE(*due - t0, 120ms);
+    EXPECT_TRUE(planner.takeDue(*due - 1ms, own).empty());
+    const auto sent = planner.takeDue(*due, own);
+    // Both PTRs, with each instance's SRV and TXT and the host's address, in one answer.
+    EXPECT_EQ(sent.size(), 7u);
+    EXPECT_EQ(planner.pendingCount(), 0u);
+}
+
+TEST_F(ResponsePlannerTest, DelaysDifferFromQueryToQuery) {
+    std::set<Clock::duration> delays;
+    for (int i = 0; i < 8; ++i) {
+        const auto at = t0 + std::chrono::seconds(2 * i);  // past the one-second repeat gap
+        planner.onQuery(browse(), own, kAsker, at);
+        delays.insert(*planner.nextDeadline() - at);
+        (void)planner.takeDue(*planner.nextDeadline(), own);
+    }
+    EXPECT_GT(delays.size(), 1u);
+}
+
+TEST_F(ResponsePlannerTest, AKnownAnswerWithHalfItsTtlSuppressesThatServiceOnly) {
+    planner.onQuery(browse({ptrTo("pump", kTtl / 2)}), own, kAsker, t0);
+    const auto sent = describe(planner.takeDue(t0 + 200ms, own));
+    EXPECT_EQ(sent, describe({own[0], own[4], own[5], own[6]}));  // press and the address
+}
+
+TEST_F(ResponsePlannerTest, AKnownAnswerWithLessThanHalfItsTtlDoesNotSuppress) {
+    planner.onQuery(browse({ptrTo("pump", kTtl / 2 - 1), ptrTo("press", kTtl / 2 - 1)}), own,
+                    kAsker, t0);
+    EXPECT_EQ(planner.takeDue(t0 + 200ms, own).size(), 7u);
+}
+
+TEST_F(ResponsePlannerTest, AQueryWhoseKnownAnswersCoverEverythingIsNotAnswered) {
+    planner.onQuery(browse({ptrTo("pump", kTtl), ptrTo("press", kTtl)}), own, kAsker, t0);
+    EXPECT_FALSE(planner.nextDeadline());
+}
+
+TEST_F(ResponsePlannerTest, MoreKnownAnswersToComeWait400To500MsAndCount) {
+    auto first = browse({ptrTo("pump", kTtl)});
+    first.truncated = true;
+    planner.onQuery(first, own, kAsker, t0);
+    const auto due = *planner.nextDeadline();
+    EXPECT_GE(due - t0, 400ms);
+    EXPECT_LE(due - t0, 500ms);
+    DnsMessage rest;  // the continuation: known answers only
+    rest.records = {ptrTo("press", kTtl)};
+    planner.onQuery(rest, own, kAsker, t0 + 10ms);
+    EXPECT_TRUE(planner.takeDue(due - 1ms, own).empty());
+    // The querier knows both servers: nothing to send.
+    EXPECT_TRUE(planner.takeDue(due, own).empty());
+    EXPECT_FALSE(planner.nextDeadline());
+}
+
+TEST_F(ResponsePlannerTest, AHeldQueryIsAnsweredWithWhatItsKnownAnswersLack) {
+    auto first = browse({ptrTo("pump", kTtl)});
+    first.truncated = true;
+    planner.onQuery(first, own, kAsker, t0);
+    const auto due = *planner.nextDeadline();
+    EXPECT_EQ(describe(planner.takeDue(due, own)),
+              describe({own[0], own[4], own[5], own[6]}));  // press and the address
+}
+
+TEST_F(ResponsePlannerTest, AnotherQuerierKeepsTheAnswerThatOneQuerierRetires) {
+    auto q = browse();
+    q.truncated = true;
+    planner.onQuery(q, own, kAsker, t0);
+    planner.onQuery(browse(), own, kOtherAsker, t0 + 1ms);
+    DnsMessage rest;
+    rest.records = {ptrTo("pump", kTtl), ptrTo("press", kTtl)};
+    planner.onQuery(rest, own, kAsker, t0 + 2ms);
+    EXPECT_EQ(planner.takeDue(t0 + 600ms, own).size(), 7u);
+}
+
+TEST_F(ResponsePlannerTest, AnswersPendingTogetherLeaveTogether) {
+    DnsMessage srvQuestion;
+    srvQuestion.questions = {{"pump." + kType, static_cast<std::uint16_t>(DnsType::Srv), kClassIn}};
+    planner.onQuery(srvQuestion, own, kAsker, t0);
+    planner.onQuery(browse({ptrTo("pump", kTtl)}), own, kOtherAsker, t0 + 5ms);
+    const auto due = *planner.nextDeadline();
+    const auto sent = planner.takeDue(due + 120ms, own);
+    // press's PTR, SRV, TXT; pump's SRV; the address: one datagram's worth, not two.
+    EXPECT_EQ(sent.size(), 5u);
+    EXPECT_EQ(planner.pendingCount(), 0u);
+}
+
+TEST_F(ResponsePlannerTest, ARecordAnotherResponderSentMeanwhileIsNotSentAgain) {
+    planner.onQuery(browse(), own, kAsker, t0);
+    DnsMessage response;
+    response.isResponse = true;
+    response.records = {own[1], own[2], own[3]};  // pump's PTR, SRV, TXT, full TTL
+    planner.onResponse(response, own, t0 + 10ms);
+    EXPECT_EQ(describe(planner.takeDue(t0 + 200ms, own)),
+              describe({own[0], own[4], own[5], own[6]}));
+}
+
+TEST_F(ResponsePlannerTest, ADuplicateWithLessThanHalfOurTtlDoesNotSuppress) {
+    planner.onQuery(browse(), own, kAsker, t0);
+    DnsMessage response;
+    response.isResponse = true;
+    response.records = {own[1]};
+    response.records[0].ttl = kTtl / 2 - 1;
+    planner.onResponse(response, own, t0 + 10ms);
+    EXPECT_EQ(planner.takeDue(t0 + 200ms, own).size(), 7u);
+}
+
+TEST_F(ResponsePlannerTest, ARecordIsNotMulticastTwiceWithinASecond) {
+    planner.onQuery(browse(), own, kAsker, t0);
+    ASSERT_EQ(planner.takeDue(t0 + 200ms, own).size(), 7u);
+    planner.onQuery(browse(), own, kOtherAsker, t0 + 300ms);
+    const auto due = *planner.nextDeadline();
+    EXPECT_GE(due, t0 + 1200ms);
+    EXPECT_TRUE(planner.takeDue(t0 + 1100ms, own).empty());
+    EXPECT_EQ(planner.takeDue(due, own).size(), 7u);
+}
+
+TEST_F(ResponsePlannerTest, QuestionsForWhatWeDoNotHaveAreNotAnswered) {
+    DnsMessage q;
+    q.questions = {{"other." + kType, static_cast<std::uint16_t>(DnsType::Srv), kClassIn},
+                   {"_http._tcp.local", static_cast<std::uint16_t>(DnsType::Ptr), kClassIn},
+                   {kType, static_cast<std::uint16_t>(DnsType::Ptr), 3}};  // CHAOS
+    planner.onQuery(q, own, kAsker, t0);
+    EXPECT_FALSE(planner.nextDeadline());
+}
+
+TEST(RecordIdentity, IgnoresCaseTtlAndClassButNotData) {
+    auto a = ptrTo("Pump", 120);
+    auto b = ptrTo("pump", 10);
+    b.rrclass = kClassIn | kClassTopBit;
+    EXPECT_EQ(recordIdentity(a), recordIdentity(b));
+    EXPECT_NE(recordIdentity(a), recordIdentity(ptrTo("press", 120)));
+}
+
+TEST(BrowseSchedule, AsksAtOnceThenBacksOffByDoublingUpToTheLongest) {
+    const auto t0 = Clock::time_point{} + 1000s;
+    BrowseSchedule s(10s);
+    EXPECT_FALSE(s.active());
+    s.restart(t0);
+    EXPECT_EQ(*s.next(), t0);
+    auto t = t0;
+    std::vector<Clock::duration> gaps;
+    for (int i = 0; i < 6; ++i) {
+        s.sent(t);
+        gaps.push_back(*s.next() - t);
+        t = *s.next();
+    }
+    const std::vector<Clock::duration> expected = {1s, 2s, 4s, 8s, 10s, 10s};
+    EXPECT_EQ(gaps, expected);
+    s.restart(t);  // queryNow(): from the start again
+    s.sent(t);
+    EXPECT_EQ(*s.next() - t, 1s);
+}
+
+TEST(BrowseSchedule, AnotherHostsQueryCountsAsOursOnlyWhenOursIsNear) {
+    const auto t0 = Clock::time_point{} + 1000s;
+    BrowseSchedule s(std::chrono::minutes(60));
+    s.restart(t0);
+    s.sent(t0);                    // next at t0 + 1 s
+    s.sent(t0 + 1s);               // next at t0 + 3 s, then 4 s
+    s.duplicateSeen(t0 + 1500ms);  // just after ours: no change
+    EXPECT_EQ(*s.next(), t0 + 3s);
+    s.duplicateSeen(t0 + 2500ms);  // ours was due in 0.5 s: counts as sent
+    EXPECT_EQ(*s.next(), t0 + 2500ms + 4s);
+}
+
+}  // namespace
+}  // namespace skillcell::ua::mdns::response_planner_test
