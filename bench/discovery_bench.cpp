@@ -155,16 +155,14 @@ int idleTraffic(const Options& o, const std::filesystem::path& tmp, Timeline& ti
              "--mdns-ttl", std::to_string(o.idleTtl), "--pki-dir", (tmp / "pki").string()},
             skillcell::process::reportingChild(log));
         if (!child) {
-            std::fprintf(stderr, "idle start %d: %s
-", i, child.error().c_str());
+            std::fprintf(stderr, "idle start %d: %s\n", i, child.error().c_str());
             return 1;
         }
         servers.push_back(std::move(*child));
     }
     for (int i = 0; i < o.idle; ++i) {
         if (!timeline.waitFor("described idle-" + std::to_string(i), 30s)) {
-            std::fprintf(stderr, "idle server %d never described (see %s)
-", i, log.c_str());
+            std::fprintf(stderr, "idle server %d never described (see %s)\n", i, log.c_str());
             return 1;
         }
     }
@@ -173,30 +171,15 @@ int idleTraffic(const Options& o, const std::filesystem::path& tmp, Timeline& ti
     const auto t = countTraffic(std::chrono::seconds(o.idleSeconds));
     for (auto& s : servers) (void)s.terminate(5s);
     const double secs = o.idleSeconds;
-    std::printf(
-        "idle traffic: %d servers (TTL %d s) and this listener, over %d s
-        ", o.idle,
-        o.idleTtl,
-        o.idleSeconds);
-    std::printf(
-        "  %-34s %9.2f /s  (%.1f known answers each)
-        ", " queries ", t.queries / secs,
-                t.queries == 0
-            ? 0.0
-            : static_cast<double>(t.knownAnswers) / t.queries);
-    std::printf(
-        "  %-34s %9.2f /s  (%.1f records each)
-        ", " responses ", t.responses / secs,
-                t.responses == 0
-            ? 0.0
-            : static_cast<double>(t.answers) / t.responses);
-    std::printf(
-        "  %-34s %9.3f /s
-        ", " datagrams per server ",
-        (t.queries + t.responses) /
-        secs / o.idle);
-    std::printf("  before RFC 6762's rules, measured with 30 servers: 1 query/s, 30 responses/s
-");
+    std::printf("idle traffic: %d servers (TTL %d s) and this listener, over %d s\n", o.idle,
+                o.idleTtl, o.idleSeconds);
+    std::printf("  %-34s %9.2f /s  (%.1f known answers each)\n", "queries", t.queries / secs,
+                t.queries == 0 ? 0.0 : static_cast<double>(t.knownAnswers) / t.queries);
+    std::printf("  %-34s %9.2f /s  (%.1f records each)\n", "responses", t.responses / secs,
+                t.responses == 0 ? 0.0 : static_cast<double>(t.answers) / t.responses);
+    std::printf("  %-34s %9.3f /s\n", "datagrams per server",
+                (t.queries + t.responses) / secs / o.idle);
+    std::printf("  before RFC 6762's rules, measured with 30 servers: 1 query/s, 30 responses/s\n");
     return 0;
 }
 
