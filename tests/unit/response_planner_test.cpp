@@ -203,6 +203,31 @@ TEST_F(ResponsePlannerTest, QuestionsForWhatWeDoNotHaveAreNotAnswered) {
     EXPECT_FALSE(planner.nextDeadline());
 }
 
+TEST_F(ResponsePlannerTest, ARecordNobodyAsksForIsSentAgainTwoSecondsBeforeItsTtlRunsOut) {
+    DnsMessage announcement;  // libmdnsd's, looped back to us
+    announcement.isResponse = true;
+    announcement.records = own;
+    planner.onResponse(announcement, own, t0);
+    EXPECT_FALSE(planner.nextDeadline());  // without our records: nothing asked for
+    EXPECT_EQ(*planner.nextDeadline(own), t0 + 118s);
+    EXPECT_TRUE(planner.takeDue(t0 + 117s, own).empty());
+    EXPECT_EQ(planner.takeDue(t0 + 118s, own).size(), 7u);
+    EXPECT_EQ(*planner.nextDeadline(own), t0 + 236s);
+}
+
+TEST_F(ResponsePlannerTest, AShortTtlIsRenewedAtHalfOfItButNotWithinASecond) {
+    std::vector<DnsRecord> shortLived = published({"pump"});
+    for (auto& r : shortLived) r.ttl = 3;
+    DnsMessage announcement;
+    announcement.isResponse = true;
+    announcement.records = shortLived;
+    planner.onResponse(announcement, shortLived, t0);
+    EXPECT_EQ(*planner.nextDeadline(shortLived), t0 + 1500ms);
+    for (auto& r : shortLived) r.ttl = 1;
+    planner.onResponse(announcement, shortLived, t0);
+    EXPECT_EQ(*planner.nextDeadline(shortLived), t0 + 1s);
+}
+
 TEST(RecordIdentity, IgnoresCaseTtlAndClassButNotData) {
     auto a = ptrTo("Pump", 120);
     auto b = ptrTo("pump", 10);

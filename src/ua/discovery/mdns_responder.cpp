@@ -710,7 +710,7 @@ asio::awaitable<void> MdnsResponder::timerLoop() {
         if (!questions.empty()) sendQuestions(std::move(questions), now);
 
         auto wakeAt = now + std::chrono::minutes(1);
-        for (const auto& d : {browse_.next(), cache_.nextDeadline(), planner_.nextDeadline()}) {
+        for (const auto& d : {browse_.next(), cache_.nextDeadline(), planner_.nextDeadline(own_)}) {
             if (d && *d < wakeAt) wakeAt = *d;
         }
         const auto sleep = std::chrono::microseconds(mdns_adapter_sleep_us(mdnsd_.get()));

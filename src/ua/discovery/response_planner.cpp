@@ -1,6 +1,7 @@
 #include "ua/discovery/response_planner.hpp"
 
 #include <algorithm>
+#include <set>
 
 namespace skillcell::ua::mdns {
 
@@ -65,6 +66,14 @@ std::vector<const DnsRecord*> answersTo(const DnsQuestion& q, std::span<const Dn
         }
     }
     return out;
+}
+
+/// How long after it was last on the link a record is sent again unasked.
+Clock::duration reannounceAfter(std::uint32_t ttlSeconds) {
+    const auto ttl = std::chrono::duration_cast<Clock::duration>(std::chrono::seconds(ttlSeconds));
+    // Never sooner than a record may be repeated at all.
+    return std::max<Clock::duration>(ttlSeconds >= 4 ? ttl - std::chrono::seconds(2) : ttl / 2,
+                                     kRepeatGap);
 }
 
 }  // namespace
@@ -157,8 +166,15 @@ void ResponsePlanner::onResponse(const DnsMessage& response, std::span<const Dns
     }
 }
 
-std::optional<Clock::time_point> ResponsePlanner::nextDeadline() const {
+std::optional<Clock::time_point> ResponsePlanner::nextDeadline(
+    std::span<const DnsRecord> own) const {
     std::optional<Clock::time_point> best;
+    for (const auto& r : own) {
+        const auto last = lastSent_.find(recordIdentity(r));
+        if (last == lastSent_.end()) continue;
+        const auto at = last->second + reannounceAfter(r.ttl);
+        if (!best || at < *best) best = at;
+    }
     for (const auto& [id, p] : pending_) {
         if (!best || p.due < *best) best = p.due;
     }
@@ -178,6 +194,13 @@ std::vector<DnsRecord> ResponsePlanner::takeDue(Clock::time_point now,
         plan(it->second.query, own, now);  // its random delay has passed already
         it = held_.erase(it);
     }
+    // Records about to expire where nobody asked for them lately: sent again now.
+    for (const auto& r : own) {
+        const auto last = lastSent_.find(recordIdentity(r));
+        if (last != lastSent_.end() && last->second + reannounceAfter(r.ttl) <= now) {
+            schedule(r, now);
+        }
+    }
     const auto due = nextDeadline();
     if (!due || *due > now) return {};
     // What falls due within the next random window leaves in the same datagram; a record
@@ -194,7 +217,10 @@ std::vector<DnsRecord> ResponsePlanner::takeDue(Clock::time_point now,
         out.push_back(std::move(it->second.record));
         it = pending_.erase(it);
     }
-    std::erase_if(lastSent_, [now](const auto& kv) { return now - kv.second > kRepeatGap; });
+    // What is no longer ours is forgotten.
+    std::set<std::string> ours;
+    for (const auto& r : own) ours.insert(recordIdentity(r));
+    std::erase_if(lastSent_, [&](const auto& kv) { return !ours.contains(kv.first); });
     return out;
 }
 

@@ -13,6 +13,10 @@
 // - A record is not multicast again within a second of its last multicast (6).
 // - Answering a browse (PTR) brings the instance's SRV and TXT and the host's address along,
 //   as browsers expect (RFC 6763, 12.1).
+// - A record nobody asked for is sent again 2 s before its TTL runs out (half its TTL when
+//   that is under 4 s, and never within a second), counted from when it was last on the link.
+//   libmdnsd means to do that, but only for the first record of each of its hash buckets, so an SRV
+//   whose TXT shares its name lived only as long as browsers asked for it in time.
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -43,9 +47,11 @@ public:
     void onResponse(const DnsMessage& response, std::span<const DnsRecord> own,
                     Clock::time_point now);
 
-    /// When the next answer is due (or a query held for its known answers is complete);
-    /// none when nothing is pending.
-    [[nodiscard]] std::optional<Clock::time_point> nextDeadline() const;
+    /// When the next answer is due (or a query held for its known answers is complete, or,
+    /// given `own`, a record is to be sent again before its TTL runs out); none when nothing
+    /// is pending.
+    [[nodiscard]] std::optional<Clock::time_point> nextDeadline(
+        std::span<const DnsRecord> own = {}) const;
     /// Once an answer is due: the pending records that leave now, together. Else nothing.
     [[nodiscard]] std::vector<DnsRecord> takeDue(Clock::time_point now,
                                                  std::span<const DnsRecord> own);
@@ -64,9 +70,10 @@ private:
     void schedule(const DnsRecord& record, Clock::time_point due);
 
     std::minstd_rand random_;
-    std::map<std::string, Pending> pending_;             // by recordIdentity()
-    std::map<std::string, Clock::time_point> lastSent_;  // by recordIdentity()
-    std::map<Ipv4, Held> held_;                          // by querier
+    std::map<std::string, Pending> pending_;  // by recordIdentity()
+    // When each of our records was last on the link, by recordIdentity().
+    std::map<std::string, Clock::time_point> lastSent_;
+    std::map<Ipv4, Held> held_;  // by querier
 };
 
 }  // namespace skillcell::ua::mdns

@@ -26,7 +26,7 @@ TEST(CellFile, ThePapersCellReadsAsTheDemoRunsIt) {
     EXPECT_EQ(c.name, "paper");
     EXPECT_EQ(c.network.kind, Network::Kind::PrivateNamespace);
     EXPECT_EQ(c.network.mdnsTtlSeconds, 5);
-    EXPECT_EQ(c.network.mdnsQueryPeriodSeconds, 1);
+    EXPECT_EQ(c.network.mdnsQueryPeriodSeconds, 60);
     EXPECT_TRUE(c.security.enabled);
     EXPECT_TRUE(c.security.ca.empty());
     EXPECT_TRUE(c.lds);
