@@ -94,6 +94,16 @@ bool onlyLoopbackMulticast() {
     return true;
 }
 
+/// One `skillcell server` process announcing `name` with `ttl`, its output appended to `log`.
+auto startServer(const Options& o, const std::string& name, int ttl,
+                 const std::filesystem::path& tmp, const std::string& log) {
+    return ChildProcess::start(
+        {o.skillcell, "--log-level", "warn", "server", "--insecure", "--port", "0", "--host",
+         "127.0.0.1", "--application-uri", "urn:skillcell:bench", "--mdns-name", name, "--mdns-ttl",
+         std::to_string(ttl), "--pki-dir", (tmp / "pki").string()},
+        skillcell::process::reportingChild(log));
+}
+
 struct Traffic {
     std::uint64_t queries = 0;
     std::uint64_t responses = 0;
@@ -149,11 +159,7 @@ int idleTraffic(const Options& o, const std::filesystem::path& tmp, Timeline& ti
     const std::string log = (tmp / "idle.log").string();
     for (int i = 0; i < o.idle; ++i) {
         const std::string name = "idle-" + std::to_string(i);
-        auto child = ChildProcess::start(
-            {o.skillcell, "--log-level", "warn", "server", "--insecure", "--port", "0", "--host",
-             "127.0.0.1", "--application-uri", "urn:skillcell:bench", "--mdns-name", name,
-             "--mdns-ttl", std::to_string(o.idleTtl), "--pki-dir", (tmp / "pki").string()},
-            skillcell::process::reportingChild(log));
+        auto child = startServer(o, name, o.idleTtl, tmp, log);
         if (!child) {
             std::fprintf(stderr, "idle start %d: %s\n", i, child.error().c_str());
             return 1;
@@ -235,11 +241,7 @@ int run(const Options& o) {
     for (int i = 0; i <= o.count; ++i) {
         const std::string name = "bench-" + std::to_string(i);
         const auto t0 = Clock::now();
-        auto child = ChildProcess::start(
-            {o.skillcell, "--log-level", "warn", "server", "--insecure", "--port", "0", "--host",
-             "127.0.0.1", "--application-uri", "urn:skillcell:bench", "--mdns-name", name,
-             "--mdns-ttl", std::to_string(o.ttl), "--pki-dir", (tmp / "pki").string()},
-            skillcell::process::reportingChild(log));
+        auto child = startServer(o, name, o.ttl, tmp, log);
         if (!child) {
             std::fprintf(stderr, "start %d: %s\n", i, child.error().c_str());
             return 1;

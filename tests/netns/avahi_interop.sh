@@ -13,13 +13,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 . "$here/lib.sh"
 BIN=$(realpath -- "${1:?usage: avahi_interop.sh SKILLCELL_BINARY}")
 
-fail() {
-  echo "FAIL: $*"
-  for f in "$NETNS_DIR"/*.out "$NETNS_DIR"/*.err; do
-    [ -s "$f" ] && { echo "----- $(basename "$f")"; tail -n 20 "$f"; }
-  done
-  exit 1
-}
+fail() { netns_fail "$@"; }
 
 for tool in avahi-daemon avahi-browse avahi-publish dbus-daemon; do
   if ! command -v "$tool" >/dev/null; then

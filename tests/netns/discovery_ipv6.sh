@@ -10,13 +10,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 . "$here/lib.sh"
 BIN=$(realpath -- "${1:?usage: discovery_ipv6.sh SKILLCELL_BINARY}")
 
-fail() {
-  echo "FAIL: $*"
-  for f in "$NETNS_DIR"/*.out "$NETNS_DIR"/*.err; do
-    [ -s "$f" ] && { echo "----- $(basename "$f")"; tail -n 20 "$f"; }
-  done
-  exit 1
-}
+fail() { netns_fail "$@"; }
 
 netns_trap
 netns_setup_or_skip 2

@@ -21,6 +21,8 @@
 #   wait_for_line_until FILE REGEX DEADLINE_MS [FROM_LINE]   same with an absolute deadline (now_ms).
 #   line_count FILE            number of lines in FILE so far (to wait for lines after it).
 #   now_ms                     milliseconds since the epoch.
+#   netns_fail MESSAGE         prints FAIL: MESSAGE and the last lines of every process's output
+#                              in $NETNS_DIR, then exits 1 (the trap cleans up).
 #   link_down HOST, link_up HOST   take HOST's side of its veth down or up (link_up restores the
 #                              multicast route that going down removed).
 #   netns_cleanup              kills every process started here and every process still inside
@@ -58,6 +60,15 @@ _netns_ms() {
 _netns_ns() { echo "${NETNS_ID}$1"; }
 
 netns_log() { echo "[netns $(date +%T.%3N)] $*" >&2; }
+
+netns_fail() {
+  echo "FAIL: $*"
+  local f
+  for f in "$NETNS_DIR"/*.out "$NETNS_DIR"/*.err; do
+    [ -s "$f" ] && { echo "----- $(basename "$f")"; tail -n 20 "$f"; }
+  done
+  exit 1
+}
 
 # Namespaces of earlier runs that were killed so that neither their trap nor their watchdog could
 # clean up: names of this scheme (sc<pid>br, sc<pid>h<k>) whose pid is gone. Kills what still
