@@ -69,14 +69,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     (void)cache.expire(now + std::chrono::hours(48));
 
     // The planner keeps state from one input to the next, as a responder does.
-    static ResponsePlanner planner(1);
-    static const std::vector<DnsRecord> own = ownRecords();
+    static ResponsePlanner planner = [] {
+        ResponsePlanner p(1);
+        p.setOwn(ownRecords());
+        return p;
+    }();
     if (message->isResponse) {
-        planner.onResponse(*message, own, now);
+        planner.onResponse(*message, now);
     } else {
-        planner.onQuery(*message, own, {127, 0, 0, 1}, now);
+        planner.onQuery(*message, {127, 0, 0, 1}, now);
     }
-    (void)planner.takeDue(now + std::chrono::seconds(2), own);
+    (void)planner.takeDue(now + std::chrono::seconds(2));
 
     if (!message->isResponse && size <= MDNS_ADAPTER_MAX_INPUT) {
         mdns_adapter* a = responder();

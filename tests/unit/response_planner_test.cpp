@@ -73,16 +73,17 @@ protected:
     Clock::time_point t0 = Clock::time_point{} + 1000s;
     ResponsePlanner planner{42};
     std::vector<DnsRecord> own = published({"pump", "press"});
+    ResponsePlannerTest() { planner.setOwn(own); }
 };
 
 TEST_F(ResponsePlannerTest, ABrowseIsAnsweredAfter20To120MsWithServiceAndAddressRecords) {
-    planner.onQuery(browse(), own, kAsker, t0);
+    planner.onQuery(browse(), kAsker, t0);
     const auto due = planner.nextDeadline();
     ASSERT_TRUE(due);
     EXPECT_GE(*due - t0, 20ms);
     EXPECT_LE(*due - t0, 120ms);
-    EXPECT_TRUE(planner.takeDue(*due - 1ms, own).empty());
-    const auto sent = planner.takeDue(*due, own);
+    EXPECT_TRUE(planner.takeDue(*due - 1ms).empty());
+    const auto sent = planner.takeDue(*due);
     // Both PTRs, with each instance's SRV and TXT and the host's address, in one answer.
     EXPECT_EQ(sent.size(), 7u);
     EXPECT_EQ(planner.pendingCount(), 0u);
@@ -92,106 +93,105 @@ TEST_F(ResponsePlannerTest, DelaysDifferFromQueryToQuery) {
     std::set<Clock::duration> delays;
     for (int i = 0; i < 8; ++i) {
         const auto at = t0 + std::chrono::seconds(2 * i);  // past the one-second repeat gap
-        planner.onQuery(browse(), own, kAsker, at);
+        planner.onQuery(browse(), kAsker, at);
         delays.insert(*planner.nextDeadline() - at);
-        (void)planner.takeDue(*planner.nextDeadline(), own);
+        (void)planner.takeDue(*planner.nextDeadline());
     }
     EXPECT_GT(delays.size(), 1u);
 }
 
 TEST_F(ResponsePlannerTest, AKnownAnswerWithHalfItsTtlSuppressesThatServiceOnly) {
-    planner.onQuery(browse({ptrTo("pump", kTtl / 2)}), own, kAsker, t0);
-    const auto sent = describe(planner.takeDue(t0 + 200ms, own));
+    planner.onQuery(browse({ptrTo("pump", kTtl / 2)}), kAsker, t0);
+    const auto sent = describe(planner.takeDue(t0 + 200ms));
     EXPECT_EQ(sent, describe({own[0], own[4], own[5], own[6]}));  // press and the address
 }
 
 TEST_F(ResponsePlannerTest, AKnownAnswerWithLessThanHalfItsTtlDoesNotSuppress) {
-    planner.onQuery(browse({ptrTo("pump", kTtl / 2 - 1), ptrTo("press", kTtl / 2 - 1)}), own,
-                    kAsker, t0);
-    EXPECT_EQ(planner.takeDue(t0 + 200ms, own).size(), 7u);
+    planner.onQuery(browse({ptrTo("pump", kTtl / 2 - 1), ptrTo("press", kTtl / 2 - 1)}), kAsker,
+                    t0);
+    EXPECT_EQ(planner.takeDue(t0 + 200ms).size(), 7u);
 }
 
 TEST_F(ResponsePlannerTest, AQueryWhoseKnownAnswersCoverEverythingIsNotAnswered) {
-    planner.onQuery(browse({ptrTo("pump", kTtl), ptrTo("press", kTtl)}), own, kAsker, t0);
+    planner.onQuery(browse({ptrTo("pump", kTtl), ptrTo("press", kTtl)}), kAsker, t0);
     EXPECT_FALSE(planner.nextDeadline());
 }
 
 TEST_F(ResponsePlannerTest, MoreKnownAnswersToComeWait400To500MsAndCount) {
     auto first = browse({ptrTo("pump", kTtl)});
     first.truncated = true;
-    planner.onQuery(first, own, kAsker, t0);
+    planner.onQuery(first, kAsker, t0);
     const auto due = *planner.nextDeadline();
     EXPECT_GE(due - t0, 400ms);
     EXPECT_LE(due - t0, 500ms);
     DnsMessage rest;  // the continuation: known answers only
     rest.records = {ptrTo("press", kTtl)};
-    planner.onQuery(rest, own, kAsker, t0 + 10ms);
-    EXPECT_TRUE(planner.takeDue(due - 1ms, own).empty());
+    planner.onQuery(rest, kAsker, t0 + 10ms);
+    EXPECT_TRUE(planner.takeDue(due - 1ms).empty());
     // The querier knows both servers: nothing to send.
-    EXPECT_TRUE(planner.takeDue(due, own).empty());
+    EXPECT_TRUE(planner.takeDue(due).empty());
     EXPECT_FALSE(planner.nextDeadline());
 }
 
 TEST_F(ResponsePlannerTest, AHeldQueryIsAnsweredWithWhatItsKnownAnswersLack) {
     auto first = browse({ptrTo("pump", kTtl)});
     first.truncated = true;
-    planner.onQuery(first, own, kAsker, t0);
+    planner.onQuery(first, kAsker, t0);
     const auto due = *planner.nextDeadline();
-    EXPECT_EQ(describe(planner.takeDue(due, own)),
+    EXPECT_EQ(describe(planner.takeDue(due)),
               describe({own[0], own[4], own[5], own[6]}));  // press and the address
 }
 
 TEST_F(ResponsePlannerTest, AnotherQuerierKeepsTheAnswerThatOneQuerierRetires) {
     auto q = browse();
     q.truncated = true;
-    planner.onQuery(q, own, kAsker, t0);
-    planner.onQuery(browse(), own, kOtherAsker, t0 + 1ms);
+    planner.onQuery(q, kAsker, t0);
+    planner.onQuery(browse(), kOtherAsker, t0 + 1ms);
     DnsMessage rest;
     rest.records = {ptrTo("pump", kTtl), ptrTo("press", kTtl)};
-    planner.onQuery(rest, own, kAsker, t0 + 2ms);
-    EXPECT_EQ(planner.takeDue(t0 + 600ms, own).size(), 7u);
+    planner.onQuery(rest, kAsker, t0 + 2ms);
+    EXPECT_EQ(planner.takeDue(t0 + 600ms).size(), 7u);
 }
 
 TEST_F(ResponsePlannerTest, AnswersPendingTogetherLeaveTogether) {
     DnsMessage srvQuestion;
     srvQuestion.questions = {{"pump." + kType, static_cast<std::uint16_t>(DnsType::Srv), kClassIn}};
-    planner.onQuery(srvQuestion, own, kAsker, t0);
-    planner.onQuery(browse({ptrTo("pump", kTtl)}), own, kOtherAsker, t0 + 5ms);
+    planner.onQuery(srvQuestion, kAsker, t0);
+    planner.onQuery(browse({ptrTo("pump", kTtl)}), kOtherAsker, t0 + 5ms);
     const auto due = *planner.nextDeadline();
-    const auto sent = planner.takeDue(due + 120ms, own);
+    const auto sent = planner.takeDue(due + 120ms);
     // press's PTR, SRV, TXT; pump's SRV; the address: one datagram's worth, not two.
     EXPECT_EQ(sent.size(), 5u);
     EXPECT_EQ(planner.pendingCount(), 0u);
 }
 
 TEST_F(ResponsePlannerTest, ARecordAnotherResponderSentMeanwhileIsNotSentAgain) {
-    planner.onQuery(browse(), own, kAsker, t0);
+    planner.onQuery(browse(), kAsker, t0);
     DnsMessage response;
     response.isResponse = true;
     response.records = {own[1], own[2], own[3]};  // pump's PTR, SRV, TXT, full TTL
-    planner.onResponse(response, own, t0 + 10ms);
-    EXPECT_EQ(describe(planner.takeDue(t0 + 200ms, own)),
-              describe({own[0], own[4], own[5], own[6]}));
+    planner.onResponse(response, t0 + 10ms);
+    EXPECT_EQ(describe(planner.takeDue(t0 + 200ms)), describe({own[0], own[4], own[5], own[6]}));
 }
 
 TEST_F(ResponsePlannerTest, ADuplicateWithLessThanHalfOurTtlDoesNotSuppress) {
-    planner.onQuery(browse(), own, kAsker, t0);
+    planner.onQuery(browse(), kAsker, t0);
     DnsMessage response;
     response.isResponse = true;
     response.records = {own[1]};
     response.records[0].ttl = kTtl / 2 - 1;
-    planner.onResponse(response, own, t0 + 10ms);
-    EXPECT_EQ(planner.takeDue(t0 + 200ms, own).size(), 7u);
+    planner.onResponse(response, t0 + 10ms);
+    EXPECT_EQ(planner.takeDue(t0 + 200ms).size(), 7u);
 }
 
 TEST_F(ResponsePlannerTest, ARecordIsNotMulticastTwiceWithinASecond) {
-    planner.onQuery(browse(), own, kAsker, t0);
-    ASSERT_EQ(planner.takeDue(t0 + 200ms, own).size(), 7u);
-    planner.onQuery(browse(), own, kOtherAsker, t0 + 300ms);
+    planner.onQuery(browse(), kAsker, t0);
+    ASSERT_EQ(planner.takeDue(t0 + 200ms).size(), 7u);
+    planner.onQuery(browse(), kOtherAsker, t0 + 300ms);
     const auto due = *planner.nextDeadline();
     EXPECT_GE(due, t0 + 1200ms);
-    EXPECT_TRUE(planner.takeDue(t0 + 1100ms, own).empty());
-    EXPECT_EQ(planner.takeDue(due, own).size(), 7u);
+    EXPECT_TRUE(planner.takeDue(t0 + 1100ms).empty());
+    EXPECT_EQ(planner.takeDue(due).size(), 7u);
 }
 
 TEST_F(ResponsePlannerTest, QuestionsForWhatWeDoNotHaveAreNotAnswered) {
@@ -199,7 +199,7 @@ TEST_F(ResponsePlannerTest, QuestionsForWhatWeDoNotHaveAreNotAnswered) {
     q.questions = {{"other." + kType, static_cast<std::uint16_t>(DnsType::Srv), kClassIn},
                    {"_http._tcp.local", static_cast<std::uint16_t>(DnsType::Ptr), kClassIn},
                    {kType, static_cast<std::uint16_t>(DnsType::Ptr), 3}};  // CHAOS
-    planner.onQuery(q, own, kAsker, t0);
+    planner.onQuery(q, kAsker, t0);
     EXPECT_FALSE(planner.nextDeadline());
 }
 
@@ -207,25 +207,27 @@ TEST_F(ResponsePlannerTest, ARecordNobodyAsksForIsSentAgainTwoSecondsBeforeItsTt
     DnsMessage announcement;  // libmdnsd's, looped back to us
     announcement.isResponse = true;
     announcement.records = own;
-    planner.onResponse(announcement, own, t0);
-    EXPECT_FALSE(planner.nextDeadline());  // without our records: nothing asked for
-    EXPECT_EQ(*planner.nextDeadline(own), t0 + 118s);
-    EXPECT_TRUE(planner.takeDue(t0 + 117s, own).empty());
-    EXPECT_EQ(planner.takeDue(t0 + 118s, own).size(), 7u);
-    EXPECT_EQ(*planner.nextDeadline(own), t0 + 236s);
+    EXPECT_FALSE(planner.nextDeadline());  // nothing of ours on the link yet: nothing to renew
+    planner.onResponse(announcement, t0);
+    EXPECT_EQ(*planner.nextDeadline(), t0 + 118s);
+    EXPECT_TRUE(planner.takeDue(t0 + 117s).empty());
+    EXPECT_EQ(planner.takeDue(t0 + 118s).size(), 7u);
+    EXPECT_EQ(*planner.nextDeadline(), t0 + 236s);
 }
 
 TEST_F(ResponsePlannerTest, AShortTtlIsRenewedAtHalfOfItButNotWithinASecond) {
     std::vector<DnsRecord> shortLived = published({"pump"});
     for (auto& r : shortLived) r.ttl = 3;
+    planner.setOwn(shortLived);
     DnsMessage announcement;
     announcement.isResponse = true;
     announcement.records = shortLived;
-    planner.onResponse(announcement, shortLived, t0);
-    EXPECT_EQ(*planner.nextDeadline(shortLived), t0 + 1500ms);
+    planner.onResponse(announcement, t0);
+    EXPECT_EQ(*planner.nextDeadline(), t0 + 1500ms);
     for (auto& r : shortLived) r.ttl = 1;
-    planner.onResponse(announcement, shortLived, t0);
-    EXPECT_EQ(*planner.nextDeadline(shortLived), t0 + 1s);
+    planner.setOwn(shortLived);
+    planner.onResponse(announcement, t0);
+    EXPECT_EQ(*planner.nextDeadline(), t0 + 1s);
 }
 
 TEST(RecordIdentity, IgnoresCaseTtlAndClassButNotData) {

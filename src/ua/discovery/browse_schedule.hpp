@@ -27,7 +27,6 @@ public:
     void sent(Clock::time_point now);
     /// Another host asked our question at `now`, with no known answer we lack.
     void duplicateSeen(Clock::time_point now);
-    [[nodiscard]] Clock::duration interval() const { return interval_; }
 
 private:
     Clock::duration longest_;

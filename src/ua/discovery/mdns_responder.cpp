@@ -43,14 +43,21 @@ std::uint32_t toNetworkOrder(const Ipv4& ip) {
     return a;
 }
 
-/// TXT rdata for OPC 10000-12: "path=..." and "caps=a,b".
-std::string txtRdata(const ServiceAnnouncement& a) {
+/// The TXT strings for OPC 10000-12: "path=..." and "caps=a,b".
+std::vector<std::string> txtStrings(const ServiceAnnouncement& a) {
     std::string caps;
     for (const auto& c : a.capabilities) caps += (caps.empty() ? "" : ",") + c;
+    std::vector<std::string> out{"path=" + a.path, "caps=" + caps};
+    for (auto& s : out) s.resize(std::min<std::size_t>(s.size(), 255));  // a string's limit
+    return out;
+}
+
+/// The same as TXT rdata: each string after its length byte.
+std::string txtRdata(const ServiceAnnouncement& a) {
     std::string out;
-    for (const std::string& s : {"path=" + a.path, "caps=" + caps}) {
-        out.push_back(static_cast<char>(std::min<std::size_t>(s.size(), 255)));
-        out.append(s, 0, 255);
+    for (const auto& s : txtStrings(a)) {
+        out.push_back(static_cast<char>(s.size()));
+        out += s;
     }
     return out;
 }
@@ -408,7 +415,7 @@ void MdnsResponder::shutdown() {
     closed_ = true;
     published_.clear();
     hostRecords_.clear();
-    own_.clear();
+    planner_.setOwn({});
     asio::error_code ec;
     socket_.close(ec);
     socket6_.close(ec);
@@ -425,7 +432,7 @@ void MdnsResponder::startBrowsing() {
 }
 
 void MdnsResponder::rebuildOwnRecords() {
-    own_.clear();
+    std::vector<DnsRecord> own;
     const auto ttl = static_cast<std::uint32_t>(config_.recordTtl.count());
     auto record = [ttl](std::string name, DnsType type) {
         DnsRecord r;
@@ -443,7 +450,7 @@ void MdnsResponder::rebuildOwnRecords() {
         for (const auto& nic : nics_) {
             auto a = record(hostName_ + ".local", DnsType::A);
             a.ipv4 = nic.address;
-            own_.push_back(std::move(a));
+            own.push_back(std::move(a));
         }
     }
     for (const auto& [key, p] : published_) {
@@ -454,19 +461,15 @@ void MdnsResponder::rebuildOwnRecords() {
         srv.port = p.announcement.port;
         srv.target = bare(p.hostFqdn);
         auto txt = record(instance, DnsType::Txt);
-        const std::string rdata = txtRdata(p.announcement);
-        for (std::size_t i = 0; i < rdata.size();) {
-            const auto n = static_cast<unsigned char>(rdata[i]);
-            txt.txt.push_back(rdata.substr(i + 1, n));
-            i += 1 + n;
-        }
-        own_.insert(own_.end(), {ptr, srv, txt});
+        txt.txt = txtStrings(p.announcement);
+        own.insert(own.end(), {ptr, srv, txt});
         if (p.announcement.address) {
             auto a = record(bare(p.hostFqdn), DnsType::A);
             a.ipv4 = *p.announcement.address;
-            own_.push_back(std::move(a));
+            own.push_back(std::move(a));
         }
     }
+    planner_.setOwn(std::move(own));
 }
 
 void MdnsResponder::wake() {
@@ -513,7 +516,7 @@ void MdnsResponder::handleDatagram(std::span<const std::uint8_t> bytes, const Ip
         // RFC 6762 6: a response from any port but 5353 is not mDNS; ignore it.
         if (sourcePort != config_.port) return;
         const auto now = Clock::now();
-        planner_.onResponse(*msg, own_, now);
+        planner_.onResponse(*msg, now);
         // Only a browser keeps what it hears: a server that only announces has no use for it.
         if (browse_.active()) dispatch(cache_.ingest(*msg, source, now));
         wake();  // new records: new deadlines
@@ -560,7 +563,7 @@ void MdnsResponder::handleQuery(const DnsMessage& query, std::span<const std::ui
         wake();
         return;
     }
-    planner_.onQuery(query, own_, source, now);
+    planner_.onQuery(query, source, now);
     wake();
 }
 
@@ -693,7 +696,7 @@ asio::awaitable<void> MdnsResponder::timerLoop() {
     auto self = shared_from_this();
     while (!closed_) {
         const auto now = Clock::now();
-        if (auto due = planner_.takeDue(now, own_); !due.empty()) sendAnswers(std::move(due));
+        if (auto due = planner_.takeDue(now); !due.empty()) sendAnswers(std::move(due));
         flushOutput();
         std::vector<DnsQuestion> questions;
         if (browse_.active()) {
@@ -710,7 +713,7 @@ asio::awaitable<void> MdnsResponder::timerLoop() {
         if (!questions.empty()) sendQuestions(std::move(questions), now);
 
         auto wakeAt = now + std::chrono::minutes(1);
-        for (const auto& d : {browse_.next(), cache_.nextDeadline(), planner_.nextDeadline(own_)}) {
+        for (const auto& d : {browse_.next(), cache_.nextDeadline(), planner_.nextDeadline()}) {
             if (d && *d < wakeAt) wakeAt = *d;
         }
         const auto sleep = std::chrono::microseconds(mdns_adapter_sleep_us(mdnsd_.get()));

@@ -176,7 +176,6 @@ private:
     ServiceCache cache_;
     BrowseSchedule browse_;
     ResponsePlanner planner_;
-    std::vector<DnsRecord> own_;  // what we publish, as records (for the planner)
     // Our queries carry this id, and we keep a digest of the last ones we sent, so that the
     // copy the loopback brings back is not taken for another host's query.
     std::uint16_t queryId_ = 0;

@@ -1,7 +1,6 @@
 #include "ua/discovery/response_planner.hpp"
 
 #include <algorithm>
-#include <set>
 
 namespace skillcell::ua::mdns {
 
@@ -25,47 +24,9 @@ bool hasType(const DnsRecord& r, DnsType t) {
 /// The TTL a querier has left of each record it lists as known, by identity.
 using KnownAnswers = std::map<std::string, std::uint32_t>;
 
-bool knownEnough(const KnownAnswers& known, const DnsRecord& r) {
-    const auto it = known.find(recordIdentity(r));
-    return it != known.end() && std::uint64_t{it->second} * 2 >= r.ttl;
-}
-
-/// Our records that a question asks for and the querier does not know (7.1), with what
-/// browsers expect alongside (RFC 6763, 12.1): a known PTR brings nothing along.
-std::vector<const DnsRecord*> answersTo(const DnsQuestion& q, std::span<const DnsRecord> own,
-                                        const KnownAnswers& known) {
-    std::vector<const DnsRecord*> out;
-    auto add = [&](const DnsRecord& r) {
-        if (knownEnough(known, r)) return;
-        if (std::find(out.begin(), out.end(), &r) == out.end()) out.push_back(&r);
-    };
-    auto addressesOf = [&](const std::string& host) {
-        for (const auto& o : own) {
-            if (hasType(o, DnsType::A) && foldCase(o.name) == host) add(o);
-        }
-    };
-    const std::string name = foldCase(q.name);
-    const bool any = q.type == static_cast<std::uint16_t>(DnsType::Any);
-    for (const auto& r : own) {
-        if (foldCase(r.name) != name || !(any || q.type == r.type)) continue;
-        if (knownEnough(known, r)) continue;
-        add(r);
-        if (hasType(r, DnsType::Ptr)) {
-            const std::string instance = foldCase(r.target);
-            for (const auto& o : own) {
-                if (foldCase(o.name) != instance) continue;
-                if (hasType(o, DnsType::Srv)) {
-                    add(o);
-                    addressesOf(foldCase(o.target));
-                } else if (hasType(o, DnsType::Txt)) {
-                    add(o);
-                }
-            }
-        } else if (hasType(r, DnsType::Srv)) {
-            addressesOf(foldCase(r.target));
-        }
-    }
-    return out;
+bool knownEnough(const KnownAnswers& known, const std::string& id, std::uint32_t ourTtl) {
+    const auto it = known.find(id);
+    return it != known.end() && std::uint64_t{it->second} * 2 >= ourTtl;
 }
 
 /// How long after it was last on the link a record is sent again unasked.
@@ -104,8 +65,58 @@ std::string recordIdentity(const DnsRecord& r) {
     return id;
 }
 
-void ResponsePlanner::onQuery(const DnsMessage& query, std::span<const DnsRecord> own,
-                              const Ipv4& source, Clock::time_point now) {
+void ResponsePlanner::setOwn(std::vector<DnsRecord> own) {
+    own_.clear();
+    ownById_.clear();
+    for (auto& r : own) {
+        std::string id = recordIdentity(r);
+        ownById_.emplace(id, own_.size());
+        own_.push_back({std::move(r), std::move(id)});
+    }
+    std::erase_if(pending_, [&](const auto& kv) { return !ownById_.contains(kv.first); });
+    std::erase_if(lastSent_, [&](const auto& kv) { return !ownById_.contains(kv.first); });
+}
+
+/// Our records that a question asks for and the querier does not know (7.1), with what
+/// browsers expect alongside (RFC 6763, 12.1): a known PTR brings nothing along.
+std::vector<const ResponsePlanner::Own*> ResponsePlanner::answersTo(
+    const DnsQuestion& q, const KnownAnswers& known) const {
+    std::vector<const Own*> out;
+    auto add = [&](const Own& o) {
+        if (knownEnough(known, o.id, o.record.ttl)) return;
+        if (std::find(out.begin(), out.end(), &o) == out.end()) out.push_back(&o);
+    };
+    auto addressesOf = [&](const std::string& host) {
+        for (const auto& o : own_) {
+            if (hasType(o.record, DnsType::A) && foldCase(o.record.name) == host) add(o);
+        }
+    };
+    const std::string name = foldCase(q.name);
+    const bool any = q.type == static_cast<std::uint16_t>(DnsType::Any);
+    for (const auto& o : own_) {
+        const DnsRecord& r = o.record;
+        if (foldCase(r.name) != name || !(any || q.type == r.type)) continue;
+        if (knownEnough(known, o.id, r.ttl)) continue;
+        add(o);
+        if (hasType(r, DnsType::Ptr)) {
+            const std::string instance = foldCase(r.target);
+            for (const auto& other : own_) {
+                if (foldCase(other.record.name) != instance) continue;
+                if (hasType(other.record, DnsType::Srv)) {
+                    add(other);
+                    addressesOf(foldCase(other.record.target));
+                } else if (hasType(other.record, DnsType::Txt)) {
+                    add(other);
+                }
+            }
+        } else if (hasType(r, DnsType::Srv)) {
+            addressesOf(foldCase(r.target));
+        }
+    }
+    return out;
+}
+
+void ResponsePlanner::onQuery(const DnsMessage& query, const Ipv4& source, Clock::time_point now) {
     if (auto held = held_.find(source); held != held_.end()) {
         // More known answers of a query held for them: they join it; so do its further
         // questions (a querier sends one query at a time).
@@ -125,11 +136,10 @@ void ResponsePlanner::onQuery(const DnsMessage& query, std::span<const DnsRecord
     }
     const auto delay =
         std::chrono::milliseconds(std::uniform_int_distribution<int>(20, 120)(random_));
-    plan(query, own, now + delay);
+    plan(query, now + delay);
 }
 
-void ResponsePlanner::plan(const DnsMessage& query, std::span<const DnsRecord> own,
-                           Clock::time_point due) {
+void ResponsePlanner::plan(const DnsMessage& query, Clock::time_point due) {
     KnownAnswers known;
     for (const auto& rr : query.records) {
         if (!isIn(rr.rrclass)) continue;
@@ -138,41 +148,38 @@ void ResponsePlanner::plan(const DnsMessage& query, std::span<const DnsRecord> o
     }
     for (const auto& q : query.questions) {
         if (!isIn(q.qclass)) continue;
-        for (const DnsRecord* r : answersTo(q, own, known)) schedule(*r, due);
+        for (const Own* o : answersTo(q, known)) schedule(*o, due);
     }
 }
 
-void ResponsePlanner::schedule(const DnsRecord& record, Clock::time_point due) {
-    const std::string id = recordIdentity(record);
-    if (auto last = lastSent_.find(id); last != lastSent_.end()) {
+void ResponsePlanner::schedule(const Own& own, Clock::time_point due) {
+    if (auto last = lastSent_.find(own.id); last != lastSent_.end()) {
         due = std::max(due, last->second + kRepeatGap);
     }
-    auto [it, fresh] = pending_.try_emplace(id, Pending{record, due});
+    auto [it, fresh] = pending_.try_emplace(own.id, Pending{own.record, due});
     if (!fresh) it->second.due = std::min(it->second.due, due);
 }
 
-void ResponsePlanner::onResponse(const DnsMessage& response, std::span<const DnsRecord> own,
-                                 Clock::time_point now) {
-    if (own.empty()) return;
-    std::map<std::string, std::uint32_t> ours;  // identity -> our TTL
-    for (const auto& r : own) ours.emplace(recordIdentity(r), r.ttl);
+void ResponsePlanner::onResponse(const DnsMessage& response, Clock::time_point now) {
+    if (own_.empty()) return;
     for (const auto& rr : response.records) {
         if (!isIn(rr.rrclass)) continue;
         const std::string id = recordIdentity(rr);
-        const auto it = ours.find(id);
-        if (it == ours.end() || std::uint64_t{rr.ttl} * 2 < it->second) continue;
+        const auto it = ownById_.find(id);
+        if (it == ownById_.end() || std::uint64_t{rr.ttl} * 2 < own_[it->second].record.ttl) {
+            continue;
+        }
         pending_.erase(id);
         lastSent_[id] = now;
     }
 }
 
-std::optional<Clock::time_point> ResponsePlanner::nextDeadline(
-    std::span<const DnsRecord> own) const {
+std::optional<Clock::time_point> ResponsePlanner::nextDeadline() const {
     std::optional<Clock::time_point> best;
-    for (const auto& r : own) {
-        const auto last = lastSent_.find(recordIdentity(r));
+    for (const auto& o : own_) {
+        const auto last = lastSent_.find(o.id);
         if (last == lastSent_.end()) continue;
-        const auto at = last->second + reannounceAfter(r.ttl);
+        const auto at = last->second + reannounceAfter(o.record.ttl);
         if (!best || at < *best) best = at;
     }
     for (const auto& [id, p] : pending_) {
@@ -184,25 +191,28 @@ std::optional<Clock::time_point> ResponsePlanner::nextDeadline(
     return best;
 }
 
-std::vector<DnsRecord> ResponsePlanner::takeDue(Clock::time_point now,
-                                                std::span<const DnsRecord> own) {
+std::vector<DnsRecord> ResponsePlanner::takeDue(Clock::time_point now) {
     for (auto it = held_.begin(); it != held_.end();) {
         if (it->second.until > now) {
             ++it;
             continue;
         }
-        plan(it->second.query, own, now);  // its random delay has passed already
+        plan(it->second.query, now);  // its random delay has passed already
         it = held_.erase(it);
     }
     // Records about to expire where nobody asked for them lately: sent again now.
-    for (const auto& r : own) {
-        const auto last = lastSent_.find(recordIdentity(r));
-        if (last != lastSent_.end() && last->second + reannounceAfter(r.ttl) <= now) {
-            schedule(r, now);
+    for (const auto& o : own_) {
+        const auto last = lastSent_.find(o.id);
+        if (last != lastSent_.end() && last->second + reannounceAfter(o.record.ttl) <= now) {
+            schedule(o, now);
         }
     }
-    const auto due = nextDeadline();
-    if (!due || *due > now) return {};
+    if (pending_.empty()) return {};
+    const auto firstDue =
+        std::min_element(pending_.begin(), pending_.end(), [](const auto& a, const auto& b) {
+            return a.second.due < b.second.due;
+        })->second.due;
+    if (firstDue > now) return {};
     // What falls due within the next random window leaves in the same datagram; a record
     // multicast less than a second ago waits for its own time.
     std::vector<DnsRecord> out;
@@ -217,10 +227,6 @@ std::vector<DnsRecord> ResponsePlanner::takeDue(Clock::time_point now,
         out.push_back(std::move(it->second.record));
         it = pending_.erase(it);
     }
-    // What is no longer ours is forgotten.
-    std::set<std::string> ours;
-    for (const auto& r : own) ours.insert(recordIdentity(r));
-    std::erase_if(lastSent_, [&](const auto& kv) { return !ours.contains(kv.first); });
     return out;
 }
 

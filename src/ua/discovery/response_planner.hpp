@@ -37,27 +37,29 @@ class ResponsePlanner {
 public:
     explicit ResponsePlanner(std::uint32_t seed) : random_(seed) {}
 
-    /// A multicast query arrived from `source`; `own` are all our records (full TTL). Schedules
-    /// the records it asks for that the querier does not know yet.
-    void onQuery(const DnsMessage& query, std::span<const DnsRecord> own, const Ipv4& source,
-                 Clock::time_point now);
+    /// Our records (full TTL), whenever they change: what queries are answered from. What is
+    /// no longer among them is neither pending nor remembered.
+    void setOwn(std::vector<DnsRecord> own);
+    /// A multicast query arrived from `source`: schedules the records of ours it asks for that
+    /// the querier does not know yet.
+    void onQuery(const DnsMessage& query, const Ipv4& source, Clock::time_point now);
     /// A response arrived (another responder's, or our own announcement looped back): the
     /// records of ours it carries with at least half of their TTL are on the link now, so
     /// their pending answers are dropped and none repeats them within a second.
-    void onResponse(const DnsMessage& response, std::span<const DnsRecord> own,
-                    Clock::time_point now);
+    void onResponse(const DnsMessage& response, Clock::time_point now);
 
-    /// When the next answer is due (or a query held for its known answers is complete, or,
-    /// given `own`, a record is to be sent again before its TTL runs out); none when nothing
-    /// is pending.
-    [[nodiscard]] std::optional<Clock::time_point> nextDeadline(
-        std::span<const DnsRecord> own = {}) const;
+    /// When the next answer is due (or a query held for its known answers is complete, or a
+    /// record is to be sent again before its TTL runs out); none when nothing is pending.
+    [[nodiscard]] std::optional<Clock::time_point> nextDeadline() const;
     /// Once an answer is due: the pending records that leave now, together. Else nothing.
-    [[nodiscard]] std::vector<DnsRecord> takeDue(Clock::time_point now,
-                                                 std::span<const DnsRecord> own);
+    [[nodiscard]] std::vector<DnsRecord> takeDue(Clock::time_point now);
     [[nodiscard]] std::size_t pendingCount() const { return pending_.size(); }
 
 private:
+    struct Own {
+        DnsRecord record;
+        std::string id;  // recordIdentity(record), computed once
+    };
     struct Pending {
         DnsRecord record;
         Clock::time_point due;
@@ -66,11 +68,15 @@ private:
         DnsMessage query;
         Clock::time_point until;
     };
-    void plan(const DnsMessage& query, std::span<const DnsRecord> own, Clock::time_point due);
-    void schedule(const DnsRecord& record, Clock::time_point due);
+    void plan(const DnsMessage& query, Clock::time_point due);
+    void schedule(const Own& own, Clock::time_point due);
+    [[nodiscard]] std::vector<const Own*> answersTo(
+        const DnsQuestion& q, const std::map<std::string, std::uint32_t>& known) const;
 
     std::minstd_rand random_;
-    std::map<std::string, Pending> pending_;  // by recordIdentity()
+    std::vector<Own> own_;
+    std::map<std::string, std::size_t> ownById_;  // id -> index in own_
+    std::map<std::string, Pending> pending_;      // by recordIdentity()
     // When each of our records was last on the link, by recordIdentity().
     std::map<std::string, Clock::time_point> lastSent_;
     std::map<Ipv4, Held> held_;  // by querier
