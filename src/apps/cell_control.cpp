@@ -13,9 +13,10 @@
 namespace skillcell::apps {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 namespace {
+
+using Clock = std::chrono::steady_clock;
 
 /// The address of `path`; false when the path is too long for sun_path.
 bool unixAddress(const fs::path& path, sockaddr_un& address) {

@@ -2,8 +2,6 @@
 
 namespace skillcell::apps {
 
-using Clock = std::chrono::steady_clock;
-
 kb::Expected<CellProcess> CellProcess::start(
     std::string name, const std::vector<std::string>& argv,
     const std::vector<std::pair<std::string, std::string>>& env, const std::filesystem::path& log,
@@ -13,10 +11,10 @@ kb::Expected<CellProcess> CellProcess::start(
     auto child = process::ChildProcess::start(argv, options);
     if (!child) return kb::Error{name + ": " + child.error()};
     CellProcess p(std::move(name), std::move(*child));
-    const auto deadline = Clock::now() + timeout;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
     for (;;) {
-        const auto left =
-            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+            deadline - std::chrono::steady_clock::now());
         auto line = left.count() > 0 ? p.process_.readLine(left) : std::nullopt;
         if (!line) {
             const bool running = p.process_.running();

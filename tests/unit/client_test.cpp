@@ -631,7 +631,7 @@ TEST(ClientRequests, ShortDeadlineExpiresWhileALongerOneWaits) {
                 co_return;
             }
             asio::co_spawn(  // waits for the default 10 s
-                io, [&]() -> asio::awaitable<void> { co_await client.readValue(NodeId(1)); },
+                io, [&]() -> asio::awaitable<void> { (void)co_await client.readValue(NodeId(1)); },
                 asio::detached);
             ReadRequest req;
             ReadValueId id;
