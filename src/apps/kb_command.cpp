@@ -203,7 +203,7 @@ struct KbComponent {
     std::size_t subscription = 0;
     std::atomic<bool> stopping{false};
     // Components with a recording queued: a burst of skill events (a component with three
-    // skills appearing or leaving) becomes one recording.
+    // skills appearing or leaving, a cell starting) becomes one recording.
     std::mutex pendingMutex;
     std::set<std::string> pending;
 };
@@ -238,19 +238,22 @@ void loadModel(KbComponent& c, const std::string& ns, const std::string& compone
     spdlog::info("kb: loaded the model {} for {}", ns, componentUri);
 }
 
-void recordComponent(KbComponent& c, const std::string& componentUri) {
-    {
-        const std::lock_guard lock(c.pendingMutex);
-        c.pending.erase(componentUri);  // events from now on queue another recording
-    }
-    if (c.stopping) return;
+// What one component says now, ready to load: its graph, read on `loads`.
+struct ComponentRecord {
+    std::string uri;
+    kb::GraphData graph;
+    std::size_t skills = 0;
+    std::size_t values = 0;
+};
+
+ComponentRecord readComponent(KbComponent& c, const std::string& componentUri) {
     // The detector's map may be read from any thread.
     std::vector<skills::SkillInstance> live;
     for (auto& s : c.detector->instances()) {
         if (s.componentUri == componentUri) live.push_back(std::move(s));
     }
-    // What the component says now: its parameter values and its NamespaceArray. One that
-    // cannot be read is recorded all the same, without values.
+    // Its parameter values and its NamespaceArray. One that cannot be read is recorded all
+    // the same, without values.
     kb::ComponentReading reading;
     if (!live.empty()) {
         auto r = c.reader.read(live.front().endpointUrl, live);
@@ -261,8 +264,8 @@ void recordComponent(KbComponent& c, const std::string& componentUri) {
                          componentUri, live.front().endpointUrl, ua::statusName(r.status()));
         }
     }
-    if (c.stopping) return;
-    const kb::GraphData graph = c.graphs.update(componentUri, live, reading.values);
+    ComponentRecord record{componentUri, c.graphs.update(componentUri, live, reading.values),
+                           live.size(), reading.values.size()};
     // The models of the component's skill types first, so that its skills are typed by
     // classes the KB knows; then those of every namespace it uses (index 0 is the OPC UA
     // namespace, index 1 the server's own: neither has a model to load).
@@ -270,12 +273,55 @@ void recordComponent(KbComponent& c, const std::string& componentUri) {
     for (std::size_t i = 2; i < reading.namespaceArray.size(); ++i) {
         loadModel(c, reading.namespaceArray[i], componentUri, false);
     }
-    if (auto s = c.kb.load({graph}); !s) {
-        spdlog::error("kb: cannot record {}: {}", componentUri, s.error());
-        return;
+    return record;
+}
+
+void logRecorded(const ComponentRecord& r) {
+    spdlog::info("kb: recorded {} ({} skills available, {} with parameter values)", r.uri, r.skills,
+                 r.values);
+}
+
+// Records every component with a recording queued. Components that appear together (a cell
+// starting, a rack plugged in) are read one by one and then loaded in one load, which the
+// reasoner checks once: a check costs about as much for one new graph as for fifty, since it
+// covers the whole KB. When that load is refused, each graph is loaded alone, so that the
+// one that conflicts is named and the others are recorded all the same.
+void recordPending(KbComponent& c) {
+    std::set<std::string> uris;
+    {
+        const std::lock_guard lock(c.pendingMutex);
+        uris.swap(c.pending);  // events from now on queue another recording
     }
-    spdlog::info("kb: recorded {} ({} skills available, {} with parameter values)", componentUri,
-                 live.size(), reading.values.size());
+    std::vector<ComponentRecord> records;
+    for (const auto& uri : uris) {
+        if (c.stopping) return;
+        records.push_back(readComponent(c, uri));
+    }
+    for (std::size_t at = 0; at < records.size() && !c.stopping;
+         at += kb::KnowledgeBase::kMaxGraphsPerLoad) {
+        const std::size_t end = std::min(records.size(), at + kb::KnowledgeBase::kMaxGraphsPerLoad);
+        std::vector<kb::GraphData> graphs;
+        for (std::size_t i = at; i < end; ++i) graphs.push_back(records[i].graph);
+        auto together = c.kb.load(graphs);
+        if (together) {
+            for (std::size_t i = at; i < end; ++i) logRecorded(records[i]);
+            if (end - at > 1) spdlog::info("kb: {} components recorded in one load", end - at);
+            continue;
+        }
+        if (end - at == 1 || together.errorKind() != kb::ErrorKind::Refused) {
+            for (std::size_t i = at; i < end; ++i) {
+                spdlog::error("kb: cannot record {}: {}", records[i].uri, together.error());
+            }
+            continue;
+        }
+        for (std::size_t i = at; i < end && !c.stopping; ++i) {
+            if (auto s = c.kb.load({records[i].graph}); !s) {
+                spdlog::error("kb: cannot record {}: {}", records[i].uri, s.error());
+            } else {
+                logRecorded(records[i]);
+            }
+        }
+    }
 }
 
 ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const KbOptions& o,
@@ -330,12 +376,14 @@ ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const K
         c->detector = ctx.detector;
         c->subscription = ctx.detector->subscribe([component](const skills::SkillEvent& e) {
             {
+                // One job takes every component queued when it starts: a job is posted
+                // only when the queue was empty.
                 const std::lock_guard lock(component->pendingMutex);
-                if (!component->pending.insert(e.instance.componentUri).second) return;
+                const bool wasEmpty = component->pending.empty();
+                component->pending.insert(e.instance.componentUri);
+                if (!wasEmpty) return;
             }
-            asio::post(component->loads, [component, uri = e.instance.componentUri] {
-                recordComponent(*component, uri);
-            });
+            asio::post(component->loads, [component] { recordPending(*component); });
         });
     }
     return ComponentContent(std::move(c));
