@@ -35,6 +35,7 @@
 #include "kb/http/http_server.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/owl/model_repository.hpp"
+#include "kb/rdf/turtle.hpp"
 #include "kb/sparql_endpoint.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "server_process.hpp"
@@ -409,15 +410,26 @@ int run(KbOptions& o) {
         spdlog::critical("kb: {}", endpoint.error());
         return 2;
     }
+    // Our own Virtuoso takes large graphs as whole documents (Graph Store protocol); a store
+    // given by --sparql-url gets them as SPARQL Update requests.
+    if (virtuoso) endpoint->graphStorePath = kb::engine::VirtuosoInstance::graphStorePath();
     kb::HttpSparqlStore store(*endpoint);
     std::optional<kb::engine::KoncludeReasoner> reasoner;
     if (!o.noReasoner) reasoner.emplace();
     kb::KnowledgeBase knowledge(store, reasoner ? &*reasoner : nullptr);
-    if (auto s = knowledge.loadBuiltInModels(o.demoProcess); !s) {
-        spdlog::critical("kb: cannot load the built-in models: {}", s.error());
+    // What the KB starts with: the built-in models, the cell's scene (the docks, tools and
+    // objects processes refer to) and the files of --load and --process.
+    struct StartupLoad {
+        std::string what;  // for errors
+        std::vector<kb::GraphData> graphs;
+    };
+    std::vector<StartupLoad> startup;
+    auto builtIn = kb::KnowledgeBase::builtInModels(o.demoProcess);
+    if (!builtIn) {
+        spdlog::critical("kb: cannot load the built-in models: {}", builtIn.error());
         return 1;
     }
-    // The cell's scene: the docks, tools and objects processes refer to.
+    startup.push_back({"the built-in models", std::move(*builtIn)});
     const std::string cellFile =
         !o.cellFile.empty() ? o.cellFile : (o.demoProcess ? SKILLCELL_DEFAULT_CELL : "");
     if (!cellFile.empty()) {
@@ -426,12 +438,8 @@ int run(KbOptions& o) {
             for (const auto& p : read.problems) spdlog::critical("kb: {}", p.describe());
             return 2;
         }
-        if (auto s =
-                knowledge.load({{cell::sceneGraphIri(*read.cell), cell::sceneTriples(*read.cell)}});
-            !s) {
-            spdlog::critical("kb: the scene of {}: {}", cellFile, s.error());
-            return 1;
-        }
+        startup.push_back({"the scene of " + cellFile,
+                           {{cell::sceneGraphIri(*read.cell), cell::sceneTriples(*read.cell)}}});
     }
     std::vector<std::string> loads = o.loads;
     for (const auto& file : o.processes) {
@@ -451,9 +459,32 @@ int run(KbOptions& o) {
         }
         std::ostringstream text;
         text << in.rdbuf();
-        if (auto s = knowledge.loadTurtle(spec.substr(0, eq), text.str()); !s) {
-            spdlog::critical("kb: --load {}: {}", spec, s.error());
+        const std::string graphIri = spec.substr(0, eq);
+        auto triples = kb::rdf::readTurtle(text.str(), graphIri);
+        if (!triples) {
+            spdlog::critical("kb: --load {}: <{}>: {}", spec, graphIri, triples.error());
             return 1;
+        }
+        startup.push_back({"--load " + spec, {{graphIri, std::move(*triples)}}});
+    }
+    // All in one load, which the reasoner checks once; one load each when that is refused
+    // (or cannot be one), which names the part at fault.
+    std::vector<kb::GraphData> all;
+    std::set<std::string> iris;
+    for (const auto& part : startup) {
+        for (const auto& g : part.graphs) {
+            all.push_back(g);
+            iris.insert(g.iri);
+        }
+    }
+    const bool together = all.size() <= kb::KnowledgeBase::kMaxGraphsPerLoad &&
+                          iris.size() == all.size() && knowledge.load(all);
+    if (!together) {
+        for (const auto& part : startup) {
+            if (auto st = knowledge.load(part.graphs); !st) {
+                spdlog::critical("kb: {}: {}", part.what, st.error());
+                return 1;
+            }
         }
     }
     spdlog::info("kb: store {} ready, reasoner {}", sparqlUrl, reasoner ? "Konclude" : "off");

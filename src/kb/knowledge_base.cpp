@@ -226,6 +226,9 @@ std::string KnowledgeBase::insertText(const std::string& graphIri,
 }
 
 Status KnowledgeBase::stage(const GraphData& graph, std::size_t number) {
+    // One document, whatever its size, where the store takes whole graphs.
+    if (store_.replacesGraphs())
+        return store_.replaceGraph(graph.iri, rdf::writeNTriples(graph.triples));
     if (auto s = store_.update("DROP SILENT GRAPH <" + graph.iri + ">"); !s) return s;
     // Pieces of at most kTriplesPerRequest; blank-node structures stay whole (a cut would
     // make two nodes of one).
@@ -254,7 +257,7 @@ Status KnowledgeBase::loadTurtle(const std::string& graphIri, std::string_view t
     return load({GraphData{graphIri, std::move(*triples)}});
 }
 
-Status KnowledgeBase::loadBuiltInModels(bool withDemoProcess) {
+Expected<std::vector<GraphData>> KnowledgeBase::builtInModels(bool withDemoProcess) {
     std::vector<GraphData> graphs;
     auto ontologies = owl::embeddedModelOntologies();
     if (!ontologies) return ontologies.failure();
@@ -271,7 +274,13 @@ Status KnowledgeBase::loadBuiltInModels(bool withDemoProcess) {
         if (!triples) return Error{std::string(f.name) + ": " + triples.error()};
         graphs.push_back({f.graph, std::move(*triples)});
     }
-    return load(graphs);
+    return graphs;
+}
+
+Status KnowledgeBase::loadBuiltInModels(bool withDemoProcess) {
+    auto graphs = builtInModels(withDemoProcess);
+    if (!graphs) return graphs.failure();
+    return load(*graphs);
 }
 
 Expected<std::vector<std::string>> KnowledgeBase::graphs() {

@@ -58,6 +58,8 @@ public:
     /// Loads the project's ontologies: the core OPC UA ontology, the process ontology and
     /// every embedded NodeSet converted (graph = ontology IRI); and the demo process if asked.
     [[nodiscard]] Status loadBuiltInModels(bool withDemoProcess);
+    /// The graphs loadBuiltInModels() loads, for a caller that loads them with others.
+    [[nodiscard]] static Expected<std::vector<GraphData>> builtInModels(bool withDemoProcess);
 
     /// The graphs loaded (not the inferred one), sorted.
     [[nodiscard]] Expected<std::vector<std::string>> graphs();

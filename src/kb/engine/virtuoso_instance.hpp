@@ -59,6 +59,9 @@ public:
     [[nodiscard]] std::uint16_t sqlPort() const { return sqlPort_; }
     /// "http://127.0.0.1:<httpPort>/sparql": queries, and updates without authentication.
     [[nodiscard]] std::string sparqlUrl() const;
+    /// The path of its SPARQL 1.1 Graph Store HTTP Protocol service on httpPort(), which
+    /// takes a graph as one document (the same rights as updates on /sparql).
+    [[nodiscard]] static std::string graphStorePath() { return "/sparql-graph-crud"; }
     /// Virtuoso's own log.
     [[nodiscard]] std::filesystem::path logPath() const;
     [[nodiscard]] const std::filesystem::path& dataDir() const { return config_.dataDir; }

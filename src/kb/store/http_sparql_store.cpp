@@ -80,6 +80,26 @@ Expected<SparqlResponse> HttpSparqlStore::query(const std::string& sparql,
     return out;
 }
 
+Status HttpSparqlStore::replaceGraph(const std::string& graphIri, const std::string& nTriples) {
+    if (!replacesGraphs()) return SparqlStore::replaceGraph(graphIri, nTriples);
+    http::HttpRequest request;
+    request.method = "PUT";
+    request.path = endpoint_.graphStorePath;
+    request.query = {{"graph", graphIri}};
+    request.headers.add("Content-Type", media::kNTriples);
+    request.body = nTriples;
+    auto response =
+        http::httpRequest(endpoint_.host, endpoint_.port, std::move(request), endpoint_.timeout);
+    if (!response) {
+        return Error{"graph store http://" + endpoint_.host + ":" + std::to_string(endpoint_.port) +
+                         endpoint_.graphStorePath + ": " + response.error(),
+                     ErrorKind::Unavailable};
+    }
+    // 201 Created for a new graph, 200 or 204 for a replaced one.
+    if (response->status < 200 || response->status > 299) return engineError(*response);
+    return Done{};
+}
+
 Status HttpSparqlStore::update(const std::string& sparqlUpdate) {
     auto response = post(endpoint_, {{"update", sparqlUpdate}}, "");
     if (!response) return response.failure();

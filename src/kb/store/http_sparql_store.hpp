@@ -16,6 +16,9 @@ struct HttpSparqlEndpoint {
     std::uint16_t port = 8890;
     std::string path = "/sparql";
     std::chrono::milliseconds timeout{30'000};
+    /// The path of the same server's SPARQL 1.1 Graph Store HTTP Protocol service
+    /// (Virtuoso: /sparql-graph-crud); empty when it has none or it is not known.
+    std::string graphStorePath;
 
     /// Parses "http://HOST:PORT/PATH"; an Error says what is wrong with it.
     [[nodiscard]] static Expected<HttpSparqlEndpoint> fromUrl(const std::string& url);
@@ -29,6 +32,9 @@ public:
     [[nodiscard]] Expected<SparqlResponse> query(const std::string& sparql,
                                                  const std::string& accept) override;
     [[nodiscard]] Status update(const std::string& sparqlUpdate) override;
+    [[nodiscard]] bool replacesGraphs() const override { return !endpoint_.graphStorePath.empty(); }
+    [[nodiscard]] Status replaceGraph(const std::string& graphIri,
+                                      const std::string& nTriples) override;
 
     [[nodiscard]] const HttpSparqlEndpoint& endpoint() const { return endpoint_; }
 

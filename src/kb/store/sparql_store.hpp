@@ -29,6 +29,19 @@ public:
                                                          const std::string& accept) = 0;
     /// Runs a SPARQL 1.1 Update request: all its operations or none.
     [[nodiscard]] virtual Status update(const std::string& sparqlUpdate) = 0;
+
+    /// Whether replaceGraph() works: the store offers the SPARQL 1.1 Graph Store HTTP
+    /// Protocol. Loading a document that way is an order of magnitude cheaper for Virtuoso
+    /// than INSERT DATA, which it compiles to SQL (6,300 triples: 0.1 s of CPU against 2 s).
+    [[nodiscard]] virtual bool replacesGraphs() const { return false; }
+    /// Replaces the content of one graph by an N-Triples document (Graph Store PUT). Blank
+    /// node labels are the document's: the same label is the same node within it only.
+    [[nodiscard]] virtual Status replaceGraph(const std::string& graphIri,
+                                              const std::string& nTriples) {
+        (void)graphIri;
+        (void)nTriples;
+        return Error{"this store does not take whole graphs (SPARQL 1.1 Graph Store)"};
+    }
 };
 
 }  // namespace skillcell::kb
