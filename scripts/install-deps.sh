@@ -5,10 +5,10 @@
 #   scripts/install-deps.sh          everything: the main job's packages and the tests' (CI)
 #   scripts/install-deps.sh --main   only what building and running `skillcell demo` needs
 #
-# The tests add: clang and its sanitizer runtime (the fuzz targets), clang-format and
-# clang-tidy (lint), stress-ng (the suite under load), Node.js with the pinned node-opcua
-# interop peer (tests/interop/package.json), python3 (the netns harness, fuzz seeds), and
-# Avahi (mDNS interop, run only inside a test's network namespace).
+# The tests add: clang and its sanitizer runtime (the ASan + UBSan build, the fuzz targets),
+# clang-format and clang-tidy (lint), stress-ng (the suite under load), Node.js with the
+# pinned node-opcua interop peer (tests/interop/package.json), python3 (the netns harness,
+# fuzz seeds), and Avahi (mDNS interop, run only inside a test's network namespace).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
