@@ -97,6 +97,26 @@ asio::awaitable<void> ServerRegistrar::registrationLoop(std::string key, std::ui
 
 asio::awaitable<StatusCode> ServerRegistrar::sendRegistration(std::string url, bool online) {
     Client client(executor_);
+    // A periodic registration is listed while it runs (also when its coroutine is destroyed
+    // suspended), so that stop() can end it.
+    struct Listed {
+        ServerRegistrar& registrar;
+        Client* client;
+        bool online;
+        Listed(ServerRegistrar& r, Client* c, bool o) : registrar(r), client(c), online(o) {
+            if (online) registrar.registering_.insert(client);
+        }
+        ~Listed() {
+            if (!online) return;
+            registrar.registering_.erase(client);
+            if (registrar.registering_.empty() && registrar.registrationsEnded_) {
+                registrar.registrationsEnded_->cancel();
+            }
+        }
+        Listed(const Listed&) = delete;
+        Listed& operator=(const Listed&) = delete;
+    };
+    const Listed listed(*this, &client, online);
     ClientConfig config;
     config.createSession = false;
     config.connectTimeout = config_.timeout;
@@ -131,6 +151,19 @@ asio::awaitable<void> ServerRegistrar::stop() {
         if (t.registered) urls.push_back(t.url);
     }
     targets_.clear();
+    if (!registering_.empty()) {
+        registrationsEnded_ = std::make_shared<asio::steady_timer>(executor_);
+        registrationsEnded_->expires_after(config_.timeout);
+        const auto ended = registrationsEnded_;
+        // A copy: a client's end may come while the list is walked.
+        const std::vector<Client*> inFlight(registering_.begin(), registering_.end());
+        for (Client* client : inFlight) client->abort();
+        co_await ended->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        if (!registering_.empty()) {
+            spdlog::warn("{} registration(s) with an LDS still in flight after {} ms",
+                         registering_.size(), config_.timeout.count());
+        }
+    }
     for (const auto& url : urls) {
         const StatusCode s = co_await sendRegistration(url, false);
         if (s.isGood()) {

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "ua/client/client.hpp"
@@ -43,7 +44,11 @@ public:
     ServerRegistrar& operator=(const ServerRegistrar&) = delete;
 
     void start();
-    /// Unregisters from every LDS it registered with (each bounded by the timeout).
+    /// Ends the registrations in flight (their connections dropped, their coroutines waited
+    /// for, bounded by the timeout), then unregisters from every LDS it registered with
+    /// (each bounded by the timeout). After it, nothing of the registrar is left suspended on
+    /// the executor: a process may stop its io_context at once without leaving coroutine
+    /// frames behind.
     asio::awaitable<void> stop();
 
     /// Discovery URLs of the LDSs it is registered with now.
@@ -72,6 +77,10 @@ private:
     std::size_t subscription_ = 0;
     std::uint64_t nextGeneration_ = 1;
     bool stopped_ = false;
+    // The periodic registrations' clients while they run, so that stop() can drop their
+    // connections; `registrationsEnded_` is cancelled when the last one ends.
+    std::set<Client*> registering_;
+    std::shared_ptr<asio::steady_timer> registrationsEnded_;
 };
 
 }  // namespace skillcell::ua::lds
