@@ -91,8 +91,9 @@ Status HttpSparqlStore::replaceGraph(const std::string& graphIri, const std::str
     auto response =
         http::httpRequest(endpoint_.host, endpoint_.port, std::move(request), endpoint_.timeout);
     if (!response) {
-        return Error{"graph store http://" + endpoint_.host + ":" + std::to_string(endpoint_.port) +
-                         endpoint_.graphStorePath + ": " + response.error(),
+        HttpSparqlEndpoint graphStore = endpoint_;
+        graphStore.path = endpoint_.graphStorePath;
+        return Error{"graph store " + graphStore.url() + ": " + response.error(),
                      ErrorKind::Unavailable};
     }
     // 201 Created for a new graph, 200 or 204 for a replaced one.
