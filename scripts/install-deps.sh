@@ -25,6 +25,7 @@ packages=(
   libgtest-dev libgmock-dev  # CMake configures the tests' targets even when it builds one
   liborocos-kdl-dev libeigen3-dev libmodbus-dev pkg-config
   libtomlplusplus-dev  # cell files (src/cell)
+  libcpp-httplib-dev  # HTTP(S): the knowledge base's SPARQL endpoint and its clients (src/http)
   nlohmann-json3-dev  # `cell up`'s control socket (src/apps/cell_supervisor)
   iproute2 util-linux procps
   # the knowledge base: Turtle (libserd), the triple store (Virtuoso), the reasoner (Konclude);

@@ -3,8 +3,9 @@
 // It starts and supervises a private Virtuoso in its data directory (or uses the SPARQL 1.1
 // endpoint given by --sparql-url), loads the project's ontologies and every embedded NodeSet
 // as OWL (checked by Konclude), and then serves:
-//   - a SPARQL 1.1 Protocol endpoint at http://<http-host>:<http-port>/sparql, and /graphs
-//     (kb/sparql_endpoint.hpp);
+//   - a SPARQL 1.1 Protocol endpoint at https://<http-host>:<http-port>/sparql, and /graphs
+//     (kb/sparql_endpoint.hpp), with the KB's certificate and the cell's users (plain http
+//     on loopback only with --insecure);
 //   - Objects/KnowledgeBase on its OPC UA server: Query(Query, Accept) -> (Result,
 //     ContentType) for Observers, Update(Update) for Engineers;
 //   - discovery-driven loading: every component discovery finds gets a graph with its skills
@@ -14,6 +15,9 @@
 // Prints "SPARQL <url>" once the endpoint listens, then the server process's "READY <url>".
 #include <spdlog/spdlog.h>
 
+#include <unistd.h>
+
+#include <array>
 #include <asio/thread_pool.hpp>
 #include <atomic>
 #include <filesystem>
@@ -28,17 +32,18 @@
 #include "cell/component_uris.hpp"
 #include "cell/scene_graph.hpp"
 #include "commands.hpp"
+#include "http/web_server.hpp"
 #include "kb/component_graph.hpp"
 #include "kb/component_reader.hpp"
 #include "kb/engine/konclude_reasoner.hpp"
 #include "kb/engine/virtuoso_instance.hpp"
-#include "kb/http/http_server.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/owl/model_repository.hpp"
 #include "kb/rdf/turtle.hpp"
 #include "kb/sparql_endpoint.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "server_process.hpp"
+#include "sparql_client_options.hpp"
 #include "ua/address_space/ns0_ids.hpp"
 
 namespace skillcell::apps {
@@ -183,7 +188,7 @@ struct KbComponent {
         stopping = true;  // queued discovery jobs end at once: the KB is going
         reader.cancel();  // and a component being read is dropped
         if (detector) detector->unsubscribe(subscription);
-        if (http) http->stop();
+        if (web) web->stop();
         workers.join();  // before the KB goes: jobs use it
     }
     KbComponent(const KbComponent&) = delete;
@@ -199,7 +204,7 @@ struct KbComponent {
     // Models beyond the compiled-in ones (--models), and the model URIs in the KB or tried.
     std::optional<kb::owl::ModelRepository> models;
     std::set<std::string> modelsLoaded;  // used on `loads` only
-    std::unique_ptr<kb::http::HttpServer> http;
+    std::unique_ptr<http::WebServer> web;
     std::shared_ptr<skills::SkillDetector> detector;
     std::size_t subscription = 0;
     std::atomic<bool> stopping{false};
@@ -325,6 +330,18 @@ void recordPending(KbComponent& c) {
     }
 }
 
+// The endpoint's URL as clients should use it: with TLS, a host name the certificate names.
+std::string endpointUrl(const KbOptions& o, bool tls, std::uint16_t port) {
+    std::string host = o.httpHost;
+    if (tls && http::isLoopback(host)) host = "localhost";
+    if (host == "0.0.0.0") {
+        std::array<char, 256> name{};
+        host = gethostname(name.data(), name.size() - 1) == 0 ? name.data() : "localhost";
+    }
+    return std::string(tls ? "https://" : "http://") + host + ":" + std::to_string(port) +
+           "/sparql";
+}
+
 ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const KbOptions& o,
                                             kb::KnowledgeBase& knowledge) {
     if (auto s = addKnowledgeBaseNodes(ctx.server.addressSpace(), knowledge); s.isBad()) return s;
@@ -336,7 +353,9 @@ ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const K
     readerConfig.security = ctx.clientSecurity;
     readerConfig.connectTimeout = std::chrono::milliseconds(2000);
     readerConfig.requestTimeout = std::chrono::milliseconds(3000);
-    auto c = std::make_shared<KbComponent>(knowledge, o.httpWrites, std::move(readerConfig));
+    // With users, their roles decide who writes; without, --http-writes does.
+    auto c = std::make_shared<KbComponent>(knowledge, ctx.users != nullptr || o.httpWrites,
+                                           std::move(readerConfig));
     if (!o.modelsDir.empty()) {
         auto repository = kb::owl::ModelRepository::fromDirectory(o.modelsDir);
         if (!repository) {
@@ -350,29 +369,30 @@ ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const K
     if (auto loaded = knowledge.graphs()) {
         c->modelsLoaded.insert(loaded->begin(), loaded->end());
     }
-    asio::error_code ec;
-    const auto address = asio::ip::make_address(o.httpHost, ec);
-    if (ec) {
-        spdlog::critical("kb: --http-host {}: {}", o.httpHost, ec.message());
-        return ua::status::BadInvalidArgument;
+    // The SPARQL endpoint: HTTPS with the KB's certificate, for the cell's users; plain HTTP
+    // for anyone only without users (--insecure), and then only on loopback.
+    http::WebServerConfig web;
+    web.host = o.httpHost;
+    web.port = o.httpPort;
+    if (ctx.users) {
+        web.tls = http::ServerTls{ctx.identity.certificate().der, ctx.identity.privateKey(), true};
+        web.gate = std::make_shared<http::UserGate>(ctx.users);
+    } else {
+        web.gate = std::make_shared<http::UserGate>(
+            nullptr, ua::RoleSet{ua::Role::Anonymous, ua::Role::Admin});
     }
-    auto* component = c.get();
-    kb::http::HttpServer::Handler handler =
-        [component](kb::http::HttpRequest request) -> asio::awaitable<kb::http::HttpResponse> {
-        const auto io = co_await asio::this_coro::executor;
-        // The store blocks: answer on a worker, then come back to the connection's thread.
-        co_await asio::post(component->workers, asio::use_awaitable);
-        kb::http::HttpResponse response = component->endpoint.handle(request);
-        co_await asio::post(io, asio::use_awaitable);
-        co_return response;
-    };
-    c->http = std::make_unique<kb::http::HttpServer>(
-        ctx.io, asio::ip::tcp::endpoint(address, o.httpPort), std::move(handler));
-    if (auto s = c->http->start(); !s) {
+    c->web = std::make_unique<http::WebServer>(std::move(web));
+    c->endpoint.serveOn(*c->web);
+    if (auto s = c->web->start(); !s) {
         spdlog::critical("kb: SPARQL endpoint: {}", s.error());
         return ua::status::BadResourceUnavailable;
     }
-    std::cout << "SPARQL http://" << o.httpHost << ":" << c->http->port() << "/sparql" << std::endl;
+    std::cout << "SPARQL " << endpointUrl(o, c->web->tls(), c->web->port()) << std::endl;
+    spdlog::info("kb: SPARQL endpoint {} ({})", endpointUrl(o, c->web->tls(), c->web->port()),
+                 ctx.users ? "HTTPS; Observers query, Engineers update"
+                           : (o.httpWrites ? "plain HTTP, anyone may query and update"
+                                           : "plain HTTP, anyone may query"));
+    auto* component = c.get();
     if (ctx.detector) {
         c->detector = ctx.detector;
         c->subscription = ctx.detector->subscribe([component](const skills::SkillEvent& e) {
@@ -392,8 +412,7 @@ ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const K
 
 int run(KbOptions& o) {
     std::optional<kb::engine::VirtuosoInstance> virtuoso;
-    std::string sparqlUrl = o.sparqlUrl;
-    if (sparqlUrl.empty()) {
+    if (o.sparqlUrl.empty()) {
         kb::engine::VirtuosoConfig config;
         config.dataDir = o.dataDir.empty() ? defaultDataDir() : fs::path(o.dataDir);
         config.httpPort = o.virtuosoHttpPort;
@@ -403,17 +422,36 @@ int run(KbOptions& o) {
             spdlog::critical("kb: cannot start Virtuoso: {}", s.error());
             return 1;
         }
-        sparqlUrl = virtuoso->sparqlUrl();
     }
-    auto endpoint = kb::HttpSparqlEndpoint::fromUrl(sparqlUrl);
-    if (!endpoint) {
-        spdlog::critical("kb: {}", endpoint.error());
-        return 2;
+    kb::HttpSparqlEndpoint endpoint;
+    if (virtuoso) {
+        endpoint = kb::HttpSparqlEndpoint::of(*virtuoso);
+    } else {
+        auto given = kb::HttpSparqlEndpoint::fromUrl(o.sparqlUrl);
+        if (!given) {
+            spdlog::critical("kb: {}", given.error());
+            return 2;
+        }
+        endpoint = std::move(*given);
+        if (endpoint.url.tls) {
+            // Another KB over HTTPS: trusted and used as this component is on OPC UA.
+            std::string error;
+            auto identity = ApplicationIdentity::load(o.process.pkiDir, o.process.applicationUri,
+                                                      o.process.applicationName, &error);
+            auto security = identity ? componentClientSecurity(*identity, o.process.client,
+                                                               o.process.insecure, &error)
+                                     : ua::Result<ua::ClientSecurity>(identity.status());
+            if (!security) {
+                spdlog::critical("kb: --sparql-url {}: {}", o.sparqlUrl, error);
+                return 1;
+            }
+            endpoint.client = sparqlClientOptions(*security);
+        }
     }
+    const std::string sparqlUrl = endpoint.urlText();
     // Our own Virtuoso takes large graphs as whole documents (Graph Store protocol); a store
     // given by --sparql-url gets them as SPARQL Update requests.
-    if (virtuoso) endpoint->graphStorePath = kb::engine::VirtuosoInstance::graphStorePath();
-    kb::HttpSparqlStore store(*endpoint);
+    kb::HttpSparqlStore store(std::move(endpoint));
     std::optional<kb::engine::KoncludeReasoner> reasoner;
     if (!o.noReasoner) reasoner.emplace();
     kb::KnowledgeBase knowledge(store, reasoner ? &*reasoner : nullptr);
@@ -515,9 +553,12 @@ Command addKbCommand(CLI::App& app) {
                     "Virtuoso's data directory, kept across restarts (default: "
                     "~/.local/share/skillcell/kb)");
     cmd->add_option("--sparql-url", o->sparqlUrl,
-                    "use this SPARQL 1.1 endpoint (http://HOST:PORT/PATH) instead of starting "
-                    "Virtuoso");
-    cmd->add_option("--http-host", o->httpHost, "address of the SPARQL endpoint")
+                    "use this SPARQL 1.1 endpoint (http[s]://HOST:PORT/PATH) instead of "
+                    "starting Virtuoso; over https, trusted and used as this component is on "
+                    "OPC UA (--client-user)");
+    cmd->add_option("--http-host", o->httpHost,
+                    "address of the SPARQL endpoint (HTTPS; plain HTTP with --insecure, on "
+                    "loopback only)")
         ->capture_default_str();
     cmd->add_option("--http-port", o->httpPort, "port of the SPARQL endpoint (0: any free one)")
         ->capture_default_str();
@@ -527,8 +568,9 @@ Command addKbCommand(CLI::App& app) {
     cmd->add_option("--virtuoso-sql-port", o->virtuosoSqlPort,
                     "Virtuoso's SQL port on 127.0.0.1 (0: a free one, kept)");
     cmd->add_flag("--http-writes", o->httpWrites,
-                  "let the SPARQL endpoint take updates and graph loads (HTTP has no users: "
-                  "anyone who reaches the port may then change the models)");
+                  "with --insecure, where there are no users: let the SPARQL endpoint take "
+                  "updates and graph loads from anyone on loopback (with users, the role "
+                  "Engineer decides)");
     cmd->add_flag("--demo-process", o->demoProcess,
                   "also load the paper's demo process (models/owl/demo-process.ttl) and, unless "
                   "--cell names another, the scene of the paper's cell (" SKILLCELL_DEFAULT_CELL

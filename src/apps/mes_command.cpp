@@ -22,6 +22,7 @@
 #include "mes/process_check.hpp"
 #include "server_process.hpp"
 #include "skills/skill_client.hpp"
+#include "sparql_client_options.hpp"
 
 namespace skillcell::apps {
 namespace {
@@ -30,7 +31,7 @@ namespace fs = std::filesystem;
 
 struct MesOptions {
     ServerProcessOptions process;
-    std::string kbUrl = "http://127.0.0.1:8870/sparql";
+    std::string kbUrl = "https://localhost:8870/sparql";
     std::string journal;
     int skillWaitMs = 10'000;
     int stepTimeoutMs = 300'000;
@@ -78,7 +79,7 @@ int runMes(MesOptions& o) {
                 r.reason.empty() ? "" : " (" + r.reason + ")");
         }
     }
-    spdlog::info("mes: journal {}, knowledge base {}", journalPath.string(), endpoint->url());
+    spdlog::info("mes: journal {}, knowledge base {}", journalPath.string(), endpoint->urlText());
     o.process.usesDetector = true;
     auto journalHolder = std::make_shared<std::unique_ptr<mes::Journal>>(std::move(*journal));
     return runServerProcess(
@@ -87,7 +88,10 @@ int runMes(MesOptions& o) {
          endpoint = *endpoint](const ComponentContext& c) -> ua::Result<ComponentContent> {
             auto content = std::make_shared<MesContent>();
             content->kbThread = std::make_unique<asio::thread_pool>(1);
-            content->store = std::make_unique<kb::HttpSparqlStore>(endpoint);
+            // The KB's HTTPS is trusted, and used as this user, as OPC UA servers are.
+            auto kbEndpoint = endpoint;
+            kbEndpoint.client = sparqlClientOptions(c.clientSecurity);
+            content->store = std::make_unique<kb::HttpSparqlStore>(std::move(kbEndpoint));
             content->journal = std::move(*journalHolder);
             mes::ExecutorOptions options;
             options.skillWait = std::chrono::milliseconds(o.skillWaitMs);
@@ -228,7 +232,9 @@ Command addMesCommand(CLI::App& app) {
         "it. Objects/ProcessExecution shows what it is doing.");
     addServerProcessOptions(cmd, o->process);
     addDiscoveryOptions(cmd, o->process.discovery, /*registers=*/true, /*isLds=*/false);
-    cmd->add_option("--kb", o->kbUrl, "the knowledge base's SPARQL endpoint")
+    cmd->add_option("--kb", o->kbUrl,
+                    "the knowledge base's SPARQL endpoint (https: trusted and used as on OPC "
+                    "UA, with --client-user; http: with --insecure)")
         ->capture_default_str();
     cmd->add_option("--journal", o->journal,
                     "the SQLite journal (default: ~/.local/share/skillcell/mes/journal.sqlite)");

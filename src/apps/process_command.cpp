@@ -26,6 +26,7 @@
 #include "kb/store/http_sparql_store.hpp"
 #include "mes/process_check.hpp"
 #include "mes/process_description.hpp"
+#include "sparql_client_options.hpp"
 #include "ua/client/blocking_client.hpp"
 
 namespace skillcell::apps {
@@ -46,12 +47,26 @@ std::string readText(const std::string& file, bool* ok) {
     return text.str();
 }
 
-/// The skill models: the KB's when `kbUrl` is given, else those compiled in.
-kb::Expected<mes::SkillModels> skillModels(const std::string& kbUrl) {
+/// The KB's SPARQL endpoint of --kb; over https trusted and used with the command's
+/// security options, as an OPC UA server would be.
+kb::Expected<kb::HttpSparqlEndpoint> kbEndpoint(const ProcessOptions& o) {
+    auto endpoint = kb::HttpSparqlEndpoint::fromUrl(o.kbUrl);
+    if (!endpoint || !endpoint->url.tls) return endpoint;
+    std::string uri;
+    std::string error;
+    auto security = commandClientSecurity(o.security, &uri, &error);
+    if (!security) return kb::Error{error};
+    endpoint->client = sparqlClientOptions(*security);
+    return endpoint;
+}
+
+/// The skill models: the KB's when --kb is given, else those compiled in.
+kb::Expected<mes::SkillModels> skillModels(const ProcessOptions& o) {
+    const std::string& kbUrl = o.kbUrl;
     if (kbUrl.empty()) return mes::SkillModels::embedded();
-    auto endpoint = kb::HttpSparqlEndpoint::fromUrl(kbUrl);
+    auto endpoint = kbEndpoint(o);
     if (!endpoint) return endpoint.failure();
-    kb::HttpSparqlStore store(*endpoint);
+    kb::HttpSparqlStore store(std::move(*endpoint));
     auto models = mes::SkillModels::fromStore(store);
     if (models && models->size() == 0) {
         return kb::Error{kbUrl + " holds no skill models (is it a skillcell knowledge base?)"};
@@ -111,7 +126,7 @@ bool checkFile(const std::string& file, const mes::SkillModels& models,
 }
 
 int check(const ProcessOptions& o) {
-    auto models = skillModels(o.kbUrl);
+    auto models = skillModels(o);
     if (!models) {
         std::cerr << "process check: the skill models: " << models.error() << "\n";
         return 2;
@@ -119,12 +134,12 @@ int check(const ProcessOptions& o) {
     std::vector<kb::rdf::Triple> scene;
     if (!o.kbUrl.empty()) {
         // What the KB holds of the cell's scene, as the MES will see it.
-        auto endpoint = kb::HttpSparqlEndpoint::fromUrl(o.kbUrl);
+        auto endpoint = kbEndpoint(o);
         if (!endpoint) {
             std::cerr << "process check: " << endpoint.error() << "\n";
             return 2;
         }
-        kb::HttpSparqlStore store(*endpoint);
+        kb::HttpSparqlStore store(std::move(*endpoint));
         auto resources = mes::constructTriples(store, mes::resourceQuery());
         if (!resources) {
             std::cerr << "process check: the knowledge base's resources: " << resources.error()
@@ -148,12 +163,12 @@ int check(const ProcessOptions& o) {
 }
 
 int list(const ProcessOptions& o) {
-    auto endpoint = kb::HttpSparqlEndpoint::fromUrl(o.kbUrl);
+    auto endpoint = kbEndpoint(o);
     if (!endpoint) {
         std::cerr << "process list: " << endpoint.error() << "\n";
         return 2;
     }
-    kb::HttpSparqlStore store(*endpoint);
+    kb::HttpSparqlStore store(std::move(*endpoint));
     const std::string type = std::string(kb::rdf::vocab::kRdf) + "type";
     auto found = mes::constructTriples(store, "CONSTRUCT { ?p <" + type + "> <" +
                                                   std::string(mes::kProcessNs) +
@@ -292,6 +307,7 @@ Command addProcessCommand(CLI::App& app) {
     checkCmd->add_option("--kb", o->kbUrl,
                          "check against this knowledge base's models (its SPARQL endpoint, as "
                          "`skillcell kb` prints it) instead of those compiled in");
+    addClientSecurityOptions(checkCmd, o->security);
     CLI::App* addCmd = cmd->add_subcommand(
         "add",
         "Check a process file against a running knowledge base's skill models, then load it "
@@ -307,6 +323,7 @@ Command addProcessCommand(CLI::App& app) {
     CLI::App* listCmd = cmd->add_subcommand(
         "list", "List the processes a knowledge base holds, with their steps and parameters");
     listCmd->add_option("--kb", o->kbUrl, "the knowledge base's SPARQL endpoint")->required();
+    addClientSecurityOptions(listCmd, o->security);
     return {cmd, [=] {
                 if (listCmd->parsed()) return list(*o);
                 if (addCmd->parsed()) return add(*o);

@@ -205,8 +205,13 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
     }
     ComponentContent content;  // after the server: destroyed before it
     if (populate) {
-        const ComponentContext context{*server, io, *clientSecurity, options.applicationUri,
-                                       detector};
+        const ComponentContext context{*server,
+                                       io,
+                                       *clientSecurity,
+                                       options.applicationUri,
+                                       detector,
+                                       *identity,
+                                       options.insecure ? nullptr : config.security.users};
         auto populated = populate(context);
         if (!populated) {
             spdlog::critical("cannot add the component's nodes: {}",

@@ -7,6 +7,7 @@
 #include <functional>
 #include <string>
 
+#include "application_identity.hpp"
 #include "client_security_options.hpp"
 #include "component_discovery.hpp"
 #include "devices/common/boot_profile.hpp"
@@ -62,6 +63,10 @@ struct ComponentContext {
     /// The cell's skills as discovery finds them (ServerProcessOptions::usesDetector or
     /// --detect), else null. Its sources attach once the server listens.
     std::shared_ptr<skills::SkillDetector> detector;
+    /// Its certificate and trust list, for services beside OPC UA (the KB's HTTPS).
+    const ApplicationIdentity& identity;
+    /// The server's users (--users); null with --insecure, where there are none.
+    std::shared_ptr<const ua::UserAuthenticator> users;
 };
 /// Adds the component's nodes; runs on the io_context's thread before the server listens.
 using PopulateServer = std::function<ua::Result<ComponentContent>(const ComponentContext&)>;

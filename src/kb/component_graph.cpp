@@ -6,12 +6,33 @@
 #include <charconv>
 #include <cmath>
 
-#include "kb/http/http_message.hpp"
 #include "kb/owl/node_iri.hpp"
 #include "kb/rdf/turtle.hpp"
 
 namespace skillcell::kb {
 namespace {
+
+// An application URI or a name as one IRI segment: RFC 3986 unreserved characters stay,
+// every other byte becomes %XX. These IRIs are stored, so the encoding must never change.
+std::string percentEncode(std::string_view text) {
+    static constexpr std::string_view kHex = "0123456789ABCDEF";
+    std::string out;
+    out.reserve(text.size());
+    for (const char c : text) {
+        const bool unreserved = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                                (c >= '0' && c <= '9') || c == '-' || c == '.' || c == '_' ||
+                                c == '~';
+        if (unreserved) {
+            out += c;
+        } else {
+            const auto u = static_cast<unsigned char>(c);
+            out += '%';
+            out += kHex[u >> 4U];
+            out += kHex[u & 0x0fU];
+        }
+    }
+    return out;
+}
 
 std::string proc(std::string_view local) {
     return std::string(kProcessVocabulary) + std::string(local);
@@ -43,11 +64,11 @@ std::string skillTypeIri(const skills::SkillTypeRef& t) {
 }
 
 std::string componentIri(const std::string& applicationUri) {
-    return "urn:skillcell:component:" + http::percentEncode(applicationUri);
+    return "urn:skillcell:component:" + percentEncode(applicationUri);
 }
 
 std::string componentGraphIri(const std::string& applicationUri) {
-    return "urn:skillcell:kb:component:" + http::percentEncode(applicationUri);
+    return "urn:skillcell:kb:component:" + percentEncode(applicationUri);
 }
 
 GraphData ComponentGraphs::update(const std::string& applicationUri,
@@ -77,8 +98,7 @@ GraphData ComponentGraphs::update(const std::string& applicationUri,
     if (!c.endpointUrl.empty()) add(component, proc("discoveryUrl"), rdf::literal(c.endpointUrl));
     add(component, proc("available"), boolean(!present.empty()));
     for (const auto& [key, s] : c.skills) {
-        const rdf::Term skill =
-            rdf::iri(componentIri(applicationUri) + "/" + http::percentEncode(key));
+        const rdf::Term skill = rdf::iri(componentIri(applicationUri) + "/" + percentEncode(key));
         add(component, proc("offers"), skill);
         add(skill, rdfType(), rdf::iri(proc("SkillInstance")));
         if (!s.types.empty()) add(skill, rdfType(), rdf::iri(skillTypeIri(s.type())));
@@ -88,8 +108,7 @@ GraphData ComponentGraphs::update(const std::string& applicationUri,
         const auto v = c.values.find(key);
         if (v == c.values.end()) continue;
         for (const ParameterValue& p : v->second) {
-            const std::string parameterIri =
-                skill.value + "/parameter/" + http::percentEncode(p.name);
+            const std::string parameterIri = skill.value + "/parameter/" + percentEncode(p.name);
             const rdf::Term parameter = rdf::iri(parameterIri);
             add(skill, proc("hasParameterValue"), parameter);
             add(parameter, rdfType(), rdf::iri(proc("Parameter")));

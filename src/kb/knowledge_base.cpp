@@ -1,5 +1,7 @@
 #include "kb/knowledge_base.hpp"
 
+#include "kb/sparql_form.hpp"
+
 #include <algorithm>
 #include <iterator>
 #include <set>
@@ -307,6 +309,12 @@ Expected<std::vector<rdf::Triple>> KnowledgeBase::graphContent(const std::string
 
 Expected<SparqlResponse> KnowledgeBase::query(const std::string& sparql,
                                               const std::string& accept) {
+    // A store may well run an update sent as a query (Virtuoso does): not through here.
+    if (!isQuery(sparql)) {
+        return badInput(
+            "not a query (SELECT, CONSTRUCT, DESCRIBE or ASK after the prologue): an update "
+            "is sent as an update, which needs the role Engineer");
+    }
     return store_.query(sparql, accept);
 }
 

@@ -1,9 +1,19 @@
 #include "kb/sparql_endpoint.hpp"
 
+#include <spdlog/spdlog.h>
+
+#include "http/web_server.hpp"
+#include "kb/sparql_form.hpp"
+
 namespace skillcell::kb {
 namespace {
 
-http::HttpResponse errorResponse(const Error& e) {
+void answer(httplib::Response& r, int status, const std::string& text) {
+    r.status = status;
+    r.set_content(text, "text/plain; charset=utf-8");
+}
+
+void errorResponse(httplib::Response& r, const Error& e) {
     int status = 500;
     switch (e.kind) {
         case ErrorKind::BadInput:
@@ -19,120 +29,162 @@ http::HttpResponse errorResponse(const Error& e) {
             status = 500;
             break;
     }
-    return http::makeResponse(status, e.message + "\n");
+    answer(r, status, e.message + "\n");
 }
 
-http::HttpResponse methodNotAllowed(const char* allow) {
-    auto r = http::makeResponse(405, std::string("allowed: ") + allow + "\n");
-    r.headers.set("Allow", allow);
-    return r;
+void methodNotAllowed(httplib::Response& r, const char* allow) {
+    answer(r, 405, std::string("allowed: ") + allow + "\n");
+    r.set_header("Allow", allow);
 }
 
-http::HttpResponse writesRefused() {
-    return http::makeResponse(403,
-                              "this endpoint takes queries only (skillcell kb --http-writes "
-                              "opens it to updates and loads; OPC UA's Update needs no such "
-                              "switch, it checks the user's role)\n");
-}
-
-// The media type of a request body, without parameters; empty when there is none.
-std::string contentTypeOf(const http::HttpRequest& request) {
-    const auto header = request.headers.get("Content-Type");
-    if (!header) return {};
-    auto parsed = http::parseMediaType(*header);
-    return parsed ? parsed->essence() : std::string("invalid");
+// The media type of a request body, without parameters, lower-case; empty when none.
+std::string contentTypeOf(const httplib::Request& request) {
+    std::string type = request.get_header_value("Content-Type");
+    type = type.substr(0, type.find(';'));
+    while (!type.empty() && (type.back() == ' ' || type.back() == '\t')) type.pop_back();
+    for (auto& c : type) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return type;
 }
 
 // What to ask the store for: the client's Accept as it is (the store negotiates by query
 // form), or JSON results and Turtle when the client did not say.
-std::string acceptOf(const http::HttpRequest& request) {
-    const auto accept = request.headers.get("Accept");
-    if (!accept || accept->empty() || *accept == "*/*") {
+std::string acceptOf(const httplib::Request& request) {
+    std::string accept = request.get_header_value("Accept");
+    if (accept.empty() || accept == "*/*") {
         return std::string(media::kSparqlJson) + ", " + media::kTurtle + ";q=0.9";
     }
-    return std::string(*accept);
+    return accept;
+}
+
+std::optional<std::string> param(const httplib::Request& request, const char* name) {
+    if (!request.has_param(name)) return std::nullopt;
+    return request.get_param_value(name);
 }
 
 }  // namespace
 
-http::HttpResponse SparqlEndpoint::handle(const http::HttpRequest& request) {
-    if (request.path == "/sparql") return sparql(request);
-    if (request.path == "/graphs") return graphs(request);
-    return http::makeResponse(404, "no such resource: " + request.path +
-                                       " (the SPARQL endpoint is /sparql; graphs at /graphs)\n");
+void SparqlEndpoint::serveOn(http::WebServer& server) {
+    auto h = [this](const httplib::Request& q, httplib::Response& r, const ua::UserIdentity& u) {
+        handle(q, r, u);
+    };
+    server.get("/sparql", h);
+    server.post("/sparql", h);
+    server.get("/graphs", h);
+    server.put("/graphs", h);
 }
 
-http::HttpResponse SparqlEndpoint::sparql(const http::HttpRequest& request) {
+void SparqlEndpoint::handle(const httplib::Request& request, httplib::Response& response,
+                            const ua::UserIdentity& user) {
+    if (!user.roles.atLeast(ua::Role::Observer)) {
+        answer(response, 403, "user " + user.name + " has no role that may read the KB\n");
+        return;
+    }
+    if (request.path == "/sparql") return sparql(request, response, user);
+    if (request.path == "/graphs") return graphs(request, response, user);
+    answer(response, 404,
+           "no such resource: " + request.path +
+               " (the SPARQL endpoint is /sparql; graphs at /graphs)\n");
+}
+
+bool SparqlEndpoint::mayWrite(const ua::UserIdentity& user, httplib::Response& response) const {
+    if (!acceptWrites_) {
+        answer(response, 403,
+               "this endpoint takes queries only (a KB without users takes updates with "
+               "--http-writes)\n");
+        return false;
+    }
+    if (!user.roles.atLeast(ua::Role::Engineer)) {
+        spdlog::warn("kb: an update by {} ({}) refused: it needs the role Engineer", user.name,
+                     user.roles.toString());
+        answer(response, 403,
+               "user " + user.name + " (" + user.roles.toString() +
+                   ") may query, not change, the KB: updates need the role Engineer\n");
+        return false;
+    }
+    return true;
+}
+
+void SparqlEndpoint::sparql(const httplib::Request& request, httplib::Response& response,
+                            const ua::UserIdentity& user) {
     std::optional<std::string> query;
     std::optional<std::string> update;
     if (request.method == "GET") {
-        if (http::findParam(request.query, "update")) {
-            return http::makeResponse(400, "an update must be sent with POST\n");
+        if (request.has_param("update")) {
+            return answer(response, 400, "an update must be sent with POST\n");
         }
-        if (auto q = http::findParam(request.query, "query")) query = std::string(*q);
+        query = param(request, "query");
     } else if (request.method == "POST") {
         const std::string type = contentTypeOf(request);
         if (type == "application/x-www-form-urlencoded") {
-            auto form = http::parseFormUrlEncoded(request.body);
-            if (!form) return http::makeResponse(400, form.error() + "\n");
-            if (auto q = http::findParam(*form, "query")) query = std::string(*q);
-            if (auto u = http::findParam(*form, "update")) update = std::string(*u);
+            query = param(request, "query");
+            update = param(request, "update");
         } else if (type == "application/sparql-query") {
             query = request.body;
         } else if (type == "application/sparql-update") {
             update = request.body;
         } else {
-            return http::makeResponse(
-                415,
-                "POST takes application/x-www-form-urlencoded, application/sparql-query "
-                "or application/sparql-update, not '" +
-                    type + "'\n");
+            return answer(response, 415,
+                          "POST takes application/x-www-form-urlencoded, "
+                          "application/sparql-query or application/sparql-update, not '" +
+                              type + "'\n");
         }
     } else {
-        return methodNotAllowed("GET, POST");
+        return methodNotAllowed(response, "GET, POST");
     }
-    if (query && update) return http::makeResponse(400, "give a query or an update, not both\n");
+    if (query && update) return answer(response, 400, "give a query or an update, not both\n");
     if (!query && !update) {
-        return http::makeResponse(400, "no 'query' (or, with POST, 'update') parameter\n");
+        return answer(response, 400, "no 'query' (or, with POST, 'update') parameter\n");
+    }
+    // What the text is decides, not the parameter it came in.
+    if (query && !isQuery(*query)) {
+        if (request.method == "GET") {
+            return answer(response, 400,
+                          "this 'query' is an update (it is not SELECT, CONSTRUCT, DESCRIBE or "
+                          "ASK): send it with POST as 'update'\n");
+        }
+        update.swap(query);  // query is empty now
     }
     if (update) {
-        if (!acceptWrites_) return writesRefused();
-        auto s = kb_.update(*update);
-        if (!s) return errorResponse(s.failure());
-        return http::makeResponse(200, "OK\n");
+        if (!mayWrite(user, response)) return;
+        if (auto s = kb_.update(*update); !s) return errorResponse(response, s.failure());
+        spdlog::info("kb: an update by {} applied", user.name);
+        return answer(response, 200, "OK\n");
     }
     auto r = kb_.query(*query, acceptOf(request));
-    if (!r) return errorResponse(r.failure());
-    return http::makeResponse(200, std::move(r->body),
-                              r->contentType.empty() ? "application/octet-stream" : r->contentType);
+    if (!r) return errorResponse(response, r.failure());
+    response.status = 200;
+    response.set_content(r->body,
+                         r->contentType.empty() ? "application/octet-stream" : r->contentType);
 }
 
-http::HttpResponse SparqlEndpoint::graphs(const http::HttpRequest& request) {
+void SparqlEndpoint::graphs(const httplib::Request& request, httplib::Response& response,
+                            const ua::UserIdentity& user) {
     if (request.method == "GET") {
         auto list = kb_.graphs();
-        if (!list) return errorResponse(list.failure());
+        if (!list) return errorResponse(response, list.failure());
         std::string body;
         for (const auto& g : *list) body += g + "\n";
-        return http::makeResponse(200, std::move(body));
+        return answer(response, 200, body);
     }
     if (request.method == "PUT") {
-        if (!acceptWrites_) return writesRefused();
-        const auto graph = http::findParam(request.query, "graph");
+        if (!mayWrite(user, response)) return;
+        const auto graph = param(request, "graph");
         if (!graph || graph->empty()) {
-            return http::makeResponse(400, "PUT /graphs needs ?graph=<IRI>\n");
+            return answer(response, 400, "PUT /graphs needs ?graph=<IRI>\n");
         }
         const std::string type = contentTypeOf(request);
         if (type != "text/turtle" && type != "application/n-triples") {
-            return http::makeResponse(415,
-                                      "a graph is sent as text/turtle or "
-                                      "application/n-triples, not '" +
-                                          type + "'\n");
+            return answer(
+                response, 415,
+                "a graph is sent as text/turtle or application/n-triples, not '" + type + "'\n");
         }
-        auto s = kb_.loadTurtle(std::string(*graph), request.body);
-        if (!s) return errorResponse(s.failure());
-        return http::makeResponse(200, "loaded <" + std::string(*graph) + ">\n");
+        if (auto s = kb_.loadTurtle(*graph, request.body); !s) {
+            return errorResponse(response, s.failure());
+        }
+        spdlog::info("kb: graph <{}> loaded by {}", *graph, user.name);
+        return answer(response, 200, "loaded <" + *graph + ">\n");
     }
-    return methodNotAllowed("GET, PUT");
+    methodNotAllowed(response, "GET, PUT");
 }
 
 }  // namespace skillcell::kb

@@ -21,9 +21,10 @@ class ComponentProcess {
 public:
     /// `args` follow the binary (`server ...`, `device world ...`); the loopback, insecure and
     /// PKI options are added. `discovery`: announce by mDNS (the test must run in a private
-    /// network namespace), else --no-discovery.
+    /// network namespace), else --no-discovery. `insecure` false: security is the test's own
+    /// (it gives --users).
     ComponentProcess(const std::string& binary, std::vector<std::string> args,
-                     bool discovery = false) {
+                     bool discovery = false, bool insecure = true) {
         std::string dir =
             (std::filesystem::temp_directory_path() / "skillcell-pki-XXXXXX").string();
         if (::mkdtemp(dir.data()) == nullptr) return;
@@ -31,9 +32,8 @@ public:
         name_ = args.size() > 1 ? args[0] + " " + args[1] : args.at(0);
         args.insert(args.begin(), binary);
         // --insecure: these tests are about the devices; security has tests of its own.
-        for (const char* a : {"--port", "0", "--host", "127.0.0.1", "--insecure"}) {
-            args.emplace_back(a);
-        }
+        for (const char* a : {"--port", "0", "--host", "127.0.0.1"}) args.emplace_back(a);
+        if (insecure) args.emplace_back("--insecure");
         if (!discovery) args.emplace_back("--no-discovery");
         args.emplace_back("--pki-dir");
         args.push_back(pki_.string());

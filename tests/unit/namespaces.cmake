@@ -14,7 +14,7 @@ add_executable(test_in_namespaces
   kb/kb_component_test.cpp
   mes/mes_cell_test.cpp)
 target_link_libraries(test_in_namespaces PRIVATE skillcell_ua_discovery skillcell_world
-  skillcell_skills skillcell_toolchanger skillcell_kb_http skillcell_mes skillcell_cell
+  skillcell_skills skillcell_toolchanger skillcell_http skillcell_mes skillcell_cell
   skillcell_test_support
   GTest::gtest_main)
 target_compile_definitions(test_in_namespaces PRIVATE

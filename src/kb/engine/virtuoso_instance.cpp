@@ -181,7 +181,7 @@ VirtuosoInstance::~VirtuosoInstance() {
 }
 
 std::string VirtuosoInstance::sparqlUrl() const {
-    return "http://127.0.0.1:" + std::to_string(httpPort_) + "/sparql";
+    return "http://127.0.0.1:" + std::to_string(httpPort_) + "/sparql-auth";
 }
 fs::path VirtuosoInstance::logPath() const {
     return config_.dataDir / kLog;
@@ -367,7 +367,7 @@ Status VirtuosoInstance::waitUntilReady(Clock::time_point deadline) {
         // Both listeners open means start-up is over: the SQL one opens last.
         if (acceptsConnections(httpPort_) && acceptsConnections(sqlPort_)) {
             auto probe = isqlAs(password_, "select 1;");
-            if (probe) return lockDav();
+            if (probe) return closeAnonymousAccess();
             if (probe.error().find("Bad login") != std::string::npos) return firstTimeSetup();
             lastProbe = probe.error();
         }
@@ -383,31 +383,78 @@ Status VirtuosoInstance::firstTimeSetup() {
                      " accepts neither the password in " + passwordPath().string() +
                      " nor the default one: " + probe.error()};
     }
-    // SPARQL_UPDATE for the anonymous "SPARQL" user lets /sparql run SPARQL 1.1 Update
-    // (INSERT/DELETE, LOAD, CLEAR, CREATE, DROP, COPY, MOVE, ADD; checked). Granted before
-    // the password changes, so a crash in between is repaired by the next start.
-    if (auto grant = isqlAs("dba", R"(GRANT SPARQL_UPDATE TO "SPARQL";)");
-        !grant && grant.error().find("U0013") == std::string::npos) {  // U0013: already granted
-        return Error{"Virtuoso: cannot grant SPARQL_UPDATE: " + grant.error()};
-    }
     if (auto set = isqlAs("dba", "user_set_password('dba', '" + password_ + "');"); !set) {
         return Error{"Virtuoso: cannot set the admin password: " + set.error()};
     }
-    if (auto check = lockDav(); !check) {
-        return Error{"Virtuoso: the new admin password is not accepted: " + check.error()};
+    if (auto check = closeAnonymousAccess(); !check) {
+        return Error{"Virtuoso: after setting the admin password: " + check.error()};
     }
-    spdlog::info("Virtuoso in {}: admin password set (in {}), SPARQL Update granted",
-                 config_.dataDir.string(), passwordPath().string());
+    spdlog::info("Virtuoso in {}: admin password set (in {})", config_.dataDir.string(),
+                 passwordPath().string());
     return Done{};
 }
 
-Status VirtuosoInstance::lockDav() {
+Status VirtuosoInstance::closeAnonymousAccess() {
     // dav/dav is the other well-known account (WebDAV over HTTP). Nobody here needs it, so it
     // gets a password nobody knows, at every start: a new database lists it in SYS_USERS
     // before user_set_password knows it (SR286), so the first start may have to leave it.
-    auto set = isqlAs(password_, "select user_set_password(U_NAME, '" + randomSecret(32) +
+    auto dav = isqlAs(password_, "select user_set_password(U_NAME, '" + randomSecret(32) +
                                      "') from SYS_USERS where U_NAME = 'dav';");
-    if (!set && set.error().find("SR286") == std::string::npos) return Error{set.error()};
+    if (!dav && dav.error().find("SR286") == std::string::npos) return Error{dav.error()};
+
+    // The KB's own SQL user, with a password that only this object knows (kept across its
+    // restarts of the engine, so that a store made for it stays valid): SPARQL 1.1 Query,
+    // Update and Graph Store, over HTTP Digest on loopback.
+    if (sparqlPassword_.empty()) sparqlPassword_ = randomSecret(32);
+    auto exists = isqlAs(password_, std::string("select count(*) from SYS_USERS where U_NAME = '") +
+                                        kSparqlUser + "';");
+    if (!exists) return Error{exists.error()};
+    const bool known = exists->find('1') != std::string::npos;
+    const std::string setUser =
+        known
+            ? std::string("user_set_password('") + kSparqlUser + "', '" + sparqlPassword_ + "');"
+            : std::string("DB.DBA.USER_CREATE('") + kSparqlUser + "', '" + sparqlPassword_ + "');";
+    if (auto set = isqlAs(password_, setUser); !set) {
+        return Error{std::string("cannot set up the SQL user ") + kSparqlUser + ": " + set.error()};
+    }
+    // U0013: granted already; U0014: not granted (a database whose anonymous user had
+    // SPARQL Update, as skillcell gave it before).
+    auto grant = isqlAs(password_, std::string("GRANT SPARQL_UPDATE TO \"") + kSparqlUser + "\";");
+    if (!grant && grant.error().find("U0013") == std::string::npos) return Error{grant.error()};
+    // The anonymous user "SPARQL" may neither update nor read: Virtuoso re-creates some of
+    // its anonymous HTTP paths at every start, which are removed below only once it answers.
+    for (const char* role : {"SPARQL_UPDATE", "SPARQL_SELECT"}) {
+        auto revoke = isqlAs(password_, std::string("REVOKE ") + role + " FROM \"SPARQL\";");
+        if (!revoke && revoke.error().find("U0014") == std::string::npos) {
+            return Error{revoke.error()};
+        }
+    }
+
+    // Every HTTP path but the two that demand a user goes: /sparql and /sparql-graph-crud
+    // (anonymous SPARQL), /proxy (fetches any URL), /URIQA (writes), /DAV, /SOAP, /XMLA ...
+    auto paths =
+        isqlAs(password_, "select HP_HOST, HP_LISTEN_HOST, HP_LPATH from DB.DBA.HTTP_PATH;");
+    if (!paths) return Error{paths.error()};
+    std::istringstream rows(*paths);
+    std::string host;
+    std::string listen;
+    std::string path;
+    std::string removals;
+    int removed = 0;
+    while (rows >> host >> listen >> path) {
+        if (path == kSparqlPath || path == kGraphStorePath) continue;
+        for (const auto* v : {&host, &listen, &path}) {
+            if (v->find('\'') != std::string::npos) return Error{"a quote in " + *v};
+        }
+        removals += fmt::format("DB.DBA.VHOST_REMOVE(vhost=>'{}', lhost=>'{}', lpath=>'{}');", host,
+                                listen, path);
+        ++removed;
+    }
+    if (!removals.empty()) {
+        if (auto r = isqlAs(password_, removals); !r) return Error{r.error()};
+        spdlog::info("Virtuoso in {}: {} HTTP paths removed; SPARQL only at {} and {}, as {}",
+                     config_.dataDir.string(), removed, kSparqlPath, kGraphStorePath, kSparqlUser);
+    }
     return Done{};
 }
 

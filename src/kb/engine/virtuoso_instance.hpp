@@ -3,6 +3,8 @@
 // and stops, in a data directory of its own. Nothing is shared with a system-wide Virtuoso:
 // the ini file is ours, both ports listen on 127.0.0.1 only, and the default dba/dba
 // password is replaced on first start by a random one kept in <dataDir>/admin-password.
+// Nothing of it takes anonymous requests: SPARQL over HTTP runs as an SQL user of the KB's
+// own, with a password for this run only, and every other HTTP path is removed.
 //
 // Durability: every commit is appended to the transaction log (virtuoso.trx) before it is
 // acknowledged, and a restart rolls that log forward, so data acknowledged before a
@@ -46,8 +48,9 @@ public:
     VirtuosoInstance& operator=(VirtuosoInstance&&) = delete;
 
     /// Writes the ini, starts virtuoso-t and returns once it answers SQL (bounded by
-    /// startTimeout). The first start of a data directory also sets the admin password and
-    /// grants SPARQL 1.1 Update on /sparql. Errors carry the tail of the engine's output.
+    /// startTimeout). The first start of a data directory also sets the admin password;
+    /// every start closes anonymous access (closeAnonymousAccess). Errors carry the tail of
+    /// the engine's output.
     Status start();
     /// Clean shutdown (SQL `shutdown`, then SIGTERM, then SIGKILL; bounded).
     Status stop();
@@ -57,11 +60,16 @@ public:
 
     [[nodiscard]] std::uint16_t httpPort() const { return httpPort_; }
     [[nodiscard]] std::uint16_t sqlPort() const { return sqlPort_; }
-    /// "http://127.0.0.1:<httpPort>/sparql": queries, and updates without authentication.
+    /// "http://127.0.0.1:<httpPort>/sparql-auth": queries and updates, as sparqlUser() with
+    /// HTTP Digest. No path of Virtuoso's HTTP listener takes anonymous requests.
     [[nodiscard]] std::string sparqlUrl() const;
     /// The path of its SPARQL 1.1 Graph Store HTTP Protocol service on httpPort(), which
-    /// takes a graph as one document (the same rights as updates on /sparql).
-    [[nodiscard]] static std::string graphStorePath() { return "/sparql-graph-crud"; }
+    /// takes a graph as one document (the same user and rights as sparqlUrl()).
+    [[nodiscard]] static std::string graphStorePath() { return kGraphStorePath; }
+    /// The SQL user that SPARQL over HTTP runs as, and its password (made by this object's
+    /// first start(), kept by its restarts, known only to this process).
+    [[nodiscard]] static std::string sparqlUser() { return kSparqlUser; }
+    [[nodiscard]] const std::string& sparqlPassword() const { return sparqlPassword_; }
     /// Virtuoso's own log.
     [[nodiscard]] std::filesystem::path logPath() const;
     [[nodiscard]] const std::filesystem::path& dataDir() const { return config_.dataDir; }
@@ -80,7 +88,9 @@ private:
     Status launch();
     Status waitUntilReady(std::chrono::steady_clock::time_point deadline);
     Status firstTimeSetup();
-    Status lockDav();
+    /// At every start: dav locked, the KB's SQL user (re)made, SPARQL Update taken from the
+    /// anonymous user, and every HTTP path removed but the two that demand a user.
+    Status closeAnonymousAccess();
     Expected<std::string> isqlAs(const std::string& password, const std::string& sql) const;
     [[nodiscard]] std::string outputTail() const;
 
@@ -89,6 +99,10 @@ private:
     std::uint16_t httpPort_ = 0;
     std::uint16_t sqlPort_ = 0;
     std::string password_;
+    std::string sparqlPassword_;
+    static constexpr const char* kSparqlUser = "skillcell_kb";
+    static constexpr const char* kSparqlPath = "/sparql-auth";
+    static constexpr const char* kGraphStorePath = "/sparql-graph-crud-auth";
     std::uintmax_t outputOffset_ = 0;  // where this run's output starts in virtuoso.out
 };
 

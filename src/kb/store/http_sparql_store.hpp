@@ -1,33 +1,40 @@
 #pragma once
-// HttpSparqlStore: any SPARQL 1.1 Protocol endpoint by URL (Virtuoso's /sparql, or a remote
-// store for plants that outgrow one machine). Queries and updates are sent form-encoded in a
-// POST: Virtuoso can hang on a POST with application/sparql-query (INTEROP-NOTES.md), and
-// form encoding is the one form every SPARQL 1.1 endpoint must take.
-#include <chrono>
-#include <cstdint>
+// HttpSparqlStore: any SPARQL 1.1 Protocol endpoint by URL (the KB's own Virtuoso, another
+// knowledge base, or a remote store for plants that outgrow one machine). Queries and
+// updates are sent form-encoded in a POST: Virtuoso can hang on a POST with
+// application/sparql-query (INTEROP-NOTES.md), and form encoding is the one form every
+// SPARQL 1.1 endpoint must take. HTTPS and users come from the endpoint's ClientOptions.
+#include <memory>
 #include <string>
 
+#include "http/http_client.hpp"
 #include "kb/store/sparql_store.hpp"
 
 namespace skillcell::kb {
 
-struct HttpSparqlEndpoint {
-    std::string host = "127.0.0.1";  // numeric: resolution is not bounded by the timeout
-    std::uint16_t port = 8890;
-    std::string path = "/sparql";
-    std::chrono::milliseconds timeout{30'000};
-    /// The path of the same server's SPARQL 1.1 Graph Store HTTP Protocol service
-    /// (Virtuoso: /sparql-graph-crud); empty when it has none or it is not known.
-    std::string graphStorePath;
+namespace engine {
+class VirtuosoInstance;
+}
 
-    /// Parses "http://HOST:PORT/PATH"; an Error says what is wrong with it.
+struct HttpSparqlEndpoint {
+    http::HttpUrl url;
+    /// The path of the same server's SPARQL 1.1 Graph Store HTTP Protocol service
+    /// (Virtuoso: /sparql-graph-crud-auth); empty when it has none or it is not known.
+    std::string graphStorePath;
+    /// Time bound, TLS trust and the user the store is used as.
+    http::ClientOptions client;
+
+    /// Parses "http[s]://HOST:PORT/PATH"; an Error says what is wrong with it.
     [[nodiscard]] static Expected<HttpSparqlEndpoint> fromUrl(const std::string& url);
-    [[nodiscard]] std::string url() const;
+    /// A started Virtuoso of the KB's own: its authenticated SPARQL and Graph Store paths,
+    /// as its SQL user (Digest).
+    [[nodiscard]] static HttpSparqlEndpoint of(const engine::VirtuosoInstance& virtuoso);
+    [[nodiscard]] std::string urlText() const { return url.toString(); }
 };
 
 class HttpSparqlStore final : public SparqlStore {
 public:
-    explicit HttpSparqlStore(HttpSparqlEndpoint endpoint) : endpoint_(std::move(endpoint)) {}
+    explicit HttpSparqlStore(HttpSparqlEndpoint endpoint);
 
     [[nodiscard]] Expected<SparqlResponse> query(const std::string& sparql,
                                                  const std::string& accept) override;
@@ -40,6 +47,7 @@ public:
 
 private:
     HttpSparqlEndpoint endpoint_;
+    std::unique_ptr<http::HttpClient> client_;
 };
 
 }  // namespace skillcell::kb

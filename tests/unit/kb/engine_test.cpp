@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "http/http_client.hpp"
 #include "kb/engine/konclude_reasoner.hpp"
 #include "kb/engine/virtuoso_instance.hpp"
 #include "kb/rdf/turtle.hpp"
@@ -60,58 +61,17 @@ private:
 // ---------------------------------------------------------------------------------------
 // Virtuoso
 
-std::string formEncode(const std::string& text) {
-    static constexpr char kHex[] = "0123456789ABCDEF";
-    std::string out;
-    for (const unsigned char c : text) {
-        if (std::isalnum(c) != 0 || c == '-' || c == '_' || c == '.' || c == '~') {
-            out += static_cast<char>(c);
-        } else {
-            out += '%';
-            out += kHex[c >> 4];
-            out += kHex[c & 15];
-        }
-    }
-    return out;
-}
-
-struct HttpReply {
-    int status = 0;
-    std::string body;
-};
-
-/// A form-encoded POST to 127.0.0.1:port/sparql (the way INTEROP-NOTES says never hangs).
-std::optional<HttpReply> postSparql(std::uint16_t port, const std::string& field,
-                                    const std::string& text) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    if (fd < 0) return std::nullopt;
-    const timeval limit{30, 0};  // bounded: a hung endpoint fails the test, not the run
-    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &limit, sizeof limit);
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    addr.sin_port = htons(port);
-    std::optional<HttpReply> reply;
-    if (::connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) == 0) {
-        const std::string body = field + "=" + formEncode(text);
-        const std::string request =
-            "POST /sparql HTTP/1.0\r\nHost: 127.0.0.1\r\nAccept: text/csv\r\n"
-            "Content-Type: application/x-www-form-urlencoded\r\nContent-Length: " +
-            std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
-        if (::send(fd, request.data(), request.size(), MSG_NOSIGNAL) ==
-            static_cast<ssize_t>(request.size())) {
-            std::string raw;
-            char buffer[4096];
-            ssize_t n = 0;
-            while ((n = ::recv(fd, buffer, sizeof buffer, 0)) > 0) raw.append(buffer, n);
-            const auto headerEnd = raw.find("\r\n\r\n");
-            if (raw.starts_with("HTTP/1.") && raw.size() > 12 && headerEnd != std::string::npos) {
-                reply = HttpReply{std::stoi(raw.substr(9, 3)), raw.substr(headerEnd + 4)};
-            }
-        }
-    }
-    ::close(fd);
-    return reply;
+/// A form-encoded POST to the instance's SPARQL endpoint (the way INTEROP-NOTES says never
+/// hangs), as the KB's SQL user with HTTP Digest; bounded by the client's timeout.
+Expected<http::HttpReply> postSparql(const VirtuosoInstance& v, const std::string& field,
+                                     const std::string& text) {
+    auto url = http::HttpUrl::parse(v.sparqlUrl());
+    if (!url) return url.failure();
+    http::ClientOptions o;
+    o.timeout = 30s;
+    o.auth = {http::ClientAuth::Kind::Digest, VirtuosoInstance::sparqlUser(), v.sparqlPassword()};
+    http::HttpClient client(*url, o);
+    return client.postForm(url->path, {{field, text}}, "text/csv");
 }
 
 /// One Virtuoso in a temporary data directory; stopped before the directory goes.
@@ -172,15 +132,15 @@ TEST_F(VirtuosoTest, ReplacesTheDefaultAdminPassword) {
         20s);
     ASSERT_TRUE(asDefault) << asDefault.error();
     EXPECT_NE(asDefault->err.find("Bad login"), std::string::npos) << asDefault->err;
-    EXPECT_EQ(db().sparqlUrl(), "http://127.0.0.1:" + std::to_string(db().httpPort()) + "/sparql");
+    EXPECT_EQ(db().sparqlUrl(),
+              "http://127.0.0.1:" + std::to_string(db().httpPort()) + "/sparql-auth");
     EXPECT_TRUE(fs::exists(db().logPath()));
 }
 
-TEST_F(VirtuosoTest, SparqlUpdateWorksOverPlainHttp) {
-    const std::uint16_t port = db().httpPort();
-    auto update = [port](const std::string& text) {
-        auto reply = postSparql(port, "update", text);
-        return reply ? std::to_string(reply->status) + " " + reply->body : std::string("no reply");
+TEST_F(VirtuosoTest, SparqlUpdateWorksOverHttpAsTheKbsUser) {
+    auto update = [](const std::string& text) {
+        auto reply = postSparql(db(), "update", text);
+        return reply ? std::to_string(reply->status) + " " + reply->body : reply.error();
     };
     EXPECT_TRUE(update(R"(INSERT DATA { GRAPH <urn:h1> { <urn:x> <urn:p> "over-http" } })")
                     .starts_with("200"));
@@ -197,10 +157,10 @@ TEST_F(VirtuosoTest, SparqlUpdateWorksOverPlainHttp) {
     EXPECT_TRUE(update("CREATE GRAPH <urn:h5>").starts_with("200"));
     EXPECT_TRUE(update("DROP GRAPH <urn:h5>").starts_with("200"));
 
-    auto query = postSparql(port, "query",
+    auto query = postSparql(db(), "query",
                             "SELECT ?g ?o WHERE { GRAPH ?g { ?s <urn:p> ?o } "
                             "FILTER(STRSTARTS(STR(?g), \"urn:h\")) } ORDER BY ?g");
-    ASSERT_TRUE(query);
+    ASSERT_TRUE(query) << query.error();
     EXPECT_EQ(query->status, 200);
     EXPECT_EQ(query->body, "\"g\",\"o\"\n\"urn:h3\",\"over-http\"\n\"urn:h4\",\"loaded\"\n");
 }
@@ -222,9 +182,9 @@ TEST_F(VirtuosoTest, DataSurvivesARestart) {
 TEST_F(VirtuosoTest, AcknowledgedDataSurvivesKill9) {
     ASSERT_TRUE(
         db().isql(R"(SPARQL INSERT DATA { GRAPH <urn:k> { <urn:a> <urn:p> "via-isql" } };)"));
-    auto reply = postSparql(db().httpPort(), "update",
+    auto reply = postSparql(db(), "update",
                             R"(INSERT DATA { GRAPH <urn:k> { <urn:b> <urn:p> "via-http" } })");
-    ASSERT_TRUE(reply);
+    ASSERT_TRUE(reply) << reply.error();
     ASSERT_EQ(reply->status, 200) << reply->body;
     // Not yet checkpointed: the data is in the transaction log only.
     EXPECT_GT(fs::file_size(db().dataDir() / "virtuoso.trx"), 0u);

@@ -5,13 +5,16 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <random>
+#include <set>
+#include <sstream>
 #include <thread>
 
 #include "component_process.hpp"
-#include "kb/http/http_client.hpp"
-#include "kb/http/http_message.hpp"
+#include "http/http_client.hpp"
 #include "temp_dir.hpp"
+#include "ua/server/user_database.hpp"
 
 namespace skillcell::kb::kb_component_test {
 namespace {
@@ -36,26 +39,30 @@ std::uint16_t sparqlPort(const test::ComponentProcess& p) {
     return 0;
 }
 
+// A client of the plain-HTTP endpoint that a KB with --insecure serves on loopback.
+http::HttpClient plainClient(std::uint16_t port) {
+    http::HttpUrl url;
+    url.port = port;
+    http::ClientOptions o;
+    o.timeout = 30s;
+    return http::HttpClient(url, o);
+}
+
 std::string select(std::uint16_t port, const std::string& q) {
-    http::HttpRequest r;
-    r.path = "/sparql";
-    r.query = {{"query", q}};
-    r.headers.add("Accept", "application/sparql-results+json");
-    auto reply = http::httpRequest("127.0.0.1", port, std::move(r), 10s);
+    auto reply =
+        plainClient(port).get("/sparql", {{"query", q}}, "application/sparql-results+json");
     return reply ? reply->body : reply.error();
 }
 
 bool ask(std::uint16_t port, const std::string& pattern) {
-    http::HttpRequest r;
-    r.path = "/sparql";
-    r.query = {{"query",
-                "PREFIX proc: <http://skillcell.dev/ontology/process#>\n"
-                "PREFIX rskill: <http://skillcell.dev/UA/RoboticSkills/>\n"
-                "PREFIX rdfs: <http://www.w3.org/2000/01/rdf-schema#>\n"
-                "ASK { " +
-                    pattern + " }"}};
-    r.headers.add("Accept", "application/sparql-results+json");
-    auto reply = http::httpRequest("127.0.0.1", port, std::move(r), 10s);
+    const std::string q =
+        "PREFIX proc: <http://skillcell.dev/ontology/process#>\n"
+        "PREFIX rskill: <http://skillcell.dev/UA/RoboticSkills/>\n"
+        "PREFIX rdfs: <http://www.w3.org/2000/01/rdf-schema#>\n"
+        "ASK { " +
+        pattern + " }";
+    auto reply =
+        plainClient(port).get("/sparql", {{"query", q}}, "application/sparql-results+json");
     return reply && reply->status == 200 && reply->body.find("true") != std::string::npos;
 }
 
@@ -241,12 +248,7 @@ TEST(KnowledgeBaseComponent, LoadsTheModelsOfTheNamespacesAComponentUsesNotOnlyO
 
 // A SPARQL 1.1 update over HTTP (the KB started with --http-writes); the HTTP status.
 int update(std::uint16_t port, const std::string& sparqlUpdate) {
-    http::HttpRequest r;
-    r.method = "POST";
-    r.path = "/sparql";
-    r.headers.add("Content-Type", "application/x-www-form-urlencoded");
-    r.body = "update=" + http::percentEncode(sparqlUpdate);
-    auto reply = http::httpRequest("127.0.0.1", port, std::move(r), 30s);
+    auto reply = plainClient(port).postForm("/sparql", {{"update", sparqlUpdate}}, "");
     return reply ? reply->status : 0;
 }
 
@@ -310,6 +312,160 @@ TEST(KnowledgeBaseComponent, UsesAnyStoreGivenBySparqlUrlInsteadOfItsOwnVirtuoso
     const auto status = bad.kill(SIGTERM);  // it has exited already: this reaps it
     ASSERT_TRUE(status);
     EXPECT_EQ(status->code, 2) << status->describe();
+}
+
+// --- Security: HTTPS for the cell's users, and no anonymous way in on any port --------------
+
+// The TCP ports that `pid` and its children (Virtuoso) listen on, from /proc.
+std::set<std::uint16_t> listeningPorts(pid_t pid) {
+    std::set<pid_t> pids{pid};
+    for (const auto& e : fs::directory_iterator("/proc")) {
+        const std::string name = e.path().filename();
+        if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+        std::ifstream stat(e.path() / "stat");
+        std::string line;
+        std::getline(stat, line);
+        const auto close = line.rfind(')');  // the command may hold blanks
+        if (close == std::string::npos) continue;
+        std::istringstream rest(line.substr(close + 2));
+        std::string state;
+        pid_t parent = 0;
+        rest >> state >> parent;
+        if (parent == pid) pids.insert(std::stoi(name));
+    }
+    std::set<std::string> inodes;
+    for (const pid_t p : pids) {
+        std::error_code ec;
+        for (const auto& fd : fs::directory_iterator("/proc/" + std::to_string(p) + "/fd", ec)) {
+            const auto target = fs::read_symlink(fd.path(), ec).string();
+            if (target.rfind("socket:[", 0) == 0) {
+                inodes.insert(target.substr(8, target.size() - 9));
+            }
+        }
+    }
+    std::set<std::uint16_t> ports;
+    for (const char* table : {"/proc/net/tcp", "/proc/net/tcp6"}) {
+        std::ifstream in(table);
+        std::string line;
+        std::getline(in, line);  // the header
+        while (std::getline(in, line)) {
+            std::istringstream f(line);
+            std::string slot, local, remote, state, queues, timer, retransmits, uid, timeout, inode;
+            f >> slot >> local >> remote >> state >> queues >> timer >> retransmits >> uid >>
+                timeout >> inode;
+            if (state == "0A" && inodes.count(inode) != 0) {  // 0A: LISTEN
+                ports.insert(static_cast<std::uint16_t>(
+                    std::stoul(local.substr(local.find(':') + 1), nullptr, 16)));
+            }
+        }
+    }
+    return ports;
+}
+
+TEST(KnowledgeBaseComponent, ServesHttpsToTheCellsUsersAndNothingToAnyoneOnAnyPort) {
+    const test::TempDir dir("skillcell-kb-secure");
+    ua::UserDatabase users;
+    ASSERT_TRUE(users.setPassword("olga", ua::RoleSet{ua::Role::Observer}, "o-secret-1").isGood());
+    ASSERT_TRUE(users.setPassword("emil", ua::RoleSet{ua::Role::Engineer}, "e-secret-2").isGood());
+    ASSERT_TRUE(users.save(dir.path() / "users").isGood());
+    test::ComponentProcess kb(
+        SKILLCELL_BINARY,
+        {"kb", "--http-port", "0", "--data-dir", (dir.path() / "data").string(), "--users",
+         (dir.path() / "users").string()},
+        false, /*insecure=*/false);
+    ASSERT_FALSE(kb.url().empty()) << "skillcell kb did not start";
+    std::uint16_t port = 0;
+    for (const auto& line : kb.output()) {
+        if (line.rfind("SPARQL https://localhost:", 0) == 0) {
+            port = static_cast<std::uint16_t>(std::stoi(line.substr(25)));
+        }
+    }
+    ASSERT_NE(port, 0) << "no 'SPARQL https://localhost:PORT' line";
+    // The clients trust the KB's own certificate, as a cell's trust list would.
+    std::ifstream certFile(kb.pkiDir() / "own/certs/cert.der", std::ios::binary);
+    const ua::ByteString kbCertificate{
+        std::vector<std::uint8_t>(std::istreambuf_iterator<char>(certFile), {})};
+    ASSERT_FALSE(kbCertificate.empty());
+    auto client = [&](const std::string& user, const std::string& password) {
+        http::ClientOptions o;
+        o.timeout = 30s;
+        o.verifyServer = [kbCertificate](const ua::ByteString& der, std::string*) {
+            return der == kbCertificate;
+        };
+        if (!user.empty()) o.auth = {http::ClientAuth::Kind::Basic, user, password};
+        http::HttpUrl url;
+        url.tls = true;
+        url.host = "localhost";
+        url.port = port;
+        return std::make_unique<http::HttpClient>(url, o);
+    };
+    const std::string evil = "INSERT DATA { GRAPH <http://evil.example/> { <urn:e> <urn:v> 1 } }";
+    const std::string fact = "INSERT DATA { GRAPH <urn:test:secure> { <urn:a> <urn:b> 1 } }";
+    auto olga = client("olga", "o-secret-1");
+    auto emil = client("emil", "e-secret-2");
+    auto askAs = [](http::HttpClient& c, const std::string& graph) {
+        auto r = c.get("/sparql", {{"query", "ASK { GRAPH <" + graph + "> { ?s ?p ?o } }"}},
+                       "application/sparql-results+json");
+        return r && r->status == 200 && r->body.find("true") != std::string::npos;
+    };
+    // An Observer reads, and may not write, however the update is sent.
+    auto read = olga->get("/sparql", {{"query", "ASK {}"}}, "application/sparql-results+json");
+    ASSERT_TRUE(read) << read.error();
+    EXPECT_EQ(read->status, 200) << read->body;
+    for (const char* field : {"update", "query"}) {
+        auto refused = olga->postForm("/sparql", {{field, fact}}, "");
+        ASSERT_TRUE(refused) << refused.error();
+        EXPECT_EQ(refused->status, 403) << field << ": " << refused->body;
+    }
+    // An Engineer writes.
+    auto written = emil->postForm("/sparql", {{"update", fact}}, "");
+    ASSERT_TRUE(written) << written.error();
+    EXPECT_EQ(written->status, 200) << written->body;
+    EXPECT_TRUE(askAs(*olga, "urn:test:secure"));
+    // A wrong password is nobody.
+    auto wrong = client("emil", "o-secret-1")->postForm("/sparql", {{"update", evil}}, "");
+    ASSERT_TRUE(wrong) << wrong.error();
+    EXPECT_EQ(wrong->status, 401);
+
+    // Every TCP port of the KB and its Virtuoso, over http and https, anonymously: an
+    // INSERT (as update and as query) and a SELECT are refused, or get no HTTP answer.
+    const auto ports = listeningPorts(kb.pid());
+    EXPECT_GE(ports.size(), 4U) << "expected the OPC UA and SPARQL ports, Virtuoso's SQL and HTTP";
+    EXPECT_EQ(ports.count(port), 1U);
+    int answered = 0;
+    for (const std::uint16_t p : ports) {
+        for (const bool tls : {false, true}) {
+            http::HttpUrl url;
+            url.tls = tls;
+            url.host = "localhost";
+            url.port = p;
+            http::ClientOptions anyone;
+            // Bounded: a port that does not speak HTTP (OPC UA, Virtuoso's SQL) keeps quiet.
+            anyone.timeout = 2s;
+            // Trusting every certificate: what is tested is the refusal, not TLS.
+            anyone.verifyServer = [](const ua::ByteString&, std::string*) { return true; };
+            http::HttpClient anonymous(url, anyone);
+            bool speaksHttp = true;
+            for (const char* path : {"/sparql", "/sparql-auth", "/sparql-graph-crud"}) {
+                for (const auto& [field, text] : std::vector<std::pair<std::string, std::string>>{
+                         {"query", "SELECT * { ?s ?p ?o }"}, {"update", evil}, {"query", evil}}) {
+                    if (!speaksHttp) break;
+                    auto r = anonymous.postForm(path, {{field, text}}, "");
+                    if (!r) {  // no HTTP answer: refused too, and nothing more to ask here
+                        speaksHttp = false;
+                        break;
+                    }
+                    ++answered;
+                    EXPECT_TRUE(r->status == 400 || r->status == 401 || r->status == 403 ||
+                                r->status == 404 || r->status == 405)
+                        << url.toString() << path << " " << field << ": HTTP " << r->status << ": "
+                        << r->body.substr(0, 300);
+                }
+            }
+        }
+    }
+    EXPECT_GT(answered, 0);  // the HTTP servers did answer: the refusals are theirs
+    EXPECT_FALSE(askAs(*emil, "http://evil.example/"));
 }
 
 }  // namespace

@@ -9,10 +9,10 @@
 #include <random>
 #include <thread>
 
+#include "http/http_client.hpp"
+#include "http/web_server.hpp"
 #include "kb/engine/konclude_reasoner.hpp"
 #include "kb/engine/virtuoso_instance.hpp"
-#include "kb/http/http_client.hpp"
-#include "kb/http/http_server.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/rdf/turtle.hpp"
 #include "kb/sparql_endpoint.hpp"
@@ -44,10 +44,7 @@ protected:
         virtuoso_ = std::make_unique<engine::VirtuosoInstance>(config);
         auto s = virtuoso_->start();
         ASSERT_TRUE(s) << s.error();
-        auto endpoint = HttpSparqlEndpoint::fromUrl(virtuoso_->sparqlUrl());
-        ASSERT_TRUE(endpoint) << endpoint.error();
-        endpoint->graphStorePath = engine::VirtuosoInstance::graphStorePath();
-        store_ = std::make_unique<HttpSparqlStore>(*endpoint);
+        store_ = std::make_unique<HttpSparqlStore>(HttpSparqlEndpoint::of(*virtuoso_));
         reasoner_ = std::make_unique<engine::KoncludeReasoner>();
         kb_ = std::make_unique<KnowledgeBase>(*store_, reasoner_.get());
         auto loaded = kb_->loadBuiltInModels(true);
@@ -211,10 +208,10 @@ TEST_F(KnowledgeBaseTest, ALargeGraphLoadsTheSameAsOneDocumentAndInPieces) {
                       " ; <urn:test:y> [ <urn:test:z> \"" + n + "\" ] ] .\n";
         }
     }
-    auto endpoint = HttpSparqlEndpoint::fromUrl(virtuoso_->sparqlUrl());
-    ASSERT_TRUE(endpoint) << endpoint.error();
+    auto endpoint = HttpSparqlEndpoint::of(*virtuoso_);
+    endpoint.graphStorePath.clear();  // SPARQL Update only
     ASSERT_TRUE(store_->replacesGraphs());
-    HttpSparqlStore updatesOnly(*endpoint);  // no graph store path: SPARQL Update only
+    HttpSparqlStore updatesOnly(endpoint);
     ASSERT_FALSE(updatesOnly.replacesGraphs());
     KnowledgeBase inPieces(updatesOnly, nullptr);
     KnowledgeBase asDocument(*store_, nullptr);
@@ -279,25 +276,52 @@ TEST_F(KnowledgeBaseTest, AcknowledgedDataSurvivesARestartAndAKillOfTheStore) {
 
 namespace endpoint {
 
-http::HttpRequest get(const std::string& path, http::Params query = {}, std::string accept = {}) {
-    http::HttpRequest r;
+const ua::UserIdentity kEngineer{"emil", ua::RoleSet{ua::Role::Engineer}};
+const ua::UserIdentity kObserver{"olga", ua::RoleSet{ua::Role::Observer}};
+
+httplib::Request get(const std::string& path, const httplib::Params& params = {},
+                     const std::string& accept = {}) {
+    httplib::Request r;
     r.method = "GET";
     r.path = path;
-    r.query = std::move(query);
-    if (!accept.empty()) r.headers.add("Accept", accept);
+    r.params = params;
+    if (!accept.empty()) r.headers.emplace("Accept", accept);
     return r;
 }
 
-http::HttpRequest post(const std::string& path, const std::string& contentType, std::string body) {
-    http::HttpRequest r;
+// `form`: the parameters of a form body, as the server parses them into params.
+httplib::Request post(const std::string& path, const std::string& contentType, std::string body,
+                      const httplib::Params& form = {}) {
+    httplib::Request r;
     r.method = "POST";
     r.path = path;
-    r.headers.add("Content-Type", contentType);
+    r.headers.emplace("Content-Type", contentType);
     r.body = std::move(body);
+    r.params = form;
     return r;
+}
+
+httplib::Request form(const httplib::Params& params) {
+    return post("/sparql", "application/x-www-form-urlencoded", "", params);
+}
+
+struct Answer {
+    int status = 0;
+    std::string body;
+    std::string contentType;
+    std::string allow;
+};
+
+Answer handle(SparqlEndpoint& e, const httplib::Request& request,
+              const ua::UserIdentity& user = kEngineer) {
+    httplib::Response r;
+    e.handle(request, r, user);
+    return {r.status, r.body, r.get_header_value("Content-Type"), r.get_header_value("Allow")};
 }
 
 }  // namespace endpoint
+
+using endpoint::handle;
 
 TEST_F(KnowledgeBaseTest, TheEndpointAnswersQueriesByGetAndPostInTheAskedMediaType) {
     SparqlEndpoint e(*kb_, true);
@@ -305,16 +329,14 @@ TEST_F(KnowledgeBaseTest, TheEndpointAnswersQueriesByGetAndPostInTheAskedMediaTy
         "ASK { <http://skillcell.dev/UA/GripperSkills/GraspGripperSkillType> "
         "<http://www.w3.org/2000/01/rdf-schema#subClassOf>+ "
         "<http://skillcell.dev/UA/GripperSkills/GripperSkillType> }";
-    auto r = e.handle(endpoint::get("/sparql", {{"query", q}}));
+    auto r = handle(e, endpoint::get("/sparql", {{"query", q}}), endpoint::kObserver);
     EXPECT_EQ(r.status, 200) << r.body;
     EXPECT_NE(r.body.find("true"), std::string::npos) << r.body;
-    EXPECT_NE(r.headers.get("Content-Type").value_or("").find("sparql-results+json"),
-              std::string::npos);
+    EXPECT_NE(r.contentType.find("sparql-results+json"), std::string::npos);
 
-    r = e.handle(endpoint::post("/sparql", "application/x-www-form-urlencoded",
-                                http::formUrlEncode({{"query", q}})));
+    r = handle(e, endpoint::form({{"query", q}}), endpoint::kObserver);
     EXPECT_EQ(r.status, 200) << r.body;
-    r = e.handle(endpoint::post("/sparql", "application/sparql-query", q));
+    r = handle(e, endpoint::post("/sparql", "application/sparql-query", q), endpoint::kObserver);
     EXPECT_EQ(r.status, 200) << r.body;
 
     auto turtle = endpoint::get("/sparql",
@@ -323,9 +345,9 @@ TEST_F(KnowledgeBaseTest, TheEndpointAnswersQueriesByGetAndPostInTheAskedMediaTy
                                   "<http://www.w3.org/2000/01/rdf-schema#subClassOf> "
                                   "<http://skillcell.dev/UA/GripperSkills/GripperSkillType> }"}},
                                 "text/turtle");
-    r = e.handle(turtle);
+    r = handle(e, turtle);
     EXPECT_EQ(r.status, 200) << r.body;
-    EXPECT_NE(r.headers.get("Content-Type").value_or("").find("text/turtle"), std::string::npos);
+    EXPECT_NE(r.contentType.find("text/turtle"), std::string::npos);
     auto parsed = rdf::readTurtle(r.body);
     ASSERT_TRUE(parsed) << parsed.error();
     EXPECT_EQ(parsed->size(), 3U) << r.body;
@@ -334,49 +356,77 @@ TEST_F(KnowledgeBaseTest, TheEndpointAnswersQueriesByGetAndPostInTheAskedMediaTy
 TEST_F(KnowledgeBaseTest, TheEndpointRunsUpdatesByPostOnly) {
     SparqlEndpoint e(*kb_, true);
     const std::string u = "INSERT DATA { GRAPH <urn:test:ep> { <urn:test:e> <urn:test:p> 1 } }";
-    auto r = e.handle(endpoint::post("/sparql", "application/sparql-update", u));
+    auto r = handle(e, endpoint::post("/sparql", "application/sparql-update", u));
     EXPECT_EQ(r.status, 200) << r.body;
-    r = e.handle(endpoint::post("/sparql", "application/x-www-form-urlencoded",
-                                http::formUrlEncode({{"update", u}})));
+    r = handle(e, endpoint::form({{"update", u}}));
     EXPECT_EQ(r.status, 200) << r.body;
     EXPECT_TRUE(ask("GRAPH <urn:test:ep> { <urn:test:e> <urn:test:p> 1 }"));
-    r = e.handle(endpoint::get("/sparql", {{"update", u}}));
+    r = handle(e, endpoint::get("/sparql", {{"update", u}}));
     EXPECT_EQ(r.status, 400) << r.body;
+}
+
+TEST_F(KnowledgeBaseTest, AnObserverQueriesButChangesNothingHoweverTheUpdateIsSent) {
+    SparqlEndpoint e(*kb_, true);
+    const std::string u = "INSERT DATA { GRAPH <urn:test:obs> { <urn:a> <urn:b> 1 } }";
+    const auto& olga = endpoint::kObserver;
+    EXPECT_EQ(handle(e, endpoint::form({{"update", u}}), olga).status, 403);
+    EXPECT_EQ(handle(e, endpoint::post("/sparql", "application/sparql-update", u), olga).status,
+              403);
+    // Sent as a query, it is still an update.
+    EXPECT_EQ(handle(e, endpoint::form({{"query", u}}), olga).status, 403);
+    EXPECT_EQ(handle(e, endpoint::post("/sparql", "application/sparql-query", u), olga).status,
+              403);
+    EXPECT_EQ(handle(e, endpoint::get("/sparql", {{"query", u}}), olga).status, 400);
+    EXPECT_EQ(
+        handle(e, endpoint::form({{"query", "PREFIX a: <urn:a#> # SELECT\n" + u}}), olga).status,
+        403);
+    auto put = endpoint::post("/graphs", "text/turtle", "<urn:a> <urn:b> 1 .\n");
+    put.method = "PUT";
+    put.params = {{"graph", "urn:test:obs"}};
+    EXPECT_EQ(handle(e, put, olga).status, 403);
+    EXPECT_FALSE(ask("GRAPH <urn:test:obs> { ?s ?p ?o }"));
+    // Someone without a reading role reads nothing either.
+    const ua::UserIdentity nobody{"nobody", ua::RoleSet{ua::Role::AuthenticatedUser}};
+    EXPECT_EQ(handle(e, endpoint::get("/sparql", {{"query", "ASK {}"}}), nobody).status, 403);
+    // The knowledge base itself refuses an update as a query, whoever calls it.
+    auto direct = kb_->query(u, media::kSparqlJson);
+    ASSERT_FALSE(direct);
+    EXPECT_EQ(direct.errorKind(), ErrorKind::BadInput);
+    // An Engineer's update sent as a query is run as the update it is.
+    auto r = handle(e, endpoint::form({{"query", u}}));
+    EXPECT_EQ(r.status, 200) << r.body;
+    EXPECT_TRUE(ask("GRAPH <urn:test:obs> { <urn:a> <urn:b> 1 }"));
+    EXPECT_EQ(handle(e, endpoint::form({{"update", "DROP SILENT GRAPH <urn:test:obs>"}})).status,
+              200);
 }
 
 TEST_F(KnowledgeBaseTest, AReadOnlyEndpointRefusesUpdatesAndLoads) {
     SparqlEndpoint e(*kb_, false);
-    auto r = e.handle(endpoint::post("/sparql", "application/sparql-update",
-                                     "INSERT DATA { GRAPH <urn:test:ro> { <urn:a> <urn:b> 1 } }"));
+    auto r = handle(e, endpoint::post("/sparql", "application/sparql-update",
+                                      "INSERT DATA { GRAPH <urn:test:ro> { <urn:a> <urn:b> 1 } }"));
     EXPECT_EQ(r.status, 403) << r.body;
     auto put = endpoint::post("/graphs", "text/turtle", "<urn:a> <urn:b> 1 .\n");
     put.method = "PUT";
-    put.query = {{"graph", "urn:test:ro"}};
-    EXPECT_EQ(e.handle(put).status, 403);
+    put.params = {{"graph", "urn:test:ro"}};
+    EXPECT_EQ(handle(e, put).status, 403);
     EXPECT_FALSE(ask("GRAPH <urn:test:ro> { ?s ?p ?o }"));
-    EXPECT_EQ(e.handle(endpoint::get("/sparql", {{"query", "ASK {}"}})).status, 200);
+    EXPECT_EQ(handle(e, endpoint::get("/sparql", {{"query", "ASK {}"}})).status, 200);
 }
 
 TEST_F(KnowledgeBaseTest, TheEndpointAnswersBadRequestsPrecisely) {
     SparqlEndpoint e(*kb_, true);
-    auto r = e.handle(endpoint::get("/sparql", {{"query", "SELECT ?x WHERE { ?x"}}));
+    auto r = handle(e, endpoint::get("/sparql", {{"query", "SELECT ?x WHERE { ?x"}}));
     EXPECT_EQ(r.status, 400);
     EXPECT_NE(r.body.find("SP030"), std::string::npos) << r.body;  // Virtuoso's syntax error
-    EXPECT_EQ(e.handle(endpoint::get("/sparql")).status, 400);
-    EXPECT_EQ(e.handle(endpoint::post("/sparql", "application/x-www-form-urlencoded",
-                                      http::formUrlEncode({{"query", "ASK {}"}, {"update", "x"}})))
-                  .status,
-              400);
-    EXPECT_EQ(e.handle(endpoint::post("/sparql", "text/plain", "ASK {}")).status, 415);
-    EXPECT_EQ(e.handle(endpoint::post("/sparql", "application/x-www-form-urlencoded", "query=%zz"))
-                  .status,
-              400);
-    EXPECT_EQ(e.handle(endpoint::get("/nothing")).status, 404);
+    EXPECT_EQ(handle(e, endpoint::get("/sparql")).status, 400);
+    EXPECT_EQ(handle(e, endpoint::form({{"query", "ASK {}"}, {"update", "x"}})).status, 400);
+    EXPECT_EQ(handle(e, endpoint::post("/sparql", "text/plain", "ASK {}")).status, 415);
+    EXPECT_EQ(handle(e, endpoint::get("/nothing")).status, 404);
     auto del = endpoint::get("/sparql");
     del.method = "DELETE";
-    r = e.handle(del);
+    r = handle(e, del);
     EXPECT_EQ(r.status, 405);
-    EXPECT_EQ(r.headers.get("Allow").value_or(""), "GET, POST");
+    EXPECT_EQ(r.allow, "GET, POST");
 }
 
 TEST_F(KnowledgeBaseTest, TheEndpointLoadsGraphsCheckedByTheReasoner) {
@@ -384,50 +434,82 @@ TEST_F(KnowledgeBaseTest, TheEndpointLoadsGraphsCheckedByTheReasoner) {
     auto put = endpoint::post("/graphs", "text/turtle",
                               "<urn:test:g#a> a <http://skillcell.dev/ontology/process#Step> .\n");
     put.method = "PUT";
-    put.query = {{"graph", "urn:test:put"}};
-    auto r = e.handle(put);
+    put.params = {{"graph", "urn:test:put"}};
+    auto r = handle(e, put);
     EXPECT_EQ(r.status, 200) << r.body;
-    r = e.handle(endpoint::get("/graphs"));
+    r = handle(e, endpoint::get("/graphs"));
     EXPECT_NE(r.body.find("urn:test:put\n"), std::string::npos) << r.body;
 
     put.body += "<urn:test:g#a> a <http://skillcell.dev/ontology/process#Process> .\n";
-    r = e.handle(put);
+    r = handle(e, put);
     EXPECT_EQ(r.status, 409) << r.body;
     EXPECT_NE(r.body.find("process#Process"), std::string::npos) << r.body;
     put.body = "this is not turtle";
-    EXPECT_EQ(e.handle(put).status, 400);
-    put.query.clear();
-    EXPECT_EQ(e.handle(put).status, 400);
+    EXPECT_EQ(handle(e, put).status, 400);
+    put.params.clear();
+    EXPECT_EQ(handle(e, put).status, 400);
 }
 
 TEST_F(KnowledgeBaseTest, TheEndpointSaysServiceUnavailableWhenTheStoreIsGone) {
     HttpSparqlEndpoint nowhere;
-    nowhere.port = 1;  // nothing listens on port 1 of the loopback
-    nowhere.timeout = std::chrono::milliseconds(2000);
+    nowhere.url.port = 1;  // nothing listens on port 1 of the loopback
+    nowhere.client.timeout = std::chrono::milliseconds(2000);
     HttpSparqlStore gone(nowhere);
     KnowledgeBase cut(gone, nullptr);
     SparqlEndpoint e(cut, true);
-    auto r = e.handle(endpoint::get("/sparql", {{"query", "ASK {}"}}));
+    auto r = handle(e, endpoint::get("/sparql", {{"query", "ASK {}"}}));
     EXPECT_EQ(r.status, 503) << r.body;
 }
 
-TEST_F(KnowledgeBaseTest, TheEndpointServesOverHttp) {
+TEST_F(KnowledgeBaseTest, VirtuosoTakesNoAnonymousRequestAndAWrongPasswordNeither) {
+    http::HttpUrl url;
+    url.port = virtuoso_->httpPort();
+    const std::string insert = "INSERT DATA { GRAPH <http://evil.example/> { <urn:a> <urn:b> 1 } }";
+    http::HttpClient anonymous(url, {});
+    for (const char* path :
+         {"/sparql", "/sparql-auth", "/sparql-graph-crud", "/sparql-graph-crud-auth", "/proxy",
+          "/URIQA", "/uriqa", "/XMLA", "/SOAP", "/DAV/", "/sparql-sd", "/conductor"}) {
+        for (const char* name : {"query", "update"}) {
+            for (const auto& text : {insert, std::string("SELECT * WHERE { ?s ?p ?o } LIMIT 1")}) {
+                auto r = anonymous.postForm(path, {{name, text}}, "");
+                if (!r) continue;  // no answer is a refusal too
+                EXPECT_TRUE(r->status == 401 || r->status == 403 || r->status == 404 ||
+                            r->status == 405)
+                    << path << " " << name << ": HTTP " << r->status << ": " << r->body;
+            }
+        }
+    }
+    http::ClientOptions wrong;
+    wrong.auth = {http::ClientAuth::Kind::Digest, engine::VirtuosoInstance::sparqlUser(), "wrong"};
+    url.path = "/sparql-auth";
+    http::HttpClient guessing(url, wrong);
+    auto r = guessing.postForm("/sparql-auth", {{"update", insert}}, "");
+    ASSERT_TRUE(r) << r.error();
+    EXPECT_EQ(r->status, 401);
+    EXPECT_FALSE(ask("GRAPH <http://evil.example/> { ?s ?p ?o }"));
+}
+
+TEST_F(KnowledgeBaseTest, TheEndpointServesOverHttpWithFormsParsedByTheServer) {
     SparqlEndpoint e(*kb_, true);
-    asio::io_context io;
-    http::HttpServer server(
-        io, {asio::ip::make_address("127.0.0.1"), 0},
-        http::HttpServer::SyncHandler([&e](const http::HttpRequest& r) { return e.handle(r); }));
+    http::WebServerConfig config;
+    config.gate = std::make_shared<http::UserGate>(
+        nullptr, ua::RoleSet{ua::Role::Anonymous, ua::Role::Engineer});
+    http::WebServer server(std::move(config));
+    e.serveOn(server);
     ASSERT_TRUE(server.start());
-    std::thread ioThread([&io] { io.run(); });
-    auto reply = http::httpRequest(
-        "127.0.0.1", server.port(),
-        endpoint::get("/sparql", {{"query", "ASK { ?s ?p ?o }"}}, media::kSparqlJson),
-        std::chrono::seconds(10));
-    asio::post(io, [&server] { server.stop(); });
-    ioThread.join();
+    http::HttpUrl url;
+    url.port = server.port();
+    http::HttpClient client(url, {});
+    auto reply = client.get("/sparql", {{"query", "ASK { ?s ?p ?o }"}}, media::kSparqlJson);
     ASSERT_TRUE(reply) << reply.error();
     EXPECT_EQ(reply->status, 200) << reply->body;
     EXPECT_NE(reply->body.find("true"), std::string::npos) << reply->body;
+    const std::string u = "INSERT DATA { GRAPH <urn:test:wire> { <urn:a> <urn:b> \"a&b=c+d\" } }";
+    auto update = client.postForm("/sparql", {{"update", u}}, "");
+    ASSERT_TRUE(update) << update.error();
+    EXPECT_EQ(update->status, 200) << update->body;
+    EXPECT_TRUE(ask("GRAPH <urn:test:wire> { <urn:a> <urn:b> \"a&b=c+d\" }"));
+    EXPECT_TRUE(client.postForm("/sparql", {{"update", "DROP SILENT GRAPH <urn:test:wire>"}}, ""));
 }
 }  // namespace
 }  // namespace skillcell::kb::knowledge_base_test

@@ -1,0 +1,50 @@
+#pragma once
+// UserGate: who an HTTP request comes from, by the cell's user database: the same users,
+// passwords and roles as OPC UA sessions (ua/server/user_database.hpp).
+//
+// A request proves its user with a TLS client certificate that the database lists, or with
+// HTTP Basic credentials (RFC 7617), which only travel inside TLS. Passwords are
+// scrypt-hashed on purpose, which makes one check cost tens of milliseconds: a password
+// that was right is remembered for a few minutes, by a SHA-256 of name and password, so
+// that a client sending a query every few milliseconds is not slowed (nor the host loaded)
+// by the hash.
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+
+#include "ua/server/user_identity.hpp"
+
+namespace skillcell::http {
+
+class UserGate {
+public:
+    /// `users` null: a server without users (--insecure), where everyone is "anonymous"
+    /// with `anonymousRoles`.
+    explicit UserGate(std::shared_ptr<const ua::UserAuthenticator> users,
+                      ua::RoleSet anonymousRoles = {},
+                      std::chrono::seconds remember = std::chrono::seconds(300));
+
+    /// The user of a request, from its client certificate (DER, empty: none) or else its
+    /// Authorization header. BadUserAccessDenied when neither names a known user, or when
+    /// the header is malformed.
+    [[nodiscard]] ua::Result<ua::UserIdentity> identify(std::string_view authorization,
+                                                        const ua::ByteString& peerCertificate);
+
+    [[nodiscard]] bool hasUsers() const { return users_ != nullptr; }
+
+private:
+    struct Remembered {
+        ua::UserIdentity user;
+        std::chrono::steady_clock::time_point until;
+    };
+    std::shared_ptr<const ua::UserAuthenticator> users_;
+    ua::RoleSet anonymousRoles_;
+    std::chrono::seconds remember_;
+    std::mutex mutex_;
+    std::unordered_map<std::string, Remembered> remembered_;  // by SHA-256(name \0 password)
+};
+
+}  // namespace skillcell::http
