@@ -260,7 +260,7 @@ std::string CellSupervisor::statusJson() const {
 
 void CellSupervisor::answer(ControlRequest& request, bool* down) {
     if (request.line == "ping") {
-        ControlSocket::reply(request, R"({"pong":true})");
+        ControlSocket::reply(request, Json{{"pong", true}}.dump());
     } else if (request.line == "status") {
         ControlSocket::reply(request, statusJson());
     } else if (request.line == "down") {

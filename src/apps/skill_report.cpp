@@ -2,38 +2,45 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <string>
-
-#include "ua/types/to_string.hpp"
 
 namespace skillcell::apps {
 
 namespace {
 
-/// `"key":value` pairs of one skill instance (no braces).
-std::string jsonFields(const skills::SkillInstance& s) {
-    std::string types;
-    std::string typeNames;
+using Json = nlohmann::ordered_json;
+
+/// One skill instance's fields, after `event` (and `reason`) in `j`.
+void addFields(Json& j, const skills::SkillInstance& s) {
+    Json types = Json::array();
+    Json typeNames = Json::array();
     for (const auto& t : s.types) {
-        types += (types.empty() ? "" : ",") + ua::jsonQuoted(t.id.toString());
-        typeNames += (typeNames.empty() ? "" : ",") + ua::jsonQuoted(t.browseName);
+        types.push_back(t.id.toString());
+        typeNames.push_back(t.browseName);
     }
-    std::string parameters;
+    Json parameters = Json::array();
     for (const auto& p : s.parameters) {
-        parameters += std::string(parameters.empty() ? "" : ",") +
-                      "{\"name\":" + ua::jsonQuoted(p.browseName.name) +
-                      ",\"namespace\":" + ua::jsonQuoted(p.browseName.namespaceUri) +
-                      ",\"dataType\":" + ua::jsonQuoted(p.dataType.toString()) +
-                      ",\"valueRank\":" + std::to_string(p.valueRank) + "}";
+        parameters.push_back({{"name", p.browseName.name},
+                              {"namespace", p.browseName.namespaceUri},
+                              {"dataType", p.dataType.toString()},
+                              {"valueRank", p.valueRank}});
     }
-    return "\"type\":" + ua::jsonQuoted(s.type().browseName) +
-           ",\"typeId\":" + ua::jsonQuoted(s.type().id.toString()) + ",\"types\":[" + types +
-           "],\"typeNames\":[" + typeNames + "],\"component\":" + ua::jsonQuoted(s.componentUri) +
-           ",\"endpoint\":" + ua::jsonQuoted(s.endpointUrl) +
-           ",\"nodeId\":" + ua::jsonQuoted(s.nodeId.toString()) +
-           ",\"browsePath\":" + ua::jsonQuoted(s.browsePathString()) +
-           ",\"startTime\":" + ua::jsonQuoted(s.componentStartTime.toIso8601()) +
-           ",\"parameters\":[" + parameters + "]";
+    j["type"] = s.type().browseName;
+    j["typeId"] = s.type().id.toString();
+    j["types"] = std::move(types);
+    j["typeNames"] = std::move(typeNames);
+    j["component"] = s.componentUri;
+    j["endpoint"] = s.endpointUrl;
+    j["nodeId"] = s.nodeId.toString();
+    j["browsePath"] = s.browsePathString();
+    j["startTime"] = s.componentStartTime.toIso8601();
+    j["parameters"] = std::move(parameters);
+}
+
+/// One line of JSON; servers send any bytes, and what is not UTF-8 is replaced.
+void printLine(std::ostream& out, const Json& j) {
+    out << j.dump(-1, ' ', false, Json::error_handler_t::replace) << "\n";
 }
 
 std::string textFields(const skills::SkillInstance& s) {
@@ -46,9 +53,11 @@ void printSkillEvent(std::ostream& out, const skills::SkillEvent& event, bool js
     const auto& s = event.instance;
     const bool added = event.kind == skills::SkillEvent::Kind::Added;
     if (json) {
-        out << "{\"event\":" << (added ? "\"added\"" : "\"removed\"");
-        if (!added) out << ",\"reason\":" << ua::jsonQuoted(skills::toString(event.reason));
-        out << "," << jsonFields(s) << "}\n";
+        Json j;
+        j["event"] = added ? "added" : "removed";
+        if (!added) j["reason"] = skills::toString(event.reason);
+        addFields(j, s);
+        printLine(out, j);
     } else if (added) {
         out << "SKILL ADDED " << textFields(s) << " " << s.nodeId.toString() << "\n";
     } else {
@@ -66,13 +75,16 @@ void printSkillSnapshot(std::ostream& out, std::vector<skills::SkillInstance> in
     if (!json) out << "SNAPSHOT " << instances.size() << "\n";
     for (const auto& s : instances) {
         if (json) {
-            out << "{\"event\":\"skill\"," << jsonFields(s) << "}\n";
+            Json j;
+            j["event"] = "skill";
+            addFields(j, s);
+            printLine(out, j);
         } else {
             out << "SKILL " << textFields(s) << " " << s.nodeId.toString() << "\n";
         }
     }
     if (json) {
-        out << "{\"event\":\"end\",\"count\":" << instances.size() << "}\n";
+        printLine(out, Json{{"event", "end"}, {"count", instances.size()}});
     } else {
         out << "END\n";
     }

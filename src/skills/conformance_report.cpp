@@ -1,9 +1,8 @@
 #include "skills/conformance_report.hpp"
 
-#include "ua/types/to_string.hpp"
-
 #include <algorithm>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 namespace skillcell::skills {
 
@@ -90,35 +89,27 @@ std::string formatSummary(const ConformanceReport& report, bool strict) {
 }
 
 std::string toJson(const ConformanceReport& report, bool strict) {
-    std::string s = "{\n  \"endpoint\": " + ua::jsonQuoted(report.endpoint()) + ",\n";
-    s += "  \"result\": ";
-    s += report.passed(strict) ? "\"PASS\"" : "\"FAIL\"";
-    s += ",\n  \"counts\": {\"pass\": " + std::to_string(report.count(Verdict::Pass)) +
-         ", \"warn\": " + std::to_string(report.count(Verdict::Warn)) +
-         ", \"fail\": " + std::to_string(report.count(Verdict::Fail)) + "},\n";
-    s += "  \"skills\": [";
-    const char* sep = "\n";
+    nlohmann::ordered_json j;
+    j["endpoint"] = report.endpoint();
+    j["result"] = report.passed(strict) ? "PASS" : "FAIL";
+    j["counts"] = {{"pass", report.count(Verdict::Pass)},
+                   {"warn", report.count(Verdict::Warn)},
+                   {"fail", report.count(Verdict::Fail)}};
+    j["skills"] = nlohmann::ordered_json::array();
     for (const auto& skill : report.skills()) {
-        s += sep;
-        s += "    {\"path\": " + ua::jsonQuoted(skill.path) +
-             ", \"nodeId\": " + ua::jsonQuoted(skill.nodeId) +
-             ", \"type\": " + ua::jsonQuoted(skill.type) + "}";
-        sep = ",\n";
+        j["skills"].push_back(
+            {{"path", skill.path}, {"nodeId", skill.nodeId}, {"type", skill.type}});
     }
-    s += report.skills().empty() ? "],\n" : "\n  ],\n";
-    s += "  \"findings\": [";
-    sep = "\n";
+    j["findings"] = nlohmann::ordered_json::array();
     for (const auto& f : report.findings()) {
-        s += sep;
-        s += "    {\"verdict\": " + ua::jsonQuoted(name(f.verdict)) +
-             ", \"subject\": " + ua::jsonQuoted(f.subject) +
-             ", \"check\": " + ua::jsonQuoted(f.check) +
-             ", \"expected\": " + ua::jsonQuoted(f.expected) +
-             ", \"found\": " + ua::jsonQuoted(f.found) + "}";
-        sep = ",\n";
+        j["findings"].push_back({{"verdict", name(f.verdict)},
+                                 {"subject", f.subject},
+                                 {"check", f.check},
+                                 {"expected", f.expected},
+                                 {"found", f.found}});
     }
-    s += report.findings().empty() ? "]\n}\n" : "\n  ]\n}\n";
-    return s;
+    // Servers send any bytes: what is not UTF-8 is replaced, not thrown at the reader.
+    return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace skillcell::skills

@@ -12,6 +12,8 @@
 // report's text and JSON forms are checked too.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <asio/io_context.hpp>
@@ -816,12 +818,20 @@ TEST(ConformanceReport, LinesSummaryAndExitCode) {
 TEST(ConformanceReport, JsonEscapesWhatServersSend) {
     ConformanceReport report("opc.tcp://x:4840");
     report.fail("Objects/\"Odd\"\\Name", "CurrentState", "one of Halted, ...", "'a\nb\x01'");
+    report.fail("Objects/X", "BrowseName", "UTF-8", std::string("\xff\xfe"));
     const std::string json = toJson(report);
     EXPECT_NE(json.find(R"("subject": "Objects/\"Odd\"\\Name")"), std::string::npos) << json;
     EXPECT_NE(json.find(R"("found": "'a\nb\u0001'")"), std::string::npos) << json;
-    EXPECT_NE(json.find(R"("result": "FAIL")"), std::string::npos) << json;
-    EXPECT_NE(json.find(R"("counts": {"pass": 0, "warn": 0, "fail": 1})"), std::string::npos);
-    EXPECT_NE(json.find(R"("skills": [],)"), std::string::npos) << json;
+    // Read back by another parser: one document with every field.
+    const auto j = nlohmann::json::parse(json);
+    EXPECT_EQ(j["endpoint"], "opc.tcp://x:4840");
+    EXPECT_EQ(j["result"], "FAIL");
+    EXPECT_EQ(j["counts"], nlohmann::json({{"pass", 0}, {"warn", 0}, {"fail", 2}}));
+    EXPECT_TRUE(j["skills"].is_array() && j["skills"].empty());
+    ASSERT_EQ(j["findings"].size(), 2U);
+    EXPECT_EQ(j["findings"][0]["found"], "'a\nb\x01'");
+    // Bytes that are not UTF-8 become U+FFFD rather than an exception.
+    EXPECT_EQ(j["findings"][1]["found"], "\xef\xbf\xbd\xef\xbf\xbd");
 }
 
 }  // namespace

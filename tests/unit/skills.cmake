@@ -13,7 +13,9 @@ skillcell_unit_test(test_skills
   conformance_checker_test.cpp
   skill_detector_test.cpp)
 target_include_directories(test_skills PRIVATE ${PROJECT_SOURCE_DIR}/examples/dispense_skill)
-target_link_libraries(test_skills PRIVATE skillcell_skills skillcell_test_support)
+find_package(nlohmann_json REQUIRED)
+target_link_libraries(test_skills PRIVATE skillcell_skills skillcell_test_support
+                                          nlohmann_json::nlohmann_json)
 target_compile_definitions(test_skills PRIVATE
   # One test starts a real `skillcell server` process and kills it mid-run.
   SKILLCELL_BINARY="$<TARGET_FILE:skillcell>"

@@ -9,8 +9,4 @@ namespace skillcell::ua {
 
 [[nodiscard]] std::string toString(const Variant& v);
 [[nodiscard]] std::string toString(const Scalar& s);
-/// A JSON string literal of `s` for machine-readable output (`--json`): quotes, backslashes
-/// and control characters escaped; other bytes (UTF-8 from a server) pass through.
-[[nodiscard]] std::string jsonQuoted(std::string_view s);
-
 }  // namespace skillcell::ua
