@@ -8,7 +8,8 @@
 # The tests add: clang and its sanitizer runtime (the ASan + UBSan build, the fuzz targets),
 # clang-format and clang-tidy (lint), stress-ng (the suite under load), Node.js with the
 # pinned node-opcua interop peer (tests/interop/package.json), python3 (the netns harness,
-# fuzz seeds), and Avahi (mDNS interop, run only inside a test's network namespace).
+# fuzz seeds), Avahi (mDNS interop, run only inside a test's network namespace), and
+# Chromium with playwright-core (the dashboard's browser tests, tests/browser).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -36,6 +37,9 @@ if [ "$scope" = all ]; then
   packages+=(clang clang-format clang-tidy libclang-rt-14-dev stress-ng)
   # mDNS interop (tests/netns/avahi_interop.sh): Avahi runs only inside the test's namespace
   packages+=(avahi-daemon avahi-utils dbus)
+  # the dashboard's browser tests (tests/browser): Debian's Chromium, and openssl for the pin
+  # of the dashboard's key
+  packages+=(chromium openssl)
 fi
 missing=()
 for p in "${packages[@]}"; do
@@ -68,6 +72,10 @@ if ((${#missing[@]})); then
   [ "$rc" = 0 ] || exit "$rc"
 fi
 
+if [ "$scope" = all ] && [ ! -d tests/browser/node_modules/playwright-core ]; then
+  echo "install-deps: installing playwright-core for the browser tests (tests/browser/package-lock.json)"
+  (cd tests/browser && npm ci --no-audit --no-fund --loglevel=error)
+fi
 if [ "$scope" = all ] && [ ! -d tests/interop/node_modules/node-opcua ]; then
   echo "install-deps: installing the node-opcua interop peer (pinned in tests/interop/package-lock.json)"
   (cd tests/interop && npm ci --no-audit --no-fund --loglevel=error)

@@ -149,6 +149,12 @@ int cellUp(const UpOptions& o) {
                     u.passwordFile.string().c_str());
     }
     if (!runtime.secure()) std::printf("  none: security is off (anonymous, no certificates)\n");
+    if (!runtime.dashboardUrl().empty()) {
+        std::printf("The dashboard: %s%s\n", runtime.dashboardUrl().c_str(),
+                    runtime.secure() ? " (log in as one of these users; its certificate is issued "
+                                       "by the cell CA)"
+                                     : "");
+    }
     const std::string enter =
         privateNetwork ? "nsenter --net=/proc/" + std::to_string(::getpid()) + "/ns/net " : "";
     if (privateNetwork) {

@@ -120,6 +120,7 @@ std::string CellRuntime::applicationUri(const std::string& name) const {
     if (name == "lds" && cell_.lds) return std::string(cell::kLdsUri);
     if (name == "kb" && cell_.kb) return std::string(cell::kKbUri);
     if (name == "mes" && cell_.mes) return std::string(cell::kMesUri);
+    if (name == "dashboard" && cell_.dashboard) return std::string(cell::kDashboardUri);
     if (name == "world") return std::string(cell::kWorldUri);
     if (cell_.toolChanger && name == cell_.toolChanger->name) {
         return cell::componentUri(cell::kToolChangerUri, name, cell::ToolChanger{}.name);
@@ -143,6 +144,7 @@ std::vector<std::string> CellRuntime::components() const {
     for (const auto& r : cell_.robots) out.push_back(r.name);
     if (cell_.pickAndPlace) out.push_back(cell_.pickAndPlace->name);
     if (cell_.mes) out.emplace_back("mes");
+    if (cell_.dashboard) out.emplace_back("dashboard");
     return out;
 }
 
@@ -347,6 +349,11 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
              journal().string(),
              "--step-timeout-ms",
              std::to_string(cell_.mes->stepTimeoutMs)};
+    } else if (name == "dashboard" && cell_.dashboard) {
+        const std::uint16_t page = cell_.dashboard->port != 0
+                                       ? static_cast<std::uint16_t>(cell_.dashboard->port)
+                                       : port("dashboard-http");
+        a = {"dashboard", "--http-port", std::to_string(page)};
     } else if (name == "world") {
         a = {"device", "world"};
         const auto scene = cell::worldArguments(cell_);
@@ -395,6 +402,7 @@ kb::Expected<CellProcess> CellRuntime::start(const ComponentLaunch& launch) {
     if (!p) return p;
     endpoints_[launch.name] = p->url();
     if (launch.name == "kb") kbSparql_ = p->reported("SPARQL");
+    if (launch.name == "dashboard") dashboardUrl_ = p->reported("DASHBOARD");
     return p;
 }
 

@@ -104,6 +104,8 @@ public:
     [[nodiscard]] std::string endpoint(const std::string& name) const;
     /// The knowledge base's SPARQL endpoint: the cell file's store, or the KB's own.
     [[nodiscard]] std::string sparqlUrl() const;
+    /// The dashboard's page, once it runs; empty before, or when the cell has none.
+    [[nodiscard]] const std::string& dashboardUrl() const { return dashboardUrl_; }
     [[nodiscard]] std::vector<Credential> credentials() const;
     /// The runtime's own certificate (after prepare()), for its clients and detector.
     [[nodiscard]] const ApplicationIdentity& identity() const { return *identity_; }
@@ -137,6 +139,7 @@ private:
     std::map<std::string, std::uint16_t> ports_;    // keepPorts: by component (and "kb-http")
     std::map<std::string, std::string> endpoints_;  // by component, from READY
     std::string kbSparql_;                          // the KB's SPARQL line
+    std::string dashboardUrl_;                      // the dashboard's DASHBOARD line
     std::vector<Credential> credentials_;
 };
 

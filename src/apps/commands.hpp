@@ -30,6 +30,8 @@ Command addMesCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
 /// `skillcell demo`: the paper's whole work cell, its process and its evaluation table.
 Command addDemoCommand(CLI::App& app);
+/// `skillcell dashboard`: the cell's live view in a browser (src/dashboard).
+Command addDashboardCommand(CLI::App& app);
 /// `skillcell cell check FILE`: a cell file read and checked (src/cell).
 Command addCellCommand(CLI::App& app);
 /// `skillcell process check|list`: processes checked against the skill models.

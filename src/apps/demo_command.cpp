@@ -195,14 +195,22 @@ bool DemoCell::keep(const std::string& name) {
         std::cerr << "demo: " << p.error() << "\n";
         return false;
     }
-    std::printf("  %-14s %s%s\n", p->name().c_str(), p->url().c_str(),
-                name == "kb" ? ("  SPARQL " + runtime_.sparqlUrl()).c_str() : "");
+    std::string extra;
+    if (name == "kb") extra = "  SPARQL " + runtime_.sparqlUrl();
+    if (name == "dashboard") extra = "  PAGE " + runtime_.dashboardUrl();
+    std::printf("  %-14s %s%s\n", p->name().c_str(), p->url().c_str(), extra.c_str());
     supervisor_.adopt(std::move(*p));
     return true;
 }
 
 bool DemoCell::startInfrastructure() {
-    return keep("lds") && keep("kb") && keep("world");
+    if (!keep("lds") || !keep("kb") || !keep("world")) return false;
+    if (!cell_.dashboard) return true;
+    // First of the rest, so that its page shows every component arrive.
+    if (!keep("dashboard")) return false;
+    std::printf("  the dashboard: log in as observer (password in %s) or operator\n",
+                runtime_.passwordFile("observer").string().c_str());
+    return true;
 }
 
 bool DemoCell::measure(MeasuredComponent& m, const Interruption& interruption) {

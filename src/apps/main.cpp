@@ -18,14 +18,15 @@ int main(int argc, char** argv) {
         ->capture_default_str();
 
     std::vector<skillcell::apps::Command> commands{
-        skillcell::apps::addServerCommand(app), skillcell::apps::addBrowseCommand(app),
-        skillcell::apps::addLdsCommand(app),    skillcell::apps::addDiscoverCommand(app),
-        skillcell::apps::addSkillCommand(app),  skillcell::apps::addCheckCommand(app),
-        skillcell::apps::addDetectCommand(app), skillcell::apps::addPkiCommand(app),
-        skillcell::apps::addUserCommand(app),   skillcell::apps::addNodeset2OwlCommand(app),
-        skillcell::apps::addKbCommand(app),     skillcell::apps::addMesCommand(app),
-        skillcell::apps::addRunCommand(app),    skillcell::apps::addDemoCommand(app),
-        skillcell::apps::addCellCommand(app),   skillcell::apps::addProcessCommand(app),
+        skillcell::apps::addServerCommand(app),    skillcell::apps::addBrowseCommand(app),
+        skillcell::apps::addLdsCommand(app),       skillcell::apps::addDiscoverCommand(app),
+        skillcell::apps::addSkillCommand(app),     skillcell::apps::addCheckCommand(app),
+        skillcell::apps::addDetectCommand(app),    skillcell::apps::addPkiCommand(app),
+        skillcell::apps::addUserCommand(app),      skillcell::apps::addNodeset2OwlCommand(app),
+        skillcell::apps::addKbCommand(app),        skillcell::apps::addMesCommand(app),
+        skillcell::apps::addRunCommand(app),       skillcell::apps::addDemoCommand(app),
+        skillcell::apps::addCellCommand(app),      skillcell::apps::addProcessCommand(app),
+        skillcell::apps::addDashboardCommand(app),
     };
     for (auto& device : skillcell::apps::addDeviceCommands(app)) commands.push_back(device);
 

@@ -7,9 +7,11 @@
 
 namespace skillcell::apps {
 
-namespace {
-
+// At namespace scope, as in the other commands: in a unity batch, an alias in an anonymous
+// namespace would shadow theirs.
 using Json = nlohmann::ordered_json;
+
+namespace {
 
 /// One skill instance's fields, after `event` (and `reason`) in `j`.
 void addFields(Json& j, const skills::SkillInstance& s) {

@@ -411,6 +411,17 @@ void readMes(Reader& r, const toml::table& root, CellFile& cell) {
     }
 }
 
+void readDashboard(Reader& r, const toml::table& root, CellFile& cell) {
+    const toml::table* t = r.table(root, "dashboard", "[dashboard]");
+    if (t == nullptr) return;
+    cell.dashboard.emplace();
+    r.onlyKeys(*t, "[dashboard]", {"port", "restart"});
+    r.restart(*t, "[dashboard]", "dashboard", cell);
+    if (auto v = r.integer(*t, "port", "[dashboard]", 0, 65535)) {
+        cell.dashboard->port = static_cast<int>(*v);
+    }
+}
+
 /// Names must be unique among `kind`; reports the second one.
 class NameSet {
 public:
@@ -644,8 +655,8 @@ ReadResult readCellText(std::string_view text, const std::string& sourceName,
     Reader r(sourceName, baseDirectory);
     CellFile cell;
     r.onlyKeys(root, "the cell file",
-               {"name", "network", "security", "lds", "kb", "mes", "world", "tool", "robot",
-                "toolchanger", "pickplace"});
+               {"name", "network", "security", "lds", "kb", "mes", "dashboard", "world", "tool",
+                "robot", "toolchanger", "pickplace"});
     if (auto name = r.name(root, "the cell file")) cell.name = *name;
     readNetwork(r, root, cell.network);
     readSecurity(r, root, cell.security);
@@ -656,6 +667,7 @@ ReadResult readCellText(std::string_view text, const std::string& sourceName,
     }
     readKnowledgeBase(r, root, cell);
     readMes(r, root, cell);
+    readDashboard(r, root, cell);
     NameSet docks("dock");
     readWorld(r, root, cell, docks);
     readTools(r, root, cell, docks);

@@ -48,6 +48,11 @@ struct Mes {
     int stepTimeoutMs = 300'000;
 };
 
+/// The cell's live view in a browser (`skillcell dashboard`).
+struct Dashboard {
+    int port = 0;  // its HTTPS port; 0: a free one (kept across restarts by `cell up`)
+};
+
 struct Dock {
     std::string name;
     Pose pose;  // the flange pose at which its tool locks
@@ -99,13 +104,15 @@ struct CellFile {
     bool lds = false;  // a local discovery server (LDS-ME) of the cell's own
     std::optional<KnowledgeBase> kb;
     std::optional<Mes> mes;
+    std::optional<Dashboard> dashboard;
     std::vector<Dock> docks;
     std::vector<WorldObject> objects;
     std::vector<Tool> tools;
     std::vector<Robot> robots;
     std::optional<ToolChanger> toolChanger;
     std::optional<PickAndPlace> pickAndPlace;
-    /// Each component's `restart` key, by component name ("lds", "kb", "mes", "world", or a
+    /// Each component's `restart` key, by component name ("lds", "kb", "mes", "dashboard",
+    /// "world", or a
     /// device's name); absent: RestartPolicy::OnFailure.
     std::map<std::string, RestartPolicy> restart;
     [[nodiscard]] RestartPolicy restartPolicy(const std::string& component) const;

@@ -10,6 +10,7 @@ namespace skillcell::cell {
 inline constexpr std::string_view kLdsUri = "urn:skillcell:lds";
 inline constexpr std::string_view kKbUri = "urn:skillcell:kb";
 inline constexpr std::string_view kMesUri = "urn:skillcell:mes";
+inline constexpr std::string_view kDashboardUri = "urn:skillcell:dashboard";
 inline constexpr std::string_view kWorldUri = "urn:skillcell:device:world";
 inline constexpr std::string_view kUr5Uri = "urn:skillcell:device:ur5";
 inline constexpr std::string_view kToolChangerUri = "urn:skillcell:device:kelvin-toolchanger";

@@ -1,6 +1,9 @@
 #include "http/user_gate.hpp"
 
 #include <openssl/evp.h>
+#include <openssl/rand.h>
+
+#include <array>
 
 #include <cctype>
 #include <optional>
@@ -38,6 +41,34 @@ std::string sha256(std::string_view a, std::string_view b) {
     return digest;
 }
 
+// The value of cookie `name` in a Cookie header ("a=1; b=2"), or empty.
+std::string_view cookieValue(std::string_view header, std::string_view name) {
+    while (!header.empty()) {
+        const auto semicolon = header.find(';');
+        auto pair = header.substr(0, semicolon);
+        header =
+            semicolon == std::string_view::npos ? std::string_view() : header.substr(semicolon + 1);
+        while (!pair.empty() && pair.front() == ' ') pair.remove_prefix(1);
+        if (pair.size() > name.size() && pair.substr(0, name.size()) == name &&
+            pair[name.size()] == '=') {
+            return pair.substr(name.size() + 1);
+        }
+    }
+    return {};
+}
+
+std::string newToken() {
+    std::array<unsigned char, 32> bytes{};
+    if (RAND_bytes(bytes.data(), static_cast<int>(bytes.size())) != 1) return {};
+    static constexpr std::string_view kHex = "0123456789abcdef";
+    std::string token;
+    for (const unsigned char b : bytes) {
+        token += kHex[b >> 4U];
+        token += kHex[b & 0x0fU];
+    }
+    return token;
+}
+
 }  // namespace
 
 UserGate::UserGate(std::shared_ptr<const ua::UserAuthenticator> users, ua::RoleSet anonymousRoles,
@@ -45,10 +76,22 @@ UserGate::UserGate(std::shared_ptr<const ua::UserAuthenticator> users, ua::RoleS
     : users_(std::move(users)), anonymousRoles_(anonymousRoles), remember_(remember) {}
 
 ua::Result<ua::UserIdentity> UserGate::identify(std::string_view authorization,
-                                                const ua::ByteString& peerCertificate) {
+                                                const ua::ByteString& peerCertificate,
+                                                std::string_view cookie) {
     if (users_ == nullptr) return ua::UserIdentity{"anonymous", anonymousRoles_};
     if (!peerCertificate.empty()) {
         if (auto user = users_->authenticateCertificate(peerCertificate)) return user;
+    }
+    if (const auto token = cookieValue(cookie, kSessionCookie); !token.empty()) {
+        const std::lock_guard lock(mutex_);
+        const auto now = std::chrono::steady_clock::now();
+        if (auto it = sessions_.find(std::string(token)); it != sessions_.end()) {
+            if (it->second.until > now) {
+                it->second.until = now + idle_;
+                return it->second.user;
+            }
+            sessions_.erase(it);
+        }
     }
     // "Basic" 1*SP token68 (RFC 7617, 2); the scheme name is case-insensitive.
     constexpr std::string_view kBasic = "basic ";
@@ -84,6 +127,32 @@ ua::Result<ua::UserIdentity> UserGate::identify(std::string_view authorization,
         remembered_[key] = Remembered{*user, now + remember_};
     }
     return user;
+}
+
+ua::Result<std::pair<ua::UserIdentity, std::string>> UserGate::login(std::string_view name,
+                                                                     std::string_view password) {
+    if (users_ == nullptr) return ua::status::BadUserAccessDenied;
+    auto user = users_->authenticatePassword(name, password);
+    if (!user) return user.status();
+    std::string token = newToken();
+    if (token.empty()) return ua::status::BadInternalError;
+    const std::lock_guard lock(mutex_);
+    const auto now = std::chrono::steady_clock::now();
+    if (sessions_.size() >= kMaxRemembered * 4) {  // forget the expired ones first
+        std::erase_if(sessions_, [now](const auto& s) { return s.second.until <= now; });
+    }
+    sessions_[token] = Remembered{*user, now + idle_};
+    return std::pair{*user, std::move(token)};
+}
+
+std::string UserGate::sessionToken(std::string_view cookie) {
+    return std::string(cookieValue(cookie, kSessionCookie));
+}
+
+void UserGate::logout(std::string_view cookie) {
+    const auto token = cookieValue(cookie, kSessionCookie);
+    const std::lock_guard lock(mutex_);
+    sessions_.erase(std::string(token));
 }
 
 }  // namespace skillcell::http

@@ -14,6 +14,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
 
 #include "ua/server/user_identity.hpp"
 
@@ -27,11 +28,21 @@ public:
                       ua::RoleSet anonymousRoles = {},
                       std::chrono::seconds remember = std::chrono::seconds(300));
 
-    /// The user of a request, from its client certificate (DER, empty: none) or else its
-    /// Authorization header. BadUserAccessDenied when neither names a known user, or when
-    /// the header is malformed.
+    /// The user of a request, from its client certificate (DER, empty: none), its session
+    /// cookie (the Cookie header) or else its Authorization header. BadUserAccessDenied
+    /// when none names a known user, or when the header is malformed.
     [[nodiscard]] ua::Result<ua::UserIdentity> identify(std::string_view authorization,
-                                                        const ua::ByteString& peerCertificate);
+                                                        const ua::ByteString& peerCertificate,
+                                                        std::string_view cookie = {});
+
+    /// A browser's login: the user of `name` and `password`, and a new session token for
+    /// the cookie kSessionCookie (random, 256 bits), valid while used within `idle`.
+    [[nodiscard]] ua::Result<std::pair<ua::UserIdentity, std::string>> login(
+        std::string_view name, std::string_view password);
+    void logout(std::string_view cookie);
+    /// The session token in a Cookie header, or empty.
+    [[nodiscard]] static std::string sessionToken(std::string_view cookie);
+    static constexpr std::string_view kSessionCookie = "skillcell_session";
 
     [[nodiscard]] bool hasUsers() const { return users_ != nullptr; }
 
@@ -45,6 +56,8 @@ private:
     std::chrono::seconds remember_;
     std::mutex mutex_;
     std::unordered_map<std::string, Remembered> remembered_;  // by SHA-256(name \0 password)
+    std::unordered_map<std::string, Remembered> sessions_;    // by token; `until` slides
+    std::chrono::seconds idle_{8 * 3600};
 };
 
 }  // namespace skillcell::http

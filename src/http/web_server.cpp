@@ -43,12 +43,13 @@ WebServer::~WebServer() {
 
 std::optional<ua::UserIdentity> WebServer::identify(const httplib::Request& req,
                                                     httplib::Response& res) const {
-    auto user = config_.gate->identify(req.get_header_value("Authorization"), peerCertificate(req));
+    auto user = config_.gate->identify(req.get_header_value("Authorization"), peerCertificate(req),
+                                       req.get_header_value("Cookie"));
     if (user) return *user;
     spdlog::info("http: {} {} from {}: no known user, 401", req.method, req.path, req.remote_addr);
     res.status = 401;
-    res.set_header("WWW-Authenticate", "Basic realm=\"" + config_.realm + "\", charset=\"UTF-8\"");
-    res.set_content("who are you? give a user of the cell (HTTP Basic over TLS)\n", "text/plain");
+    res.set_header("WWW-Authenticate", config_.challenge);
+    res.set_content("who are you? give a user of the cell\n", "text/plain");
     return std::nullopt;
 }
 
@@ -100,13 +101,19 @@ httplib::Server::HandlerWithContentReader WebServer::guardedWithBody(Handler han
 }
 
 void WebServer::get(const std::string& pattern, Handler handler) {
-    pending_.push_back({"GET", pattern, std::move(handler)});
+    pending_.push_back({"GET", pattern, std::move(handler), {}});
 }
 void WebServer::post(const std::string& pattern, Handler handler) {
-    pending_.push_back({"POST", pattern, std::move(handler)});
+    pending_.push_back({"POST", pattern, std::move(handler), {}});
 }
 void WebServer::put(const std::string& pattern, Handler handler) {
-    pending_.push_back({"PUT", pattern, std::move(handler)});
+    pending_.push_back({"PUT", pattern, std::move(handler), {}});
+}
+void WebServer::publicGet(const std::string& pattern, httplib::Server::Handler handler) {
+    pending_.push_back({"GET", pattern, {}, std::move(handler)});
+}
+void WebServer::publicPost(const std::string& pattern, httplib::Server::Handler handler) {
+    pending_.push_back({"POST", pattern, {}, std::move(handler)});
 }
 
 Status WebServer::start() {
@@ -154,7 +161,11 @@ Status WebServer::start() {
             res.set_content("internal error: " + what + "\n", "text/plain");
         });
     for (auto& r : pending_) {
-        if (r.method == "GET") {
+        if (r.publicHandler && r.method == "GET") {
+            s.Get(r.pattern, std::move(r.publicHandler));
+        } else if (r.publicHandler) {
+            s.Post(r.pattern, std::move(r.publicHandler));
+        } else if (r.method == "GET") {
             s.Get(r.pattern, guarded(std::move(r.handler)));
         } else if (r.method == "POST") {
             s.Post(r.pattern, guardedWithBody(std::move(r.handler)));

@@ -40,7 +40,9 @@ struct WebServerConfig {
     std::optional<ServerTls> tls;
     /// Who asks; required.
     std::shared_ptr<UserGate> gate;
-    std::string realm = "skillcell";
+    /// The WWW-Authenticate of a 401. Basic for API clients (curl, the MES); a page whose
+    /// users log in by a form gives a scheme browsers do not answer with a password dialog.
+    std::string challenge = R"(Basic realm="skillcell", charset="UTF-8")";
     std::chrono::milliseconds readTimeout{10'000};
     std::chrono::milliseconds writeTimeout{30'000};
     std::size_t maxBodyBytes = std::size_t{64} << 20U;
@@ -61,6 +63,10 @@ public:
     void get(const std::string& pattern, Handler handler);
     void post(const std::string& pattern, Handler handler);
     void put(const std::string& pattern, Handler handler);
+    /// Routes that anyone may use, for what a browser needs before its user logs in (the
+    /// page, its script, the login itself). A body is read up to maxBodyBytes.
+    void publicGet(const std::string& pattern, httplib::Server::Handler handler);
+    void publicPost(const std::string& pattern, httplib::Server::Handler handler);
 
     /// Binds, listens and serves on a thread of its own; an Error says why not (an address
     /// in use, plain HTTP off loopback, a certificate OpenSSL refuses).
@@ -70,6 +76,7 @@ public:
     /// The bound port; 0 before start().
     [[nodiscard]] std::uint16_t port() const { return port_; }
     [[nodiscard]] bool tls() const { return config_.tls.has_value(); }
+    [[nodiscard]] UserGate& gate() { return *config_.gate; }
 
 private:
     /// The request's user, or nothing after answering 401.
@@ -82,6 +89,7 @@ private:
         std::string method;
         std::string pattern;
         Handler handler;
+        httplib::Server::Handler publicHandler;  // set: no user needed
     };
     WebServerConfig config_;
     std::vector<Route> pending_;  // until start()

@@ -170,6 +170,7 @@ void SkillClient::onEvent(const std::vector<Variant>& fields) {
     transitions_.push_back(std::move(r));
     if (transitions_.size() > kMaxTransitionsKept) transitions_.pop_front();
     wakeUp_.cancel();
+    if (transitionListener_) transitionListener_(transitions_.back());
 }
 
 void SkillClient::onSubscriptionStatus(StatusCode s) {

@@ -16,6 +16,7 @@
 #include <asio/steady_timer.hpp>
 #include <chrono>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -92,6 +93,12 @@ public:
         return transitions_;
     }
 
+    /// Called on the executor with each transition event as it arrives, after state() and
+    /// transitions() took it in (a watcher such as the dashboard; one listener).
+    void onTransition(std::function<void(const SkillTransitionRecord&)> listener) {
+        transitionListener_ = std::move(listener);
+    }
+
     /// Writes one parameter by name: BadNoMatch for a name the skill does not declare,
     /// else the server's answer (BadOutOfRange, BadTypeMismatch, BadUserAccessDenied...).
     asio::awaitable<ua::StatusCode> setParameter(std::string name, ua::Variant value);
@@ -141,6 +148,7 @@ private:
     std::shared_ptr<ua::Subscription> subscription_;
     std::optional<SkillState> state_;
     std::deque<SkillTransitionRecord> transitions_;
+    std::function<void(const SkillTransitionRecord&)> transitionListener_;
     std::optional<ua::DateTime> runStartedAt_;  // the Start response's timestamp
     ua::StatusCode lost_ = ua::status::Good;
     bool cancelled_ = false;

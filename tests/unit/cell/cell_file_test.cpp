@@ -34,6 +34,8 @@ TEST(CellFile, ThePapersCellReadsAsTheDemoRunsIt) {
     ASSERT_EQ(c.kb->processes.size(), 1U);
     EXPECT_EQ(c.kb->processes[0], (kSource / "models/owl/demo-process.ttl").lexically_normal());
     EXPECT_TRUE(c.mes);
+    ASSERT_TRUE(c.dashboard);
+    EXPECT_EQ(c.dashboard->port, 0);  // a free one
     ASSERT_EQ(c.docks.size(), 2U);
     EXPECT_EQ(c.docks[0].name, "dockP");
     EXPECT_EQ(c.docks[0].pose, (Pose{0.3, -0.45, 0.35, 3.141592653589793, 0, 0}));

@@ -1,0 +1,412 @@
+// `skillcell dashboard`: the cell's live view in a browser (docs/dashboard.md).
+//
+// A component like any other: discovery finds it, it has its own certificate and acts as
+// its --client-user. It detects the cell's skills as every composite does, watches each
+// skill's transition events through a session of its own, and serves one page over HTTPS,
+// behind a login with the cell's users, that the changes are pushed to as server-sent
+// events. Prints "DASHBOARD <url>" once the page is served, then the server's "READY".
+#include <spdlog/spdlog.h>
+
+#include <unistd.h>
+#include <array>
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <future>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+
+#include "cell/component_uris.hpp"
+#include "commands.hpp"
+#include "dashboard/cell_view.hpp"
+#include "dashboard/event_hub.hpp"
+#include "dashboard/web_assets.hpp"
+#include "http/web_server.hpp"
+#include "server_process.hpp"
+#include "skills/skill_connection.hpp"
+
+namespace skillcell::apps {
+
+// At namespace scope, as in the other commands: in a unity batch, an alias in an anonymous
+// namespace would shadow theirs.
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+using namespace std::chrono_literals;
+
+struct DashboardOptions {
+    ServerProcessOptions process;
+    std::string httpHost = "127.0.0.1";
+    std::uint16_t httpPort = 8443;
+};
+
+/// What the component keeps alive: the view, the web server and one session per skill.
+/// Members go in reverse: the sessions first, the page's streams before the view.
+struct DashboardContent {
+    explicit DashboardContent(asio::io_context& context) : io(context) {}
+    ~DashboardContent() {
+        if (detector) detector->unsubscribe(subscription);
+        hub.close();  // every open stream ends, so that the web server can stop
+        if (web) web->stop();
+    }
+    DashboardContent(const DashboardContent&) = delete;
+    DashboardContent& operator=(const DashboardContent&) = delete;
+
+    asio::io_context& io;
+    dashboard::EventHub hub;
+    dashboard::CellView view{hub};
+    std::unique_ptr<http::WebServer> web;
+    std::shared_ptr<skills::SkillDetector> detector;
+    std::size_t subscription = 0;
+    ua::ClientConfig client;
+    // On the io thread only: the skills as detected, and those watched, by CellView::keyOf.
+    std::map<std::string, skills::SkillInstance> instances;
+    std::map<std::string, std::shared_ptr<skills::SkillConnection>> watched;
+    // A logged-in user's name and password by session token, for the OPC UA sessions of
+    // their actions: each is made as that user, so the component's own role check applies.
+    // In memory only, and gone at logout.
+    std::mutex secretsMutex;
+    std::map<std::string, std::pair<std::string, std::string>> secrets;
+};
+
+/// What a Start or Halt from the page came to.
+struct ActionResult {
+    ua::StatusCode status = ua::status::Good;
+    std::string detail;
+};
+
+// Starts or halts one skill as the page's user: a session of its own, the parameters the
+// page gave (as strings), the method. On the io thread.
+asio::awaitable<ActionResult> act(std::weak_ptr<DashboardContent> weak, std::string key, bool halt,
+                                  std::map<std::string, std::string> parameters,
+                                  ua::ClientConfig config) {
+    skills::SkillInstance skill;
+    {
+        auto c = weak.lock();
+        if (!c) co_return ActionResult{ua::status::BadShutdown, "the dashboard is stopping"};
+        const auto it = c->instances.find(key);
+        if (it == c->instances.end()) {
+            co_return ActionResult{ua::status::BadNodeIdUnknown, "no such skill (gone?)"};
+        }
+        skill = it->second;
+    }
+    const auto executor = co_await asio::this_coro::executor;
+    ua::Client client(executor);
+    const ua::StatusCode connected = co_await client.connect(skill.endpointUrl, config);
+    if (connected.isBad()) {
+        co_return ActionResult{connected, "cannot open a session with " + skill.endpointUrl};
+    }
+    auto attached = co_await skills::SkillClient::attach(client, skill.nodeId);
+    if (!attached) {
+        co_await client.disconnect();
+        co_return ActionResult{attached.status(), "cannot use the skill"};
+    }
+    const std::shared_ptr<skills::SkillClient> s = *attached;
+    ActionResult result;
+    for (const auto& [name, value] : parameters) {
+        ua::Variant v{ua::String(value)};
+        result.status = co_await s->setParameter(name, std::move(v));
+        if (result.status.isBad()) {
+            result.detail = "writing " + name;
+            break;
+        }
+    }
+    if (result.status.isGood()) {
+        const skills::SkillMethod method =
+            halt ? skills::SkillMethod::Halt : skills::SkillMethod::Start;
+        result.status = co_await s->call(method);
+        result.detail = halt ? "Halt" : "Start";
+    }
+    co_await s->detach();
+    co_await client.disconnect();
+    co_return result;
+}
+
+// Opens a session to the skill's component and follows its transitions. On the io thread.
+asio::awaitable<void> watch(std::weak_ptr<DashboardContent> weak, skills::SkillInstance skill) {
+    const std::string key = dashboard::CellView::keyOf(skill);
+    ua::ClientConfig config;
+    {
+        auto c = weak.lock();
+        if (!c) co_return;
+        config = c->client;
+    }
+    const auto executor = co_await asio::this_coro::executor;
+    std::string why;
+    auto opened = co_await skills::SkillConnection::open(executor, skill, config, &why);
+    auto c = weak.lock();
+    if (!c) co_return;
+    if (!opened) {
+        spdlog::warn("dashboard: cannot follow {} ({}): its state stays unknown", key, why);
+        c->watched.erase(key);
+        co_return;
+    }
+    auto it = c->watched.find(key);
+    if (it == c->watched.end()) co_return;  // gone again meanwhile
+    std::shared_ptr<skills::SkillConnection> connection = std::move(*opened);
+    auto* view = &c->view;
+    connection->skill().onTransition(
+        [view, key](const skills::SkillTransitionRecord& t) { view->skillState(key, t.to, &t); });
+    c->view.skillState(key, connection->skill().state(), nullptr);
+    it->second = std::move(connection);
+}
+
+void onSkillEvent(const std::shared_ptr<DashboardContent>& c, const skills::SkillEvent& e) {
+    const std::string key = dashboard::CellView::keyOf(e.instance);
+    if (e.kind == skills::SkillEvent::Kind::Added) {
+        c->instances[key] = e.instance;
+        c->view.skillAdded(e.instance);
+        if (c->watched.emplace(key, nullptr).second) {
+            asio::co_spawn(c->io, watch(c, e.instance), asio::detached);
+        }
+        return;
+    }
+    c->view.skillRemoved(e.instance, e.reason);
+    c->instances.erase(key);
+    auto it = c->watched.find(key);
+    if (it == c->watched.end()) return;
+    if (auto connection = std::move(it->second)) {
+        // Closed politely if the server is still there; the session goes either way.
+        asio::co_spawn(
+            c->io, [connection]() -> asio::awaitable<void> { co_await connection->close(); },
+            asio::detached);
+    }
+    c->watched.erase(it);
+}
+
+void serveAsset(httplib::Response& res, std::string_view name, const char* type) {
+    const auto body = dashboard::webAsset(name);
+    res.set_content(std::string(body), type);
+    res.set_header("Cache-Control", "no-cache");
+    // The page loads nothing from elsewhere, and nothing may frame it.
+    res.set_header("Content-Security-Policy", "default-src 'self'; frame-ancestors 'none'");
+    res.set_header("X-Content-Type-Options", "nosniff");
+}
+
+Json me(const ua::UserIdentity& user) {
+    Json roles = Json::array();
+    for (const auto r : user.roles.roles()) roles.push_back(std::string(ua::roleName(r)));
+    return {{"user", user.name}, {"roles", std::move(roles)}};
+}
+
+// POST /api/skill: key, action (start | halt), and param.NAME=VALUE for parameters. The
+// OPC UA status decides the answer: Good 200, a refusal of the user's role 403, others 409.
+void skillAction(const std::shared_ptr<DashboardContent>& c, const httplib::Request& req,
+                 httplib::Response& res, const ua::UserIdentity& user) {
+    auto reply = [&res](int status, const ua::StatusCode& code, const std::string& detail) {
+        res.status = status;
+        res.set_content(
+            Json{{"status", std::string(ua::statusName(code))}, {"detail", detail}}.dump(
+                -1, ' ', false, Json::error_handler_t::replace),
+            "application/json");
+    };
+    const std::string action = req.get_param_value("action");
+    if (action != "start" && action != "halt") {
+        return reply(400, ua::status::BadInvalidArgument, "action is start or halt");
+    }
+    std::pair<std::string, std::string> secret;
+    {
+        const std::lock_guard lock(c->secretsMutex);
+        const auto it =
+            c->secrets.find(http::UserGate::sessionToken(req.get_header_value("Cookie")));
+        if (it == c->secrets.end()) {
+            return reply(403, ua::status::BadUserAccessDenied,
+                         "actions are made as the logged-in user: log in on the page");
+        }
+        secret = it->second;
+    }
+    std::map<std::string, std::string> parameters;
+    for (const auto& [name, value] : req.params) {
+        if (name.rfind("param.", 0) == 0 && !value.empty()) parameters[name.substr(6)] = value;
+    }
+    ua::ClientConfig config = c->client;
+    config.sessionName = "skillcell dashboard, for " + user.name;
+    config.security.user = ua::UserCredentials{};
+    config.security.user.kind = ua::UserCredentials::Kind::UserName;
+    config.security.user.userName = secret.first;
+    config.security.user.password = secret.second;
+    auto done = std::make_shared<std::promise<ActionResult>>();
+    auto outcome = done->get_future();
+    asio::co_spawn(c->io,
+                   act(c, req.get_param_value("key"), action == "halt", std::move(parameters),
+                       std::move(config)),
+                   [done](const std::exception_ptr& e, ActionResult r) {
+                       if (e) r = ActionResult{ua::status::BadInternalError, "failed"};
+                       done->set_value(std::move(r));
+                   });
+    if (outcome.wait_for(20s) != std::future_status::ready) {
+        return reply(504, ua::status::BadTimeout, "no answer within 20 s");
+    }
+    const ActionResult r = outcome.get();
+    spdlog::info("dashboard: {} by {} on {}: {} ({})", action, user.name,
+                 req.get_param_value("key"), ua::statusName(r.status), r.detail);
+    const bool refused = r.status == ua::status::BadUserAccessDenied;
+    reply(r.status.isGood() ? 200 : (refused ? 403 : 409), r.status, r.detail);
+}
+
+void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& content, bool tls) {
+    web.publicGet("/", [](const httplib::Request&, httplib::Response& res) {
+        serveAsset(res, "index.html", "text/html; charset=utf-8");
+    });
+    web.publicGet("/app.js", [](const httplib::Request&, httplib::Response& res) {
+        serveAsset(res, "app.js", "text/javascript; charset=utf-8");
+    });
+    web.publicGet("/style.css", [](const httplib::Request&, httplib::Response& res) {
+        serveAsset(res, "style.css", "text/css; charset=utf-8");
+    });
+    auto* gate = &web.gate();
+    std::weak_ptr<DashboardContent> weak = content;
+    web.publicPost("/login", [gate, tls, weak](const httplib::Request& req,
+                                               httplib::Response& res) {
+        auto session = gate->login(req.get_param_value("user"), req.get_param_value("password"));
+        if (!session) {
+            spdlog::info("dashboard: a login as '{}' from {} refused", req.get_param_value("user"),
+                         req.remote_addr);
+            res.status = 401;
+            res.set_content(R"({"error":"wrong user or password"})", "application/json");
+            return;
+        }
+        spdlog::info("dashboard: {} logged in from {}", session->first.name, req.remote_addr);
+        if (auto c = weak.lock()) {
+            const std::lock_guard lock(c->secretsMutex);
+            constexpr std::size_t kMaxSessions = 1024;  // beyond: the oldest logins go
+            if (c->secrets.size() >= kMaxSessions) c->secrets.clear();
+            c->secrets[session->second] = {req.get_param_value("user"),
+                                           req.get_param_value("password")};
+        }
+        res.set_header("Set-Cookie", std::string(http::UserGate::kSessionCookie) + "=" +
+                                         session->second + "; Path=/; HttpOnly; SameSite=Strict" +
+                                         (tls ? "; Secure" : ""));
+        res.set_content(me(session->first).dump(), "application/json");
+    });
+    web.post("/logout", [gate, weak](const httplib::Request& req, httplib::Response& res,
+                                     const ua::UserIdentity& user) {
+        if (auto c = weak.lock()) {
+            const std::lock_guard lock(c->secretsMutex);
+            c->secrets.erase(http::UserGate::sessionToken(req.get_header_value("Cookie")));
+        }
+        gate->logout(req.get_header_value("Cookie"));
+        spdlog::info("dashboard: {} logged out", user.name);
+        res.set_header("Set-Cookie", std::string(http::UserGate::kSessionCookie) +
+                                         "=; Path=/; Max-Age=0; HttpOnly; SameSite=Strict");
+        res.set_content("{}", "application/json");
+    });
+    web.get("/api/me",
+            [](const httplib::Request&, httplib::Response& res, const ua::UserIdentity& user) {
+                res.set_content(me(user).dump(), "application/json");
+            });
+    web.post("/api/skill", [weak](const httplib::Request& req, httplib::Response& res,
+                                  const ua::UserIdentity& user) {
+        if (auto c = weak.lock()) skillAction(c, req, res, user);
+    });
+    // The live view: a snapshot, then every change, as server-sent events. A comment line
+    // every 15 s keeps proxies from closing a quiet stream and notices a closed one.
+    web.get("/events", [weak](const httplib::Request&, httplib::Response& res,
+                              const ua::UserIdentity&) {
+        auto c = weak.lock();
+        if (!c) {
+            res.status = 503;
+            return;
+        }
+        auto [snapshot, listener] = c->view.open();
+        res.set_header("Cache-Control", "no-store");
+        res.set_chunked_content_provider(
+            "text/event-stream", [first = "data: " + snapshot + "\n\n", listener = listener](
+                                     std::size_t, httplib::DataSink& sink) mutable {
+                std::string chunk;
+                if (!first.empty()) {
+                    chunk.swap(first);
+                } else {
+                    auto event = listener->next(15s);
+                    if (listener->closed()) {
+                        sink.done();
+                        return true;
+                    }
+                    chunk = event ? "data: " + *event + "\n\n" : ": keep-alive\n\n";
+                }
+                return sink.write(chunk.data(), chunk.size());
+            });
+    });
+}
+
+std::string pageUrl(const DashboardOptions& o, bool tls, std::uint16_t port) {
+    std::string host = o.httpHost;
+    if (tls && http::isLoopback(host)) host = "localhost";  // a name the certificate carries
+    if (host == "0.0.0.0") {
+        std::array<char, 256> name{};
+        host = gethostname(name.data(), name.size() - 1) == 0 ? name.data() : "localhost";
+    }
+    return std::string(tls ? "https://" : "http://") + host + ":" + std::to_string(port) + "/";
+}
+
+int run(DashboardOptions& o) {
+    o.process.usesDetector = true;
+    return runServerProcess(
+        o.process, [&o](const ComponentContext& ctx) -> ua::Result<ComponentContent> {
+            auto c = std::make_shared<DashboardContent>(ctx.io);
+            c->client.applicationUri = ctx.applicationUri;
+            c->client.sessionName = "skillcell dashboard";
+            c->client.security = ctx.clientSecurity;
+            c->client.connectTimeout = 2000ms;
+            c->client.requestTimeout = 3000ms;
+            http::WebServerConfig web;
+            web.host = o.httpHost;
+            web.port = o.httpPort;
+            web.challenge = R"(Session realm="skillcell dashboard")";  // the page's form logs in
+            if (ctx.users) {
+                web.tls = http::ServerTls{ctx.identity.certificate().der, ctx.identity.privateKey(),
+                                          false};
+                web.gate = std::make_shared<http::UserGate>(ctx.users);
+            } else {
+                web.gate = std::make_shared<http::UserGate>(
+                    nullptr, ua::RoleSet{ua::Role::Anonymous, ua::Role::Observer});
+            }
+            const bool tls = web.tls.has_value();
+            c->web = std::make_unique<http::WebServer>(std::move(web));
+            addRoutes(*c->web, c, tls);
+            if (auto s = c->web->start(); !s) {
+                spdlog::critical("dashboard: {}", s.error());
+                return ua::status::BadResourceUnavailable;
+            }
+            std::cout << "DASHBOARD " << pageUrl(o, tls, c->web->port()) << std::endl;
+            spdlog::info("dashboard: {} ({})", pageUrl(o, tls, c->web->port()),
+                         tls ? "HTTPS, the cell's users log in" : "plain HTTP, no login");
+            if (ctx.detector) {
+                c->detector = ctx.detector;
+                std::weak_ptr<DashboardContent> weak = c;
+                // Detector events come on the io thread, where the sessions live too.
+                c->subscription = ctx.detector->subscribe([weak](const skills::SkillEvent& e) {
+                    if (auto content = weak.lock()) onSkillEvent(content, e);
+                });
+            }
+            return ComponentContent(c);
+        });
+}
+
+}  // namespace
+
+Command addDashboardCommand(CLI::App& app) {
+    auto o = std::make_shared<DashboardOptions>();
+    o->process.port = 4860;
+    o->process.applicationUri = std::string(cell::kDashboardUri);
+    o->process.applicationName = "skillcell dashboard";
+    auto* cmd = app.add_subcommand(
+        "dashboard",
+        "Serve the cell's live view to browsers: the components discovery finds and every "
+        "skill with its state and last transitions, pushed as they change. HTTPS with this "
+        "component's certificate, behind a login with the cell's users (--users); plain HTTP "
+        "on loopback only with --insecure. Prints 'DASHBOARD <url>', then 'READY <url>'.");
+    addServerProcessOptions(cmd, o->process);
+    addDiscoveryOptions(cmd, o->process.discovery, /*registers=*/true, /*isLds=*/false);
+    cmd->add_option("--http-host", o->httpHost,
+                    "address of the page (HTTPS; plain HTTP with --insecure, loopback only)")
+        ->capture_default_str();
+    cmd->add_option("--http-port", o->httpPort, "port of the page (0: any free one)")
+        ->capture_default_str();
+    return {cmd, [o] { return run(*o); }};
+}
+
+}  // namespace skillcell::apps

@@ -1,0 +1,138 @@
+#include "dashboard/cell_view.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace skillcell::dashboard {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json toJson(const ComponentView& c) {
+    return {{"uri", c.uri},
+            {"endpoint", c.endpoint},
+            {"up", c.up},
+            {"startTime", c.startTime},
+            {"detectedAt", c.detectedAt},
+            {"detectionMs", c.detectionMs},
+            {"downReason", c.downReason},
+            {"skills", c.skills}};
+}
+
+Json toJson(const SkillView& s) {
+    Json transitions = Json::array();
+    for (const auto& t : s.transitions) {
+        transitions.push_back({{"at", t.at}, {"from", t.from}, {"to", t.to}});
+    }
+    return {{"key", s.key},           {"component", s.component},
+            {"name", s.name},         {"type", s.type},
+            {"endpoint", s.endpoint}, {"available", s.available},
+            {"state", s.state},       {"transitions", std::move(transitions)}};
+}
+
+// What servers send may be any bytes: replaced where not UTF-8.
+std::string text(const Json& j) {
+    return j.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+}  // namespace
+
+std::string CellView::keyOf(const skills::SkillInstance& skill) {
+    return skill.componentUri + " " + skill.nodeId.toString();
+}
+
+void CellView::skillAdded(const skills::SkillInstance& skill) {
+    const std::lock_guard lock(mutex_);
+    auto& c = components_[skill.componentUri];
+    const bool wasUp = c.up;
+    c.uri = skill.componentUri;
+    c.endpoint = skill.endpointUrl;
+    if (!wasUp) {
+        const auto now = ua::DateTime::now();
+        c.up = true;
+        c.downReason.clear();
+        c.detectedAt = now.toIso8601();
+        c.startTime = skill.componentStartTime.toIso8601();
+        c.detectionMs = skill.componentStartTime.ticks == 0
+                            ? -1.0
+                            : static_cast<double>(now.unixNanoseconds() -
+                                                  skill.componentStartTime.unixNanoseconds()) /
+                                  1e6;
+    }
+    auto& s = skills_[keyOf(skill)];
+    const bool wasAvailable = s.available;
+    s.key = keyOf(skill);
+    s.component = skill.componentUri;
+    s.name = skill.browsePathString();
+    s.type = skill.type().browseName;
+    s.endpoint = skill.endpointUrl;
+    s.available = true;
+    if (!wasAvailable) ++c.skills;
+    publishComponent(c);
+    publishSkill(s);
+}
+
+void CellView::skillRemoved(const skills::SkillInstance& skill, skills::RemovalReason reason) {
+    const std::lock_guard lock(mutex_);
+    auto it = skills_.find(keyOf(skill));
+    if (it == skills_.end() || !it->second.available) return;
+    it->second.available = false;
+    it->second.state.clear();
+    auto& c = components_[skill.componentUri];
+    if (c.skills > 0) --c.skills;
+    if (c.skills == 0) {
+        c.up = false;
+        c.downReason = std::string(skills::toString(reason));
+    }
+    publishComponent(c);
+    publishSkill(it->second);
+}
+
+void CellView::skillState(const std::string& key, std::optional<skills::SkillState> state,
+                          const skills::SkillTransitionRecord* transition) {
+    const std::lock_guard lock(mutex_);
+    auto it = skills_.find(key);
+    if (it == skills_.end() || !it->second.available) return;
+    auto& s = it->second;
+    if (state) s.state = std::string(skills::name(*state));
+    if (transition != nullptr) {
+        s.transitions.push_back(
+            {transition->time.toIso8601(),
+             transition->from ? std::string(skills::name(*transition->from)) : "",
+             transition->to ? std::string(skills::name(*transition->to)) : ""});
+        while (s.transitions.size() > kMaxTransitions) s.transitions.pop_front();
+    }
+    publishSkill(s);
+}
+
+void CellView::publishComponent(const ComponentView& c) {
+    hub_.publish(text({{"type", "component"}, {"version", ++version_}, {"component", toJson(c)}}));
+}
+
+void CellView::publishSkill(const SkillView& s) {
+    hub_.publish(text({{"type", "skill"}, {"version", ++version_}, {"skill", toJson(s)}}));
+}
+
+std::pair<std::string, std::shared_ptr<EventHub::Listener>> CellView::open() {
+    const std::lock_guard lock(mutex_);
+    Json components = Json::array();
+    for (const auto& [uri, c] : components_) components.push_back(toJson(c));
+    Json skills = Json::array();
+    for (const auto& [key, s] : skills_) skills.push_back(toJson(s));
+    const Json snapshot{{"type", "snapshot"},
+                        {"version", version_},
+                        {"components", std::move(components)},
+                        {"skills", std::move(skills)}};
+    return {text(snapshot), hub_.subscribe()};
+}
+
+std::map<std::string, ComponentView> CellView::components() const {
+    const std::lock_guard lock(mutex_);
+    return components_;
+}
+
+std::map<std::string, SkillView> CellView::skills() const {
+    const std::lock_guard lock(mutex_);
+    return skills_;
+}
+
+}  // namespace skillcell::dashboard

@@ -1,0 +1,80 @@
+#pragma once
+// CellView: what the dashboard shows of the cell, kept current from the SkillDetector's
+// events and the skills' own transition events, and pushed to the pages as JSON (one
+// snapshot on connect, then one event per change, each with a version number so that a
+// page can tell order). Everything is under one lock, so a page's snapshot and the events
+// it hears after it fit together.
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "dashboard/event_hub.hpp"
+#include "skills/skill_client.hpp"
+#include "skills/skill_detector.hpp"
+
+namespace skillcell::dashboard {
+
+struct ComponentView {
+    std::string uri;
+    std::string endpoint;
+    bool up = false;
+    std::string startTime;    // the server's StartTime, ISO 8601
+    std::string detectedAt;   // when the dashboard learnt of it, ISO 8601
+    double detectionMs = -1;  // detectedAt - startTime: from start to detection
+    std::string downReason;   // why it went down (goodbye, expired, disconnected, ...)
+    std::size_t skills = 0;   // skills available now
+};
+
+struct SkillView {
+    std::string key;  // component URI + " " + node id
+    std::string component;
+    std::string name;  // browse path
+    std::string type;
+    std::string endpoint;
+    bool available = false;
+    std::string state;  // Ready, Running, Halted, ... ("" until known)
+    struct Transition {
+        std::string at;  // ISO 8601 (the server's clock)
+        std::string from;
+        std::string to;
+    };
+    std::deque<Transition> transitions;  // the last kMaxTransitions, newest last
+};
+
+class CellView {
+public:
+    static constexpr std::size_t kMaxTransitions = 8;
+
+    explicit CellView(EventHub& hub) : hub_(hub) {}
+
+    void skillAdded(const skills::SkillInstance& skill);
+    void skillRemoved(const skills::SkillInstance& skill, skills::RemovalReason reason);
+    /// The skill's state as read or as a transition event brought it.
+    void skillState(const std::string& key, std::optional<skills::SkillState> state,
+                    const skills::SkillTransitionRecord* transition);
+
+    /// The whole view as the "snapshot" event, and a listener that hears every change after
+    /// it, taken together.
+    [[nodiscard]] std::pair<std::string, std::shared_ptr<EventHub::Listener>> open();
+    [[nodiscard]] static std::string keyOf(const skills::SkillInstance& skill);
+
+    [[nodiscard]] std::map<std::string, ComponentView> components() const;
+    [[nodiscard]] std::map<std::string, SkillView> skills() const;
+
+private:
+    void publishComponent(const ComponentView& c);  // under mutex_
+    void publishSkill(const SkillView& s);          // under mutex_
+
+    EventHub& hub_;
+    mutable std::mutex mutex_;
+    std::uint64_t version_ = 0;
+    std::map<std::string, ComponentView> components_;
+    std::map<std::string, SkillView> skills_;
+};
+
+}  // namespace skillcell::dashboard

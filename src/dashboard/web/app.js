@@ -1,0 +1,195 @@
+// The dashboard page: log in, then one EventSource (server-sent events) that brings a
+// snapshot of the cell and every change after it. No polling, no framework.
+"use strict";
+
+const components = new Map();  // uri -> component
+const skills = new Map();      // key -> skill
+let version = 0;
+let events = null;
+const drafts = new Map();   // skill key -> the parameter typed for it (kept across renders)
+const results = new Map();  // skill key -> {status, detail} of the last Start or Halt here
+
+// Skills that need a parameter to start, and which: the MES's ExecuteProcess.
+const parameterOf = { ExecuteProcessSkillType: "ProcessIri" };
+
+const $ = (id) => document.getElementById(id);
+
+function text(value) {
+  return document.createTextNode(value === undefined || value === null ? "" : String(value));
+}
+
+function cell(...children) {
+  const td = document.createElement("td");
+  for (const c of children) td.append(typeof c === "string" ? text(c) : c);
+  return td;
+}
+
+function badge(label, kind) {
+  const span = document.createElement("span");
+  span.className = "badge " + kind;
+  span.textContent = label;
+  return span;
+}
+
+function time(iso) {
+  if (!iso) return "";
+  const d = new Date(iso);
+  return isNaN(d) ? iso : d.toLocaleTimeString([], { hour12: false }) + "." +
+    String(d.getMilliseconds()).padStart(3, "0");
+}
+
+function renderComponents() {
+  const body = $("components").tBodies[0];
+  body.replaceChildren();
+  const sorted = [...components.values()].sort((a, b) => a.uri.localeCompare(b.uri));
+  for (const c of sorted) {
+    const tr = document.createElement("tr");
+    tr.dataset.uri = c.uri;
+    tr.dataset.up = c.up ? "true" : "false";
+    tr.className = c.up ? "up" : "down";
+    const status = c.up ? badge("up", "up") : badge("down" + (c.downReason ? ": " + c.downReason : ""), "down");
+    const detection = c.detectionMs >= 0 ? c.detectionMs.toFixed(0) + " ms" : "";
+    tr.append(cell(c.uri), cell(status), cell(c.endpoint), cell(String(c.skills)),
+              cell(time(c.detectedAt)), cell(detection));
+    body.append(tr);
+  }
+  const up = sorted.filter((c) => c.up).length;
+  $("component-count").textContent = `${up} up, ${sorted.length - up} down`;
+}
+
+function renderSkills() {
+  const body = $("skills").tBodies[0];
+  body.replaceChildren();
+  const sorted = [...skills.values()].filter((s) => s.available)
+    .sort((a, b) => (a.component + a.name).localeCompare(b.component + b.name));
+  for (const s of sorted) {
+    const tr = document.createElement("tr");
+    tr.dataset.key = s.key;
+    tr.dataset.state = s.state || "";
+    tr.dataset.lastAt = s.transitions.length ? s.transitions[s.transitions.length - 1].at : "";
+    const last = s.transitions.slice(-3).map((t) => `${t.from || "?"}→${t.to} ${time(t.at)}`).join(", ");
+    const span = document.createElement("span");
+    span.className = "transitions";
+    span.textContent = last;
+    const actions = document.createElement("span");
+    const parameter = parameterOf[s.type];
+    if (parameter) {
+      const input = document.createElement("input");
+      input.className = "parameter";
+      input.placeholder = parameter;
+      input.dataset.name = parameter;
+      input.value = drafts.get(s.key) || "";
+      input.addEventListener("input", () => drafts.set(s.key, input.value));
+      actions.append(input);
+    }
+    for (const action of ["start", "halt"]) {
+      const b = document.createElement("button");
+      b.type = "button";
+      b.className = "action " + action;
+      b.dataset.action = action;
+      b.textContent = action === "start" ? "Start" : "Halt";
+      b.addEventListener("click", () => act(s, action, tr));
+      actions.append(b);
+    }
+    const result = document.createElement("span");
+    result.className = "result";
+    const r = results.get(s.key);
+    if (r) {
+      result.dataset.status = r.status;
+      result.textContent = r.status === "Good" ? r.detail + ": done" : "refused: " + r.status + " — " + r.detail;
+      result.classList.add(r.status === "Good" ? "good" : "bad");
+    }
+    tr.append(cell(s.component), cell(s.name), cell(s.type),
+              cell(badge(s.state || "unknown", s.state || "")), cell(span), cell(actions, result));
+    body.append(tr);
+  }
+  $("skill-count").textContent = `${sorted.length} available`;
+}
+
+// Start or Halt, made by the dashboard as the logged-in user: the component's own role
+// check decides (an Observer is refused).
+async function act(skill, action, row) {
+  const form = new URLSearchParams({ key: skill.key, action });
+  const input = row.querySelector("input.parameter");
+  if (input && action === "start") form.set("param." + input.dataset.name, input.value);
+  let answer;
+  try {
+    const r = await fetch("/api/skill", { method: "POST", body: form, credentials: "same-origin" });
+    answer = await r.json();
+  } catch (e) {
+    answer = { status: "BadCommunicationError", detail: String(e) };
+  }
+  results.set(skill.key, answer);
+  renderSkills();
+}
+
+function apply(event) {
+  if (event.type === "snapshot") {
+    components.clear();
+    skills.clear();
+    for (const c of event.components) components.set(c.uri, c);
+    for (const s of event.skills) skills.set(s.key, s);
+  } else if (event.version <= version) {
+    return;  // heard already (a snapshot includes it)
+  } else if (event.type === "component") {
+    components.set(event.component.uri, event.component);
+  } else if (event.type === "skill") {
+    skills.set(event.skill.key, event.skill);
+  }
+  version = event.version;
+  renderComponents();
+  renderSkills();
+}
+
+function listen() {
+  if (events) events.close();
+  events = new EventSource("/events");
+  events.onopen = () => { $("cell-state").textContent = "live"; };
+  events.onmessage = (m) => apply(JSON.parse(m.data));
+  events.onerror = async () => {
+    $("cell-state").textContent = "reconnecting";
+    // A session that ended (logout elsewhere, a restarted dashboard) shows the login again.
+    const me = await fetch("/api/me", { credentials: "same-origin" });
+    if (me.status === 401) { events.close(); showLogin(); }
+  };
+}
+
+function showCell(me) {
+  $("login").hidden = true;
+  $("login-error").textContent = "";
+  $("login-password").value = "";
+  $("cell").hidden = false;
+  $("who").hidden = false;
+  $("user").textContent = `${me.user} (${me.roles.join(", ")})`;
+  listen();
+}
+
+function showLogin(message) {
+  $("cell").hidden = true;
+  $("who").hidden = true;
+  $("login").hidden = false;
+  $("cell-state").textContent = "";
+  $("login-error").textContent = message || "";
+}
+
+async function start() {
+  $("login").addEventListener("submit", async (e) => {
+    e.preventDefault();
+    const form = new URLSearchParams({ user: $("login-user").value, password: $("login-password").value });
+    const r = await fetch("/login", { method: "POST", body: form, credentials: "same-origin" });
+    if (r.ok) {
+      showCell(await r.json());
+    } else {
+      showLogin("Wrong user or password.");
+    }
+  });
+  $("logout").addEventListener("click", async () => {
+    if (events) events.close();
+    await fetch("/logout", { method: "POST", credentials: "same-origin" });
+    showLogin();
+  });
+  const me = await fetch("/api/me", { credentials: "same-origin" });
+  if (me.ok) showCell(await me.json()); else showLogin();
+}
+
+start();

@@ -1,0 +1,5 @@
+# src/dashboard: the events pushed to the pages (EventHub) and the view they come from
+# (CellView), without a browser; tests/browser has the page in Chromium.
+skillcell_unit_test(test_dashboard dashboard/dashboard_test.cpp)
+find_package(nlohmann_json REQUIRED)
+target_link_libraries(test_dashboard PRIVATE skillcell_dashboard nlohmann_json::nlohmann_json)
