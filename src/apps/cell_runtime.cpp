@@ -354,6 +354,7 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
                                        ? static_cast<std::uint16_t>(cell_.dashboard->port)
                                        : port("dashboard-http");
         a = {"dashboard", "--http-port", std::to_string(page)};
+        if (!endpoint("world").empty()) a.insert(a.end(), {"--world", endpoint("world")});
     } else if (name == "world") {
         a = {"device", "world"};
         const auto scene = cell::worldArguments(cell_);

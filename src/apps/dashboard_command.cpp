@@ -11,18 +11,22 @@
 #include <array>
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
+#include <condition_variable>
 #include <future>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <thread>
 
 #include "cell/component_uris.hpp"
 #include "commands.hpp"
 #include "dashboard/cell_view.hpp"
 #include "dashboard/event_hub.hpp"
 #include "dashboard/web_assets.hpp"
+#include "devices/world/world_link.hpp"
 #include "http/web_server.hpp"
 #include "server_process.hpp"
 #include "skills/skill_connection.hpp"
@@ -41,6 +45,101 @@ struct DashboardOptions {
     ServerProcessOptions process;
     std::string httpHost = "127.0.0.1";
     std::uint16_t httpPort = 8443;
+    std::string worldUrl;  // the world model, for the scene's picture; empty: none
+};
+
+/// Reads the world model's scene five times a second, on a thread of its own (WorldLink's
+/// calls block), and gives the view what changed; the view pushes it to the pages. A world
+/// that cannot be reached is looked for again every 2 s.
+class SceneReader {
+public:
+    SceneReader(std::string url, ua::ClientConfig config, dashboard::CellView& view)
+        : url_(std::move(url)),
+          config_(std::move(config)),
+          view_(view),
+          thread_([this] { run(); }) {}
+    ~SceneReader() {
+        {
+            const std::lock_guard lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        thread_.join();
+    }
+    SceneReader(const SceneReader&) = delete;
+    SceneReader& operator=(const SceneReader&) = delete;
+
+private:
+    static std::array<double, 3> position(const KDL::Frame& f) {
+        return {f.p.x(), f.p.y(), f.p.z()};
+    }
+
+    static std::optional<dashboard::SceneView> read(devices::WorldLink& w) {
+        dashboard::SceneView s;
+        auto flange = w.flangePose();
+        auto mounted = w.mountedTool();
+        auto grasped = w.graspedObject();
+        auto objects = w.objectIds();
+        auto docks = w.dockIds();
+        if (!flange || !mounted || !grasped || !objects || !docks) return std::nullopt;
+        s.flange = position(*flange);
+        s.mountedTool = *mounted;
+        s.graspedObject = *grasped;
+        for (const auto& id : *objects) {
+            auto pose = w.objectPose(id);
+            auto size = w.objectSize(id);
+            if (!pose || !size) return std::nullopt;
+            s.objects.push_back({id, position(*pose), *size});
+        }
+        for (const auto& id : *docks) {
+            auto pose = w.dockPose(id);
+            auto tool = w.dockTool(id);
+            if (!pose || !tool) return std::nullopt;
+            s.docks.push_back({id, position(*pose), *tool});
+        }
+        return s;
+    }
+
+    void run() {
+        std::unique_ptr<devices::WorldLink> link;
+        bool first = true;
+        bool complained = false;
+        for (;;) {
+            {
+                std::unique_lock lock(mutex_);
+                const auto pause = first ? 0ms : (link ? 200ms : 2000ms);
+                wake_.wait_for(lock, pause, [this] { return stop_; });
+                if (stop_) return;
+            }
+            first = false;
+            if (!link) {
+                auto connected = devices::WorldLink::connect(url_, config_);
+                if (!connected) {
+                    if (!complained) {
+                        spdlog::warn("dashboard: the world model at {}: {} (trying again)", url_,
+                                     ua::statusName(connected.status()));
+                    }
+                    complained = true;
+                    continue;
+                }
+                link = std::move(*connected);
+                complained = false;
+            }
+            if (auto scene = read(*link)) {
+                view_.scene(*scene);
+            } else {
+                link.reset();  // reconnect: the world restarted, or a read failed
+            }
+        }
+    }
+
+    std::string url_;
+    ua::ClientConfig config_;
+    dashboard::CellView& view_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    bool stop_ = false;
+    std::thread thread_;  // last: it starts once the rest is there
 };
 
 /// What the component keeps alive: the view, the web server and one session per skill.
@@ -48,6 +147,7 @@ struct DashboardOptions {
 struct DashboardContent {
     explicit DashboardContent(asio::io_context& context) : io(context) {}
     ~DashboardContent() {
+        scene.reset();
         if (detector) detector->unsubscribe(subscription);
         hub.close();  // every open stream ends, so that the web server can stop
         if (web) web->stop();
@@ -58,6 +158,7 @@ struct DashboardContent {
     asio::io_context& io;
     dashboard::EventHub hub;
     dashboard::CellView view{hub};
+    std::unique_ptr<SceneReader> scene;  // before the view goes
     std::unique_ptr<http::WebServer> web;
     std::shared_ptr<skills::SkillDetector> detector;
     std::size_t subscription = 0;
@@ -371,6 +472,9 @@ int run(DashboardOptions& o) {
                 spdlog::critical("dashboard: {}", s.error());
                 return ua::status::BadResourceUnavailable;
             }
+            if (!o.worldUrl.empty()) {
+                c->scene = std::make_unique<SceneReader>(o.worldUrl, c->client, c->view);
+            }
             std::cout << "DASHBOARD " << pageUrl(o, tls, c->web->port()) << std::endl;
             spdlog::info("dashboard: {} ({})", pageUrl(o, tls, c->web->port()),
                          tls ? "HTTPS, the cell's users log in" : "plain HTTP, no login");
@@ -406,6 +510,9 @@ Command addDashboardCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--http-port", o->httpPort, "port of the page (0: any free one)")
         ->capture_default_str();
+    cmd->add_option("--world", o->worldUrl,
+                    "the world model's endpoint: the page draws its scene (docks, tools, boxes, "
+                    "the flange) from above");
     return {cmd, [o] { return run(*o); }};
 }
 

@@ -29,6 +29,22 @@ Json toJson(const SkillView& s) {
             {"state", s.state},       {"transitions", std::move(transitions)}};
 }
 
+Json toJson(const SceneView& s) {
+    Json objects = Json::array();
+    for (const auto& o : s.objects) {
+        objects.push_back({{"id", o.id}, {"position", o.position}, {"size", o.size}});
+    }
+    Json docks = Json::array();
+    for (const auto& d : s.docks) {
+        docks.push_back({{"id", d.id}, {"position", d.position}, {"tool", d.tool}});
+    }
+    return {{"flange", s.flange},
+            {"mountedTool", s.mountedTool},
+            {"graspedObject", s.graspedObject},
+            {"objects", std::move(objects)},
+            {"docks", std::move(docks)}};
+}
+
 // What servers send may be any bytes: replaced where not UTF-8.
 std::string text(const Json& j) {
     return j.dump(-1, ' ', false, Json::error_handler_t::replace);
@@ -112,16 +128,24 @@ void CellView::publishSkill(const SkillView& s) {
     hub_.publish(text({{"type", "skill"}, {"version", ++version_}, {"skill", toJson(s)}}));
 }
 
+void CellView::scene(const SceneView& scene) {
+    const std::lock_guard lock(mutex_);
+    if (scene_ && *scene_ == scene) return;
+    scene_ = scene;
+    hub_.publish(text({{"type", "scene"}, {"version", ++version_}, {"scene", toJson(scene)}}));
+}
+
 std::pair<std::string, std::shared_ptr<EventHub::Listener>> CellView::open() {
     const std::lock_guard lock(mutex_);
     Json components = Json::array();
     for (const auto& [uri, c] : components_) components.push_back(toJson(c));
     Json skills = Json::array();
     for (const auto& [key, s] : skills_) skills.push_back(toJson(s));
-    const Json snapshot{{"type", "snapshot"},
-                        {"version", version_},
-                        {"components", std::move(components)},
-                        {"skills", std::move(skills)}};
+    Json snapshot{{"type", "snapshot"},
+                  {"version", version_},
+                  {"components", std::move(components)},
+                  {"skills", std::move(skills)}};
+    if (scene_) snapshot["scene"] = toJson(*scene_);
     return {text(snapshot), hub_.subscribe()};
 }
 

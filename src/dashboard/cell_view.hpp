@@ -4,6 +4,7 @@
 // snapshot on connect, then one event per change, each with a version number so that a
 // page can tell order). Everything is under one lock, so a page's snapshot and the events
 // it hears after it fit together.
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -12,6 +13,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "dashboard/event_hub.hpp"
 #include "skills/skill_client.hpp"
@@ -46,6 +48,29 @@ struct SkillView {
     std::deque<Transition> transitions;  // the last kMaxTransitions, newest last
 };
 
+/// The world model's scene, as the top view shows it: positions in metres in the cell's
+/// frame (rotations are not drawn).
+struct SceneView {
+    struct Box {
+        std::string id;
+        std::array<double, 3> position{};
+        std::array<double, 3> size{};
+        friend bool operator==(const Box&, const Box&) = default;
+    };
+    struct Dock {
+        std::string id;
+        std::array<double, 3> position{};
+        std::string tool;  // stored in it; empty when empty
+        friend bool operator==(const Dock&, const Dock&) = default;
+    };
+    std::array<double, 3> flange{};
+    std::string mountedTool;
+    std::string graspedObject;
+    std::vector<Box> objects;
+    std::vector<Dock> docks;
+    friend bool operator==(const SceneView&, const SceneView&) = default;
+};
+
 class CellView {
 public:
     static constexpr std::size_t kMaxTransitions = 8;
@@ -57,6 +82,9 @@ public:
     /// The skill's state as read or as a transition event brought it.
     void skillState(const std::string& key, std::optional<skills::SkillState> state,
                     const skills::SkillTransitionRecord* transition);
+
+    /// The world's scene as last read; published only when it changed.
+    void scene(const SceneView& scene);
 
     /// The whole view as the "snapshot" event, and a listener that hears every change after
     /// it, taken together.
@@ -75,6 +103,7 @@ private:
     std::uint64_t version_ = 0;
     std::map<std::string, ComponentView> components_;
     std::map<std::string, SkillView> skills_;
+    std::optional<SceneView> scene_;
 };
 
 }  // namespace skillcell::dashboard

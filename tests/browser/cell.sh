@@ -1,6 +1,7 @@
 # A small secured cell for the dashboard's browser test and benchmark, sourced by both:
 # a cell CA, the cell's users (Observer olga, Operator otto, and "cell", whom the components
-# act as), the dashboard, and two components with skills (a robot, a gripper). Run inside a
+# act as), the world model with a dock and a box, the dashboard, and two components with
+# skills (a robot, a gripper). Run inside a
 # private network namespace. Sets: tmp, pids, url (the page), spki (the pin of its key),
 # gripper (the gripper server's pid). Needs: skillcell (the binary).
 tmp=$(mktemp -d)
@@ -37,8 +38,15 @@ line_of() {
   return 1
 }
 
+# The world model: one dock with a parallel gripper, one box (the dashboard draws them).
+"$skillcell" device world "${common[@]}" --pki-dir "$tmp/pki-world" \
+  --dock "dockP@0.3,-0.45,0.35" --tool "parallel:dockP@0,0,0.1" \
+  --object "boxA:0.04,0.1,0.05@0.45,0.15,0.025" >"$tmp/world.out" 2>"$tmp/world.err" &
+pids+=($!)
+world_url=$(line_of "$tmp/world.out" "READY ")
+
 "$skillcell" dashboard "${common[@]}" --pki-dir "$tmp/pki-dashboard" --http-port 0 \
-  >"$tmp/dashboard.out" 2>"$tmp/dashboard.err" &
+  --world "$world_url" >"$tmp/dashboard.out" 2>"$tmp/dashboard.err" &
 pids+=($!)
 url=$(line_of "$tmp/dashboard.out" "DASHBOARD ")
 line_of "$tmp/dashboard.out" "READY " >/dev/null

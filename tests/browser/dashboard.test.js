@@ -55,6 +55,11 @@ function check(condition, what) {
     await page.waitForFunction(
       () => document.querySelectorAll('#skills tr[data-state="Ready"]').length >= 3, null, wait);
     check(true, "their three skills are shown Ready");
+    // The world's scene, from above: the dock with its tool, the box where it stands.
+    await page.waitForSelector('#scene g[data-dock="dockP"][data-tool="parallel"]', wait);
+    const box = await page.waitForSelector('#scene g[data-object="boxA"]', wait);
+    check((await box.getAttribute("data-x")) === "0.450" && (await box.getAttribute("data-y")) === "0.150",
+          "the scene shows dockP with its tool and boxA at (0.45, 0.15)");
 
     // The Observer may watch, not run: the gripper's server refuses her Start.
     const grasp = '#skills tr[data-key^="urn:test:gripper"]';

@@ -6,6 +6,7 @@ const components = new Map();  // uri -> component
 const skills = new Map();      // key -> skill
 let version = 0;
 let events = null;
+let scene = null;           // the world model's scene, when the dashboard has a world
 const drafts = new Map();   // skill key -> the parameter typed for it (kept across renders)
 const results = new Map();  // skill key -> {status, detail} of the last Start or Halt here
 
@@ -123,22 +124,81 @@ async function act(skill, action, row) {
   renderSkills();
 }
 
+const SVG = "http://www.w3.org/2000/svg";
+
+function svg(name, attributes, label) {
+  const e = document.createElementNS(SVG, name);
+  for (const [k, v] of Object.entries(attributes)) e.setAttribute(k, v);
+  if (label !== undefined) e.textContent = label;
+  return e;
+}
+
+// The scene from above: x to the right, y up, fitted to the picture with a margin.
+function renderScene() {
+  $("scene-section").hidden = !scene;
+  if (!scene) return;
+  const picture = $("scene");
+  picture.replaceChildren();
+  const W = 640, H = 420, margin = 0.15;
+  const points = [[0, 0], scene.flange, ...scene.objects.map((o) => o.position),
+                  ...scene.docks.map((d) => d.position)];
+  const xs = points.map((p) => p[0]), ys = points.map((p) => p[1]);
+  const minX = Math.min(...xs) - margin, maxX = Math.max(...xs) + margin;
+  const minY = Math.min(...ys) - margin, maxY = Math.max(...ys) + margin;
+  const scale = Math.min(W / (maxX - minX), H / (maxY - minY));
+  const px = (x) => (x - minX) * scale;
+  const py = (y) => H - (y - minY) * scale;
+  picture.append(svg("rect", { x: 0, y: 0, width: W, height: H, class: "floor" }));
+  const base = svg("g", { class: "base" });
+  base.append(svg("circle", { cx: px(0), cy: py(0), r: 14 }), svg("text", { x: px(0) + 18, y: py(0) + 4 }, "robot base"));
+  picture.append(base);
+  for (const d of scene.docks) {
+    const g = svg("g", { class: "dock" + (d.tool ? " full" : ""), "data-dock": d.id, "data-tool": d.tool });
+    g.append(svg("rect", { x: px(d.position[0]) - 16, y: py(d.position[1]) - 16, width: 32, height: 32 }),
+             svg("text", { x: px(d.position[0]) + 20, y: py(d.position[1]) + 4 },
+                 d.id + (d.tool ? ": " + d.tool : ": empty")));
+    picture.append(g);
+  }
+  for (const o of scene.objects) {
+    const w = Math.max(4, o.size[0] * scale), h = Math.max(4, o.size[1] * scale);
+    const held = o.id === scene.graspedObject;
+    const g = svg("g", { class: "object" + (held ? " held" : ""), "data-object": o.id,
+                         "data-x": o.position[0].toFixed(3), "data-y": o.position[1].toFixed(3) });
+    g.append(svg("rect", { x: px(o.position[0]) - w / 2, y: py(o.position[1]) - h / 2, width: w, height: h }),
+             svg("text", { x: px(o.position[0]) + w / 2 + 4, y: py(o.position[1]) + 4 }, o.id));
+    picture.append(g);
+  }
+  const f = scene.flange;
+  const flange = svg("g", { class: "flange", "data-tool": scene.mountedTool });
+  flange.append(svg("circle", { cx: px(f[0]), cy: py(f[1]), r: 9 }),
+                svg("line", { x1: px(f[0]) - 13, y1: py(f[1]), x2: px(f[0]) + 13, y2: py(f[1]) }),
+                svg("line", { x1: px(f[0]), y1: py(f[1]) - 13, x2: px(f[0]), y2: py(f[1]) + 13 }),
+                svg("text", { x: px(f[0]) + 14, y: py(f[1]) - 12 },
+                    "flange" + (scene.mountedTool ? " with " + scene.mountedTool : "") +
+                    (scene.graspedObject ? ", holding " + scene.graspedObject : "")));
+  picture.append(flange);
+}
+
 function apply(event) {
   if (event.type === "snapshot") {
     components.clear();
     skills.clear();
     for (const c of event.components) components.set(c.uri, c);
     for (const s of event.skills) skills.set(s.key, s);
+    scene = event.scene || null;
   } else if (event.version <= version) {
     return;  // heard already (a snapshot includes it)
   } else if (event.type === "component") {
     components.set(event.component.uri, event.component);
   } else if (event.type === "skill") {
     skills.set(event.skill.key, event.skill);
+  } else if (event.type === "scene") {
+    scene = event.scene;
   }
   version = event.version;
   renderComponents();
   renderSkills();
+  renderScene();
 }
 
 function listen() {

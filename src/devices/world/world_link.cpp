@@ -98,10 +98,47 @@ ua::Result<std::string> WorldLink::dockAtFlange() {
     return std::string(*dockId);
 }
 
-ua::Result<KDL::Frame> WorldLink::objectPose(const std::string& objectId) {
-    const auto value = client_.readValue(id("World/Objects/" + objectId + "/Pose"));
+ua::Result<KDL::Frame> WorldLink::readFrame(const std::string& path) {
+    const auto value = client_.readValue(id(path));
     if (!value) return value.status();
     return frameFromVariant(*value);
+}
+
+ua::Result<KDL::Frame> WorldLink::objectPose(const std::string& objectId) {
+    return readFrame("World/Objects/" + objectId + "/Pose");
+}
+
+ua::Result<KDL::Frame> WorldLink::flangePose() {
+    return readFrame("World/FlangePose");
+}
+
+ua::Result<KDL::Frame> WorldLink::dockPose(const std::string& dockId) {
+    return readFrame("World/Docks/" + dockId + "/Pose");
+}
+
+ua::Result<std::string> WorldLink::dockTool(const std::string& dockId) {
+    return readString("World/Docks/" + dockId + "/Tool");
+}
+
+ua::Result<std::vector<std::string>> WorldLink::children(const std::string& path) {
+    auto found = client_.browse(id(path));
+    if (!found) return found.status();
+    if (found->statusCode.isBad()) return found->statusCode;
+    std::vector<std::string> names;
+    for (const auto& r : found->references) {
+        if (r.isForward && r.nodeClass == ua::NodeClass::Object) {
+            names.push_back(r.browseName.name);
+        }
+    }
+    return names;
+}
+
+ua::Result<std::vector<std::string>> WorldLink::objectIds() {
+    return children("World/Objects");
+}
+
+ua::Result<std::vector<std::string>> WorldLink::dockIds() {
+    return children("World/Docks");
 }
 
 ua::Result<std::array<double, 3>> WorldLink::objectSize(const std::string& objectId) {

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <kdl/frames.hpp>
 
@@ -50,6 +51,13 @@ public:
     [[nodiscard]] ua::Result<std::array<double, 3>> objectSize(const std::string& objectId);
     [[nodiscard]] ua::Result<std::string> mountedTool();
     [[nodiscard]] ua::Result<std::string> graspedObject();
+    [[nodiscard]] ua::Result<KDL::Frame> flangePose();
+    /// The ids of the objects (World/Objects) and the docks (World/Docks), as browsed.
+    [[nodiscard]] ua::Result<std::vector<std::string>> objectIds();
+    [[nodiscard]] ua::Result<std::vector<std::string>> dockIds();
+    [[nodiscard]] ua::Result<KDL::Frame> dockPose(const std::string& dockId);
+    /// The tool stored in the dock; empty when it is empty.
+    [[nodiscard]] ua::Result<std::string> dockTool(const std::string& dockId);
 
     struct Token {
     private:
@@ -61,6 +69,8 @@ public:
 private:
     ua::Result<std::vector<ua::Variant>> call(const char* method, std::vector<ua::Variant> in);
     ua::Result<std::string> readString(const std::string& path);
+    ua::Result<KDL::Frame> readFrame(const std::string& path);
+    ua::Result<std::vector<std::string>> children(const std::string& path);
     [[nodiscard]] ua::NodeId id(const std::string& path) const {
         return ua::NodeId(ns_, ua::String(path));
     }

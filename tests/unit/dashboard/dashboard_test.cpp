@@ -111,6 +111,33 @@ TEST(CellView, ASnapshotAndTheChangesAfterItTellTheWholeStory) {
     EXPECT_EQ(view.skills().at(key).state, "");
 }
 
+TEST(CellView, TheSceneIsPushedWhenItChangesAndOnlyThen) {
+    EventHub hub;
+    CellView view(hub);
+    auto [before, listener] = view.open();
+    EXPECT_FALSE(json::parse(before).contains("scene"));  // no world: no picture
+    SceneView scene;
+    scene.flange = {0.3, -0.45, 0.35};
+    scene.mountedTool = "parallel";
+    scene.objects = {{"boxA", {0.45, 0.15, 0.025}, {0.04, 0.1, 0.05}}};
+    scene.docks = {{"dockP", {0.3, -0.45, 0.35}, ""}};
+    view.scene(scene);
+    view.scene(scene);  // the same again: nothing to say
+    auto e = json::parse(*listener->next(1s));
+    EXPECT_EQ(e["type"], "scene");
+    EXPECT_EQ(e["scene"]["mountedTool"], "parallel");
+    EXPECT_EQ(e["scene"]["objects"][0]["id"], "boxA");
+    EXPECT_DOUBLE_EQ(e["scene"]["objects"][0]["position"][0].get<double>(), 0.45);
+    EXPECT_EQ(e["scene"]["docks"][0]["tool"], "");
+    EXPECT_EQ(listener->next(10ms), std::nullopt);
+    scene.objects[0].position = {0.5, -0.2, 0.025};  // the box was moved
+    view.scene(scene);
+    EXPECT_DOUBLE_EQ(
+        json::parse(*listener->next(1s))["scene"]["objects"][0]["position"][1].get<double>(), -0.2);
+    auto [after, again] = view.open();
+    EXPECT_EQ(json::parse(after)["scene"]["objects"][0]["position"][0], 0.5);
+}
+
 TEST(CellView, NamesThatAreNotUtf8DoNotBreakTheJson) {
     EventHub hub;
     CellView view(hub);
