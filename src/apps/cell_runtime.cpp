@@ -355,6 +355,7 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
                                        : port("dashboard-http");
         a = {"dashboard", "--http-port", std::to_string(page)};
         if (!endpoint("world").empty()) a.insert(a.end(), {"--world", endpoint("world")});
+        if (cell_.mes) a.insert(a.end(), {"--journal", journal().string()});
     } else if (name == "world") {
         a = {"device", "world"};
         const auto scene = cell::worldArguments(cell_);

@@ -11,7 +11,7 @@
 #include <array>
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
-#include <condition_variable>
+#include <filesystem>
 #include <future>
 #include <iostream>
 #include <map>
@@ -22,12 +22,15 @@
 #include <thread>
 
 #include "cell/component_uris.hpp"
+#include "cell/paper_figures.hpp"
 #include "commands.hpp"
 #include "dashboard/cell_view.hpp"
 #include "dashboard/event_hub.hpp"
+#include "dashboard/periodic_task.hpp"
 #include "dashboard/web_assets.hpp"
 #include "devices/world/world_link.hpp"
 #include "http/web_server.hpp"
+#include "mes/journal.hpp"
 #include "server_process.hpp"
 #include "skills/skill_connection.hpp"
 
@@ -40,34 +43,26 @@ using Json = nlohmann::ordered_json;
 namespace {
 
 using namespace std::chrono_literals;
+namespace fs = std::filesystem;
 
 struct DashboardOptions {
     ServerProcessOptions process;
     std::string httpHost = "127.0.0.1";
     std::uint16_t httpPort = 8443;
     std::string worldUrl;  // the world model, for the scene's picture; empty: none
+    std::string journal;   // the MES's journal, for the runs; empty: none
 };
 
-/// Reads the world model's scene five times a second, on a thread of its own (WorldLink's
-/// calls block), and gives the view what changed; the view pushes it to the pages. A world
-/// that cannot be reached is looked for again every 2 s.
+/// Reads the world model's scene five times a second (WorldLink's calls block, so on a
+/// PeriodicTask's thread) and gives the view what changed; the view pushes it to the pages.
+/// A world that cannot be reached is looked for again every 2 s.
 class SceneReader {
 public:
     SceneReader(std::string url, ua::ClientConfig config, dashboard::CellView& view)
         : url_(std::move(url)),
           config_(std::move(config)),
           view_(view),
-          thread_([this] { run(); }) {}
-    ~SceneReader() {
-        {
-            const std::lock_guard lock(mutex_);
-            stop_ = true;
-        }
-        wake_.notify_all();
-        thread_.join();
-    }
-    SceneReader(const SceneReader&) = delete;
-    SceneReader& operator=(const SceneReader&) = delete;
+          task_([this] { return tick(); }) {}
 
 private:
     static std::array<double, 3> position(const KDL::Frame& f) {
@@ -100,46 +95,87 @@ private:
         return s;
     }
 
-    void run() {
-        std::unique_ptr<devices::WorldLink> link;
-        bool first = true;
-        bool complained = false;
-        for (;;) {
-            {
-                std::unique_lock lock(mutex_);
-                const auto pause = first ? 0ms : (link ? 200ms : 2000ms);
-                wake_.wait_for(lock, pause, [this] { return stop_; });
-                if (stop_) return;
-            }
-            first = false;
-            if (!link) {
-                auto connected = devices::WorldLink::connect(url_, config_);
-                if (!connected) {
-                    if (!complained) {
-                        spdlog::warn("dashboard: the world model at {}: {} (trying again)", url_,
-                                     ua::statusName(connected.status()));
-                    }
-                    complained = true;
-                    continue;
+    std::chrono::milliseconds tick() {
+        if (!link_) {
+            auto connected = devices::WorldLink::connect(url_, config_);
+            if (!connected) {
+                if (!complained_) {
+                    spdlog::warn("dashboard: the world model at {}: {} (trying again)", url_,
+                                 ua::statusName(connected.status()));
                 }
-                link = std::move(*connected);
-                complained = false;
+                complained_ = true;
+                return 2000ms;
             }
-            if (auto scene = read(*link)) {
-                view_.scene(*scene);
-            } else {
-                link.reset();  // reconnect: the world restarted, or a read failed
-            }
+            link_ = std::move(*connected);
+            complained_ = false;
         }
+        if (auto scene = read(*link_)) {
+            view_.scene(*scene);
+            return 200ms;
+        }
+        link_.reset();  // the world restarted, or a read failed: connect again
+        return 500ms;
     }
 
     std::string url_;
     ua::ClientConfig config_;
     dashboard::CellView& view_;
-    std::mutex mutex_;
-    std::condition_variable wake_;
-    bool stop_ = false;
-    std::thread thread_;  // last: it starts once the rest is there
+    std::unique_ptr<devices::WorldLink> link_;  // on the task's thread only
+    bool complained_ = false;
+    dashboard::PeriodicTask task_;  // last: it starts once the rest is there
+};
+
+/// Reads the MES's last runs from its journal (SQLite, which the MES writes in WAL mode, so
+/// a reader beside it is safe) twice a second, and gives the view what changed.
+class JournalReader {
+public:
+    static constexpr std::int64_t kRuns = 5;
+
+    JournalReader(fs::path path, dashboard::CellView& view)
+        : path_(std::move(path)), view_(view), task_([this] { return tick(); }) {}
+
+private:
+    static std::string localName(const std::string& iri) {
+        const auto cut = iri.find_last_of("/#");
+        return cut == std::string::npos ? iri : iri.substr(cut + 1);
+    }
+
+    std::chrono::milliseconds tick() {
+        if (!journal_) {
+            std::error_code ec;
+            if (!fs::exists(path_, ec)) return 1000ms;  // the MES has not written one yet
+            auto opened = mes::Journal::open(path_.string());
+            if (!opened) {
+                spdlog::warn("dashboard: the journal: {}", opened.error());
+                return 5000ms;
+            }
+            journal_ = std::move(*opened);
+        }
+        auto runs = journal_->recentRuns(kRuns);
+        if (!runs) {
+            spdlog::warn("dashboard: the journal: {}", runs.error());
+            journal_.reset();
+            return 2000ms;
+        }
+        std::vector<dashboard::RunView> out;
+        for (const auto& r : *runs) {
+            dashboard::RunView v{
+                r.id, r.processIri, mes::toString(r.state), r.reason, r.startedMs, r.endedMs, {}};
+            for (const auto& st : r.steps) {
+                v.steps.push_back({st.index, st.attempt, mes::toString(st.state),
+                                   localName(st.skillTypeIri), st.componentUri, st.startedMs,
+                                   st.endedMs, st.reason});
+            }
+            out.push_back(std::move(v));
+        }
+        view_.runs(out);
+        return 500ms;
+    }
+
+    fs::path path_;
+    dashboard::CellView& view_;
+    std::unique_ptr<mes::Journal> journal_;  // on the task's thread only
+    dashboard::PeriodicTask task_;           // last
 };
 
 /// What the component keeps alive: the view, the web server and one session per skill.
@@ -148,6 +184,7 @@ struct DashboardContent {
     explicit DashboardContent(asio::io_context& context) : io(context) {}
     ~DashboardContent() {
         scene.reset();
+        journal.reset();
         if (detector) detector->unsubscribe(subscription);
         hub.close();  // every open stream ends, so that the web server can stop
         if (web) web->stop();
@@ -157,8 +194,12 @@ struct DashboardContent {
 
     asio::io_context& io;
     dashboard::EventHub hub;
-    dashboard::CellView view{hub};
-    std::unique_ptr<SceneReader> scene;  // before the view goes
+    dashboard::CellView view{hub, [](const std::string& uri) {
+                                 const auto* paper = cell::paperDetection(uri);
+                                 return paper != nullptr ? paper->ms : 0.0;
+                             }};
+    std::unique_ptr<SceneReader> scene;      // before the view goes
+    std::unique_ptr<JournalReader> journal;  // before the view goes
     std::unique_ptr<http::WebServer> web;
     std::shared_ptr<skills::SkillDetector> detector;
     std::size_t subscription = 0;
@@ -475,6 +516,9 @@ int run(DashboardOptions& o) {
             if (!o.worldUrl.empty()) {
                 c->scene = std::make_unique<SceneReader>(o.worldUrl, c->client, c->view);
             }
+            if (!o.journal.empty()) {
+                c->journal = std::make_unique<JournalReader>(o.journal, c->view);
+            }
             std::cout << "DASHBOARD " << pageUrl(o, tls, c->web->port()) << std::endl;
             spdlog::info("dashboard: {} ({})", pageUrl(o, tls, c->web->port()),
                          tls ? "HTTPS, the cell's users log in" : "plain HTTP, no login");
@@ -510,6 +554,9 @@ Command addDashboardCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--http-port", o->httpPort, "port of the page (0: any free one)")
         ->capture_default_str();
+    cmd->add_option("--journal", o->journal,
+                    "the MES's journal (SQLite): the page shows its last runs, step by step, as "
+                    "a timeline, and the one in progress");
     cmd->add_option("--world", o->worldUrl,
                     "the world model's endpoint: the page draws its scene (docks, tools, boxes, "
                     "the flange) from above");

@@ -37,6 +37,7 @@
 #include "application_identity.hpp"
 #include "cell/cell_file.hpp"
 #include "cell/device_arguments.hpp"
+#include "cell/paper_figures.hpp"
 #include "cell_process.hpp"
 #include "cell_runtime.hpp"
 #include "cell_supervisor.hpp"
@@ -70,17 +71,6 @@ struct DemoOptions {
     std::string workDir;
     double processTimeoutSeconds = 900;
 };
-
-/// How the demo's table calls an adapter, and the paper's detection time for it
-/// (section VIII-C; 0: the paper has none).
-struct AdapterFigure {
-    std::string_view model;
-    const char* label;
-    double paperMs;
-};
-constexpr AdapterFigure kAdapterFigures[] = {{"robotiq-2f85", "Robotiq adapter", 8422},
-                                             {"schmalz-ecbpi", "Schmalz adapter", 9635},
-                                             {"dh-ag95", "AG-95 adapter", 0}};
 
 /// What the demo needs of a cell file: the paper's process runs on a tool changer that moves
 /// a UR5, the pick-and-place composite, and the KB and MES; empty when the cell has them.
@@ -530,20 +520,21 @@ int DemoCell::run(const Interruption& interruption) {
     // Each tool's adapter, started on its own here (in the process, the changer powers it).
     for (const auto& tool : cell_.tools) {
         const cell::AdapterModel& model = *cell::findAdapterModel(tool.adapter);
-        std::string label = std::string(model.command) + " adapter";
-        double paperMs = 0;
-        for (const auto& f : kAdapterFigures) {
-            if (f.model == model.name) {
-                label = f.label;
-                paperMs = f.paperMs;
-            }
+        const auto* paper = cell::paperDetection(model.applicationUri);
+        const std::string label =
+            paper != nullptr ? std::string(paper->label) : std::string(model.command) + " adapter";
+        if (!add(runtime_.adapterLaunch(tool), label, paper != nullptr ? paper->ms : 0, false)) {
+            return 1;
         }
-        if (!add(runtime_.adapterLaunch(tool), label, paperMs, false)) return 1;
     }
-    if (!add(runtime_.launch(cell_.toolChanger->name), "tool changer", 253, true) ||
-        !add(runtime_.launch(cell_.robots.front().name), "UR5", 313, true) ||
-        !add(runtime_.launch(cell_.pickAndPlace->name), "pick-and-place", 211, true)) {
-        return 1;
+    // The paper's other parts, with its figures (cell/paper_figures.hpp).
+    for (const std::string& name :
+         {cell_.toolChanger->name, cell_.robots.front().name, cell_.pickAndPlace->name}) {
+        const auto* paper = cell::paperDetection(runtime_.applicationUri(name));
+        if (!add(runtime_.launch(name), paper != nullptr ? std::string(paper->label) : name,
+                 paper != nullptr ? paper->ms : 0, true)) {
+            return 1;
+        }
     }
 
     std::printf(

@@ -15,6 +15,7 @@ Json toJson(const ComponentView& c) {
             {"detectedAt", c.detectedAt},
             {"detectionMs", c.detectionMs},
             {"downReason", c.downReason},
+            {"paperMs", c.paperMs},
             {"skills", c.skills}};
 }
 
@@ -45,6 +46,31 @@ Json toJson(const SceneView& s) {
             {"docks", std::move(docks)}};
 }
 
+Json toJson(const std::vector<RunView>& runs) {
+    Json out = Json::array();
+    for (const auto& r : runs) {
+        Json steps = Json::array();
+        for (const auto& s : r.steps) {
+            steps.push_back({{"index", s.index},
+                             {"attempt", s.attempt},
+                             {"state", s.state},
+                             {"skillType", s.skillType},
+                             {"component", s.component},
+                             {"startedMs", s.startedMs},
+                             {"endedMs", s.endedMs},
+                             {"reason", s.reason}});
+        }
+        out.push_back({{"id", r.id},
+                       {"process", r.process},
+                       {"state", r.state},
+                       {"reason", r.reason},
+                       {"startedMs", r.startedMs},
+                       {"endedMs", r.endedMs},
+                       {"steps", std::move(steps)}});
+    }
+    return out;
+}
+
 // What servers send may be any bytes: replaced where not UTF-8.
 std::string text(const Json& j) {
     return j.dump(-1, ' ', false, Json::error_handler_t::replace);
@@ -68,6 +94,7 @@ void CellView::skillAdded(const skills::SkillInstance& skill) {
         c.downReason.clear();
         c.detectedAt = now.toIso8601();
         c.startTime = skill.componentStartTime.toIso8601();
+        c.paperMs = paper_ ? paper_(skill.componentUri) : 0;
         c.detectionMs = skill.componentStartTime.ticks == 0
                             ? -1.0
                             : static_cast<double>(now.unixNanoseconds() -
@@ -135,6 +162,13 @@ void CellView::scene(const SceneView& scene) {
     hub_.publish(text({{"type", "scene"}, {"version", ++version_}, {"scene", toJson(scene)}}));
 }
 
+void CellView::runs(const std::vector<RunView>& runs) {
+    const std::lock_guard lock(mutex_);
+    if (runs_ && *runs_ == runs) return;
+    runs_ = runs;
+    hub_.publish(text({{"type", "runs"}, {"version", ++version_}, {"runs", toJson(runs)}}));
+}
+
 std::pair<std::string, std::shared_ptr<EventHub::Listener>> CellView::open() {
     const std::lock_guard lock(mutex_);
     Json components = Json::array();
@@ -146,6 +180,7 @@ std::pair<std::string, std::shared_ptr<EventHub::Listener>> CellView::open() {
                   {"components", std::move(components)},
                   {"skills", std::move(skills)}};
     if (scene_) snapshot["scene"] = toJson(*scene_);
+    if (runs_) snapshot["runs"] = toJson(*runs_);
     return {text(snapshot), hub_.subscribe()};
 }
 

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -29,6 +30,7 @@ struct ComponentView {
     std::string detectedAt;   // when the dashboard learnt of it, ISO 8601
     double detectionMs = -1;  // detectedAt - startTime: from start to detection
     std::string downReason;   // why it went down (goodbye, expired, disconnected, ...)
+    double paperMs = 0;       // the paper's detection time for this part; 0: none
     std::size_t skills = 0;   // skills available now
 };
 
@@ -71,11 +73,38 @@ struct SceneView {
     friend bool operator==(const SceneView&, const SceneView&) = default;
 };
 
+/// A run of the MES as its journal has it: the steps with their times, for the timeline.
+struct RunView {
+    struct Step {
+        int index = 0;
+        int attempt = 1;
+        std::string state;
+        std::string skillType;  // the type's local name
+        std::string component;
+        std::int64_t startedMs = 0;  // Unix time
+        std::int64_t endedMs = 0;    // 0 while it runs
+        std::string reason;
+        friend bool operator==(const Step&, const Step&) = default;
+    };
+    std::int64_t id = 0;
+    std::string process;
+    std::string state;
+    std::string reason;
+    std::int64_t startedMs = 0;
+    std::int64_t endedMs = 0;
+    std::vector<Step> steps;
+    friend bool operator==(const RunView&, const RunView&) = default;
+};
+
 class CellView {
 public:
     static constexpr std::size_t kMaxTransitions = 8;
 
-    explicit CellView(EventHub& hub) : hub_(hub) {}
+    /// The paper's detection time of a component by its application URI (0: none).
+    using PaperFigures = std::function<double(const std::string& applicationUri)>;
+
+    explicit CellView(EventHub& hub, PaperFigures paper = {})
+        : hub_(hub), paper_(std::move(paper)) {}
 
     void skillAdded(const skills::SkillInstance& skill);
     void skillRemoved(const skills::SkillInstance& skill, skills::RemovalReason reason);
@@ -85,6 +114,9 @@ public:
 
     /// The world's scene as last read; published only when it changed.
     void scene(const SceneView& scene);
+
+    /// The last runs of the MES, oldest first; published only when they changed.
+    void runs(const std::vector<RunView>& runs);
 
     /// The whole view as the "snapshot" event, and a listener that hears every change after
     /// it, taken together.
@@ -99,11 +131,13 @@ private:
     void publishSkill(const SkillView& s);          // under mutex_
 
     EventHub& hub_;
+    PaperFigures paper_;
     mutable std::mutex mutex_;
     std::uint64_t version_ = 0;
     std::map<std::string, ComponentView> components_;
     std::map<std::string, SkillView> skills_;
     std::optional<SceneView> scene_;
+    std::optional<std::vector<RunView>> runs_;
 };
 
 }  // namespace skillcell::dashboard

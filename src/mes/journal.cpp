@@ -289,4 +289,9 @@ kb::Expected<std::vector<RunRecord>> Journal::unfinishedRuns() {
     return runs("state <> 'completed'", {}, 0);
 }
 
+kb::Expected<std::vector<RunRecord>> Journal::recentRuns(std::int64_t count) {
+    if (count <= 0) return std::vector<RunRecord>{};
+    return runs("id > (SELECT COALESCE(MAX(id), 0) FROM runs) - ?1", {}, count);
+}
+
 }  // namespace skillcell::mes

@@ -89,6 +89,8 @@ public:
     [[nodiscard]] kb::Expected<std::optional<RunRecord>> latestRun(const std::string& processIri);
     /// Every run not Completed (for the MES's start-up report).
     [[nodiscard]] kb::Expected<std::vector<RunRecord>> unfinishedRuns();
+    /// The last `count` runs, whatever their state, oldest first (what a dashboard shows).
+    [[nodiscard]] kb::Expected<std::vector<RunRecord>> recentRuns(std::int64_t count);
 
     struct Token {
     private:

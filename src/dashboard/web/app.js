@@ -6,7 +6,8 @@ const components = new Map();  // uri -> component
 const skills = new Map();      // key -> skill
 let version = 0;
 let events = null;
-let scene = null;           // the world model's scene, when the dashboard has a world
+let scene = null;
+let runs = null;            // the MES's last runs, when the dashboard reads its journal           // the world model's scene, when the dashboard has a world
 const drafts = new Map();   // skill key -> the parameter typed for it (kept across renders)
 const results = new Map();  // skill key -> {status, detail} of the last Start or Halt here
 
@@ -49,7 +50,8 @@ function renderComponents() {
     tr.dataset.up = c.up ? "true" : "false";
     tr.className = c.up ? "up" : "down";
     const status = c.up ? badge("up", "up") : badge("down" + (c.downReason ? ": " + c.downReason : ""), "down");
-    const detection = c.detectionMs >= 0 ? c.detectionMs.toFixed(0) + " ms" : "";
+    const detection = (c.detectionMs >= 0 ? c.detectionMs.toFixed(0) + " ms" : "") +
+      (c.paperMs > 0 ? ` (paper: ${c.paperMs} ms)` : "");
     tr.append(cell(c.uri), cell(status), cell(c.endpoint), cell(String(c.skills)),
               cell(time(c.detectedAt)), cell(detection));
     body.append(tr);
@@ -179,6 +181,51 @@ function renderScene() {
   picture.append(flange);
 }
 
+function localName(iri) {
+  const cut = Math.max(iri.lastIndexOf("/"), iri.lastIndexOf("#"));
+  return cut < 0 ? iri : iri.slice(cut + 1);
+}
+
+// Each run as a timeline: one lane per component, one bar per step attempt, newest run first.
+function renderRuns() {
+  $("runs-section").hidden = !runs || runs.length === 0;
+  const box = $("runs");
+  box.replaceChildren();
+  if (!runs) return;
+  for (const run of [...runs].reverse()) {
+    const end = run.endedMs || Math.max(Date.now(), ...run.steps.map((s) => s.endedMs || 0));
+    const span = Math.max(1, end - run.startedMs);
+    const div = document.createElement("div");
+    div.className = "run";
+    div.dataset.run = run.id;
+    div.dataset.state = run.state;
+    const title = document.createElement("h3");
+    title.textContent = `run ${run.id}: ${localName(run.process)}, ${run.state}` +
+      (run.endedMs ? ` in ${((run.endedMs - run.startedMs) / 1000).toFixed(1)} s` : "") +
+      (run.reason ? ` (${run.reason})` : "");
+    div.append(title);
+    const lanes = [...new Set(run.steps.map((s) => s.component))];
+    const W = 1100, left = 260, laneH = 24;
+    const picture = svg("svg", { width: W, height: lanes.length * laneH + 8, class: "timeline" });
+    lanes.forEach((c, i) => {
+      picture.append(svg("text", { x: 4, y: i * laneH + 17, class: "lane" }, c));
+    });
+    const x = (ms) => left + ((ms - run.startedMs) / span) * (W - left - 8);
+    for (const s of run.steps) {
+      const lane = lanes.indexOf(s.component);
+      const from = x(s.startedMs), to = x(s.endedMs || end);
+      const g = svg("g", { class: "step " + s.state, "data-step": s.index, "data-state": s.state });
+      const title = svg("title", {}, `step ${s.index} (attempt ${s.attempt}) ${s.skillType} on ${s.component}: ` +
+        `${s.state}` + (s.endedMs ? `, ${s.endedMs - s.startedMs} ms` : "") + (s.reason ? ` - ${s.reason}` : ""));
+      g.append(title, svg("rect", { x: from, y: lane * laneH + 4, width: Math.max(2, to - from), height: laneH - 8 }),
+               svg("text", { x: from + 3, y: lane * laneH + 17 }, `${s.index} ${s.skillType}`));
+      picture.append(g);
+    }
+    div.append(picture);
+    box.append(div);
+  }
+}
+
 function apply(event) {
   if (event.type === "snapshot") {
     components.clear();
@@ -186,6 +233,7 @@ function apply(event) {
     for (const c of event.components) components.set(c.uri, c);
     for (const s of event.skills) skills.set(s.key, s);
     scene = event.scene || null;
+    runs = event.runs || null;
   } else if (event.version <= version) {
     return;  // heard already (a snapshot includes it)
   } else if (event.type === "component") {
@@ -194,11 +242,14 @@ function apply(event) {
     skills.set(event.skill.key, event.skill);
   } else if (event.type === "scene") {
     scene = event.scene;
+  } else if (event.type === "runs") {
+    runs = event.runs;
   }
   version = event.version;
   renderComponents();
   renderSkills();
   renderScene();
+  renderRuns();
 }
 
 function listen() {

@@ -70,7 +70,8 @@ TEST(EventHub, AReaderThatFallsBehindIsDroppedAndCloseEndsEveryone) {
 
 TEST(CellView, ASnapshotAndTheChangesAfterItTellTheWholeStory) {
     EventHub hub;
-    CellView view(hub);
+    CellView view(hub,
+                  [](const std::string& uri) { return uri == "urn:test:gripper" ? 253.0 : 0.0; });
     view.skillAdded(skill("urn:test:gripper", "Grasp"));
     auto [snapshot, listener] = view.open();
     const auto s = json::parse(snapshot);
@@ -79,6 +80,7 @@ TEST(CellView, ASnapshotAndTheChangesAfterItTellTheWholeStory) {
     EXPECT_EQ(s["components"][0]["uri"], "urn:test:gripper");
     EXPECT_EQ(s["components"][0]["up"], true);
     EXPECT_GE(s["components"][0]["detectionMs"].get<double>(), 0.0);
+    EXPECT_EQ(s["components"][0]["paperMs"], 253.0);  // beside the paper's figure
     ASSERT_EQ(s["skills"].size(), 1U);
     EXPECT_EQ(s["skills"][0]["name"], "Skills/Grasp");
     EXPECT_EQ(s["skills"][0]["type"], "GraspGripperSkillType");

@@ -9,6 +9,7 @@
 #   - the detection table: a row per measured component with the paper's figure;
 #   - the security the cell enforces: the operator refused an engineer's method, a client
 #     without security refused, a certificate the cell CA did not issue refused by the server;
+#   - the dashboard, as the observer over HTTPS: both runs, the boxes, the UR5 up;
 #   - with --keep-running the cell stays up supervised as `cell up` supervises it: `cell
 #     status` shows its skills, a UR5 killed with SIGKILL is restarted, `cell down` ends it.
 # The demo makes its own network namespace (root). Without root the test is skipped (77),
@@ -44,6 +45,39 @@ for _ in $(seq 1800); do
   sleep 0.5
 done
 grep -q 'the cell keeps running' "$tmp/out" || { cat "$tmp/out"; fail "the demo did not finish its process"; }
+# The dashboard, from inside the demo's network namespace, over HTTPS trusted by the cell CA,
+# as the observer: its first event (the snapshot) holds both runs of the journal, each of 5
+# finished steps, the boxes where the process put them, and the UR5 up.
+page=$(grep -o 'PAGE https://[^ ]*' "$tmp/out" | head -1 | cut -d' ' -f2)
+[ -n "$page" ] || fail "the demo printed no dashboard page"
+openssl x509 -inform der -in "$tmp/work/ca/certs/ca.der" -out "$tmp/ca.pem"
+netns=/proc/$(pgrep -f -P "$demo" "skillcell demo" | head -1)/ns/net
+in_cell() { nsenter --net="$netns" curl -s --cacert "$tmp/ca.pem" "$@"; }
+in_cell -c "$tmp/jar" --data-urlencode user=observer \
+  --data-urlencode "password=$(cat "$tmp/work/observer.pw")" "${page}login" >/dev/null ||
+  fail "the observer's login on the dashboard"
+seen=
+for _ in $(seq 20); do
+  in_cell -b "$tmp/jar" --max-time 2 "${page}events" >"$tmp/events" || true  # a stream: cut
+  if python3 - "$tmp/events" <<'PY'
+import json, sys
+first = next(l for l in open(sys.argv[1]) if l.startswith("data: "))
+s = json.loads(first[6:])
+runs = s.get("runs", [])
+assert [r["state"] for r in runs] == ["completed", "completed"], runs
+assert all(len(r["steps"]) == 5 and all(t["state"] == "finished" for t in r["steps"]) for r in runs)
+boxes = {o["id"]: o["position"] for o in s["scene"]["objects"]}
+assert abs(boxes["boxA"][0] - 0.25) < 1e-3 and abs(boxes["boxA"][1] - 0.35) < 1e-3, boxes
+assert any(c["uri"].endswith(":ur5") and c["up"] for c in s["components"]), s["components"]
+PY
+  then
+    seen=1
+    break
+  fi
+  sleep 0.5  # the dashboard reads the journal twice a second: a bounded wait for it
+done
+[ -n "$seen" ] || fail "the dashboard's snapshot lacks the runs, the scene or the UR5: $(head -c 2000 "$tmp/events")"
+
 status() { "$skillcell" cell status --json --work-dir "$tmp/work"; }
 ur5() { status | python3 -c "import json,sys
 print(next(str(c['$1']) for c in json.load(sys.stdin)['components'] if c['name']=='ur5'))"; }

@@ -106,6 +106,28 @@ TEST_F(JournalTest, TheRunToResumeIsTheLatestUnfinishedOneOfItsProcess) {
     EXPECT_FALSE(journal.setRunState(9999, RunState::Completed, {})) << "no such run";
 }
 
+TEST_F(JournalTest, TheRecentRunsAreTheLastOnesOldestFirstWithTheirSteps) {
+    auto j = Journal::open(file());
+    ASSERT_TRUE(j) << j.error();
+    Journal& journal = **j;
+    auto none = journal.recentRuns(5);
+    ASSERT_TRUE(none) << none.error();
+    EXPECT_TRUE(none->empty());
+    std::vector<std::int64_t> ids;
+    for (int i = 0; i < 7; ++i) ids.push_back(*journal.beginRun("urn:p" + std::to_string(i)));
+    ASSERT_TRUE(journal.recordStep(ids.back(), step(1, 1, StepState::Running)));
+    auto recent = journal.recentRuns(3);
+    ASSERT_TRUE(recent) << recent.error();
+    ASSERT_EQ(recent->size(), 3U);
+    EXPECT_EQ((*recent)[0].id, ids[4]);
+    EXPECT_EQ((*recent)[2].id, ids[6]);
+    EXPECT_EQ((*recent)[2].processIri, "urn:p6");
+    ASSERT_EQ((*recent)[2].steps.size(), 1U);
+    EXPECT_EQ((*recent)[2].steps[0].state, StepState::Running);
+    EXPECT_EQ(journal.recentRuns(100)->size(), 7U);
+    EXPECT_TRUE(journal.recentRuns(0)->empty());
+}
+
 TEST_F(JournalTest, RefusesAFileThatIsNotAJournalNamingIt) {
     {
         std::ofstream out(file());
