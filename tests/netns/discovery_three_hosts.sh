@@ -299,6 +299,11 @@ t0=$T0
 link_down h2 || fail "link_down h2"
 wait_gone srv2 expired $((t0 + (TTL + 3) * 1000)) h1 h3
 ok "link of h2 down: watchers on h1 and h3 show 'GONE ${NAME[srv2]} expired' within TTL+3 s"
+# And h2's own watcher has lost the LDS before the link comes back: else the link may return
+# while the LDS's records are still fresh on h2, and "ANNOUNCED again" below would have
+# nothing to be again (a race between the two expiries, seen in CI).
+wait_gone lds expired $((t0 + (TTL + 3) * 1000)) h2
+ok "link of h2 down: the watcher on h2 shows 'GONE ${NAME[lds]} expired' within TTL+3 s"
 poll_lds records $((t0 + (TTL + 5) * 1000)) "lds" "srv2"
 ok "the LDS no longer lists h2's server"
 poll_lds registered $((t0 + (TTL + 5) * 1000)) "" "srv2"
