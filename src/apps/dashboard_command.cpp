@@ -7,7 +7,6 @@
 // events. Prints "DASHBOARD <url>" once the page is served, then the server's "READY".
 #include <spdlog/spdlog.h>
 
-#include <unistd.h>
 #include <array>
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
@@ -474,16 +473,6 @@ void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& co
     });
 }
 
-std::string pageUrl(const DashboardOptions& o, bool tls, std::uint16_t port) {
-    std::string host = o.httpHost;
-    if (tls && http::isLoopback(host)) host = "localhost";  // a name the certificate carries
-    if (host == "0.0.0.0") {
-        std::array<char, 256> name{};
-        host = gethostname(name.data(), name.size() - 1) == 0 ? name.data() : "localhost";
-    }
-    return std::string(tls ? "https://" : "http://") + host + ":" + std::to_string(port) + "/";
-}
-
 int run(DashboardOptions& o) {
     o.process.usesDetector = true;
     return runServerProcess(
@@ -519,8 +508,8 @@ int run(DashboardOptions& o) {
             if (!o.journal.empty()) {
                 c->journal = std::make_unique<JournalReader>(o.journal, c->view);
             }
-            std::cout << "DASHBOARD " << pageUrl(o, tls, c->web->port()) << std::endl;
-            spdlog::info("dashboard: {} ({})", pageUrl(o, tls, c->web->port()),
+            std::cout << "DASHBOARD " << c->web->url("/") << std::endl;
+            spdlog::info("dashboard: {} ({})", c->web->url("/"),
                          tls ? "HTTPS, the cell's users log in" : "plain HTTP, no login");
             if (ctx.detector) {
                 c->detector = ctx.detector;

@@ -15,9 +15,6 @@
 // Prints "SPARQL <url>" once the endpoint listens, then the server process's "READY <url>".
 #include <spdlog/spdlog.h>
 
-#include <unistd.h>
-
-#include <array>
 #include <asio/thread_pool.hpp>
 #include <atomic>
 #include <filesystem>
@@ -330,18 +327,6 @@ void recordPending(KbComponent& c) {
     }
 }
 
-// The endpoint's URL as clients should use it: with TLS, a host name the certificate names.
-std::string endpointUrl(const KbOptions& o, bool tls, std::uint16_t port) {
-    std::string host = o.httpHost;
-    if (tls && http::isLoopback(host)) host = "localhost";
-    if (host == "0.0.0.0") {
-        std::array<char, 256> name{};
-        host = gethostname(name.data(), name.size() - 1) == 0 ? name.data() : "localhost";
-    }
-    return std::string(tls ? "https://" : "http://") + host + ":" + std::to_string(port) +
-           "/sparql";
-}
-
 ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const KbOptions& o,
                                             kb::KnowledgeBase& knowledge) {
     if (auto s = addKnowledgeBaseNodes(ctx.server.addressSpace(), knowledge); s.isBad()) return s;
@@ -387,8 +372,8 @@ ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const K
         spdlog::critical("kb: SPARQL endpoint: {}", s.error());
         return ua::status::BadResourceUnavailable;
     }
-    std::cout << "SPARQL " << endpointUrl(o, c->web->tls(), c->web->port()) << std::endl;
-    spdlog::info("kb: SPARQL endpoint {} ({})", endpointUrl(o, c->web->tls(), c->web->port()),
+    std::cout << "SPARQL " << c->web->url("/sparql") << std::endl;
+    spdlog::info("kb: SPARQL endpoint {} ({})", c->web->url("/sparql"),
                  ctx.users ? "HTTPS; Observers query, Engineers update"
                            : (o.httpWrites ? "plain HTTP, anyone may query and update"
                                            : "plain HTTP, anyone may query"));

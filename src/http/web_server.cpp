@@ -2,6 +2,9 @@
 
 #include <arpa/inet.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <array>
 
 #include "http/broken_pipe.hpp"
 #include "ua/pki/certificate.hpp"
@@ -191,6 +194,17 @@ Status WebServer::start() {
     // start() returns once it runs, which takes microseconds.
     for (int i = 0; i < 1'000'000 && !s.is_running(); ++i) std::this_thread::yield();
     return Done{};
+}
+
+std::string WebServer::url(const std::string& path) const {
+    std::string host = config_.host;
+    if (tls() && isLoopback(host)) host = "localhost";
+    if (host == "0.0.0.0") {
+        std::array<char, 256> name{};
+        host = gethostname(name.data(), name.size() - 1) == 0 ? name.data() : "localhost";
+    }
+    if (host.find(':') != std::string::npos) host = "[" + host + "]";
+    return std::string(tls() ? "https://" : "http://") + host + ":" + std::to_string(port_) + path;
 }
 
 void WebServer::stop() {

@@ -76,6 +76,10 @@ public:
     /// The bound port; 0 before start().
     [[nodiscard]] std::uint16_t port() const { return port_; }
     [[nodiscard]] bool tls() const { return config_.tls.has_value(); }
+    /// The URL of `path` as clients should use it, once started: with TLS a host name the
+    /// certificate carries ("localhost" for a loopback address); this host's name for one
+    /// that listens on every address.
+    [[nodiscard]] std::string url(const std::string& path) const;
     [[nodiscard]] UserGate& gate() { return *config_.gate; }
 
 private:
