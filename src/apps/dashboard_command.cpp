@@ -15,7 +15,6 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <thread>
@@ -30,6 +29,7 @@
 #include "devices/world/world_link.hpp"
 #include "http/web_server.hpp"
 #include "mes/journal.hpp"
+#include "mes/process_description.hpp"
 #include "server_process.hpp"
 #include "skills/skill_connection.hpp"
 
@@ -134,11 +134,6 @@ public:
         : path_(std::move(path)), view_(view), task_([this] { return tick(); }) {}
 
 private:
-    static std::string localName(const std::string& iri) {
-        const auto cut = iri.find_last_of("/#");
-        return cut == std::string::npos ? iri : iri.substr(cut + 1);
-    }
-
     std::chrono::milliseconds tick() {
         if (!journal_) {
             std::error_code ec;
@@ -162,7 +157,7 @@ private:
                 r.id, r.processIri, mes::toString(r.state), r.reason, r.startedMs, r.endedMs, {}};
             for (const auto& st : r.steps) {
                 v.steps.push_back({st.index, st.attempt, mes::toString(st.state),
-                                   localName(st.skillTypeIri), st.componentUri, st.startedMs,
+                                   mes::shortName(st.skillTypeIri), st.componentUri, st.startedMs,
                                    st.endedMs, st.reason});
             }
             out.push_back(std::move(v));
@@ -206,11 +201,6 @@ struct DashboardContent {
     // On the io thread only: the skills as detected, and those watched, by CellView::keyOf.
     std::map<std::string, skills::SkillInstance> instances;
     std::map<std::string, std::shared_ptr<skills::SkillConnection>> watched;
-    // A logged-in user's name and password by session token, for the OPC UA sessions of
-    // their actions: each is made as that user, so the component's own role check applies.
-    // In memory only, and gone at logout.
-    std::mutex secretsMutex;
-    std::map<std::string, std::pair<std::string, std::string>> secrets;
 };
 
 /// What a Start or Halt from the page came to.
@@ -235,21 +225,13 @@ asio::awaitable<ActionResult> act(std::weak_ptr<DashboardContent> weak, std::str
         skill = it->second;
     }
     const auto executor = co_await asio::this_coro::executor;
-    ua::Client client(executor);
-    const ua::StatusCode connected = co_await client.connect(skill.endpointUrl, config);
-    if (connected.isBad()) {
-        co_return ActionResult{connected, "cannot open a session with " + skill.endpointUrl};
-    }
-    auto attached = co_await skills::SkillClient::attach(client, skill.nodeId);
-    if (!attached) {
-        co_await client.disconnect();
-        co_return ActionResult{attached.status(), "cannot use the skill"};
-    }
-    const std::shared_ptr<skills::SkillClient> s = *attached;
     ActionResult result;
+    auto opened = co_await skills::SkillConnection::open(executor, skill, config, &result.detail);
+    if (!opened) co_return ActionResult{opened.status(), result.detail};
+    const std::unique_ptr<skills::SkillConnection> connection = std::move(*opened);
     for (const auto& [name, value] : parameters) {
         ua::Variant v{ua::String(value)};
-        result.status = co_await s->setParameter(name, std::move(v));
+        result.status = co_await connection->skill().setParameter(name, std::move(v));
         if (result.status.isBad()) {
             result.detail = "writing " + name;
             break;
@@ -258,11 +240,10 @@ asio::awaitable<ActionResult> act(std::weak_ptr<DashboardContent> weak, std::str
     if (result.status.isGood()) {
         const skills::SkillMethod method =
             halt ? skills::SkillMethod::Halt : skills::SkillMethod::Start;
-        result.status = co_await s->call(method);
+        result.status = co_await connection->skill().call(method);
         result.detail = halt ? "Halt" : "Start";
     }
-    co_await s->detach();
-    co_await client.disconnect();
+    co_await connection->close();
     co_return result;
 }
 
@@ -335,8 +316,9 @@ Json me(const ua::UserIdentity& user) {
 
 // POST /api/skill: key, action (start | halt), and param.NAME=VALUE for parameters. The
 // OPC UA status decides the answer: Good 200, a refusal of the user's role 403, others 409.
-void skillAction(const std::shared_ptr<DashboardContent>& c, const httplib::Request& req,
-                 httplib::Response& res, const ua::UserIdentity& user) {
+void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gate,
+                 const httplib::Request& req, httplib::Response& res,
+                 const ua::UserIdentity& user) {
     auto reply = [&res](int status, const ua::StatusCode& code, const std::string& detail) {
         res.status = status;
         res.set_content(
@@ -348,16 +330,12 @@ void skillAction(const std::shared_ptr<DashboardContent>& c, const httplib::Requ
     if (action != "start" && action != "halt") {
         return reply(400, ua::status::BadInvalidArgument, "action is start or halt");
     }
-    std::pair<std::string, std::string> secret;
-    {
-        const std::lock_guard lock(c->secretsMutex);
-        const auto it =
-            c->secrets.find(http::UserGate::sessionToken(req.get_header_value("Cookie")));
-        if (it == c->secrets.end()) {
-            return reply(403, ua::status::BadUserAccessDenied,
-                         "actions are made as the logged-in user: log in on the page");
-        }
-        secret = it->second;
+    // Each action is an OPC UA session as the logged-in user, so that the component's own
+    // role check applies: it needs the password of the page's login.
+    const auto secret = gate.sessionCredentials(req.get_header_value("Cookie"));
+    if (!secret) {
+        return reply(403, ua::status::BadUserAccessDenied,
+                     "actions are made as the logged-in user: log in on the page");
     }
     std::map<std::string, std::string> parameters;
     for (const auto& [name, value] : req.params) {
@@ -367,8 +345,8 @@ void skillAction(const std::shared_ptr<DashboardContent>& c, const httplib::Requ
     config.sessionName = "skillcell dashboard, for " + user.name;
     config.security.user = ua::UserCredentials{};
     config.security.user.kind = ua::UserCredentials::Kind::UserName;
-    config.security.user.userName = secret.first;
-    config.security.user.password = secret.second;
+    config.security.user.userName = secret->first;
+    config.security.user.password = secret->second;
     auto done = std::make_shared<std::promise<ActionResult>>();
     auto outcome = done->get_future();
     asio::co_spawn(c->io,
@@ -400,8 +378,7 @@ void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& co
     });
     auto* gate = &web.gate();
     std::weak_ptr<DashboardContent> weak = content;
-    web.publicPost("/login", [gate, tls, weak](const httplib::Request& req,
-                                               httplib::Response& res) {
+    web.publicPost("/login", [gate, tls](const httplib::Request& req, httplib::Response& res) {
         auto session = gate->login(req.get_param_value("user"), req.get_param_value("password"));
         if (!session) {
             spdlog::info("dashboard: a login as '{}' from {} refused", req.get_param_value("user"),
@@ -411,24 +388,13 @@ void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& co
             return;
         }
         spdlog::info("dashboard: {} logged in from {}", session->first.name, req.remote_addr);
-        if (auto c = weak.lock()) {
-            const std::lock_guard lock(c->secretsMutex);
-            constexpr std::size_t kMaxSessions = 1024;  // beyond: the oldest logins go
-            if (c->secrets.size() >= kMaxSessions) c->secrets.clear();
-            c->secrets[session->second] = {req.get_param_value("user"),
-                                           req.get_param_value("password")};
-        }
         res.set_header("Set-Cookie", std::string(http::UserGate::kSessionCookie) + "=" +
                                          session->second + "; Path=/; HttpOnly; SameSite=Strict" +
                                          (tls ? "; Secure" : ""));
         res.set_content(me(session->first).dump(), "application/json");
     });
-    web.post("/logout", [gate, weak](const httplib::Request& req, httplib::Response& res,
-                                     const ua::UserIdentity& user) {
-        if (auto c = weak.lock()) {
-            const std::lock_guard lock(c->secretsMutex);
-            c->secrets.erase(http::UserGate::sessionToken(req.get_header_value("Cookie")));
-        }
+    web.post("/logout", [gate](const httplib::Request& req, httplib::Response& res,
+                               const ua::UserIdentity& user) {
         gate->logout(req.get_header_value("Cookie"));
         spdlog::info("dashboard: {} logged out", user.name);
         res.set_header("Set-Cookie", std::string(http::UserGate::kSessionCookie) +
@@ -439,9 +405,9 @@ void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& co
             [](const httplib::Request&, httplib::Response& res, const ua::UserIdentity& user) {
                 res.set_content(me(user).dump(), "application/json");
             });
-    web.post("/api/skill", [weak](const httplib::Request& req, httplib::Response& res,
-                                  const ua::UserIdentity& user) {
-        if (auto c = weak.lock()) skillAction(c, req, res, user);
+    web.post("/api/skill", [weak, gate](const httplib::Request& req, httplib::Response& res,
+                                        const ua::UserIdentity& user) {
+        if (auto c = weak.lock()) skillAction(c, *gate, req, res, user);
     });
     // The live view: a snapshot, then every change, as server-sent events. A comment line
     // every 15 s keeps proxies from closing a quiet stream and notices a closed one.

@@ -82,16 +82,9 @@ ua::Result<ua::UserIdentity> UserGate::identify(std::string_view authorization,
     if (!peerCertificate.empty()) {
         if (auto user = users_->authenticateCertificate(peerCertificate)) return user;
     }
-    if (const auto token = cookieValue(cookie, kSessionCookie); !token.empty()) {
+    {
         const std::lock_guard lock(mutex_);
-        const auto now = std::chrono::steady_clock::now();
-        if (auto it = sessions_.find(std::string(token)); it != sessions_.end()) {
-            if (it->second.until > now) {
-                it->second.until = now + idle_;
-                return it->second.user;
-            }
-            sessions_.erase(it);
-        }
+        if (const Remembered* s = session(cookie)) return s->user;
     }
     // "Basic" 1*SP token68 (RFC 7617, 2); the scheme name is case-insensitive.
     constexpr std::string_view kBasic = "basic ";
@@ -124,7 +117,7 @@ ua::Result<ua::UserIdentity> UserGate::identify(std::string_view authorization,
     if (!key.empty()) {
         const std::lock_guard lock(mutex_);
         if (remembered_.size() >= kMaxRemembered) remembered_.clear();
-        remembered_[key] = Remembered{*user, now + remember_};
+        remembered_[key] = Remembered{*user, now + remember_, {}};
     }
     return user;
 }
@@ -141,12 +134,30 @@ ua::Result<std::pair<ua::UserIdentity, std::string>> UserGate::login(std::string
     if (sessions_.size() >= kMaxRemembered * 4) {  // forget the expired ones first
         std::erase_if(sessions_, [now](const auto& s) { return s.second.until <= now; });
     }
-    sessions_[token] = Remembered{*user, now + idle_};
+    sessions_[token] = Remembered{*user, now + idle_, {std::string(name), std::string(password)}};
     return std::pair{*user, std::move(token)};
 }
 
-std::string UserGate::sessionToken(std::string_view cookie) {
-    return std::string(cookieValue(cookie, kSessionCookie));
+UserGate::Remembered* UserGate::session(std::string_view cookie) {
+    const auto token = cookieValue(cookie, kSessionCookie);
+    if (token.empty()) return nullptr;
+    const auto it = sessions_.find(std::string(token));
+    if (it == sessions_.end()) return nullptr;
+    const auto now = std::chrono::steady_clock::now();
+    if (it->second.until <= now) {
+        sessions_.erase(it);
+        return nullptr;
+    }
+    it->second.until = now + idle_;
+    return &it->second;
+}
+
+std::optional<std::pair<std::string, std::string>> UserGate::sessionCredentials(
+    std::string_view cookie) {
+    const std::lock_guard lock(mutex_);
+    const Remembered* s = session(cookie);
+    if (s == nullptr) return std::nullopt;
+    return s->credentials;
 }
 
 void UserGate::logout(std::string_view cookie) {

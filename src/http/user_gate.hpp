@@ -11,6 +11,7 @@
 #include <chrono>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -36,12 +37,16 @@ public:
                                                         std::string_view cookie = {});
 
     /// A browser's login: the user of `name` and `password`, and a new session token for
-    /// the cookie kSessionCookie (random, 256 bits), valid while used within `idle`.
+    /// the cookie kSessionCookie (random, 256 bits), valid while used within `idle`. The
+    /// session keeps the name and password, in memory only, for a server that acts as its
+    /// users (the dashboard opens OPC UA sessions as them); they go with the session.
     [[nodiscard]] ua::Result<std::pair<ua::UserIdentity, std::string>> login(
         std::string_view name, std::string_view password);
     void logout(std::string_view cookie);
-    /// The session token in a Cookie header, or empty.
-    [[nodiscard]] static std::string sessionToken(std::string_view cookie);
+    /// The name and password that the live session of a Cookie header logged in with;
+    /// nothing without one (a user known by Basic or a certificate, an ended session).
+    [[nodiscard]] std::optional<std::pair<std::string, std::string>> sessionCredentials(
+        std::string_view cookie);
     static constexpr std::string_view kSessionCookie = "skillcell_session";
 
     [[nodiscard]] bool hasUsers() const { return users_ != nullptr; }
@@ -50,7 +55,10 @@ private:
     struct Remembered {
         ua::UserIdentity user;
         std::chrono::steady_clock::time_point until;
+        std::pair<std::string, std::string> credentials;  // sessions only: name, password
     };
+    /// The live session of a Cookie header, its idle time renewed; under mutex_.
+    Remembered* session(std::string_view cookie);
     std::shared_ptr<const ua::UserAuthenticator> users_;
     ua::RoleSet anonymousRoles_;
     std::chrono::seconds remember_;

@@ -106,6 +106,29 @@ TEST_F(UserGateTest, KnowsUsersByBasicCredentialsAndNobodyElse) {
     EXPECT_TRUE(gate.identify(basic("olga:secret-1"), unknown));
 }
 
+TEST_F(UserGateTest, ALoginIsASessionThatKeepsItsCredentialsUntilLogout) {
+    UserGate gate(users_);
+    EXPECT_FALSE(gate.login("olga", "wrong"));
+    auto session = gate.login("olga", "secret-1");
+    ASSERT_TRUE(session);
+    EXPECT_EQ(session->first.name, "olga");
+    const std::string cookie =
+        "other=1; " + std::string(UserGate::kSessionCookie) + "=" + session->second;
+    auto who = gate.identify("", {}, cookie);
+    ASSERT_TRUE(who);
+    EXPECT_EQ(who->name, "olga");
+    const auto credentials = gate.sessionCredentials(cookie);
+    ASSERT_TRUE(credentials);
+    EXPECT_EQ(*credentials, (std::pair<std::string, std::string>{"olga", "secret-1"}));
+    // A user known by Basic, or a token nobody issued, has no session to act with.
+    EXPECT_FALSE(gate.sessionCredentials(""));
+    EXPECT_FALSE(gate.sessionCredentials(std::string(UserGate::kSessionCookie) + "=abc"));
+    EXPECT_FALSE(gate.identify("", {}, std::string(UserGate::kSessionCookie) + "=abc"));
+    gate.logout(cookie);
+    EXPECT_FALSE(gate.identify("", {}, cookie));
+    EXPECT_FALSE(gate.sessionCredentials(cookie));
+}
+
 TEST_F(UserGateTest, WithoutUsersEveryoneIsAnonymousWithTheGivenRoles) {
     UserGate gate(nullptr, ua::RoleSet{ua::Role::Anonymous, ua::Role::Observer});
     auto who = gate.identify("", {});
