@@ -47,6 +47,7 @@
 #include "devices/world/world_link.hpp"
 #include "interruption.hpp"
 #include "mes/journal.hpp"
+#include "mes/process_description.hpp"
 #include "skill_detection_clock.hpp"
 #include "ua/pki/certificate_authority.hpp"
 #include "ua/server/user_database.hpp"
@@ -416,11 +417,6 @@ void DemoCell::showWorld() {
                 tool ? ("\"" + *tool + "\"").c_str() : ua::statusName(tool.status()).data());
 }
 
-std::string shortIri(const std::string& iri) {
-    const auto cut = iri.find_last_of("/#");
-    return cut == std::string::npos ? iri : iri.substr(cut + 1);
-}
-
 void DemoCell::showJournal() {
     auto journal = mes::Journal::open(runtime_.journal().string());
     if (!journal) {
@@ -440,7 +436,7 @@ void DemoCell::showJournal() {
                 "component", "ms");
     for (const auto& s : r.steps) {
         std::printf("  %4d %7d %-9s %-24s %-40s %7lld\n", s.index, s.attempt,
-                    mes::toString(s.state), shortIri(s.skillTypeIri).c_str(),
+                    mes::toString(s.state), mes::shortName(s.skillTypeIri).c_str(),
                     s.componentUri.c_str(),
                     static_cast<long long>(s.endedMs > 0 ? s.endedMs - s.startedMs : 0));
     }

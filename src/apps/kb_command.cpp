@@ -176,8 +176,8 @@ ua::StatusCode addKnowledgeBaseNodes(ua::AddressSpace& as, kb::KnowledgeBase& kn
     return ua::status::Good;
 }
 
-// What the KB runs while its server runs: the HTTP endpoint, the workers that call the
-// store off the I/O thread, and discovery-driven loading.
+// What the KB runs while its server runs: the HTTP endpoint (its requests are answered on
+// the web server's own threads), and discovery-driven loading on a thread of its own.
 struct KbComponent {
     KbComponent(kb::KnowledgeBase& knowledge, bool httpWrites, ua::ClientConfig readerConfig)
         : endpoint(knowledge, httpWrites), kb(knowledge), reader(std::move(readerConfig)) {}
@@ -193,7 +193,7 @@ struct KbComponent {
 
     kb::SparqlEndpoint endpoint;
     kb::KnowledgeBase& kb;
-    asio::thread_pool workers{2};
+    asio::thread_pool workers{1};
     // Discovery jobs one after another, in the order the events came.
     asio::strand<asio::thread_pool::executor_type> loads{asio::make_strand(workers)};
     kb::ComponentGraphs graphs;  // used on `loads` only

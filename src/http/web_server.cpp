@@ -7,6 +7,7 @@
 #include <array>
 
 #include "http/broken_pipe.hpp"
+#include "http/http_url.hpp"
 #include "ua/pki/certificate.hpp"
 
 namespace skillcell::http {
@@ -203,8 +204,7 @@ std::string WebServer::url(const std::string& path) const {
         std::array<char, 256> name{};
         host = gethostname(name.data(), name.size() - 1) == 0 ? name.data() : "localhost";
     }
-    if (host.find(':') != std::string::npos) host = "[" + host + "]";
-    return std::string(tls() ? "https://" : "http://") + host + ":" + std::to_string(port_) + path;
+    return HttpUrl{tls(), host, port_, path}.toString();
 }
 
 void WebServer::stop() {
