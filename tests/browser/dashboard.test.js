@@ -61,6 +61,17 @@ function check(condition, what) {
     check((await box.getAttribute("data-x")) === "0.450" && (await box.getAttribute("data-y")) === "0.150",
           "the scene shows dockP with its tool and boxA at (0.45, 0.15)");
 
+    // Bad requests get a precise answer: an unknown action, an unknown skill.
+    const bad = await page.evaluate(async () => {
+      const post = async (form) => {
+        const r = await fetch("/api/skill", { method: "POST", body: new URLSearchParams(form) });
+        return r.status + " " + (await r.json()).status;
+      };
+      return [await post({ key: "x", action: "explode" }), await post({ key: "urn:none ns=1;i=1", action: "start" })];
+    });
+    check(bad[0] === "400 BadInvalidArgument", "an unknown action is 400 BadInvalidArgument (" + bad[0] + ")");
+    check(bad[1] === "409 BadNodeIdUnknown", "an unknown skill is 409 BadNodeIdUnknown (" + bad[1] + ")");
+
     // The Observer may watch, not run: the gripper's server refuses her Start.
     const grasp = '#skills tr[data-key^="urn:test:gripper"]';
     await page.click(grasp + " button[data-action=start]");
@@ -102,7 +113,7 @@ function check(condition, what) {
     const mes = requests.filter((p) => p === "/api/me").length;
     check(streams === 1, "one event stream for the whole session (was " + streams + ")");
     const posts = requests.filter((p) => p === "/api/skill").length;
-    check(posts === 1, "one action, the Start (" + posts + ")");
+    check(posts === 1, "one action since the Operator's login, the Start (" + posts + ")");
     check(mes === 0, "no polling of /api/me (" + mes + " requests)");
 
     await page.click("#logout");
