@@ -356,6 +356,7 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
         a = {"dashboard", "--http-port", std::to_string(page)};
         if (!endpoint("world").empty()) a.insert(a.end(), {"--world", endpoint("world")});
         if (cell_.mes) a.insert(a.end(), {"--journal", journal().string()});
+        if (!sparqlUrl().empty()) a.insert(a.end(), {"--kb", sparqlUrl()});
     } else if (name == "world") {
         a = {"device", "world"};
         const auto scene = cell::worldArguments(cell_);

@@ -28,10 +28,12 @@
 #include "dashboard/web_assets.hpp"
 #include "devices/world/world_link.hpp"
 #include "http/web_server.hpp"
+#include "kb/store/http_sparql_store.hpp"
 #include "mes/journal.hpp"
 #include "mes/process_description.hpp"
 #include "server_process.hpp"
 #include "skills/skill_connection.hpp"
+#include "sparql_client_options.hpp"
 
 namespace skillcell::apps {
 
@@ -50,6 +52,7 @@ struct DashboardOptions {
     std::uint16_t httpPort = 8443;
     std::string worldUrl;  // the world model, for the scene's picture; empty: none
     std::string journal;   // the MES's journal, for the runs; empty: none
+    std::string kbUrl;     // the knowledge base's SPARQL endpoint, for its processes
 };
 
 /// Reads the world model's scene five times a second (WorldLink's calls block, so on a
@@ -172,6 +175,47 @@ private:
     dashboard::PeriodicTask task_;           // last
 };
 
+/// Reads the processes the knowledge base holds every 5 s (its SPARQL endpoint over HTTPS, as
+/// this component's client user; blocking calls, so on a PeriodicTask's thread) and gives the
+/// view what changed. A process that cannot be read is listed with the reason.
+class ProcessReader {
+public:
+    ProcessReader(kb::HttpSparqlEndpoint endpoint, dashboard::CellView& view)
+        : store_(std::move(endpoint)), view_(view), task_([this] { return tick(); }) {}
+
+private:
+    std::chrono::milliseconds tick() {
+        auto iris = mes::processIris(store_);
+        if (!iris) {
+            if (!complained_) {
+                spdlog::warn("dashboard: the knowledge base: {} (trying again)", iris.error());
+            }
+            complained_ = true;
+            return 2000ms;
+        }
+        complained_ = false;
+        std::vector<dashboard::ProcessView> out;
+        out.reserve(iris->size());
+        for (const auto& iri : *iris) {
+            dashboard::ProcessView v{iri, {}, {}};
+            if (auto p = mes::readProcess(store_, iri)) {
+                for (const auto& step : p->steps)
+                    v.steps.push_back(mes::shortName(step.skillTypeIri));
+            } else {
+                v.problem = p.error();
+            }
+            out.push_back(std::move(v));
+        }
+        view_.processes(out);
+        return 5000ms;
+    }
+
+    kb::HttpSparqlStore store_;  // on the task's thread only
+    dashboard::CellView& view_;
+    bool complained_ = false;
+    dashboard::PeriodicTask task_;  // last
+};
+
 /// What the component keeps alive: the view, the web server and one session per skill.
 /// Members go in reverse: the sessions first, the page's streams before the view.
 struct DashboardContent {
@@ -179,7 +223,11 @@ struct DashboardContent {
     ~DashboardContent() {
         scene.reset();
         journal.reset();
-        if (detector) detector->unsubscribe(subscription);
+        processes.reset();
+        if (detector) {
+            detector->unsubscribe(subscription);
+            detector->unsubscribe(componentSubscription);
+        }
         hub.close();  // every open stream ends, so that the web server can stop
         if (web) web->stop();
     }
@@ -192,11 +240,13 @@ struct DashboardContent {
                                  const auto* paper = cell::paperDetection(uri);
                                  return paper != nullptr ? paper->ms : 0.0;
                              }};
-    std::unique_ptr<SceneReader> scene;      // before the view goes
-    std::unique_ptr<JournalReader> journal;  // before the view goes
+    std::unique_ptr<SceneReader> scene;        // before the view goes
+    std::unique_ptr<JournalReader> journal;    // before the view goes
+    std::unique_ptr<ProcessReader> processes;  // before the view goes
     std::unique_ptr<http::WebServer> web;
     std::shared_ptr<skills::SkillDetector> detector;
     std::size_t subscription = 0;
+    std::size_t componentSubscription = 0;
     ua::ClientConfig client;
     // On the io thread only: the skills as detected, and those watched, by CellView::keyOf.
     std::map<std::string, skills::SkillInstance> instances;
@@ -211,7 +261,8 @@ struct ActionResult {
 
 // Starts or halts one skill as the page's user: a session of its own, the parameters the
 // page gave (as strings), the method. On the io thread.
-asio::awaitable<ActionResult> act(std::weak_ptr<DashboardContent> weak, std::string key, bool halt,
+asio::awaitable<ActionResult> act(std::weak_ptr<DashboardContent> weak, std::string key,
+                                  skills::SkillMethod method,
                                   std::map<std::string, std::string> parameters,
                                   ua::ClientConfig config) {
     skills::SkillInstance skill;
@@ -238,10 +289,8 @@ asio::awaitable<ActionResult> act(std::weak_ptr<DashboardContent> weak, std::str
         }
     }
     if (result.status.isGood()) {
-        const skills::SkillMethod method =
-            halt ? skills::SkillMethod::Halt : skills::SkillMethod::Start;
         result.status = co_await connection->skill().call(method);
-        result.detail = halt ? "Halt" : "Start";
+        result.detail = std::string(skills::name(method));
     }
     co_await connection->close();
     co_return result;
@@ -314,7 +363,9 @@ Json me(const ua::UserIdentity& user) {
     return {{"user", user.name}, {"roles", std::move(roles)}};
 }
 
-// POST /api/skill: key, action (start | halt), and param.NAME=VALUE for parameters. The
+// POST /api/skill: key, action (start | halt | reset), and param.NAME=VALUE for parameters
+// (written before a Start). The page starts a process with the MES's ExecuteProcess skill and
+// its ProcessIri. The
 // OPC UA status decides the answer: Good 200, a refusal of the user's role 403, others 409.
 void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gate,
                  const httplib::Request& req, httplib::Response& res,
@@ -327,8 +378,12 @@ void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gat
             "application/json");
     };
     const std::string action = req.get_param_value("action");
-    if (action != "start" && action != "halt") {
-        return reply(400, ua::status::BadInvalidArgument, "action is start or halt");
+    const std::map<std::string, skills::SkillMethod> methods{{"start", skills::SkillMethod::Start},
+                                                             {"halt", skills::SkillMethod::Halt},
+                                                             {"reset", skills::SkillMethod::Reset}};
+    const auto method = methods.find(action);
+    if (method == methods.end()) {
+        return reply(400, ua::status::BadInvalidArgument, "action is start, halt or reset");
     }
     // Each action is an OPC UA session as the logged-in user, so that the component's own
     // role check applies: it needs the password of the page's login.
@@ -339,7 +394,10 @@ void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gat
     }
     std::map<std::string, std::string> parameters;
     for (const auto& [name, value] : req.params) {
-        if (name.rfind("param.", 0) == 0 && !value.empty()) parameters[name.substr(6)] = value;
+        if (method->second == skills::SkillMethod::Start && name.rfind("param.", 0) == 0 &&
+            !value.empty()) {
+            parameters[name.substr(6)] = value;
+        }
     }
     ua::ClientConfig config = c->client;
     config.sessionName = "skillcell dashboard, for " + user.name;
@@ -350,7 +408,7 @@ void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gat
     auto done = std::make_shared<std::promise<ActionResult>>();
     auto outcome = done->get_future();
     asio::co_spawn(c->io,
-                   act(c, req.get_param_value("key"), action == "halt", std::move(parameters),
+                   act(c, req.get_param_value("key"), method->second, std::move(parameters),
                        std::move(config)),
                    [done](const std::exception_ptr& e, ActionResult r) {
                        if (e) r = ActionResult{ua::status::BadInternalError, "failed"};
@@ -474,6 +532,15 @@ int run(DashboardOptions& o) {
             if (!o.journal.empty()) {
                 c->journal = std::make_unique<JournalReader>(o.journal, c->view);
             }
+            if (!o.kbUrl.empty()) {
+                auto endpoint = kb::HttpSparqlEndpoint::fromUrl(o.kbUrl);
+                if (!endpoint) {
+                    spdlog::critical("dashboard: --kb {}: {}", o.kbUrl, endpoint.error());
+                    return ua::status::BadInvalidArgument;
+                }
+                if (endpoint->url.tls) endpoint->client = sparqlClientOptions(ctx.clientSecurity);
+                c->processes = std::make_unique<ProcessReader>(std::move(*endpoint), c->view);
+            }
             std::cout << "DASHBOARD " << c->web->url("/") << std::endl;
             spdlog::info("dashboard: {} ({})", c->web->url("/"),
                          tls ? "HTTPS, the cell's users log in" : "plain HTTP, no login");
@@ -484,6 +551,11 @@ int run(DashboardOptions& o) {
                 c->subscription = ctx.detector->subscribe([weak](const skills::SkillEvent& e) {
                     if (auto content = weak.lock()) onSkillEvent(content, e);
                 });
+                // Components without skills too: the LDS, the KB, the world model.
+                c->componentSubscription =
+                    ctx.detector->subscribeComponents([weak](const skills::ComponentEvent& e) {
+                        if (auto content = weak.lock()) content->view.componentStatus(e);
+                    });
             }
             return ComponentContent(c);
         });
@@ -512,6 +584,9 @@ Command addDashboardCommand(CLI::App& app) {
     cmd->add_option("--journal", o->journal,
                     "the MES's journal (SQLite): the page shows its last runs, step by step, as "
                     "a timeline, and the one in progress");
+    cmd->add_option("--kb", o->kbUrl,
+                    "the knowledge base's SPARQL endpoint: the page lists its processes, and an "
+                    "Operator starts one with the MES's ExecuteProcess skill");
     cmd->add_option("--world", o->worldUrl,
                     "the world model's endpoint: the page draws its scene (docks, tools, boxes, "
                     "the flange) from above");

@@ -169,18 +169,12 @@ int list(const ProcessOptions& o) {
         return 2;
     }
     kb::HttpSparqlStore store(std::move(*endpoint));
-    const std::string type = std::string(kb::rdf::vocab::kRdf) + "type";
-    auto found = mes::constructTriples(store, "CONSTRUCT { ?p <" + type + "> <" +
-                                                  std::string(mes::kProcessNs) +
-                                                  "Process> } WHERE { ?p <" + type + "> <" +
-                                                  std::string(mes::kProcessNs) + "Process> }");
+    auto found = mes::processIris(store);
     if (!found) {
         std::cerr << "process list: " << o.kbUrl << ": " << found.error() << "\n";
         return 2;
     }
-    std::vector<std::string> iris;
-    for (const auto& t : *found) iris.push_back(t.subject.value);
-    std::sort(iris.begin(), iris.end());
+    const std::vector<std::string>& iris = *found;
     if (iris.empty()) std::printf("no processes in %s\n", o.kbUrl.c_str());
     int rc = 0;
     for (const auto& iri : iris) {

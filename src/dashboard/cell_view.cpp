@@ -11,6 +11,7 @@ Json toJson(const ComponentView& c) {
     return {{"uri", c.uri},
             {"endpoint", c.endpoint},
             {"up", c.up},
+            {"state", c.state},
             {"startTime", c.startTime},
             {"detectedAt", c.detectedAt},
             {"detectionMs", c.detectionMs},
@@ -71,6 +72,14 @@ Json toJson(const std::vector<RunView>& runs) {
     return out;
 }
 
+Json toJson(const std::vector<ProcessView>& processes) {
+    Json out = Json::array();
+    for (const auto& p : processes) {
+        out.push_back({{"iri", p.iri}, {"steps", p.steps}, {"problem", p.problem}});
+    }
+    return out;
+}
+
 // What servers send may be any bytes: replaced where not UTF-8.
 std::string text(const Json& j) {
     return j.dump(-1, ' ', false, Json::error_handler_t::replace);
@@ -82,25 +91,55 @@ std::string CellView::keyOf(const skills::SkillInstance& skill) {
     return skill.componentUri + " " + skill.nodeId.toString();
 }
 
+void CellView::comeUp(ComponentView& c, const std::string& endpoint, ua::DateTime startTime) {
+    if (!endpoint.empty()) c.endpoint = endpoint;
+    if (c.up) return;
+    const auto now = ua::DateTime::now();
+    c.up = true;
+    c.state = "up";
+    c.downReason.clear();
+    c.detectedAt = now.toIso8601();
+    c.startTime = startTime.toIso8601();
+    c.paperMs = paper_ ? paper_(c.uri) : 0;
+    c.detectionMs =
+        startTime.ticks == 0
+            ? -1.0
+            : static_cast<double>(now.unixNanoseconds() - startTime.unixNanoseconds()) / 1e6;
+}
+
+void CellView::componentStatus(const skills::ComponentEvent& event) {
+    using State = skills::ComponentStatus::State;
+    const auto& st = event.status;
+    // The detector names a component without an application URI "key:<source key>".
+    if (st.id.empty() || st.id.rfind("key:", 0) == 0) return;
+    const std::lock_guard lock(mutex_);
+    auto& c = components_[st.id];
+    c.uri = st.id;
+    if (event.forgotten) {
+        if (c.up || c.state != "gone") {
+            c.up = false;
+            c.state = "gone";
+            c.downReason = std::string(skills::toString(event.reason));
+        }
+    } else if (st.state == State::Connected) {
+        comeUp(c, st.endpointUrl, st.startTime);
+    } else if (st.state == State::Unreachable) {
+        if (c.up) c.downReason = "unreachable: " + std::string(ua::statusName(st.lastError));
+        c.up = false;
+        c.state = "unreachable";
+    } else if (!c.up) {
+        c.state = "connecting";
+        if (c.endpoint.empty()) c.endpoint = st.endpointUrl;
+    }
+    publishComponent(c);
+}
+
 void CellView::skillAdded(const skills::SkillInstance& skill) {
     const std::lock_guard lock(mutex_);
     auto& c = components_[skill.componentUri];
-    const bool wasUp = c.up;
     c.uri = skill.componentUri;
-    c.endpoint = skill.endpointUrl;
-    if (!wasUp) {
-        const auto now = ua::DateTime::now();
-        c.up = true;
-        c.downReason.clear();
-        c.detectedAt = now.toIso8601();
-        c.startTime = skill.componentStartTime.toIso8601();
-        c.paperMs = paper_ ? paper_(skill.componentUri) : 0;
-        c.detectionMs = skill.componentStartTime.ticks == 0
-                            ? -1.0
-                            : static_cast<double>(now.unixNanoseconds() -
-                                                  skill.componentStartTime.unixNanoseconds()) /
-                                  1e6;
-    }
+    // A component's skills come before the detector calls it connected.
+    comeUp(c, skill.endpointUrl, skill.componentStartTime);
     auto& s = skills_[keyOf(skill)];
     const bool wasAvailable = s.available;
     s.key = keyOf(skill);
@@ -122,8 +161,14 @@ void CellView::skillRemoved(const skills::SkillInstance& skill, skills::RemovalR
     it->second.state.clear();
     auto& c = components_[skill.componentUri];
     if (c.skills > 0) --c.skills;
-    if (c.skills == 0) {
+    // A restarted component is browsed again and stays up; otherwise the component's status
+    // follows (unreachable, or gone), but the skills' reason is the better one to show.
+    if (c.skills == 0 && reason != skills::RemovalReason::Restarted && c.up) {
         c.up = false;
+        c.state = reason == skills::RemovalReason::Disconnected ||
+                          reason == skills::RemovalReason::Timeout
+                      ? "unreachable"
+                      : "gone";
         c.downReason = std::string(skills::toString(reason));
     }
     publishComponent(c);
@@ -169,6 +214,14 @@ void CellView::runs(const std::vector<RunView>& runs) {
     hub_.publish(text({{"type", "runs"}, {"version", ++version_}, {"runs", toJson(runs)}}));
 }
 
+void CellView::processes(const std::vector<ProcessView>& processes) {
+    const std::lock_guard lock(mutex_);
+    if (processes_ && *processes_ == processes) return;
+    processes_ = processes;
+    hub_.publish(
+        text({{"type", "processes"}, {"version", ++version_}, {"processes", toJson(processes)}}));
+}
+
 std::pair<std::string, std::shared_ptr<EventHub::Listener>> CellView::open() {
     const std::lock_guard lock(mutex_);
     Json components = Json::array();
@@ -181,6 +234,7 @@ std::pair<std::string, std::shared_ptr<EventHub::Listener>> CellView::open() {
                   {"skills", std::move(skills)}};
     if (scene_) snapshot["scene"] = toJson(*scene_);
     if (runs_) snapshot["runs"] = toJson(*runs_);
+    if (processes_) snapshot["processes"] = toJson(*processes_);
     return {text(snapshot), hub_.subscribe()};
 }
 

@@ -26,6 +26,7 @@ struct ComponentView {
     std::string uri;
     std::string endpoint;
     bool up = false;
+    std::string state;        // "connecting", "up", "unreachable", "gone"
     std::string startTime;    // the server's StartTime, ISO 8601
     std::string detectedAt;   // when the dashboard learnt of it, ISO 8601
     double detectionMs = -1;  // detectedAt - startTime: from start to detection
@@ -96,6 +97,14 @@ struct RunView {
     friend bool operator==(const RunView&, const RunView&) = default;
 };
 
+/// A process the knowledge base holds, as the page lists it.
+struct ProcessView {
+    std::string iri;
+    std::vector<std::string> steps;  // each step's skill type (local name), in order
+    std::string problem;             // why it cannot be read; empty when it can
+    friend bool operator==(const ProcessView&, const ProcessView&) = default;
+};
+
 class CellView {
 public:
     static constexpr std::size_t kMaxTransitions = 8;
@@ -106,6 +115,9 @@ public:
     explicit CellView(EventHub& hub, PaperFigures paper = {})
         : hub_(hub), paper_(std::move(paper)) {}
 
+    /// What discovery knows of a component, whether it offers skills or not (an LDS, the
+    /// KB, the world model).
+    void componentStatus(const skills::ComponentEvent& event);
     void skillAdded(const skills::SkillInstance& skill);
     void skillRemoved(const skills::SkillInstance& skill, skills::RemovalReason reason);
     /// The skill's state as read or as a transition event brought it.
@@ -118,6 +130,9 @@ public:
     /// The last runs of the MES, oldest first; published only when they changed.
     void runs(const std::vector<RunView>& runs);
 
+    /// The processes in the knowledge base; published only when they changed.
+    void processes(const std::vector<ProcessView>& processes);
+
     /// The whole view as the "snapshot" event, and a listener that hears every change after
     /// it, taken together.
     [[nodiscard]] std::pair<std::string, std::shared_ptr<EventHub::Listener>> open();
@@ -127,6 +142,8 @@ public:
     [[nodiscard]] std::map<std::string, SkillView> skills() const;
 
 private:
+    /// Marks `c` up, with its detection time, unless it is up already (under mutex_).
+    void comeUp(ComponentView& c, const std::string& endpoint, ua::DateTime startTime);
     void publishComponent(const ComponentView& c);  // under mutex_
     void publishSkill(const SkillView& s);          // under mutex_
 
@@ -138,6 +155,7 @@ private:
     std::map<std::string, SkillView> skills_;
     std::optional<SceneView> scene_;
     std::optional<std::vector<RunView>> runs_;
+    std::optional<std::vector<ProcessView>> processes_;
 };
 
 }  // namespace skillcell::dashboard

@@ -356,6 +356,20 @@ kb::Expected<std::vector<Triple>> constructTriples(kb::SparqlStore& store,
     return triples;
 }
 
+kb::Expected<std::vector<std::string>> processIris(kb::SparqlStore& store) {
+    const std::string type = std::string(kb::rdf::vocab::kRdf) + "type";
+    const std::string process = std::string(kProcessNs) + "Process";
+    auto found = constructTriples(store, "CONSTRUCT { ?p <" + type + "> <" + process +
+                                             "> } WHERE { ?p <" + type + "> <" + process + "> }");
+    if (!found) return found.failure();
+    std::vector<std::string> iris;
+    iris.reserve(found->size());
+    for (const auto& t : *found) iris.push_back(t.subject.value);
+    std::sort(iris.begin(), iris.end());
+    iris.erase(std::unique(iris.begin(), iris.end()), iris.end());
+    return iris;
+}
+
 kb::Expected<ProcessDescription> readProcess(kb::SparqlStore& store,
                                              const std::string& processIri) {
     auto query = processQuery(processIri);

@@ -99,6 +99,9 @@ struct ProcessDescription {
 [[nodiscard]] kb::Expected<ProcessDescription> readProcess(kb::SparqlStore& store,
                                                            const std::string& processIri);
 
+/// The IRIs of every process the KB holds (rdf:type proc:Process), sorted.
+[[nodiscard]] kb::Expected<std::vector<std::string>> processIris(kb::SparqlStore& store);
+
 /// A number in a literal's lexical form ("0.85", "-2", "1e-3"); nothing when it is not one.
 [[nodiscard]] std::optional<double> parseNumber(const std::string& text);
 

@@ -192,8 +192,19 @@ void SkillDetector::dropSighting(const std::string& key, RemovalReason reason) {
         endWatch(w);
         components_.erase(c);
         replaceSkills(id, {}, reason);
-        std::lock_guard lock(mutex_);
-        status_.erase(id);
+        ComponentEvent event;
+        event.forgotten = true;
+        event.reason = reason;
+        {
+            std::lock_guard lock(mutex_);
+            auto st = status_.find(id);
+            if (st != status_.end()) {
+                event.status = std::move(st->second);
+                status_.erase(st);
+            }
+        }
+        event.status.id = id;
+        notifyComponent(event);
         return;
     }
     if (w.urlKey == key) {
@@ -222,6 +233,7 @@ void SkillDetector::stop() {
     components_.clear();
     keys_.clear();
     listeners_.clear();
+    componentListeners_.clear();
     std::lock_guard lock(mutex_);
     instances_.clear();
     byType_.clear();
@@ -490,10 +502,28 @@ void SkillDetector::replaceSkills(const std::string& componentId, std::vector<Sk
 
 void SkillDetector::setStatus(const std::string& componentId,
                               const std::function<void(ComponentStatus&)>& f) {
-    std::lock_guard lock(mutex_);
-    ComponentStatus& s = status_[componentId];
-    s.id = componentId;
-    f(s);
+    ComponentEvent event;
+    {
+        std::lock_guard lock(mutex_);
+        ComponentStatus& s = status_[componentId];
+        s.id = componentId;
+        f(s);
+        if (componentListeners_.empty()) return;
+        event.status = s;
+    }
+    notifyComponent(event);
+}
+
+void SkillDetector::notifyComponent(const ComponentEvent& event) {
+    std::vector<std::size_t> ids;
+    ids.reserve(componentListeners_.size());
+    for (const auto& [id, listener] : componentListeners_) ids.push_back(id);
+    for (const std::size_t id : ids) {
+        auto it = componentListeners_.find(id);  // a listener may unsubscribe another
+        if (it == componentListeners_.end()) continue;
+        const ComponentListener listener = it->second;  // and itself, while it runs
+        listener(event);
+    }
 }
 
 void SkillDetector::notify(const std::vector<SkillEvent>& events) {
@@ -521,8 +551,20 @@ std::size_t SkillDetector::subscribe(Listener listener) {
     return id;
 }
 
+std::size_t SkillDetector::subscribeComponents(ComponentListener listener) {
+    const std::size_t id = nextListener_++;
+    for (auto& status : components()) {
+        ComponentEvent event;
+        event.status = std::move(status);
+        listener(event);
+    }
+    componentListeners_.emplace(id, std::move(listener));
+    return id;
+}
+
 void SkillDetector::unsubscribe(std::size_t id) {
     listeners_.erase(id);
+    componentListeners_.erase(id);
 }
 
 std::vector<SkillInstance> SkillDetector::find(const GlobalNodeId& type) const {

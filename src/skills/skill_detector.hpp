@@ -102,6 +102,14 @@ struct ComponentStatus {
     std::uint64_t browses = 0;  // complete browses of it so far
 };
 
+/// A change of what the detector knows of a component. `forgotten`: no source lists it any
+/// more (then `reason` says why: goodbye, expiry, unregistration).
+struct ComponentEvent {
+    ComponentStatus status;
+    bool forgotten = false;
+    RemovalReason reason = RemovalReason::Disconnected;
+};
+
 struct SkillDetectorConfig {
     SkillDetectorConfig() = default;  // not an aggregate: see ua::ClientConfig
     /// Resolve, TCP connect and Hello/Acknowledge.
@@ -125,6 +133,7 @@ struct SkillDetectorConfig {
 class SkillDetector : public std::enable_shared_from_this<SkillDetector> {
 public:
     using Listener = std::function<void(const SkillEvent&)>;
+    using ComponentListener = std::function<void(const ComponentEvent&)>;
 
     [[nodiscard]] static std::shared_ptr<SkillDetector> create(asio::any_io_executor executor,
                                                                SkillDetectorConfig config = {});
@@ -149,6 +158,10 @@ public:
     /// Calls `listener` with Added for every instance known now, then with every change.
     std::size_t subscribe(Listener listener);
     void unsubscribe(std::size_t id);
+    /// Calls `listener` with the status of every component known now, then with every change
+    /// of one (connecting, connected, unreachable, forgotten), components without skills too.
+    /// Unsubscribed by unsubscribe().
+    std::size_t subscribeComponents(ComponentListener listener);
 
     // --- Queries (any thread) --------------------------------------------------------------
     /// The instances whose type is `type` or a subtype of it.
@@ -176,6 +189,7 @@ private:
                        RemovalReason reason);
     void setStatus(const std::string& componentId, const std::function<void(ComponentStatus&)>& f);
     void notify(const std::vector<SkillEvent>& events);
+    void notifyComponent(const ComponentEvent& event);
 
     asio::any_io_executor executor_;
     SkillDetectorConfig config_;
@@ -185,6 +199,7 @@ private:
     std::map<std::string, std::shared_ptr<Watch>> components_;  // by component id
     std::map<std::string, std::string> keys_;                   // source key -> component id
     std::map<std::size_t, Listener> listeners_;
+    std::map<std::size_t, ComponentListener> componentListeners_;
     std::size_t nextListener_ = 1;
 
     // Guarded by mutex_: written on the executor, read from anywhere.

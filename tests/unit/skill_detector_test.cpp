@@ -437,6 +437,52 @@ TEST(SkillDetector, ServerWithoutSkillsIsConnectedWithNone) {
     EXPECT_EQ(h.component("urn:test:plain")->browses, 1u);
 }
 
+TEST(SkillDetector, ComponentListenersHearComponentsWithoutSkillsComeAndGo) {
+    test::RunningServer plain(serverConfig("urn:test:plain"));
+    DetectorHarness h;
+    std::mutex m;
+    std::vector<std::string> heard;  // "state id" or "forgotten:reason id"
+    std::size_t id = 0;
+    h.onDetector([&](SkillDetector& d) {
+        id = d.subscribeComponents([&](const ComponentEvent& e) {
+            const std::lock_guard lock(m);
+            if (e.forgotten) {
+                heard.push_back("forgotten:" + std::string(toString(e.reason)) + " " + e.status.id);
+            } else if (e.status.state == ComponentStatus::State::Connected) {
+                heard.push_back("connected " + e.status.id);
+            }
+        });
+    });
+    h.appeared("mdns:plain", "urn:test:plain", plain.url());
+    ASSERT_TRUE(h.waitForState("urn:test:plain", ComponentStatus::State::Connected));
+    h.onDetector([](SkillDetector&) {});  // the listeners have been told
+    {
+        const std::lock_guard lock(m);
+        EXPECT_EQ(heard, (std::vector<std::string>{"connected urn:test:plain"}));
+    }
+
+    // A late listener hears what is known at once.
+    std::vector<ComponentEvent> late;
+    std::size_t lateId = 0;
+    h.onDetector([&](SkillDetector& d) {
+        lateId = d.subscribeComponents([&](const ComponentEvent& e) { late.push_back(e); });
+    });
+    ASSERT_EQ(late.size(), 1u);
+    EXPECT_EQ(late[0].status.id, "urn:test:plain");
+    EXPECT_EQ(late[0].status.state, ComponentStatus::State::Connected);
+    EXPECT_FALSE(late[0].forgotten);
+    h.onDetector([&](SkillDetector& d) { d.unsubscribe(lateId); });
+
+    h.gone("mdns:plain", GoneReason::Goodbye);
+    {
+        const std::lock_guard lock(m);
+        EXPECT_EQ(heard, (std::vector<std::string>{"connected urn:test:plain",
+                                                   "forgotten:goodbye urn:test:plain"}));
+    }
+    EXPECT_EQ(late.size(), 1u) << "nothing after unsubscribe";
+    h.onDetector([&](SkillDetector& d) { d.unsubscribe(id); });
+}
+
 TEST(SkillDetector, RemovesSkillsWhenTheirComponentIsGone) {
     auto robot = skillServer("urn:test:robot", kRobotSkills);
     auto hand = skillServer("urn:test:gripper", kGripperSkills);

@@ -6,8 +6,9 @@ const components = new Map();  // uri -> component
 const skills = new Map();      // key -> skill
 let version = 0;
 let events = null;
-let scene = null;
-let runs = null;            // the MES's last runs, when the dashboard reads its journal           // the world model's scene, when the dashboard has a world
+let scene = null;           // the world model's scene, when the dashboard has a world
+let runs = null;            // the MES's last runs, when the dashboard reads its journal
+let processes = null;       // the processes in the KB, when the dashboard reads it
 const drafts = new Map();   // skill key -> the parameter typed for it (kept across renders)
 const results = new Map();  // skill key -> {status, detail} of the last Start or Halt here
 
@@ -49,7 +50,9 @@ function renderComponents() {
     tr.dataset.uri = c.uri;
     tr.dataset.up = c.up ? "true" : "false";
     tr.className = c.up ? "up" : "down";
-    const status = c.up ? badge("up", "up") : badge("down" + (c.downReason ? ": " + c.downReason : ""), "down");
+    const status = c.up ? badge("up", "up")
+      : c.state === "connecting" ? badge("connecting", "")
+        : badge("down" + (c.downReason ? ": " + c.downReason : ""), "down");
     const detection = (c.detectionMs >= 0 ? c.detectionMs.toFixed(0) + " ms" : "") +
       (c.paperMs > 0 ? ` (paper: ${c.paperMs} ms)` : "");
     tr.append(cell(c.uri), cell(status), cell(c.endpoint), cell(String(c.skills)),
@@ -94,14 +97,7 @@ function renderSkills() {
       b.addEventListener("click", () => act(s, action, tr));
       actions.append(b);
     }
-    const result = document.createElement("span");
-    result.className = "result";
-    const r = results.get(s.key);
-    if (r) {
-      result.dataset.status = r.status;
-      result.textContent = r.status === "Good" ? r.detail + ": done" : "refused: " + r.status + " — " + r.detail;
-      result.classList.add(r.status === "Good" ? "good" : "bad");
-    }
+    const result = resultSpan(results.get(s.key));
     tr.append(cell(s.component), cell(s.name), cell(s.type),
               cell(badge(s.state || "unknown", s.state || "")), cell(span), cell(actions, result));
     body.append(tr);
@@ -109,21 +105,100 @@ function renderSkills() {
   $("skill-count").textContent = `${sorted.length} available`;
 }
 
-// Start or Halt, made by the dashboard as the logged-in user: the component's own role
-// check decides (an Observer is refused).
-async function act(skill, action, row) {
-  const form = new URLSearchParams({ key: skill.key, action });
-  const input = row.querySelector("input.parameter");
-  if (input && action === "start") form.set("param." + input.dataset.name, input.value);
-  let answer;
+// Start, Halt or Reset, made by the dashboard as the logged-in user: the component's own
+// role check decides (an Observer is refused). `parameters`: written before a Start.
+async function call(key, action, parameters) {
+  const form = new URLSearchParams({ key, action });
+  for (const [name, value] of Object.entries(parameters || {})) form.set("param." + name, value);
   try {
     const r = await fetch("/api/skill", { method: "POST", body: form, credentials: "same-origin" });
-    answer = await r.json();
+    return await r.json();
   } catch (e) {
-    answer = { status: "BadCommunicationError", detail: String(e) };
+    return { status: "BadCommunicationError", detail: String(e) };
   }
-  results.set(skill.key, answer);
+}
+
+async function act(skill, action, row) {
+  const input = row.querySelector("input.parameter");
+  const parameters = input && action === "start" ? { [input.dataset.name]: input.value } : {};
+  results.set(skill.key, await call(skill.key, action, parameters));
   renderSkills();
+}
+
+function resultSpan(r) {
+  const span = document.createElement("span");
+  span.className = "result";
+  if (!r) return span;
+  span.dataset.status = r.status;
+  span.textContent = r.status === "Good" ? r.detail + ": done" : "refused: " + r.status + " — " + r.detail;
+  span.classList.add(r.status === "Good" ? "good" : "bad");
+  return span;
+}
+
+// The MES's ExecuteProcess skill, which runs a process: the one the page starts and halts.
+function mesSkill() {
+  return [...skills.values()].find((s) => s.available && s.type === "ExecuteProcessSkillType");
+}
+
+let processResult = null;  // {iri, answer} of the last Run or Halt here
+
+async function runProcess(iri, action) {
+  const mes = mesSkill();
+  if (!mes) return;
+  const answer = await call(mes.key, action, action === "start" ? { ProcessIri: iri } : {});
+  processResult = { iri, answer };
+  renderProcesses();
+}
+
+// The run of `iri` in the journal that is the newest, for the progress column.
+function lastRunOf(iri) {
+  if (!runs) return null;
+  return [...runs].reverse().find((r) => r.process === iri) || null;
+}
+
+function renderProcesses() {
+  $("processes-section").hidden = !processes;
+  if (!processes) return;
+  const mes = mesSkill();
+  $("mes-state").textContent = mes ? `· the MES is ${mes.state || "unknown"}` : "· no MES in the cell";
+  $("mes-state").dataset.state = mes ? mes.state : "";
+  const body = $("processes").tBodies[0];
+  body.replaceChildren();
+  for (const p of processes) {
+    const tr = document.createElement("tr");
+    tr.dataset.process = p.iri;
+    const name = document.createElement("span");
+    name.textContent = localName(p.iri);
+    name.title = p.iri;
+    const steps = p.problem ? badge(p.problem, "down") : text(p.steps.map((t, i) => `${i + 1} ${t}`).join(" → "));
+    const run = lastRunOf(p.iri);
+    const progress = document.createElement("span");
+    progress.className = "progress";
+    if (run) {
+      const done = new Set(run.steps.filter((s) => s.state === "finished").map((s) => s.index)).size;
+      progress.dataset.run = run.id;
+      progress.dataset.state = run.state;
+      progress.textContent = `run ${run.id}: ${run.state}, ${done}/${p.steps.length} steps` +
+        (run.reason ? ` (${run.reason})` : "");
+    }
+    const actions = document.createElement("span");
+    const buttons = [["start", "Run"], ["halt", "Halt"]];
+    if (mes && mes.state === "Halted") buttons.push(["reset", "Reset MES"]);
+    for (const [action, label] of buttons) {
+      const b = document.createElement("button");
+      b.type = "button";
+      b.className = "action " + action;
+      b.dataset.action = action;
+      b.textContent = label;
+      b.disabled = !mes || (action === "start" && !!p.problem);
+      b.title = mes ? "" : "no MES in the cell";
+      b.addEventListener("click", () => runProcess(p.iri, action));
+      actions.append(b);
+    }
+    const r = processResult && processResult.iri === p.iri ? processResult.answer : null;
+    tr.append(cell(name), cell(steps), cell(progress), cell(actions, resultSpan(r)));
+    body.append(tr);
+  }
 }
 
 const SVG = "http://www.w3.org/2000/svg";
@@ -234,6 +309,7 @@ function apply(event) {
     for (const s of event.skills) skills.set(s.key, s);
     scene = event.scene || null;
     runs = event.runs || null;
+    processes = event.processes || null;
   } else if (event.version <= version) {
     return;  // heard already (a snapshot includes it)
   } else if (event.type === "component") {
@@ -244,12 +320,15 @@ function apply(event) {
     scene = event.scene;
   } else if (event.type === "runs") {
     runs = event.runs;
+  } else if (event.type === "processes") {
+    processes = event.processes;
   }
   version = event.version;
   renderComponents();
   renderSkills();
   renderScene();
   renderRuns();
+  renderProcesses();
 }
 
 function listen() {

@@ -113,6 +113,51 @@ TEST(CellView, ASnapshotAndTheChangesAfterItTellTheWholeStory) {
     EXPECT_EQ(view.skills().at(key).state, "");
 }
 
+TEST(CellView, ComponentsWithoutSkillsComeAndGoByTheirStatus) {
+    using State = skills::ComponentStatus::State;
+    EventHub hub;
+    CellView view(hub);
+    skills::ComponentEvent e;
+    e.status.id = "urn:test:lds";
+    e.status.endpointUrl = "opc.tcp://198.18.0.1:4840";
+    e.status.state = State::Connecting;
+    view.componentStatus(e);
+    EXPECT_EQ(view.components().at("urn:test:lds").state, "connecting");
+    EXPECT_FALSE(view.components().at("urn:test:lds").up);
+
+    e.status.state = State::Connected;
+    e.status.startTime = ua::DateTime::now();
+    view.componentStatus(e);
+    auto lds = view.components().at("urn:test:lds");
+    EXPECT_TRUE(lds.up);
+    EXPECT_EQ(lds.state, "up");
+    EXPECT_EQ(lds.skills, 0U);
+    EXPECT_EQ(lds.endpoint, "opc.tcp://198.18.0.1:4840");
+    EXPECT_GE(lds.detectionMs, 0.0);
+
+    e.status.state = State::Unreachable;
+    e.status.lastError = ua::status::BadConnectionClosed;
+    view.componentStatus(e);
+    EXPECT_FALSE(view.components().at("urn:test:lds").up);
+    EXPECT_EQ(view.components().at("urn:test:lds").downReason, "unreachable: BadConnectionClosed");
+
+    e.forgotten = true;
+    e.reason = skills::RemovalReason::Expired;
+    view.componentStatus(e);
+    EXPECT_EQ(view.components().at("urn:test:lds").state, "gone");
+    EXPECT_EQ(view.components().at("urn:test:lds").downReason, "expired");
+
+    // A component whose skills went with a restart stays up; one whose skills were lost does
+    // not, and says why.
+    view.skillAdded(skill("urn:test:gripper", "Grasp"));
+    view.skillRemoved(skill("urn:test:gripper", "Grasp"), skills::RemovalReason::Restarted);
+    EXPECT_TRUE(view.components().at("urn:test:gripper").up);
+    view.skillAdded(skill("urn:test:gripper", "Grasp"));
+    view.skillRemoved(skill("urn:test:gripper", "Grasp"), skills::RemovalReason::Timeout);
+    EXPECT_EQ(view.components().at("urn:test:gripper").state, "unreachable");
+    EXPECT_EQ(view.components().at("urn:test:gripper").downReason, "timeout");
+}
+
 TEST(CellView, TheSceneIsPushedWhenItChangesAndOnlyThen) {
     EventHub hub;
     CellView view(hub);
@@ -138,6 +183,28 @@ TEST(CellView, TheSceneIsPushedWhenItChangesAndOnlyThen) {
         json::parse(*listener->next(1s))["scene"]["objects"][0]["position"][1].get<double>(), -0.2);
     auto [after, again] = view.open();
     EXPECT_EQ(json::parse(after)["scene"]["objects"][0]["position"][0], 0.5);
+}
+
+TEST(CellView, TheKnowledgeBasesProcessesArePushedWhenTheyChange) {
+    EventHub hub;
+    CellView view(hub);
+    auto [before, listener] = view.open();
+    EXPECT_FALSE(json::parse(before).contains("processes"));  // no KB: no list
+    std::vector<ProcessView> processes{
+        {"http://skillcell.dev/processes#Sort",
+         {"ChangeToolSkillType", "PickAndPlaceSkillType"},
+         ""},
+        {"http://skillcell.dev/processes#Broken", {}, "step 2 has no skill type"}};
+    view.processes(processes);
+    view.processes(processes);  // unchanged: nothing to say
+    auto e = json::parse(*listener->next(1s));
+    EXPECT_EQ(e["type"], "processes");
+    ASSERT_EQ(e["processes"].size(), 2U);
+    EXPECT_EQ(e["processes"][0]["steps"][1], "PickAndPlaceSkillType");
+    EXPECT_EQ(e["processes"][1]["problem"], "step 2 has no skill type");
+    EXPECT_EQ(listener->next(10ms), std::nullopt);
+    auto [after, again] = view.open();
+    EXPECT_EQ(json::parse(after)["processes"][0]["iri"], "http://skillcell.dev/processes#Sort");
 }
 
 TEST(CellView, NamesThatAreNotUtf8DoNotBreakTheJson) {

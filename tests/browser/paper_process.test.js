@@ -1,0 +1,104 @@
+// The paper's process run from the dashboard, in headless Chromium (paper_process_test.sh
+// brings up examples/cells/paper.toml with `skillcell cell up`): the Observer's Run is refused
+// by the MES, the Operator's runs the process to its end, and the picture shows the boxes
+// where the process put them. Every wait is bounded; the first failed expectation ends the
+// test with exit code 1.
+"use strict";
+const { chromium } = require("playwright-core");
+const fs = require("fs");
+const path = require("path");
+
+const url = process.env.DASHBOARD_URL;
+const spki = process.env.DASHBOARD_SPKI;
+const work = process.env.CELL_WORK_DIR;
+const shots = process.env.SCREENSHOT_DIR;
+const wait = { timeout: 60000 };
+const run = { timeout: 240000 };  // the whole process, on a slow machine
+const processIri = "http://skillcell.dev/demo#pickAndPlaceTwoBoxes";
+
+function check(condition, what) {
+  if (!condition) throw new Error("expected: " + what);
+  console.log("ok  " + what);
+}
+
+function password(user) {
+  return fs.readFileSync(path.join(work, user + ".pw"), "utf8").trim();
+}
+
+async function logIn(page, user) {
+  await page.waitForSelector("#login:not([hidden])", wait);
+  await page.fill("#login-user", user);
+  await page.fill("#login-password", password(user));
+  await page.click("#login button[type=submit]");
+  await page.waitForSelector("#cell:not([hidden])", wait);
+}
+
+async function boxAt(page, id) {
+  const g = await page.waitForSelector(`#scene g[data-object="${id}"]`, wait);
+  return [await g.getAttribute("data-x"), await g.getAttribute("data-y")].join(",");
+}
+
+(async () => {
+  const browser = await chromium.launch({
+    executablePath: "/usr/bin/chromium",
+    args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
+           "--disable-component-update", "--disable-sync", "--no-first-run",
+           "--ignore-certificate-errors-spki-list=" + spki],
+  });
+  try {
+    const page = await browser.newPage({ viewport: { width: 1200, height: 900 } });
+    await page.goto(url);
+    await logIn(page, "observer");
+
+    // Every component of the cell, those without skills too (the LDS, the KB, the world).
+    for (const part of ["lds", "kb", "device:world", "mes", "device:ur5"]) {
+      await page.waitForSelector(`tr[data-uri="urn:skillcell:${part}"][data-up="true"]`, wait);
+    }
+    check(true, "the LDS, the KB, the world, the MES and the UR5 are up");
+
+    // The process the KB holds, with its five steps, and the MES ready to run it.
+    const row = `#processes tr[data-process="${processIri}"]`;
+    await page.waitForSelector(row, wait);
+    const steps = await page.textContent(row + " td:nth-child(2)");
+    check(steps.includes("1 ChangeToolSkillType") && steps.includes("5 DetachToolSkillType"),
+          "the KB's process is listed with its steps (" + steps + ")");
+    await page.waitForSelector(row + " button[data-action=start]:not([disabled])", wait);
+    check(await page.getAttribute("#mes-state", "data-state") === "Ready", "the MES is Ready");
+    check(await boxAt(page, "boxA") === "0.450,0.150", "boxA stands at its start (0.45, 0.15)");
+
+    // The Observer may watch, not run: the MES refuses her Start.
+    await page.click(row + " button[data-action=start]");
+    await page.waitForSelector(row + ' .result[data-status="BadUserAccessDenied"]', wait);
+    check(true, "the Observer's Run is refused by the MES (BadUserAccessDenied)");
+    check(await page.getAttribute("#mes-state", "data-state") === "Ready", "and the MES stays Ready");
+
+    // The Operator runs it to its end; the page follows the steps and the boxes.
+    await page.click("#logout");
+    await logIn(page, "operator");
+    await page.waitForSelector(row + " button[data-action=start]:not([disabled])", wait);
+    await page.click(row + " button[data-action=start]");
+    await page.waitForSelector(row + ' .result[data-status="Good"]', wait);
+    check(true, "the Operator's Run is accepted");
+    await page.waitForSelector(row + ' .progress[data-state="running"]', wait);
+    check(true, "the run shows as running");
+    if (shots) await page.screenshot({ path: path.join(shots, "dashboard-process-running.png"), fullPage: true });
+    await page.waitForSelector(row + ' .progress[data-state="completed"]', run);
+    const progress = await page.textContent(row + " .progress");
+    check(progress.includes("5/5 steps"), "the run completed its five steps (" + progress + ")");
+    await page.waitForFunction(
+      () => document.querySelectorAll('#runs .run[data-state="completed"] .step[data-state="finished"]').length === 5,
+      null, wait);
+    check(true, "the timeline shows the five steps finished");
+    await page.waitForSelector('#scene g[data-object="boxA"][data-x="0.250"][data-y="0.350"]', wait);
+    await page.waitForSelector('#scene g[data-object="boxB"][data-x="0.250"][data-y="-0.200"]', wait);
+    check(true, "the picture shows boxA at (0.25, 0.35) and boxB at (0.25, -0.2)");
+    await page.waitForSelector('#scene g.flange[data-tool=""]', wait);
+    check(true, "and no tool on the flange");
+    if (shots) await page.screenshot({ path: path.join(shots, "dashboard-process.png"), fullPage: true });
+  } finally {
+    await browser.close();
+  }
+})().catch((e) => {
+  console.error("FAIL " + e.message);
+  process.exit(1);
+});

@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# The paper's process started from the dashboard in a real browser (Debian's Chromium,
+# driven by playwright-core): `skillcell cell up examples/cells/paper.toml` brings up the
+# whole cell (LDS, KB with Virtuoso and Konclude, world, tool changer, UR5, pick-and-place,
+# MES, dashboard) in its own network namespace; paper_process.test.js runs inside it, tries
+# the process as the Observer (refused), runs it as the Operator and watches it complete.
+# Then the journal, read by SQLite itself, must show that one run, its five steps finished.
+# SCREENSHOT_DIR (if set) receives the pictures.
+# Usage: paper_process_test.sh SKILLCELL_BINARY SOURCE_DIR
+set -euo pipefail
+skillcell=$1
+src=$2
+here=$(cd "$(dirname "$0")" && pwd)
+if [ ! -d "$here/node_modules/playwright-core" ] || [ ! -x /usr/bin/chromium ]; then
+  echo "!!! SKIPPED: playwright-core (tests/browser: npm ci) or /usr/bin/chromium missing !!!" >&2
+  [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
+  exit 77
+fi
+if ! unshare -n true 2>/dev/null; then
+  echo "!!! SKIPPED: cannot create a network namespace (not root?) !!!" >&2
+  [ "${SKILLCELL_REQUIRE_NETNS:-0}" = 1 ] && exit 1
+  exit 77
+fi
+tmp=$(mktemp -d)
+work=$tmp/work
+cell=
+cleanup() {
+  # A failed test must not leave its cell behind.
+  if [ -n "$cell" ] && kill -0 "$cell" 2>/dev/null; then
+    kill -TERM "$cell" 2>/dev/null || true
+    timeout 60 tail --pid="$cell" -f /dev/null || kill -KILL "$cell" || true
+  fi
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+fail() {
+  echo "FAILED: $*" >&2
+  for f in "$tmp"/up.out "$tmp"/up.err "$work"/logs/*.log; do
+    [ -f "$f" ] && { echo "--- $f"; tail -n 20 "$f"; }
+  done
+  exit 1
+}
+
+# Speed 20: a process of some seconds, slow enough to watch, quick enough for CI.
+"$skillcell" cell up "$src/examples/cells/paper.toml" --speed 20 --work-dir "$work" \
+  >"$tmp/up.out" 2>"$tmp/up.err" &
+cell=$!
+for _ in $(seq 600); do
+  grep -q 'is up' "$tmp/up.out" && break
+  kill -0 "$cell" 2>/dev/null || break
+  sleep 0.5  # a bounded poll of the output a child process writes
+done
+grep -q 'is up' "$tmp/up.out" || fail "the cell did not come up"
+page=$(grep -o 'PAGE https://[^ ]*' "$tmp/up.out" | head -1 | cut -d' ' -f2)
+netns=$(grep -o '/proc/[0-9]*/ns/net' "$tmp/up.out" | head -1)
+[ -n "$page" ] && [ -n "$netns" ] || fail "cell up printed no dashboard page or network"
+# The browser trusts the dashboard's certificate (issued by the cell CA) by its public key.
+spki=$(openssl x509 -inform der -in "$work/pki-dashboard/own/certs/cert.der" -pubkey -noout |
+  openssl pkey -pubin -outform der | openssl dgst -sha256 -binary | base64)
+
+DASHBOARD_URL="$page" DASHBOARD_SPKI="$spki" CELL_WORK_DIR="$work" \
+  nsenter --net="$netns" node "$here/paper_process.test.js" || fail "in the browser"
+
+runs=$(sqlite3 "$work/journal.sqlite" "SELECT group_concat(state, ' ') FROM runs")
+[ "$runs" = completed ] || fail "the journal's runs: $runs"
+steps=$(sqlite3 "$work/journal.sqlite" \
+  "SELECT group_concat(idx || ':' || state, ' ') FROM (SELECT * FROM steps ORDER BY idx)")
+[ "$steps" = "1:finished 2:finished 3:finished 4:finished 5:finished" ] ||
+  fail "the journal's steps: $steps"
+echo "ok  the journal: one run, completed, its five steps finished"
+"$skillcell" cell down --work-dir "$work" >/dev/null || fail "cell down"
+rc=0
+wait "$cell" || rc=$?
+cell=
+[ "$rc" = 0 ] || fail "cell up exited $rc"
