@@ -424,6 +424,10 @@ void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gat
     reply(r.status.isGood() ? 200 : (refused ? 403 : 409), r.status, r.detail);
 }
 
+/// Open pages (event streams) at once, and the web server's threads: a stream holds one.
+constexpr std::size_t kMaxPages = 24;
+constexpr std::size_t kWebThreads = kMaxPages + 8;
+
 void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& content, bool tls) {
     web.publicGet("/", [](const httplib::Request&, httplib::Response& res) {
         serveAsset(res, "index.html", "text/html; charset=utf-8");
@@ -437,7 +441,20 @@ void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& co
     auto* gate = &web.gate();
     std::weak_ptr<DashboardContent> weak = content;
     web.publicPost("/login", [gate, tls](const httplib::Request& req, httplib::Response& res) {
-        auto session = gate->login(req.get_param_value("user"), req.get_param_value("password"));
+        std::chrono::seconds retryAfter{0};
+        auto session =
+            gate->login(req.get_param_value("user"), req.get_param_value("password"), &retryAfter);
+        if (!session && session.status() == ua::status::BadTooManyOperations) {
+            spdlog::warn("dashboard: logins as '{}' throttled (too many wrong passwords), from {}",
+                         req.get_param_value("user"), req.remote_addr);
+            res.status = 429;
+            res.set_header("Retry-After", std::to_string(retryAfter.count()));
+            res.set_content(Json{{"error", "too many wrong passwords: try again later"},
+                                 {"retryAfter", retryAfter.count()}}
+                                .dump(),
+                            "application/json");
+            return;
+        }
         if (!session) {
             spdlog::info("dashboard: a login as '{}' from {} refused", req.get_param_value("user"),
                          req.remote_addr);
@@ -476,6 +493,16 @@ void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& co
             res.status = 503;
             return;
         }
+        // Each open page holds a thread of the web server: beyond kMaxPages, a new one is
+        // turned away so that actions and logins always find a thread.
+        if (c->hub.listeners() >= kMaxPages) {
+            spdlog::warn("dashboard: {} pages are open already; one more refused (503)",
+                         kMaxPages);
+            res.status = 503;
+            res.set_header("Retry-After", "10");
+            res.set_content("too many open pages of this dashboard: close one\n", "text/plain");
+            return;
+        }
         auto [snapshot, listener] = c->view.open();
         res.set_header("Cache-Control", "no-store");
         res.set_chunked_content_provider(
@@ -511,6 +538,7 @@ int run(DashboardOptions& o) {
             web.host = o.httpHost;
             web.port = o.httpPort;
             web.challenge = R"(Session realm="skillcell dashboard")";  // the page's form logs in
+            web.threads = kWebThreads;
             if (ctx.users) {
                 web.tls = http::ServerTls{ctx.identity.certificate().der, ctx.identity.privateKey(),
                                           false};

@@ -75,9 +75,26 @@ UserGate::UserGate(std::shared_ptr<const ua::UserAuthenticator> users, ua::RoleS
                    std::chrono::seconds remember)
     : users_(std::move(users)), anonymousRoles_(anonymousRoles), remember_(remember) {}
 
+ua::Result<ua::UserIdentity> UserGate::checkPassword(std::string_view name,
+                                                     std::string_view password,
+                                                     std::chrono::seconds* retryAfter) {
+    if (auto wait = throttle_.refusedFor(name)) {
+        if (retryAfter != nullptr) *retryAfter = *wait;
+        return ua::status::BadTooManyOperations;
+    }
+    auto user = users_->authenticatePassword(name, password);
+    if (user) {
+        throttle_.succeeded(name);
+    } else {
+        throttle_.failed(name);
+    }
+    return user;
+}
+
 ua::Result<ua::UserIdentity> UserGate::identify(std::string_view authorization,
                                                 const ua::ByteString& peerCertificate,
-                                                std::string_view cookie) {
+                                                std::string_view cookie,
+                                                std::chrono::seconds* retryAfter) {
     if (users_ == nullptr) return ua::UserIdentity{"anonymous", anonymousRoles_};
     if (!peerCertificate.empty()) {
         if (auto user = users_->authenticateCertificate(peerCertificate)) return user;
@@ -112,7 +129,7 @@ ua::Result<ua::UserIdentity> UserGate::identify(std::string_view authorization,
             remembered_.erase(it);
         }
     }
-    auto user = users_->authenticatePassword(name, password);
+    auto user = checkPassword(name, password, retryAfter);
     if (!user) return user.status();
     if (!key.empty()) {
         const std::lock_guard lock(mutex_);
@@ -122,10 +139,10 @@ ua::Result<ua::UserIdentity> UserGate::identify(std::string_view authorization,
     return user;
 }
 
-ua::Result<std::pair<ua::UserIdentity, std::string>> UserGate::login(std::string_view name,
-                                                                     std::string_view password) {
+ua::Result<std::pair<ua::UserIdentity, std::string>> UserGate::login(
+    std::string_view name, std::string_view password, std::chrono::seconds* retryAfter) {
     if (users_ == nullptr) return ua::status::BadUserAccessDenied;
-    auto user = users_->authenticatePassword(name, password);
+    auto user = checkPassword(name, password, retryAfter);
     if (!user) return user.status();
     std::string token = newToken();
     if (token.empty()) return ua::status::BadInternalError;

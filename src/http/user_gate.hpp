@@ -7,7 +7,8 @@
 // scrypt-hashed on purpose, which makes one check cost tens of milliseconds: a password
 // that was right is remembered for a few minutes, by a SHA-256 of name and password, so
 // that a client sending a query every few milliseconds is not slowed (nor the host loaded)
-// by the hash.
+// by the hash. Wrong passwords are throttled per user name (PasswordThrottle): a name guessed
+// at too often is refused for a while with BadTooManyOperations, without hashing.
 #include <chrono>
 #include <memory>
 #include <mutex>
@@ -17,6 +18,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "http/password_throttle.hpp"
 #include "ua/server/user_identity.hpp"
 
 namespace skillcell::http {
@@ -31,17 +33,21 @@ public:
 
     /// The user of a request, from its client certificate (DER, empty: none), its session
     /// cookie (the Cookie header) or else its Authorization header. BadUserAccessDenied
-    /// when none names a known user, or when the header is malformed.
+    /// when none names a known user, or when the header is malformed; BadTooManyOperations
+    /// while the name is throttled, with the seconds to wait in `retryAfter`.
     [[nodiscard]] ua::Result<ua::UserIdentity> identify(std::string_view authorization,
                                                         const ua::ByteString& peerCertificate,
-                                                        std::string_view cookie = {});
+                                                        std::string_view cookie = {},
+                                                        std::chrono::seconds* retryAfter = nullptr);
 
     /// A browser's login: the user of `name` and `password`, and a new session token for
     /// the cookie kSessionCookie (random, 256 bits), valid while used within `idle`. The
     /// session keeps the name and password, in memory only, for a server that acts as its
     /// users (the dashboard opens OPC UA sessions as them); they go with the session.
+    /// Throttled as identify() is.
     [[nodiscard]] ua::Result<std::pair<ua::UserIdentity, std::string>> login(
-        std::string_view name, std::string_view password);
+        std::string_view name, std::string_view password,
+        std::chrono::seconds* retryAfter = nullptr);
     void logout(std::string_view cookie);
     /// The name and password that the live session of a Cookie header logged in with;
     /// nothing without one (a user known by Basic or a certificate, an ended session).
@@ -59,6 +65,9 @@ private:
     };
     /// The live session of a Cookie header, its idle time renewed; under mutex_.
     Remembered* session(std::string_view cookie);
+    /// The user of a name and password, by the database, throttled.
+    ua::Result<ua::UserIdentity> checkPassword(std::string_view name, std::string_view password,
+                                               std::chrono::seconds* retryAfter);
     std::shared_ptr<const ua::UserAuthenticator> users_;
     ua::RoleSet anonymousRoles_;
     std::chrono::seconds remember_;
@@ -66,6 +75,7 @@ private:
     std::unordered_map<std::string, Remembered> remembered_;  // by SHA-256(name \0 password)
     std::unordered_map<std::string, Remembered> sessions_;    // by token; `until` slides
     std::chrono::seconds idle_{8 * 3600};
+    PasswordThrottle throttle_;
 };
 
 }  // namespace skillcell::http

@@ -1,5 +1,6 @@
 #include "http/web_server.hpp"
 
+#include <algorithm>
 #include <arpa/inet.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -47,9 +48,18 @@ WebServer::~WebServer() {
 
 std::optional<ua::UserIdentity> WebServer::identify(const httplib::Request& req,
                                                     httplib::Response& res) const {
+    std::chrono::seconds retryAfter{0};
     auto user = config_.gate->identify(req.get_header_value("Authorization"), peerCertificate(req),
-                                       req.get_header_value("Cookie"));
+                                       req.get_header_value("Cookie"), &retryAfter);
     if (user) return *user;
+    if (user.status() == ua::status::BadTooManyOperations) {
+        spdlog::warn("http: {} {} from {}: too many wrong passwords for its user, 429", req.method,
+                     req.path, req.remote_addr);
+        res.status = 429;
+        res.set_header("Retry-After", std::to_string(retryAfter.count()));
+        res.set_content("too many wrong passwords for this user: try again later\n", "text/plain");
+        return std::nullopt;
+    }
     spdlog::info("http: {} {} from {}: no known user, 401", req.method, req.path, req.remote_addr);
     res.status = 401;
     res.set_header("WWW-Authenticate", config_.challenge);
@@ -150,6 +160,10 @@ Status WebServer::start() {
     s.set_read_timeout(std::chrono::duration_cast<std::chrono::seconds>(config_.readTimeout));
     s.set_write_timeout(std::chrono::duration_cast<std::chrono::seconds>(config_.writeTimeout));
     s.set_payload_max_length(config_.maxBodyBytes);
+    // cpp-httplib owns the queue it is given (its API takes a raw pointer).
+    s.new_task_queue = [threads = std::max<std::size_t>(config_.threads, 1)] {
+        return new httplib::ThreadPool(threads);  // NOLINT(cppcoreguidelines-owning-memory)
+    };
     s.set_tcp_nodelay(true);  // answers go out as headers, then body (see http_client.cpp)
     s.set_exception_handler(
         [](const httplib::Request& req, httplib::Response& res, const std::exception_ptr& e) {

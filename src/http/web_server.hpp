@@ -46,6 +46,9 @@ struct WebServerConfig {
     std::chrono::milliseconds readTimeout{10'000};
     std::chrono::milliseconds writeTimeout{30'000};
     std::size_t maxBodyBytes = std::size_t{64} << 20U;
+    /// Requests served at once, each on a thread of the server's pool; a long-lived response
+    /// (a page's event stream) holds its thread while it lasts.
+    std::size_t threads = 8;
 };
 
 class WebServer {

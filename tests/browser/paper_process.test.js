@@ -95,6 +95,21 @@ async function boxAt(page, id) {
     await page.waitForSelector('#scene g.flange[data-tool=""]', wait);
     check(true, "and no tool on the flange");
     if (shots) await page.screenshot({ path: path.join(shots, "dashboard-process.png"), fullPage: true });
+
+    // Guessing a password: after five wrong ones the name is throttled, and the page says so.
+    await page.click("#logout");
+    await page.waitForSelector("#login:not([hidden])", wait);
+    await page.fill("#login-user", "engineer");
+    for (let i = 0; i < 6; ++i) {
+      await page.fill("#login-password", "guess-" + i);
+      await page.click("#login button[type=submit]");
+      await page.waitForSelector("#login-error:text('Wrong user or password')", wait);
+      await page.evaluate(() => { document.getElementById("login-error").textContent = ""; });
+    }
+    await page.fill("#login-password", password("engineer"));
+    await page.click("#login button[type=submit]");
+    await page.waitForSelector("#login-error:text('Too many wrong passwords')", wait);
+    check(await page.isHidden("#cell"), "after six wrong passwords even the right one waits (429)");
   } finally {
     await browser.close();
   }

@@ -369,6 +369,8 @@ async function start() {
     const r = await fetch("/login", { method: "POST", body: form, credentials: "same-origin" });
     if (r.ok) {
       showCell(await r.json());
+    } else if (r.status === 429) {
+      showLogin(`Too many wrong passwords for this user: try again in ${r.headers.get("Retry-After")} s.`);
     } else {
       showLogin("Wrong user or password.");
     }

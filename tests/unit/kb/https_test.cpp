@@ -129,6 +129,44 @@ TEST_F(UserGateTest, ALoginIsASessionThatKeepsItsCredentialsUntilLogout) {
     EXPECT_FALSE(gate.sessionCredentials(cookie));
 }
 
+TEST(PasswordThrottle, AfterFiveWrongPasswordsANameWaitsLongerEachTime) {
+    using namespace std::chrono_literals;
+    PasswordThrottle t;
+    auto now = PasswordThrottle::Clock::time_point{} + 1h;
+    for (int i = 0; i < PasswordThrottle::kFreeFailures; ++i) {
+        EXPECT_FALSE(t.refusedFor("olga", now)) << i;
+        t.failed("olga", now);
+    }
+    EXPECT_FALSE(t.refusedFor("olga", now)) << "five wrong passwords are free";
+    t.failed("olga", now);
+    EXPECT_EQ(t.refusedFor("olga", now), 1s);
+    EXPECT_FALSE(t.refusedFor("emil", now)) << "other names are not slowed";
+    now += 1s;
+    EXPECT_FALSE(t.refusedFor("olga", now));
+    t.failed("olga", now);
+    EXPECT_EQ(t.refusedFor("olga", now), 2s);
+    EXPECT_EQ(t.refusedFor("olga", now + 1500ms), 1s) << "rounded up";
+    for (int i = 0; i < 20; ++i) t.failed("olga", now);
+    EXPECT_EQ(t.refusedFor("olga", now), PasswordThrottle::kMaxLockout);
+    t.succeeded("olga");
+    EXPECT_FALSE(t.refusedFor("olga", now)) << "a right password ends the series";
+}
+
+TEST_F(UserGateTest, ANameGuessedAtTooOftenIsRefusedWithoutHashingForAWhile) {
+    UserGate gate(users_);
+    for (int i = 0; i <= PasswordThrottle::kFreeFailures; ++i) {
+        EXPECT_EQ(gate.identify(basic("olga:guess" + std::to_string(i)), {}).status(),
+                  ua::status::BadUserAccessDenied);
+    }
+    std::chrono::seconds wait{0};
+    EXPECT_EQ(gate.identify(basic("olga:secret-1"), {}, {}, &wait).status(),
+              ua::status::BadTooManyOperations)
+        << "even the right password, while locked";
+    EXPECT_GE(wait.count(), 1);
+    EXPECT_EQ(gate.login("olga", "secret-1", &wait).status(), ua::status::BadTooManyOperations);
+    EXPECT_TRUE(gate.login("emil", "secret-2")) << "another user is not slowed";
+}
+
 TEST_F(UserGateTest, WithoutUsersEveryoneIsAnonymousWithTheGivenRoles) {
     UserGate gate(nullptr, ua::RoleSet{ua::Role::Anonymous, ua::Role::Observer});
     auto who = gate.identify("", {});
@@ -227,6 +265,14 @@ TEST_F(HttpsLoopback, NoUserOrAWrongPasswordIs401) {
     auto again = wrong.get("/who", {}, "");
     ASSERT_TRUE(again);
     EXPECT_EQ(again->status, 401);
+    // Guessing on: after five wrong passwords, 429 (with Retry-After) instead of a hash each.
+    int status = 0;
+    for (int i = 0; i < PasswordThrottle::kFreeFailures + 1; ++i) {
+        auto r = wrong.get("/who", {}, "");
+        ASSERT_TRUE(r);
+        status = r->status;
+    }
+    EXPECT_EQ(status, 429);
 }
 
 TEST_F(HttpsLoopback, AClientRefusesAServerItDoesNotTrustOrThatIsNotTheHostItAskedFor) {
