@@ -161,7 +161,7 @@ private:
             for (const auto& st : r.steps) {
                 v.steps.push_back({st.index, st.attempt, mes::toString(st.state),
                                    mes::shortName(st.skillTypeIri), st.componentUri, st.startedMs,
-                                   st.endedMs, st.reason});
+                                   st.endedMs, st.reason, st.note});
             }
             out.push_back(std::move(v));
         }

@@ -21,6 +21,7 @@ struct ServerCommandOptions {
     std::vector<std::string> noopSkills;  // "<SkillTypeBrowseName>=<InstanceName>"
     std::vector<std::string> nodesets;    // NodeSet2 files with skill types of their own
     int noopSkillMs = 0;
+    int noopHalts = 0;
 };
 
 ua::Result<ComponentContent> populate(const ServerCommandOptions& options, ua::Server& server,
@@ -63,7 +64,7 @@ ua::Result<ComponentContent> populate(const ServerCommandOptions& options, ua::S
             return ua::status::BadTypeDefinitionInvalid;
         }
         auto behaviour = std::make_unique<skills::NoOpBehaviour>(
-            io.get_executor(), std::chrono::milliseconds(options.noopSkillMs));
+            io.get_executor(), std::chrono::milliseconds(options.noopSkillMs), options.noopHalts);
         auto skill = skillServer->add(*type, name, std::move(behaviour));
         if (!skill) {
             spdlog::critical("--noop-skill {}: {}", spec, ua::statusName(skill.status()));
@@ -100,6 +101,11 @@ Command addServerCommand(CLI::App& app) {
     cmd->add_option("--noop-skill-ms", options->noopSkillMs,
                     "how long a no-op skill runs before it finishes")
         ->check(CLI::Range(0, 3'600'000))
+        ->capture_default_str();
+    cmd->add_option("--noop-halts", options->noopHalts,
+                    "the first N runs of each no-op skill end Halted, with a reason, as a "
+                    "skill whose hardware faults does (to try retry policies)")
+        ->check(CLI::Range(0, 1'000'000))
         ->capture_default_str();
     return {cmd, [options] {
                 return runServerProcess(options->process, [options](const ComponentContext& c) {

@@ -59,7 +59,8 @@ Json toJson(const std::vector<RunView>& runs) {
                              {"component", s.component},
                              {"startedMs", s.startedMs},
                              {"endedMs", s.endedMs},
-                             {"reason", s.reason}});
+                             {"reason", s.reason},
+                             {"note", s.note}});
         }
         out.push_back({{"id", r.id},
                        {"process", r.process},

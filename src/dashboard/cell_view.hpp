@@ -85,6 +85,7 @@ struct RunView {
         std::int64_t startedMs = 0;  // Unix time
         std::int64_t endedMs = 0;    // 0 while it runs
         std::string reason;
+        std::string note;  // why this attempt: a retry, a reset before it
         friend bool operator==(const Step&, const Step&) = default;
     };
     std::int64_t id = 0;

@@ -70,9 +70,17 @@ CREATE TABLE IF NOT EXISTS steps (
   reason TEXT NOT NULL,
   started_ms INTEGER NOT NULL,
   ended_ms INTEGER NOT NULL,
+  note TEXT NOT NULL DEFAULT '',
   PRIMARY KEY (run, idx, attempt)
 );
 )";
+
+// Journals written before steps had a note get the column (the MES and a reader such as the
+// dashboard may both try: the second finds it there).
+bool hasNoteColumn(sqlite3* db) {
+    Statement s(db, "SELECT 1 FROM pragma_table_info('steps') WHERE name = 'note'");
+    return s.prepared() && s.step() == SQLITE_ROW;
+}
 
 }  // namespace
 
@@ -136,6 +144,14 @@ kb::Expected<std::unique_ptr<Journal>> Journal::open(const std::string& path) {
                              kb::ErrorKind::BadInput};
         }
     }
+    if (!hasNoteColumn(db)) {
+        auto s = journal->exec("ALTER TABLE steps ADD COLUMN note TEXT NOT NULL DEFAULT ''");
+        if (!s && !hasNoteColumn(db)) {
+            return kb::Error{"cannot add the steps' notes to the journal " + path + ": " +
+                                 s.error(),
+                             kb::ErrorKind::BadInput};
+        }
+    }
     return journal;
 }
 
@@ -171,7 +187,8 @@ kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
     Statement s(db_,
                 "INSERT OR REPLACE INTO steps (run, idx, attempt, step, state, skill_type, "
                 "component, endpoint, skill_node, transition_before, reason, started_ms, "
-                "ended_ms) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)");
+                "ended_ms, note) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, "
+                "?14)");
     if (!s.prepared()) return error("prepare");
     s.bind(1, run);
     s.bind(2, std::int64_t{step.index});
@@ -186,6 +203,7 @@ kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
     s.bind(11, step.reason);
     s.bind(12, step.startedMs);
     s.bind(13, step.endedMs);
+    s.bind(14, step.note);
     if (s.step() != SQLITE_DONE) return error("cannot record step " + std::to_string(step.index));
     return kb::Done{};
 }
@@ -232,7 +250,7 @@ kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
     for (auto& r : out) {
         Statement q(db_,
                     "SELECT idx, attempt, step, state, skill_type, component, endpoint, "
-                    "skill_node, transition_before, reason, started_ms, ended_ms FROM steps "
+                    "skill_node, transition_before, reason, started_ms, ended_ms, note FROM steps "
                     "WHERE run = ?1 ORDER BY idx, attempt");
         if (!q.prepared()) return error("prepare");
         q.bind(1, r.id);
@@ -255,6 +273,7 @@ kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
             st.reason = q.text(9);
             st.startedMs = q.number(10);
             st.endedMs = q.number(11);
+            st.note = q.text(12);
             r.steps.push_back(std::move(st));
         }
         if (rc != SQLITE_DONE) return error("cannot read the steps");

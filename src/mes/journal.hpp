@@ -48,6 +48,9 @@ struct StepRecord {
     /// it is unchanged after a crash, Start never reached the skill.
     std::int64_t transitionTimeBefore = 0;
     std::string reason;
+    /// Why this attempt was made, or what the MES did before it: a retry after a Halted
+    /// attempt, a reset of a skill that an earlier fault had left Halted.
+    std::string note;
     std::int64_t startedMs = 0;  // Unix time, ms
     std::int64_t endedMs = 0;
 };

@@ -21,6 +21,8 @@
 namespace skillcell::mes {
 
 inline constexpr const char* kProcessNs = "http://skillcell.dev/ontology/process#";
+/// The most retries a step may ask for (proc:retries).
+inline constexpr int kMaxRetries = 10;
 
 /// The facts of a resource or product a parameter is derived from.
 struct DerivationSource {
@@ -71,6 +73,8 @@ struct ProcessStep {
     std::vector<StepParameter> parameters;      // by name
     std::vector<std::string> dependsOn;         // step IRIs, each earlier in the order
     std::vector<FactRequirement> requirements;  // in a stable order (RequirementEndpoint)
+    /// How often the step runs again after its skill ended Halted (proc:retries).
+    int retries = 0;
     friend bool operator==(const ProcessStep&, const ProcessStep&) = default;
 
     /// "step 2 (PickAndPlaceSkillType)": how messages name it.

@@ -477,7 +477,9 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
     auto self = shared_from_this();
     std::set<SkillKey> tried;
     std::string lastFailure;
-    for (int i = 0; i < kMaxInstancesPerStep; ++i) {
+    std::string note;  // why the next attempt is made, and what was done first: journaled
+    int retried = 0;
+    for (int i = 0; i < kMaxInstancesPerStep + step.retries; ++i) {
         p.state = "choosing";
         p.component.clear();
         p.skill.clear();
@@ -513,10 +515,23 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
             continue;
         }
         skills::SkillClient& client = (*conn)->skill();
-        // A skill left Halted by an earlier fault is reset: this step runs it afresh.
+        // A Halted skill runs again only after a Reset, which the journal records with the
+        // attempt it precedes: a retry's, or that of a skill an earlier fault left Halted.
         if (client.state() == SkillState::Halted) {
-            spdlog::info("mes: resetting {} (Halted)", where(skill));
-            (void)co_await client.call(skills::SkillMethod::Reset);
+            const ua::StatusCode reset = co_await client.call(skills::SkillMethod::Reset);
+            if (reset.isBad()) {
+                tried.insert(keyOf(skill));
+                lastFailure = where(skill) + ": Halted, and its Reset was refused (" +
+                              std::string(ua::statusName(reset)) + ")";
+                co_await (*conn)->close();
+                continue;
+            }
+            const std::string what =
+                retried > 0 ? "the skill was reset"
+                            : "the skill was Halted (an earlier fault left it so) and was reset";
+            note += (note.empty() ? "" : "; ") + what;
+            spdlog::warn("mes: {}: {}, before {} (attempt {})", where(skill), what, step.label(),
+                         attempt);
         }
         auto before = co_await (*conn)->lastTransitionTime();
         if (!before) {
@@ -537,6 +552,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         r.skillNodeId = skill.nodeId.toString();
         r.transitionTimeBefore = before->ticks;
         r.startedMs = unixMillis();
+        r.note = note;
         if (auto s = co_await record(run, r); !s) {
             co_await (*conn)->close();
             co_return StepResult{false, s.error()};
@@ -563,6 +579,18 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         report(p);
         spdlog::warn("mes: {} on {}: {}", step.label(), where(skill), r.reason);
         if (runner_.halted(generation)) co_return StepResult{false, "halted in " + step.label()};
+        // The skill ended Halted: the process's retry policy says whether it runs again.
+        if (outcome.kind == SkillOutcome::Kind::Failed && retried < step.retries) {
+            ++retried;
+            ++attempt;
+            note = "retry " + std::to_string(retried) + " of " + std::to_string(step.retries) +
+                   " after: " + r.reason;
+            spdlog::warn("mes: {}: {}", step.label(), note);
+            p.state = "retrying";
+            p.message = note;
+            report(p);
+            continue;  // chosen again: the same instance, unless a better one appeared
+        }
         // Lost contact: another instance may take the step only once the component is
         // gone; one still there may still be running the skill.
         if (outcome.kind == SkillOutcome::Kind::Lost &&
@@ -580,6 +608,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         }
         tried.insert(keyOf(skill));
         lastFailure = where(skill) + ": " + r.reason;
+        note = "another instance, after " + lastFailure;
         ++attempt;
     }
     co_return StepResult{false, step.label() + ": gave up after " +

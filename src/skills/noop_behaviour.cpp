@@ -3,12 +3,18 @@
 namespace skillcell::skills {
 
 NoOpBehaviour::NoOpBehaviour(const asio::any_io_executor& executor,
-                             std::chrono::milliseconds duration)
-    : timer_(executor), duration_(duration) {}
+                             std::chrono::milliseconds duration, int haltFirst)
+    : timer_(executor), duration_(duration), haltsLeft_(haltFirst) {}
 
 void NoOpBehaviour::start(const SkillParameters& parameters, SkillRun run) {
     last_ = parameters;
     run_ = run;
+    ++runs_;
+    if (haltsLeft_ > 0) {
+        --haltsLeft_;
+        run.failed("run " + std::to_string(runs_) + " halts on purpose (--noop-halts)");
+        return;
+    }
     if (duration_.count() == 0) {
         run.finished();
         return;

@@ -291,7 +291,8 @@ function renderRuns() {
       const from = x(s.startedMs), to = x(s.endedMs || end);
       const g = svg("g", { class: "step " + s.state, "data-step": s.index, "data-state": s.state });
       const title = svg("title", {}, `step ${s.index} (attempt ${s.attempt}) ${s.skillType} on ${s.component}: ` +
-        `${s.state}` + (s.endedMs ? `, ${s.endedMs - s.startedMs} ms` : "") + (s.reason ? ` - ${s.reason}` : ""));
+        `${s.state}` + (s.endedMs ? `, ${s.endedMs - s.startedMs} ms` : "") + (s.reason ? ` - ${s.reason}` : "") +
+        (s.note ? ` (${s.note})` : ""));
       g.append(title, svg("rect", { x: from, y: lane * laneH + 4, width: Math.max(2, to - from), height: laneH - 8 }),
                svg("text", { x: from + 3, y: lane * laneH + 17 }, `${s.index} ${s.skillType}`));
       picture.append(g);

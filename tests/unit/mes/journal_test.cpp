@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -50,7 +51,9 @@ TEST_F(JournalTest, KeepsRunsAndStepsAcrossReopening) {
         auto failed = step(2, 1, StepState::Failed);
         failed.reason = "Lost (BadConnectionClosed)";
         ASSERT_TRUE((*j)->recordStep(id, failed));
-        ASSERT_TRUE((*j)->recordStep(id, step(2, 2, StepState::Starting)));
+        auto retry = step(2, 2, StepState::Starting);
+        retry.note = "retry 1 of 1 after: Halted";
+        ASSERT_TRUE((*j)->recordStep(id, retry));
     }
     auto j = Journal::open(file());
     ASSERT_TRUE(j) << j.error();
@@ -69,7 +72,42 @@ TEST_F(JournalTest, KeepsRunsAndStepsAcrossReopening) {
     ASSERT_NE(last, nullptr);
     EXPECT_EQ(last->attempt, 2);
     EXPECT_EQ(last->state, StepState::Starting);
+    EXPECT_EQ(last->note, "retry 1 of 1 after: Halted");
     EXPECT_EQ(r.lastAttempt(3), nullptr);
+}
+
+TEST_F(JournalTest, AJournalFromBeforeStepNotesGainsTheColumnAndKeepsItsRuns) {
+    // The tables as the MES wrote them before steps had a note.
+    const std::string script = dir_ / "old.sql";
+    std::ofstream(script) << "CREATE TABLE runs (id INTEGER PRIMARY KEY AUTOINCREMENT, process "
+                             "TEXT NOT NULL, state TEXT NOT NULL, reason TEXT NOT NULL DEFAULT '', "
+                             "started_ms INTEGER NOT NULL, ended_ms INTEGER NOT NULL DEFAULT 0);\n"
+                             "CREATE TABLE steps (run INTEGER NOT NULL REFERENCES runs(id), idx "
+                             "INTEGER NOT NULL, attempt INTEGER NOT NULL, step TEXT NOT NULL, "
+                             "state TEXT NOT NULL, skill_type TEXT NOT NULL, component TEXT NOT "
+                             "NULL, endpoint TEXT NOT NULL, skill_node TEXT NOT NULL, "
+                             "transition_before INTEGER NOT NULL, reason TEXT NOT NULL, started_ms "
+                             "INTEGER NOT NULL, ended_ms INTEGER NOT NULL, PRIMARY KEY (run, idx, "
+                             "attempt));\n"
+                             "INSERT INTO runs VALUES (1, 'http://example.org/p', 'completed', '', "
+                             "1, 2);\n"
+                             "INSERT INTO steps VALUES (1, 1, 1, 'http://example.org/p#s1', "
+                             "'finished', 't', 'urn:c', 'opc.tcp://h:1', 'ns=1;i=1', 0, '', 1, 2);\n";
+    ASSERT_EQ(std::system(("sqlite3 " + file() + " < " + script).c_str()), 0);
+    auto j = Journal::open(file());
+    ASSERT_TRUE(j) << j.error();
+    auto old = (*j)->run(1);
+    ASSERT_TRUE(old && *old);
+    ASSERT_EQ((**old).steps.size(), 1U);
+    EXPECT_EQ((**old).steps[0].note, "");
+    auto again = Journal::open(file());  // a second opener finds the column there
+    ASSERT_TRUE(again) << again.error();
+    auto run = (*again)->beginRun("http://example.org/p");
+    ASSERT_TRUE(run);
+    auto s = step(1, 1, StepState::Finished);
+    s.note = "the skill was Halted: reset";
+    ASSERT_TRUE((*again)->recordStep(*run, s));
+    EXPECT_EQ((**(*j)->run(*run)).steps[0].note, "the skill was Halted: reset");
 }
 
 TEST_F(JournalTest, TheRunToResumeIsTheLatestUnfinishedOneOfItsProcess) {

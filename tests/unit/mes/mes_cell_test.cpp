@@ -32,6 +32,10 @@ namespace fs = std::filesystem;
 // Processes the MES must refuse before any motion (tests/data/mes/refused_processes.ttl).
 const std::string kRefusedProcesses =
     std::string(SKILLCELL_SOURCE_DIR) + "/tests/data/mes/refused_processes.ttl";
+// Processes of one step with and without retries (tests/data/mes/retried_processes.ttl).
+const std::string kRetriedProcesses =
+    std::string(SKILLCELL_SOURCE_DIR) + "/tests/data/mes/retried_processes.ttl";
+constexpr const char* kRetried = "http://skillcell.dev/test/retried#";
 constexpr const char* kRefused = "http://skillcell.dev/test/refused#";
 constexpr const char* kDemo = "http://skillcell.dev/demo#pickAndPlaceTwoBoxes";
 
@@ -109,8 +113,8 @@ protected:
     void SetUp() override {
         kb_ = std::make_unique<test::ComponentProcess>(
             SKILLCELL_BINARY,
-            withFastMdns({"kb", "--demo-process", "--process", kRefusedProcesses, "--http-port",
-                          "0", "--data-dir", dir_ / "kb"}),
+            withFastMdns({"kb", "--demo-process", "--process", kRefusedProcesses, "--process",
+                          kRetriedProcesses, "--http-port", "0", "--data-dir", dir_ / "kb"}),
             true);
         ASSERT_FALSE(kb_->url().empty()) << "the KB did not start";
         kbUrl_ = sparqlUrl(*kb_);
@@ -131,10 +135,10 @@ protected:
             true);
     }
     [[nodiscard]] std::string journalPath() const { return dir_ / "journal.sqlite"; }
-    [[nodiscard]] std::optional<RunRecord> lastRun() const {
+    [[nodiscard]] std::optional<RunRecord> lastRun(std::int64_t id = 1) const {
         auto j = Journal::open(journalPath());
         if (!j) return std::nullopt;
-        auto r = (*j)->run(1);
+        auto r = (*j)->run(id);
         if (!r || !*r) return std::nullopt;
         return **r;
     }
@@ -315,6 +319,51 @@ TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
     EXPECT_EQ(runsOf(*run, 3), 1);
     EXPECT_EQ(runsOf(*run, 4), 1) << "no pick without a vacuum gripper: only the one that finished";
     expectTheProcessDone(cell);
+}
+
+TEST_F(MesCell, AHaltedStepRunsAgainOnlyAsItsProcessSaysAndEveryResetIsJournaled) {
+    // A tool changer's DetachTool whose first two runs end Halted, as faulting hardware does.
+    test::ComponentProcess flaky(SKILLCELL_BINARY,
+                                 withFastMdns({"server", "--application-uri", "urn:test:flaky",
+                                               "--noop-skill", "DetachToolSkillType=DetachTool",
+                                               "--noop-halts", "2"}),
+                                 true);
+    ASSERT_FALSE(flaky.url().empty());
+    startMes();
+    ASSERT_FALSE(mes_->url().empty());
+
+    // No retries: the first Halted run stops the process, with the skill's reason.
+    RunResult result = runNamedProcess(mes_->url(), std::string(kRetried) + "once");
+    EXPECT_EQ(result.exitCode, 1) << result.output;
+    auto once = lastRun(1);
+    ASSERT_TRUE(once);
+    EXPECT_EQ(once->state, RunState::Stopped);
+    ASSERT_EQ(once->steps.size(), 1U);
+    EXPECT_EQ(once->steps[0].state, StepState::Failed);
+    EXPECT_NE(once->steps[0].reason.find("run 1 halts on purpose"), std::string::npos)
+        << once->steps[0].reason;
+    EXPECT_EQ(once->steps[0].note, "");
+
+    // One retry: the skill, Halted since, is reset (and the journal says so), halts again,
+    // is reset and run again, and finishes.
+    result = runNamedProcess(mes_->url(), std::string(kRetried) + "retried");
+    EXPECT_EQ(result.exitCode, 0) << result.output;
+    auto retried = lastRun(2);
+    ASSERT_TRUE(retried);
+    EXPECT_EQ(retried->state, RunState::Completed);
+    ASSERT_EQ(retried->steps.size(), 2U);
+    const StepRecord& first = retried->steps[0];
+    const StepRecord& second = retried->steps[1];
+    EXPECT_EQ(first.attempt, 1);
+    EXPECT_EQ(first.state, StepState::Failed);
+    EXPECT_NE(first.reason.find("run 2 halts on purpose"), std::string::npos) << first.reason;
+    EXPECT_EQ(first.note, "the skill was Halted (an earlier fault left it so) and was reset");
+    EXPECT_EQ(second.attempt, 2);
+    EXPECT_EQ(second.state, StepState::Finished);
+    EXPECT_EQ(second.componentUri, "urn:test:flaky");
+    EXPECT_NE(second.note.find("retry 1 of 1 after: "), std::string::npos) << second.note;
+    EXPECT_NE(second.note.find("run 2 halts on purpose"), std::string::npos) << second.note;
+    EXPECT_NE(second.note.find("; the skill was reset"), std::string::npos) << second.note;
 }
 
 TEST_F(MesCell, AWrongGripperInTheDockStopsTheProcessBeforeThePickNamingTheGripType) {

@@ -128,6 +128,23 @@ TEST(ProcessDescription, TakesGivenValues) {
     EXPECT_EQ(std::get<double>(ps[0].value), 0.25);
     EXPECT_EQ(std::get<std::string>(ps[1].value), "urn:x");
     EXPECT_EQ(std::get<devices::Pose6>(ps[2].value), (devices::Pose6{1, 2, 3, 0, 0, 1.5}));
+    EXPECT_EQ(p->steps.at(0).retries, 0) << "no retries unless the process says so";
+}
+
+TEST(ProcessDescription, TakesAStepsRetriesAndRefusesImpossibleOnes) {
+    const std::string process = std::string(kPrefixes) +
+                                ":p proc:hasStep :a ; proc:firstStep :a .\n"
+                                ":a proc:requiresSkillType t:DetachToolSkillType ; proc:retries ";
+    auto p = parseProcess("http://example.org/p#p", triples(process + "2 .\n"));
+    ASSERT_TRUE(p) << p.error();
+    EXPECT_EQ(p->steps.at(0).retries, 2);
+    for (const char* bad : {"-1", "11", "1.5", "\"often\""}) {
+        const std::string why = refusal(":p proc:hasStep :a ; proc:firstStep :a .\n"
+                                        ":a proc:requiresSkillType t:X ; proc:retries " +
+                                        std::string(bad) + " .");
+        EXPECT_NE(why.find("proc:retries"), std::string::npos) << why;
+        EXPECT_NE(why.find("is not a whole number from 0 to 10"), std::string::npos) << why;
+    }
 }
 
 TEST(ProcessDescription, RefusesBrokenDescriptionsNamingTheFault) {
