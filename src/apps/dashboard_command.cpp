@@ -25,8 +25,8 @@
 #include "dashboard/cell_view.hpp"
 #include "dashboard/event_hub.hpp"
 #include "dashboard/periodic_task.hpp"
+#include "dashboard/scene_watcher.hpp"
 #include "dashboard/web_assets.hpp"
-#include "devices/world/world_link.hpp"
 #include "http/web_server.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "mes/journal.hpp"
@@ -53,78 +53,6 @@ struct DashboardOptions {
     std::string worldUrl;  // the world model, for the scene's picture; empty: none
     std::string journal;   // the MES's journal, for the runs; empty: none
     std::string kbUrl;     // the knowledge base's SPARQL endpoint, for its processes
-};
-
-/// Reads the world model's scene five times a second (WorldLink's calls block, so on a
-/// PeriodicTask's thread) and gives the view what changed; the view pushes it to the pages.
-/// A world that cannot be reached is looked for again every 2 s.
-class SceneReader {
-public:
-    SceneReader(std::string url, ua::ClientConfig config, dashboard::CellView& view)
-        : url_(std::move(url)),
-          config_(std::move(config)),
-          view_(view),
-          task_([this] { return tick(); }) {}
-
-private:
-    static std::array<double, 3> position(const KDL::Frame& f) {
-        return {f.p.x(), f.p.y(), f.p.z()};
-    }
-
-    static std::optional<dashboard::SceneView> read(devices::WorldLink& w) {
-        dashboard::SceneView s;
-        auto flange = w.flangePose();
-        auto mounted = w.mountedTool();
-        auto grasped = w.graspedObject();
-        auto objects = w.objectIds();
-        auto docks = w.dockIds();
-        if (!flange || !mounted || !grasped || !objects || !docks) return std::nullopt;
-        s.flange = position(*flange);
-        s.mountedTool = *mounted;
-        s.graspedObject = *grasped;
-        for (const auto& id : *objects) {
-            auto pose = w.objectPose(id);
-            auto size = w.objectSize(id);
-            if (!pose || !size) return std::nullopt;
-            s.objects.push_back({id, position(*pose), *size});
-        }
-        for (const auto& id : *docks) {
-            auto pose = w.dockPose(id);
-            auto tool = w.dockTool(id);
-            if (!pose || !tool) return std::nullopt;
-            s.docks.push_back({id, position(*pose), *tool});
-        }
-        return s;
-    }
-
-    std::chrono::milliseconds tick() {
-        if (!link_) {
-            auto connected = devices::WorldLink::connect(url_, config_);
-            if (!connected) {
-                if (!complained_) {
-                    spdlog::warn("dashboard: the world model at {}: {} (trying again)", url_,
-                                 ua::statusName(connected.status()));
-                }
-                complained_ = true;
-                return 2000ms;
-            }
-            link_ = std::move(*connected);
-            complained_ = false;
-        }
-        if (auto scene = read(*link_)) {
-            view_.scene(*scene);
-            return 200ms;
-        }
-        link_.reset();  // the world restarted, or a read failed: connect again
-        return 500ms;
-    }
-
-    std::string url_;
-    ua::ClientConfig config_;
-    dashboard::CellView& view_;
-    std::unique_ptr<devices::WorldLink> link_;  // on the task's thread only
-    bool complained_ = false;
-    dashboard::PeriodicTask task_;  // last: it starts once the rest is there
 };
 
 /// Reads the MES's last runs from its journal (SQLite, which the MES writes in WAL mode, so
@@ -221,7 +149,7 @@ private:
 struct DashboardContent {
     explicit DashboardContent(asio::io_context& context) : io(context) {}
     ~DashboardContent() {
-        scene.reset();
+        if (scene) scene->stop();
         journal.reset();
         processes.reset();
         if (detector) {
@@ -240,7 +168,7 @@ struct DashboardContent {
                                  const auto* paper = cell::paperDetection(uri);
                                  return paper != nullptr ? paper->ms : 0.0;
                              }};
-    std::unique_ptr<SceneReader> scene;        // before the view goes
+    std::shared_ptr<dashboard::SceneWatcher> scene;
     std::unique_ptr<JournalReader> journal;    // before the view goes
     std::unique_ptr<ProcessReader> processes;  // before the view goes
     std::unique_ptr<http::WebServer> web;
@@ -496,8 +424,7 @@ void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& co
         // Each open page holds a thread of the web server: beyond kMaxPages, a new one is
         // turned away so that actions and logins always find a thread.
         if (c->hub.listeners() >= kMaxPages) {
-            spdlog::warn("dashboard: {} pages are open already; one more refused (503)",
-                         kMaxPages);
+            spdlog::warn("dashboard: {} pages are open already; one more refused (503)", kMaxPages);
             res.status = 503;
             res.set_header("Retry-After", "10");
             res.set_content("too many open pages of this dashboard: close one\n", "text/plain");
@@ -555,7 +482,13 @@ int run(DashboardOptions& o) {
                 return ua::status::BadResourceUnavailable;
             }
             if (!o.worldUrl.empty()) {
-                c->scene = std::make_unique<SceneReader>(o.worldUrl, c->client, c->view);
+                std::weak_ptr<DashboardContent> weak = c;
+                c->scene =
+                    dashboard::SceneWatcher::start(ctx.io.get_executor(), o.worldUrl, c->client,
+                                                   [weak](const dashboard::SceneView& scene) {
+                                                       if (auto content = weak.lock())
+                                                           content->view.scene(scene);
+                                                   });
             }
             if (!o.journal.empty()) {
                 c->journal = std::make_unique<JournalReader>(o.journal, c->view);

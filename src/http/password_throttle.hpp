@@ -23,8 +23,8 @@ public:
     static constexpr std::size_t kMaxNames = 4096;  // beyond: the oldest series are dropped
 
     /// How long checks of `name` are still refused; nothing when one may go ahead.
-    [[nodiscard]] std::optional<std::chrono::seconds> refusedFor(std::string_view name,
-                                                                 Clock::time_point now = Clock::now());
+    [[nodiscard]] std::optional<std::chrono::seconds> refusedFor(
+        std::string_view name, Clock::time_point now = Clock::now());
     /// A check of `name` failed: counts, and locks once there are more than kFreeFailures.
     void failed(std::string_view name, Clock::time_point now = Clock::now());
     /// A check of `name` succeeded: its series ends.

@@ -1,9 +1,9 @@
 #include "http/web_server.hpp"
 
-#include <algorithm>
 #include <arpa/inet.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
+#include <algorithm>
 
 #include <array>
 

@@ -147,9 +147,9 @@ kb::Expected<std::unique_ptr<Journal>> Journal::open(const std::string& path) {
     if (!hasNoteColumn(db)) {
         auto s = journal->exec("ALTER TABLE steps ADD COLUMN note TEXT NOT NULL DEFAULT ''");
         if (!s && !hasNoteColumn(db)) {
-            return kb::Error{"cannot add the steps' notes to the journal " + path + ": " +
-                                 s.error(),
-                             kb::ErrorKind::BadInput};
+            return kb::Error{
+                "cannot add the steps' notes to the journal " + path + ": " + s.error(),
+                kb::ErrorKind::BadInput};
         }
     }
     return journal;

@@ -457,6 +457,17 @@ private:
                                 ", which does not come before it");
             }
         }
+        // Retries: a whole number from 0 to kMaxRetries.
+        if (const Term* r = g_.object(s, procIri("retries"))) {
+            const auto v = parseNumber(r->value);
+            if (r->kind != Term::Kind::Literal || !v || *v < 0 || *v > kMaxRetries ||
+                *v != static_cast<double>(static_cast<int>(*v))) {
+                const int at = where_.textLine("proc:retries", line);
+                problem(at != 0 ? at : line, label + ": proc:retries \"" + r->value +
+                                                 "\" is not a whole number from 0 to " +
+                                                 std::to_string(kMaxRetries));
+            }
+        }
         // Requirements.
         std::set<std::string> cellRequirements;  // those with proc:ofSkillType
         for (const auto& r : g_.objects(s, procIri("requiresFact"))) {

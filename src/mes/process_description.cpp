@@ -299,7 +299,8 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
         for (const Term* d : g.objects(*s, p("dependsOn"))) step.dependsOn.push_back(d->value);
         if (const auto retries = g.literal(*s, p("retries"))) {
             const auto v = parseNumber(*retries);
-            if (!v || *v < 0 || *v > kMaxRetries || *v != static_cast<double>(static_cast<int>(*v))) {
+            if (!v || *v < 0 || *v > kMaxRetries ||
+                *v != static_cast<double>(static_cast<int>(*v))) {
                 return kb::badInput(step.label() + " " + name(*s) + ": proc:retries '" + *retries +
                                     "' is not a whole number from 0 to " +
                                     std::to_string(kMaxRetries));

@@ -3,3 +3,7 @@
 skillcell_unit_test(test_dashboard dashboard/dashboard_test.cpp)
 find_package(nlohmann_json REQUIRED)
 target_link_libraries(test_dashboard PRIVATE skillcell_dashboard nlohmann_json::nlohmann_json)
+# The scene's subscription against a world model server on loopback.
+skillcell_unit_test(test_scene_watcher dashboard/scene_watcher_test.cpp)
+target_link_libraries(test_scene_watcher PRIVATE skillcell_dashboard skillcell_world
+                                                 skillcell_test_support)

@@ -79,20 +79,21 @@ TEST_F(JournalTest, KeepsRunsAndStepsAcrossReopening) {
 TEST_F(JournalTest, AJournalFromBeforeStepNotesGainsTheColumnAndKeepsItsRuns) {
     // The tables as the MES wrote them before steps had a note.
     const std::string script = dir_ / "old.sql";
-    std::ofstream(script) << "CREATE TABLE runs (id INTEGER PRIMARY KEY AUTOINCREMENT, process "
-                             "TEXT NOT NULL, state TEXT NOT NULL, reason TEXT NOT NULL DEFAULT '', "
-                             "started_ms INTEGER NOT NULL, ended_ms INTEGER NOT NULL DEFAULT 0);\n"
-                             "CREATE TABLE steps (run INTEGER NOT NULL REFERENCES runs(id), idx "
-                             "INTEGER NOT NULL, attempt INTEGER NOT NULL, step TEXT NOT NULL, "
-                             "state TEXT NOT NULL, skill_type TEXT NOT NULL, component TEXT NOT "
-                             "NULL, endpoint TEXT NOT NULL, skill_node TEXT NOT NULL, "
-                             "transition_before INTEGER NOT NULL, reason TEXT NOT NULL, started_ms "
-                             "INTEGER NOT NULL, ended_ms INTEGER NOT NULL, PRIMARY KEY (run, idx, "
-                             "attempt));\n"
-                             "INSERT INTO runs VALUES (1, 'http://example.org/p', 'completed', '', "
-                             "1, 2);\n"
-                             "INSERT INTO steps VALUES (1, 1, 1, 'http://example.org/p#s1', "
-                             "'finished', 't', 'urn:c', 'opc.tcp://h:1', 'ns=1;i=1', 0, '', 1, 2);\n";
+    std::ofstream(script)
+        << "CREATE TABLE runs (id INTEGER PRIMARY KEY AUTOINCREMENT, process "
+           "TEXT NOT NULL, state TEXT NOT NULL, reason TEXT NOT NULL DEFAULT '', "
+           "started_ms INTEGER NOT NULL, ended_ms INTEGER NOT NULL DEFAULT 0);\n"
+           "CREATE TABLE steps (run INTEGER NOT NULL REFERENCES runs(id), idx "
+           "INTEGER NOT NULL, attempt INTEGER NOT NULL, step TEXT NOT NULL, "
+           "state TEXT NOT NULL, skill_type TEXT NOT NULL, component TEXT NOT "
+           "NULL, endpoint TEXT NOT NULL, skill_node TEXT NOT NULL, "
+           "transition_before INTEGER NOT NULL, reason TEXT NOT NULL, started_ms "
+           "INTEGER NOT NULL, ended_ms INTEGER NOT NULL, PRIMARY KEY (run, idx, "
+           "attempt));\n"
+           "INSERT INTO runs VALUES (1, 'http://example.org/p', 'completed', '', "
+           "1, 2);\n"
+           "INSERT INTO steps VALUES (1, 1, 1, 'http://example.org/p#s1', "
+           "'finished', 't', 'urn:c', 'opc.tcp://h:1', 'ns=1;i=1', 0, '', 1, 2);\n";
     ASSERT_EQ(std::system(("sqlite3 " + file() + " < " + script).c_str()), 0);
     auto j = Journal::open(file());
     ASSERT_TRUE(j) << j.error();

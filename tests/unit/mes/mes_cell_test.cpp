@@ -323,11 +323,11 @@ TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
 
 TEST_F(MesCell, AHaltedStepRunsAgainOnlyAsItsProcessSaysAndEveryResetIsJournaled) {
     // A tool changer's DetachTool whose first two runs end Halted, as faulting hardware does.
-    test::ComponentProcess flaky(SKILLCELL_BINARY,
-                                 withFastMdns({"server", "--application-uri", "urn:test:flaky",
-                                               "--noop-skill", "DetachToolSkillType=DetachTool",
-                                               "--noop-halts", "2"}),
-                                 true);
+    test::ComponentProcess flaky(
+        SKILLCELL_BINARY,
+        withFastMdns({"server", "--application-uri", "urn:test:flaky", "--noop-skill",
+                      "DetachToolSkillType=DetachTool", "--noop-halts", "2"}),
+        true);
     ASSERT_FALSE(flaky.url().empty());
     startMes();
     ASSERT_FALSE(mes_->url().empty());

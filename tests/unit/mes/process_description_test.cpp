@@ -139,9 +139,10 @@ TEST(ProcessDescription, TakesAStepsRetriesAndRefusesImpossibleOnes) {
     ASSERT_TRUE(p) << p.error();
     EXPECT_EQ(p->steps.at(0).retries, 2);
     for (const char* bad : {"-1", "11", "1.5", "\"often\""}) {
-        const std::string why = refusal(":p proc:hasStep :a ; proc:firstStep :a .\n"
-                                        ":a proc:requiresSkillType t:X ; proc:retries " +
-                                        std::string(bad) + " .");
+        const std::string why = refusal(
+            ":p proc:hasStep :a ; proc:firstStep :a .\n"
+            ":a proc:requiresSkillType t:X ; proc:retries " +
+            std::string(bad) + " .");
         EXPECT_NE(why.find("proc:retries"), std::string::npos) << why;
         EXPECT_NE(why.find("is not a whole number from 0 to 10"), std::string::npos) << why;
     }

@@ -1,0 +1,109 @@
+// The dashboard's SceneWatcher against a real world model server: the first scene is whole
+// (sizes, docks, poses, tools), and what a robot then changes through the world's methods
+// (the flange moves, a tool is mounted) arrives by the subscription, without any polling.
+#include "dashboard/scene_watcher.hpp"
+
+#include <gtest/gtest.h>
+
+#include <asio.hpp>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+#include "devices/common/frame.hpp"
+#include "devices/world/world_link.hpp"
+#include "devices/world/world_nodes.hpp"
+#include "running_server.hpp"
+
+namespace skillcell::dashboard {
+namespace {
+
+using namespace std::chrono_literals;
+
+KDL::Frame at(double x, double y, double z, double a = 0) {
+    return devices::toFrame(devices::Pose6{x, y, z, a, 0, 0});
+}
+
+/// The scenes a watcher reports, for a test to wait on.
+class Scenes {
+public:
+    void add(const SceneView& s) {
+        const std::lock_guard lock(mutex_);
+        last_ = s;
+        ++count_;
+        changed_.notify_all();
+    }
+    /// Waits (at most 10 s) for a scene that `ok` accepts; the last one either way.
+    std::optional<SceneView> waitFor(const std::function<bool(const SceneView&)>& ok) {
+        std::unique_lock lock(mutex_);
+        changed_.wait_for(lock, 10s, [&] { return last_ && ok(*last_); });
+        return last_;
+    }
+
+private:
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    std::optional<SceneView> last_;
+    int count_ = 0;
+};
+
+TEST(SceneWatcher, TheFirstSceneIsWholeAndChangesComeBySubscription) {
+    std::unique_ptr<devices::WorldNodes> nodes;
+    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+        devices::World w;
+        ASSERT_EQ(w.addObject({"box1", {0.04, 0.1, 0.05}, at(0.45, 0.15, 0.025)}),
+                  ua::status::Good);
+        ASSERT_EQ(w.addDock({"dock1", at(0.3, -0.45, 0.35, M_PI), {}}), ua::status::Good);
+        ASSERT_EQ(w.addTool({"parallel", at(0, 0, 0.15)}, "dock1"), ua::status::Good);
+        auto created = devices::WorldNodes::create(s, std::move(w));
+        ASSERT_TRUE(created.ok());
+        nodes = std::move(*created);
+    });
+    ASSERT_TRUE(nodes);
+
+    asio::io_context io(1);
+    auto work = asio::make_work_guard(io);
+    std::thread thread([&io] { io.run(); });
+    Scenes scenes;
+    auto watcher = SceneWatcher::start(io.get_executor(), server.url(), ua::ClientConfig{},
+                                       [&scenes](const SceneView& s) { scenes.add(s); });
+
+    auto first = scenes.waitFor([](const SceneView& s) { return !s.objects.empty(); });
+    ASSERT_TRUE(first);
+    ASSERT_EQ(first->objects.size(), 1U);
+    EXPECT_EQ(first->objects[0].id, "box1");
+    EXPECT_NEAR(first->objects[0].position[0], 0.45, 1e-9);
+    EXPECT_NEAR(first->objects[0].position[1], 0.15, 1e-9);
+    EXPECT_NEAR(first->objects[0].size[1], 0.1, 1e-9);
+    ASSERT_EQ(first->docks.size(), 1U);
+    EXPECT_EQ(first->docks[0].tool, "parallel");
+    EXPECT_NEAR(first->docks[0].position[0], 0.3, 1e-9);
+    EXPECT_EQ(first->mountedTool, "");
+
+    // A robot takes the tool from the dock, as the tool changer's skill would.
+    auto link = devices::WorldLink::connect(server.url());
+    ASSERT_TRUE(link.ok());
+    ASSERT_EQ((*link)->setFlangePose(at(0.3, -0.45, 0.35, M_PI)), ua::status::Good);
+    ASSERT_EQ((*link)->mountTool("dock1"), ua::status::Good);
+    auto mounted = scenes.waitFor([](const SceneView& s) {
+        return s.mountedTool == "parallel" && s.docks.size() == 1 && s.docks[0].tool.empty();
+    });
+    ASSERT_TRUE(mounted);
+    EXPECT_EQ(mounted->mountedTool, "parallel");
+    EXPECT_EQ(mounted->docks[0].tool, "");
+    EXPECT_NEAR(mounted->flange[1], -0.45, 1e-9);
+
+    ASSERT_EQ((*link)->setFlangePose(at(0.2, 0.1, 0.4, M_PI)), ua::status::Good);
+    auto moved =
+        scenes.waitFor([](const SceneView& s) { return std::abs(s.flange[0] - 0.2) < 1e-9; });
+    ASSERT_TRUE(moved);
+    EXPECT_NEAR(moved->flange[1], 0.1, 1e-9);
+
+    asio::post(io, [watcher] { watcher->stop(); });
+    work.reset();
+    thread.join();  // the watch ends: its connection closes
+    server.inServer([&nodes](ua::Server&) { nodes.reset(); });
+}
+
+}  // namespace
+}  // namespace skillcell::dashboard
