@@ -1,5 +1,7 @@
 #include "skills/skill_client.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/use_awaitable.hpp>
 
@@ -73,6 +75,7 @@ SkillClient::~SkillClient() = default;
 asio::awaitable<ua::Result<std::shared_ptr<SkillClient>>> SkillClient::attach(
     ua::Client& client, NodeId skill, SkillClientOptions options) {
     auto self = std::make_shared<SkillClient>(Token{}, client, std::move(skill));
+    self->confirmAfter_ = options.confirmAfter;
     if (const auto s = co_await self->resolve(); s.isBad()) co_return s;
     if (const auto s = co_await self->subscribe(options); s.isBad()) co_return s;
     co_return self;
@@ -82,6 +85,7 @@ asio::awaitable<StatusCode> SkillClient::resolve() {
     auto children = co_await client_.browse(skill_);
     if (!children) co_return children.status();
     NodeId parameterSet;
+    NodeId lastTransition;
     for (const auto& ref : children->references) {
         if (!ref.nodeId.isLocal()) continue;
         const auto& bn = ref.browseName;
@@ -89,6 +93,8 @@ asio::awaitable<StatusCode> SkillClient::resolve() {
             if (const auto m = methodFromName(bn.name)) methods_[*m] = ref.nodeId.nodeId;
         } else if (bn.namespaceIndex == 0 && bn.name == "CurrentState") {
             currentStateId_ = ref.nodeId.nodeId;
+        } else if (bn.namespaceIndex == 0 && bn.name == "LastTransition") {
+            lastTransition = ref.nodeId.nodeId;
         } else if (bn.name == "ParameterSet" && ref.nodeClass == ua::NodeClass::Object) {
             parameterSet = ref.nodeId.nodeId;
         }
@@ -129,6 +135,18 @@ asio::awaitable<StatusCode> SkillClient::resolve() {
         }
     }
 
+    // LastTransition's Id and TransitionTime, to read a run's end back when its event is lost
+    // (optional in the model: without them, only events tell).
+    if (!lastTransition.isNull()) {
+        auto parts = co_await client_.browse(lastTransition);
+        if (!parts) co_return parts.status();
+        for (const auto& ref : parts->references) {
+            if (!ref.nodeId.isLocal() || ref.browseName.namespaceIndex != 0) continue;
+            if (ref.browseName.name == "Id") lastTransitionId_ = ref.nodeId.nodeId;
+            if (ref.browseName.name == "TransitionTime") lastTransitionTime_ = ref.nodeId.nodeId;
+        }
+    }
+
     auto current = co_await client_.readValue(currentStateId_);
     if (!current) co_return current.status();
     if (const auto* text = current->get<ua::LocalizedText>()) state_ = stateFromName(text->text);
@@ -166,6 +184,15 @@ void SkillClient::onEvent(const std::vector<Variant>& fields) {
     if (const auto* id = fields[3].get<NodeId>()) r.to = stateFromNodeId(*id);
     if (const auto* id = fields[4].get<NodeId>()) r.transition = transitionFromNodeId(*id);
     if (!r.to) return;  // not a transition of the skill state machine
+    ++eventsHeard_;
+    // The same transition read back before its event came late: not twice.
+    for (const auto& known : transitions_) {
+        if (known.time == r.time && known.transition == r.transition) return;
+    }
+    record(std::move(r));
+}
+
+void SkillClient::record(SkillTransitionRecord r) {
     state_ = r.to;
     transitions_.push_back(std::move(r));
     if (transitions_.size() > kMaxTransitionsKept) transitions_.pop_front();
@@ -174,12 +201,57 @@ void SkillClient::onEvent(const std::vector<Variant>& fields) {
 }
 
 void SkillClient::onSubscriptionStatus(StatusCode s) {
-    // Any Bad status ends the wait: the connection or session is gone, the server dropped
-    // the subscription, or it was silent for a whole keep-alive period (the watchdog).
-    if (s.isBad()) {
-        lost_ = s;
+    if (s.isGood()) return;
+    // Notifications lost in a gap, or a keep-alive that is late: the state is read back (a
+    // server that does not answer that read is lost then).
+    if (s == ua::status::BadMessageNotAvailable || s == ua::status::BadTimeout) {
+        confirm_ = true;
         wakeUp_.cancel();
+        return;
     }
+    // Any other Bad status ends the wait: the connection or session is gone, or the server
+    // dropped the subscription.
+    lost_ = s;
+    wakeUp_.cancel();
+}
+
+asio::awaitable<StatusCode> SkillClient::readBack() {
+    if (lastTransitionId_.isNull() || lastTransitionTime_.isNull()) co_return ua::status::Good;
+    ua::ReadRequest read;
+    for (const auto& node : {currentStateId_, lastTransitionId_, lastTransitionTime_}) {
+        ua::ReadValueId item;
+        item.nodeId = node;
+        item.attributeId = static_cast<std::uint32_t>(ua::AttributeId::Value);
+        read.nodesToRead.push_back(std::move(item));
+    }
+    auto values = co_await client_.read(std::move(read));
+    if (!values) co_return values.status();
+    if (values->results.size() != 3 || !runStartedAt_) co_return ua::status::Good;
+    const auto& v = values->results;
+    const auto* text = v[0].value ? v[0].value->get<ua::LocalizedText>() : nullptr;
+    const auto* id = v[1].value ? v[1].value->get<NodeId>() : nullptr;
+    const auto* time = v[2].value ? v[2].value->get<ua::DateTime>() : nullptr;
+    if (text == nullptr || id == nullptr || time == nullptr) co_return ua::status::Good;
+    const auto state = stateFromName(text->text);
+    const auto transition = transitionFromNodeId(*id);
+    // Only an end of this run: after its Start (both times are the server's), from Running or
+    // Suspended to where the skill is now.
+    if (!state || !transition || *time < *runStartedAt_) co_return ua::status::Good;
+    const SkillState from = fromState(*transition);
+    const SkillState to = toState(*transition);
+    if ((from != SkillState::Running && from != SkillState::Suspended) ||
+        (to != SkillState::Ready && to != SkillState::Halted) || *state != to) {
+        co_return ua::status::Good;
+    }
+    for (const auto& known : transitions_) {
+        if (known.time == *time && known.transition == transition) co_return ua::status::Good;
+    }
+    spdlog::warn("skill {}: its run ended ({}) without an event reaching us; read back",
+                 skill_.toString(), name(*transition));
+    record({*time, from, to, transition,
+            std::string(name(*transition)) +
+                ": its event was lost, so its reason is only in the skill server's log"});
+    co_return ua::status::Good;
 }
 
 asio::awaitable<StatusCode> SkillClient::setParameter(std::string parameterName, Variant value) {
@@ -254,11 +326,18 @@ asio::awaitable<SkillOutcome> SkillClient::waitForEnd(std::chrono::milliseconds 
                                    "lost the skill's server before the run ended"};
         }
         if (cancelled_) co_return co_await haltAfter(SkillOutcome::Kind::Cancelled);
-        if (std::chrono::steady_clock::now() >= deadline) {
-            co_return co_await haltAfter(SkillOutcome::Kind::TimedOut);
+        const auto now = std::chrono::steady_clock::now();
+        if (now >= deadline) co_return co_await haltAfter(SkillOutcome::Kind::TimedOut);
+        if (confirm_) {
+            confirm_ = false;
+            if (const StatusCode s = co_await readBack(); s.isBad()) lost_ = s;
+            continue;
         }
-        wakeUp_.expires_at(deadline);
-        co_await wakeUp_.async_wait(as_tuple(asio::use_awaitable));
+        // Quiet for confirmAfter: an event may have been lost on the way, so ask.
+        const std::uint64_t heard = eventsHeard_;
+        wakeUp_.expires_at(std::min(deadline, now + confirmAfter_));
+        auto [ec] = co_await wakeUp_.async_wait(as_tuple(asio::use_awaitable));
+        if (!ec && eventsHeard_ == heard) confirm_ = true;
     }
 }
 

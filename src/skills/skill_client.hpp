@@ -1,9 +1,15 @@
 #pragma once
 // SkillClient: a typed proxy for one skill on a remote server. It writes parameters, calls
 // the methods, and learns how a run ended from the skill's transition events (an event
-// subscription on the skill object, never polling), with a timeout and cancellation
-// (both Halt the skill). A server that goes away, or stops answering for a keep-alive
-// period, ends a wait as Lost: a caller never hangs on a vanished component.
+// subscription on the skill object), with a timeout and cancellation (both Halt the skill).
+// A server that goes away ends a wait as Lost: a caller never hangs on a vanished component.
+//
+// Events can be lost on the way (a Publish response that never arrives, a gap Republish
+// cannot fill). So the client reads CurrentState and LastTransition back when the
+// subscription reports lost notifications or a late keep-alive, and after every second of
+// quiet while a run is awaited: a run that ended without its event still ends, within about
+// a second (a Halted one without its reason, which was in the event). A server that does not
+// answer that read is lost.
 //
 // Which end belongs to which run: events carry the server's Time. The end of the run this
 // client started is the first transition to Ready or Halted whose Time is not before the
@@ -71,6 +77,10 @@ struct SkillClientOptions {
     /// client takes a server for lost after 1.5 s of silence. Much less (0.15 s) mistook a
     /// loaded machine's late publish, under the sanitizers on 2 cores, for a lost component.
     std::uint32_t maxKeepAliveCount = 100;
+    /// While a run is awaited and no event arrives for this long, the skill's CurrentState
+    /// and LastTransition are read: a run whose end event was lost still ends (at once, too,
+    /// when the subscription reports lost notifications or a late keep-alive).
+    std::chrono::milliseconds confirmAfter{1000};
 };
 
 class SkillClient : public std::enable_shared_from_this<SkillClient> {
@@ -136,6 +146,10 @@ private:
     void onSubscriptionStatus(ua::StatusCode status);
     /// The end of the current run among the transitions received, if it came.
     [[nodiscard]] std::optional<SkillOutcome> endOfRun() const;
+    /// Reads CurrentState and LastTransition; a run's end that no event brought becomes a
+    /// transition record, as if its event had come. Bad when the server does not answer.
+    asio::awaitable<ua::StatusCode> readBack();
+    void record(SkillTransitionRecord r);
     asio::awaitable<SkillOutcome> haltAfter(SkillOutcome::Kind kind);
     /// call() without beginning a run (run() began it before the parameters).
     asio::awaitable<ua::StatusCode> callMethod(SkillMethod method);
@@ -144,6 +158,11 @@ private:
     ua::NodeId skill_;
     std::map<SkillMethod, ua::NodeId> methods_;
     ua::NodeId currentStateId_;
+    ua::NodeId lastTransitionId_;    // LastTransition/Id (null: not offered, no read-back)
+    ua::NodeId lastTransitionTime_;  // LastTransition/TransitionTime
+    std::chrono::milliseconds confirmAfter_{1000};
+    bool confirm_ = false;  // read back at the next chance (a gap, a late keep-alive)
+    std::uint64_t eventsHeard_ = 0;
     std::vector<RemoteParameter> parameters_;
     std::shared_ptr<ua::Subscription> subscription_;
     std::optional<SkillState> state_;

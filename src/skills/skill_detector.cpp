@@ -351,7 +351,11 @@ asio::awaitable<StatusCode> SkillDetector::serve(const std::shared_ptr<Watch>& w
     ua::Subscription::StatusCallback onStatus = [weak, connection](StatusCode st) {
         auto watch = weak.lock();
         if (!watch || st.isGood() || watch->connections != connection) return;
-        if (watch->lost.isGood()) watch->lost = st;
+        if (st == status::BadMessageNotAvailable) {
+            watch->recheck = true;  // a StartTime change may be among what was lost
+        } else if (watch->lost.isGood()) {
+            watch->lost = st;
+        }
         watch->signal();
     };
     auto subscription = co_await client.createSubscription(settings, std::move(onStatus));

@@ -27,8 +27,8 @@ int connectLoopback(std::uint16_t port) {
 
 }  // namespace
 
-TamperingProxy::TamperingProxy(std::uint16_t upstreamPort, Hook hook)
-    : upstream_(upstreamPort), hook_(std::move(hook)) {
+TamperingProxy::TamperingProxy(std::uint16_t upstreamPort, Hook hook, Hook fromServer)
+    : upstream_(upstreamPort), hook_(std::move(hook)), fromServer_(std::move(fromServer)) {
     listener_ = ::socket(AF_INET, SOCK_STREAM, 0);
     if (listener_ < 0) throw std::runtime_error("socket");
     sockaddr_in addr{};
@@ -75,16 +75,24 @@ void TamperingProxy::serve() {
 }
 
 void TamperingProxy::pumpFromServer(int from, int to) {
-    std::uint8_t buffer[16384];
-    for (;;) {
-        const auto n = ::recv(from, buffer, sizeof buffer, 0);
-        if (n <= 0 || !writeAll(to, buffer, static_cast<std::size_t>(n))) break;
+    if (fromServer_) {
+        pumpFrames(from, to, fromServer_);
+    } else {
+        std::uint8_t buffer[16384];
+        for (;;) {
+            const auto n = ::recv(from, buffer, sizeof buffer, 0);
+            if (n <= 0 || !writeAll(to, buffer, static_cast<std::size_t>(n))) break;
+        }
     }
     ::shutdown(to, SHUT_RDWR);
     ::shutdown(from, SHUT_RDWR);
 }
 
 void TamperingProxy::pumpFromClient(int from, int to) {
+    pumpFrames(from, to, hook_);
+}
+
+void TamperingProxy::pumpFrames(int from, int to, const Hook& hook) {
     for (std::size_t index = 0;; ++index) {
         Frame frame(8);
         if (!readExactly(from, frame.data(), 8)) return;
@@ -93,7 +101,7 @@ void TamperingProxy::pumpFromClient(int from, int to) {
         if (size < 8 || size > (1U << 24)) return;
         frame.resize(size);
         if (!readExactly(from, frame.data() + 8, size - 8)) return;
-        for (const auto& out : hook_(index, std::move(frame))) {
+        for (const auto& out : hook(index, std::move(frame))) {
             if (!writeAll(to, out.data(), out.size())) return;
         }
     }

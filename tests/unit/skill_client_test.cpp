@@ -1,11 +1,14 @@
 // SkillClient against real skills: a whole invocation, and every way one can go wrong:
 // Halted with a reason, a refused parameter, a refused Start, a timeout, a cancellation,
-// another client halting the run, the server stopping and the server process killed.
+// another client halting the run, the server stopping and the server process killed; and a
+// run whose end event is lost on the way (a proxy drops the server's Publish responses).
 #include <gtest/gtest.h>
 
 #include <asio/co_spawn.hpp>
 #include <asio/executor_work_guard.hpp>
 #include <asio/use_future.hpp>
+#include <atomic>
+#include <cstring>
 #include <thread>
 
 #include "client_thread.hpp"
@@ -14,6 +17,7 @@
 #include "skills/noop_behaviour.hpp"
 #include "skills/skill_client.hpp"
 #include "skills/skill_server.hpp"
+#include "tampering_proxy.hpp"
 
 namespace skillcell::skills::skill_client_test {
 namespace {
@@ -51,6 +55,8 @@ public:
                   skills_->add(*move, "Move", std::make_unique<NoOpBehaviour>(s.executor(), 5ms)));
               ASSERT_TRUE(skills_->add(*grasp, "Grasp", std::make_unique<FailingBehaviour>()));
               ASSERT_TRUE(skills_->add(*move, "Endless", std::make_unique<EndlessBehaviour>()));
+              ASSERT_TRUE(skills_->add(*move, "Slow",
+                                       std::make_unique<NoOpBehaviour>(s.executor(), 300ms)));
           }) {}
     /// Skills (their behaviours' timers) go before the server's io_context, on its thread.
     ~Cell() {
@@ -62,6 +68,7 @@ public:
     Cell(const Cell&) = delete;
     Cell& operator=(const Cell&) = delete;
     std::string url() const { return server_.url(); }
+    std::uint16_t port() const { return server_.port(); }
     SkillState state(const std::string& skill) {
         return server_.inServer([&](ua::Server&) {
             for (const auto& s : skills_->skills()) {
@@ -254,6 +261,85 @@ TEST(SkillClient, ReportsAKilledServerProcessAsLost) {
     process.kill();
     ASSERT_EQ(future.wait_for(10s), std::future_status::ready);
     EXPECT_EQ(future.get().kind, Kind::Lost);
+}
+
+}  // namespace
+}  // namespace skillcell::skills::skill_client_test
+
+namespace skillcell::skills::skill_client_test {
+namespace {
+
+/// The server's side of a TamperingProxy that, while `dropping`, loses every Publish and
+/// Republish response (so events, and the gaps' second chances, never arrive) and renumbers
+/// the channel's sequence numbers after them, as if they had never been sent. SecurityPolicy
+/// None only (the chunks are read).
+class PublishDropper {
+public:
+    std::vector<test::TamperingProxy::Frame> operator()(std::size_t,
+                                                        test::TamperingProxy::Frame f) {
+        if (f.size() < 28 || std::memcmp(f.data(), "MSG", 3) != 0) return {std::move(f)};
+        // Body after the header (8), channel id (4), token id (4), sequence number and request
+        // id (8): the type's NodeId, FourByte-encoded (0x01, namespace 0, id).
+        const unsigned type = f[26] | (f[27] << 8U);
+        const bool publish = f[24] == 0x01 && f[25] == 0 && (type == 829 || type == 835);
+        if (dropping && publish && f[3] == 'F') {
+            ++removed_;
+            ++dropped;
+            return {};
+        }
+        std::uint32_t seq = 0;
+        std::memcpy(&seq, f.data() + 16, 4);  // little-endian, as this machine
+        seq -= removed_;
+        std::memcpy(f.data() + 16, &seq, 4);
+        return {std::move(f)};
+    }
+
+    std::atomic<bool> dropping{false};
+    std::atomic<int> dropped{0};
+
+private:
+    std::uint32_t removed_ = 0;  // the proxy's server thread only
+};
+
+TEST(SkillClient, ARunWhoseEndEventIsLostEndsByReadingTheSkillBack) {
+    Cell cell;
+    PublishDropper dropper;
+    test::TamperingProxy proxy(
+        cell.port(),
+        [](std::size_t, test::TamperingProxy::Frame f) {
+            return std::vector<test::TamperingProxy::Frame>{std::move(f)};
+        },
+        [&dropper](std::size_t i, test::TamperingProxy::Frame f) {
+            return dropper(i, std::move(f));
+        });
+    const std::string url = "opc.tcp://127.0.0.1:" + std::to_string(proxy.port());
+    ClientThread t;
+    auto slow = t.attach(url, Cell::id("Slow"));
+    auto grasp = t.attach(url, Cell::id("Grasp"));
+    ASSERT_TRUE(slow && grasp);
+
+    // From now on no event arrives: the end of a 300 ms run is read back within about a second
+    // of quiet, long before the 10 s timeout.
+    dropper.dropping = true;
+    const auto begin = std::chrono::steady_clock::now();
+    const auto outcome = t.invoke(slow, {}, 10s);
+    const auto took = std::chrono::steady_clock::now() - begin;
+    EXPECT_EQ(outcome.kind, Kind::Finished) << name(outcome.kind) << " " << outcome.reason;
+    EXPECT_LT(took, 300ms + 2s);
+    EXPECT_GT(dropper.dropped.load(), 0) << "the proxy dropped no Publish response";
+    EXPECT_EQ(cell.state("Slow"), SkillState::Ready);
+
+    // An end in Halted, read back, is a failure; its reason stayed with the lost event.
+    const auto failed = t.invoke(grasp, {}, 10s);
+    EXPECT_EQ(failed.kind, Kind::Failed) << name(failed.kind) << " " << failed.reason;
+    EXPECT_NE(failed.reason.find("its event was lost"), std::string::npos) << failed.reason;
+
+    // The proxy passes everything again (the Publish requests whose answers it dropped are
+    // sent again only after their timeout): the next run still ends, and the earlier runs'
+    // ends, should they arrive late, are not taken for its own.
+    dropper.dropping = false;
+    const auto again = t.invoke(slow, {}, 10s);
+    EXPECT_EQ(again.kind, Kind::Finished) << name(again.kind) << " " << again.reason;
 }
 
 }  // namespace

@@ -268,7 +268,9 @@ public:
     /// notifications through a publish loop this Client runs while subscriptions exist.
     /// `onStatusChange` hears what happens to the subscription: a StatusChangeNotification,
     /// BadTimeout from the keep-alive watchdog (then Good when the server is heard again),
-    /// or the status with which the session or connection was lost (the last call).
+    /// BadMessageNotAvailable when notifications were lost in a gap that Republish could not
+    /// fill (the subscription goes on), or the status with which the session or connection
+    /// was lost (the last call).
     asio::awaitable<Result<std::shared_ptr<Subscription>>> createSubscription(
         SubscriptionSettings settings, Subscription::StatusCallback onStatusChange = {});
 

@@ -250,6 +250,8 @@ struct client_detail::SubscriptionEngine {
              n != seq && gap.size() < kMaxRepublishPerGap; n = nextSequenceNumber(n)) {
             gap.push_back(n);
         }
+        // More missing than are asked for again: those notifications are lost.
+        bool lost = steps - 1 > kMaxRepublishPerGap;
         sub->lastSequenceNumber_ = seq;
         for (auto n : gap) sub->missing_.push_back(n);
         if (sub->missing_.size() > kMaxMissing) {
@@ -269,11 +271,20 @@ struct client_detail::SubscriptionEngine {
             // Whatever the outcome, this number is settled: BadMessageNotAvailable means
             // the server no longer has it, and the notifications in it are lost.
             sub->missing_.erase(m);
-            if (!again || again->notificationMessage.notificationData.empty()) continue;
+            if (!again) {
+                lost = true;
+                continue;
+            }
+            if (again->notificationMessage.notificationData.empty()) continue;
             acks.push_back({sub->id_, n});
             dispatch(*sub, again->notificationMessage);
         }
         if (sub->status_.isGood()) dispatch(*sub, msg);
+        // The subscription goes on; a user that must not miss a change reads the current
+        // values now (the status callback hears BadMessageNotAvailable).
+        if (lost && sub->status_.isGood()) {
+            invokeCallback(sub->onStatusChange_, status::BadMessageNotAvailable);
+        }
     }
 
     /// Liveness: the server answered for this subscription.
