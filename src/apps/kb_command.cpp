@@ -285,10 +285,8 @@ void logRecorded(const ComponentRecord& r) {
 }
 
 // Records every component with a recording queued. Components that appear together (a cell
-// starting, a rack plugged in) are read one by one and then loaded in one load, which the
-// reasoner checks once: a check costs about as much for one new graph as for fifty, since it
-// covers the whole KB. When that load is refused, each graph is loaded alone, so that the
-// one that conflicts is named and the others are recorded all the same.
+// starting, a rack plugged in) are read one by one and then loaded together
+// (KnowledgeBase::loadParts), in batches of what one load may hold.
 void recordPending(KbComponent& c) {
     std::set<std::string> uris;
     {
@@ -303,27 +301,19 @@ void recordPending(KbComponent& c) {
     for (std::size_t at = 0; at < records.size() && !c.stopping;
          at += kb::KnowledgeBase::kMaxGraphsPerLoad) {
         const std::size_t end = std::min(records.size(), at + kb::KnowledgeBase::kMaxGraphsPerLoad);
-        std::vector<kb::GraphData> graphs;
-        for (std::size_t i = at; i < end; ++i) graphs.push_back(records[i].graph);
-        auto together = c.kb.load(graphs);
-        if (together) {
-            for (std::size_t i = at; i < end; ++i) logRecorded(records[i]);
-            if (end - at > 1) spdlog::info("kb: {} components recorded in one load", end - at);
-            continue;
-        }
-        if (end - at == 1 || together.errorKind() != kb::ErrorKind::Refused) {
-            for (std::size_t i = at; i < end; ++i) {
-                spdlog::error("kb: cannot record {}: {}", records[i].uri, together.error());
-            }
-            continue;
-        }
-        for (std::size_t i = at; i < end && !c.stopping; ++i) {
-            if (auto s = c.kb.load({records[i].graph}); !s) {
+        std::vector<std::vector<kb::GraphData>> parts;
+        for (std::size_t i = at; i < end; ++i) parts.push_back({records[i].graph});
+        const auto loaded = c.kb.loadParts(parts);
+        std::size_t recorded = 0;
+        for (std::size_t i = at; i < end; ++i) {
+            if (const auto& s = loaded[i - at]; !s) {
                 spdlog::error("kb: cannot record {}: {}", records[i].uri, s.error());
             } else {
                 logRecorded(records[i]);
+                ++recorded;
             }
         }
+        if (recorded > 1) spdlog::info("kb: {} components recorded", recorded);
     }
 }
 
@@ -490,24 +480,14 @@ int run(KbOptions& o) {
         }
         startup.push_back({"--load " + spec, {{graphIri, std::move(*triples)}}});
     }
-    // All in one load, which the reasoner checks once; one load each when that is refused
-    // (or cannot be one), which names the part at fault.
-    std::vector<kb::GraphData> all;
-    std::set<std::string> iris;
-    for (const auto& part : startup) {
-        for (const auto& g : part.graphs) {
-            all.push_back(g);
-            iris.insert(g.iri);
-        }
-    }
-    const bool together = all.size() <= kb::KnowledgeBase::kMaxGraphsPerLoad &&
-                          iris.size() == all.size() && knowledge.load(all);
-    if (!together) {
-        for (const auto& part : startup) {
-            if (auto st = knowledge.load(part.graphs); !st) {
-                spdlog::critical("kb: {}: {}", part.what, st.error());
-                return 1;
-            }
+    // As few loads as the reasoner allows; a part refused is named.
+    std::vector<std::vector<kb::GraphData>> parts;
+    for (const auto& part : startup) parts.push_back(part.graphs);
+    const auto loaded = knowledge.loadParts(parts);
+    for (std::size_t i = 0; i < startup.size(); ++i) {
+        if (!loaded[i]) {
+            spdlog::critical("kb: {}: {}", startup[i].what, loaded[i].error());
+            return 1;
         }
     }
     spdlog::info("kb: store {} ready, reasoner {}", sparqlUrl, reasoner ? "Konclude" : "off");

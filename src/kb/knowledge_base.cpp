@@ -63,6 +63,29 @@ Expected<std::vector<rdf::Triple>> KnowledgeBase::everythingBut(
     return rdf::readTurtle(r->body);
 }
 
+std::vector<Status> KnowledgeBase::loadParts(const std::vector<std::vector<GraphData>>& parts) {
+    std::vector<GraphData> all;
+    std::set<std::string> iris;
+    for (const auto& part : parts) {
+        for (const auto& g : part) {
+            all.push_back(g);
+            iris.insert(g.iri);
+        }
+    }
+    const bool oneLoad =
+        parts.size() > 1 && all.size() <= kMaxGraphsPerLoad && iris.size() == all.size();
+    if (oneLoad) {
+        auto together = load(all);
+        if (together || together.errorKind() != ErrorKind::Refused) {
+            return std::vector<Status>(parts.size(), together);
+        }
+    }
+    std::vector<Status> each;
+    each.reserve(parts.size());
+    for (const auto& part : parts) each.push_back(load(part));
+    return each;
+}
+
 Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
     if (graphs.size() > kMaxGraphsPerLoad) {
         return Error{"at most " + std::to_string(kMaxGraphsPerLoad) + " graphs per load, not " +

@@ -52,6 +52,12 @@ public:
     /// Replaces each graph of `graphs` (as one transaction) if the result is consistent.
     /// More than kMaxGraphsPerLoad graphs: BadInput.
     [[nodiscard]] Status load(const std::vector<GraphData>& graphs);
+    /// Loads `parts` (each one or more graphs) in as few loads as it can: all in one when
+    /// they fit (kMaxGraphsPerLoad graphs, none twice), since the reasoner's check costs about
+    /// as much for one new graph as for fifty; when that load is refused, or cannot be one,
+    /// each part alone, so that the part at fault is named and the others load all the same.
+    /// One status per part. A store that fails (not a refusal) fails every part at once.
+    [[nodiscard]] std::vector<Status> loadParts(const std::vector<std::vector<GraphData>>& parts);
     /// load() of one graph given as Turtle; `baseIri` resolves relative IRIs (default: the
     /// graph's IRI).
     [[nodiscard]] Status loadTurtle(const std::string& graphIri, std::string_view turtle);

@@ -183,6 +183,36 @@ TEST_F(KnowledgeBaseTest, AnInconsistentModelIsRefusedNamingTheConflictAndNothin
     EXPECT_EQ(processAfter->size(), processBefore->size());
 }
 
+TEST_F(KnowledgeBaseTest, PartsLoadTogetherAndWhenRefusedEachAloneNamingTheOneAtFault) {
+    const auto graph = [](const std::string& iri, const std::string& turtle) {
+        auto triples = rdf::readTurtle(
+            "@prefix proc: <http://skillcell.dev/ontology/process#> .\n" + turtle, iri);
+        EXPECT_TRUE(triples) << triples.error();
+        return GraphData{iri, triples ? *triples : std::vector<rdf::Triple>{}};
+    };
+    // Two good parts: one load, both there.
+    auto both = kb_->loadParts({{graph("urn:test:a", "<urn:test:a#s> a proc:Step .")},
+                                {graph("urn:test:b", "<urn:test:b#s> a proc:Step .")}});
+    ASSERT_EQ(both.size(), 2U);
+    EXPECT_TRUE(both[0]) << both[0].error();
+    EXPECT_TRUE(both[1]) << both[1].error();
+    EXPECT_TRUE(ask("GRAPH <urn:test:b> { ?s ?p ?o }"));
+    // One part contradicts the models (a step that is a process): the joint load is refused,
+    // then each part alone: the good ones load, the bad one is named.
+    auto mixed =
+        kb_->loadParts({{graph("urn:test:c", "<urn:test:c#s> a proc:Step .")},
+                        {graph("urn:test:bad", "<urn:test:bad#s> a proc:Step , proc:Process .")},
+                        {graph("urn:test:d", "<urn:test:d#s> a proc:Step .")}});
+    ASSERT_EQ(mixed.size(), 3U);
+    EXPECT_TRUE(mixed[0]) << mixed[0].error();
+    ASSERT_FALSE(mixed[1]);
+    EXPECT_EQ(mixed[1].errorKind(), ErrorKind::Refused);
+    EXPECT_NE(mixed[1].error().find("urn:test:bad#s"), std::string::npos) << mixed[1].error();
+    EXPECT_TRUE(mixed[2]) << mixed[2].error();
+    EXPECT_TRUE(ask("GRAPH <urn:test:d> { ?s ?p ?o }"));
+    EXPECT_FALSE(ask("GRAPH <urn:test:bad> { ?s ?p ?o }"));
+}
+
 TEST_F(KnowledgeBaseTest, ALoadReplacesItsGraph) {
     ASSERT_TRUE(kb_->loadTurtle("urn:test:replace", "<urn:test:r> <urn:test:p> \"old\" .\n"));
     ASSERT_TRUE(kb_->loadTurtle("urn:test:replace", "<urn:test:r> <urn:test:p> \"new\" .\n"));
