@@ -30,6 +30,7 @@
 #include "http/web_server.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "mes/journal.hpp"
+#include "mes/mes_component.hpp"
 #include "mes/process_description.hpp"
 #include "server_process.hpp"
 #include "skills/skill_connection.hpp"
@@ -56,13 +57,17 @@ struct DashboardOptions {
 };
 
 /// Reads the MES's last runs from its journal (SQLite, which the MES writes in WAL mode, so
-/// a reader beside it is safe) twice a second, and gives the view what changed.
+/// a reader beside it is safe) whenever the MES reports progress (wake()), and every 5 s
+/// besides, and gives the view what changed.
 class JournalReader {
 public:
     static constexpr std::int64_t kRuns = 5;
 
     JournalReader(fs::path path, dashboard::CellView& view)
         : path_(std::move(path)), view_(view), task_([this] { return tick(); }) {}
+
+    /// The MES reported progress: read now.
+    void wake() { task_.wake(); }
 
 private:
     std::chrono::milliseconds tick() {
@@ -94,7 +99,7 @@ private:
             out.push_back(std::move(v));
         }
         view_.runs(out);
-        return 500ms;
+        return 5000ms;
     }
 
     fs::path path_;
@@ -224,6 +229,34 @@ asio::awaitable<ActionResult> act(std::weak_ptr<DashboardContent> weak, std::str
     co_return result;
 }
 
+// Wakes the journal's reader whenever the MES's Objects/ProcessExecution/Progress changes, by
+// a subscription in the session that follows the MES's ExecuteProcess skill (it ends with
+// that session). On the io thread.
+asio::awaitable<void> followProgress(std::weak_ptr<DashboardContent> weak,
+                                     std::shared_ptr<skills::SkillConnection> connection) {
+    // Named before co_await: GCC 12 destroys closure temporaries in a co_await twice.
+    const ua::SubscriptionSettings settings(50, 600, 20);
+    auto subscription = co_await connection->client().createSubscription(settings);
+    if (!subscription) {
+        spdlog::warn("dashboard: cannot follow the MES's progress ({}): runs every 5 s",
+                     ua::statusName(subscription.status()));
+        co_return;
+    }
+    ua::Subscription::DataChangeCallback onProgress = [weak](const ua::DataValue&) {
+        if (auto c = weak.lock(); c && c->journal) c->journal->wake();
+    };
+    const std::optional<ua::DataChangeFilter> noFilter;
+    auto item = co_await (*subscription)
+                    ->monitorDataChange(mes::progressVariable("Progress"), ua::AttributeId::Value,
+                                        0, 10, noFilter, std::move(onProgress));
+    if (!item) {
+        spdlog::warn("dashboard: the MES offers no Progress to follow ({}): runs every 5 s",
+                     ua::statusName(item.status()));
+        co_return;
+    }
+    spdlog::info("dashboard: the runs follow the MES's progress at {}", connection->endpointUrl());
+}
+
 // Opens a session to the skill's component and follows its transitions. On the io thread.
 asio::awaitable<void> watch(std::weak_ptr<DashboardContent> weak, skills::SkillInstance skill) {
     const std::string key = dashboard::CellView::keyOf(skill);
@@ -250,7 +283,12 @@ asio::awaitable<void> watch(std::weak_ptr<DashboardContent> weak, skills::SkillI
     connection->skill().onTransition(
         [view, key](const skills::SkillTransitionRecord& t) { view->skillState(key, t.to, &t); });
     c->view.skillState(key, connection->skill().state(), nullptr);
-    it->second = std::move(connection);
+    it->second = connection;
+    // The MES's Progress changes with every step: the journal has news then.
+    if (skill.type().browseName == "ExecuteProcessSkillType" && c->journal) {
+        c.reset();
+        co_await followProgress(weak, std::move(connection));
+    }
 }
 
 void onSkillEvent(const std::shared_ptr<DashboardContent>& c, const skills::SkillEvent& e) {

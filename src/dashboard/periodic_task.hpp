@@ -1,8 +1,8 @@
 #pragma once
 // PeriodicTask: a function called on a thread of its own, again and again, with a pause
-// that the function chooses; for what the dashboard reads with blocking calls (the world
-// model's scene, the MES's journal). The destructor stops it and waits for the call in
-// progress, which a blocking call bounds by its own timeout.
+// that the function chooses, or at once when woken; for what the dashboard reads with
+// blocking calls (the MES's journal, the KB's processes). The destructor stops it and waits
+// for the call in progress, which a blocking call bounds by its own timeout.
 #include <chrono>
 #include <condition_variable>
 #include <functional>
@@ -24,6 +24,15 @@ public:
         wake_.notify_all();
         thread_.join();
     }
+    /// Ends the current pause at once (any thread); a wake during a call makes the next
+    /// call follow it without a pause.
+    void wake() {
+        {
+            const std::lock_guard lock(mutex_);
+            woken_ = true;
+        }
+        wake_.notify_all();
+    }
     PeriodicTask(const PeriodicTask&) = delete;
     PeriodicTask& operator=(const PeriodicTask&) = delete;
 
@@ -32,7 +41,9 @@ private:
         for (;;) {
             const auto pause = tick_();
             std::unique_lock lock(mutex_);
-            if (wake_.wait_for(lock, pause, [this] { return stop_; })) return;
+            wake_.wait_for(lock, pause, [this] { return stop_ || woken_; });
+            if (stop_) return;
+            woken_ = false;
         }
     }
 
@@ -40,6 +51,7 @@ private:
     std::mutex mutex_;
     std::condition_variable wake_;
     bool stop_ = false;
+    bool woken_ = false;
     std::thread thread_;  // last: it starts once the rest is there
 };
 

@@ -34,6 +34,8 @@ public:
     SkillConnection& operator=(const SkillConnection&) = delete;
 
     [[nodiscard]] SkillClient& skill() { return *skill_; }
+    /// The session to the skill's component, for what else a user reads there.
+    [[nodiscard]] ua::Client& client() { return *client_; }
     [[nodiscard]] const RemoteSkill& description() const { return remote_; }
     [[nodiscard]] const std::string& endpointUrl() const { return endpointUrl_; }
     /// The current value of one of the skill's parameters (BadNoMatch for an unknown name).
