@@ -1,6 +1,6 @@
 // The dashboard's push latency in headless Chromium (dashboard_latency.sh sets the cell up).
 "use strict";
-const { chromium } = require("playwright-core");
+const { launch } = require("../tests/browser/browser");
 
 const runs = Number(process.env.RUNS || 50);
 const wait = { timeout: 30000 };
@@ -10,12 +10,7 @@ function percentile(sorted, p) {
 }
 
 (async () => {
-  const browser = await chromium.launch({
-    executablePath: "/usr/bin/chromium",
-    args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
-           "--disable-component-update", "--disable-sync", "--no-first-run",
-           "--ignore-certificate-errors-spki-list=" + process.env.DASHBOARD_SPKI],
-  });
+  const browser = await launch(process.env.DASHBOARD_SPKI);
   try {
     const page = await browser.newPage();
     await page.goto(process.env.DASHBOARD_URL);

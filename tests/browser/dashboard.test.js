@@ -1,7 +1,7 @@
 // The dashboard in headless Chromium (dashboard_test.sh prepares the cell). Every wait is
 // bounded; the first failed expectation ends the test with exit code 1.
 "use strict";
-const { chromium } = require("playwright-core");
+const { launch, check } = require("./browser");
 const path = require("path");
 
 const url = process.env.DASHBOARD_URL;
@@ -10,18 +10,8 @@ const gripperPid = Number(process.env.GRIPPER_PID);
 const shots = process.env.SCREENSHOT_DIR;
 const wait = { timeout: 30000 };
 
-function check(condition, what) {
-  if (!condition) throw new Error("expected: " + what);
-  console.log("ok  " + what);
-}
-
 (async () => {
-  const browser = await chromium.launch({
-    executablePath: "/usr/bin/chromium",
-    args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
-           "--disable-component-update", "--disable-sync", "--no-first-run",
-           "--ignore-certificate-errors-spki-list=" + spki],
-  });
+  const browser = await launch(spki);
   try {
     const page = await browser.newPage({ viewport: { width: 1200, height: 700 } });
     const requests = [];

@@ -8,11 +8,8 @@
 set -euo pipefail
 skillcell=$1
 here=$(cd "$(dirname "$0")" && pwd)
-if [ ! -d "$here/node_modules/playwright-core" ] || [ ! -x /usr/bin/chromium ]; then
-  echo "!!! SKIPPED: playwright-core (tests/browser: npm ci) or /usr/bin/chromium missing !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
-  exit 77
-fi
+# shellcheck source=require_browser.sh
+source "$here/require_browser.sh"
 # shellcheck source=cell.sh
 source "$here/cell.sh"
 

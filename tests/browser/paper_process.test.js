@@ -4,7 +4,7 @@
 // where the process put them. Every wait is bounded; the first failed expectation ends the
 // test with exit code 1.
 "use strict";
-const { chromium } = require("playwright-core");
+const { launch, check } = require("./browser");
 const fs = require("fs");
 const path = require("path");
 
@@ -15,11 +15,6 @@ const shots = process.env.SCREENSHOT_DIR;
 const wait = { timeout: 60000 };
 const run = { timeout: 240000 };  // the whole process, on a slow machine
 const processIri = "http://skillcell.dev/demo#pickAndPlaceTwoBoxes";
-
-function check(condition, what) {
-  if (!condition) throw new Error("expected: " + what);
-  console.log("ok  " + what);
-}
 
 function password(user) {
   return fs.readFileSync(path.join(work, user + ".pw"), "utf8").trim();
@@ -39,12 +34,7 @@ async function boxAt(page, id) {
 }
 
 (async () => {
-  const browser = await chromium.launch({
-    executablePath: "/usr/bin/chromium",
-    args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
-           "--disable-component-update", "--disable-sync", "--no-first-run",
-           "--ignore-certificate-errors-spki-list=" + spki],
-  });
+  const browser = await launch(spki);
   try {
     const page = await browser.newPage({ viewport: { width: 1200, height: 900 } });
     await page.goto(url);

@@ -11,43 +11,18 @@ set -euo pipefail
 skillcell=$1
 src=$2
 here=$(cd "$(dirname "$0")" && pwd)
-if [ ! -d "$here/node_modules/playwright-core" ] || [ ! -x /usr/bin/chromium ]; then
-  echo "!!! SKIPPED: playwright-core (tests/browser: npm ci) or /usr/bin/chromium missing !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NODE:-0}" = 1 ] && exit 1
-  exit 77
-fi
-if ! unshare -n true 2>/dev/null; then
-  echo "!!! SKIPPED: cannot create a network namespace (not root?) !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NETNS:-0}" = 1 ] && exit 1
-  exit 77
-fi
-tmp=$(mktemp -d)
-work=$tmp/work
-cell=
-cleanup() {
-  # A failed test must not leave its cell behind.
-  if [ -n "$cell" ] && kill -0 "$cell" 2>/dev/null; then
-    kill -TERM "$cell" 2>/dev/null || true
-    timeout 60 tail --pid="$cell" -f /dev/null || kill -KILL "$cell" || true
-  fi
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-fail() {
-  echo "FAILED: $*" >&2
-  for f in "$tmp"/up.out "$tmp"/up.err "$work"/logs/*.log; do
-    [ -f "$f" ] && { echo "--- $f"; tail -n 20 "$f"; }
-  done
-  exit 1
-}
+# shellcheck source=require_browser.sh
+source "$here/require_browser.sh"
+# shellcheck source=../support/cell_up.sh
+source "$src/tests/support/cell_up.sh"
 
 # Speed 20: a process of some seconds, slow enough to watch, quick enough for CI.
 "$skillcell" cell up "$src/examples/cells/paper.toml" --speed 20 --work-dir "$work" \
   >"$tmp/up.out" 2>"$tmp/up.err" &
-cell=$!
+supervisor=$!
 for _ in $(seq 600); do
   grep -q 'is up' "$tmp/up.out" && break
-  kill -0 "$cell" 2>/dev/null || break
+  kill -0 "$supervisor" 2>/dev/null || break
   sleep 0.5  # a bounded poll of the output a child process writes
 done
 grep -q 'is up' "$tmp/up.out" || fail "the cell did not come up"
@@ -70,6 +45,6 @@ steps=$(sqlite3 "$work/journal.sqlite" \
 echo "ok  the journal: one run, completed, its five steps finished"
 "$skillcell" cell down --work-dir "$work" >/dev/null || fail "cell down"
 rc=0
-wait "$cell" || rc=$?
-cell=
+wait "$supervisor" || rc=$?
+supervisor=
 [ "$rc" = 0 ] || fail "cell up exited $rc"

@@ -19,30 +19,8 @@
 set -euo pipefail
 skillcell=$1
 src=$2
-if ! unshare -n true 2>/dev/null; then
-  echo "!!! SKIPPED: cannot create a network namespace (not root?) !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NETNS:-0}" = 1 ] && exit 1
-  exit 77
-fi
-tmp=$(mktemp -d)
-work=$tmp/work
-supervisor=
-cleanup() {
-  # A failed test must not leave its cell behind.
-  if [ -n "$supervisor" ] && kill -0 "$supervisor" 2>/dev/null; then
-    kill -TERM "$supervisor" 2>/dev/null || true
-    timeout 60 tail --pid="$supervisor" -f /dev/null || kill -KILL "$supervisor" || true
-  fi
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-fail() {
-  echo "FAILED: $*" >&2
-  for f in "$tmp"/up*.out "$tmp"/up*.err "$work"/logs/*.log; do
-    [ -f "$f" ] && { echo "--- $f"; tail -n 20 "$f"; }
-  done
-  exit 1
-}
+# shellcheck source=../../support/cell_up.sh
+source "$src/tests/support/cell_up.sh"
 status_json() { "$skillcell" cell status --json --work-dir "$work"; }
 # The value of KEY of component NAME in `cell status --json`.
 field() {

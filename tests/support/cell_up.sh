@@ -1,0 +1,34 @@
+# Sourced by the shell tests that bring a cell up with `skillcell cell up`, in a network
+# namespace of the cell's own (tests/unit/cell/cell_up_cli.sh,
+# tests/browser/paper_process_test.sh). It gives them:
+#  - a skip (exit 77) where no network namespace can be made (not root), unless
+#    SKILLCELL_REQUIRE_NETNS=1 (CI), where that fails the test;
+#  - $tmp, a directory of their own, and $work, the cell's work directory in it;
+#  - a trap that stops the cell whose supervisor's pid the test puts in $supervisor and
+#    removes $tmp, even when the test fails;
+#  - fail MESSAGE: prints it with the cell's output ($tmp/up*.out, .err) and the last lines of
+#    each component's log, and exits 1.
+if ! unshare -n true 2>/dev/null; then
+  echo "!!! SKIPPED: cannot create a network namespace (not root?) !!!" >&2
+  [ "${SKILLCELL_REQUIRE_NETNS:-0}" = 1 ] && exit 1
+  exit 77
+fi
+tmp=$(mktemp -d)
+work=$tmp/work
+supervisor=
+cleanup() {
+  # A failed test must not leave its cell behind.
+  if [ -n "$supervisor" ] && kill -0 "$supervisor" 2>/dev/null; then
+    kill -TERM "$supervisor" 2>/dev/null || true
+    timeout 60 tail --pid="$supervisor" -f /dev/null || kill -KILL "$supervisor" || true
+  fi
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+fail() {
+  echo "FAILED: $*" >&2
+  for f in "$tmp"/up*.out "$tmp"/up*.err "$work"/logs/*.log; do
+    [ -f "$f" ] && { echo "--- $f"; tail -n 20 "$f"; }
+  done
+  exit 1
+}
