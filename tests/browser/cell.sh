@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # A small secured cell for the dashboard's browser test and benchmark, sourced by both:
 # a cell CA, the cell's users (Observer olga, Operator otto, and "cell", whom the components
 # act as), the world model with a dock and a box, the dashboard, and two components with

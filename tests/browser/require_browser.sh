@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by the browser tests' scripts (needs $here, their directory): a skip (exit 77)
 # without playwright-core (tests/browser: npm ci) or Debian's Chromium, unless
 # SKILLCELL_REQUIRE_NODE=1 (CI), where that fails the test.

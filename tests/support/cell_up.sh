@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by the shell tests that bring a cell up with `skillcell cell up`, in a network
 # namespace of the cell's own (tests/unit/cell/cell_up_cli.sh,
 # tests/browser/paper_process_test.sh). It gives them:
