@@ -106,6 +106,13 @@ Expected<HttpReply> exchange(HttpClient::Impl& impl, const HttpUrl& server,
     const std::lock_guard lock(impl.mutex);
     impl.rejection.clear();
     auto result = impl.client->send(request);
+    if (!result && result.error() == httplib::Error::Write) {
+        // The kept-alive connection was closed by the server as it idled (cpp-httplib's
+        // servers close after 5 s), just as the request went out: nothing reached the server,
+        // so it is sent once more on a new connection, an update included.
+        impl.client->stop();
+        result = impl.client->send(request);
+    }
     if (!result) {
         std::string why = describe(result.error());
         if (result.error() == httplib::Error::SSLServerVerification) {

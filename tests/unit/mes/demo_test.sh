@@ -27,6 +27,8 @@ demo=
 trap 'if [ -n "$demo" ]; then kill -TERM "$demo" 2>/dev/null; wait "$demo" 2>/dev/null; fi; rm -rf "$tmp"' EXIT
 fail() {
   echo "FAILED: $*" >&2
+  echo "--- the demo's output (last 40 lines)"
+  tail -n 40 "$tmp/out"
   for log in "$tmp"/work/logs/*.log; do
     [ -f "$log" ] && { echo "--- $log"; tail -n 15 "$log"; }
   done
