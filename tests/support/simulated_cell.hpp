@@ -137,6 +137,8 @@ struct SimulatedCell {
             }
             changerArgs.insert(changerArgs.end(), {table[i], table[i + 1]});
         }
+        binary_ = binary;
+        changerArgs_ = changerArgs;
         changer = start(binary, std::move(changerArgs));
         if (withPickAndPlace) {
             pickplace = start(
@@ -156,6 +158,12 @@ struct SimulatedCell {
     SimulatedCell(const SimulatedCell&) = delete;
     SimulatedCell& operator=(const SimulatedCell&) = delete;
 
+    /// Starts the tool changer again with the same arguments (after a test killed it).
+    void restartChanger() {
+        changer.reset();
+        changer = start(binary_, changerArgs_);
+    }
+
     [[nodiscard]] bool ready() const {
         return !world->url().empty() && changer && !changer->url().empty() && robot &&
                !robot->url().empty() && (!pickplace || !pickplace->url().empty());
@@ -164,6 +172,10 @@ struct SimulatedCell {
     std::unique_ptr<DeviceProcess> world, changer, pickplace, robot;
     std::string tools;        // PKI directories of the powered tools: <tools>-<tool name>
     std::string parallelUri;  // the parallel gripper's application URI
+
+private:
+    std::string binary_;
+    std::vector<std::string> changerArgs_;
 
 private:
     static std::unique_ptr<DeviceProcess> start(const std::string& binary,

@@ -12,12 +12,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "client_thread.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/toolchanger/tool_table.hpp"
 #include "devices/world/world_link.hpp"
 #include "simulated_cell.hpp"
+#include "ua/client/blocking_client.hpp"
 
 namespace skillcell::devices::device_toolchanger_test {
 namespace {
@@ -188,6 +190,57 @@ TEST(ToolChangerProcess, AToolsAdapterEndsWhenTheChangerIsKilled) {
         EXPECT_EQ(::poll(&ended, 1, 10000), 1) << "an adapter outlived its changer by 10 s";
         ::close(fd);
     }
+}
+
+// After a crash the changer's memory is gone, but the tool is still locked on: the restarted
+// changer asks the identification pin which tool it is, publishes it and powers it again. It
+// does not guess where the tool came from: a change asks for a DetachTool at its dock first.
+TEST(ToolChangerProcess, ARestartedChangerReadsTheMountedToolFromItsPinAndPowersIt) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, {}, false);
+    ASSERT_TRUE(cell.ready());
+    {
+        test::ClientThread client;
+        auto change =
+            client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+        ASSERT_TRUE(change);
+        const auto outcome = client.invoke(
+            change,
+            {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
+            60s);
+        ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    }
+    cell.changer->kill(SIGKILL);
+    cell.restartChanger();
+    ASSERT_FALSE(cell.changer->url().empty());
+
+    // MountedTool from the pin, and the tool's adapter running again (bounded waits: the
+    // changer reads the pin once it serves).
+    ua::BlockingClient reader;
+    ASSERT_EQ(reader.connect(cell.changer->url()), ua::status::Good);
+    std::string mounted;
+    std::vector<pid_t> adapters;
+    for (int i = 0; i < 100 && (mounted.empty() || adapters.empty()); ++i) {
+        auto value = reader.readValue(ua::NodeId(1, ua::String("ToolChanger/MountedTool")));
+        if (value && value->get<ua::String>() != nullptr) mounted = *value->get<ua::String>();
+        adapters = childrenOf(cell.changer->pid());
+        if (mounted.empty() || adapters.empty()) std::this_thread::sleep_for(100ms);
+    }
+    EXPECT_EQ(mounted, "parallel");
+    EXPECT_FALSE(adapters.empty()) << "the mounted tool's adapter was not powered again";
+
+    test::ClientThread client;
+    auto change =
+        client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    auto detach =
+        client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/DetachTool")));
+    ASSERT_TRUE(change && detach);
+    auto outcome = client.invoke(
+        change,
+        {{"ToolPosition", pose(vacuumDock())}, {"ToolAppUri", test::textValue(schmalzUri())}}, 60s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("its dock is unknown"), std::string::npos) << outcome.reason;
+    outcome = client.invoke(detach, {{"ToolPosition", pose(parallelDock())}}, 60s);
+    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
 }
 
 }  // namespace

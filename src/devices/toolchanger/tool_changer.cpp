@@ -107,6 +107,33 @@ asio::awaitable<ua::Result<bool>> ToolChanger::lockedNow() {
     co_return co_await blockingCall(ioThread_, std::move(read));
 }
 
+asio::awaitable<ua::Result<std::string>> ToolChanger::recover() {
+    auto self = shared_from_this();
+    const Pin pin = co_await readPin();
+    if (pin.status.isBad()) {
+        spdlog::error("tool changer: cannot read the identification pin at start: {}",
+                      ua::statusName(pin.status));
+        co_return pin.status;
+    }
+    if (pin.reading.kind == PinReading::Kind::Fault) {
+        spdlog::error("tool changer: the identification pin reads {} at start: wiring fault",
+                      volts(pin.volts));
+        co_return ua::status::BadDeviceFailure;
+    }
+    if (pin.reading.kind != PinReading::Kind::Tool) {
+        spdlog::info("tool changer: no tool mounted ({})", volts(pin.volts));
+        co_return std::string();
+    }
+    const ToolEntry& tool = *pin.reading.tool;
+    spdlog::warn("tool changer: tool {} is mounted already ({}): powering it again", tool.id,
+                 volts(pin.volts));
+    if (auto why = co_await powerOn(tool); !why.empty()) {
+        spdlog::error("tool changer: tool {} is mounted but could not be powered: {}", tool.id,
+                      why);
+    }
+    co_return tool.id;
+}
+
 asio::awaitable<std::string> ToolChanger::powerOn(const ToolEntry& tool) {
     if (tool.powerCommand.empty()) co_return std::string();
     auto on = [this, id = tool.id, argv = tool.powerCommand] {

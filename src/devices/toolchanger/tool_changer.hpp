@@ -65,6 +65,11 @@ public:
 
     /// One operation; an empty string on success, else why it failed.
     asio::awaitable<std::string> run(ToolRequest request);
+    /// What a (re)started changer does first: it asks the hardware which tool is mounted
+    /// (the identification pin, reported by onMountedTool) and powers that tool again, for
+    /// after a crash or a power cut the changer's memory is gone but the tool is still
+    /// locked on. The mounted tool's id ("" none), or why the pin could not be read.
+    asio::awaitable<ua::Result<std::string>> recover();
     /// Stops the current operation (halts the robot's move); run() returns "halted".
     void halt();
     /// Halts, stops the I/O thread and powers every tool off (the component's end: nothing

@@ -85,6 +85,13 @@ ua::Result<std::unique_ptr<ToolChangerComponent>> ToolChangerComponent::create(
     component->changer_->onMountedTool = [&as, mounted](const std::string& id) {
         (void)as.setValue(mounted, ua::Variant(ua::String(id)));
     };
+    // The hardware, not a memory, says which tool is mounted: after a restart too.
+    asio::co_spawn(
+        server.executor(),
+        [changer = std::weak_ptr<ToolChanger>(component->changer_)]() -> asio::awaitable<void> {
+            if (auto c = changer.lock()) (void)co_await c->recover();
+        },
+        asio::detached);
     component->skills_ = skills::SkillServer::create(server, server.executor(), error);
     if (!component->skills_) return ua::status::BadConfigurationError;
     struct Spec {

@@ -7,7 +7,7 @@ namespace skillcell::ua {
 
 std::string_view statusName(StatusCode s) {
     // One table, generated from the constants in status_code.hpp; lookups are rare (logs, CLI).
-    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 141> kNames{{
+    static constexpr std::array<std::pair<std::uint32_t, std::string_view>, 142> kNames{{
         {0x00000000, "Good"},
         {0x40000000, "Uncertain"},
         {0x80000000, "Bad"},
@@ -130,6 +130,7 @@ std::string_view statusName(StatusCode s) {
         {0x80860000, "BadSecureChannelClosed"},
         {0x80870000, "BadSecureChannelTokenUnknown"},
         {0x80880000, "BadSequenceNumberInvalid"},
+        {0x808B0000, "BadDeviceFailure"},
         {0x80BE0000, "BadProtocolVersionUnsupported"},
         {0x80AB0000, "BadInvalidArgument"},
         {0x80AC0000, "BadConnectionRejected"},

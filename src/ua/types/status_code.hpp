@@ -151,6 +151,7 @@ inline constexpr StatusCode BadRequestTimeout{0x80850000};
 inline constexpr StatusCode BadSecureChannelClosed{0x80860000};
 inline constexpr StatusCode BadSecureChannelTokenUnknown{0x80870000};
 inline constexpr StatusCode BadSequenceNumberInvalid{0x80880000};
+inline constexpr StatusCode BadDeviceFailure{0x808B0000};
 inline constexpr StatusCode BadProtocolVersionUnsupported{0x80BE0000};
 inline constexpr StatusCode BadInvalidArgument{0x80AB0000};
 inline constexpr StatusCode BadConnectionRejected{0x80AC0000};
