@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/use_awaitable.hpp>
 
@@ -17,6 +19,8 @@ using ua::StatusCode;
 using ua::Variant;
 
 constexpr std::size_t kMaxTransitionsKept = 256;
+/// How long an end read back waits for its own event, which carries the reason.
+constexpr std::chrono::milliseconds kEventGrace{500};
 
 /// Select clauses, in the order onEvent reads them: fewer than transitionEventFilter() has,
 /// since a client needs only the transition and its time.
@@ -243,8 +247,23 @@ asio::awaitable<StatusCode> SkillClient::readBack() {
         (to != SkillState::Ready && to != SkillState::Halted) || *state != to) {
         co_return ua::status::Good;
     }
-    for (const auto& known : transitions_) {
-        if (known.time == *time && known.transition == transition) co_return ua::status::Good;
+    const auto heard = [&] {
+        return std::any_of(transitions_.begin(), transitions_.end(), [&](const auto& known) {
+            return known.time == *time && known.transition == transition;
+        });
+    };
+    if (heard()) co_return ua::status::Good;
+    // The end may be read just before its event arrives (a read every quiet second races
+    // every end): the event, which carries the reason, gets a moment to come first.
+    {
+        using asio::experimental::as_tuple;
+        const auto until = std::chrono::steady_clock::now() + kEventGrace;
+        while (!heard() && std::chrono::steady_clock::now() < until && lost_.isGood() &&
+               !cancelled_) {
+            wakeUp_.expires_at(until);
+            co_await wakeUp_.async_wait(as_tuple(asio::use_awaitable));
+        }
+        if (heard()) co_return ua::status::Good;
     }
     spdlog::warn("skill {}: its run ended ({}) without an event reaching us; read back",
                  skill_.toString(), name(*transition));

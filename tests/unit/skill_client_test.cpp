@@ -301,6 +301,29 @@ private:
     std::uint32_t removed_ = 0;  // the proxy's server thread only
 };
 
+// Reads back race the events: an end read just before its event arrives waits for the event,
+// which carries the reason. Reading every millisecond makes the race happen every time.
+TEST(SkillClient, AnEndReadBackStillReportsTheReasonItsEventBrings) {
+    Cell cell;
+    ClientThread t;
+    SkillClientOptions eager;
+    eager.confirmAfter = 1ms;
+    auto grasp = t.attach(cell.url(), Cell::id("Grasp"), eager);
+    auto slow = t.attach(cell.url(), Cell::id("Slow"), eager);
+    ASSERT_TRUE(grasp && slow);
+    for (int i = 0; i < 5; ++i) {
+        const auto outcome = t.invoke(grasp, {}, 10s);
+        EXPECT_EQ(outcome.kind, Kind::Failed);
+        EXPECT_EQ(outcome.reason, "gripper jammed") << "run " << i;
+        ASSERT_EQ(t.run([&]() -> asio::awaitable<ua::StatusCode> {
+            co_return co_await grasp->call(SkillMethod::Reset);
+        }),
+                  status::Good);
+    }
+    const auto finished = t.invoke(slow, {}, 10s);
+    EXPECT_EQ(finished.kind, Kind::Finished) << finished.reason;
+}
+
 TEST(SkillClient, ARunWhoseEndEventIsLostEndsByReadingTheSkillBack) {
     Cell cell;
     PublishDropper dropper;
