@@ -8,7 +8,8 @@
 // cannot fill). So the client reads CurrentState and LastTransition back when the
 // subscription reports lost notifications or a late keep-alive, and after every second of
 // quiet while a run is awaited: a run that ended without its event still ends, within about
-// a second (a Halted one without its reason, which was in the event). A server that does not
+// a second and a half. An end read back waits up to half a second for its event, which
+// carries the reason (a Halted run read back without it says so). A server that does not
 // answer that read is lost.
 //
 // Which end belongs to which run: events carry the server's Time. The end of the run this
