@@ -302,6 +302,7 @@ void recordPending(KbComponent& c) {
          at += kb::KnowledgeBase::kMaxGraphsPerLoad) {
         const std::size_t end = std::min(records.size(), at + kb::KnowledgeBase::kMaxGraphsPerLoad);
         std::vector<std::vector<kb::GraphData>> parts;
+        parts.reserve(end - at);
         for (std::size_t i = at; i < end; ++i) parts.push_back({records[i].graph});
         const auto loaded = c.kb.loadParts(parts);
         std::size_t recorded = 0;
@@ -482,6 +483,7 @@ int run(KbOptions& o) {
     }
     // As few loads as the reasoner allows; a part refused is named.
     std::vector<std::vector<kb::GraphData>> parts;
+    parts.reserve(startup.size());
     for (const auto& part : startup) parts.push_back(part.graphs);
     const auto loaded = knowledge.loadParts(parts);
     for (std::size_t i = 0; i < startup.size(); ++i) {
