@@ -52,8 +52,8 @@ async function boxAt(page, id) {
     const steps = await page.textContent(row + " td:nth-child(2)");
     check(steps.includes("1 ChangeToolSkillType") && steps.includes("5 DetachToolSkillType"),
           "the KB's process is listed with its steps (" + steps + ")");
-    await page.waitForSelector(row + " button[data-action=start]:not([disabled])", wait);
-    check(await page.getAttribute("#mes-state", "data-state") === "Ready", "the MES is Ready");
+    await page.waitForSelector('#mes-state[data-state="Ready"]', wait);
+    check(!(await page.isDisabled(row + " button[data-action=start]")), "the MES is Ready, and Run with it");
     check(await boxAt(page, "boxA") === "0.450,0.150", "boxA stands at its start (0.45, 0.15)");
 
     // The Observer may watch, not run: the MES refuses her Start.

@@ -190,8 +190,11 @@ function renderProcesses() {
       b.className = "action " + action;
       b.dataset.action = action;
       b.textContent = label;
-      b.disabled = !mes || (action === "start" && !!p.problem);
-      b.title = mes ? "" : "no MES in the cell";
+      // Run only when the MES is Ready for it (its state known, no run going on).
+      const ready = mes && mes.state === "Ready";
+      b.disabled = !mes || (action === "start" && (!!p.problem || !ready));
+      b.title = !mes ? "no MES in the cell"
+        : action === "start" && !ready ? `the MES is ${mes.state || "not known yet"}` : "";
       b.addEventListener("click", () => runProcess(p.iri, action));
       actions.append(b);
     }
