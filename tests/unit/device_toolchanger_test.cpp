@@ -159,12 +159,8 @@ std::vector<pid_t> childrenOf(pid_t pid) {
     return children;
 }
 
-// A changer killed outright (no shutdown, so no powering off) must not leave its tools'
-// adapters running: an adapter would go on answering for a tool that nobody powers, and a
-// restarted changer would power a second one.
-TEST(ToolChangerProcess, AToolsAdapterEndsWhenTheChangerIsKilled) {
-    test::SimulatedCell cell(SKILLCELL_BINARY, {}, false);
-    ASSERT_TRUE(cell.ready());
+// The changer takes the parallel gripper from its dock, through its ChangeTool skill.
+void mountParallelGripper(test::SimulatedCell& cell) {
     test::ClientThread client;
     auto change =
         client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
@@ -174,6 +170,15 @@ TEST(ToolChangerProcess, AToolsAdapterEndsWhenTheChangerIsKilled) {
         {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
         60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+}
+
+// A changer killed outright (no shutdown, so no powering off) must not leave its tools'
+// adapters running: an adapter would go on answering for a tool that nobody powers, and a
+// restarted changer would power a second one.
+TEST(ToolChangerProcess, AToolsAdapterEndsWhenTheChangerIsKilled) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, {}, false);
+    ASSERT_TRUE(cell.ready());
+    ASSERT_NO_FATAL_FAILURE(mountParallelGripper(cell));
 
     const std::vector<pid_t> adapters = childrenOf(cell.changer->pid());
     ASSERT_FALSE(adapters.empty()) << "the changer powered no adapter process";
@@ -198,17 +203,7 @@ TEST(ToolChangerProcess, AToolsAdapterEndsWhenTheChangerIsKilled) {
 TEST(ToolChangerProcess, ARestartedChangerReadsTheMountedToolFromItsPinAndPowersIt) {
     test::SimulatedCell cell(SKILLCELL_BINARY, {}, false);
     ASSERT_TRUE(cell.ready());
-    {
-        test::ClientThread client;
-        auto change =
-            client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
-        ASSERT_TRUE(change);
-        const auto outcome = client.invoke(
-            change,
-            {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
-            60s);
-        ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-    }
+    ASSERT_NO_FATAL_FAILURE(mountParallelGripper(cell));
     cell.changer->kill(SIGKILL);
     cell.restartChanger();
     ASSERT_FALSE(cell.changer->url().empty());
