@@ -192,7 +192,7 @@ struct ActionResult {
     std::string detail;
 };
 
-// Starts or halts one skill as the page's user: a session of its own, the parameters the
+// Starts, halts or resets one skill as the page's user: a session of its own, the parameters the
 // page gave (as strings), the method. On the io thread.
 asio::awaitable<ActionResult> act(std::weak_ptr<DashboardContent> weak, std::string key,
                                   skills::SkillMethod method,
@@ -331,8 +331,8 @@ Json me(const ua::UserIdentity& user) {
 
 // POST /api/skill: key, action (start | halt | reset), and param.NAME=VALUE for parameters
 // (written before a Start). The page starts a process with the MES's ExecuteProcess skill and
-// its ProcessIri. The
-// OPC UA status decides the answer: Good 200, a refusal of the user's role 403, others 409.
+// its ProcessIri. The OPC UA status decides the answer: Good 200, a refusal of the user's role
+// 403, others 409.
 void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gate,
                  const httplib::Request& req, httplib::Response& res,
                  const ua::UserIdentity& user) {
