@@ -28,6 +28,7 @@ Command addKbCommand(CLI::App& app);
 /// `skillcell mes`: the semantic MES; `skillcell run`: hand it a process (src/mes).
 Command addMesCommand(CLI::App& app);
 Command addRunCommand(CLI::App& app);
+Command addOrdersCommand(CLI::App& app);
 /// `skillcell demo`: the paper's whole work cell, its process and its evaluation table.
 Command addDemoCommand(CLI::App& app);
 /// `skillcell dashboard`: the cell's live view in a browser (src/dashboard).

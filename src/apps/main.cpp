@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
         skillcell::apps::addKbCommand(app),        skillcell::apps::addMesCommand(app),
         skillcell::apps::addRunCommand(app),       skillcell::apps::addDemoCommand(app),
         skillcell::apps::addCellCommand(app),      skillcell::apps::addProcessCommand(app),
-        skillcell::apps::addDashboardCommand(app),
+        skillcell::apps::addDashboardCommand(app), skillcell::apps::addOrdersCommand(app),
     };
     for (auto& device : skillcell::apps::addDeviceCommands(app)) commands.push_back(device);
 

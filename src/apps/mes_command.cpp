@@ -1,14 +1,16 @@
-// `skillcell mes`: the semantic MES as a component of the cell (docs/mes.md), and
-// `skillcell run`: hand it a process and follow it.
+// `skillcell mes`: the semantic MES as a component of the cell (docs/mes.md). Clients submit
+// orders (`skillcell run`, order_commands.cpp).
 //
-// The MES serves the ExecuteProcess skill (ProcessIri) and Objects/ProcessExecution (what it
-// is doing). For a run it reads the process from the knowledge base's SPARQL endpoint (--kb),
-// picks the skills from what discovery finds, runs them, and records every step in its SQLite
-// journal (--journal), from which a restarted MES resumes an interrupted run.
+// The MES serves Objects/Orders, the ExecuteProcess skill (ProcessIri) and
+// Objects/ProcessExecution (what it is doing). For an order it reads the process from the
+// knowledge base's SPARQL endpoint (--kb), picks the skills from what discovery finds, runs
+// them, and records every step in its SQLite journal (--journal), from which a restarted MES
+// resumes the orders it was running.
 #include <spdlog/spdlog.h>
 
 #include <asio/detached.hpp>
 #include <asio/io_context.hpp>
+#include <asio/steady_timer.hpp>
 #include <asio/thread_pool.hpp>
 #include <filesystem>
 #include <iostream>
@@ -18,6 +20,7 @@
 #include "commands.hpp"
 #include "devices/common/blocking_call.hpp"
 #include "kb/store/http_sparql_store.hpp"
+#include "mes/journal_lock.hpp"
 #include "mes/mes_component.hpp"
 #include "mes/process_check.hpp"
 #include "server_process.hpp"
@@ -42,20 +45,58 @@ fs::path defaultJournal() {
     return fs::path(home != nullptr ? home : "/tmp") / ".local/share/skillcell/mes/journal.sqlite";
 }
 
-/// What `skillcell mes` keeps alive, destroyed in reverse: the component (it halts a run),
-/// the executor, the journal and the thread the KB's blocking HTTP requests run on.
+/// What `skillcell mes` keeps alive, destroyed in reverse: the wait for the journal's lock,
+/// the component (it halts the orders), the executor, the journal and the thread the KB's
+/// blocking HTTP requests run on.
 struct MesContent {
+    std::unique_ptr<mes::JournalLock> lock;
     std::unique_ptr<asio::thread_pool> kbThread;
     std::unique_ptr<kb::HttpSparqlStore> store;
     std::unique_ptr<mes::Journal> journal;
     std::shared_ptr<mes::ProcessExecutor> executor;
     std::unique_ptr<mes::MesComponent> component;
+    std::unique_ptr<asio::steady_timer> lockRetry;
+    std::shared_ptr<std::function<void()>> lockRetryLoop;
     ~MesContent() {
+        lockRetry.reset();
         component.reset();
         executor.reset();
         if (kbThread) kbThread->join();
     }
 };
+
+/// Tries the journal's lock every 100 ms (flock has no asynchronous wait) until the active
+/// MES ends, then resumes its orders here.
+void standBy(asio::io_context& io, MesContent& content) {
+    content.lockRetry = std::make_unique<asio::steady_timer>(io);
+    auto* timer = content.lockRetry.get();
+    auto* lock = content.lock.get();
+    auto* executor = content.executor.get();
+    std::shared_ptr<std::function<void()>> retry = std::make_shared<std::function<void()>>();
+    *retry = [timer, lock, executor, weak = std::weak_ptr(retry)] {
+        timer->expires_after(std::chrono::milliseconds(100));
+        timer->async_wait([timer, lock, executor, weak](const std::error_code& ec) {
+            auto again = weak.lock();
+            if (ec || !again) return;  // shutting down
+            auto attempt = lock->tryAcquire();
+            if (!attempt) {
+                spdlog::error("mes: {}", attempt.error());
+            } else if (*attempt == mes::JournalLock::Attempt::Acquired) {
+                auto resumed = executor->resumeOpenOrders();
+                if (resumed) {
+                    spdlog::warn("mes: the journal is ours now: {} open order(s) resumed",
+                                 *resumed);
+                } else {
+                    spdlog::error("mes: cannot resume the journal's orders: {}", resumed.error());
+                }
+                return;
+            }
+            (*again)();
+        });
+    };
+    content.lockRetryLoop = retry;
+    (*retry)();
+}
 
 int runMes(MesOptions& o) {
     auto endpoint = kb::HttpSparqlEndpoint::fromUrl(o.kbUrl);
@@ -73,20 +114,35 @@ int runMes(MesOptions& o) {
     }
     if (auto open = (*journal)->unfinishedRuns(); open && !open->empty()) {
         for (const auto& r : *open) {
-            spdlog::warn(
-                "mes: run {} of {} is {}{}: ExecuteProcess with this ProcessIri resumes it", r.id,
-                r.processIri, mes::toString(r.state),
-                r.reason.empty() ? "" : " (" + r.reason + ")");
+            spdlog::warn("mes: order {} of {} is {}{}", r.id, r.processIri,
+                         mes::toString(r.state), r.reason.empty() ? "" : " (" + r.reason + ")");
         }
     }
+    auto lock = mes::JournalLock::open(journalPath.string());
+    if (!lock) {
+        spdlog::critical("mes: {}", lock.error());
+        return 1;
+    }
+    auto attempt = lock->tryAcquire();
+    if (!attempt) {
+        spdlog::critical("mes: {}", attempt.error());
+        return 1;
+    }
+    if (*attempt == mes::JournalLock::Attempt::Held) {
+        spdlog::warn("mes: another MES runs the orders of {}: this one stands by, and takes them "
+                     "over when that one ends",
+                     journalPath.string());
+    }
+    auto lockHolder = std::make_shared<mes::JournalLock>(std::move(*lock));
     spdlog::info("mes: journal {}, knowledge base {}", journalPath.string(), endpoint->urlText());
     o.process.usesDetector = true;
     auto journalHolder = std::make_shared<std::unique_ptr<mes::Journal>>(std::move(*journal));
     return runServerProcess(
         o.process,
-        [&o, journalHolder,
+        [&o, journalHolder, lockHolder,
          endpoint = *endpoint](const ComponentContext& c) -> ua::Result<ComponentContent> {
             auto content = std::make_shared<MesContent>();
+            content->lock = std::make_unique<mes::JournalLock>(std::move(*lockHolder));
             content->kbThread = std::make_unique<asio::thread_pool>(1);
             // The KB's HTTPS is trusted, and used as this user, as OPC UA servers are.
             auto kbEndpoint = endpoint;
@@ -118,6 +174,7 @@ int runMes(MesOptions& o) {
             content->executor = mes::ProcessExecutor::create(
                 c.detector, *content->journal,
                 mes::KnowledgeReaders{std::move(reader), std::move(facts)}, options);
+            if (!content->lock->held()) content->executor->standBy();
             std::string error;
             auto component = mes::MesComponent::create(c.server, content->executor, &error);
             if (!component) {
@@ -125,96 +182,9 @@ int runMes(MesOptions& o) {
                 return component.status();
             }
             content->component = std::move(*component);
+            if (!content->lock->held()) standBy(c.io, *content);
             return ComponentContent(content);
         });
-}
-
-// --- skillcell run ------------------------------------------------------------------------
-
-struct RunOptions {
-    std::string processIri;
-    std::string mesUrl = "opc.tcp://localhost:4851";
-    double timeoutSeconds = 3600;
-    ClientSecurityOptions security;
-};
-
-/// Prints a progress line unless it is the one shown last.
-void show(std::string& shown, const std::string& line) {
-    if (line.empty() || line == shown) return;
-    shown = line;
-    std::cout << "PROGRESS " << line << std::endl;
-}
-
-asio::awaitable<int> runProcess(ua::Client& client, const RunOptions& o) {
-    auto config = commandClientConfig(o.security, "skillcell run");
-    if (!config) co_return 2;
-    const std::string url = o.mesUrl;
-    if (const auto s = co_await client.connect(url, std::move(*config)); s.isBad()) {
-        std::cerr << "cannot connect to the MES at " << o.mesUrl << ": " << explainConnectFailure(s)
-                  << "\n";
-        co_return 2;
-    }
-    // A process runs for minutes: a keep-alive of 2 s, so that a busy MES is not taken for
-    // a lost one.
-    skills::SkillClientOptions followOptions;
-    followOptions.publishingIntervalMs = 50;
-    followOptions.maxKeepAliveCount = 40;
-    const ua::NodeId executeProcess(1, ua::String("Skills/ExecuteProcess"));
-    auto attached = co_await skills::SkillClient::attach(client, executeProcess, followOptions);
-    if (!attached) {
-        std::cerr << o.mesUrl
-                  << " offers no ExecuteProcess skill: " << ua::statusName(attached.status())
-                  << "\n";
-        (void)co_await client.disconnect();
-        co_return 2;
-    }
-    auto skill = *attached;
-    // Progress: the MES's Progress variable, one line per change (queued, so that quick
-    // changes between two publishes are all shown).
-    auto shown = std::make_shared<std::string>();
-    // What Progress says now is the previous run's end: not this run's progress.
-    if (auto before = co_await client.readValue(mes::progressVariable("Progress"))) {
-        if (const auto* line = before->get<ua::String>()) *shown = *line;
-    }
-    ua::SubscriptionSettings settings(50, 600, 10);
-    auto subscription = co_await client.createSubscription(settings);
-    if (subscription) {
-        // Named locals: GCC 12 destroys temporaries of a co_await expression twice.
-        ua::Subscription::DataChangeCallback onChange = [shown](const ua::DataValue& v) {
-            const auto* line = v.value ? v.value->get<ua::String>() : nullptr;
-            if (line != nullptr) show(*shown, *line);
-        };
-        const ua::NodeId node = mes::progressVariable("Progress");
-        auto item = co_await (*subscription)
-                        ->monitorDataChange(node, ua::AttributeId::Value, 0, 100, std::nullopt,
-                                            std::move(onChange));
-        if (!item)
-            spdlog::warn("run: cannot follow the progress: {}", ua::statusName(item.status()));
-    }
-    // A Halted ExecuteProcess is the previous run's stop: reset it, so that this one can
-    // start (and resume that run).
-    if (skill->state() == skills::SkillState::Halted) {
-        std::cout << "PROGRESS the MES's last run stopped (ExecuteProcess is Halted): Reset\n";
-        if (const auto s = co_await skill->call(skills::SkillMethod::Reset); s.isBad()) {
-            std::cerr << "cannot reset ExecuteProcess: " << ua::statusName(s) << "\n";
-        }
-    }
-    std::map<std::string, ua::Variant> values;
-    values.emplace("ProcessIri", ua::Variant(ua::String(o.processIri)));
-    const auto timeout = std::chrono::milliseconds(static_cast<long>(o.timeoutSeconds * 1000));
-    const auto outcome = co_await skill->run(std::move(values), timeout);
-    // The last progress (the end of the run) may not have been published yet.
-    if (auto last = co_await client.readValue(mes::progressVariable("Progress"))) {
-        if (const auto* line = last->get<ua::String>()) show(*shown, *line);
-    }
-    std::cout << "OUTCOME " << skills::name(outcome.kind);
-    if (outcome.status.isBad()) std::cout << " " << ua::statusName(outcome.status);
-    if (!outcome.reason.empty()) std::cout << " (" << outcome.reason << ")";
-    std::cout << std::endl;
-    if (subscription) (void)co_await (*subscription)->remove();
-    co_await skill->detach();
-    (void)co_await client.disconnect();
-    co_return outcome.ok() ? 0 : 1;
 }
 
 }  // namespace
@@ -246,28 +216,6 @@ Command addMesCommand(CLI::App& app) {
         ->check(CLI::Range(100, 86'400'000))
         ->capture_default_str();
     return {cmd, [o] { return runMes(*o); }};
-}
-
-Command addRunCommand(CLI::App& app) {
-    auto o = std::make_shared<RunOptions>();
-    auto* cmd = app.add_subcommand(
-        "run",
-        "Hand a process to the MES (its ExecuteProcess skill) and follow it: PROGRESS lines "
-        "as steps start and end, then OUTCOME. Exit code 0 when the process completed, 1 when "
-        "it stopped (the reason is printed; running it again resumes it), 2 when the MES "
-        "cannot be reached.");
-    cmd->add_option("process", o->processIri,
-                    "the process's IRI, e.g. "
-                    "http://skillcell.dev/demo#pickAndPlaceTwoBoxes")
-        ->required();
-    cmd->add_option("--mes", o->mesUrl, "the MES's endpoint")->capture_default_str();
-    cmd->add_option("--timeout", o->timeoutSeconds, "seconds to wait for the end; then Halt")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
-    addClientSecurityOptions(cmd, o->security);
-    return {cmd, [o] {
-                return runClientCommand([o](ua::Client& client) { return runProcess(client, *o); });
-            }};
 }
 
 }  // namespace skillcell::apps

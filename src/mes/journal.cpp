@@ -54,7 +54,8 @@ CREATE TABLE IF NOT EXISTS runs (
   state TEXT NOT NULL,
   reason TEXT NOT NULL DEFAULT '',
   started_ms INTEGER NOT NULL,
-  ended_ms INTEGER NOT NULL DEFAULT 0
+  ended_ms INTEGER NOT NULL DEFAULT 0,
+  priority INTEGER NOT NULL DEFAULT 0
 );
 CREATE TABLE IF NOT EXISTS steps (
   run INTEGER NOT NULL REFERENCES runs(id),
@@ -75,10 +76,11 @@ CREATE TABLE IF NOT EXISTS steps (
 );
 )";
 
-// Journals written before steps had a note get the column (the MES and a reader such as the
+// Journals written before steps had a note, or runs a priority, get the column (the MES and a reader such as the
 // dashboard may both try: the second finds it there).
-bool hasNoteColumn(sqlite3* db) {
-    Statement s(db, "SELECT 1 FROM pragma_table_info('steps') WHERE name = 'note'");
+bool hasColumn(sqlite3* db, const std::string& table, const std::string& column) {
+    Statement s(db, "SELECT 1 FROM pragma_table_info('" + table + "') WHERE name = ?1");
+    s.bind(1, column);
     return s.prepared() && s.step() == SQLITE_ROW;
 }
 
@@ -92,6 +94,10 @@ const char* toString(RunState state) {
             return "stopped";
         case RunState::Completed:
             return "completed";
+        case RunState::Queued:
+            return "queued";
+        case RunState::Cancelled:
+            return "cancelled";
     }
     return "?";
 }
@@ -144,12 +150,21 @@ kb::Expected<std::unique_ptr<Journal>> Journal::open(const std::string& path) {
                              kb::ErrorKind::BadInput};
         }
     }
-    if (!hasNoteColumn(db)) {
-        auto s = journal->exec("ALTER TABLE steps ADD COLUMN note TEXT NOT NULL DEFAULT ''");
-        if (!s && !hasNoteColumn(db)) {
-            return kb::Error{
-                "cannot add the steps' notes to the journal " + path + ": " + s.error(),
-                kb::ErrorKind::BadInput};
+    const struct {
+        const char* table;
+        const char* column;
+        const char* sql;
+    } added[] = {
+        {"steps", "note", "ALTER TABLE steps ADD COLUMN note TEXT NOT NULL DEFAULT ''"},
+        {"runs", "priority", "ALTER TABLE runs ADD COLUMN priority INTEGER NOT NULL DEFAULT 0"},
+    };
+    for (const auto& a : added) {
+        if (hasColumn(db, a.table, a.column)) continue;
+        auto s = journal->exec(a.sql);
+        if (!s && !hasColumn(db, a.table, a.column)) {
+            return kb::Error{"cannot add the column " + std::string(a.column) + " to " + path +
+                                 ": " + s.error(),
+                             kb::ErrorKind::BadInput};
         }
     }
     return journal;
@@ -183,6 +198,21 @@ kb::Expected<std::int64_t> Journal::beginRun(const std::string& processIri) {
     return static_cast<std::int64_t>(sqlite3_last_insert_rowid(db_));
 }
 
+kb::Expected<std::int64_t> Journal::submitOrder(const std::string& processIri, int priority) {
+    Statement s(db_,
+                "INSERT INTO runs (process, state, started_ms, priority) VALUES (?1, ?2, ?3, ?4) "
+                "RETURNING id");
+    if (!s.prepared()) return error("prepare");
+    s.bind(1, processIri);
+    s.bind(2, std::string(toString(RunState::Queued)));
+    s.bind(3, unixMillis());
+    s.bind(4, std::int64_t{priority});
+    if (s.step() != SQLITE_ROW) return error("cannot submit an order");
+    const std::int64_t id = s.number(0);
+    if (s.step() != SQLITE_DONE) return error("cannot submit an order");
+    return id;
+}
+
 kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
     Statement s(db_,
                 "INSERT OR REPLACE INTO steps (run, idx, attempt, step, state, skill_type, "
@@ -213,7 +243,8 @@ kb::Status Journal::setRunState(std::int64_t run, RunState state, const std::str
     if (!s.prepared()) return error("prepare");
     s.bind(1, std::string(toString(state)));
     s.bind(2, reason);
-    s.bind(3, state == RunState::Running ? std::int64_t{0} : unixMillis());
+    const bool open = state == RunState::Running || state == RunState::Queued;
+    s.bind(3, open ? std::int64_t{0} : unixMillis());
     s.bind(4, run);
     if (s.step() != SQLITE_DONE) return error("cannot update run " + std::to_string(run));
     if (sqlite3_changes(db_) != 1) return kb::Error{"journal: no run " + std::to_string(run)};
@@ -222,8 +253,10 @@ kb::Status Journal::setRunState(std::int64_t run, RunState state, const std::str
 
 kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
                                                    const std::string& text, std::int64_t number) {
-    Statement s(db_, "SELECT id, process, state, reason, started_ms, ended_ms FROM runs WHERE " +
-                         where + " ORDER BY id");
+    Statement s(db_,
+                "SELECT id, process, state, reason, started_ms, ended_ms, priority FROM runs "
+                "WHERE " +
+                    where + " ORDER BY id");
     if (!s.prepared()) return error("prepare");
     if (!text.empty()) s.bind(1, text);
     if (number != 0) s.bind(text.empty() ? 1 : 2, number);
@@ -235,7 +268,8 @@ kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
         r.id = s.number(0);
         r.processIri = s.text(1);
         const auto state =
-            parseState(s.text(2), {RunState::Running, RunState::Stopped, RunState::Completed});
+            parseState(s.text(2), {RunState::Running, RunState::Stopped, RunState::Completed,
+                                   RunState::Queued, RunState::Cancelled});
         if (!state)
             return kb::Error{"journal " + path_ + ": run " + std::to_string(r.id) +
                              " has the unknown state '" + s.text(2) + "'"};
@@ -243,6 +277,7 @@ kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
         r.reason = s.text(3);
         r.startedMs = s.number(4);
         r.endedMs = s.number(5);
+        r.priority = static_cast<int>(s.number(6));
         byId[r.id] = out.size();
         out.push_back(std::move(r));
     }
@@ -297,7 +332,7 @@ kb::Expected<std::optional<RunRecord>> Journal::lastRun(const std::string& where
 }
 
 kb::Expected<std::optional<RunRecord>> Journal::unfinishedRun(const std::string& processIri) {
-    return lastRun("process = ?1 AND state <> 'completed'", processIri);
+    return lastRun("process = ?1 AND state IN ('running', 'stopped')", processIri);
 }
 
 kb::Expected<std::optional<RunRecord>> Journal::latestRun(const std::string& processIri) {
@@ -305,7 +340,11 @@ kb::Expected<std::optional<RunRecord>> Journal::latestRun(const std::string& pro
 }
 
 kb::Expected<std::vector<RunRecord>> Journal::unfinishedRuns() {
-    return runs("state <> 'completed'", {}, 0);
+    return runs("state NOT IN ('completed', 'cancelled')", {}, 0);
+}
+
+kb::Expected<std::vector<RunRecord>> Journal::openOrders() {
+    return runs("state IN ('queued', 'running')", {}, 0);
 }
 
 kb::Expected<std::vector<RunRecord>> Journal::recentRuns(std::int64_t count) {

@@ -1,5 +1,5 @@
 #pragma once
-// Journal: the semantic MES's record of every process run, in SQLite (WAL, synchronous=FULL:
+// Journal: the semantic MES's record of every order and its run, in SQLite (WAL, synchronous=FULL:
 // a row is on disk before the call returns). A step is written three times: its intent
 // (which skill it is about to start, and that skill's LastTransition time as the skill's
 // server reported it just before), once its Start was accepted, and with its result. That is
@@ -7,7 +7,8 @@
 // whose Start may or may not have reached the skill is settled by asking the skill (see
 // ProcessExecutor::resume).
 //
-// Threading: one thread at a time (the MES's executor).
+// Threading: SQLite serializes calls (FULLMUTEX); the MES writes from its journal thread and
+// answers its order methods from the server's.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -20,10 +21,13 @@ struct sqlite3;
 
 namespace skillcell::mes {
 
+/// An order is a run of a process from the moment it is submitted: one row, one id.
 enum class RunState : std::uint8_t {
-    Running,    // being executed, or the MES died while it was
-    Stopped,    // stopped by a fault; `reason` says why; running it again resumes it
+    Running,    // being executed, or the MES died while it was (a restarted MES resumes it)
+    Stopped,    // stopped by a fault; `reason` says why; submitting it again resumes it
     Completed,  // every step finished
+    Queued,     // submitted, not yet begun (a restarted MES begins it)
+    Cancelled,  // cancelled by a user: never resumed
 };
 enum class StepState : std::uint8_t {
     Starting,  // about to call Start on the skill recorded
@@ -60,6 +64,7 @@ struct RunRecord {
     std::string processIri;
     RunState state = RunState::Running;
     std::string reason;
+    int priority = 0;  // higher first; among equals, the older order first
     std::int64_t startedMs = 0;
     std::int64_t endedMs = 0;
     std::vector<StepRecord> steps;  // by index, then attempt
@@ -79,6 +84,10 @@ public:
 
     /// A new run of `processIri`, Running; returns its id.
     [[nodiscard]] kb::Expected<std::int64_t> beginRun(const std::string& processIri);
+    /// A new order of `processIri`, Queued; returns its id. Safe beside the MES's other
+    /// thread (the id comes from the insert itself).
+    [[nodiscard]] kb::Expected<std::int64_t> submitOrder(const std::string& processIri,
+                                                         int priority);
     /// Inserts or replaces the row of (run, step.index, step.attempt).
     [[nodiscard]] kb::Status recordStep(std::int64_t run, const StepRecord& step);
     [[nodiscard]] kb::Status setRunState(std::int64_t run, RunState state,
@@ -92,6 +101,8 @@ public:
     [[nodiscard]] kb::Expected<std::optional<RunRecord>> latestRun(const std::string& processIri);
     /// Every run not Completed (for the MES's start-up report).
     [[nodiscard]] kb::Expected<std::vector<RunRecord>> unfinishedRuns();
+    /// The orders a (re)started MES runs: Queued or Running, oldest first.
+    [[nodiscard]] kb::Expected<std::vector<RunRecord>> openOrders();
     /// The last `count` runs, whatever their state, oldest first (what a dashboard shows).
     [[nodiscard]] kb::Expected<std::vector<RunRecord>> recentRuns(std::int64_t count);
 

@@ -9,21 +9,29 @@
 namespace skillcell::mes {
 namespace {
 
+// ExecuteProcess: an order of ProcessIri, followed to its end; Halt stops that order
+// (resumably), Suspend and Resume go to its skills.
 class ExecuteProcessBehaviour final : public skills::SkillBehaviour {
 public:
     explicit ExecuteProcessBehaviour(std::shared_ptr<ProcessExecutor> executor)
         : executor_(std::move(executor)) {}
 
     void start(const skills::SkillParameters& p, skills::SkillRun run) override {
-        std::string iri = p.get<ua::String>("ProcessIri").value_or("");
+        const std::string iri = p.get<ua::String>("ProcessIri").value_or("");
         if (iri.empty()) {
             run.failed("ProcessIri is empty: which process?");
             return;
         }
+        auto submitted = executor_->submit(iri);
+        if (!submitted) {
+            run.failed(submitted.error());
+            return;
+        }
+        order_ = submitted->order;
         asio::co_spawn(
             executor_->executor(),
-            [executor = executor_, iri = std::move(iri), run]() -> asio::awaitable<void> {
-                const ProcessOutcome outcome = co_await executor->execute(iri);
+            [executor = executor_, order = order_, run]() -> asio::awaitable<void> {
+                const ProcessOutcome outcome = co_await executor->outcome(order);
                 if (outcome.completed) {
                     run.finished();
                 } else {
@@ -32,12 +40,13 @@ public:
             },
             asio::detached);
     }
-    void suspend() override { executor_->suspend(); }
-    void resume() override { executor_->resume(); }
-    void halt() override { executor_->halt(); }
+    void suspend() override { executor_->suspend(order_); }
+    void resume() override { executor_->resume(order_); }
+    void halt() override { (void)executor_->stop(order_, /*cancel=*/false); }
 
 private:
     std::shared_ptr<ProcessExecutor> executor_;
+    std::int64_t order_ = 0;
 };
 
 constexpr const char* kTextVariables[] = {"ProcessIri", "SkillType", "Component", "Skill",
@@ -53,7 +62,7 @@ ua::NodeId progressVariable(const char* name) {
 MesComponent::~MesComponent() {
     if (executor_) {
         executor_->onProgress = nullptr;
-        executor_->halt();
+        executor_->haltAll();
     }
 }
 
@@ -81,7 +90,14 @@ ua::Result<std::unique_ptr<MesComponent>> MesComponent::create(
             return r.status();
         }
     }
-    executor->onProgress = [&as](const Progress& p) {
+    auto orders = OrderNodes::create(as, executor, executor->journal());
+    if (!orders) {
+        if (error != nullptr) *error = "cannot add Objects/Orders";
+        return orders.status();
+    }
+    component->orders_ = std::move(*orders);
+    executor->onProgress = [&as, orders = component->orders_.get()](const Progress& p) {
+        orders->show(p);
         const std::pair<const char*, const std::string*> texts[] = {
             {"ProcessIri", &p.processIri}, {"SkillType", &p.skillType}, {"Component", &p.component},
             {"Skill", &p.skill},           {"State", &p.state},         {"Message", &p.message}};
@@ -106,6 +122,25 @@ ua::Result<std::unique_ptr<MesComponent>> MesComponent::create(
     if (!skill) {
         if (error != nullptr) *error = "cannot add ExecuteProcess";
         return skill.status();
+    }
+    // The journal's open orders are shown at once, for clients to follow, and run unless
+    // this MES stands by for another.
+    if (auto open = executor->journal().openOrders()) {
+        for (const auto& r : *open) {
+            Progress p;
+            p.run = r.id;
+            p.processIri = r.processIri;
+            p.state = toString(r.state);
+            p.message = executor->standingBy() ? "another MES runs it; this one stands by"
+                                               : "resuming it after a restart of the MES";
+            component->orders_->show(p);
+        }
+    }
+    if (!executor->standingBy()) {
+        if (auto resumed = executor->resumeOpenOrders(); !resumed) {
+            if (error != nullptr) *error = resumed.error();
+            return ua::status::BadConfigurationError;
+        }
     }
     return component;
 }

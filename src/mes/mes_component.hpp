@@ -1,11 +1,15 @@
 #pragma once
-// MesComponent: what `skillcell mes` serves: the ExecuteProcess skill (ProcessIri) over a
-// ProcessExecutor, and Objects/ProcessExecution, whose variables show what the MES is doing
-// (Run, Step, Steps, SkillType, Component, Skill, State, Message, and all of it as one line in
-// Progress, which `skillcell run` subscribes to). Build and destroy it on the server's thread.
+// MesComponent: what `skillcell mes` serves over a ProcessExecutor: Objects/Orders (orders:
+// submit, cancel, list, follow; order_nodes.hpp), the ExecuteProcess skill (ProcessIri: an
+// order followed to its end, for clients that know skills only), and Objects/ProcessExecution,
+// whose variables show the latest progress of any order (Run, Step, Steps, SkillType,
+// Component, Skill, State, Message, and all of it as one line in Progress). On creation it
+// resumes the orders the journal shows Queued or Running. Build and destroy it on the
+// server's thread.
 #include <memory>
 #include <string>
 
+#include "mes/order_nodes.hpp"
 #include "mes/process_executor.hpp"
 #include "skills/skill_server.hpp"
 
@@ -29,6 +33,7 @@ public:
 
 private:
     std::shared_ptr<ProcessExecutor> executor_;
+    std::unique_ptr<OrderNodes> orders_;
     std::unique_ptr<skills::SkillServer> skills_;  // after the executor: its behaviour uses it
 };
 

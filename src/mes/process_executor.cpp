@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
@@ -21,6 +23,10 @@ using skills::SkillState;
 // How many skill instances one step tries before it gives up: a bound on a cell whose
 // components keep failing in turn.
 constexpr int kMaxInstancesPerStep = 8;
+// How often to ask the KB again while the skills are there but their facts are not.
+constexpr std::chrono::milliseconds kFactRetry{250};
+
+using Clock = std::chrono::steady_clock;
 
 std::string describe(const SkillOutcome& o) {
     std::string text(skills::name(o.kind));
@@ -40,6 +46,34 @@ std::string Progress::line() const {
     return out;
 }
 
+/// One order running in this MES: what halting it must reach, and who waits for its end.
+struct ProcessExecutor::Order {
+    std::int64_t id = 0;
+    std::string processIri;
+    int priority = 0;
+    bool halted = false;     // stop() was called: no new step begins
+    bool cancelled = false;  // ... by a user's cancel: the order ends Cancelled
+    /// The skills its steps run now, and a skill a resumed step waits for: halted on stop().
+    std::set<std::shared_ptr<skills::SkillClient>> running;
+    /// Its waits (for a skill, a component, a confirmation): ended on stop().
+    std::vector<std::weak_ptr<asio::steady_timer>> waits;
+    /// The components its running steps use: its other steps use others.
+    std::multiset<std::string> busy;
+    Progress progress;  // the latest
+    std::optional<ProcessOutcome> outcome;
+    /// Never expires: cancelled at the end, for outcome()'s waits.
+    std::shared_ptr<asio::steady_timer> ended;
+
+    [[nodiscard]] OrderRank rank() const { return {id, priority}; }
+    void halt() {
+        halted = true;
+        for (const auto& skill : running) skill->cancel();  // its run() halts it
+        for (const auto& w : waits) {
+            if (auto timer = w.lock()) timer->cancel();
+        }
+    }
+};
+
 std::shared_ptr<ProcessExecutor> ProcessExecutor::create(
     std::shared_ptr<skills::SkillDetector> detector, Journal& journal, KnowledgeReaders kb,
     ExecutorOptions options) {
@@ -53,12 +87,11 @@ ProcessExecutor::ProcessExecutor(Token, std::shared_ptr<skills::SkillDetector> d
       journal_(journal),
       kb_(std::move(kb)),
       options_(std::move(options)),
-      runner_(detector_->executor()),
       journalThread_(std::make_unique<asio::thread_pool>(1)) {}
 
-void ProcessExecutor::report(Progress p) {
-    progress_ = std::move(p);
-    if (onProgress) onProgress(progress_);
+void ProcessExecutor::report(Order& order, Progress p) {
+    order.progress = std::move(p);
+    if (onProgress) onProgress(order.progress);
 }
 
 template <class Write>
@@ -74,184 +107,402 @@ asio::awaitable<kb::Status> ProcessExecutor::record(std::int64_t run, StepRecord
     co_return s;
 }
 
-void ProcessExecutor::halt() {
-    runner_.halt();
-    if (auto timer = waitTimer_.lock()) timer->cancel();
-    if (auto adopted = adopted_.lock()) adopted->cancel();
+asio::awaitable<void> ProcessExecutor::sleep(Order& order,
+                                             std::shared_ptr<asio::steady_timer> timer) {
+    auto self = shared_from_this();
+    std::erase_if(order.waits, [](const auto& w) { return w.expired(); });
+    order.waits.push_back(timer);
+    co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
 }
 
-asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri) {
+void ProcessExecutor::componentsFreed() {
+    for (const auto& w : claimWaits_) {
+        if (auto timer = w.lock()) timer->cancel();
+    }
+    claimWaits_.clear();
+}
+
+// --- Orders ---------------------------------------------------------------------------
+
+kb::Expected<Submitted> ProcessExecutor::submit(const std::string& processIri, int priority) {
+    if (processIri.empty()) return kb::badInput("which process? The process IRI is empty");
+    if (standingBy_) {
+        return kb::Error{"standing by: another MES runs this journal's orders",
+                         kb::ErrorKind::Unavailable};
+    }
+    // A Stopped order of the process is resumed: what it did stays done.
+    auto unfinished = journal_.unfinishedRun(processIri);
+    if (!unfinished) return unfinished.failure();
+    if (*unfinished && (*unfinished)->state == RunState::Stopped &&
+        !orders_.contains((*unfinished)->id)) {
+        const RunRecord& stopped = **unfinished;
+        if (auto s = journal_.setRunState(stopped.id, RunState::Queued, {}); !s) {
+            return s.failure();
+        }
+        spdlog::info("mes: order {} of {} resumed (it had stopped: {})", stopped.id, processIri,
+                     stopped.reason);
+        begin(stopped.id, processIri, stopped.priority);
+        return Submitted{stopped.id, true};
+    }
+    auto id = journal_.submitOrder(processIri, priority);
+    if (!id) return id.failure();
+    spdlog::info("mes: order {} of {} (priority {})", *id, processIri, priority);
+    begin(*id, processIri, priority);
+    return Submitted{*id, false};
+}
+
+kb::Expected<std::size_t> ProcessExecutor::resumeOpenOrders() {
+    auto open = journal_.openOrders();
+    if (!open) return open.failure();
+    standingBy_ = false;
+    std::size_t begun = 0;
+    for (const auto& r : *open) {
+        if (orders_.contains(r.id)) continue;
+        spdlog::info("mes: order {} of {} was {} when the MES stopped: resuming it", r.id,
+                     r.processIri, toString(r.state));
+        begin(r.id, r.processIri, r.priority);
+        ++begun;
+    }
+    return begun;
+}
+
+void ProcessExecutor::begin(std::int64_t id, std::string processIri, int priority) {
+    auto order = std::make_shared<Order>();
+    order->id = id;
+    order->processIri = std::move(processIri);
+    order->priority = priority;
+    order->ended = std::make_shared<asio::steady_timer>(detector_->executor(),
+                                                        asio::steady_timer::time_point::max());
+    order->progress.run = id;
+    order->progress.processIri = order->processIri;
+    order->progress.state = "queued";
+    orders_[id] = order;
+    asio::co_spawn(
+        detector_->executor(),
+        [self = shared_from_this(), order]() -> asio::awaitable<void> {
+            auto outcome = co_await self->runOrder(order);
+            self->finish(*order, std::move(outcome));
+        },
+        asio::detached);
+}
+
+void ProcessExecutor::finish(Order& order, ProcessOutcome outcome) {
+    order.outcome = std::move(outcome);
+    claims_.release(order.id);
+    orders_.erase(order.id);
+    componentsFreed();
+    order.ended->cancel();
+}
+
+asio::awaitable<ProcessOutcome> ProcessExecutor::outcome(std::int64_t id) {
     auto self = shared_from_this();
+    if (auto it = orders_.find(id); it != orders_.end()) {
+        auto order = it->second;
+        co_await order->ended->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        if (order->outcome) co_return *order->outcome;
+    }
     ProcessOutcome out;
-    if (busy_) {
-        out.reason = "the MES is running a process already";
-        co_return out;
-    }
-    busy_ = true;
-    struct Idle {
-        bool& busy;
-        ~Idle() { busy = false; }
-    } idle{busy_};
-    const std::uint64_t generation = runner_.begin();
-    Progress p;
-    p.processIri = processIri;
-    p.state = "reading";
-    p.message = "asking the knowledge base for the process";
-    report(p);
-    auto description = co_await kb_.process(processIri);
-    if (!description) {
-        out.reason = "cannot read the process " + processIri + ": " + description.error();
-        p.state = "stopped";
-        p.message = out.reason;
-        report(p);
-        co_return out;
-    }
-    const auto& steps = description->steps;
-    p.steps = static_cast<int>(steps.size());
-    // Before the first motion: can the cell run it at all? Every reason at once.
-    if (auto lacking = co_await feasible(*description, generation); !lacking.empty()) {
-        out.reason = "the cell cannot run " + processIri + ": ";
-        for (std::size_t i = 0; i < lacking.size(); ++i) {
-            out.reason += (i == 0 ? "" : "; ") + lacking[i];
-        }
-        spdlog::warn("mes: refused {}", out.reason);
-        p.state = "refused";
-        p.message = out.reason;
-        report(p);
-        co_return out;
-    }
-
-    // Resume the unfinished run of this process, or begin one.
-    RunRecord previous;
-    auto findUnfinished = [this, &processIri] { return journal_.unfinishedRun(processIri); };
-    auto unfinished = co_await journaled(findUnfinished);
-    if (!unfinished) {
-        out.reason = unfinished.error();
-        co_return out;
-    }
-    if (*unfinished) {
-        previous = std::move(**unfinished);
-        for (const auto& r : previous.steps) {
-            const bool same = r.index >= 1 && r.index <= p.steps &&
-                              steps[static_cast<std::size_t>(r.index - 1)].iri == r.stepIri;
-            if (!same) {
-                out.run = previous.id;
-                out.reason = "run " + std::to_string(previous.id) + " of " + processIri +
-                             " cannot be resumed: the process changed since (step " +
-                             std::to_string(r.index) + " was <" + r.stepIri + ">)";
-                co_return out;
-            }
-        }
-        auto resume = [this, id = previous.id] {
-            return journal_.setRunState(id, RunState::Running, {});
-        };
-        if (auto s = co_await journaled(resume); !s) {
-            out.reason = s.error();
-            co_return out;
-        }
-        spdlog::info("mes: resuming run {} of {} (it was {}{})", previous.id, processIri,
-                     toString(unfinished->value().state),
-                     previous.reason.empty() ? "" : ": " + previous.reason);
+    out.run = id;
+    auto read = [this, id] { return journal_.run(id); };
+    auto r = co_await journaled(read);
+    if (!r) {
+        out.reason = r.error();
+    } else if (!*r) {
+        out.reason = "no order " + std::to_string(id);
     } else {
-        auto begin = [this, &processIri] { return journal_.beginRun(processIri); };
-        auto id = co_await journaled(begin);
-        if (!id) {
-            out.reason = id.error();
-            co_return out;
-        }
-        previous.id = *id;
-        previous.processIri = processIri;
-        spdlog::info("mes: run {} of {}: {} steps", previous.id, processIri, steps.size());
-    }
-    out.run = previous.id;
-    p.run = previous.id;
-
-    std::string stopReason;  // set (and the loop left) when the run stops
-    for (const auto& step : steps) {
-        p.step = step.index;
-        p.skillType = shortName(step.skillTypeIri);
-        p.component.clear();
-        p.skill.clear();
-        if (runner_.halted(generation)) {
-            stopReason = "halted before " + step.label();
-            break;
-        }
-        const StepRecord* last = previous.lastAttempt(step.index);
-        int attempt = last != nullptr ? last->attempt + 1 : 1;
-        if (last != nullptr && last->state == StepState::Finished) {
-            p.component = last->componentUri;
-            p.state = "done";
-            p.message = "finished in an earlier attempt";
-            report(p);
-            continue;
-        }
-        if (last != nullptr &&
-            (last->state == StepState::Starting || last->state == StepState::Running)) {
-            // The MES stopped while this step was being started or run: ask its skill.
-            p.component = last->componentUri;
-            p.skill = last->skillNodeId;
-            p.state = "checking";
-            p.message = "the MES stopped during this step: asking the skill what became of it";
-            report(p);
-            auto [settled, why] = co_await settle(*last, generation);
-            StepRecord r = *last;
-            r.endedMs = unixMillis();
-            r.state = settled == Settled::Finished ? StepState::Finished : StepState::Failed;
-            r.reason = why;
-            if (auto s = co_await record(out.run, r); !s) {
-                stopReason = s.error();
-                break;
-            }
-            spdlog::info("mes: {} (attempt {}, interrupted): {}", step.label(), r.attempt, why);
-            if (settled == Settled::Finished) {
-                p.component = r.componentUri;
-                p.state = "finished";
-                p.message = why;
-                report(p);
-                continue;
-            }
-            if (settled == Settled::Failed) {
-                stopReason = step.label() + ": " + why;
-                break;
-            }
-        }
-        auto result = co_await runStep(out.run, step, attempt, generation, p);
-        if (!result.ok) {
-            stopReason = std::move(result.reason);
-            break;
+        out.completed = (*r)->state == RunState::Completed;
+        out.cancelled = (*r)->state == RunState::Cancelled;
+        out.reason = (*r)->reason;
+        if (!out.completed && out.reason.empty()) {
+            out.reason = std::string("the order is ") + toString((*r)->state);
         }
     }
-    if (!stopReason.empty()) {
-        out.reason = std::move(stopReason);
-        auto stopped = [this, run = out.run, reason = out.reason] {
-            return journal_.setRunState(run, RunState::Stopped, reason);
-        };
-        if (auto s = co_await journaled(stopped); !s) {
-            out.reason += " (and the journal failed: " + s.error() + ")";
-        }
-        spdlog::warn("mes: run {} stopped: {}", out.run, out.reason);
-        p.state = "stopped";
-        p.message = out.reason;
-        report(p);
-        co_return out;
-    }
-    auto completed = [this, run = out.run] {
-        return journal_.setRunState(run, RunState::Completed, {});
-    };
-    if (auto s = co_await journaled(completed); !s) {
-        out.reason = s.error();
-        co_return out;
-    }
-    out.completed = true;
-    p.state = "completed";
-    p.message = "every step finished";
-    report(p);
-    spdlog::info("mes: run {} of {} completed", out.run, processIri);
     co_return out;
 }
 
+asio::awaitable<ProcessOutcome> ProcessExecutor::execute(std::string processIri, int priority) {
+    auto self = shared_from_this();
+    auto submitted = submit(processIri, priority);
+    if (!submitted) co_return ProcessOutcome{false, 0, submitted.error(), false};
+    co_return co_await outcome(submitted->order);
+}
+
+kb::Status ProcessExecutor::stop(std::int64_t id, bool cancel) {
+    if (auto it = orders_.find(id); it != orders_.end()) {
+        Order& order = *it->second;
+        order.cancelled = order.cancelled || cancel;
+        spdlog::info("mes: order {} {}", id, cancel ? "cancelled" : "halted");
+        order.halt();
+        return kb::Done{};
+    }
+    auto r = journal_.run(id);
+    if (!r) return r.failure();
+    if (!*r) return kb::badInput("no order " + std::to_string(id));
+    const RunState state = (*r)->state;
+    if (state == RunState::Completed || state == RunState::Cancelled) {
+        return kb::badInput("order " + std::to_string(id) + " has ended already (" +
+                            toString(state) + ")");
+    }
+    if (!cancel) {
+        return kb::badInput("order " + std::to_string(id) + " is not running (" +
+                            toString(state) + ")");
+    }
+    // Queued or Stopped here (or Running in a journal no MES runs now): never resumed.
+    spdlog::info("mes: order {} cancelled (it was {})", id, toString(state));
+    return journal_.setRunState(id, RunState::Cancelled, "cancelled");
+}
+
+void ProcessExecutor::haltAll() {
+    for (const auto& [id, order] : orders_) order->halt();
+}
+
+void ProcessExecutor::suspend(std::int64_t id) {
+    const auto it = orders_.find(id);
+    if (it == orders_.end()) return;
+    for (const auto& skill : it->second->running) {
+        asio::co_spawn(
+            detector_->executor(),
+            [skill]() -> asio::awaitable<void> {
+                (void)co_await skill->call(skills::SkillMethod::Suspend);
+            },
+            asio::detached);
+    }
+}
+
+void ProcessExecutor::resume(std::int64_t id) {
+    const auto it = orders_.find(id);
+    if (it == orders_.end()) return;
+    for (const auto& skill : it->second->running) {
+        asio::co_spawn(
+            detector_->executor(),
+            [skill]() -> asio::awaitable<void> {
+                (void)co_await skill->call(skills::SkillMethod::Resume);
+            },
+            asio::detached);
+    }
+}
+
+std::vector<Progress> ProcessExecutor::running() const {
+    std::vector<Progress> out;
+    out.reserve(orders_.size());
+    for (const auto& [id, order] : orders_) out.push_back(order->progress);
+    return out;
+}
+
+// --- One order ------------------------------------------------------------------------
+
+asio::awaitable<ProcessOutcome> ProcessExecutor::runOrder(std::shared_ptr<Order> order) {
+    auto self = shared_from_this();
+    ProcessOutcome out;
+    out.run = order->id;
+    Progress p = order->progress;
+    const std::string& processIri = order->processIri;
+    std::string stopReason;
+    std::optional<ProcessDescription> description;
+    p.state = "reading";
+    p.message = "asking the knowledge base for the process";
+    report(*order, p);
+    if (auto read = co_await kb_.process(processIri); !read) {
+        stopReason = "cannot read the process " + processIri + ": " + read.error();
+    } else {
+        description = std::move(*read);
+        p.steps = static_cast<int>(description->steps.size());
+    }
+    // Before the first motion: can the cell run it at all? Every reason at once.
+    if (stopReason.empty() && !order->halted) {
+        if (auto lacking = co_await feasible(order, *description, p); !lacking.empty()) {
+            stopReason = "the cell cannot run " + processIri + ": ";
+            for (std::size_t i = 0; i < lacking.size(); ++i) {
+                stopReason += (i == 0 ? "" : "; ") + lacking[i];
+            }
+            spdlog::warn("mes: order {} refused: {}", order->id, stopReason);
+        }
+    }
+    // What the journal holds of this order: steps done in an earlier life of the MES.
+    RunRecord previous;
+    if (stopReason.empty() && !order->halted) {
+        auto read = [this, id = order->id] { return journal_.run(id); };
+        auto found = co_await journaled(read);
+        if (!found) {
+            stopReason = found.error();
+        } else if (*found) {
+            previous = std::move(**found);
+        }
+        const auto& steps = description->steps;
+        for (const auto& r : previous.steps) {
+            const bool same = r.index >= 1 && r.index <= p.steps &&
+                              steps[static_cast<std::size_t>(r.index - 1)].iri == r.stepIri;
+            if (!same && stopReason.empty()) {
+                stopReason = "order " + std::to_string(order->id) + " of " + processIri +
+                             " cannot be resumed: the process changed since (step " +
+                             std::to_string(r.index) + " was <" + r.stepIri + ">)";
+            }
+        }
+    }
+    if (stopReason.empty() && !order->halted) {
+        auto running = [this, id = order->id] {
+            return journal_.setRunState(id, RunState::Running, {});
+        };
+        if (auto s = co_await journaled(running); !s) stopReason = s.error();
+    }
+    if (stopReason.empty() && !order->halted) {
+        spdlog::info("mes: order {} of {}: {} steps{}", order->id, processIri, p.steps,
+                     previous.steps.empty() ? "" : " (resumed)");
+        stopReason = co_await runSteps(order, *description, previous);
+    }
+    if (stopReason.empty() && order->halted) stopReason = "halted before its first step";
+    if (order->cancelled) stopReason = "cancelled (" + stopReason + ")";
+
+    p = order->progress;
+    if (stopReason.empty()) {
+        auto completed = [this, id = order->id] {
+            return journal_.setRunState(id, RunState::Completed, {});
+        };
+        if (auto s = co_await journaled(completed); !s) {
+            out.reason = s.error();
+            co_return out;
+        }
+        out.completed = true;
+        p.state = "completed";
+        p.message = "every step finished";
+        report(*order, p);
+        spdlog::info("mes: order {} of {} completed", order->id, processIri);
+        co_return out;
+    }
+    out.reason = std::move(stopReason);
+    out.cancelled = order->cancelled;
+    const RunState end = order->cancelled ? RunState::Cancelled : RunState::Stopped;
+    auto stopped = [this, id = order->id, end, reason = out.reason] {
+        return journal_.setRunState(id, end, reason);
+    };
+    if (auto s = co_await journaled(stopped); !s) {
+        out.reason += " (and the journal failed: " + s.error() + ")";
+    }
+    spdlog::warn("mes: order {} {}: {}", order->id, toString(end), out.reason);
+    p.state = toString(end);
+    p.message = out.reason;
+    report(*order, p);
+    co_return out;
+}
+
+asio::awaitable<std::string> ProcessExecutor::runSteps(std::shared_ptr<Order> order,
+                                                       const ProcessDescription& process,
+                                                       const RunRecord& previous) {
+    auto self = shared_from_this();
+    const auto& steps = process.steps;
+    const std::size_t n = steps.size();
+    // Each step's prerequisites: the steps it names with proc:dependsOn, in a DAG; else the
+    // step before it.
+    const bool dag = std::any_of(steps.begin(), steps.end(),
+                                 [](const ProcessStep& s) { return !s.dependsOn.empty(); });
+    std::vector<std::vector<std::size_t>> prerequisites(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!dag) {
+            if (i > 0) prerequisites[i].push_back(i - 1);
+            continue;
+        }
+        for (const auto& d : steps[i].dependsOn) {
+            const auto it = std::find_if(steps.begin(), steps.end(),
+                                         [&](const ProcessStep& s) { return s.iri == d; });
+            if (it == steps.end()) co_return steps[i].label() + ": depends on <" + d +
+                                               ">, which is not a step of the process";
+            prerequisites[i].push_back(static_cast<std::size_t>(it - steps.begin()));
+        }
+    }
+    enum class State : std::uint8_t { Pending, Running, Done, Failed };
+    // Shared with the steps' completions.
+    struct Board {
+        std::vector<State> state;
+        std::vector<int> attempt;
+        int running = 0;
+        std::string stopReason;
+        std::shared_ptr<asio::steady_timer> wake;
+    };
+    auto board = std::make_shared<Board>();
+    board->state.assign(n, State::Pending);
+    board->attempt.assign(n, 1);
+    board->wake = std::make_shared<asio::steady_timer>(detector_->executor(),
+                                                       asio::steady_timer::time_point::max());
+    Progress p = order->progress;
+    // What the journal shows: finished steps stay done; a step interrupted by the MES's end
+    // is settled by asking its skill.
+    for (std::size_t i = 0; i < n && board->stopReason.empty(); ++i) {
+        const ProcessStep& step = steps[i];
+        const StepRecord* last = previous.lastAttempt(step.index);
+        if (last == nullptr) continue;
+        board->attempt[i] = last->attempt + 1;
+        p.step = step.index;
+        p.skillType = shortName(step.skillTypeIri);
+        p.component = last->componentUri;
+        p.skill.clear();
+        if (last->state == StepState::Finished) {
+            board->state[i] = State::Done;
+            p.state = "done";
+            p.message = "finished in an earlier attempt";
+            report(*order, p);
+            continue;
+        }
+        if (last->state != StepState::Starting && last->state != StepState::Running) continue;
+        p.skill = last->skillNodeId;
+        p.state = "checking";
+        p.message = "the MES stopped during this step: asking the skill what became of it";
+        report(*order, p);
+        auto [settled, why] = co_await settle(order, *last);
+        StepRecord r = *last;
+        r.endedMs = unixMillis();
+        r.state = settled == Settled::Finished ? StepState::Finished : StepState::Failed;
+        r.reason = why;
+        if (auto s = co_await record(order->id, r); !s) co_return s.error();
+        spdlog::info("mes: order {}: {} (attempt {}, interrupted): {}", order->id, step.label(),
+                     r.attempt, why);
+        if (settled == Settled::Finished) {
+            board->state[i] = State::Done;
+            p.state = "finished";
+            p.message = why;
+            report(*order, p);
+        } else if (settled == Settled::Failed) {
+            board->stopReason = step.label() + ": " + why;
+        }
+    }
+    // Start every step whose prerequisites are done; wait for one to end; again.
+    for (;;) {
+        if (board->stopReason.empty() && !order->halted) {
+            for (std::size_t i = 0; i < n; ++i) {
+                if (board->state[i] != State::Pending) continue;
+                const bool ready =
+                    std::all_of(prerequisites[i].begin(), prerequisites[i].end(),
+                                [&](std::size_t d) { return board->state[d] == State::Done; });
+                if (!ready) continue;
+                board->state[i] = State::Running;
+                ++board->running;
+                Progress sp = order->progress;
+                sp.step = steps[i].index;
+                sp.steps = static_cast<int>(n);
+                sp.skillType = shortName(steps[i].skillTypeIri);
+                asio::co_spawn(
+                    detector_->executor(),
+                    runStep(order, steps[i], board->attempt[i], std::move(sp)),
+                    [board, i](const std::exception_ptr& e, StepResult r) {
+                        if (e) r = StepResult{false, "the step failed inside the MES"};
+                        board->state[i] = r.ok ? State::Done : State::Failed;
+                        if (!r.ok && board->stopReason.empty()) board->stopReason = r.reason;
+                        --board->running;
+                        board->wake->cancel();
+                    });
+            }
+        }
+        if (board->running == 0) break;
+        co_await board->wake->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+    }
+    if (!board->stopReason.empty()) co_return board->stopReason;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (board->state[i] != State::Done) co_return "halted before " + steps[i].label();
+    }
+    co_return std::string();
+}
+
 asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecutor::settle(
-    const StepRecord& r, std::uint64_t generation) {
+    std::shared_ptr<Order> order, const StepRecord& r) {
     auto self = shared_from_this();
     skills::SkillInstance target;
     target.componentUri = r.componentUri;
@@ -261,6 +512,8 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
     for (const auto& s : detector_->instances()) {
         if (s.componentUri == r.componentUri && s.nodeId.toString() == r.skillNodeId) target = s;
     }
+    // The step's component is the order's, as it was before the MES stopped.
+    claims_.take(order->id, r.componentUri);
     std::string why;
     auto conn = co_await skills::SkillConnection::open(detector_->executor(), target,
                                                        options_.client, &why, options_.skillClient);
@@ -282,9 +535,11 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
         spdlog::info("mes: {} of {} is still running the interrupted step: waiting for it",
                      r.skillNodeId, r.componentUri);
         skill.adoptRun(ua::DateTime{r.transitionTimeBefore + 1});
-        adopted_ = skill.shared_from_this();
+        auto adopted = skill.shared_from_this();
+        order->running.insert(adopted);
+        if (order->halted) adopted->cancel();
         const SkillOutcome o = co_await skill.waitForEnd(options_.stepTimeout);
-        adopted_.reset();
+        order->running.erase(adopted);
         result = o.ok() ? std::pair(Settled::Finished, std::string("finished (after a restart of "
                                                                    "the MES)"))
                         : std::pair(Settled::Failed, describe(o));
@@ -296,7 +551,7 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
                         ": it failed while the MES was not running";
     }
     co_await (*conn)->close();
-    if (runner_.halted(generation) && result.first != Settled::Finished) {
+    if (order->halted && result.first != Settled::Finished) {
         result = {Settled::Failed, "halted"};
     }
     co_return result;
@@ -337,9 +592,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
 }
 
 asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
-    const ProcessDescription& process, std::uint64_t generation) {
-    using Clock = std::chrono::steady_clock;
-    constexpr std::chrono::milliseconds kFactRetry{250};  // as choose(): the KB records late
+    std::shared_ptr<Order> order, const ProcessDescription& process, Progress p) {
     auto self = shared_from_this();
     const auto deadline = Clock::now() + options_.skillWait;
     const auto properties = requiredProperties(process);
@@ -354,37 +607,60 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
             facts = std::move(*read);
         }
         auto lacking = infeasibility(process, detector_->instances(), facts ? &*facts : nullptr);
-        if (lacking.empty() || runner_.halted(generation) || Clock::now() >= deadline) {
-            co_return lacking;
-        }
-        Progress p = progress_;
+        if (lacking.empty() || order->halted || Clock::now() >= deadline) co_return lacking;
         p.state = "checking";
         p.message = "waiting up to " + std::to_string(options_.skillWait.count()) +
                     " ms for what the process needs: " + lacking.front();
         if (p.message != shown) {
             shown = p.message;
-            report(p);
+            report(*order, p);
         }
         const auto wake = std::min(deadline, Clock::now() + kFactRetry);
         auto timer = std::make_shared<asio::steady_timer>(detector_->executor(), wake);
-        waitTimer_ = timer;
         const std::size_t id = detector_->subscribe([timer](const skills::SkillEvent& e) {
             if (e.kind == skills::SkillEvent::Kind::Added) timer->cancel();
         });
-        co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        co_await sleep(*order, timer);
         detector_->unsubscribe(id);
-        if (runner_.halted(generation)) co_return std::vector<std::string>{"halted"};
+        if (order->halted) co_return std::vector<std::string>{"halted"};
     }
 }
 
-asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(const ProcessStep& step,
+std::set<std::string> ProcessExecutor::componentsOf(const Choice& c) {
+    std::set<std::string> out;
+    if (!c.skills.empty()) out.insert(c.skills.front().componentUri);
+    for (const auto& m : c.cellMatches) {
+        if (m) out.insert(m->componentUri);
+    }
+    return out;
+}
+
+bool ProcessExecutor::available(const Order& order,
+                                const std::set<std::string>& components) const {
+    return std::all_of(components.begin(), components.end(), [&](const std::string& c) {
+        return !order.busy.contains(c) && claims_.mayTake(order.rank(), c);
+    });
+}
+
+asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr<Order> order,
+                                                                 const ProcessStep& step,
                                                                  const std::set<SkillKey>& excluded,
-                                                                 std::uint64_t generation) {
-    using Clock = std::chrono::steady_clock;
-    // How often to ask the KB again while the skills are there but their facts are not.
-    constexpr std::chrono::milliseconds kFactRetry{250};
+                                                                 Progress p) {
     auto self = shared_from_this();
     const auto deadline = Clock::now() + options_.skillWait;
+    std::optional<Clock::time_point> claimDeadline;  // from the first wait for a component
+    // Registered as waiting for components: no longer on any return, and the orders that
+    // gave way to it look again.
+    struct Waiting {
+        ProcessExecutor& executor;
+        std::int64_t order;
+        bool registered = false;
+        ~Waiting() {
+            if (!registered) return;
+            executor.claims_.stopWaiting(order);
+            executor.componentsFreed();
+        }
+    } waiting{*this, order->id};
     std::string shown;
     for (;;) {
         const auto live = detector_->instances();
@@ -397,10 +673,63 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(const ProcessSt
             c = co_await withRequirements(step, std::move(typed), live);
             askAgain = c.skills.empty() && static_cast<bool>(kb_.facts);
         }
-        if (!c.skills.empty() || runner_.halted(generation) || Clock::now() >= deadline) {
-            co_return c;
+        if (order->halted) co_return Choice{};
+        if (!c.skills.empty()) {
+            // Suitable: those the order may use now (no other order holds them, no other
+            // of its steps uses them), else wait for one to be freed.
+            Choice free = c;
+            free.skills.clear();
+            std::set<std::string> wanted;
+            std::string holders;
+            for (const auto& s : c.skills) {
+                Choice one = c;
+                one.skills = {s};
+                const auto components = componentsOf(one);
+                if (available(*order, components)) {
+                    free.skills.push_back(s);
+                    continue;
+                }
+                for (const auto& component : components) {
+                    wanted.insert(component);
+                    if (order->busy.contains(component)) {
+                        holders += (holders.empty() ? "" : ", ") + component +
+                                   " (another step of this order uses it)";
+                    } else if (const auto h = claims_.holder(component);
+                               h && *h != order->id) {
+                        holders += (holders.empty() ? "" : ", ") + component + " (order " +
+                                   std::to_string(*h) + " holds it)";
+                    }
+                }
+            }
+            if (!free.skills.empty()) co_return free;
+            if (auto chain = claims_.wait(order->rank(), wanted)) {
+                Choice none;
+                none.unmet = "waiting for a component would deadlock: " + *chain;
+                co_return none;
+            }
+            waiting.registered = true;
+            if (!claimDeadline) claimDeadline = Clock::now() + options_.claimWait;
+            if (Clock::now() >= *claimDeadline) {
+                Choice none;
+                none.unmet = "waited " + std::to_string(options_.claimWait.count()) +
+                             " ms for " + (holders.empty() ? "a better-ranked order" : holders);
+                co_return none;
+            }
+            p.state = "waiting";
+            p.component.clear();
+            p.skill.clear();
+            p.message = "waiting for " + (holders.empty() ? "orders of higher priority" : holders);
+            if (p.message != shown) {
+                shown = p.message;
+                report(*order, p);
+            }
+            auto timer = std::make_shared<asio::steady_timer>(detector_->executor(),
+                                                              *claimDeadline);
+            claimWaits_.push_back(timer);
+            co_await sleep(*order, timer);
+            continue;
         }
-        Progress p = progress_;
+        if (Clock::now() >= deadline) co_return c;
         p.state = "waiting";
         p.component.clear();
         p.skill.clear();
@@ -409,11 +738,10 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(const ProcessSt
                     (c.unmet.empty() ? "" : ": " + c.unmet);
         if (p.message != shown) {
             shown = p.message;
-            report(p);
+            report(*order, p);
         }
         const auto wake = askAgain ? std::min(deadline, Clock::now() + kFactRetry) : deadline;
         auto timer = std::make_shared<asio::steady_timer>(detector_->executor(), wake);
-        waitTimer_ = timer;
         // A new instance of the step's type, or of a type a requirement names, may fit.
         const std::size_t id =
             detector_->subscribe([timer, step, excluded](const skills::SkillEvent& e) {
@@ -427,13 +755,14 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(const ProcessSt
                                                 });
                 if (wanted) timer->cancel();
             });
-        co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        co_await sleep(*order, timer);
         detector_->unsubscribe(id);
-        if (runner_.halted(generation)) co_return Choice{};
+        if (order->halted) co_return Choice{};
     }
 }
 
-asio::awaitable<bool> ProcessExecutor::componentGone(std::string componentUri) {
+asio::awaitable<bool> ProcessExecutor::componentGone(std::shared_ptr<Order> order,
+                                                     std::string componentUri) {
     auto self = shared_from_this();
     auto listed = [this, &componentUri] {
         const auto all = detector_->instances();
@@ -443,14 +772,13 @@ asio::awaitable<bool> ProcessExecutor::componentGone(std::string componentUri) {
     if (!listed()) co_return true;
     auto timer =
         std::make_shared<asio::steady_timer>(detector_->executor(), options_.goneConfirmation);
-    waitTimer_ = timer;
     const std::size_t id = detector_->subscribe([timer, componentUri](const skills::SkillEvent& e) {
         if (e.kind == skills::SkillEvent::Kind::Removed &&
             e.instance.componentUri == componentUri) {
             timer->cancel();
         }
     });
-    co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+    co_await sleep(*order, timer);
     detector_->unsubscribe(id);
     co_return !listed();
 }
@@ -473,8 +801,9 @@ std::string ProcessExecutor::noSkillReason(const ProcessStep& step,
 }
 
 asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
-    std::int64_t run, const ProcessStep& step, int attempt, std::uint64_t generation, Progress p) {
+    std::shared_ptr<Order> order, const ProcessStep& step, int attempt, Progress p) {
     auto self = shared_from_this();
+    const std::int64_t run = order->id;
     std::set<SkillKey> tried;
     std::string lastFailure;
     std::string note;  // why the next attempt is made, and what was done first: journaled
@@ -484,9 +813,9 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         p.component.clear();
         p.skill.clear();
         p.message.clear();
-        report(p);
-        const Choice found = co_await choose(step, tried, generation);
-        if (runner_.halted(generation)) co_return StepResult{false, "halted in " + step.label()};
+        report(*order, p);
+        const Choice found = co_await choose(order, step, tried, p);
+        if (order->halted) co_return StepResult{false, "halted in " + step.label()};
         if (found.skills.empty()) {
             std::string why;
             if (found.unmet.empty()) {
@@ -501,6 +830,22 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         const skills::SkillInstance& skill = found.skills.front();
         auto values = parameterValues(step, skill, found.cellMatches);
         if (!values) co_return StepResult{false, values.error()};
+        // The order holds what this step uses from now to its end; this step, until it ends.
+        struct Busy {
+            ProcessExecutor& executor;
+            Order& order;
+            std::set<std::string> components;
+            ~Busy() {
+                for (const auto& c : components) {
+                    if (auto it = order.busy.find(c); it != order.busy.end()) order.busy.erase(it);
+                }
+                executor.componentsFreed();
+            }
+        } busy{*this, *order, componentsOf(found)};
+        for (const auto& c : busy.components) {
+            claims_.take(order->id, c);
+            order->busy.insert(c);
+        }
         p.component = skill.componentUri;
         p.skill = skill.browsePathString();
         std::string why;
@@ -511,7 +856,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
             lastFailure = where(skill) + ": " + why;
             p.state = "unreachable";
             p.message = why;
-            report(p);
+            report(*order, p);
             continue;
         }
         skills::SkillClient& client = (*conn)->skill();
@@ -559,10 +904,15 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         }
         p.state = "running";
         p.message.clear();
-        report(p);
-        spdlog::info("mes: {} on {} (attempt {})", step.label(), where(skill), attempt);
-        const SkillOutcome outcome =
-            co_await runner_.run(client, std::move(*values), options_.stepTimeout);
+        report(*order, p);
+        spdlog::info("mes: order {}: {} on {} (attempt {})", run, step.label(), where(skill),
+                     attempt);
+        // Halting the order halts this skill (SkillClient::cancel).
+        auto running = client.shared_from_this();
+        order->running.insert(running);
+        if (order->halted) running->cancel();
+        const SkillOutcome outcome = co_await client.run(std::move(*values), options_.stepTimeout);
+        order->running.erase(running);
         r.endedMs = unixMillis();
         r.state = outcome.ok() ? StepState::Finished : StepState::Failed;
         r.reason = outcome.ok() ? std::string() : describe(outcome);
@@ -571,14 +921,14 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
         if (!recorded) co_return StepResult{false, recorded.error()};
         if (outcome.ok()) {
             p.state = "finished";
-            report(p);
+            report(*order, p);
             co_return StepResult{true, {}};
         }
         p.state = "failed";
         p.message = r.reason;
-        report(p);
+        report(*order, p);
         spdlog::warn("mes: {} on {}: {}", step.label(), where(skill), r.reason);
-        if (runner_.halted(generation)) co_return StepResult{false, "halted in " + step.label()};
+        if (order->halted) co_return StepResult{false, "halted in " + step.label()};
         // The skill ended Halted: the process's retry policy says whether it runs again.
         if (outcome.kind == SkillOutcome::Kind::Failed && retried < step.retries) {
             ++retried;
@@ -588,13 +938,13 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
             spdlog::warn("mes: {}: {}", step.label(), note);
             p.state = "retrying";
             p.message = note;
-            report(p);
+            report(*order, p);
             continue;  // chosen again: the same instance, unless a better one appeared
         }
         // Lost contact: another instance may take the step only once the component is
         // gone; one still there may still be running the skill.
         if (outcome.kind == SkillOutcome::Kind::Lost &&
-            !co_await componentGone(skill.componentUri)) {
+            !co_await componentGone(order, skill.componentUri)) {
             co_return StepResult{false, step.label() + ": lost contact with " + where(skill) +
                                             " mid-step (" + r.reason +
                                             "), but the component is still there: it may still "

@@ -1,8 +1,20 @@
 #pragma once
-// ProcessExecutor: runs a process, step by step, on whatever skills the cell offers (paper,
-// section VII-C). For each step it picks a suitable live skill instance (step_binding.hpp)
-// from the SkillDetector's map, derives the parameter values, runs the skill with a
-// SkillClient, and records intent and result in the Journal before going on.
+// ProcessExecutor: runs orders, each a run of a process, on whatever skills the cell offers
+// (paper, section VII-C). For each step it picks a suitable live skill instance
+// (step_binding.hpp) from the SkillDetector's map, derives the parameter values, runs the
+// skill with a SkillClient, and records intent and result in the Journal before going on.
+//
+// Orders. submit() records an order (Queued) and begins it at once; many run at the same
+// time. An order takes each component it uses and holds it to its end (ResourceClaims), so
+// two orders never interleave on one piece of hardware; an order whose step needs a
+// component another holds waits for it, the better-ranked first (priority, then age), and is
+// stopped with the chain when waiting would deadlock. A restarted MES resumes every order the
+// journal shows Queued or Running (resumeOpenOrders()).
+//
+// Steps. When no step of a process names proc:dependsOn, its steps run in order. When any
+// does, the process is a DAG: every step whose dependencies have finished starts at once, on
+// a component no other running step of the order uses. A failed step stops the order once
+// the steps running beside it have ended; none is halted mid-motion for it.
 //
 // A step's requirements (proc:requiresFact) are facts the KB must hold: of the skill chosen,
 // or of some available skill of a given type (a gripper of the grip type a pick was planned
@@ -10,18 +22,19 @@
 // about a second after discovery, so while a step's skills are there but its facts are not,
 // the MES asks the KB again, four times a second, up to skillWait.
 //
-// Faults stop the run in a defined state (RunState::Stopped, with the reason): a skill that
-// ends Halted or times out, a step no skill can run, a process the KB cannot describe. A skill
-// that cannot be reached, refuses its parameters or Start, or whose component disappears
-// mid-step is replaced by another suitable instance when there is one; a Halted one is not,
-// since what it did to the cell is unknown.
+// Faults stop the order in a defined state (RunState::Stopped, with the reason): a skill that
+// ends Halted (after the step's proc:retries) or times out, a step no skill can run, a
+// process the KB cannot describe. A skill that cannot be reached, refuses its parameters or
+// Start, or whose component disappears mid-step is replaced by another suitable instance when
+// there is one; a Halted one is not, since what it did to the cell is unknown.
 //
-// execute() resumes the process's unfinished run if the journal has one: finished steps are
-// skipped, and a step the journal shows as being started is settled by asking its skill
-// (unchanged LastTransition: Start never reached it, so it runs; Running: the run is waited
-// for; Ready or Halted after a transition: it finished or failed while nobody watched).
+// Resuming an order: finished steps are skipped, and a step the journal shows as being
+// started is settled by asking its skill (unchanged LastTransition: Start never reached it,
+// so it runs; Running: the run is waited for; Ready or Halted after a transition: it finished
+// or failed while nobody watched).
 //
-// Threading: on the detector's executor; journal calls run on a thread of their own, each
+// Threading: on the detector's executor (the server's thread: submit() and cancel() are
+// called from its methods); journal writes of a run go to a thread of their own, each
 // awaited before the run goes on (intent before Start, result before the next step).
 #include <asio/any_io_executor.hpp>
 #include <asio/awaitable.hpp>
@@ -29,17 +42,20 @@
 #include <asio/thread_pool.hpp>
 #include <chrono>
 #include <functional>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "mes/journal.hpp"
 #include "mes/process_description.hpp"
+#include "mes/resource_claims.hpp"
 #include "mes/skill_facts.hpp"
 #include "mes/step_binding.hpp"
+#include "skills/skill_client.hpp"
 #include "skills/skill_detector.hpp"
-#include "skills/sub_skill_runner.hpp"
 #include "ua/client/client.hpp"
 
 namespace skillcell::mes {
@@ -57,6 +73,8 @@ struct ExecutorOptions {
     /// How long, after losing contact mid-step, to wait for the detector to confirm that the
     /// component is gone before the step may go to another instance.
     std::chrono::milliseconds goneConfirmation{5'000};
+    /// How long an order waits for a component another order holds before it stops.
+    std::chrono::milliseconds claimWait{3'600'000};
 };
 
 /// What the executor is doing, for progress displays and the MES's status variables.
@@ -78,8 +96,17 @@ struct Progress {
 
 struct ProcessOutcome {
     bool completed = false;
-    std::int64_t run = 0;  // 0 when no run was begun
+    std::int64_t run = 0;  // the order; 0 when none was begun
     std::string reason;    // why it stopped
+    bool cancelled = false;
+};
+
+/// What submit() did.
+struct Submitted {
+    std::int64_t order = 0;
+    /// The process's Stopped order is resumed rather than a new one begun (what it did
+    /// stays done).
+    bool resumed = false;
 };
 
 /// Reads a process description (from the KB; tests give their own).
@@ -102,15 +129,40 @@ public:
         ExecutorOptions options = {});
 
     [[nodiscard]] const asio::any_io_executor& executor() const { return detector_->executor(); }
-    /// Runs (or resumes) `processIri` to its end or its first unrecoverable fault.
-    asio::awaitable<ProcessOutcome> execute(std::string processIri);
-    /// Ends the current execute(): the skill running now is halted, the run stops.
-    void halt();
-    /// Forwarded to the skill running now.
-    void suspend() { runner_.suspend(); }
-    void resume() { runner_.resume(); }
+    [[nodiscard]] Journal& journal() { return journal_; }
 
-    /// Called on every change of what the executor does (on the executor).
+    /// Records an order of `processIri` (Queued) and begins it. A Stopped order of the same
+    /// process, not running now, is resumed instead. On the executor.
+    [[nodiscard]] kb::Expected<Submitted> submit(const std::string& processIri, int priority = 0);
+    /// Waits for the end of `order` (at once when it is not running in this MES: then from
+    /// the journal).
+    asio::awaitable<ProcessOutcome> outcome(std::int64_t order);
+    /// Submits `processIri` and waits for its end (the ExecuteProcess skill, tests).
+    asio::awaitable<ProcessOutcome> execute(std::string processIri, int priority = 0);
+    /// Begins every order the journal shows Queued or Running (a restarted MES), and ends a
+    /// standBy(). On the executor; returns how many.
+    [[nodiscard]] kb::Expected<std::size_t> resumeOpenOrders();
+    /// While another MES runs the journal's orders (JournalLock): nothing runs here, and
+    /// submit() refuses (Unavailable).
+    void standBy() { standingBy_ = true; }
+    [[nodiscard]] bool standingBy() const { return standingBy_; }
+
+    /// Stops `order`: a queued one at once; a running one's skills are halted. `cancel`:
+    /// Cancelled, never resumed; else Stopped ("halted"), as a fault leaves it. BadInput when
+    /// it has already ended or does not exist.
+    [[nodiscard]] kb::Status stop(std::int64_t order, bool cancel);
+    /// Stops every running order (Stopped: resumable).
+    void haltAll();
+    /// Forwarded to the skills `order` runs now.
+    void suspend(std::int64_t order);
+    void resume(std::int64_t order);
+
+    /// The orders running in this MES now, each with its latest progress.
+    [[nodiscard]] std::vector<Progress> running() const;
+    /// Whether `order` runs in this MES now.
+    [[nodiscard]] bool isRunning(std::int64_t order) const { return orders_.contains(order); }
+
+    /// Called on every change of what an order does (on the executor).
     std::function<void(const Progress&)> onProgress;
 
     struct Token {
@@ -122,18 +174,27 @@ public:
                     KnowledgeReaders kb, ExecutorOptions options);
 
 private:
+    struct Order;
     struct StepResult {
         bool ok = false;
         std::string reason;
     };
     enum class Settled : std::uint8_t { NotStarted, Finished, Failed };
 
-    /// `p`: the progress so far (run, step), to report this step's on.
-    asio::awaitable<StepResult> runStep(std::int64_t run, const ProcessStep& step, int attempt,
-                                        std::uint64_t generation, Progress p);
+    /// The order's whole run, from reading its process to its end in the journal.
+    asio::awaitable<ProcessOutcome> runOrder(std::shared_ptr<Order> order);
+    /// Its steps, in order or as a DAG; the reason it stopped, empty when all finished.
+    asio::awaitable<std::string> runSteps(std::shared_ptr<Order> order,
+                                          const ProcessDescription& process,
+                                          const RunRecord& previous);
+    void begin(std::int64_t id, std::string processIri, int priority);
+    void finish(Order& order, ProcessOutcome outcome);
+    /// `p`: the progress so far (order, step), to report this step's on.
+    asio::awaitable<StepResult> runStep(std::shared_ptr<Order> order, const ProcessStep& step,
+                                        int attempt, Progress p);
     /// What became of an attempt the journal shows as Starting (after a crash).
-    asio::awaitable<std::pair<Settled, std::string>> settle(const StepRecord& record,
-                                                            std::uint64_t generation);
+    asio::awaitable<std::pair<Settled, std::string>> settle(std::shared_ptr<Order> order,
+                                                            const StepRecord& record);
     struct Choice {
         std::vector<skills::SkillInstance> skills;  // suitable and available, best first
         std::string unmet;  // when there are none: the requirements not met, and why
@@ -142,21 +203,34 @@ private:
     };
     /// Why the cell cannot run `process` (empty: it can), after waiting up to skillWait for
     /// the skills it lacks to appear (or for the KB to record their facts).
-    asio::awaitable<std::vector<std::string>> feasible(const ProcessDescription& process,
-                                                       std::uint64_t generation);
-    /// Suitable instances now, or after waiting up to skillWait for one to appear (or for
-    /// the KB to record the facts that make one suitable).
-    asio::awaitable<Choice> choose(const ProcessStep& step, const std::set<SkillKey>& excluded,
-                                   std::uint64_t generation);
+    asio::awaitable<std::vector<std::string>> feasible(std::shared_ptr<Order> order,
+                                                       const ProcessDescription& process,
+                                                       Progress p);
+    /// Suitable instances that `order` may use now, or after waiting up to skillWait for one
+    /// to appear (or for the KB to record the facts that make one suitable), or as long as
+    /// claimWait for another order, or another step of this one, to free one.
+    asio::awaitable<Choice> choose(std::shared_ptr<Order> order, const ProcessStep& step,
+                                   const std::set<SkillKey>& excluded, Progress p);
     /// Which of `typed` (suitable by type) meet the step's requirements, by the KB's facts.
     asio::awaitable<Choice> withRequirements(const ProcessStep& step,
                                              std::vector<skills::SkillInstance> typed,
                                              const std::vector<skills::SkillInstance>& live);
+    /// The components a choice uses: its first skill's, and those of its cell matches.
+    [[nodiscard]] static std::set<std::string> componentsOf(const Choice& c);
+    /// Whether `order` may use every component of `components` now (held by no other order,
+    /// used by none of its own running steps, wanted by no better-ranked waiting order).
+    [[nodiscard]] bool available(const Order& order,
+                                 const std::set<std::string>& components) const;
+    /// Sleeps until `timer` expires or is cancelled; halt() and the events that may change
+    /// the outcome of a wait cancel it.
+    asio::awaitable<void> sleep(Order& order, std::shared_ptr<asio::steady_timer> timer);
+    /// Wakes every order waiting for a component.
+    void componentsFreed();
     /// Whether the detector no longer lists `componentUri`, waiting up to goneConfirmation.
-    asio::awaitable<bool> componentGone(std::string componentUri);
+    asio::awaitable<bool> componentGone(std::shared_ptr<Order> order, std::string componentUri);
     [[nodiscard]] std::string noSkillReason(const ProcessStep& step,
                                             const std::set<SkillKey>& tried) const;
-    void report(Progress p);
+    void report(Order& order, Progress p);
     /// Runs `write` (a call of the journal) on the journal's thread, and resumes on the
     /// executor with its result: an fsync'd write must not hold up the server's thread (its
     /// other sessions, the progress variables).
@@ -168,11 +242,11 @@ private:
     Journal& journal_;
     KnowledgeReaders kb_;
     ExecutorOptions options_;
-    skills::SubSkillRunner runner_;
-    Progress progress_;
-    bool busy_ = false;
-    std::weak_ptr<asio::steady_timer> waitTimer_;  // choose(), for halt()
-    std::weak_ptr<skills::SkillClient> adopted_;   // settle()'s wait, for halt()
+    std::map<std::int64_t, std::shared_ptr<Order>> orders_;  // running in this MES, by id
+    ResourceClaims claims_;
+    bool standingBy_ = false;
+    /// Orders' waits for a component, cancelled when one is freed.
+    std::vector<std::weak_ptr<asio::steady_timer>> claimWaits_;
     /// Where journal calls run (journaled()): one thread, so they stay in order. Last, so
     /// that it is joined before the rest goes.
     std::unique_ptr<asio::thread_pool> journalThread_;

@@ -73,6 +73,20 @@ TEST(AddressSpace, ReferencesAreStoredAtBothEndsOnce) {
               status::BadReferenceTypeIdInvalid);
 }
 
+TEST(AddressSpace, ARemovedNodeLeavesNoReferenceBehind) {
+    AddressSpace as = loadedSpace();
+    ASSERT_TRUE(as.addObject(NodeId(ns0::ObjectsFolder), NodeId(1, "Order"), "Order").ok());
+    const auto before = as.find(NodeId(ns0::ObjectsFolder))->references.size();
+    ASSERT_TRUE(as.addObject(NodeId(ns0::ObjectsFolder), NodeId(1, "Gone"), "Gone").ok());
+    EXPECT_EQ(as.removeNode(NodeId(1, "Gone")), status::Good);
+    EXPECT_EQ(as.find(NodeId(1, "Gone")), nullptr);
+    EXPECT_EQ(as.find(NodeId(ns0::ObjectsFolder))->references.size(), before);
+    EXPECT_FALSE(hasRef(*as.find(NodeId(ns0::BaseObjectType)), ns0::HasTypeDefinition,
+                        NodeId(1, "Gone"), false));
+    EXPECT_NE(as.find(NodeId(1, "Order")), nullptr);
+    EXPECT_EQ(as.removeNode(NodeId(1, "Gone")), status::BadNodeIdUnknown);
+}
+
 TEST(AddressSpace, TypeHierarchies) {
     AddressSpace as = loadedSpace();
     const auto sub = [&](std::uint32_t a, std::uint32_t b) {

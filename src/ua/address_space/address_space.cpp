@@ -106,6 +106,18 @@ StatusCode AddressSpace::addReference(const NodeId& source, const NodeId& refere
     return status::Good;
 }
 
+StatusCode AddressSpace::removeNode(const NodeId& id) {
+    const auto it = nodes_.find(id);
+    if (it == nodes_.end()) return status::BadNodeIdUnknown;
+    for (const auto& r : it->second.references) {
+        Node* other = r.target == id ? nullptr : find(r.target);
+        if (other == nullptr) continue;
+        std::erase_if(other->references, [&id](const Reference& back) { return back.target == id; });
+    }
+    nodes_.erase(it);
+    return status::Good;
+}
+
 bool AddressSpace::isSubtypeOf(const NodeId& type, const NodeId& superType) const {
     // Hierarchies are shallow (under 10 levels in namespace 0); the bound only guards
     // against a cycle in a malformed model.

@@ -56,6 +56,10 @@ public:
     /// not a ReferenceType node.
     StatusCode addReference(const NodeId& source, const NodeId& referenceTypeId,
                             const NodeId& target, bool isForward = true);
+    /// Removes a node and every reference to it (not its children: the caller removes what
+    /// it built). For nodes a server adds and drops at run time (an MES's orders); monitored
+    /// items on it then report BadNodeIdUnknown. BadNodeIdUnknown when it is not there.
+    StatusCode removeNode(const NodeId& id);
 
     // --- Type hierarchy -------------------------------------------------------------------
     /// True if `type` is `superType` or a (transitive) subtype of it. Works for every type

@@ -38,6 +38,7 @@ inline constexpr std::uint32_t HasOrderedComponent = 49;
 // Data types (1..25 are the built-in types, same numbers as their encoding ids).
 inline constexpr std::uint32_t Boolean = 1;
 inline constexpr std::uint32_t Int32 = 6;
+inline constexpr std::uint32_t Int64 = 8;
 inline constexpr std::uint32_t UInt32 = 7;
 inline constexpr std::uint32_t Double = 11;
 inline constexpr std::uint32_t String = 12;

@@ -1,0 +1,308 @@
+// Orders in the MES, on no-op skills of in-process servers: orders that need one component run
+// one after the other, orders on different components at once, a DAG's branches in parallel,
+// the higher priority first, a cancelled order is halted and never resumed. The journal's
+// times show what ran when. (A killed MES resuming three orders: mes_cell_test.cpp.)
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <future>
+#include <map>
+
+#include "client_thread.hpp"
+#include "mes/process_executor.hpp"
+#include "mes/resource_claims.hpp"
+#include "running_server.hpp"
+#include "skills/noop_behaviour.hpp"
+#include "skills/skill_server.hpp"
+#include "temp_dir.hpp"
+
+namespace skillcell::mes::orders_test {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr const char* kMoveType =
+    "http://skillcell.dev/UA/RoboticSkills/CartesianLinearMoveSkillType";
+
+// A server with one no-op Move skill that runs for `duration`.
+struct NoOpComponent {
+    NoOpComponent(std::string applicationUri, std::chrono::milliseconds duration)
+        : uri(std::move(applicationUri)) {
+        auto config = test::RunningServer::defaultConfig();
+        config.description.applicationUri = uri;
+        server = std::make_unique<test::RunningServer>(
+            std::move(config), [this, duration](ua::Server& s) {
+                skills = skills::SkillServer::create(s, s.executor());
+                const auto type = skills->findSkillType("CartesianLinearMoveSkillType");
+                (void)skills->add(*type, "Move",
+                                  std::make_unique<skills::NoOpBehaviour>(s.executor(), duration));
+            });
+    }
+    ~NoOpComponent() {
+        server->inServer([this](ua::Server&) {
+            skills.reset();
+            return 0;
+        });
+    }
+    NoOpComponent(const NoOpComponent&) = delete;
+    NoOpComponent& operator=(const NoOpComponent&) = delete;
+
+    std::string uri;
+    std::unique_ptr<skills::SkillServer> skills;
+    std::unique_ptr<test::RunningServer> server;
+};
+
+// A process of Move steps; `dependsOn[i]`: the (0-based) steps step i waits for.
+ProcessDescription process(const std::string& iri, std::size_t steps,
+                           const std::map<std::size_t, std::vector<std::size_t>>& dependsOn = {}) {
+    ProcessDescription p;
+    p.iri = iri;
+    for (std::size_t i = 0; i < steps; ++i) {
+        ProcessStep s;
+        s.iri = iri + "/step" + std::to_string(i + 1);
+        s.index = static_cast<int>(i + 1);
+        s.skillTypeIri = kMoveType;
+        p.steps.push_back(std::move(s));
+    }
+    for (const auto& [step, on] : dependsOn) {
+        for (std::size_t d : on) p.steps[step].dependsOn.push_back(p.steps[d].iri);
+    }
+    return p;
+}
+
+std::unique_ptr<Journal> openJournal(const std::string& path) {
+    auto j = Journal::open(path);
+    EXPECT_TRUE(j) << j.error();
+    return j ? std::move(*j) : nullptr;
+}
+
+class Orders : public testing::Test {
+protected:
+    /// Components, each with a no-op Move of `duration`, found by the MES's detector.
+    void plug(const std::vector<std::string>& uris, std::chrono::milliseconds duration) {
+        for (const auto& uri : uris) components_.push_back(std::make_unique<NoOpComponent>(uri, duration));
+        std::promise<void> all;
+        auto wanted = std::make_shared<std::size_t>(uris.size());
+        mes_.run([&]() -> asio::awaitable<int> {
+            const std::size_t id = detector_->subscribe([&all, wanted](const skills::SkillEvent& e) {
+                if (e.kind == skills::SkillEvent::Kind::Added && *wanted > 0 && --*wanted == 0) {
+                    all.set_value();
+                }
+            });
+            for (std::size_t i = components_.size() - uris.size(); i < components_.size(); ++i) {
+                ua::ApplicationDescription app;
+                app.applicationUri = components_[i]->uri;
+                detector_->appeared(components_[i]->uri, app, components_[i]->server->url());
+            }
+            subscriptions_.push_back(id);
+            co_return 0;
+        });
+        ASSERT_EQ(all.get_future().wait_for(10s), std::future_status::ready);
+    }
+    void start(std::vector<ProcessDescription> processes) {
+        for (auto& p : processes) processes_[p.iri] = std::move(p);
+        ProcessReader reader =
+            [this](std::string iri) -> asio::awaitable<kb::Expected<ProcessDescription>> {
+            const auto it = processes_.find(iri);
+            if (it == processes_.end()) co_return kb::badInput("no process " + iri);
+            co_return it->second;
+        };
+        ExecutorOptions options;
+        options.skillWait = 2s;
+        executor_ = ProcessExecutor::create(detector_, *journal_, KnowledgeReaders{reader, {}},
+                                            options);
+    }
+    std::int64_t submit(const std::string& iri, int priority = 0) {
+        return mes_.run([&]() -> asio::awaitable<std::int64_t> {
+            auto s = executor_->submit(iri, priority);
+            co_return s ? s->order : 0;
+        });
+    }
+    ProcessOutcome outcome(std::int64_t order) {
+        return mes_.run([&]() -> asio::awaitable<ProcessOutcome> {
+            co_return co_await executor_->outcome(order);
+        });
+    }
+    RunRecord record(std::int64_t order) {
+        auto r = journal_->run(order);
+        EXPECT_TRUE(r && *r);
+        return r && *r ? **r : RunRecord{};
+    }
+    void TearDown() override {
+        mes_.run([&]() -> asio::awaitable<int> {
+            if (executor_) executor_->haltAll();
+            for (auto id : subscriptions_) detector_->unsubscribe(id);
+            detector_->stop();
+            co_return 0;
+        });
+        executor_.reset();
+    }
+
+    /// Waits (bounded: 10 s) until the journal shows a step of `order` begun.
+    void waitUntilBegun(std::int64_t order) {
+        for (int i = 0; i < 200; ++i) {
+            if (auto r = journal_->run(order); r && *r && !(*r)->steps.empty()) return;
+            std::this_thread::sleep_for(50ms);  // a bounded poll of the journal file
+        }
+        ADD_FAILURE() << "order " << order << " never began a step";
+    }
+
+    test::TempDir dir_{"skillcell-orders"};
+    std::unique_ptr<Journal> journal_ = openJournal(dir_ / "journal.sqlite");
+    test::ClientThread mes_;
+    std::shared_ptr<skills::SkillDetector> detector_ =
+        skills::SkillDetector::create(mes_.io().get_executor());
+    std::vector<std::unique_ptr<NoOpComponent>> components_;
+    std::vector<std::size_t> subscriptions_;
+    std::map<std::string, ProcessDescription> processes_;
+    std::shared_ptr<ProcessExecutor> executor_;
+};
+
+// [first start, last end] of an order's steps, from the journal.
+std::pair<std::int64_t, std::int64_t> span(const RunRecord& r) {
+    std::int64_t first = INT64_MAX;
+    std::int64_t last = 0;
+    for (const auto& s : r.steps) {
+        first = std::min(first, s.startedMs);
+        last = std::max(last, s.endedMs);
+    }
+    return {first, last};
+}
+
+}  // namespace
+
+TEST_F(Orders, TwoOrdersThatNeedTheOneComponentRunOneAfterTheOtherNeverInterleaving) {
+    plug({"urn:test:robot"}, 150ms);
+    start({process("urn:p", 3)});
+    const auto a = submit("urn:p");
+    const auto b = submit("urn:p");
+    ASSERT_NE(a, 0);
+    ASSERT_NE(b, 0);
+    EXPECT_TRUE(outcome(a).completed);
+    EXPECT_TRUE(outcome(b).completed);
+    const auto ra = record(a);
+    const auto rb = record(b);
+    EXPECT_EQ(ra.state, RunState::Completed);
+    EXPECT_EQ(rb.state, RunState::Completed);
+    ASSERT_EQ(ra.steps.size(), 3U);
+    ASSERT_EQ(rb.steps.size(), 3U);
+    // All of one order's steps, then all of the other's: a robot holding a part for one
+    // order never serves another in between.
+    EXPECT_LE(span(ra).second, span(rb).first) << "order " << b << " began before " << a << " ended";
+}
+
+TEST_F(Orders, OrdersOnDifferentComponentsRunAtTheSameTime) {
+    plug({"urn:test:robot1", "urn:test:robot2"}, 400ms);
+    start({process("urn:p", 1)});
+    const auto a = submit("urn:p");
+    const auto b = submit("urn:p");
+    EXPECT_TRUE(outcome(a).completed);
+    EXPECT_TRUE(outcome(b).completed);
+    const auto ra = record(a);
+    const auto rb = record(b);
+    ASSERT_EQ(ra.steps.size(), 1U);
+    ASSERT_EQ(rb.steps.size(), 1U);
+    EXPECT_NE(ra.steps[0].componentUri, rb.steps[0].componentUri);
+    EXPECT_LT(span(rb).first, span(ra).second) << "they did not overlap";
+    EXPECT_LT(span(ra).first, span(rb).second) << "they did not overlap";
+}
+
+TEST_F(Orders, ADagRunsItsIndependentBranchesInParallelAndJoinsThem) {
+    // 1 -> (2, 3) -> 4
+    plug({"urn:test:robot1", "urn:test:robot2"}, 400ms);
+    start({process("urn:dag", 4, {{1, {0}}, {2, {0}}, {3, {1, 2}}})});
+    const auto o = submit("urn:dag");
+    const auto out = outcome(o);
+    EXPECT_TRUE(out.completed) << out.reason;
+    const auto r = record(o);
+    ASSERT_EQ(r.steps.size(), 4U);
+    const auto& s1 = *r.lastAttempt(1);
+    const auto& s2 = *r.lastAttempt(2);
+    const auto& s3 = *r.lastAttempt(3);
+    const auto& s4 = *r.lastAttempt(4);
+    EXPECT_LE(s1.endedMs, std::min(s2.startedMs, s3.startedMs));
+    EXPECT_LT(s2.startedMs, s3.endedMs) << "the branches did not overlap";
+    EXPECT_LT(s3.startedMs, s2.endedMs) << "the branches did not overlap";
+    EXPECT_NE(s2.componentUri, s3.componentUri) << "two running steps on one component";
+    EXPECT_GE(s4.startedMs, std::max(s2.endedMs, s3.endedMs));
+}
+
+TEST_F(Orders, AProcessWithoutDependenciesRunsItsStepsInOrder) {
+    plug({"urn:test:robot1", "urn:test:robot2"}, 100ms);
+    start({process("urn:seq", 3)});
+    const auto o = submit("urn:seq");
+    EXPECT_TRUE(outcome(o).completed);
+    const auto r = record(o);
+    ASSERT_EQ(r.steps.size(), 3U);
+    EXPECT_LE(r.lastAttempt(1)->endedMs, r.lastAttempt(2)->startedMs);
+    EXPECT_LE(r.lastAttempt(2)->endedMs, r.lastAttempt(3)->startedMs);
+}
+
+TEST_F(Orders, AmongWaitingOrdersTheHigherPriorityGoesFirst) {
+    plug({"urn:test:robot"}, 300ms);
+    start({process("urn:p", 1)});
+    const auto first = submit("urn:p");
+    waitUntilBegun(first);
+    const auto low = submit("urn:p", 0);
+    const auto high = submit("urn:p", 10);
+    for (auto o : {first, low, high}) EXPECT_TRUE(outcome(o).completed);
+    EXPECT_LE(span(record(first)).second, span(record(high)).first);
+    EXPECT_LE(span(record(high)).second, span(record(low)).first)
+        << "the order of priority 10 waited for the one of priority 0";
+}
+
+TEST_F(Orders, ACancelledOrderIsHaltedAndNeverResumed) {
+    plug({"urn:test:robot"}, 20s);
+    start({process("urn:slow", 2)});
+    const auto o = submit("urn:slow");
+    const auto queued = submit("urn:slow");
+    waitUntilBegun(o);  // cancelled while its first step runs
+    const auto cancelled = mes_.run([&]() -> asio::awaitable<bool> {
+        co_return static_cast<bool>(executor_->stop(queued, true)) &&
+            static_cast<bool>(executor_->stop(o, true));
+    });
+    EXPECT_TRUE(cancelled);
+    const auto out = outcome(o);
+    EXPECT_FALSE(out.completed);
+    EXPECT_TRUE(out.cancelled);
+    EXPECT_EQ(record(o).state, RunState::Cancelled);
+    EXPECT_EQ(record(queued).state, RunState::Cancelled);
+    // Ended: a second cancel is refused; the process submitted again is a new order.
+    const bool again = mes_.run([&]() -> asio::awaitable<bool> {
+        co_return static_cast<bool>(executor_->stop(o, true));
+    });
+    EXPECT_FALSE(again);
+    const auto next = submit("urn:slow");
+    EXPECT_GT(next, queued);
+}
+
+TEST(ResourceClaims, AWaitThatWouldCloseACycleIsRefusedWithTheChain) {
+    ResourceClaims c;
+    EXPECT_TRUE(c.take(1, "urn:a"));
+    EXPECT_TRUE(c.take(2, "urn:b"));
+    EXPECT_FALSE(c.take(2, "urn:a"));
+    EXPECT_EQ(c.wait({1, 0}, {"urn:b"}), std::nullopt);
+    const auto deadlock = c.wait({2, 0}, {"urn:a"});
+    ASSERT_TRUE(deadlock);
+    EXPECT_EQ(*deadlock,
+              "order 2 waits for urn:a, held by order 1; order 1 waits for urn:b, held by order 2");
+    c.release(2);
+    EXPECT_TRUE(c.mayTake({1, 0}, "urn:b"));
+    EXPECT_EQ(c.heldBy(1), std::set<std::string>{"urn:a"});
+}
+
+TEST(ResourceClaims, AFreeComponentGoesToTheBestRankedOrderWaitingForIt) {
+    ResourceClaims c;
+    EXPECT_TRUE(c.take(1, "urn:a"));
+    EXPECT_EQ(c.wait({3, 0}, {"urn:a"}), std::nullopt);
+    EXPECT_EQ(c.wait({4, 5}, {"urn:a"}), std::nullopt);
+    c.release(1);
+    EXPECT_TRUE(c.mayTake({4, 5}, "urn:a"));
+    EXPECT_FALSE(c.mayTake({3, 0}, "urn:a")) << "order 4 has the higher priority";
+    EXPECT_FALSE(c.mayTake({2, 0}, "urn:a")) << "order 4 waits for it";
+    c.stopWaiting(4);
+    EXPECT_TRUE(c.mayTake({3, 0}, "urn:a"));
+    EXPECT_FALSE(c.mayTake({5, 0}, "urn:a")) << "the older order 3 waits for it";
+}
+
+}  // namespace skillcell::mes::orders_test
