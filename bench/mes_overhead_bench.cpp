@@ -4,13 +4,18 @@
 // journal on disk; the process description is given directly (the KB's query is a separate
 // cost, see skillcell_bench_kb_query).
 //
-//   skillcell_bench_mes_overhead [--steps N]
+//   skillcell_bench_mes_overhead [--steps N] [--orders K,K,...]
 //
 // In the same run, as the baseline: N invocations of the same skill through an attached
 // SkillClient (write, Start, Running and Ready events), what a step costs at the least. A
 // MES step adds choosing the instance, a session and attach per step, reading LastTransition,
 // two journal writes (fsync'd) and closing. Prints median and p99 of both, the difference
 // (the overhead) and the ratio.
+//
+// Then concurrent orders (default 1, 10 and 50 at once): K in-process servers, each with a
+// no-op Move, and K orders of a 10-step process submitted together. Each order holds the
+// component it runs on, so all K run at once, one per component. Prints the step time and the
+// overhead per step (median and p99, against the same baseline) and orders per second.
 #include <spdlog/spdlog.h>
 
 #include <charconv>
@@ -21,6 +26,7 @@
 #include <map>
 #include <random>
 #include <string_view>
+#include <vector>
 
 #include "client_thread.hpp"
 #include "kb/component_graph.hpp"
@@ -40,7 +46,7 @@ namespace fs = std::filesystem;
 constexpr const char* kMoveType =
     "http://skillcell.dev/UA/RoboticSkills/CartesianLinearMoveSkillType";
 
-bool parse(int argc, char** argv, std::size_t& steps) {
+bool parse(int argc, char** argv, std::size_t& steps, std::vector<std::size_t>& orders) {
     for (int i = 1; i < argc; ++i) {
         const std::string_view a = argv[i];
         if (a == "--steps" && i + 1 < argc) {
@@ -50,15 +56,32 @@ bool parse(int argc, char** argv, std::size_t& steps) {
                 continue;
             }
         }
-        std::cerr << "usage: skillcell_bench_mes_overhead [--steps N]\n";
+        if (a == "--orders" && i + 1 < argc) {
+            orders.clear();
+            std::string_view v = argv[++i];
+            bool ok = true;
+            while (ok && !v.empty()) {
+                const auto comma = v.find(',');
+                const std::string_view item = v.substr(0, comma);
+                std::size_t k = 0;
+                ok = std::from_chars(item.data(), item.data() + item.size(), k).ec == std::errc{} &&
+                     k > 0 && k <= 200;
+                orders.push_back(k);
+                v = comma == std::string_view::npos ? std::string_view() : v.substr(comma + 1);
+            }
+            if (ok) continue;
+        }
+        std::cerr << "usage: skillcell_bench_mes_overhead [--steps N] [--orders K,K,... (1..200 "
+                     "each)]\n";
         return false;
     }
     return true;
 }
 
-mes::ProcessDescription process(std::size_t steps) {
+mes::ProcessDescription process(std::size_t steps,
+                                std::string iri = "urn:skillcell:bench:process") {
     mes::ProcessDescription p;
-    p.iri = "urn:skillcell:bench:process";
+    p.iri = std::move(iri);
     for (std::size_t i = 1; i <= steps; ++i) {
         mes::ProcessStep s;
         s.iri = p.iri + "#step" + std::to_string(i);
@@ -70,11 +93,96 @@ mes::ProcessDescription process(std::size_t steps) {
     return p;
 }
 
+struct OrdersResult {
+    bench::LatencyStats steps;
+    double ordersPerSecond = 0;
+    std::size_t completed = 0;
+};
+
+// K orders of a `steps`-step process at once, on K components (in-process servers), through
+// one executor with a journal in `dir`.
+OrdersResult concurrentOrders(std::size_t k, std::size_t steps, const fs::path& dir) {
+    OrdersResult result;
+    std::vector<std::unique_ptr<skills::SkillServer>> skillServers(k);
+    std::vector<std::unique_ptr<test::RunningServer>> servers;
+    for (std::size_t i = 0; i < k; ++i) {
+        auto config = test::RunningServer::defaultConfig();
+        config.description.applicationUri = "urn:skillcell:bench:component" + std::to_string(i);
+        servers.push_back(std::make_unique<test::RunningServer>(
+            std::move(config), [&skillServers, i](ua::Server& s) {
+                skillServers[i] = skills::SkillServer::create(s, s.executor());
+                const auto type = skillServers[i]->findSkillType("CartesianLinearMoveSkillType");
+                (void)skillServers[i]->add(*type, "Move",
+                                           std::make_unique<skills::NoOpBehaviour>(s.executor()));
+            }));
+    }
+    auto journal = mes::Journal::open((dir / ("orders-" + std::to_string(k) + ".sqlite")).string());
+    if (!journal) return result;
+    test::ClientThread mesThread;
+    auto detector = skills::SkillDetector::create(mesThread.io().get_executor());
+    std::promise<void> detected;
+    mesThread.run([&]() -> asio::awaitable<int> {
+        // The count outside the listener: the detector calls copies of its listeners.
+        auto left = std::make_shared<std::size_t>(k);
+        detector->subscribe([&detected, left](const skills::SkillEvent& e) {
+            if (e.kind == skills::SkillEvent::Kind::Added && *left > 0 && --*left == 0) {
+                detected.set_value();
+            }
+        });
+        for (std::size_t i = 0; i < k; ++i) {
+            ua::ApplicationDescription app;
+            app.applicationUri = "urn:skillcell:bench:component" + std::to_string(i);
+            detector->appeared(app.applicationUri, app, servers[i]->url());
+        }
+        co_return 0;
+    });
+    if (detected.get_future().wait_for(30s) != std::future_status::ready) return result;
+    const auto description = process(steps, "urn:skillcell:bench:orders");
+    mes::ProcessReader reader =
+        [&description](std::string) -> asio::awaitable<kb::Expected<mes::ProcessDescription>> {
+        co_return description;
+    };
+    auto executor =
+        mes::ProcessExecutor::create(detector, **journal, mes::KnowledgeReaders{reader, {}});
+    std::map<std::pair<std::int64_t, int>, Clock::time_point> began;
+    bench::Samples stepTimes;
+    executor->onProgress = [&](const mes::Progress& p) {
+        const auto key = std::pair(p.run, p.step);
+        if (p.state == "choosing" && !began.contains(key)) began[key] = Clock::now();
+        if (p.state == "finished" && began.contains(key)) {
+            stepTimes.push_back(Clock::now() - began.at(key));
+        }
+    };
+    const auto t0 = Clock::now();
+    result.completed = mesThread.run([&]() -> asio::awaitable<std::size_t> {
+        std::vector<std::int64_t> ids;
+        for (std::size_t i = 0; i < k; ++i) {
+            auto s = executor->submit(description.iri);
+            if (s) ids.push_back(s->order);
+        }
+        std::size_t done = 0;
+        for (auto id : ids) done += (co_await executor->outcome(id)).completed ? 1 : 0;
+        detector->stop();
+        co_return done;
+    });
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    result.ordersPerSecond = static_cast<double>(result.completed) / seconds;
+    result.steps = bench::summarize(stepTimes);
+    for (std::size_t i = 0; i < k; ++i) {
+        servers[i]->inServer([&](ua::Server&) {
+            skillServers[i].reset();
+            return 0;
+        });
+    }
+    return result;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     std::size_t steps = 200;
-    if (!parse(argc, argv, steps)) return 2;
+    std::vector<std::size_t> orderCounts{1, 10, 50};
+    if (!parse(argc, argv, steps, orderCounts)) return 2;
     spdlog::set_level(spdlog::level::warn);
     std::random_device rd;
     const fs::path dir =
@@ -184,5 +292,21 @@ int main(int argc, char** argv) {
                 mesSteps.p99Us - base.p99Us, mesSteps.medianUs / base.medianUs);
     std::printf("\n  process %s, failed invocations %zu\n",
                 outcome.completed ? "completed" : ("stopped: " + outcome.reason).c_str(), failures);
-    return outcome.completed && failures == 0 && mesSteps.n == steps ? 0 : 1;
+
+    constexpr std::size_t kOrderSteps = 10;
+    std::printf("\nconcurrent orders (%zu steps each, one no-op component per order)\n\n",
+                kOrderSteps);
+    std::printf("  %7s  %12s  %12s  %14s  %14s  %10s\n", "orders", "step median", "step p99",
+                "overhead med.", "overhead p99", "orders/s");
+    bool allCompleted = true;
+    for (const std::size_t k : orderCounts) {
+        const auto r = concurrentOrders(k, kOrderSteps, dir);
+        allCompleted = allCompleted && r.completed == k;
+        std::printf("  %7zu  %9.1f us  %9.1f us  %11.1f us  %11.1f us  %10.1f%s\n", k,
+                    r.steps.medianUs, r.steps.p99Us, r.steps.medianUs - base.medianUs,
+                    r.steps.p99Us - base.medianUs, r.ordersPerSecond,
+                    r.completed == k ? "" : "  (not all completed)");
+    }
+    std::printf("\n  overhead = step time - the baseline invocation's median\n");
+    return outcome.completed && failures == 0 && mesSteps.n == steps && allCompleted ? 0 : 1;
 }

@@ -114,8 +114,8 @@ int runMes(MesOptions& o) {
     }
     if (auto open = (*journal)->unfinishedRuns(); open && !open->empty()) {
         for (const auto& r : *open) {
-            spdlog::warn("mes: order {} of {} is {}{}", r.id, r.processIri,
-                         mes::toString(r.state), r.reason.empty() ? "" : " (" + r.reason + ")");
+            spdlog::warn("mes: order {} of {} is {}{}", r.id, r.processIri, mes::toString(r.state),
+                         r.reason.empty() ? "" : " (" + r.reason + ")");
         }
     }
     auto lock = mes::JournalLock::open(journalPath.string());
@@ -129,9 +129,10 @@ int runMes(MesOptions& o) {
         return 1;
     }
     if (*attempt == mes::JournalLock::Attempt::Held) {
-        spdlog::warn("mes: another MES runs the orders of {}: this one stands by, and takes them "
-                     "over when that one ends",
-                     journalPath.string());
+        spdlog::warn(
+            "mes: another MES runs the orders of {}: this one stands by, and takes them "
+            "over when that one ends",
+            journalPath.string());
     }
     auto lockHolder = std::make_shared<mes::JournalLock>(std::move(*lock));
     spdlog::info("mes: journal {}, knowledge base {}", journalPath.string(), endpoint->urlText());

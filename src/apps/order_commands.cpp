@@ -58,6 +58,9 @@ std::string refusal(ua::StatusCode s, std::int64_t order) {
     if (s == ua::status::BadUserAccessDenied) {
         return "refused: the user lacks the role (submitting and cancelling need Operator)";
     }
+    if (s == ua::status::BadResourceUnavailable) {
+        return "the MES stands by: another MES runs the orders of its journal";
+    }
     if (s == ua::status::BadMethodInvalid || s == ua::status::BadNodeIdUnknown) {
         return "this server has no Objects/Orders: is it a skillcell MES?";
     }
@@ -137,8 +140,8 @@ asio::awaitable<int> follow(ua::Client& client, std::int64_t order, double timeo
                             ->monitorDataChange(progressNode, ua::AttributeId::Value, 0, 100,
                                                 std::nullopt, std::move(onProgress));
     auto stateItem = co_await (*subscription)
-                         ->monitorDataChange(stateNode, ua::AttributeId::Value, 0, 10,
-                                             std::nullopt, std::move(onState));
+                         ->monitorDataChange(stateNode, ua::AttributeId::Value, 0, 10, std::nullopt,
+                                             std::move(onState));
     if (!progressItem || !stateItem) {
         // Not running in this MES (ended long ago, or never): what the journal says.
         (void)co_await (*subscription)->remove();
@@ -152,8 +155,8 @@ asio::awaitable<int> follow(ua::Client& client, std::int64_t order, double timeo
         }
         (void)co_await (*subscription)->remove();
         if (!mes::hasEnded(*state)) {
-            std::cout << "PROGRESS no end after " << timeoutSeconds
-                      << " s: cancelling order " << order << std::endl;
+            std::cout << "PROGRESS no end after " << timeoutSeconds << " s: cancelling order "
+                      << order << std::endl;
             std::vector<ua::Variant> in{ua::Variant(order)};
             (void)co_await client.call(mes::ordersObject(), mes::orderMethod("CancelOrder"),
                                        std::move(in));
@@ -163,8 +166,7 @@ asio::awaitable<int> follow(ua::Client& client, std::int64_t order, double timeo
     }
     auto end = co_await getOrder(client, order);
     if (!end) {
-        std::cerr << "cannot read order " << order << ": " << refusal(end.status(), order)
-                  << "\n";
+        std::cerr << "cannot read order " << order << ": " << refusal(end.status(), order) << "\n";
         co_return 2;
     }
     if (end->state == "completed") {
@@ -185,8 +187,7 @@ asio::awaitable<int> runProcess(ua::Client& client, const OrderClientOptions& c,
         co_await client.call(mes::ordersObject(), mes::orderMethod("SubmitOrder"), std::move(in));
     if (!out || out->size() != 2 || (*out)[0].get<std::int64_t>() == nullptr) {
         std::cerr << "the MES refused the order: "
-                  << refusal(out ? ua::StatusCode(ua::status::BadUnexpectedError) : out.status(),
-                             0)
+                  << refusal(out ? ua::StatusCode(ua::status::BadUnexpectedError) : out.status(), 0)
                   << "\n";
         (void)co_await client.disconnect();
         co_return 2;
@@ -216,8 +217,7 @@ asio::awaitable<int> listOrders(ua::Client& client, const OrderClientOptions& c,
     (void)co_await client.disconnect();
     if (!out || out->size() != 5) {
         std::cerr << "cannot list the orders: "
-                  << refusal(out ? ua::StatusCode(ua::status::BadUnexpectedError) : out.status(),
-                             0)
+                  << refusal(out ? ua::StatusCode(ua::status::BadUnexpectedError) : out.status(), 0)
                   << "\n";
         co_return 2;
     }
@@ -232,9 +232,9 @@ asio::awaitable<int> listOrders(ua::Client& client, const OrderClientOptions& c,
     for (std::size_t i = 0; i < ids.size() && i < processes.size() && i < states.size() &&
                             i < priorities.size() && i < progress.size();
          ++i) {
-        std::cout << std::left << std::setw(7) << ids[i] << std::setw(11)
-                  << std::string(states[i]) << std::setw(5) << priorities[i] << std::setw(28)
-                  << shorten(processes[i]) << std::string(progress[i]) << "\n";
+        std::cout << std::left << std::setw(7) << ids[i] << std::setw(11) << std::string(states[i])
+                  << std::setw(5) << priorities[i] << std::setw(28) << shorten(processes[i])
+                  << std::string(progress[i]) << "\n";
     }
     if (ids.empty()) std::cout << "(no orders)\n";
     co_return 0;
@@ -325,16 +325,19 @@ Command addOrdersCommand(CLI::App& app) {
         ->capture_default_str();
     addOrderClientOptions(cmd, *c);
     auto* show = cmd->add_subcommand(
-        "show", "One order: its state, and every attempt at every step with the skill chosen, "
-                "when it ran, for how long, why the attempt was made and how it ended.");
+        "show",
+        "One order: its state, and every attempt at every step with the skill chosen, "
+        "when it ran, for how long, why the attempt was made and how it ended.");
     show->add_option("id", o->order, "the order")->required();
     auto* cancel = cmd->add_subcommand(
-        "cancel", "Cancel an order: a queued one never starts; a running one's skills are "
-                  "halted, and it is never resumed. Exit code 1 when it has ended already.");
+        "cancel",
+        "Cancel an order: a queued one never starts; a running one's skills are "
+        "halted, and it is never resumed. Exit code 1 when it has ended already.");
     cancel->add_option("id", o->order, "the order")->required();
     auto* wait = cmd->add_subcommand(
-        "wait", "Follow an order to its end as `run` does (an order resumed by a restarted "
-                "MES, one submitted with --no-wait).");
+        "wait",
+        "Follow an order to its end as `run` does (an order resumed by a restarted "
+        "MES, one submitted with --no-wait).");
     wait->add_option("id", o->order, "the order")->required();
     wait->add_option("--timeout", o->timeoutSeconds,
                      "seconds to wait for the end; then the order is cancelled")
@@ -342,13 +345,13 @@ Command addOrdersCommand(CLI::App& app) {
         ->capture_default_str();
     for (auto* sub : {show, cancel, wait}) addOrderClientOptions(sub, *c);
     return {cmd, [c, o, show, cancel, wait] {
-                return runClientCommand([c, o, show, cancel,
-                                         wait](ua::Client& client) -> asio::awaitable<int> {
-                    if (show->parsed()) return showOrder(client, *c, *o);
-                    if (cancel->parsed()) return cancelOrder(client, *c, *o);
-                    if (wait->parsed()) return waitOrder(client, *c, *o);
-                    return listOrders(client, *c, *o);
-                });
+                return runClientCommand(
+                    [c, o, show, cancel, wait](ua::Client& client) -> asio::awaitable<int> {
+                        if (show->parsed()) return showOrder(client, *c, *o);
+                        if (cancel->parsed()) return cancelOrder(client, *c, *o);
+                        if (wait->parsed()) return waitOrder(client, *c, *o);
+                        return listOrders(client, *c, *o);
+                    });
             }};
 }
 

@@ -76,8 +76,8 @@ CREATE TABLE IF NOT EXISTS steps (
 );
 )";
 
-// Journals written before steps had a note, or runs a priority, get the column (the MES and a reader such as the
-// dashboard may both try: the second finds it there).
+// Journals written before steps had a note, or runs a priority, get the column (the MES and a
+// reader such as the dashboard may both try: the second finds it there).
 bool hasColumn(sqlite3* db, const std::string& table, const std::string& column) {
     Statement s(db, "SELECT 1 FROM pragma_table_info('" + table + "') WHERE name = ?1");
     s.bind(1, column);
@@ -162,9 +162,9 @@ kb::Expected<std::unique_ptr<Journal>> Journal::open(const std::string& path) {
         if (hasColumn(db, a.table, a.column)) continue;
         auto s = journal->exec(a.sql);
         if (!s && !hasColumn(db, a.table, a.column)) {
-            return kb::Error{"cannot add the column " + std::string(a.column) + " to " + path +
-                                 ": " + s.error(),
-                             kb::ErrorKind::BadInput};
+            return kb::Error{
+                "cannot add the column " + std::string(a.column) + " to " + path + ": " + s.error(),
+                kb::ErrorKind::BadInput};
         }
     }
     return journal;

@@ -14,8 +14,7 @@ kb::Expected<JournalLock> JournalLock::open(const std::string& journalPath) {
     const std::string path = journalPath + ".lock";
     const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
     if (fd < 0) {
-        return kb::badInput("cannot open the journal's lock " + path + ": " +
-                            std::strerror(errno));
+        return kb::badInput("cannot open the journal's lock " + path + ": " + std::strerror(errno));
     }
     return JournalLock(fd, path);
 }

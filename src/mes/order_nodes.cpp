@@ -113,8 +113,9 @@ ua::Result<std::unique_ptr<OrderNodes>> OrderNodes::create(
     if (!submit) return submit.status();
     auto cancel = as.addMethod(
         ordersObject(), orderMethod("CancelOrder"), "CancelOrder",
-        {argument("OrderId", Int64, "the order: its running skills are halted, and it is never "
-                                    "resumed")},
+        {argument("OrderId", Int64,
+                  "the order: its running skills are halted, and it is never "
+                  "resumed")},
         {},
         [executor, &journal](const ua::Caller&, const ua::NodeId&, std::span<const ua::Variant> in,
                              std::vector<ua::Variant>&) -> ua::StatusCode {
@@ -124,7 +125,7 @@ ua::Result<std::unique_ptr<OrderNodes>> OrderNodes::create(
             if (auto s = executor->stop(*id, /*cancel=*/true); !s) {
                 spdlog::warn("mes: CancelOrder {}: {}", *id, s.error());
                 return s.failure().kind == ErrorKind::BadInput ? ua::status::BadInvalidState
-                                                                : ua::status::BadInternalError;
+                                                               : ua::status::BadInternalError;
             }
             return ua::status::Good;
         });

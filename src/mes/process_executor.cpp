@@ -244,8 +244,8 @@ kb::Status ProcessExecutor::stop(std::int64_t id, bool cancel) {
                             toString(state) + ")");
     }
     if (!cancel) {
-        return kb::badInput("order " + std::to_string(id) + " is not running (" +
-                            toString(state) + ")");
+        return kb::badInput("order " + std::to_string(id) + " is not running (" + toString(state) +
+                            ")");
     }
     // Queued or Stopped here (or Running in a journal no MES runs now): never resumed.
     spdlog::info("mes: order {} cancelled (it was {})", id, toString(state));
@@ -404,8 +404,9 @@ asio::awaitable<std::string> ProcessExecutor::runSteps(std::shared_ptr<Order> or
         for (const auto& d : steps[i].dependsOn) {
             const auto it = std::find_if(steps.begin(), steps.end(),
                                          [&](const ProcessStep& s) { return s.iri == d; });
-            if (it == steps.end()) co_return steps[i].label() + ": depends on <" + d +
-                                               ">, which is not a step of the process";
+            if (it == steps.end())
+                co_return steps[i].label() + ": depends on <" + d +
+                    ">, which is not a step of the process";
             prerequisites[i].push_back(static_cast<std::size_t>(it - steps.begin()));
         }
     }
@@ -479,16 +480,16 @@ asio::awaitable<std::string> ProcessExecutor::runSteps(std::shared_ptr<Order> or
                 sp.step = steps[i].index;
                 sp.steps = static_cast<int>(n);
                 sp.skillType = shortName(steps[i].skillTypeIri);
-                asio::co_spawn(
-                    detector_->executor(),
-                    runStep(order, steps[i], board->attempt[i], std::move(sp)),
-                    [board, i](const std::exception_ptr& e, StepResult r) {
-                        if (e) r = StepResult{false, "the step failed inside the MES"};
-                        board->state[i] = r.ok ? State::Done : State::Failed;
-                        if (!r.ok && board->stopReason.empty()) board->stopReason = r.reason;
-                        --board->running;
-                        board->wake->cancel();
-                    });
+                asio::co_spawn(detector_->executor(),
+                               runStep(order, steps[i], board->attempt[i], std::move(sp)),
+                               [board, i](const std::exception_ptr& e, StepResult r) {
+                                   if (e) r = StepResult{false, "the step failed inside the MES"};
+                                   board->state[i] = r.ok ? State::Done : State::Failed;
+                                   if (!r.ok && board->stopReason.empty())
+                                       board->stopReason = r.reason;
+                                   --board->running;
+                                   board->wake->cancel();
+                               });
             }
         }
         if (board->running == 0) break;
@@ -635,8 +636,7 @@ std::set<std::string> ProcessExecutor::componentsOf(const Choice& c) {
     return out;
 }
 
-bool ProcessExecutor::available(const Order& order,
-                                const std::set<std::string>& components) const {
+bool ProcessExecutor::available(const Order& order, const std::set<std::string>& components) const {
     return std::all_of(components.begin(), components.end(), [&](const std::string& c) {
         return !order.busy.contains(c) && claims_.mayTake(order.rank(), c);
     });
@@ -694,8 +694,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                     if (order->busy.contains(component)) {
                         holders += (holders.empty() ? "" : ", ") + component +
                                    " (another step of this order uses it)";
-                    } else if (const auto h = claims_.holder(component);
-                               h && *h != order->id) {
+                    } else if (const auto h = claims_.holder(component); h && *h != order->id) {
                         holders += (holders.empty() ? "" : ", ") + component + " (order " +
                                    std::to_string(*h) + " holds it)";
                     }
@@ -711,8 +710,8 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             if (!claimDeadline) claimDeadline = Clock::now() + options_.claimWait;
             if (Clock::now() >= *claimDeadline) {
                 Choice none;
-                none.unmet = "waited " + std::to_string(options_.claimWait.count()) +
-                             " ms for " + (holders.empty() ? "a better-ranked order" : holders);
+                none.unmet = "waited " + std::to_string(options_.claimWait.count()) + " ms for " +
+                             (holders.empty() ? "a better-ranked order" : holders);
                 co_return none;
             }
             p.state = "waiting";
@@ -723,8 +722,8 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                 shown = p.message;
                 report(*order, p);
             }
-            auto timer = std::make_shared<asio::steady_timer>(detector_->executor(),
-                                                              *claimDeadline);
+            auto timer =
+                std::make_shared<asio::steady_timer>(detector_->executor(), *claimDeadline);
             claimWaits_.push_back(timer);
             co_await sleep(*order, timer);
             continue;
@@ -800,8 +799,9 @@ std::string ProcessExecutor::noSkillReason(const ProcessStep& step,
     return text;
 }
 
-asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(
-    std::shared_ptr<Order> order, const ProcessStep& step, int attempt, Progress p) {
+asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::shared_ptr<Order> order,
+                                                                      const ProcessStep& step,
+                                                                      int attempt, Progress p) {
     auto self = shared_from_this();
     const std::int64_t run = order->id;
     std::set<SkillKey> tried;

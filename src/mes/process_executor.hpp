@@ -219,8 +219,7 @@ private:
     [[nodiscard]] static std::set<std::string> componentsOf(const Choice& c);
     /// Whether `order` may use every component of `components` now (held by no other order,
     /// used by none of its own running steps, wanted by no better-ranked waiting order).
-    [[nodiscard]] bool available(const Order& order,
-                                 const std::set<std::string>& components) const;
+    [[nodiscard]] bool available(const Order& order, const std::set<std::string>& components) const;
     /// Sleeps until `timer` expires or is cancelled; halt() and the events that may change
     /// the outcome of a wait cancel it.
     asio::awaitable<void> sleep(Order& order, std::shared_ptr<asio::steady_timer> timer);

@@ -70,9 +70,8 @@ std::optional<std::string> ResourceClaims::wait(const OrderRank& who,
         for (const auto& c : wanted) {
             if (holder(c) == path[i + 1]) what += (what.empty() ? "" : " or ") + c;
         }
-        chain += (chain.empty() ? "" : "; ") + std::string("order ") +
-                 std::to_string(path[i]) + " waits for " + what + ", held by order " +
-                 std::to_string(path[i + 1]);
+        chain += (chain.empty() ? "" : "; ") + std::string("order ") + std::to_string(path[i]) +
+                 " waits for " + what + ", held by order " + std::to_string(path[i + 1]);
     }
     waiting_.erase(who.order);
     return chain;

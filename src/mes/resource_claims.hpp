@@ -46,8 +46,8 @@ public:
     [[nodiscard]] std::set<std::string> heldBy(std::int64_t order) const;
 
     /// `who` waits for any one of `components`. Returns the chain of a deadlock this wait
-    /// would close ("order 3 waits for urn:b, held by order 4; order 4 waits for urn:a, held by order 3"): then
-    /// `who` is not registered as waiting.
+    /// would close ("order 3 waits for urn:b, held by order 4; order 4 waits for urn:a, held by
+    /// order 3"): then `who` is not registered as waiting.
     [[nodiscard]] std::optional<std::string> wait(const OrderRank& who,
                                                   std::set<std::string> components);
     void stopWaiting(std::int64_t order);

@@ -112,7 +112,8 @@ StatusCode AddressSpace::removeNode(const NodeId& id) {
     for (const auto& r : it->second.references) {
         Node* other = r.target == id ? nullptr : find(r.target);
         if (other == nullptr) continue;
-        std::erase_if(other->references, [&id](const Reference& back) { return back.target == id; });
+        std::erase_if(other->references,
+                      [&id](const Reference& back) { return back.target == id; });
     }
     nodes_.erase(it);
     return status::Good;

@@ -80,11 +80,13 @@ class Orders : public testing::Test {
 protected:
     /// Components, each with a no-op Move of `duration`, found by the MES's detector.
     void plug(const std::vector<std::string>& uris, std::chrono::milliseconds duration) {
-        for (const auto& uri : uris) components_.push_back(std::make_unique<NoOpComponent>(uri, duration));
+        for (const auto& uri : uris)
+            components_.push_back(std::make_unique<NoOpComponent>(uri, duration));
         std::promise<void> all;
         auto wanted = std::make_shared<std::size_t>(uris.size());
         mes_.run([&]() -> asio::awaitable<int> {
-            const std::size_t id = detector_->subscribe([&all, wanted](const skills::SkillEvent& e) {
+            const std::size_t id = detector_->subscribe([&all,
+                                                         wanted](const skills::SkillEvent& e) {
                 if (e.kind == skills::SkillEvent::Kind::Added && *wanted > 0 && --*wanted == 0) {
                     all.set_value();
                 }
@@ -109,8 +111,8 @@ protected:
         };
         ExecutorOptions options;
         options.skillWait = 2s;
-        executor_ = ProcessExecutor::create(detector_, *journal_, KnowledgeReaders{reader, {}},
-                                            options);
+        executor_ =
+            ProcessExecutor::create(detector_, *journal_, KnowledgeReaders{reader, {}}, options);
     }
     std::int64_t submit(const std::string& iri, int priority = 0) {
         return mes_.run([&]() -> asio::awaitable<std::int64_t> {
@@ -188,7 +190,8 @@ TEST_F(Orders, TwoOrdersThatNeedTheOneComponentRunOneAfterTheOtherNeverInterleav
     ASSERT_EQ(rb.steps.size(), 3U);
     // All of one order's steps, then all of the other's: a robot holding a part for one
     // order never serves another in between.
-    EXPECT_LE(span(ra).second, span(rb).first) << "order " << b << " began before " << a << " ended";
+    EXPECT_LE(span(ra).second, span(rb).first)
+        << "order " << b << " began before " << a << " ended";
 }
 
 TEST_F(Orders, OrdersOnDifferentComponentsRunAtTheSameTime) {
@@ -268,9 +271,8 @@ TEST_F(Orders, ACancelledOrderIsHaltedAndNeverResumed) {
     EXPECT_EQ(record(o).state, RunState::Cancelled);
     EXPECT_EQ(record(queued).state, RunState::Cancelled);
     // Ended: a second cancel is refused; the process submitted again is a new order.
-    const bool again = mes_.run([&]() -> asio::awaitable<bool> {
-        co_return static_cast<bool>(executor_->stop(o, true));
-    });
+    const bool again = mes_.run(
+        [&]() -> asio::awaitable<bool> { co_return static_cast<bool>(executor_->stop(o, true)); });
     EXPECT_FALSE(again);
     const auto next = submit("urn:slow");
     EXPECT_GT(next, queued);
