@@ -124,7 +124,8 @@ protected:
         kb_ = std::make_unique<test::ComponentProcess>(
             SKILLCELL_BINARY,
             withFastMdns({"kb", "--demo-process", "--process", kRefusedProcesses, "--process",
-                          kRetriedProcesses, "--http-port", "0", "--data-dir", dir_ / "kb"}),
+                          kRetriedProcesses, "--process", kOrderProcesses, "--http-port", "0",
+                          "--data-dir", dir_ / "kb"}),
             true);
         ASSERT_FALSE(kb_->url().empty()) << "the KB did not start";
         kbUrl_ = sparqlUrl(*kb_);
@@ -376,9 +377,7 @@ TEST_F(MesCell, AHaltedStepRunsAgainOnlyAsItsProcessSaysAndEveryResetIsJournaled
     EXPECT_NE(second.note.find("; the skill was reset"), std::string::npos) << second.note;
 }
 
-// DISABLED: the KB does not list tests/data/mes/orders.ttl within 30 s (cause not found
-// yet; `process check --cell examples/cells/paper.toml` finds the file clean). Issue 23.
-TEST_F(MesCell, DISABLED_AKilledMesResumesEachOfItsOrdersRunningNoStepTwice) {
+TEST_F(MesCell, AKilledMesResumesEachOfItsOrdersRunningNoStepTwice) {
     // Three components, each serving one order at a time: three orders run at once.
     std::vector<std::unique_ptr<test::ComponentProcess>> servers;
     for (int i = 1; i <= 3; ++i) {
