@@ -31,6 +31,7 @@ BASE_OBJECT_TYPE, FOLDER_TYPE, OBJECTS_FOLDER = "i=58", "i=61", "i=85"
 BASE_DATA_VARIABLE, PROPERTY_TYPE, BASE_ANALOG = "i=63", "i=68", "i=15318"
 PROGRAM_STATE_MACHINE, PROGRAM_TRANSITION_EVENT = "i=2391", "i=2378"
 DOUBLE, STRING, INT32, LOCALIZED_TEXT, ENUMERATION = "i=11", "i=12", "i=6", "i=21", "i=29"
+BOOLEAN, UINT64, ARGUMENT, ARGUMENT_XML = "i=1", "i=9", "i=296", "i=297"
 EU_INFORMATION, RANGE = "i=887", "i=884"
 EU_XML, RANGE_XML = "i=888", "i=885"
 FRAME_DT, FRAME_VT, FRAME_XML = "i=18814", "i=18791", "i=18859"
@@ -192,6 +193,40 @@ class Model:
             attrs += f' AccessLevel="{access}" UserAccessLevel="{access}"'
         bn = name if bn_ns0 else self.qn(name, name_uri)
         self._node("UAVariable", nid, bn, name, attrs, refs, desc, value)
+        return nid
+
+    def method(self, sym: str, name: str, parent: str, rule: str, desc: str,
+               inputs: list[tuple[str, str, str]], outputs: list[tuple[str, str, str]]) -> str:
+        """A method with its InputArguments/OutputArguments properties; each argument is
+        (name, data type, description)."""
+        nid = self.new_id(sym, "inst")
+        self.instances.append((parent, f"`{name}()` (method): {desc}"))
+        parent_id = self.nid(parent)
+        self._node("UAMethod", nid, self.qn(name), name, f' ParentNodeId="{parent_id}"',
+                   [(HAS_RULE, rule, True), (HAS_COMPONENT, parent_id, False)], desc)
+        for prop_name, args in (("InputArguments", inputs), ("OutputArguments", outputs)):
+            if not args:
+                continue
+            body = ["<Value>", "      <uax:ListOfExtensionObject>"]
+            for arg_name, datatype, arg_desc in args:
+                body += ["        <uax:ExtensionObject>",
+                         f"          <uax:TypeId><uax:Identifier>{ARGUMENT_XML}</uax:Identifier>"
+                         "</uax:TypeId>",
+                         "          <uax:Body>",
+                         "            <uax:Argument>",
+                         f"              <uax:Name>{escape(arg_name)}</uax:Name>",
+                         f"              <uax:DataType><uax:Identifier>{datatype}</uax:Identifier>"
+                         "</uax:DataType>",
+                         "              <uax:ValueRank>-1</uax:ValueRank>",
+                         "              <uax:ArrayDimensions />",
+                         f"              <uax:Description><uax:Text>{escape(arg_desc)}</uax:Text>"
+                         "</uax:Description>",
+                         "            </uax:Argument>",
+                         "          </uax:Body>",
+                         "        </uax:ExtensionObject>"]
+            body += ["      </uax:ListOfExtensionObject>", "    </Value>"]
+            self.var(f"{sym}.{prop_name}", prop_name, sym, ARGUMENT, PROPERTY_TYPE, MANDATORY,
+                     HAS_PROPERTY, "\n".join(body), rank=1, bn_ns0=True)
         return nid
 
     def prop(self, sym: str, name: str, parent: str, datatype: str, value: str,
@@ -393,6 +428,31 @@ def build() -> None:
     sk.obj("SkillType.ParameterSet", "ParameterSet", "SkillType", BASE_OBJECT_TYPE, MANDATORY,
            desc="The skill's parameters, written before Start.", name_uri=MODELS["DI"].uri)
     sk.params["SkillType"] = []
+    # Reservation with fencing (docs/skills.md, "Reservation").
+    sk.object_type("ReservationType", "ReservationType", BASE_OBJECT_TYPE, False,
+                   "Who may drive the component's skills: while a holder has reserved it, "
+                   "parameter writes and the skills' methods are accepted only from sessions "
+                   "that present its current fencing token (Reserve or Use); every grant issues "
+                   "a greater token, so a holder that lost the reservation is refused.")
+    sk.var("ReservationType.Holder", "Holder", "ReservationType", STRING, BASE_DATA_VARIABLE,
+           MANDATORY, desc="Who holds the reservation; empty when the component is free.")
+    sk.var("ReservationType.FencingToken", "FencingToken", "ReservationType", UINT64,
+           BASE_DATA_VARIABLE, MANDATORY,
+           desc="The current token; 0 when free. Tokens only grow, across restarts too.")
+    sk.method("ReservationType.Reserve", "Reserve", "ReservationType", MANDATORY,
+              "Reserve the component for Holder, or take it over (Takeover) from another "
+              "holder; grants a new token and binds the calling session to it. "
+              "Bad_ResourceUnavailable while another holder has it and Takeover is false.",
+              [("Holder", STRING, "who reserves (an MES and its order)"),
+               ("Takeover", BOOLEAN, "take it from another holder (a failover)")],
+              [("FencingToken", UINT64, "the token writes and methods are held to")])
+    sk.method("ReservationType.Use", "Use", "ReservationType", MANDATORY,
+              "Bind the calling session to the current token. Bad_InvalidArgument for a "
+              "token that is not the current one (a stale holder).",
+              [("FencingToken", UINT64, "the token Reserve granted")], [])
+    sk.method("ReservationType.Release", "Release", "ReservationType", MANDATORY,
+              "Free the component. Bad_InvalidArgument for a token that is not the current one.",
+              [("FencingToken", UINT64, "the token Reserve granted")], [])
 
     # --- Robotic skills ----------------------------------------------------------------
     rs = add("RoboticSkills", "Robotic skills (move skills)", ["DI", "Skills"])

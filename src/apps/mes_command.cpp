@@ -36,6 +36,7 @@ struct MesOptions {
     ServerProcessOptions process;
     std::string kbUrl = "https://localhost:8870/sparql";
     std::string journal;
+    std::string journalPath;  // the journal used: --journal, else the default
     int skillWaitMs = 10'000;
     int stepTimeoutMs = 300'000;
 };
@@ -105,6 +106,7 @@ int runMes(MesOptions& o) {
         return 2;
     }
     const fs::path journalPath = o.journal.empty() ? defaultJournal() : fs::path(o.journal);
+    o.journalPath = journalPath.string();
     std::error_code ec;
     if (journalPath.has_parent_path()) fs::create_directories(journalPath.parent_path(), ec);
     auto journal = mes::Journal::open(journalPath.string());
@@ -154,6 +156,11 @@ int runMes(MesOptions& o) {
             options.skillWait = std::chrono::milliseconds(o.skillWaitMs);
             options.stepTimeout = std::chrono::milliseconds(o.stepTimeoutMs);
             options.client.applicationUri = c.applicationUri;
+            // The reservations' holder: this MES's journal (a standby on it is the same).
+            std::error_code canonicalError;
+            const auto journalFile = fs::weakly_canonical(o.journalPath, canonicalError);
+            options.holder =
+                c.applicationUri + " " + (canonicalError ? o.journalPath : journalFile.string());
             options.client.sessionName = "skillcell mes";
             options.client.security = c.clientSecurity;
             // The KB's HTTP client blocks: its requests run on a thread of their own, and

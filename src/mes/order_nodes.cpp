@@ -73,8 +73,9 @@ ua::NodeId orderVariable(std::int64_t order, const char* name) {
 }
 
 bool hasEnded(const std::string& state) {
+    // "refused": stopped before any motion, as the MES's progress says.
     return state == toString(RunState::Completed) || state == toString(RunState::Stopped) ||
-           state == toString(RunState::Cancelled);
+           state == toString(RunState::Cancelled) || state == "refused";
 }
 
 ua::Result<std::unique_ptr<OrderNodes>> OrderNodes::create(

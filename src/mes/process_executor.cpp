@@ -12,6 +12,7 @@
 
 #include "devices/common/blocking_call.hpp"
 #include "mes/feasibility.hpp"
+#include "skills/reservation_client.hpp"
 #include "skills/skill_connection.hpp"
 
 namespace skillcell::mes {
@@ -298,6 +299,7 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::runOrder(std::shared_ptr<Order>
     Progress p = order->progress;
     const std::string& processIri = order->processIri;
     std::string stopReason;
+    bool refused = false;  // before any motion: the cell cannot run the process
     std::optional<ProcessDescription> description;
     p.state = "reading";
     p.message = "asking the knowledge base for the process";
@@ -316,6 +318,7 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::runOrder(std::shared_ptr<Order>
                 stopReason += (i == 0 ? "" : "; ") + lacking[i];
             }
             spdlog::warn("mes: order {} refused: {}", order->id, stopReason);
+            refused = true;
         }
     }
     // What the journal holds of this order: steps done in an earlier life of the MES.
@@ -379,7 +382,7 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::runOrder(std::shared_ptr<Order>
         out.reason += " (and the journal failed: " + s.error() + ")";
     }
     spdlog::warn("mes: order {} {}: {}", order->id, toString(end), out.reason);
-    p.state = toString(end);
+    p.state = refused && !order->cancelled ? "refused" : toString(end);
     p.message = out.reason;
     report(*order, p);
     co_return out;
@@ -522,6 +525,14 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
         co_return std::pair(Settled::Failed, "cannot tell whether the skill " + r.skillNodeId +
                                                  " of " + r.componentUri + " ran: " + why);
     }
+    auto reserved = co_await reserve(**conn, *order);
+    if (!reserved) {
+        co_await (*conn)->close();
+        co_return std::pair(Settled::Failed, "cannot tell whether the skill " + r.skillNodeId +
+                                                 " of " + r.componentUri +
+                                                 " ran: " + reserved.error());
+    }
+    const std::optional<std::uint64_t> token = *reserved;
     auto& skill = (*conn)->skill();
     auto time = co_await (*conn)->lastTransitionTime();
     std::pair<Settled, std::string> result{Settled::Failed, {}};
@@ -551,7 +562,7 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
                         std::string(state ? skills::name(*state) : std::string_view("unknown")) +
                         ": it failed while the MES was not running";
     }
-    co_await (*conn)->close();
+    co_await hangUp(**conn, token);
     if (order->halted && result.first != Settled::Finished) {
         result = {Settled::Failed, "halted"};
     }
@@ -760,6 +771,31 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
     }
 }
 
+asio::awaitable<void> ProcessExecutor::hangUp(skills::SkillConnection& connection,
+                                              std::optional<std::uint64_t> token) {
+    auto self = shared_from_this();
+    if (token) {
+        if (const auto s = co_await skills::release(connection.client(), *token); s.isBad()) {
+            // Taken over meanwhile (a failover): the new holder's now.
+            spdlog::warn("mes: releasing the reservation: {}", ua::statusName(s));
+        }
+    }
+    co_await connection.close();
+}
+
+asio::awaitable<kb::Expected<std::optional<std::uint64_t>>> ProcessExecutor::reserve(
+    skills::SkillConnection& connection, const Order& order) {
+    auto self = shared_from_this();
+    const std::string holder = options_.holder + " order " + std::to_string(order.id);
+    auto token = co_await skills::reserve(connection.client(), holder, /*takeover=*/false);
+    if (token) co_return std::optional<std::uint64_t>(*token);
+    if (skills::noReservation(token.status())) co_return std::optional<std::uint64_t>();
+    const std::string other = co_await skills::reservationHolder(connection.client());
+    co_return kb::Error{"reserved by " + (other.empty() ? std::string("another holder") : other) +
+                            " (" + std::string(ua::statusName(token.status())) + ")",
+                        kb::ErrorKind::Unavailable};
+}
+
 asio::awaitable<bool> ProcessExecutor::componentGone(std::shared_ptr<Order> order,
                                                      std::string componentUri) {
     auto self = shared_from_this();
@@ -859,6 +895,19 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
             report(*order, p);
             continue;
         }
+        // The component is this order's while the step runs: a second MES, or this one's
+        // stale self after a failover, cannot drive it (docs/skills.md, "Reservation").
+        auto reserved = co_await reserve(**conn, *order);
+        if (!reserved) {
+            tried.insert(keyOf(skill));
+            lastFailure = where(skill) + ": " + reserved.error();
+            p.state = "reserved";
+            p.message = reserved.error();
+            report(*order, p);
+            co_await (*conn)->close();
+            continue;
+        }
+        const std::optional<std::uint64_t> token = *reserved;
         skills::SkillClient& client = (*conn)->skill();
         // A Halted skill runs again only after a Reset, which the journal records with the
         // attempt it precedes: a retry's, or that of a skill an earlier fault left Halted.
@@ -868,7 +917,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
                 tried.insert(keyOf(skill));
                 lastFailure = where(skill) + ": Halted, and its Reset was refused (" +
                               std::string(ua::statusName(reset)) + ")";
-                co_await (*conn)->close();
+                co_await hangUp(**conn, token);
                 continue;
             }
             const std::string what =
@@ -883,7 +932,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
             tried.insert(keyOf(skill));
             lastFailure = where(skill) + ": cannot read its LastTransition: " +
                           std::string(ua::statusName(before.status()));
-            co_await (*conn)->close();
+            co_await hangUp(**conn, token);
             continue;
         }
         StepRecord r;
@@ -899,7 +948,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.startedMs = unixMillis();
         r.note = note;
         if (auto s = co_await record(run, r); !s) {
-            co_await (*conn)->close();
+            co_await hangUp(**conn, token);
             co_return StepResult{false, s.error()};
         }
         p.state = "running";
@@ -917,7 +966,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.state = outcome.ok() ? StepState::Finished : StepState::Failed;
         r.reason = outcome.ok() ? std::string() : describe(outcome);
         const auto recorded = co_await record(run, r);
-        co_await (*conn)->close();
+        co_await hangUp(**conn, token);
         if (!recorded) co_return StepResult{false, recorded.error()};
         if (outcome.ok()) {
             p.state = "finished";

@@ -55,6 +55,7 @@
 #include "mes/skill_facts.hpp"
 #include "mes/step_binding.hpp"
 #include "skills/skill_client.hpp"
+#include "skills/skill_connection.hpp"
 #include "skills/skill_detector.hpp"
 #include "ua/client/client.hpp"
 
@@ -75,6 +76,9 @@ struct ExecutorOptions {
     std::chrono::milliseconds goneConfirmation{5'000};
     /// How long an order waits for a component another order holds before it stops.
     std::chrono::milliseconds claimWait{3'600'000};
+    /// Who reserves components (skills/reservation.hpp), followed by " order <id>": one MES
+    /// and its journal (a standby on the same journal is the same holder).
+    std::string holder = "urn:skillcell:mes";
 };
 
 /// What the executor is doing, for progress displays and the MES's status variables.
@@ -225,6 +229,13 @@ private:
     asio::awaitable<void> sleep(Order& order, std::shared_ptr<asio::steady_timer> timer);
     /// Wakes every order waiting for a component.
     void componentsFreed();
+    /// Releases the component's reservation (when `token` holds one), then closes.
+    asio::awaitable<void> hangUp(skills::SkillConnection& connection,
+                                 std::optional<std::uint64_t> token);
+    /// Reserves the component `connection` reaches for `order`: the token, nothing when the
+    /// component has no reservation, or why it cannot be had (another holder has it).
+    asio::awaitable<kb::Expected<std::optional<std::uint64_t>>> reserve(
+        skills::SkillConnection& connection, const Order& order);
     /// Whether the detector no longer lists `componentUri`, waiting up to goneConfirmation.
     asio::awaitable<bool> componentGone(std::shared_ptr<Order> order, std::string componentUri);
     [[nodiscard]] std::string noSkillReason(const ProcessStep& step,

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <asio/post.hpp>
 
+#include "skills/reservation.hpp"
 #include "ua/address_space/instantiate.hpp"
 #include "ua/address_space/ns0_ids.hpp"
 #include "ua/nodeset/companion_models.hpp"
@@ -138,6 +139,7 @@ ua::StatusCode Skill::build(const SkillConfig& config) {
                               QualifiedName{config.parent.namespaceIndex(), config.name}, options);
     if (!id) return id.status();
     nodeId_ = *id;
+    reservation_ = config.reservation;
     type_ = config.type;
     name_ = config.name;
     eventType_ = *eventType;
@@ -197,6 +199,7 @@ void Skill::installParameterChecks() {
 }
 
 bool Skill::reservedAgainst(const ua::Caller& caller) const {
+    if (reservation_ && !reservation_->permits(caller)) return true;
     const SkillState s = state_.load();
     if (s != SkillState::Running && s != SkillState::Suspended) return false;
     // Application code (no session) acts for the component itself; a reservation whose
@@ -227,6 +230,11 @@ ua::StatusCode Skill::invoke(SkillMethod method, const ua::Caller& caller) {
     const SkillState current = state_.load();
     const auto transition = transitionFor(method, current);
     if (!transition) return ua::status::BadInvalidState;
+    if (reservation_ && !reservation_->permits(caller)) {
+        spdlog::info("skill {}: {} refused: reserved by {}", name_, skills::name(method),
+                     reservation_->holder());
+        return ua::status::BadUserAccessDenied;
+    }
     if (method != SkillMethod::Start && reservedAgainst(caller)) {
         return ua::status::BadUserAccessDenied;
     }

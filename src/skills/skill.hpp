@@ -37,6 +37,9 @@ struct SkillConfig {
     std::string name;   // browse name, in the parent's namespace
     ua::NodeId nodeId;  // null: derived from the parent's id and the name
     SkillState initialState = SkillState::Ready;
+    /// The component's reservation (reservation.hpp): while someone holds it, only its
+    /// sessions may write parameters or call methods. Null: no reservation.
+    std::shared_ptr<const class Reservation> reservation;
 };
 
 class Skill : public std::enable_shared_from_this<Skill> {
@@ -84,7 +87,8 @@ private:
     void installParameterChecks();
     /// The run `runId` reported its end (io_context thread).
     void runEnded(std::uint64_t runId, bool success, std::string reason);
-    /// True when `caller` may not act on a reserved skill: another live session holds it.
+    /// True when `caller` may not act on the skill: another live session holds its run, or
+    /// the component's reservation is not `caller`'s.
     [[nodiscard]] bool reservedAgainst(const ua::Caller& caller) const;
     [[nodiscard]] ua::StatusCode fixParameters(SkillParameters& out) const;
     void enter(SkillTransition transition, const std::string& reason = {});
@@ -100,6 +104,7 @@ private:
     std::vector<ParameterDeclaration> parameters_;
     std::atomic<SkillState> state_{SkillState::Ready};
     ua::NodeId owner_;  // the session holding the current run; null when none
+    std::shared_ptr<const Reservation> reservation_;
     std::uint64_t runId_ = 0;
     bool runActive_ = false;
 };

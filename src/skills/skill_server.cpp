@@ -26,6 +26,16 @@ std::unique_ptr<SkillServer> SkillServer::create(ua::Server& server, asio::any_i
         }
     }
     skills->folder_ = folder;
+    // One reservation per server: a second SkillServer on it (tests) goes without.
+    if (as.find(reservationNode()) != nullptr) return skills;
+    auto reservation = Reservation::create(server);
+    if (!reservation) {
+        if (error != nullptr)
+            *error = "cannot add Objects/Reservation: " +
+                     std::string(ua::statusName(reservation.status()));
+        return nullptr;
+    }
+    skills->reservation_ = *reservation;
     return skills;
 }
 
@@ -34,6 +44,7 @@ ua::Result<std::shared_ptr<Skill>> SkillServer::add(const ua::NodeId& type, std:
                                                     SkillState initialState) {
     SkillConfig config(type, folder_, std::move(name));
     config.initialState = initialState;
+    config.reservation = reservation_;
     auto skill = Skill::create(server_, executor_, config, std::move(behaviour));
     if (!skill) return skill.status();
     skills_.push_back(*skill);

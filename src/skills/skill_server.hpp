@@ -1,14 +1,15 @@
 #pragma once
 // SkillServer: the skills of one component, served by its ua::Server. It loads the
 // companion models the skill types come from, keeps a "Skills" folder under Objects, and
-// creates each skill there from a type and a behaviour. A device adapter is a SkillServer
-// plus one SkillBehaviour per skill.
+// creates each skill there from a type and a behaviour, all under one Objects/Reservation.
+// A device adapter is a SkillServer plus one SkillBehaviour per skill.
 #include <asio/any_io_executor.hpp>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "skills/reservation.hpp"
 #include "skills/skill.hpp"
 
 namespace skillcell::skills {
@@ -31,6 +32,8 @@ public:
     [[nodiscard]] std::optional<ua::NodeId> findSkillType(std::string_view typeName) const;
 
     [[nodiscard]] const ua::NodeId& folder() const { return folder_; }
+    /// Objects/Reservation: who may drive these skills (reservation.hpp).
+    [[nodiscard]] const std::shared_ptr<Reservation>& reservation() const { return reservation_; }
     [[nodiscard]] const std::vector<std::shared_ptr<Skill>>& skills() const { return skills_; }
     [[nodiscard]] ua::Server& server() { return server_; }
 
@@ -46,6 +49,7 @@ private:
     ua::Server& server_;
     asio::any_io_executor executor_;
     ua::NodeId folder_;
+    std::shared_ptr<Reservation> reservation_;
     std::vector<std::shared_ptr<Skill>> skills_;
 };
 

@@ -33,6 +33,7 @@ inline constexpr std::string_view kMesSkillsUri = "http://skillcell.dev/UA/MesSk
 /// Numeric ids in the Skills namespace.
 inline constexpr std::uint32_t kSkillTransitionEventType = 1001;
 inline constexpr std::uint32_t kSkillType = 1002;
+inline constexpr std::uint32_t kReservationType = 1003;
 }  // namespace companion
 
 /// Every companion model, each after the models it requires.

@@ -13,6 +13,7 @@
 #include "mes/resource_claims.hpp"
 #include "running_server.hpp"
 #include "skills/noop_behaviour.hpp"
+#include "skills/reservation_client.hpp"
 #include "skills/skill_server.hpp"
 #include "temp_dir.hpp"
 
@@ -276,6 +277,38 @@ TEST_F(Orders, ACancelledOrderIsHaltedAndNeverResumed) {
     EXPECT_FALSE(again);
     const auto next = submit("urn:slow");
     EXPECT_GT(next, queued);
+}
+
+TEST_F(Orders, AComponentThatAnotherMesHoldsIsNotDrivenUntilItIsReleased) {
+    plug({"urn:test:robot"}, 50ms);
+    start({process("urn:p", 1)});
+    // Another MES reserves the component on its server.
+    test::ClientThread other;
+    const auto url = components_[0]->server->url();
+    // (A token of 0: refused; the status is the test's failure message.)
+    ua::StatusCode refusal;
+    const std::uint64_t token = other.run([&]() -> asio::awaitable<std::uint64_t> {
+        refusal = co_await other.client().connect(url);
+        if (refusal.isBad()) co_return 0;
+        auto t = co_await skills::reserve(other.client(), "urn:other:mes order 7", false);
+        if (!t) refusal = t.status();
+        co_return t ? *t : 0;
+    });
+    ASSERT_NE(token, 0U) << ua::statusName(refusal);
+    const auto refused = submit("urn:p");
+    const auto out = outcome(refused);
+    EXPECT_FALSE(out.completed);
+    EXPECT_NE(out.reason.find("reserved by urn:other:mes order 7 (BadResourceUnavailable)"),
+              std::string::npos)
+        << out.reason;
+    EXPECT_TRUE(record(refused).steps.empty()) << "a step began on a component held by another";
+    // Released: the order, submitted again, is resumed and runs.
+    const auto released = other.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_return co_await skills::release(other.client(), token);
+    });
+    EXPECT_TRUE(released.isGood());
+    EXPECT_EQ(submit("urn:p"), refused);
+    EXPECT_TRUE(outcome(refused).completed);
 }
 
 TEST(ResourceClaims, AWaitThatWouldCloseACycleIsRefusedWithTheChain) {
