@@ -10,6 +10,7 @@
 #include <array>
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
+#include <charconv>
 #include <filesystem>
 #include <future>
 #include <iostream>
@@ -31,6 +32,7 @@
 #include "kb/store/http_sparql_store.hpp"
 #include "mes/journal.hpp"
 #include "mes/mes_component.hpp"
+#include "mes/order_nodes.hpp"
 #include "mes/process_description.hpp"
 #include "server_process.hpp"
 #include "skills/skill_connection.hpp"
@@ -91,6 +93,7 @@ private:
         for (const auto& r : *runs) {
             dashboard::RunView v{
                 r.id, r.processIri, mes::toString(r.state), r.reason, r.startedMs, r.endedMs, {}};
+            v.priority = r.priority;
             for (const auto& st : r.steps) {
                 v.steps.push_back({st.index, st.attempt, mes::toString(st.state),
                                    mes::shortName(st.skillTypeIri), st.componentUri, st.startedMs,
@@ -225,6 +228,34 @@ asio::awaitable<ActionResult> act(std::weak_ptr<DashboardContent> weak, std::str
         result.status = co_await connection->skill().call(method);
         result.detail = std::string(skills::name(method));
     }
+    co_await connection->close();
+    co_return result;
+}
+
+// Cancels an order as the page's user: a session of its own with the MES (the component that
+// offers ExecuteProcess), Objects/Orders/CancelOrder. On the io thread.
+asio::awaitable<ActionResult> cancelOrder(std::weak_ptr<DashboardContent> weak, std::int64_t order,
+                                          ua::ClientConfig config) {
+    std::optional<skills::SkillInstance> mes;
+    {
+        auto c = weak.lock();
+        if (!c) co_return ActionResult{ua::status::BadShutdown, "the dashboard is stopping"};
+        for (const auto& [key, instance] : c->instances) {
+            if (instance.type().browseName == "ExecuteProcessSkillType") mes = instance;
+        }
+    }
+    if (!mes) co_return ActionResult{ua::status::BadNodeIdUnknown, "no MES in the cell"};
+    const auto executor = co_await asio::this_coro::executor;
+    ActionResult result;
+    auto opened = co_await skills::SkillConnection::open(executor, *mes, config, &result.detail);
+    if (!opened) co_return ActionResult{opened.status(), result.detail};
+    const std::unique_ptr<skills::SkillConnection> connection = std::move(*opened);
+    std::vector<ua::Variant> in{ua::Variant(order)};  // named: GCC 12 and co_await temporaries
+    const ua::NodeId object = mes::ordersObject();
+    const ua::NodeId method = mes::orderMethod("CancelOrder");
+    auto out = co_await connection->client().call(object, method, std::move(in));
+    result.status = out ? ua::StatusCode(ua::status::Good) : out.status();
+    result.detail = "cancel order " + std::to_string(order);
     co_await connection->close();
     co_return result;
 }
@@ -390,6 +421,55 @@ void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gat
     reply(r.status.isGood() ? 200 : (refused ? 403 : 409), r.status, r.detail);
 }
 
+// POST /api/order: order, action (cancel). As /api/skill: an OPC UA session as the
+// logged-in user, whose role the MES checks (Operator).
+void orderAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gate,
+                 const httplib::Request& req, httplib::Response& res,
+                 const ua::UserIdentity& user) {
+    auto reply = [&res](int status, const ua::StatusCode& code, const std::string& detail) {
+        res.status = status;
+        res.set_content(
+            Json{{"status", std::string(ua::statusName(code))}, {"detail", detail}}.dump(
+                -1, ' ', false, Json::error_handler_t::replace),
+            "application/json");
+    };
+    if (req.get_param_value("action") != "cancel") {
+        return reply(400, ua::status::BadInvalidArgument, "action is cancel");
+    }
+    std::int64_t order = 0;
+    const std::string text = req.get_param_value("order");
+    const auto parsed = std::from_chars(text.data(), text.data() + text.size(), order);
+    if (parsed.ec != std::errc{} || parsed.ptr != text.data() + text.size() || order <= 0) {
+        return reply(400, ua::status::BadInvalidArgument, "order is an order's id");
+    }
+    const auto secret = gate.sessionCredentials(req.get_header_value("Cookie"));
+    if (!secret) {
+        return reply(403, ua::status::BadUserAccessDenied,
+                     "actions are made as the logged-in user: log in on the page");
+    }
+    ua::ClientConfig config = c->client;
+    config.sessionName = "skillcell dashboard, for " + user.name;
+    config.security.user = ua::UserCredentials{};
+    config.security.user.kind = ua::UserCredentials::Kind::UserName;
+    config.security.user.userName = secret->first;
+    config.security.user.password = secret->second;
+    auto done = std::make_shared<std::promise<ActionResult>>();
+    auto outcome = done->get_future();
+    asio::co_spawn(c->io, cancelOrder(c, order, std::move(config)),
+                   [done](const std::exception_ptr& e, ActionResult r) {
+                       if (e) r = ActionResult{ua::status::BadInternalError, "failed"};
+                       done->set_value(std::move(r));
+                   });
+    if (outcome.wait_for(20s) != std::future_status::ready) {
+        return reply(504, ua::status::BadTimeout, "no answer within 20 s");
+    }
+    const ActionResult r = outcome.get();
+    spdlog::info("dashboard: cancel of order {} by {}: {}", order, user.name,
+                 ua::statusName(r.status));
+    const bool refused = r.status == ua::status::BadUserAccessDenied;
+    reply(r.status.isGood() ? 200 : (refused ? 403 : 409), r.status, r.detail);
+}
+
 /// Open pages (event streams) at once, and the web server's threads: a stream holds one.
 constexpr std::size_t kMaxPages = 24;
 constexpr std::size_t kWebThreads = kMaxPages + 8;
@@ -449,6 +529,10 @@ void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& co
     web.post("/api/skill", [weak, gate](const httplib::Request& req, httplib::Response& res,
                                         const ua::UserIdentity& user) {
         if (auto c = weak.lock()) skillAction(c, *gate, req, res, user);
+    });
+    web.post("/api/order", [weak, gate](const httplib::Request& req, httplib::Response& res,
+                                        const ua::UserIdentity& user) {
+        if (auto c = weak.lock()) orderAction(c, *gate, req, res, user);
     });
     // The live view: a snapshot, then every change, as server-sent events. A comment line
     // every 15 s keeps proxies from closing a quiet stream and notices a closed one.

@@ -68,6 +68,7 @@ Json toJson(const std::vector<RunView>& runs) {
                        {"reason", r.reason},
                        {"startedMs", r.startedMs},
                        {"endedMs", r.endedMs},
+                       {"priority", r.priority},
                        {"steps", std::move(steps)}});
     }
     return out;

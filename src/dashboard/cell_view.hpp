@@ -95,6 +95,7 @@ struct RunView {
     std::int64_t startedMs = 0;
     std::int64_t endedMs = 0;
     std::vector<Step> steps;
+    int priority = 0;  // of the order
     friend bool operator==(const RunView&, const RunView&) = default;
 };
 

@@ -264,7 +264,23 @@ function localName(iri) {
   return cut < 0 ? iri : iri.slice(cut + 1);
 }
 
-// Each run as a timeline: one lane per component, one bar per step attempt, newest run first.
+let orderResults = new Map();  // order id -> the answer to this page's last action on it
+
+async function cancelOrder(id) {
+  const form = new URLSearchParams({ order: String(id), action: "cancel" });
+  let answer;
+  try {
+    const r = await fetch("/api/order", { method: "POST", body: form, credentials: "same-origin" });
+    answer = await r.json();
+  } catch (e) {
+    answer = { status: "BadCommunicationError", detail: String(e) };
+  }
+  orderResults.set(id, answer);
+  renderRuns();
+}
+
+// Each order's run as a timeline: one lane per component, one bar per step attempt, newest
+// first; an order not ended yet has a Cancel button (the MES checks the user's role).
 function renderRuns() {
   $("runs-section").hidden = !runs || runs.length === 0;
   const box = $("runs");
@@ -278,10 +294,21 @@ function renderRuns() {
     div.dataset.run = run.id;
     div.dataset.state = run.state;
     const title = document.createElement("h3");
-    title.textContent = `run ${run.id}: ${localName(run.process)}, ${run.state}` +
+    title.textContent = `order ${run.id}: ${localName(run.process)}, ${run.state}` +
+      (run.priority ? `, priority ${run.priority}` : "") +
       (run.endedMs ? ` in ${((run.endedMs - run.startedMs) / 1000).toFixed(1)} s` : "") +
       (run.reason ? ` (${run.reason})` : "");
     div.append(title);
+    if (run.state === "queued" || run.state === "running") {
+      const b = document.createElement("button");
+      b.type = "button";
+      b.className = "action cancel";
+      b.dataset.action = "cancel";
+      b.textContent = "Cancel order";
+      b.addEventListener("click", () => cancelOrder(run.id));
+      title.append(" ", b);
+    }
+    if (orderResults.has(run.id)) title.append(" ", resultSpan(orderResults.get(run.id)));
     const lanes = [...new Set(run.steps.map((s) => s.component))];
     const W = 1100, left = 260, laneH = 24;
     const picture = svg("svg", { width: W, height: lanes.length * laneH + 8, class: "timeline" });

@@ -4,6 +4,7 @@
 // times show what ran when. (A killed MES resuming three orders: mes_cell_test.cpp.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <future>
 #include <map>
@@ -309,6 +310,33 @@ TEST_F(Orders, AComponentThatAnotherMesHoldsIsNotDrivenUntilItIsReleased) {
     EXPECT_TRUE(released.isGood());
     EXPECT_EQ(submit("urn:p"), refused);
     EXPECT_TRUE(outcome(refused).completed);
+}
+
+TEST_F(Orders, AComponentUnpluggedMidStepIsReplacedAndTheOrderCompletesOnTheOther) {
+    plug({"urn:test:robot1", "urn:test:robot2"}, 1500ms);
+    start({process("urn:p", 1)});
+    const auto o = submit("urn:p");
+    waitUntilBegun(o);
+    // Unplug the component the step runs on: its server goes, discovery says so.
+    const std::string first = record(o).steps.at(0).componentUri;
+    const auto it = std::find_if(components_.begin(), components_.end(),
+                                 [&](const auto& c) { return c->uri == first; });
+    ASSERT_NE(it, components_.end());
+    components_.erase(it);
+    mes_.run([&]() -> asio::awaitable<int> {
+        detector_->gone(first, skills::GoneReason::Goodbye);
+        co_return 0;
+    });
+    const auto out = outcome(o);
+    EXPECT_TRUE(out.completed) << out.reason;
+    const auto r = record(o);
+    ASSERT_EQ(r.steps.size(), 2U);
+    EXPECT_EQ(r.steps[0].componentUri, first);
+    EXPECT_EQ(r.steps[0].state, StepState::Failed);
+    EXPECT_NE(r.steps[1].componentUri, first);
+    EXPECT_EQ(r.steps[1].state, StepState::Finished);
+    EXPECT_NE(r.steps[1].note.find("another instance, after"), std::string::npos)
+        << r.steps[1].note;
 }
 
 TEST(ResourceClaims, AWaitThatWouldCloseACycleIsRefusedWithTheChain) {
