@@ -1,7 +1,7 @@
 // The paper's process run from the dashboard, in headless Chromium (paper_process_test.sh
 // brings up examples/cells/paper.toml with `skillcell cell up`): the Observer's Run is refused
 // by the MES, the Operator's runs the process to its end, and the picture shows the boxes
-// where the process put them. Every wait is bounded; the first failed expectation ends the
+// where the process put them; a second order, cancelled from the page, ends cancelled. Every wait is bounded; the first failed expectation ends the
 // test with exit code 1.
 "use strict";
 const { launch, check } = require("./browser");
@@ -85,6 +85,17 @@ async function boxAt(page, id) {
     await page.waitForSelector('#scene g.flange[data-tool=""]', wait);
     check(true, "and no tool on the flange");
     if (shots) await page.screenshot({ path: path.join(shots, "dashboard-process.png"), fullPage: true });
+
+    // An order cancelled from the page: the Operator runs the process again (order 2) and
+    // cancels it while it is queued or running; the MES halts it and it ends cancelled.
+    await page.waitForSelector(row + " button[data-action=start]:not([disabled])", wait);
+    await page.click(row + " button[data-action=start]");
+    const second = '#runs .run[data-run="2"]';
+    await page.waitForSelector(second + " button[data-action=cancel]", wait);
+    await page.click(second + " button[data-action=cancel]");
+    await page.waitForSelector(second + ' .result[data-status="Good"]', wait);
+    await page.waitForSelector(second + '[data-state="cancelled"]', wait);
+    check(!(await page.$(second + " button[data-action=cancel]")), "order 2, cancelled from the page, ends cancelled");
 
     // Guessing a password: after five wrong ones the name is throttled, and the page says so.
     await page.click("#logout");

@@ -4,7 +4,8 @@
 # whole cell (LDS, KB with Virtuoso and Konclude, world, tool changer, UR5, pick-and-place,
 # MES, dashboard) in its own network namespace; paper_process.test.js runs inside it, tries
 # the process as the Observer (refused), runs it as the Operator and watches it complete.
-# Then the journal, read by SQLite itself, must show that one run, its five steps finished.
+# Then the journal, read by SQLite itself, must show that order, its five steps finished, and
+# the second order, cancelled from the page.
 # SCREENSHOT_DIR (if set) receives the pictures.
 # Usage: paper_process_test.sh SKILLCELL_BINARY SOURCE_DIR
 set -euo pipefail
@@ -37,12 +38,12 @@ DASHBOARD_URL="$page" DASHBOARD_SPKI="$spki" CELL_WORK_DIR="$work" \
   nsenter --net="$netns" node "$here/paper_process.test.js" || fail "in the browser"
 
 runs=$(sqlite3 "$work/journal.sqlite" "SELECT group_concat(state, ' ') FROM runs")
-[ "$runs" = completed ] || fail "the journal's runs: $runs"
+[ "$runs" = "completed cancelled" ] || fail "the journal's orders: $runs"
 steps=$(sqlite3 "$work/journal.sqlite" \
-  "SELECT group_concat(idx || ':' || state, ' ') FROM (SELECT * FROM steps ORDER BY idx)")
+  "SELECT group_concat(idx || ':' || state, ' ') FROM (SELECT * FROM steps WHERE run = 1 ORDER BY idx)")
 [ "$steps" = "1:finished 2:finished 3:finished 4:finished 5:finished" ] ||
   fail "the journal's steps: $steps"
-echo "ok  the journal: one run, completed, its five steps finished"
+echo "ok  the journal: order 1 completed, its five steps finished; order 2 cancelled"
 "$skillcell" cell down --work-dir "$work" >/dev/null || fail "cell down"
 rc=0
 wait "$supervisor" || rc=$?
