@@ -252,7 +252,7 @@ asio::awaitable<int> showOrder(ua::Client& client, const OrderClientOptions& c,
     std::cout << "order " << o.order << ": " << end->state;
     if (!end->reason.empty()) std::cout << " - " << end->reason;
     std::cout << "\nsteps (step.attempt state type skill @ component, start, duration, "
-                 "[why this attempt]: reason):\n";
+                 "{why this instance}, [why this attempt]: reason):\n";
     for (const auto& s : end->steps) std::cout << "  " << std::string(s) << "\n";
     if (end->steps.empty()) std::cout << "  (none begun)\n";
     co_return 0;

@@ -72,6 +72,7 @@ CREATE TABLE IF NOT EXISTS steps (
   started_ms INTEGER NOT NULL,
   ended_ms INTEGER NOT NULL,
   note TEXT NOT NULL DEFAULT '',
+  choice TEXT NOT NULL DEFAULT '',
   PRIMARY KEY (run, idx, attempt)
 );
 )";
@@ -157,6 +158,7 @@ kb::Expected<std::unique_ptr<Journal>> Journal::open(const std::string& path) {
     } added[] = {
         {"steps", "note", "ALTER TABLE steps ADD COLUMN note TEXT NOT NULL DEFAULT ''"},
         {"runs", "priority", "ALTER TABLE runs ADD COLUMN priority INTEGER NOT NULL DEFAULT 0"},
+        {"steps", "choice", "ALTER TABLE steps ADD COLUMN choice TEXT NOT NULL DEFAULT ''"},
     };
     for (const auto& a : added) {
         if (hasColumn(db, a.table, a.column)) continue;
@@ -217,8 +219,8 @@ kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
     Statement s(db_,
                 "INSERT OR REPLACE INTO steps (run, idx, attempt, step, state, skill_type, "
                 "component, endpoint, skill_node, transition_before, reason, started_ms, "
-                "ended_ms, note) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, "
-                "?14)");
+                "ended_ms, note, choice) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, "
+                "?13, ?14, ?15)");
     if (!s.prepared()) return error("prepare");
     s.bind(1, run);
     s.bind(2, std::int64_t{step.index});
@@ -234,6 +236,7 @@ kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
     s.bind(12, step.startedMs);
     s.bind(13, step.endedMs);
     s.bind(14, step.note);
+    s.bind(15, step.choice);
     if (s.step() != SQLITE_DONE) return error("cannot record step " + std::to_string(step.index));
     return kb::Done{};
 }
@@ -285,7 +288,8 @@ kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
     for (auto& r : out) {
         Statement q(db_,
                     "SELECT idx, attempt, step, state, skill_type, component, endpoint, "
-                    "skill_node, transition_before, reason, started_ms, ended_ms, note FROM steps "
+                    "skill_node, transition_before, reason, started_ms, ended_ms, note, choice "
+                    "FROM steps "
                     "WHERE run = ?1 ORDER BY idx, attempt");
         if (!q.prepared()) return error("prepare");
         q.bind(1, r.id);
@@ -309,6 +313,7 @@ kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
             st.startedMs = q.number(10);
             st.endedMs = q.number(11);
             st.note = q.text(12);
+            st.choice = q.text(13);
             r.steps.push_back(std::move(st));
         }
         if (rc != SQLITE_DONE) return error("cannot read the steps");
@@ -345,6 +350,23 @@ kb::Expected<std::vector<RunRecord>> Journal::unfinishedRuns() {
 
 kb::Expected<std::vector<RunRecord>> Journal::openOrders() {
     return runs("state IN ('queued', 'running')", {}, 0);
+}
+
+kb::Expected<std::map<std::string, std::vector<std::int64_t>>> Journal::finishedDurations(
+    const std::string& skillTypeIri, std::size_t perComponent) {
+    Statement s(db_,
+                "SELECT component, ended_ms - started_ms FROM steps WHERE skill_type = ?1 AND "
+                "state = 'finished' AND ended_ms > started_ms ORDER BY ended_ms DESC LIMIT 2000");
+    if (!s.prepared()) return error("prepare");
+    s.bind(1, skillTypeIri);
+    std::map<std::string, std::vector<std::int64_t>> out;
+    int rc = 0;
+    while ((rc = s.step()) == SQLITE_ROW) {
+        auto& durations = out[s.text(0)];
+        if (durations.size() < perComponent) durations.push_back(s.number(1));
+    }
+    if (rc != SQLITE_DONE) return error("cannot read the steps' durations");
+    return out;
 }
 
 kb::Expected<std::vector<RunRecord>> Journal::recentRuns(std::int64_t count) {

@@ -10,6 +10,7 @@
 // Threading: SQLite serializes calls (FULLMUTEX); the MES writes from its journal thread and
 // answers its order methods from the server's.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -55,6 +56,9 @@ struct StepRecord {
     /// Why this attempt was made, or what the MES did before it: a retry after a Halted
     /// attempt, a reset of a skill that an earlier fault had left Halted.
     std::string note;
+    /// Why this instance was chosen among the candidates (expected durations learned from
+    /// the journal, candidates held by other orders).
+    std::string choice;
     std::int64_t startedMs = 0;  // Unix time, ms
     std::int64_t endedMs = 0;
 };
@@ -103,6 +107,10 @@ public:
     [[nodiscard]] kb::Expected<std::vector<RunRecord>> unfinishedRuns();
     /// The orders a (re)started MES runs: Queued or Running, oldest first.
     [[nodiscard]] kb::Expected<std::vector<RunRecord>> openOrders();
+    /// How long finished attempts at steps of `skillTypeIri` took (ms), newest first, at most
+    /// `perComponent` for each component: what the MES expects of each.
+    [[nodiscard]] kb::Expected<std::map<std::string, std::vector<std::int64_t>>> finishedDurations(
+        const std::string& skillTypeIri, std::size_t perComponent);
     /// The last `count` runs, whatever their state, oldest first (what a dashboard shows).
     [[nodiscard]] kb::Expected<std::vector<RunRecord>> recentRuns(std::int64_t count);
 

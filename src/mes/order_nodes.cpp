@@ -45,14 +45,15 @@ std::string seconds(std::int64_t ms) {
     return text.data();
 }
 
-// "2.1 finished Skills/PickAndPlace @ urn:... at +1.204 s for 3.310 s [retry 1 of 2 after:
-// ...]: reason": one attempt at one step, for `orders show`.
+// "2.1 finished Skills/PickAndPlace @ urn:... at +1.204 s for 3.310 s {chosen: why} [retry 1
+// of 2 after: ...]: reason": one attempt at one step, for `orders show`.
 std::string describe(const StepRecord& s, std::int64_t orderStartMs) {
     std::string out = std::to_string(s.index) + "." + std::to_string(s.attempt) + " " +
                       toString(s.state) + " " + shortName(s.skillTypeIri) + " " + s.skillNodeId +
                       " @ " + s.componentUri;
     if (s.startedMs != 0) out += " at +" + seconds(s.startedMs - orderStartMs);
     if (s.endedMs != 0 && s.startedMs != 0) out += " for " + seconds(s.endedMs - s.startedMs);
+    if (!s.choice.empty()) out += " {chosen: " + s.choice + "}";
     if (!s.note.empty()) out += " [" + s.note + "]";
     if (!s.reason.empty()) out += ": " + s.reason;
     return out;
@@ -180,7 +181,8 @@ ua::Result<std::unique_ptr<OrderNodes>> OrderNodes::create(
          argument("Reason", String, "why it stopped, or what it does now"),
          argument("Steps", String,
                   "each attempt at each step: step.attempt, state, skill type, skill @ "
-                  "component, start (from the order's), duration, [why this attempt], reason",
+                  "component, start (from the order's), duration, {why this instance}, [why "
+                  "this attempt], reason",
                   true)},
         [executor, &journal](const ua::Caller&, const ua::NodeId&, std::span<const ua::Variant> in,
                              std::vector<ua::Variant>& out) -> ua::StatusCode {

@@ -9,6 +9,7 @@
 #include <asio/use_awaitable.hpp>
 
 #include <algorithm>
+#include <limits>
 
 #include "devices/common/blocking_call.hpp"
 #include "mes/feasibility.hpp"
@@ -28,6 +29,15 @@ constexpr int kMaxInstancesPerStep = 8;
 constexpr std::chrono::milliseconds kFactRetry{250};
 
 using Clock = std::chrono::steady_clock;
+
+// The median of some durations (ms).
+std::int64_t median(std::vector<std::int64_t> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+// How many finished runs of a skill type on a component the MES learns its duration from.
+constexpr std::size_t kDurationHistory = 20;
 
 std::string describe(const SkillOutcome& o) {
     std::string text(skills::name(o.kind));
@@ -686,6 +696,14 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
         }
         if (order->halted) co_return Choice{};
         if (!c.skills.empty()) {
+            // What the journal knows of how long each candidate takes (read before the
+            // availability below, which must not be separated from the take by a wait).
+            auto readDurations = [this, type = step.skillTypeIri] {
+                return journal_.finishedDurations(type, kDurationHistory);
+            };
+            auto durations = co_await journaled(readDurations);
+            if (!durations) spdlog::warn("mes: {}", durations.error());
+            if (order->halted) co_return Choice{};
             // Suitable: those the order may use now (no other order holds them, no other
             // of its steps uses them), else wait for one to be freed.
             Choice free = c;
@@ -711,7 +729,38 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                     }
                 }
             }
-            if (!free.skills.empty()) co_return free;
+            if (!free.skills.empty()) {
+                // Among the suitable and free: the shortest expected duration (the median of
+                // its last finished runs) first; those without a history after, in URI order.
+                std::map<std::string, std::int64_t> expected;
+                if (durations) {
+                    for (const auto& [component, ms] : *durations) {
+                        if (!ms.empty()) expected[component] = median(ms);
+                    }
+                }
+                auto rank = [&](const skills::SkillInstance& s) {
+                    const auto it = expected.find(s.componentUri);
+                    return it != expected.end() ? it->second
+                                                : std::numeric_limits<std::int64_t>::max();
+                };
+                std::stable_sort(free.skills.begin(), free.skills.end(),
+                                 [&](const auto& x, const auto& y) { return rank(x) < rank(y); });
+                auto describeCandidate = [&](const skills::SkillInstance& s) {
+                    const auto it = expected.find(s.componentUri);
+                    if (it == expected.end()) return s.componentUri + " (no finished run yet)";
+                    return s.componentUri + " (expected " + std::to_string(it->second) +
+                           " ms, the median of its last " +
+                           std::to_string(durations->at(s.componentUri).size()) + ")";
+                };
+                free.why = describeCandidate(free.skills.front());
+                std::string others;
+                for (std::size_t i = 1; i < free.skills.size(); ++i) {
+                    others += (others.empty() ? "" : ", ") + describeCandidate(free.skills[i]);
+                }
+                if (!others.empty()) free.why += " over " + others;
+                if (!holders.empty()) free.why += "; not free: " + holders;
+                co_return free;
+            }
             if (auto chain = claims_.wait(order->rank(), wanted)) {
                 Choice none;
                 none.unmet = "waiting for a component would deadlock: " + *chain;
@@ -947,6 +996,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.transitionTimeBefore = before->ticks;
         r.startedMs = unixMillis();
         r.note = note;
+        r.choice = found.why;
         if (auto s = co_await record(run, r); !s) {
             co_await hangUp(**conn, token);
             co_return StepResult{false, s.error()};

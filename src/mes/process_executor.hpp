@@ -204,6 +204,8 @@ private:
         std::string unmet;  // when there are none: the requirements not met, and why
         /// The instances meeting the step's requirements on the cell (CellMatch).
         std::vector<std::optional<skills::SkillInstance>> cellMatches;
+        /// Why the first of `skills` was chosen (journaled with the attempt).
+        std::string why;
     };
     /// Why the cell cannot run `process` (empty: it can), after waiting up to skillWait for
     /// the skills it lacks to appear (or for the KB to record their facts).

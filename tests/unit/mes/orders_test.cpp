@@ -339,6 +339,28 @@ TEST_F(Orders, AComponentUnpluggedMidStepIsReplacedAndTheOrderCompletesOnTheOthe
         << r.steps[1].note;
 }
 
+TEST_F(Orders, AmongFreeComponentsTheOneTheJournalKnowsAsFasterIsChosenAndWhySaid) {
+    plug({"urn:test:a-slow-robot"}, 600ms);
+    plug({"urn:test:b-fast-robot"}, 100ms);
+    start({process("urn:p", 1)});
+    // Two orders at once: one on each, so that the journal learns both.
+    const auto first = submit("urn:p");
+    const auto second = submit("urn:p");
+    EXPECT_TRUE(outcome(first).completed);
+    EXPECT_TRUE(outcome(second).completed);
+    EXPECT_EQ(record(first).steps.at(0).componentUri, "urn:test:a-slow-robot")
+        << "without a history, URI order";
+    EXPECT_NE(record(first).steps.at(0).choice.find("no finished run yet"), std::string::npos);
+    // Alone now, both free: the faster, though it comes second by URI.
+    const auto third = submit("urn:p");
+    EXPECT_TRUE(outcome(third).completed);
+    const auto step = record(third).steps.at(0);
+    EXPECT_EQ(step.componentUri, "urn:test:b-fast-robot");
+    EXPECT_EQ(step.choice.rfind("urn:test:b-fast-robot (expected ", 0), 0U) << step.choice;
+    EXPECT_NE(step.choice.find(" over urn:test:a-slow-robot (expected "), std::string::npos)
+        << step.choice;
+}
+
 TEST(ResourceClaims, AWaitThatWouldCloseACycleIsRefusedWithTheChain) {
     ResourceClaims c;
     EXPECT_TRUE(c.take(1, "urn:a"));
