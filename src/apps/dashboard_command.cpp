@@ -574,9 +574,19 @@ void addRoutes(http::WebServer& web, const std::shared_ptr<DashboardContent>& co
 }
 
 int run(DashboardOptions& o) {
+    // A wrong --kb is refused before anything starts (exit 2), not after the page is up.
+    std::optional<kb::HttpSparqlEndpoint> kbEndpoint;
+    if (!o.kbUrl.empty()) {
+        auto endpoint = kb::HttpSparqlEndpoint::fromUrl(o.kbUrl);
+        if (!endpoint) {
+            spdlog::critical("dashboard: --kb {}: {}", o.kbUrl, endpoint.error());
+            return 2;
+        }
+        kbEndpoint = std::move(*endpoint);
+    }
     o.process.usesDetector = true;
     return runServerProcess(
-        o.process, [&o](const ComponentContext& ctx) -> ua::Result<ComponentContent> {
+        o.process, [&o, kbEndpoint](const ComponentContext& ctx) -> ua::Result<ComponentContent> {
             auto c = std::make_shared<DashboardContent>(ctx.io);
             c->client.applicationUri = ctx.applicationUri;
             c->client.sessionName = "skillcell dashboard";
@@ -615,14 +625,10 @@ int run(DashboardOptions& o) {
             if (!o.journal.empty()) {
                 c->journal = std::make_unique<JournalReader>(o.journal, c->view);
             }
-            if (!o.kbUrl.empty()) {
-                auto endpoint = kb::HttpSparqlEndpoint::fromUrl(o.kbUrl);
-                if (!endpoint) {
-                    spdlog::critical("dashboard: --kb {}: {}", o.kbUrl, endpoint.error());
-                    return ua::status::BadInvalidArgument;
-                }
-                if (endpoint->url.tls) endpoint->client = sparqlClientOptions(ctx.clientSecurity);
-                c->processes = std::make_unique<ProcessReader>(std::move(*endpoint), c->view);
+            if (kbEndpoint) {
+                auto endpoint = *kbEndpoint;
+                if (endpoint.url.tls) endpoint.client = sparqlClientOptions(ctx.clientSecurity);
+                c->processes = std::make_unique<ProcessReader>(std::move(endpoint), c->view);
             }
             std::cout << "DASHBOARD " << c->web->url("/") << std::endl;
             spdlog::info("dashboard: {} ({})", c->web->url("/"),

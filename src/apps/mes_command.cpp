@@ -76,7 +76,7 @@ void standBy(asio::io_context& io, MesContent& content) {
     std::shared_ptr<std::function<void()>> retry = std::make_shared<std::function<void()>>();
     *retry = [timer, lock, executor, weak = std::weak_ptr(retry)] {
         timer->expires_after(std::chrono::milliseconds(100));
-        timer->async_wait([timer, lock, executor, weak](const std::error_code& ec) {
+        timer->async_wait([lock, executor, weak](const std::error_code& ec) {
             auto again = weak.lock();
             if (ec || !again) return;  // shutting down
             auto attempt = lock->tryAcquire();

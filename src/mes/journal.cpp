@@ -216,11 +216,12 @@ kb::Expected<std::int64_t> Journal::submitOrder(const std::string& processIri, i
 }
 
 kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
-    Statement s(db_,
-                "INSERT OR REPLACE INTO steps (run, idx, attempt, step, state, skill_type, "
-                "component, endpoint, skill_node, transition_before, reason, started_ms, "
-                "ended_ms, note, choice) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, "
-                "?13, ?14, ?15)");
+    Statement s(
+        db_,
+        "INSERT OR REPLACE INTO steps (run, idx, attempt, step, state, skill_type, "
+        "component, endpoint, skill_node, transition_before, reason, started_ms, "
+        "ended_ms, note, choice) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, "
+        "?13, ?14, ?15)");
     if (!s.prepared()) return error("prepare");
     s.bind(1, run);
     s.bind(2, std::int64_t{step.index});

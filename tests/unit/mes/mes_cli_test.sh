@@ -2,6 +2,7 @@
 # `skillcell mes` and `skillcell run` given bad input: each exits with its code and says why.
 #   run without a process, or with an MES nobody serves       -> 2
 #   mes with a --kb that is not an http:// URL                -> 2
+#   dashboard with such a --kb: 2, before its page is served
 #   mes with a journal that cannot be opened                  -> 1, naming the file
 #   demo with a boot profile, run count or speed it does not know -> 2, naming the option
 #   orders: an order whose process cannot be read stops with the reason (run: 1); show gives
@@ -33,6 +34,10 @@ expect "--kb ftp://127.0.0.1/sparql"
 printf 'not a database, but long enough to look like a header of one.........\n' >"$tmp/bad.sqlite"
 run 1 mes "${common[@]}" --kb http://127.0.0.1:1/sparql --journal "$tmp/bad.sqlite"
 expect "$tmp/bad.sqlite"
+# dashboard: a --kb that is not a SPARQL URL is refused before the page is served.
+run 2 dashboard "${common[@]}" --kb ftp://127.0.0.1/sparql
+expect "--kb ftp://127.0.0.1/sparql"
+grep -q '^DASHBOARD ' "$tmp/out" && fail "the dashboard served its page before refusing --kb"
 # demo: options out of range are refused before anything starts.
 run 2 demo --boot-profile fast
 expect "--boot-profile"
