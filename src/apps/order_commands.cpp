@@ -142,10 +142,9 @@ asio::awaitable<int> follow(ua::Client& client, std::int64_t order, double timeo
     auto stateItem = co_await (*subscription)
                          ->monitorDataChange(stateNode, ua::AttributeId::Value, 0, 10, std::nullopt,
                                              std::move(onState));
-    if (!progressItem || !stateItem) {
-        // Not running in this MES (ended long ago, or never): what the journal says.
-        (void)co_await (*subscription)->remove();
-    } else if (!mes::hasEnded(*state)) {
+    // Not followable (ended long ago in this MES, or never), or ended already: what the
+    // journal says, below.
+    if (progressItem && stateItem && !mes::hasEnded(*state)) {
         co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
         if (!lost->empty()) {
             std::cout << "OUTCOME Lost (the connection to the MES ended: " << *lost
