@@ -402,6 +402,15 @@ public:
             }
         }
         if (steps.empty()) problem(line, name + " has no steps");
+        // How long its steps wait for a skill: seconds, 0 to kMaxSkillWaitSeconds.
+        if (const Term* w = g_.object(p, procIri("skillWaitSeconds"))) {
+            const auto v = parseNumber(w->value);
+            if (w->kind != Term::Kind::Literal || !v || !(*v >= 0) || *v > kMaxSkillWaitSeconds) {
+                const int at = where_.textLine("proc:skillWaitSeconds", line);
+                problem(at != 0 ? at : line, name + ": proc:skillWaitSeconds \"" + w->value +
+                                                 "\" is not a number of seconds from 0 to 3600");
+            }
+        }
         for (const auto& s : steps) {
             if (std::find(order.begin(), order.end(), s) == order.end() && !firsts.empty()) {
                 problem(where_.subjectLine(s), "step " + tailOfIri(s) + " of " + name +

@@ -269,6 +269,14 @@ kb::Expected<ProcessDescription> parseProcess(const std::string& processIri,
     for (const Term* s : steps) members.insert(*s);
     ProcessDescription out;
     out.iri = processIri;
+    if (const auto wait = g.literal(process, p("skillWaitSeconds"))) {
+        const auto v = parseNumber(*wait);
+        if (!v || !(*v >= 0) || *v > kMaxSkillWaitSeconds) {
+            return kb::badInput("the process <" + processIri + ">: proc:skillWaitSeconds '" +
+                                *wait + "' is not a number of seconds from 0 to 3600");
+        }
+        out.skillWait = std::chrono::milliseconds(static_cast<std::int64_t>(*v * 1000));
+    }
     std::map<std::string, int> position;
     for (const Term* s = first; s != nullptr; s = g.object(*s, p("next"))) {
         if (!members.contains(*s)) {

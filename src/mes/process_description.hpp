@@ -8,6 +8,7 @@
 // steps, a broken proc:next chain, a step without a skill type, a dependency on a later step,
 // a parameter without a value, or a requirement without a property or value are errors that
 // name the step and the parameter.
+#include <chrono>
 #include <optional>
 #include <string>
 #include <variant>
@@ -81,9 +82,15 @@ struct ProcessStep {
     [[nodiscard]] std::string label() const;
 };
 
+/// The longest a process may ask its steps to wait for a skill (proc:skillWaitSeconds).
+inline constexpr double kMaxSkillWaitSeconds = 3600;
+
 struct ProcessDescription {
     std::string iri;
     std::vector<ProcessStep> steps;  // in execution order
+    /// How long a step waits for a suitable skill to appear (proc:skillWaitSeconds); none:
+    /// the MES's own setting.
+    std::optional<std::chrono::milliseconds> skillWait;
 };
 
 /// The process `processIri` from triples (what readProcess parses; tests feed it directly).

@@ -70,6 +70,8 @@ struct ProcessExecutor::Order {
     std::vector<std::weak_ptr<asio::steady_timer>> waits;
     /// The components its running steps use: its other steps use others.
     std::multiset<std::string> busy;
+    /// How long its steps wait for a suitable skill: the process's, else the MES's.
+    std::chrono::milliseconds skillWait{0};
     Progress progress;  // the latest
     std::optional<ProcessOutcome> outcome;
     /// Never expires: cancelled at the end, for outcome()'s waits.
@@ -187,6 +189,7 @@ void ProcessExecutor::begin(std::int64_t id, std::string processIri, int priorit
     order->progress.run = id;
     order->progress.processIri = order->processIri;
     order->progress.state = "queued";
+    order->skillWait = options_.skillWait;
     orders_[id] = order;
     asio::co_spawn(
         detector_->executor(),
@@ -319,6 +322,7 @@ asio::awaitable<ProcessOutcome> ProcessExecutor::runOrder(std::shared_ptr<Order>
     } else {
         description = std::move(*read);
         p.steps = static_cast<int>(description->steps.size());
+        if (description->skillWait) order->skillWait = *description->skillWait;
     }
     // Before the first motion: can the cell run it at all? Every reason at once.
     if (stopReason.empty() && !order->halted) {
@@ -616,7 +620,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
 asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
     std::shared_ptr<Order> order, const ProcessDescription& process, Progress p) {
     auto self = shared_from_this();
-    const auto deadline = Clock::now() + options_.skillWait;
+    const auto deadline = Clock::now() + order->skillWait;
     const auto properties = requiredProperties(process);
     std::string shown;
     for (;;) {
@@ -631,7 +635,7 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
         auto lacking = infeasibility(process, detector_->instances(), facts ? &*facts : nullptr);
         if (lacking.empty() || order->halted || Clock::now() >= deadline) co_return lacking;
         p.state = "checking";
-        p.message = "waiting up to " + std::to_string(options_.skillWait.count()) +
+        p.message = "waiting up to " + std::to_string(order->skillWait.count()) +
                     " ms for what the process needs: " + lacking.front();
         if (p.message != shown) {
             shown = p.message;
@@ -668,7 +672,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                                                                  const std::set<SkillKey>& excluded,
                                                                  Progress p) {
     auto self = shared_from_this();
-    const auto deadline = Clock::now() + options_.skillWait;
+    const auto deadline = Clock::now() + order->skillWait;
     std::optional<Clock::time_point> claimDeadline;  // from the first wait for a component
     // Registered as waiting for components: no longer on any return, and the orders that
     // gave way to it look again.
@@ -792,7 +796,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
         p.state = "waiting";
         p.component.clear();
         p.skill.clear();
-        p.message = "waiting up to " + std::to_string(options_.skillWait.count()) +
+        p.message = "waiting up to " + std::to_string(order->skillWait.count()) +
                     " ms for a suitable " + shortName(step.skillTypeIri) +
                     (c.unmet.empty() ? "" : ": " + c.unmet);
         if (p.message != shown) {
@@ -907,7 +911,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
                 why = noSkillReason(step, tried);
             } else {
                 why = step.label() + ": " + found.unmet;
-                why += " (waited " + std::to_string(options_.skillWait.count()) + " ms)";
+                why += " (waited " + std::to_string(order->skillWait.count()) + " ms)";
             }
             if (!lastFailure.empty()) why += "; " + lastFailure;
             co_return StepResult{false, why};

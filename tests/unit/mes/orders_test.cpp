@@ -361,6 +361,30 @@ TEST_F(Orders, AmongFreeComponentsTheOneTheJournalKnowsAsFasterIsChosenAndWhySai
         << step.choice;
 }
 
+TEST_F(Orders, WhenTheOnlyComponentLeavesTheOrderWaitsAsLongAsItsProcessSays) {
+    plug({"urn:test:robot1"}, 1500ms);
+    // The MES would wait 2 s for a skill (start()); the process says 20 s.
+    auto patient = process("urn:patient", 1);
+    patient.skillWait = 20s;
+    start({patient});
+    const auto o = submit("urn:patient");
+    waitUntilBegun(o);
+    components_.clear();  // the only component leaves mid-step
+    mes_.run([&]() -> asio::awaitable<int> {
+        detector_->gone("urn:test:robot1", skills::GoneReason::Goodbye);
+        co_return 0;
+    });
+    // Another is plugged in 3 s later: beyond the MES's 2 s, within the process's 20 s.
+    std::this_thread::sleep_for(3s);  // the scenario's delay, not a synchronisation
+    plug({"urn:test:robot2"}, 100ms);
+    const auto out = outcome(o);
+    EXPECT_TRUE(out.completed) << out.reason;
+    const auto r = record(o);
+    ASSERT_EQ(r.steps.size(), 2U);
+    EXPECT_EQ(r.steps[1].componentUri, "urn:test:robot2");
+    EXPECT_EQ(r.steps[1].state, StepState::Finished);
+}
+
 TEST(ResourceClaims, AWaitThatWouldCloseACycleIsRefusedWithTheChain) {
     ResourceClaims c;
     EXPECT_TRUE(c.take(1, "urn:a"));

@@ -205,6 +205,25 @@ TEST(ProcessDescription, RefusesBrokenDescriptionsNamingTheFault) {
     EXPECT_NE(noFactValue.find("on reach has no proc:factValue"), std::string::npos) << noFactValue;
 }
 
+TEST(ProcessDescription, AProcessMaySayHowLongItsStepsWaitForASkill) {
+    auto p = parseProcess("http://example.org/p#p",
+                          triples(std::string(kPrefixes) +
+                                  ":p proc:hasStep :a ; proc:firstStep :a ; "
+                                  "proc:skillWaitSeconds 1.5 .\n:a proc:requiresSkillType t:X ."));
+    ASSERT_TRUE(p) << p.error();
+    EXPECT_EQ(p->skillWait, std::chrono::milliseconds(1500));
+    auto without = parseProcess(
+        "http://example.org/p#p",
+        triples(std::string(kPrefixes) +
+                ":p proc:hasStep :a ; proc:firstStep :a .\n:a proc:requiresSkillType t:X ."));
+    ASSERT_TRUE(without) << without.error();
+    EXPECT_FALSE(without->skillWait) << "none: the MES's own";
+    EXPECT_NE(refusal(":p proc:hasStep :a ; proc:firstStep :a ; proc:skillWaitSeconds -1 .\n"
+                      ":a proc:requiresSkillType t:X .")
+                  .find("proc:skillWaitSeconds '-1' is not a number of seconds from 0 to 3600"),
+              std::string::npos);
+}
+
 TEST(ProcessDescription, TheQueryRefusesAnIriThatWouldBreakIt) {
     EXPECT_FALSE(processQuery("http://example.org/p> } DROP ALL { <x"));
     auto q = processQuery(kDemo);

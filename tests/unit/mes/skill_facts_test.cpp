@@ -202,7 +202,7 @@ TEST(Feasibility, AStepNeedsASkillOfItsTypeAndItsCellRequirementsMetOrBroughtEar
     })) << late.size();
 
     // Without a KB, requirements are left to the steps.
-    EXPECT_TRUE(infeasibility({"urn:p", {pickStep({{kGripType, "vacuum", kGrasp}})}},
+    EXPECT_TRUE(infeasibility({"urn:p", {pickStep({{kGripType, "vacuum", kGrasp}})}, {}},
                               {pickAndPlace()}, nullptr)
                     .empty());
 }
