@@ -26,6 +26,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <numeric>
@@ -151,7 +152,9 @@ private:
     bool keep(const std::string& name);
     bool startInfrastructure();
     bool measure(MeasuredComponent& m, const Interruption& interruption);
-    int runProcess(const Interruption& interruption);
+    /// `onProgress` hears each PROGRESS line as it comes (the --swap during a run).
+    int runProcess(const Interruption& interruption,
+                   const std::function<void(const std::string&)>& onProgress = {});
     /// A session with the world model as `user` (its password file in the work directory),
     /// with the demo's certificate; nullptr after saying why on stderr.
     std::unique_ptr<devices::WorldLink> connectWorld(const std::string& user);
@@ -252,7 +255,8 @@ bool DemoCell::measure(MeasuredComponent& m, const Interruption& interruption) {
     return true;
 }
 
-int DemoCell::runProcess(const Interruption& interruption) {
+int DemoCell::runProcess(const Interruption& interruption,
+                         const std::function<void(const std::string&)>& onProgress) {
     std::vector<std::string> argv = {skillcell_,
                                      "run",
                                      kProcessIri,
@@ -289,6 +293,7 @@ int DemoCell::runProcess(const Interruption& interruption) {
         const double s = milliseconds(Clock::now() - t0) / 1000;
         if (line->starts_with("PROGRESS ")) {
             std::printf("  [%6.1f s] %s\n", s, line->substr(9).c_str());
+            if (onProgress) onProgress(line->substr(9));
         } else if (line->starts_with("OUTCOME ")) {
             outcome = line->substr(8);
             std::printf("  [%6.1f s] outcome: %s\n", s, outcome.c_str());
@@ -548,13 +553,28 @@ int DemoCell::run(const Interruption& interruption) {
     if (interruption.requested()) return 130;
     if (o_.swap && outcome == 0) {
         std::printf(
-            "\n== Plug & Produce: an engineer takes the Robotiq 2F-85 out of dockP and puts a DH "
-            "AG-95 in;\n   the operator runs the same process again (no change to it or to the "
-            "MES)\n");
-        const auto swapped = Clock::now();
-        if (!swapParallelGripper()) return 1;
-        outcome = runProcess(interruption);
+            "\n== Plug & Produce: the operator runs the same process again; once the MES has "
+            "begun the run,\n   before the robot reaches dockP, an engineer takes the Robotiq "
+            "2F-85 out of dockP and puts a\n   DH AG-95 in (no change to the process or to the "
+            "MES): step 1 mounts the AG-95, step 2 picks with it\n");
+        auto swapped = Clock::now();
+        bool swappedOk = false;
+        bool swapDone = false;
+        // Once, at the run's first progress (the MES reads the process and checks the cell):
+        // the order is under way, and the tool change of step 1 has not reached dockP.
+        auto swapDuringTheRun = [&](const std::string& progress) {
+            if (swapDone || !progress.starts_with("step 0/")) return;
+            swapDone = true;
+            swapped = Clock::now();
+            std::printf("  -- the swap, the run under way:\n");
+            swappedOk = swapParallelGripper();
+        };
+        outcome = runProcess(interruption, swapDuringTheRun);
         if (interruption.requested()) return 130;
+        if (!swapDone || !swappedOk) {
+            std::cerr << "demo: the gripper was not swapped during the run\n";
+            return 1;
+        }
         const std::string uri(cell::findAdapterModel("dh-ag95")->applicationUri);
         const auto ag95 = clock_->waitAppeared(uri, swapped, 0ms);
         std::printf(
@@ -678,8 +698,9 @@ Command addDemoCommand(CLI::App& app) {
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
     cmd->add_flag("--swap", o->swap,
-                  "Plug & Produce: after the process, swap the Robotiq gripper in its dock for a "
-                  "DH AG-95 and run the same process again");
+                  "Plug & Produce: run the process a second time, and once that run is under "
+                  "way, swap the Robotiq gripper in its dock for a DH AG-95: the run mounts the "
+                  "AG-95 and picks with it, with no change to the process or the MES");
     cmd->add_flag("--keep-running", o->keepRunning,
                   "keep the cell running after the process, supervised, for inspection, until "
                   "Ctrl-C or `skillcell cell down --work-dir DIR` (`cell status --work-dir "

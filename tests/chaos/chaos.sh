@@ -88,12 +88,26 @@ world() {
 trial() {
   local kind=$1 n=$2 why=""
   outcome=violation
-  rm -rf "$work"
-  "$skillcell" cell up "$cell" --work-dir "$work" >"$tmp/up.out" 2>"$tmp/up.err" &
-  supervisor=$!
-  local i
-  for i in $(seq 480); do grep -q 'is up' "$tmp/up.out" && break; sleep 0.25; done
-  grep -q 'is up' "$tmp/up.out" || fail "trial $kind $n: the cell did not come up"
+  # Up (a second try when the first does not come up: the trial is about what follows).
+  local i attempt
+  for attempt in 1 2; do
+    rm -rf "$work"
+    "$skillcell" cell up "$cell" --work-dir "$work" >"$tmp/up.out" 2>"$tmp/up.err" &
+    supervisor=$!
+    for i in $(seq 480); do  # bounded: 2 minutes
+      grep -q 'is up' "$tmp/up.out" && break
+      kill -0 "$supervisor" 2>/dev/null || break
+      sleep 0.25  # a bounded poll of cell up's output
+    done
+    grep -q 'is up' "$tmp/up.out" && break
+    local rc=0
+    kill -0 "$supervisor" 2>/dev/null && kill -TERM "$supervisor"
+    wait "$supervisor" || rc=$?
+    echo "trial $kind $n: the cell did not come up (try $attempt; cell up exit $rc):" >&2
+    tail -n 20 "$tmp/up.out" "$tmp/up.err" >&2 || true
+    supervisor=
+  done
+  [ -n "$supervisor" ] || fail "trial $kind $n: the cell did not come up, twice"
   local mes
   mes=$(endpoint mes)
   as_operator run "$process" --no-wait --mes "$mes" >"$tmp/run.out" 2>"$tmp/run.err" ||

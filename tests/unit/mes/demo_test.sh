@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # `skillcell demo` end to end, as the README's main command runs it but quick (high speed, no
 # boot profile, one detection run per component) and with --swap: the whole cell starts as
-# processes, the paper's process completes; an engineer swaps the Robotiq gripper in its dock
-# for a DH AG-95, and the same process completes again with it. The evidence holds:
+# processes, the paper's process completes; it runs again, and once that run is under way an
+# engineer swaps the Robotiq gripper in its dock for a DH AG-95, which that same run mounts and
+# picks with. The evidence holds:
 #   - the world model: box A and box B at the process's target poses, no tool mounted;
 #   - the MES's journal: two completed runs, each of 5 steps finished at the first attempt;
 #   - the AG-95's adapter was powered and detected in the second run;
@@ -97,6 +98,10 @@ cat "$tmp/out"
 expect() { grep -qE -- "$1" "$tmp/out" || fail "missing in the demo's output: $1"; }
 [ "$(grep -c 'outcome: Finished' "$tmp/out")" = 2 ] || fail "not two runs that finished"
 expect 'the parallel gripper of this run: the DH AG-95'
+# The swap came during the second run, before its step 1 (the tool change) finished.
+awk '/the swap, the run under way/ {swap=NR}
+     /step 1\/5 ChangeToolSkillType finished/ {if (swap) after=1}
+     END {exit !(swap && after)}' "$tmp/out" || fail "the swap did not come during the second run"
 # The world model's poses: x y z (m) and angles; the targets of models/owl/demo-process.ttl.
 expect 'World/Objects/boxA/Pose.*0\.25(0*)?[ ,;].*0\.35(0*)?[ ,;].*0\.025'
 expect 'World/Objects/boxB/Pose.*0\.25(0*)?[ ,;].*-0\.2(0*)?[ ,;].*0\.02'
