@@ -360,35 +360,72 @@ Json me(const ua::UserIdentity& user) {
     return {{"user", user.name}, {"roles", std::move(roles)}};
 }
 
+// The answer to an action of the page, with the HTTP status given, or the one the OPC UA
+// status decides (Good 200, a refusal of the user's role 403, no answer 504, others 409).
+void reply(httplib::Response& res, int http, const ua::StatusCode& code,
+           const std::string& detail) {
+    res.status = http;
+    res.set_content(Json{{"status", std::string(ua::statusName(code))}, {"detail", detail}}.dump(
+                        -1, ' ', false, Json::error_handler_t::replace),
+                    "application/json");
+}
+
+void reply(httplib::Response& res, const ActionResult& r) {
+    int http = 409;
+    if (r.status.isGood()) http = 200;
+    if (r.status == ua::status::BadUserAccessDenied) http = 403;
+    if (r.status == ua::status::BadTimeout) http = 504;
+    reply(res, http, r.status, r.detail);
+}
+
+// The client configuration of a session as the page's logged-in user: each action is an
+// OPC UA session as that user, so that the component's own role check applies. It needs the
+// password of the page's login; none without one.
+std::optional<ua::ClientConfig> asUser(const DashboardContent& c, http::UserGate& gate,
+                                       const httplib::Request& req, const ua::UserIdentity& user) {
+    const auto secret = gate.sessionCredentials(req.get_header_value("Cookie"));
+    if (!secret) return std::nullopt;
+    ua::ClientConfig config = c.client;
+    config.sessionName = "skillcell dashboard, for " + user.name;
+    config.security.user = ua::UserCredentials{};
+    config.security.user.kind = ua::UserCredentials::Kind::UserName;
+    config.security.user.userName = secret->first;
+    config.security.user.password = secret->second;
+    return config;
+}
+
+// Runs `action` on the io thread and waits for it (at most 20 s) on the web server's.
+ActionResult await(asio::io_context& io, asio::awaitable<ActionResult> action) {
+    auto done = std::make_shared<std::promise<ActionResult>>();
+    auto outcome = done->get_future();
+    asio::co_spawn(io, std::move(action), [done](const std::exception_ptr& e, ActionResult r) {
+        if (e) r = ActionResult{ua::status::BadInternalError, "failed"};
+        done->set_value(std::move(r));
+    });
+    if (outcome.wait_for(20s) != std::future_status::ready) {
+        return ActionResult{ua::status::BadTimeout, "no answer within 20 s"};
+    }
+    return outcome.get();
+}
+
+constexpr const char* kLogInFirst = "actions are made as the logged-in user: log in on the page";
+
 // POST /api/skill: key, action (start | halt | reset), and param.NAME=VALUE for parameters
 // (written before a Start). The page starts a process with the MES's ExecuteProcess skill and
-// its ProcessIri. The OPC UA status decides the answer: Good 200, a refusal of the user's role
-// 403, others 409.
+// its ProcessIri.
 void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gate,
                  const httplib::Request& req, httplib::Response& res,
                  const ua::UserIdentity& user) {
-    auto reply = [&res](int status, const ua::StatusCode& code, const std::string& detail) {
-        res.status = status;
-        res.set_content(
-            Json{{"status", std::string(ua::statusName(code))}, {"detail", detail}}.dump(
-                -1, ' ', false, Json::error_handler_t::replace),
-            "application/json");
-    };
     const std::string action = req.get_param_value("action");
     const std::map<std::string, skills::SkillMethod> methods{{"start", skills::SkillMethod::Start},
                                                              {"halt", skills::SkillMethod::Halt},
                                                              {"reset", skills::SkillMethod::Reset}};
     const auto method = methods.find(action);
     if (method == methods.end()) {
-        return reply(400, ua::status::BadInvalidArgument, "action is start, halt or reset");
+        return reply(res, 400, ua::status::BadInvalidArgument, "action is start, halt or reset");
     }
-    // Each action is an OPC UA session as the logged-in user, so that the component's own
-    // role check applies: it needs the password of the page's login.
-    const auto secret = gate.sessionCredentials(req.get_header_value("Cookie"));
-    if (!secret) {
-        return reply(403, ua::status::BadUserAccessDenied,
-                     "actions are made as the logged-in user: log in on the page");
-    }
+    auto config = asUser(*c, gate, req, user);
+    if (!config) return reply(res, 403, ua::status::BadUserAccessDenied, kLogInFirst);
     std::map<std::string, std::string> parameters;
     for (const auto& [name, value] : req.params) {
         if (method->second == skills::SkillMethod::Start && name.rfind("param.", 0) == 0 &&
@@ -396,29 +433,11 @@ void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gat
             parameters[name.substr(6)] = value;
         }
     }
-    ua::ClientConfig config = c->client;
-    config.sessionName = "skillcell dashboard, for " + user.name;
-    config.security.user = ua::UserCredentials{};
-    config.security.user.kind = ua::UserCredentials::Kind::UserName;
-    config.security.user.userName = secret->first;
-    config.security.user.password = secret->second;
-    auto done = std::make_shared<std::promise<ActionResult>>();
-    auto outcome = done->get_future();
-    asio::co_spawn(c->io,
-                   act(c, req.get_param_value("key"), method->second, std::move(parameters),
-                       std::move(config)),
-                   [done](const std::exception_ptr& e, ActionResult r) {
-                       if (e) r = ActionResult{ua::status::BadInternalError, "failed"};
-                       done->set_value(std::move(r));
-                   });
-    if (outcome.wait_for(20s) != std::future_status::ready) {
-        return reply(504, ua::status::BadTimeout, "no answer within 20 s");
-    }
-    const ActionResult r = outcome.get();
+    const ActionResult r = await(c->io, act(c, req.get_param_value("key"), method->second,
+                                            std::move(parameters), std::move(*config)));
     spdlog::info("dashboard: {} by {} on {}: {} ({})", action, user.name,
                  req.get_param_value("key"), ua::statusName(r.status), r.detail);
-    const bool refused = r.status == ua::status::BadUserAccessDenied;
-    reply(r.status.isGood() ? 200 : (refused ? 403 : 409), r.status, r.detail);
+    reply(res, r);
 }
 
 // POST /api/order: order, action (cancel). As /api/skill: an OPC UA session as the
@@ -426,48 +445,21 @@ void skillAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gat
 void orderAction(const std::shared_ptr<DashboardContent>& c, http::UserGate& gate,
                  const httplib::Request& req, httplib::Response& res,
                  const ua::UserIdentity& user) {
-    auto reply = [&res](int status, const ua::StatusCode& code, const std::string& detail) {
-        res.status = status;
-        res.set_content(
-            Json{{"status", std::string(ua::statusName(code))}, {"detail", detail}}.dump(
-                -1, ' ', false, Json::error_handler_t::replace),
-            "application/json");
-    };
     if (req.get_param_value("action") != "cancel") {
-        return reply(400, ua::status::BadInvalidArgument, "action is cancel");
+        return reply(res, 400, ua::status::BadInvalidArgument, "action is cancel");
     }
     std::int64_t order = 0;
     const std::string text = req.get_param_value("order");
     const auto parsed = std::from_chars(text.data(), text.data() + text.size(), order);
     if (parsed.ec != std::errc{} || parsed.ptr != text.data() + text.size() || order <= 0) {
-        return reply(400, ua::status::BadInvalidArgument, "order is an order's id");
+        return reply(res, 400, ua::status::BadInvalidArgument, "order is an order's id");
     }
-    const auto secret = gate.sessionCredentials(req.get_header_value("Cookie"));
-    if (!secret) {
-        return reply(403, ua::status::BadUserAccessDenied,
-                     "actions are made as the logged-in user: log in on the page");
-    }
-    ua::ClientConfig config = c->client;
-    config.sessionName = "skillcell dashboard, for " + user.name;
-    config.security.user = ua::UserCredentials{};
-    config.security.user.kind = ua::UserCredentials::Kind::UserName;
-    config.security.user.userName = secret->first;
-    config.security.user.password = secret->second;
-    auto done = std::make_shared<std::promise<ActionResult>>();
-    auto outcome = done->get_future();
-    asio::co_spawn(c->io, cancelOrder(c, order, std::move(config)),
-                   [done](const std::exception_ptr& e, ActionResult r) {
-                       if (e) r = ActionResult{ua::status::BadInternalError, "failed"};
-                       done->set_value(std::move(r));
-                   });
-    if (outcome.wait_for(20s) != std::future_status::ready) {
-        return reply(504, ua::status::BadTimeout, "no answer within 20 s");
-    }
-    const ActionResult r = outcome.get();
+    auto config = asUser(*c, gate, req, user);
+    if (!config) return reply(res, 403, ua::status::BadUserAccessDenied, kLogInFirst);
+    const ActionResult r = await(c->io, cancelOrder(c, order, std::move(*config)));
     spdlog::info("dashboard: cancel of order {} by {}: {}", order, user.name,
                  ua::statusName(r.status));
-    const bool refused = r.status == ua::status::BadUserAccessDenied;
-    reply(r.status.isGood() ? 200 : (refused ? 403 : 409), r.status, r.detail);
+    reply(res, r);
 }
 
 /// Open pages (event streams) at once, and the web server's threads: a stream holds one.

@@ -271,27 +271,20 @@ void ProcessExecutor::haltAll() {
 }
 
 void ProcessExecutor::suspend(std::int64_t id) {
-    const auto it = orders_.find(id);
-    if (it == orders_.end()) return;
-    for (const auto& skill : it->second->running) {
-        asio::co_spawn(
-            detector_->executor(),
-            [skill]() -> asio::awaitable<void> {
-                (void)co_await skill->call(skills::SkillMethod::Suspend);
-            },
-            asio::detached);
-    }
+    forward(id, skills::SkillMethod::Suspend);
 }
 
 void ProcessExecutor::resume(std::int64_t id) {
+    forward(id, skills::SkillMethod::Resume);
+}
+
+void ProcessExecutor::forward(std::int64_t id, skills::SkillMethod method) {
     const auto it = orders_.find(id);
     if (it == orders_.end()) return;
     for (const auto& skill : it->second->running) {
         asio::co_spawn(
             detector_->executor(),
-            [skill]() -> asio::awaitable<void> {
-                (void)co_await skill->call(skills::SkillMethod::Resume);
-            },
+            [skill, method]() -> asio::awaitable<void> { (void)co_await skill->call(method); },
             asio::detached);
     }
 }

@@ -192,6 +192,8 @@ private:
                                           const ProcessDescription& process,
                                           const RunRecord& previous);
     void begin(std::int64_t id, std::string processIri, int priority);
+    /// Calls `method` (Suspend, Resume) on the skills order `id` runs now.
+    void forward(std::int64_t id, skills::SkillMethod method);
     void finish(Order& order, ProcessOutcome outcome);
     /// `p`: the progress so far (order, step), to report this step's on.
     asio::awaitable<StepResult> runStep(std::shared_ptr<Order> order, const ProcessStep& step,
