@@ -84,12 +84,18 @@ asio::awaitable<ua::StatusCode> SkillConnection::attachTo(const RemoteSkill& ski
 }
 
 asio::awaitable<ua::Result<ua::DateTime>> SkillConnection::lastTransitionTime() {
-    std::vector<ua::QualifiedName> path;  // a named local: GCC 12 and temporaries in co_await
-    path.push_back(ua::QualifiedName{0, ua::String("LastTransition")});
-    path.push_back(ua::QualifiedName{0, ua::String("TransitionTime")});
-    auto node = co_await client_->translateBrowsePath(remote_.nodeId, std::move(path));
-    if (!node) co_return node.status();
-    auto value = co_await client_->readValue(*node);
+    // The node the SkillClient found at attach; else (a skill without it in its browse) asked
+    // of the server by path.
+    ua::NodeId node = skill_->lastTransitionTimeNode();
+    if (node.isNull()) {
+        std::vector<ua::QualifiedName> path;  // named: GCC 12 and temporaries in co_await
+        path.push_back(ua::QualifiedName{0, ua::String("LastTransition")});
+        path.push_back(ua::QualifiedName{0, ua::String("TransitionTime")});
+        auto translated = co_await client_->translateBrowsePath(remote_.nodeId, std::move(path));
+        if (!translated) co_return translated.status();
+        node = *translated;
+    }
+    auto value = co_await client_->readValue(node);
     if (!value) co_return value.status();
     if (value->isEmpty()) co_return ua::DateTime{};  // no transition yet
     const auto* time = value->get<ua::DateTime>();
