@@ -21,11 +21,6 @@ ua::Argument argument(const char* name, std::uint32_t type, const char* text, bo
     return a;
 }
 
-template <class T>
-const T* input(std::span<const ua::Variant> in, std::size_t i) {
-    return i < in.size() ? in[i].get<T>() : nullptr;
-}
-
 ua::StatusCode statusOf(const Error& e) {
     switch (e.kind) {
         case ErrorKind::BadInput:
@@ -97,8 +92,8 @@ ua::Result<std::unique_ptr<OrderNodes>> OrderNodes::create(
          argument("Resumed", Boolean, "a Stopped order of the process was resumed instead")},
         [executor](const ua::Caller&, const ua::NodeId&, std::span<const ua::Variant> in,
                    std::vector<ua::Variant>& out) -> ua::StatusCode {
-            const auto* iri = input<ua::String>(in, 0);
-            const auto* priority = input<std::int32_t>(in, 1);
+            const auto* iri = ua::methodInput<ua::String>(in, 0);
+            const auto* priority = ua::methodInput<std::int32_t>(in, 1);
             if (iri == nullptr || priority == nullptr || iri->empty() || *priority < -100 ||
                 *priority > 100) {
                 return ua::status::BadInvalidArgument;
@@ -121,7 +116,7 @@ ua::Result<std::unique_ptr<OrderNodes>> OrderNodes::create(
         {},
         [executor, &journal](const ua::Caller&, const ua::NodeId&, std::span<const ua::Variant> in,
                              std::vector<ua::Variant>&) -> ua::StatusCode {
-            const auto* id = input<std::int64_t>(in, 0);
+            const auto* id = ua::methodInput<std::int64_t>(in, 0);
             if (id == nullptr) return ua::status::BadInvalidArgument;
             if (auto r = journal.run(*id); r && !*r) return ua::status::BadNotFound;
             if (auto s = executor->stop(*id, /*cancel=*/true); !s) {
@@ -142,7 +137,7 @@ ua::Result<std::unique_ptr<OrderNodes>> OrderNodes::create(
          argument("Progress", String, "what each does now, or why it stopped", true)},
         [executor, &journal](const ua::Caller&, const ua::NodeId&, std::span<const ua::Variant> in,
                              std::vector<ua::Variant>& out) -> ua::StatusCode {
-            const auto* count = input<std::int32_t>(in, 0);
+            const auto* count = ua::methodInput<std::int32_t>(in, 0);
             if (count == nullptr || *count < 1 || *count > 10'000) {
                 return ua::status::BadInvalidArgument;
             }
@@ -186,7 +181,7 @@ ua::Result<std::unique_ptr<OrderNodes>> OrderNodes::create(
                   true)},
         [executor, &journal](const ua::Caller&, const ua::NodeId&, std::span<const ua::Variant> in,
                              std::vector<ua::Variant>& out) -> ua::StatusCode {
-            const auto* id = input<std::int64_t>(in, 0);
+            const auto* id = ua::methodInput<std::int64_t>(in, 0);
             if (id == nullptr) return ua::status::BadInvalidArgument;
             auto r = journal.run(*id);
             if (!r) {

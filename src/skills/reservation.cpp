@@ -20,11 +20,6 @@ std::uint64_t clockToken() {
                                           .count());
 }
 
-template <class T>
-const T* input(std::span<const ua::Variant> in, std::size_t i) {
-    return i < in.size() ? in[i].get<T>() : nullptr;
-}
-
 }  // namespace
 
 ua::NodeId reservationNode(const char* child) {
@@ -49,8 +44,8 @@ ua::Result<std::shared_ptr<Reservation>> Reservation::create(ua::Server& server)
         [weak](const ua::Caller& caller, const ua::NodeId&, std::span<const ua::Variant> in,
                std::vector<ua::Variant>& out) -> ua::StatusCode {
             auto self = weak.lock();
-            const auto* holder = input<ua::String>(in, 0);
-            const auto* takeover = input<bool>(in, 1);
+            const auto* holder = ua::methodInput<ua::String>(in, 0);
+            const auto* takeover = ua::methodInput<bool>(in, 1);
             if (!self) return ua::status::BadInvalidState;
             if (holder == nullptr || takeover == nullptr) return ua::status::BadInvalidArgument;
             std::uint64_t token = 0;
@@ -63,7 +58,7 @@ ua::Result<std::shared_ptr<Reservation>> Reservation::create(ua::Server& server)
         [weak](const ua::Caller& caller, const ua::NodeId&, std::span<const ua::Variant> in,
                std::vector<ua::Variant>&) -> ua::StatusCode {
             auto self = weak.lock();
-            const auto* token = input<std::uint64_t>(in, 0);
+            const auto* token = ua::methodInput<std::uint64_t>(in, 0);
             if (!self) return ua::status::BadInvalidState;
             if (token == nullptr) return ua::status::BadInvalidArgument;
             return self->use(caller, *token);
@@ -73,7 +68,7 @@ ua::Result<std::shared_ptr<Reservation>> Reservation::create(ua::Server& server)
         [weak](const ua::Caller&, const ua::NodeId&, std::span<const ua::Variant> in,
                std::vector<ua::Variant>&) -> ua::StatusCode {
             auto self = weak.lock();
-            const auto* token = input<std::uint64_t>(in, 0);
+            const auto* token = ua::methodInput<std::uint64_t>(in, 0);
             if (!self) return ua::status::BadInvalidState;
             if (token == nullptr) return ua::status::BadInvalidArgument;
             return self->release(*token);

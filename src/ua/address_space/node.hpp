@@ -62,6 +62,13 @@ using MethodCallback =
     std::function<StatusCode(const Caller& caller, const NodeId& objectId,
                              std::span<const Variant> inputs, std::vector<Variant>& outputs)>;
 
+/// A method's input `i` if it is a scalar of type T, else nullptr (then the callback answers
+/// BadInvalidArgument).
+template <ScalarType T>
+[[nodiscard]] const T* methodInput(std::span<const Variant> inputs, std::size_t i) {
+    return i < inputs.size() ? inputs[i].get<T>() : nullptr;
+}
+
 struct Node {
     // Base attributes: every node class.
     NodeId nodeId;
