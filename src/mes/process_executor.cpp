@@ -39,6 +39,40 @@ std::int64_t median(std::vector<std::int64_t> v) {
 // How many finished runs of a skill type on a component the MES learns its duration from.
 constexpr std::size_t kDurationHistory = 20;
 
+// Orders `skills` (suitable and free) by their expected duration, shortest first: the median of
+// their component's last finished runs in `durations`; those without a history after, in the
+// order given (URI order). Returns why the first was chosen, over the others.
+std::string rankByExpectedDuration(
+    std::vector<skills::SkillInstance>& skills,
+    const kb::Expected<std::map<std::string, std::vector<std::int64_t>>>& durations) {
+    std::map<std::string, std::int64_t> expected;
+    if (durations) {
+        for (const auto& [component, ms] : *durations) {
+            if (!ms.empty()) expected[component] = median(ms);
+        }
+    }
+    auto rank = [&](const skills::SkillInstance& s) {
+        const auto it = expected.find(s.componentUri);
+        return it != expected.end() ? it->second : std::numeric_limits<std::int64_t>::max();
+    };
+    std::stable_sort(skills.begin(), skills.end(),
+                     [&](const auto& x, const auto& y) { return rank(x) < rank(y); });
+    auto describeCandidate = [&](const skills::SkillInstance& s) {
+        const auto it = expected.find(s.componentUri);
+        if (it == expected.end()) return s.componentUri + " (no finished run yet)";
+        return s.componentUri + " (expected " + std::to_string(it->second) +
+               " ms, the median of its last " +
+               std::to_string(durations->at(s.componentUri).size()) + ")";
+    };
+    std::string why = describeCandidate(skills.front());
+    std::string others;
+    for (std::size_t i = 1; i < skills.size(); ++i) {
+        others += (others.empty() ? "" : ", ") + describeCandidate(skills[i]);
+    }
+    if (!others.empty()) why += " over " + others;
+    return why;
+}
+
 std::string describe(const SkillOutcome& o) {
     std::string text(skills::name(o.kind));
     if (o.status.isBad()) text += " (" + std::string(ua::statusName(o.status)) + ")";
@@ -727,34 +761,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                 }
             }
             if (!free.skills.empty()) {
-                // Among the suitable and free: the shortest expected duration (the median of
-                // its last finished runs) first; those without a history after, in URI order.
-                std::map<std::string, std::int64_t> expected;
-                if (durations) {
-                    for (const auto& [component, ms] : *durations) {
-                        if (!ms.empty()) expected[component] = median(ms);
-                    }
-                }
-                auto rank = [&](const skills::SkillInstance& s) {
-                    const auto it = expected.find(s.componentUri);
-                    return it != expected.end() ? it->second
-                                                : std::numeric_limits<std::int64_t>::max();
-                };
-                std::stable_sort(free.skills.begin(), free.skills.end(),
-                                 [&](const auto& x, const auto& y) { return rank(x) < rank(y); });
-                auto describeCandidate = [&](const skills::SkillInstance& s) {
-                    const auto it = expected.find(s.componentUri);
-                    if (it == expected.end()) return s.componentUri + " (no finished run yet)";
-                    return s.componentUri + " (expected " + std::to_string(it->second) +
-                           " ms, the median of its last " +
-                           std::to_string(durations->at(s.componentUri).size()) + ")";
-                };
-                free.why = describeCandidate(free.skills.front());
-                std::string others;
-                for (std::size_t i = 1; i < free.skills.size(); ++i) {
-                    others += (others.empty() ? "" : ", ") + describeCandidate(free.skills[i]);
-                }
-                if (!others.empty()) free.why += " over " + others;
+                free.why = rankByExpectedDuration(free.skills, durations);
                 if (!holders.empty()) free.why += "; not free: " + holders;
                 co_return free;
             }

@@ -163,8 +163,6 @@ public:
 
     /// The orders running in this MES now, each with its latest progress.
     [[nodiscard]] std::vector<Progress> running() const;
-    /// Whether `order` runs in this MES now.
-    [[nodiscard]] bool isRunning(std::int64_t order) const { return orders_.contains(order); }
 
     /// Called on every change of what an order does (on the executor).
     std::function<void(const Progress&)> onProgress;
