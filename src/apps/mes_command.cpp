@@ -8,10 +8,13 @@
 // resumes the orders it was running.
 #include <spdlog/spdlog.h>
 
+#include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
+#include <asio/experimental/as_tuple.hpp>
 #include <asio/io_context.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/thread_pool.hpp>
+#include <asio/use_awaitable.hpp>
 #include <filesystem>
 #include <iostream>
 
@@ -56,10 +59,9 @@ struct MesContent {
     std::unique_ptr<mes::Journal> journal;
     std::shared_ptr<mes::ProcessExecutor> executor;
     std::unique_ptr<mes::MesComponent> component;
-    std::unique_ptr<asio::steady_timer> lockRetry;
-    std::shared_ptr<std::function<void()>> lockRetryLoop;
+    std::shared_ptr<asio::steady_timer> lockRetry;  // standBy()'s
     ~MesContent() {
-        lockRetry.reset();
+        if (lockRetry) lockRetry->cancel();
         component.reset();
         executor.reset();
         if (kbThread) kbThread->join();
@@ -67,36 +69,29 @@ struct MesContent {
 };
 
 /// Tries the journal's lock every 100 ms (flock has no asynchronous wait) until the active
-/// MES ends, then resumes its orders here.
-void standBy(asio::io_context& io, MesContent& content) {
-    content.lockRetry = std::make_unique<asio::steady_timer>(io);
-    auto* timer = content.lockRetry.get();
-    auto* lock = content.lock.get();
-    auto* executor = content.executor.get();
-    std::shared_ptr<std::function<void()>> retry = std::make_shared<std::function<void()>>();
-    *retry = [timer, lock, executor, weak = std::weak_ptr(retry)] {
+/// MES ends, then resumes its orders here. Ends with the content (its timer is cancelled).
+asio::awaitable<void> standBy(std::weak_ptr<MesContent> weak,
+                              std::shared_ptr<asio::steady_timer> timer) {
+    for (;;) {
         timer->expires_after(std::chrono::milliseconds(100));
-        timer->async_wait([lock, executor, weak](const std::error_code& ec) {
-            auto again = weak.lock();
-            if (ec || !again) return;  // shutting down
-            auto attempt = lock->tryAcquire();
-            if (!attempt) {
-                spdlog::error("mes: {}", attempt.error());
-            } else if (*attempt == mes::JournalLock::Attempt::Acquired) {
-                auto resumed = executor->resumeOpenOrders();
-                if (resumed) {
-                    spdlog::warn("mes: the journal is ours now: {} open order(s) resumed",
-                                 *resumed);
-                } else {
-                    spdlog::error("mes: cannot resume the journal's orders: {}", resumed.error());
-                }
-                return;
-            }
-            (*again)();
-        });
-    };
-    content.lockRetryLoop = retry;
-    (*retry)();
+        const auto [ec] =
+            co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        auto content = weak.lock();
+        if (ec || !content) co_return;  // shutting down
+        auto attempt = content->lock->tryAcquire();
+        if (!attempt) {
+            spdlog::error("mes: {}", attempt.error());
+            continue;
+        }
+        if (*attempt == mes::JournalLock::Attempt::Held) continue;
+        auto resumed = content->executor->resumeOpenOrders();
+        if (resumed) {
+            spdlog::warn("mes: the journal is ours now: {} open order(s) resumed", *resumed);
+        } else {
+            spdlog::error("mes: cannot resume the journal's orders: {}", resumed.error());
+        }
+        co_return;
+    }
 }
 
 int runMes(MesOptions& o) {
@@ -190,7 +185,10 @@ int runMes(MesOptions& o) {
                 return component.status();
             }
             content->component = std::move(*component);
-            if (!content->lock->held()) standBy(c.io, *content);
+            if (!content->lock->held()) {
+                content->lockRetry = std::make_shared<asio::steady_timer>(c.io);
+                asio::co_spawn(c.io, standBy(content, content->lockRetry), asio::detached);
+            }
             return ComponentContent(content);
         });
 }
