@@ -194,8 +194,22 @@ async function monitorItem(subscription, nodeId, attributeId, options) {
     return item;
 }
 
+/// Runs a script's `main` (async) and exits: 0 when it resolves, 1 with "FAIL: ..." on stderr
+/// when it rejects or has not ended after `seconds`.
+function runMain(main, seconds) {
+    const overall = setTimeout(() => {
+        process.stderr.write(`FAIL: timed out after ${seconds} s\n`);
+        process.exit(1);
+    }, seconds * 1000);
+    main().then(() => { clearTimeout(overall); process.exit(0); }, (err) => {
+        process.stderr.write(`FAIL: ${err && err.stack ? err.stack : err}\n`);
+        process.exit(1);
+    });
+}
+
 module.exports = {
     monitorItem,
+    runMain,
     startSubscription,
     DEMO_NAMESPACE_URI,
     StatusCodes,

@@ -16,7 +16,9 @@
 
 require("./log_to_stderr"); // before node-opcua: keep stdout clean
 const { AttributeIds, DataType, Variant, VariantArrayType } = require("node-opcua-client");
-const { StatusCodes, checkEndpointUrl, connect, disconnect, resolveNamespaceIndex } = require("./common");
+const {
+    StatusCodes, checkEndpointUrl, connect, disconnect, resolveNamespaceIndex, runMain
+} = require("./common");
 const { childByName, findSkills } = require("./skill_model");
 
 const SKILLS_URI = "http://skillcell.dev/UA/Skills/";
@@ -111,11 +113,4 @@ async function main() {
     }
 }
 
-const overall = setTimeout(() => {
-    process.stderr.write("FAIL: timed out after 60 s\n");
-    process.exit(1);
-}, 60000);
-main().then(() => { clearTimeout(overall); process.exit(0); }, (err) => {
-    process.stderr.write(`FAIL: ${err && err.stack ? err.stack : err}\n`);
-    process.exit(1);
-});
+runMain(main, 60);

@@ -18,7 +18,7 @@
 require("./log_to_stderr"); // before node-opcua: keep stdout clean
 const { AttributeIds, DataType, constructEventFilter } = require("node-opcua-client");
 const {
-    StatusCodes, checkEndpointUrl, connect, disconnect, monitorItem, resolveNamespaceIndex,
+    StatusCodes, checkEndpointUrl, connect, disconnect, monitorItem, resolveNamespaceIndex, runMain,
     startSubscription, waitFor
 } = require("./common");
 const { childByName, findSkills } = require("./skill_model");
@@ -95,11 +95,4 @@ async function main() {
     }
 }
 
-const overall = setTimeout(() => {
-    process.stderr.write("FAIL: timed out after 60 s\n");
-    process.exit(1);
-}, 60000);
-main().then(() => { clearTimeout(overall); process.exit(0); }, (err) => {
-    process.stderr.write(`FAIL: ${err && err.stack ? err.stack : err}\n`);
-    process.exit(1);
-});
+runMain(main, 60);

@@ -26,6 +26,7 @@ const {
     connect,
     disconnect,
     resolveNamespaceIndex,
+    runMain,
     startSubscription,
     stringNodeId,
     waitFor
@@ -95,11 +96,4 @@ async function main() {
     }
 }
 
-const overall = setTimeout(() => {
-    process.stderr.write("FAIL: timed out after 60 s\n");
-    process.exit(1);
-}, 60000);
-main().then(() => { clearTimeout(overall); process.exit(0); }, (err) => {
-    process.stderr.write(`FAIL: ${err && err.stack ? err.stack : err}\n`);
-    process.exit(1);
-});
+runMain(main, 60);
