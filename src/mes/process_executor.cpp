@@ -679,13 +679,19 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
     }
 }
 
-std::set<std::string> ProcessExecutor::componentsOf(const Choice& c) {
+std::set<std::string> ProcessExecutor::componentsOf(
+    const skills::SkillInstance* skill,
+    const std::vector<std::optional<skills::SkillInstance>>& cellMatches) {
     std::set<std::string> out;
-    if (!c.skills.empty()) out.insert(c.skills.front().componentUri);
-    for (const auto& m : c.cellMatches) {
+    if (skill != nullptr) out.insert(skill->componentUri);
+    for (const auto& m : cellMatches) {
         if (m) out.insert(m->componentUri);
     }
     return out;
+}
+
+std::set<std::string> ProcessExecutor::componentsOf(const Choice& c) {
+    return componentsOf(c.skills.empty() ? nullptr : &c.skills.front(), c.cellMatches);
 }
 
 bool ProcessExecutor::available(const Order& order, const std::set<std::string>& components) const {
@@ -737,16 +743,15 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             if (order->halted) co_return Choice{};
             // Suitable: those the order may use now (no other order holds them, no other
             // of its steps uses them), else wait for one to be freed.
-            Choice free = c;
-            free.skills.clear();
+            // Without copying the choice per candidate: with many components and many orders
+            // that copying was most of the MES's time (bench/mes_overhead).
+            Choice free;
             std::set<std::string> wanted;
             std::string holders;
-            for (const auto& s : c.skills) {
-                Choice one = c;
-                one.skills = {s};
-                const auto components = componentsOf(one);
+            for (auto& s : c.skills) {
+                const auto components = componentsOf(&s, c.cellMatches);
                 if (available(*order, components)) {
-                    free.skills.push_back(s);
+                    free.skills.push_back(std::move(s));
                     continue;
                 }
                 for (const auto& component : components) {
@@ -761,6 +766,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                 }
             }
             if (!free.skills.empty()) {
+                free.cellMatches = std::move(c.cellMatches);
                 free.why = rankByExpectedDuration(free.skills, durations);
                 if (!holders.empty()) free.why += "; not free: " + holders;
                 co_return free;

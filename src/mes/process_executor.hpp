@@ -223,6 +223,10 @@ private:
                                              const std::vector<skills::SkillInstance>& live);
     /// The components a choice uses: its first skill's, and those of its cell matches.
     [[nodiscard]] static std::set<std::string> componentsOf(const Choice& c);
+    /// The components that running `skill` (none: only the matches) with `cellMatches` uses.
+    [[nodiscard]] static std::set<std::string> componentsOf(
+        const skills::SkillInstance* skill,
+        const std::vector<std::optional<skills::SkillInstance>>& cellMatches);
     /// Whether `order` may use every component of `components` now (held by no other order,
     /// used by none of its own running steps, wanted by no better-ranked waiting order).
     [[nodiscard]] bool available(const Order& order, const std::set<std::string>& components) const;
