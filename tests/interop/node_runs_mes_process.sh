@@ -4,7 +4,9 @@
 # --demo-process`, its own Virtuoso in a temporary directory) behind it and no cell: the MES
 # reads the paper's process, finds before any motion that no component offers the skills of
 # its steps and refuses it, naming each, a reason node-opcua receives in the RunningToHalted
-# event; a process the KB does not know stops with that. Skips (exit 77) without node-opcua, unless SKILLCELL_REQUIRE_NODE=1 (CI).
+# event; a process the KB does not know stops with that. Then node-opcua drives the MES's
+# orders (orders.js): submits, lists, reads, follows and cancels one, and is refused with the
+# precise status codes for bad input, a second cancel and unknown ids. Skips (exit 77) without node-opcua, unless SKILLCELL_REQUIRE_NODE=1 (CI).
 # Usage: node_runs_mes_process.sh PATH/TO/skillcell
 set -euo pipefail
 skillcell=$1
@@ -24,7 +26,8 @@ start() {
     --insecure --pki-dir "$tmp/pki-$name"
 }
 
-start kb 120 kb --demo-process --http-port 0 --data-dir "$tmp/kb"
+waiting=$here/../data/mes/waits_for_a_skill.ttl
+start kb 120 kb --demo-process --process "$waiting" --http-port 0 --data-dir "$tmp/kb"
 pid=$last_pid
 sparql=$(sed -n 's/^SPARQL //p' "$tmp/kb.before")
 start mes 20 mes --kb "$sparql" --journal "$tmp/journal.sqlite" --skill-wait-ms 300
@@ -38,5 +41,7 @@ timeout 120 node "$here/execute_process.js" "$url" http://skillcell.dev/demo#pic
 timeout 120 node "$here/execute_process.js" "$url" http://skillcell.dev/demo#noSuchProcess \
   "halted:has no process <http://skillcell.dev/demo#noSuchProcess>" reading stopped ||
   fail "an unknown process"
+timeout 120 node "$here/orders.js" "$url" http://skillcell.dev/test/orders#waitsForATool ||
+  fail "orders through node-opcua"
 kill -0 "$mes_pid" 2>/dev/null || fail "the MES died during the test"
 echo "OK"
