@@ -14,8 +14,10 @@
 //
 // Then concurrent orders (default 1, 10 and 50 at once): K in-process servers, each with a
 // no-op Move, and K orders of a 10-step process submitted together. Each order holds the
-// component it runs on, so all K run at once, one per component. Prints the step time and the
-// overhead per step (median and p99, against the same baseline) and orders per second.
+// component it runs on, so all K run at once, one per component. The baseline there is the
+// same load without the MES: K SkillClients on one thread, each invoking its component's skill
+// 10 times, all at once. Prints the step time, the baseline's invocation time, the overhead
+// per step (median and p99) and orders per second.
 #include <spdlog/spdlog.h>
 
 #include <charconv>
@@ -28,13 +30,15 @@
 #include <string_view>
 #include <vector>
 
+#include <asio/experimental/as_tuple.hpp>
+#include <asio/detached.hpp>
+#include <asio/steady_timer.hpp>
+
 #include "client_thread.hpp"
 #include "kb/component_graph.hpp"
 #include "latency_stats.hpp"
 #include "mes/process_executor.hpp"
-#include "running_server.hpp"
-#include "skills/noop_behaviour.hpp"
-#include "skills/skill_server.hpp"
+#include "noop_component.hpp"
 
 namespace {
 
@@ -95,6 +99,7 @@ mes::ProcessDescription process(std::size_t steps,
 
 struct OrdersResult {
     bench::LatencyStats steps;
+    bench::LatencyStats invocations;  // the baseline at the same concurrency
     double ordersPerSecond = 0;
     std::size_t completed = 0;
 };
@@ -103,18 +108,10 @@ struct OrdersResult {
 // one executor with a journal in `dir`.
 OrdersResult concurrentOrders(std::size_t k, std::size_t steps, const fs::path& dir) {
     OrdersResult result;
-    std::vector<std::unique_ptr<skills::SkillServer>> skillServers(k);
-    std::vector<std::unique_ptr<test::RunningServer>> servers;
+    std::vector<std::unique_ptr<test::NoOpComponent>> servers;
     for (std::size_t i = 0; i < k; ++i) {
-        auto config = test::RunningServer::defaultConfig();
-        config.description.applicationUri = "urn:skillcell:bench:component" + std::to_string(i);
-        servers.push_back(std::make_unique<test::RunningServer>(
-            std::move(config), [&skillServers, i](ua::Server& s) {
-                skillServers[i] = skills::SkillServer::create(s, s.executor());
-                const auto type = skillServers[i]->findSkillType("CartesianLinearMoveSkillType");
-                (void)skillServers[i]->add(*type, "Move",
-                                           std::make_unique<skills::NoOpBehaviour>(s.executor()));
-            }));
+        servers.push_back(std::make_unique<test::NoOpComponent>(
+            "urn:skillcell:bench:component" + std::to_string(i), 0ms));
     }
     auto journal = mes::Journal::open((dir / ("orders-" + std::to_string(k) + ".sqlite")).string());
     if (!journal) return result;
@@ -137,6 +134,50 @@ OrdersResult concurrentOrders(std::size_t k, std::size_t steps, const fs::path& 
         co_return 0;
     });
     if (detected.get_future().wait_for(30s) != std::future_status::ready) return result;
+    // The baseline at this concurrency: K SkillClients on one thread, as the MES is, each
+    // attached once to its own component and invoking its no-op skill `steps` times, all at
+    // once. What K servers and one client thread cost without the MES.
+    result.invocations = mesThread.run([&]() -> asio::awaitable<bench::LatencyStats> {
+        std::vector<std::unique_ptr<ua::Client>> clients;
+        std::vector<std::shared_ptr<skills::SkillClient>> skills;
+        for (std::size_t i = 0; i < k; ++i) {
+            clients.push_back(std::make_unique<ua::Client>(mesThread.io().get_executor()));
+            if ((co_await clients.back()->connect(servers[i]->url())).isBad()) co_return bench::LatencyStats{};
+            auto sc = co_await skills::SkillClient::attach(*clients.back(),
+                                                           test::NoOpComponent::moveSkill());
+            if (!sc) co_return bench::LatencyStats{};
+            skills.push_back(*sc);
+        }
+        bench::Samples times;
+        auto left = std::make_shared<std::size_t>(k);
+        asio::steady_timer allDone(mesThread.io(), Clock::time_point::max());
+        // The coroutine's state as parameters, which its frame copies (a lambda's captures
+        // would dangle once the lambda object is gone).
+        auto invoke = [&times, &allDone](std::shared_ptr<skills::SkillClient> sc, std::size_t n,
+                                         std::shared_ptr<std::size_t> running)
+            -> asio::awaitable<void> {
+            for (std::size_t i = 0; i < n; ++i) {
+                const auto t0 = Clock::now();
+                std::map<std::string, ua::Variant> parameters;
+                parameters.emplace("MaxVelocity", 0.1 + double(i % 10) / 10);
+                const auto outcome = co_await sc->run(std::move(parameters), 5s);
+                if (!outcome.ok()) {
+                    std::fprintf(stderr, "baseline invocation: %s %s\n",
+                                 std::string(skills::name(outcome.kind)).c_str(),
+                                 outcome.reason.c_str());
+                }
+                times.push_back(Clock::now() - t0);
+            }
+            if (--*running == 0) allDone.cancel();
+        };
+        for (std::size_t i = 0; i < k; ++i) {
+            asio::co_spawn(mesThread.io(), invoke(skills[i], steps, left), asio::detached);
+        }
+        (void)co_await allDone.async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        skills.clear();
+        for (auto& c : clients) (void)co_await c->disconnect();
+        co_return bench::summarize(times);
+    });
     const auto description = process(steps, "urn:skillcell:bench:orders");
     mes::ProcessReader reader =
         [&description](std::string) -> asio::awaitable<kb::Expected<mes::ProcessDescription>> {
@@ -168,12 +209,6 @@ OrdersResult concurrentOrders(std::size_t k, std::size_t steps, const fs::path& 
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     result.ordersPerSecond = static_cast<double>(result.completed) / seconds;
     result.steps = bench::summarize(stepTimes);
-    for (std::size_t i = 0; i < k; ++i) {
-        servers[i]->inServer([&](ua::Server&) {
-            skillServers[i].reset();
-            return 0;
-        });
-    }
     return result;
 }
 
@@ -196,17 +231,11 @@ int main(int argc, char** argv) {
         }
     } cleanup{dir};
 
-    std::unique_ptr<skills::SkillServer> skillServer;
-    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
-        skillServer = skills::SkillServer::create(s, s.executor());
-        const auto type = skillServer->findSkillType("CartesianLinearMoveSkillType");
-        (void)skillServer->add(*type, "Move",
-                               std::make_unique<skills::NoOpBehaviour>(s.executor()));
-    });
+    test::NoOpComponent server("urn:skillcell:bench:server", 0ms);
 
     // The baseline: the same skill, invoked through a SkillClient attached once.
     test::ClientThread baselineClient;
-    const auto sc = baselineClient.attach(server.url(), ua::NodeId(1, ua::String("Skills/Move")));
+    const auto sc = baselineClient.attach(server.url(), test::NoOpComponent::moveSkill());
     if (!sc) {
         std::fprintf(stderr, "cannot attach to the no-op skill\n");
         return 1;
@@ -270,11 +299,6 @@ int main(int argc, char** argv) {
             detector->stop();
             co_return o;
         });
-    server.inServer([&](ua::Server&) {
-        skillServer.reset();
-        return 0;
-    });
-
     const auto base = bench::summarize(invocations);
     const auto mesSteps = bench::summarize(stepTimes);
     std::printf(
@@ -296,17 +320,21 @@ int main(int argc, char** argv) {
     constexpr std::size_t kOrderSteps = 10;
     std::printf("\nconcurrent orders (%zu steps each, one no-op component per order)\n\n",
                 kOrderSteps);
-    std::printf("  %7s  %12s  %12s  %14s  %14s  %10s\n", "orders", "step median", "step p99",
-                "overhead med.", "overhead p99", "orders/s");
+    std::printf("  %7s  %12s  %12s  %14s  %14s  %14s  %10s\n", "orders", "step median",
+                "step p99", "invocation med.", "overhead med.", "overhead p99", "orders/s");
     bool allCompleted = true;
     for (const std::size_t k : orderCounts) {
         const auto r = concurrentOrders(k, kOrderSteps, dir);
         allCompleted = allCompleted && r.completed == k;
-        std::printf("  %7zu  %9.1f us  %9.1f us  %11.1f us  %11.1f us  %10.1f%s\n", k,
-                    r.steps.medianUs, r.steps.p99Us, r.steps.medianUs - base.medianUs,
-                    r.steps.p99Us - base.medianUs, r.ordersPerSecond,
+        std::printf("  %7zu  %9.1f us  %9.1f us  %12.1f us  %11.1f us  %11.1f us  %10.1f%s\n", k,
+                    r.steps.medianUs, r.steps.p99Us, r.invocations.medianUs,
+                    r.steps.medianUs - r.invocations.medianUs,
+                    r.steps.p99Us - r.invocations.medianUs, r.ordersPerSecond,
                     r.completed == k ? "" : "  (not all completed)");
     }
-    std::printf("\n  overhead = step time - the baseline invocation's median\n");
+    std::printf(
+        "\n  invocation = the no-op skill through K SkillClients at once on one thread, no MES "
+        "(the baseline at that concurrency)\n  overhead = step time - that invocation's "
+        "median\n");
     return outcome.completed && failures == 0 && mesSteps.n == steps && allCompleted ? 0 : 1;
 }

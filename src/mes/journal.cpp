@@ -242,6 +242,22 @@ kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
     return kb::Done{};
 }
 
+kb::Status Journal::recordSteps(const std::vector<std::pair<std::int64_t, StepRecord>>& steps) {
+    if (steps.size() == 1) return recordStep(steps.front().first, steps.front().second);
+    if (auto s = exec("BEGIN IMMEDIATE"); !s) return s;
+    for (const auto& [run, step] : steps) {
+        if (auto s = recordStep(run, step); !s) {
+            (void)exec("ROLLBACK");
+            return s;
+        }
+    }
+    if (auto s = exec("COMMIT"); !s) {
+        (void)exec("ROLLBACK");
+        return s;
+    }
+    return kb::Done{};
+}
+
 kb::Status Journal::setRunState(std::int64_t run, RunState state, const std::string& reason) {
     Statement s(db_, "UPDATE runs SET state = ?1, reason = ?2, ended_ms = ?3 WHERE id = ?4");
     if (!s.prepared()) return error("prepare");

@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kb/expected.hpp"
@@ -94,6 +95,10 @@ public:
                                                          int priority);
     /// Inserts or replaces the row of (run, step.index, step.attempt).
     [[nodiscard]] kb::Status recordStep(std::int64_t run, const StepRecord& step);
+    /// recordStep() for each of `steps` (run, record), in one transaction: one fsync for all
+    /// (group commit). All or none: on an error nothing of them is recorded.
+    [[nodiscard]] kb::Status recordSteps(
+        const std::vector<std::pair<std::int64_t, StepRecord>>& steps);
     [[nodiscard]] kb::Status setRunState(std::int64_t run, RunState state,
                                          const std::string& reason);
 

@@ -134,7 +134,18 @@ ProcessExecutor::ProcessExecutor(Token, std::shared_ptr<skills::SkillDetector> d
       journal_(journal),
       kb_(std::move(kb)),
       options_(std::move(options)),
+      connections_(std::make_shared<SkillConnectionPool>(detector_->executor(), options_.client,
+                                                         options_.skillClient,
+                                                         options_.keepConnections)),
       journalThread_(std::make_unique<asio::thread_pool>(1)) {}
+
+ProcessExecutor::~ProcessExecutor() {
+    // The kept sessions are closed on the executor, where they live (this may run elsewhere).
+    asio::co_spawn(
+        detector_->executor(),
+        [pool = std::move(connections_)]() -> asio::awaitable<void> { co_await pool->closeAll(); },
+        asio::detached);
+}
 
 void ProcessExecutor::report(Order& order, Progress p) {
     order.progress = std::move(p);
@@ -148,10 +159,49 @@ asio::awaitable<std::invoke_result_t<Write&>> ProcessExecutor::journaled(Write w
 }
 
 asio::awaitable<kb::Status> ProcessExecutor::record(std::int64_t run, StepRecord step) {
-    auto write = [this, run, &step] { return journal_.recordStep(run, step); };
-    auto s = co_await journaled(write);
-    if (!s) spdlog::error("mes: {}", s.error());
-    co_return s;
+    auto self = shared_from_this();
+    auto pending = std::make_shared<PendingRecord>(
+        run, std::move(step), asio::steady_timer(detector_->executor(), Clock::time_point::max()));
+    unrecorded_.push_back(pending);
+    if (!recording_) {
+        recording_ = true;
+        asio::co_spawn(detector_->executor(), writeRecords(), asio::detached);
+    }
+    if (!pending->done) {
+        (void)co_await pending->written.async_wait(
+            asio::experimental::as_tuple(asio::use_awaitable));
+    }
+    if (!pending->result) spdlog::error("mes: {}", pending->result.error());
+    co_return pending->result;
+}
+
+asio::awaitable<void> ProcessExecutor::writeRecords() {
+    auto self = shared_from_this();
+    // Group commit: what the orders asked to record while the last transaction was on its
+    // way to the disk goes in the next one, with one fsync for all of it.
+    while (!unrecorded_.empty()) {
+        auto batch = std::move(unrecorded_);
+        unrecorded_.clear();
+        std::vector<std::pair<std::int64_t, StepRecord>> rows;
+        rows.reserve(batch.size());
+        for (const auto& p : batch) rows.emplace_back(p->run, p->step);
+        auto all = [this, &rows] { return journal_.recordSteps(rows); };
+        const kb::Status written = co_await journaled(all);
+        for (auto& p : batch) {
+            if (written || batch.size() == 1) {
+                p->result = written;
+            } else {
+                // Each on its own: one bad record must not fail the others.
+                auto one = [this, &p] { return journal_.recordStep(p->run, p->step); };
+                p->result = co_await journaled(one);
+            }
+        }
+        for (auto& p : batch) {
+            p->done = true;
+            p->written.cancel();
+        }
+    }
+    recording_ = false;
 }
 
 asio::awaitable<void> ProcessExecutor::sleep(Order& order,
@@ -560,8 +610,7 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
     // The step's component is the order's, as it was before the MES stopped.
     claims_.take(order->id, r.componentUri);
     std::string why;
-    auto conn = co_await skills::SkillConnection::open(detector_->executor(), target,
-                                                       options_.client, &why, options_.skillClient);
+    auto conn = co_await connections_->take(target, &why);
     if (!conn) {
         co_return std::pair(Settled::Failed, "cannot tell whether the skill " + r.skillNodeId +
                                                  " of " + r.componentUri + " ran: " + why);
@@ -603,7 +652,7 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
                         std::string(state ? skills::name(*state) : std::string_view("unknown")) +
                         ": it failed while the MES was not running";
     }
-    co_await hangUp(**conn, token);
+    co_await hangUp(target, std::move(*conn), token);
     if (order->halted && result.first != Settled::Finished) {
         result = {Settled::Failed, "halted"};
     }
@@ -735,11 +784,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
         if (!c.skills.empty()) {
             // What the journal knows of how long each candidate takes (read before the
             // availability below, which must not be separated from the take by a wait).
-            auto readDurations = [this, type = step.skillTypeIri] {
-                return journal_.finishedDurations(type, kDurationHistory);
-            };
-            auto durations = co_await journaled(readDurations);
-            if (!durations) spdlog::warn("mes: {}", durations.error());
+            const auto durations = co_await expectedDurations(step.skillTypeIri);
             if (order->halted) co_return Choice{};
             // Suitable: those the order may use now (no other order holds them, no other
             // of its steps uses them), else wait for one to be freed.
@@ -830,16 +875,45 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
     }
 }
 
-asio::awaitable<void> ProcessExecutor::hangUp(skills::SkillConnection& connection,
+asio::awaitable<kb::Expected<std::map<std::string, std::vector<std::int64_t>>>>
+ProcessExecutor::expectedDurations(std::string skillTypeIri) {
+    auto self = shared_from_this();
+    if (!durations_.contains(skillTypeIri)) {
+        // Read once per skill type from the journal (what earlier runs of this MES, or of
+        // another on the same journal, learnt), then kept here as steps finish.
+        auto read = [this, &skillTypeIri] {
+            return journal_.finishedDurations(skillTypeIri, kDurationHistory);
+        };
+        auto fromJournal = co_await journaled(read);
+        if (!fromJournal) {
+            spdlog::warn("mes: {}", fromJournal.error());
+            co_return fromJournal;
+        }
+        durations_.try_emplace(skillTypeIri, std::move(*fromJournal));
+    }
+    co_return durations_.at(skillTypeIri);
+}
+
+void ProcessExecutor::finishedIn(const std::string& skillTypeIri, const std::string& componentUri,
+                                 const StepRecord& r) {
+    const auto type = durations_.find(skillTypeIri);
+    if (type == durations_.end() || r.endedMs <= r.startedMs) return;  // read when first needed
+    auto& ms = type->second[componentUri];
+    ms.insert(ms.begin(), r.endedMs - r.startedMs);  // newest first, as the journal gives them
+    if (ms.size() > kDurationHistory) ms.resize(kDurationHistory);
+}
+
+asio::awaitable<void> ProcessExecutor::hangUp(const skills::SkillInstance& skill,
+                                              std::unique_ptr<skills::SkillConnection> connection,
                                               std::optional<std::uint64_t> token) {
     auto self = shared_from_this();
     if (token) {
-        if (const auto s = co_await skills::release(connection.client(), *token); s.isBad()) {
+        if (const auto s = co_await skills::release(connection->client(), *token); s.isBad()) {
             // Taken over meanwhile (a failover): the new holder's now.
             spdlog::warn("mes: releasing the reservation: {}", ua::statusName(s));
         }
     }
-    co_await connection.close();
+    co_await connections_->giveBack(skill, std::move(connection));
 }
 
 asio::awaitable<kb::Expected<std::optional<std::uint64_t>>> ProcessExecutor::reserve(
@@ -944,8 +1018,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         p.component = skill.componentUri;
         p.skill = skill.browsePathString();
         std::string why;
-        auto conn = co_await skills::SkillConnection::open(
-            detector_->executor(), skill, options_.client, &why, options_.skillClient);
+        auto conn = co_await connections_->take(skill, &why);
         if (!conn) {
             tried.insert(keyOf(skill));
             lastFailure = where(skill) + ": " + why;
@@ -976,7 +1049,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
                 tried.insert(keyOf(skill));
                 lastFailure = where(skill) + ": Halted, and its Reset was refused (" +
                               std::string(ua::statusName(reset)) + ")";
-                co_await hangUp(**conn, token);
+                co_await hangUp(skill, std::move(*conn), token);
                 continue;
             }
             const std::string what =
@@ -991,7 +1064,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
             tried.insert(keyOf(skill));
             lastFailure = where(skill) + ": cannot read its LastTransition: " +
                           std::string(ua::statusName(before.status()));
-            co_await hangUp(**conn, token);
+            co_await hangUp(skill, std::move(*conn), token);
             continue;
         }
         StepRecord r;
@@ -1008,7 +1081,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.note = note;
         r.choice = found.why;
         if (auto s = co_await record(run, r); !s) {
-            co_await hangUp(**conn, token);
+            co_await hangUp(skill, std::move(*conn), token);
             co_return StepResult{false, s.error()};
         }
         p.state = "running";
@@ -1026,7 +1099,8 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.state = outcome.ok() ? StepState::Finished : StepState::Failed;
         r.reason = outcome.ok() ? std::string() : describe(outcome);
         const auto recorded = co_await record(run, r);
-        co_await hangUp(**conn, token);
+        if (recorded && outcome.ok()) finishedIn(step.skillTypeIri, skill.componentUri, r);
+        co_await hangUp(skill, std::move(*conn), token);
         if (!recorded) co_return StepResult{false, recorded.error()};
         if (outcome.ok()) {
             p.state = "finished";

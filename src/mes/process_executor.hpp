@@ -52,6 +52,7 @@
 #include "mes/journal.hpp"
 #include "mes/process_description.hpp"
 #include "mes/resource_claims.hpp"
+#include "mes/skill_connection_pool.hpp"
 #include "mes/skill_facts.hpp"
 #include "mes/step_binding.hpp"
 #include "skills/skill_client.hpp"
@@ -74,6 +75,9 @@ struct ExecutorOptions {
     /// How long, after losing contact mid-step, to wait for the detector to confirm that the
     /// component is gone before the step may go to another instance.
     std::chrono::milliseconds goneConfirmation{5'000};
+    /// How long a session to a skill is kept open after a step, for the next step that runs
+    /// it (SkillConnectionPool); 0: each step opens its own.
+    std::chrono::milliseconds keepConnections{30'000};
     /// How long an order waits for a component another order holds before it stops.
     std::chrono::milliseconds claimWait{3'600'000};
     /// Who reserves components (skills/reservation.hpp), followed by " order <id>": one MES
@@ -172,6 +176,9 @@ public:
         friend class ProcessExecutor;
         Token() = default;
     };
+    ~ProcessExecutor();
+    ProcessExecutor(const ProcessExecutor&) = delete;
+    ProcessExecutor& operator=(const ProcessExecutor&) = delete;
     ProcessExecutor(Token, std::shared_ptr<skills::SkillDetector> detector, Journal& journal,
                     KnowledgeReaders kb, ExecutorOptions options);
 
@@ -235,8 +242,18 @@ private:
     asio::awaitable<void> sleep(Order& order, std::shared_ptr<asio::steady_timer> timer);
     /// Wakes every order waiting for a component.
     void componentsFreed();
-    /// Releases the component's reservation (when `token` holds one), then closes.
-    asio::awaitable<void> hangUp(skills::SkillConnection& connection,
+    /// How long the last finished steps of `skillTypeIri` took on each component (ms, newest
+    /// first, at most kDurationHistory each): from the journal at first, then kept up to date
+    /// by finishedIn().
+    asio::awaitable<kb::Expected<std::map<std::string, std::vector<std::int64_t>>>>
+    expectedDurations(std::string skillTypeIri);
+    /// A step of `skillTypeIri` finished on `componentUri` as `r` records.
+    void finishedIn(const std::string& skillTypeIri, const std::string& componentUri,
+                    const StepRecord& r);
+    /// Releases the component's reservation (when `token` holds one), then gives the
+    /// connection to `skill` back to the pool (which keeps it for the next step, or closes it).
+    asio::awaitable<void> hangUp(const skills::SkillInstance& skill,
+                                 std::unique_ptr<skills::SkillConnection> connection,
                                  std::optional<std::uint64_t> token);
     /// Reserves the component `connection` reaches for `order`: the token, nothing when the
     /// component has no reservation, or why it cannot be had (another holder has it).
@@ -252,7 +269,20 @@ private:
     /// other sessions, the progress variables).
     template <class Write>
     asio::awaitable<std::invoke_result_t<Write&>> journaled(Write write);
+    /// Records `step` in the journal, together with what other orders record meanwhile
+    /// (writeRecords()).
     asio::awaitable<kb::Status> record(std::int64_t run, StepRecord step);
+    /// Writes the records waiting, in one transaction per round, until none waits.
+    asio::awaitable<void> writeRecords();
+    struct PendingRecord {
+        PendingRecord(std::int64_t r, StepRecord s, asio::steady_timer t)
+            : run(r), step(std::move(s)), written(std::move(t)) {}
+        std::int64_t run;
+        StepRecord step;
+        asio::steady_timer written;  // cancelled once done
+        bool done = false;
+        kb::Status result = kb::Done{};
+    };
 
     std::shared_ptr<skills::SkillDetector> detector_;
     Journal& journal_;
@@ -261,6 +291,14 @@ private:
     std::map<std::int64_t, std::shared_ptr<Order>> orders_;  // running in this MES, by id
     ResourceClaims claims_;
     bool standingBy_ = false;
+    /// The sessions to the skills, kept between steps (shared: the destructor hands it to a
+    /// last coroutine on the executor, which closes them).
+    std::shared_ptr<SkillConnectionPool> connections_;
+    /// Records waiting for the journal, and whether writeRecords() is at them.
+    std::vector<std::shared_ptr<PendingRecord>> unrecorded_;
+    bool recording_ = false;
+    /// expectedDurations(), by skill type, then component.
+    std::map<std::string, std::map<std::string, std::vector<std::int64_t>>> durations_;
     /// Orders' waits for a component, cancelled when one is freed.
     std::vector<std::weak_ptr<asio::steady_timer>> claimWaits_;
     /// Where journal calls run (journaled()): one thread, so they stay in order. Last, so

@@ -12,10 +12,8 @@
 #include "client_thread.hpp"
 #include "mes/process_executor.hpp"
 #include "mes/resource_claims.hpp"
-#include "running_server.hpp"
-#include "skills/noop_behaviour.hpp"
+#include "noop_component.hpp"
 #include "skills/reservation_client.hpp"
-#include "skills/skill_server.hpp"
 #include "temp_dir.hpp"
 
 namespace skillcell::mes::orders_test {
@@ -26,33 +24,7 @@ using namespace std::chrono_literals;
 constexpr const char* kMoveType =
     "http://skillcell.dev/UA/RoboticSkills/CartesianLinearMoveSkillType";
 
-// A server with one no-op Move skill that runs for `duration`.
-struct NoOpComponent {
-    NoOpComponent(std::string applicationUri, std::chrono::milliseconds duration)
-        : uri(std::move(applicationUri)) {
-        auto config = test::RunningServer::defaultConfig();
-        config.description.applicationUri = uri;
-        server = std::make_unique<test::RunningServer>(
-            std::move(config), [this, duration](ua::Server& s) {
-                skills = skills::SkillServer::create(s, s.executor());
-                const auto type = skills->findSkillType("CartesianLinearMoveSkillType");
-                (void)skills->add(*type, "Move",
-                                  std::make_unique<skills::NoOpBehaviour>(s.executor(), duration));
-            });
-    }
-    ~NoOpComponent() {
-        server->inServer([this](ua::Server&) {
-            skills.reset();
-            return 0;
-        });
-    }
-    NoOpComponent(const NoOpComponent&) = delete;
-    NoOpComponent& operator=(const NoOpComponent&) = delete;
-
-    std::string uri;
-    std::unique_ptr<skills::SkillServer> skills;
-    std::unique_ptr<test::RunningServer> server;
-};
+using test::NoOpComponent;
 
 // A process of Move steps; `dependsOn[i]`: the (0-based) steps step i waits for.
 ProcessDescription process(const std::string& iri, std::size_t steps,

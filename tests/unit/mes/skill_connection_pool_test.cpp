@@ -1,0 +1,103 @@
+// SkillConnectionPool: a session given back after a step is taken again by the next step on
+// that skill (no new session at the server); a connection whose component went away meanwhile
+// is not handed out; with no keeping time, every connection is closed when given back.
+#include "mes/skill_connection_pool.hpp"
+
+#include <gtest/gtest.h>
+
+#include "client_thread.hpp"
+#include "noop_component.hpp"
+
+namespace skillcell::mes {
+namespace {
+
+using namespace std::chrono_literals;
+
+skills::SkillInstance moveOf(const test::NoOpComponent& c) {
+    skills::SkillInstance s;
+    s.componentUri = c.uri;
+    s.endpointUrl = c.url();
+    s.nodeId = test::NoOpComponent::moveSkill();
+    return s;
+}
+
+// How many sessions the component's server has now.
+std::size_t sessionsAt(test::NoOpComponent& c) {
+    return c.server->inServer([](ua::Server& s) { return s.sessionCount(); });
+}
+
+class SkillConnectionPoolTest : public testing::Test {
+protected:
+    test::ClientThread thread_;
+    std::unique_ptr<SkillConnectionPool> pool_;
+
+    void makePool(std::chrono::milliseconds keep) {
+        pool_ = std::make_unique<SkillConnectionPool>(thread_.io().get_executor(),
+                                                      ua::ClientConfig{},
+                                                      skills::SkillClientOptions{}, keep);
+    }
+    // Takes a connection to `skill`, runs the skill once through it, gives it back.
+    bool runOnce(const skills::SkillInstance& skill, std::string* why) {
+        return thread_.run([&]() -> asio::awaitable<bool> {
+            auto c = co_await pool_->take(skill, why);
+            if (!c) co_return false;
+            const auto outcome = co_await (*c)->skill().run({}, 5s);
+            co_await pool_->giveBack(skill, std::move(*c));
+            co_return outcome.ok();
+        });
+    }
+    void TearDown() override {
+        thread_.run([&]() -> asio::awaitable<int> {
+            co_await pool_->closeAll();
+            co_return 0;
+        });
+    }
+};
+
+TEST_F(SkillConnectionPoolTest, ASkillGivenBackIsTakenAgainWithoutANewSession) {
+    test::NoOpComponent component("urn:skillcell:test:pool", 0ms);
+    makePool(30s);
+    const auto skill = moveOf(component);
+    std::string why;
+    ASSERT_TRUE(runOnce(skill, &why)) << why;
+    EXPECT_EQ(pool_->idleCount(), 1U);
+    EXPECT_EQ(sessionsAt(component), 1U);
+    for (int i = 0; i < 3; ++i) ASSERT_TRUE(runOnce(skill, &why)) << why;
+    EXPECT_EQ(pool_->opened(), 1U);
+    EXPECT_EQ(pool_->reused(), 3U);
+    EXPECT_EQ(sessionsAt(component), 1U) << "every run on the one session";
+}
+
+TEST_F(SkillConnectionPoolTest, AConnectionWhoseComponentWentAwayIsNotHandedOut) {
+    auto component = std::make_unique<test::NoOpComponent>("urn:skillcell:test:pool", 0ms);
+    makePool(30s);
+    const auto skill = moveOf(*component);
+    std::string why;
+    ASSERT_TRUE(runOnce(skill, &why)) << why;
+    ASSERT_EQ(pool_->idleCount(), 1U);
+    component.reset();  // the component leaves; its port refuses from now on
+    const bool taken = thread_.run([&]() -> asio::awaitable<bool> {
+        auto c = co_await pool_->take(skill, &why);
+        co_return static_cast<bool>(c);
+    });
+    EXPECT_FALSE(taken) << "a dead session was handed out";
+    EXPECT_EQ(pool_->reused(), 0U);
+    EXPECT_EQ(pool_->opened(), 2U) << "a new connection was tried instead";
+    EXPECT_EQ(pool_->idleCount(), 0U);
+    EXPECT_NE(why.find("cannot connect"), std::string::npos) << why;
+}
+
+TEST_F(SkillConnectionPoolTest, WithoutKeepingTimeEveryConnectionIsClosedWhenGivenBack) {
+    test::NoOpComponent component("urn:skillcell:test:pool", 0ms);
+    makePool(0ms);
+    const auto skill = moveOf(component);
+    std::string why;
+    ASSERT_TRUE(runOnce(skill, &why)) << why;
+    ASSERT_TRUE(runOnce(skill, &why)) << why;
+    EXPECT_EQ(pool_->idleCount(), 0U);
+    EXPECT_EQ(pool_->opened(), 2U);
+    EXPECT_EQ(sessionsAt(component), 0U);
+}
+
+}  // namespace
+}  // namespace skillcell::mes
