@@ -99,6 +99,9 @@ public:
     [[nodiscard]] const std::vector<RemoteParameter>& parameters() const { return parameters_; }
     /// The state last learnt (read at attach, then from events).
     [[nodiscard]] std::optional<SkillState> state() const { return state_; }
+    /// Good while the event subscription lives; once the subscription or the session is
+    /// lost, why (and every later run ends Lost at once).
+    [[nodiscard]] ua::StatusCode lost() const { return lost_; }
     /// LastTransition/TransitionTime, as found at attach (null when the skill has none).
     [[nodiscard]] const ua::NodeId& lastTransitionTimeNode() const { return lastTransitionTime_; }
     /// Every transition event received since attach, oldest first (at most 256 kept).

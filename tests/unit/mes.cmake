@@ -1,13 +1,15 @@
 # unit tests of src/mes: the journal, process descriptions, step binding, skill facts.
 # (The MES in the paper's work cell, every component a process, is in namespaces.cmake.)
-# Orders on no-op skills of in-process servers: contention, parallel steps, priority, cancel.
+# Orders on no-op skills of in-process servers: contention, parallel steps, priority, cancel;
+# the connection pool that keeps the MES's sessions between steps.
 skillcell_unit_test(test_mes_units
   mes/journal_test.cpp
   mes/process_description_test.cpp
   mes/step_binding_test.cpp
   mes/skill_facts_test.cpp
   mes/process_check_test.cpp
-  mes/orders_test.cpp)
+  mes/orders_test.cpp
+  mes/skill_connection_pool_test.cpp)
 target_link_libraries(test_mes_units PRIVATE skillcell_mes skillcell_cell skillcell_test_support)
 target_compile_definitions(test_mes_units PRIVATE SKILLCELL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 
