@@ -55,6 +55,7 @@ UNITS = {
     "rad/s": ("2A", "rad/s", "radian per second"),
     "rad/s2": ("2B", "rad/s²", "radian per second squared"),
     "N": ("NEW", "N", "newton"),
+    "kg": ("KGM", "kg", "kilogram"),
 }
 
 
@@ -492,14 +493,20 @@ def build() -> None:
     gs.intro = ("Skills of a gripper at one grip point (paper section VI.C). The grip point is "
                 "described by two read-only parameters: its offset from the tool mounting "
                 "plate (`GripPointOffset`, a 3D frame) and its type (`GripPointType`: "
-                "PARALLEL, VACUUM or MULTIFINGER). A gripper with several grip points offers "
-                "one skill instance per grip point.")
+                "PARALLEL, VACUUM or MULTIFINGER); what it can hold by two more: "
+                "`MaxPayload` (kg) and `MaxGripWidth` (m, 0: not limited by width). A "
+                "gripper with several grip points offers one skill instance per grip point.")
     gs.enum_type("GripPointTypeEnumeration", "GripPointTypeEnumeration",
                  "How a gripper holds an object.", ["PARALLEL", "VACUUM", "MULTIFINGER"])
     grip = [gs.param("GripPointOffset", "frame", readonly=True,
                      desc="Grip point relative to the tool mounting plate."),
             gs.param("GripPointType", "enum", datatype="GripPointTypeEnumeration",
-                     readonly=True, desc="PARALLEL, VACUUM or MULTIFINGER.")]
+                     readonly=True, desc="PARALLEL, VACUUM or MULTIFINGER."),
+            gs.param("MaxPayload", "double", unit="kg", range=(0, 1000), readonly=True,
+                     desc="The heaviest object it holds at this grip point."),
+            gs.param("MaxGripWidth", "double", unit="m", range=(0, 10), readonly=True,
+                     desc="The widest object it grips across (a parallel gripper's stroke); "
+                          "0 when width does not limit it (a vacuum gripper).")]
     gs.skill_type("GripperSkillType", "GripperSkillType", "SkillType", True,
                   "A skill of a gripper at one grip point.", grip)
     gs.skill_type("GraspGripperSkillType", "GraspGripperSkillType", "GripperSkillType", False,

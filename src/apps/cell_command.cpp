@@ -283,8 +283,10 @@ void printSummary(const cell::CellFile& c) {
         std::printf("    dock     %-12s %s\n", d.name.c_str(), devices::describe(d.pose).c_str());
     }
     for (const auto& o : c.objects) {
-        std::printf("    object   %-12s %.3f x %.3f x %.3f m at %s\n", o.name.c_str(), o.size[0],
-                    o.size[1], o.size[2], devices::describe(o.pose).c_str());
+        char mass[32] = "";
+        if (o.mass) std::snprintf(mass, sizeof mass, ", %g kg", *o.mass);
+        std::printf("    object   %-12s %.3f x %.3f x %.3f m%s at %s\n", o.name.c_str(), o.size[0],
+                    o.size[1], o.size[2], mass, devices::describe(o.pose).c_str());
     }
     for (const auto& r : c.robots) {
         char speed[32];

@@ -458,8 +458,9 @@ void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks
     }
     NameSet objects("object");
     for (const toml::table* o : r.tables(*t, "object", "world.object")) {
-        r.onlyKeys(*o, "[[world.object]]", {"name", "size", "pose"});
+        r.onlyKeys(*o, "[[world.object]]", {"name", "size", "pose", "mass"});
         auto name = r.name(*o, "[[world.object]]");
+        const auto mass = r.number(*o, "mass", "[[world.object]]", 1e-6, 10'000);
         auto size = r.numbers(*o, "size", "[[world.object]]", {3}, "edges x, y, z in m", true);
         auto pose = r.pose(*o, "pose", "[[world.object]]", true);
         if (size && std::any_of(size->begin(), size->end(), [](double e) { return e <= 0; })) {
@@ -467,7 +468,7 @@ void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks
             size.reset();
         }
         if (name && objects.add(r, *o, *name) && size && pose) {
-            out.objects.push_back({*name, {(*size)[0], (*size)[1], (*size)[2]}, *pose});
+            out.objects.push_back({*name, {(*size)[0], (*size)[1], (*size)[2]}, *pose, mass});
         }
     }
 }

@@ -63,6 +63,7 @@ struct WorldObject {
     std::string name;
     std::array<double, 3> size{};  // edges, m
     Pose pose;                     // its centre
+    std::optional<double> mass;    // kg; none: not said (no gripper is checked against it)
 };
 
 /// A tool: where it is stored, what the tool changer reads on its identification pin, and

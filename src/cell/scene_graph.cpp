@@ -71,6 +71,11 @@ std::vector<kb::rdf::Triple> sceneTriples(const CellFile& cell) {
         w.typed(object, "PhysicalObject");
         w.add(object, proc("objectId"), rdf::literal(o.name));
         w.pose(object, "pose", o.pose);
+        // What a gripper must be able to hold (the MES checks MaxPayload and MaxGripWidth).
+        w.add(object, proc("sizeX"), rdf::decimalLiteral(o.size[0]));
+        w.add(object, proc("sizeY"), rdf::decimalLiteral(o.size[1]));
+        w.add(object, proc("sizeZ"), rdf::decimalLiteral(o.size[2]));
+        if (o.mass) w.add(object, proc("mass"), rdf::decimalLiteral(*o.mass));
     }
     return w.take();
 }

@@ -119,7 +119,12 @@ GraphData ComponentGraphs::update(const std::string& applicationUri,
                     add(skill, proc("gripType"), rdf::literal(lowerCase(*text)));
                 }
             } else if (const auto* number = std::get_if<double>(&p.value)) {
-                if (std::isfinite(*number)) add(parameter, proc("numberValue"), decimal(*number));
+                if (!std::isfinite(*number)) continue;
+                add(parameter, proc("numberValue"), decimal(*number));
+                // What a gripper can hold (GripperSkillType's rating), as facts of the skill
+                // that the MES checks an object against.
+                if (p.name == "MaxPayload") add(skill, proc("maxPayload"), decimal(*number));
+                if (p.name == "MaxGripWidth") add(skill, proc("maxGripWidth"), decimal(*number));
             } else {
                 const auto& pose = std::get<PoseValue>(p.value);
                 const std::pair<const char*, double> parts[] = {
@@ -150,8 +155,9 @@ std::set<std::string> ComponentGraphs::typeNamespaces() const {
 }
 
 const std::vector<std::string>& recordedSkillProperties() {
-    static const std::vector<std::string> properties = {proc("available"), proc("gripType"),
-                                                        proc("skillName"), proc("skillNodeId")};
+    static const std::vector<std::string> properties = {proc("available"),    proc("gripType"),
+                                                        proc("maxGripWidth"), proc("maxPayload"),
+                                                        proc("skillName"),    proc("skillNodeId")};
     return properties;
 }
 

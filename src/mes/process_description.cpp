@@ -96,6 +96,17 @@ kb::Expected<DerivationSource> source(const Graph& g, const Term& node, const st
     s.objectId = g.literal(node, p("objectId")).value_or("");
     s.applicationUri = g.literal(node, p("applicationUri")).value_or("");
     s.gripType = g.literal(node, p("gripType")).value_or("");
+    // The heaviest mass said of it, should the process and the cell both say one.
+    for (const auto& [predicate, value] : g.literals(node)) {
+        const auto v = parseNumber(value);
+        if (predicate == p("mass") && v && *v > 0 && (!s.mass || *v > *s.mass)) s.mass = v;
+    }
+    std::array<std::optional<double>, 3> edges;
+    for (int i = 0; i < 3; ++i) {
+        const auto text = g.literal(node, p(i == 0 ? "sizeX" : i == 1 ? "sizeY" : "sizeZ"));
+        if (text) edges[static_cast<std::size_t>(i)] = parseNumber(*text);
+    }
+    if (edges[0] && edges[1] && edges[2]) s.size = std::array{*edges[0], *edges[1], *edges[2]};
     for (const Term* held : g.objects(node, p("holds"))) {
         for (const auto& [predicate, value] : g.literals(*held))
             s.held.emplace_back(predicate, value);
@@ -246,6 +257,14 @@ kb::Expected<std::string> processQuery(const std::string& processIri) {
            P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " + derivedFrom +
            " ?r . ?r <" + p("holds") +
            "> ?a . ?a ?b ?c }\n"
+           // An object's mass and size, from the cell's object of the same id (the scene):
+           // given to the process's object, which names it by its id only.
+           "  UNION { " +
+           P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " + derivedFrom +
+           " ?a . ?a <" + p("objectId") + "> ?id . ?o <" + p("objectId") +
+           "> ?id . ?o ?b ?c . FILTER(?b = <" + p("mass") + "> || ?b = <" + p("sizeX") +
+           "> || ?b = <" + p("sizeY") + "> || ?b = <" + p("sizeZ") +
+           ">) }\n"
            "}";
 }
 

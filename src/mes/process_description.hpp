@@ -8,6 +8,7 @@
 // steps, a broken proc:next chain, a step without a skill type, a dependency on a later step,
 // a parameter without a value, or a requirement without a property or value are errors that
 // name the step and the parameter.
+#include <array>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -28,11 +29,13 @@ inline constexpr int kMaxRetries = 10;
 /// The facts of a resource or product a parameter is derived from.
 struct DerivationSource {
     std::string iri;
-    std::optional<devices::Pose6> pose;        // proc:pose (a dock)
-    std::optional<devices::Pose6> targetPose;  // proc:targetPose (where an object goes)
-    std::string objectId;                      // proc:objectId
-    std::string applicationUri;                // proc:applicationUri
-    std::string gripType;                      // proc:gripType
+    std::optional<devices::Pose6> pose;         // proc:pose (a dock)
+    std::optional<devices::Pose6> targetPose;   // proc:targetPose (where an object goes)
+    std::string objectId;                       // proc:objectId
+    std::string applicationUri;                 // proc:applicationUri
+    std::string gripType;                       // proc:gripType
+    std::optional<double> mass;                 // proc:mass (kg), of the object in the cell
+    std::optional<std::array<double, 3>> size;  // proc:sizeX, Y, Z (m), likewise
     /// The literal facts of what it proc:holds (a dock's tool: its proc:gripType), by
     /// property IRI: what a step that takes the tool from there brings into the cell.
     std::vector<std::pair<std::string, std::string>> held;

@@ -1,6 +1,8 @@
 #include "mes/skill_facts.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cstdio>
 #include <optional>
 
 #include "kb/component_graph.hpp"
@@ -28,7 +30,53 @@ std::string quoted(const std::vector<std::string>& values) {
     return out;
 }
 
+// The smallest number among `values` (a rating said twice counts at its lower value).
+std::optional<double> leastNumber(const std::vector<std::string>& values) {
+    std::optional<double> out;
+    for (const auto& v : values) {
+        if (const auto x = parseNumber(v); x && (!out || *x < *out)) out = x;
+    }
+    return out;
+}
+
+std::string number(double v) {
+    std::array<char, 32> text{};
+    std::snprintf(text.data(), text.size(), "%g", v);
+    return text.data();
+}
+
 }  // namespace
+
+const DerivationSource* movedObject(const ProcessStep& step) {
+    for (const auto& p : step.parameters) {
+        const auto* source = std::get_if<DerivationSource>(&p.value);
+        if (source != nullptr && !source->objectId.empty() && (source->mass || source->size)) {
+            return source;
+        }
+    }
+    return nullptr;
+}
+
+std::string cannotHold(const DerivationSource& object, const skills::SkillInstance& skill,
+                       const SkillFacts& facts) {
+    std::string why;
+    const auto payload = leastNumber(facts.values(keyOf(skill), proc("maxPayload")));
+    if (object.mass && payload && *object.mass > *payload) {
+        why = "it holds at most " + number(*payload) + " kg, and " + object.objectId + " weighs " +
+              number(*object.mass) + " kg";
+    }
+    const auto width = leastNumber(facts.values(keyOf(skill), proc("maxGripWidth")));
+    if (object.size && width && *width > 0) {
+        // Gripped across the narrower of its horizontal sides, as the pick's planner grips
+        // an upright box.
+        const double across = std::min((*object.size)[0], (*object.size)[1]);
+        if (across > *width) {
+            why += std::string(why.empty() ? "it" : "; it") + " grips at most " + number(*width) +
+                   " m across, and " + object.objectId + " is " + number(across) + " m across";
+        }
+    }
+    return why;
+}
 
 void SkillFacts::add(const SkillKey& skill, const std::string& propertyIri, std::string value) {
     auto& values = values_[skill][propertyIri];
@@ -54,6 +102,11 @@ bool SkillFacts::has(const SkillKey& skill, const FactRequirement& requirement) 
 std::vector<std::string> requiredProperties(const ProcessStep& step) {
     std::set<std::string> out;
     for (const auto& r : step.requirements) out.insert(r.propertyIri);
+    // A step that moves an object of known mass or size checks the gripper's rating.
+    if (!out.empty() && movedObject(step) != nullptr) {
+        out.insert(proc("maxPayload"));
+        out.insert(proc("maxGripWidth"));
+    }
     return {out.begin(), out.end()};
 }
 
@@ -143,6 +196,7 @@ CellMatch matchCellRequirements(const ProcessStep& step,
     });
     CellMatch out;
     out.byRequirement.resize(step.requirements.size());
+    const DerivationSource* object = movedObject(step);
     for (std::size_t i = 0; i < step.requirements.size(); ++i) {
         const auto& r = step.requirements[i];
         if (r.skillTypeIri.empty()) continue;
@@ -150,6 +204,11 @@ CellMatch matchCellRequirements(const ProcessStep& step,
         for (const auto* s : ordered) {
             if (!isOfType(*s, r.skillTypeIri)) continue;
             if (facts.has(keyOf(*s), r)) {
+                if (const std::string why = object ? cannotHold(*object, *s, facts) : "";
+                    !why.empty()) {
+                    offered += (offered.empty() ? "" : "; ") + where(*s) + ": " + why;
+                    continue;
+                }
                 out.byRequirement[i] = *s;
                 break;
             }

@@ -35,7 +35,9 @@ private:
     std::map<SkillKey, std::map<std::string, std::vector<std::string>>> values_;
 };
 
-/// The properties `step`'s requirements ask about (sorted, each once).
+/// The properties `step`'s requirements ask about (sorted, each once); with the gripper's
+/// rating (proc:maxPayload, proc:maxGripWidth) when the step moves an object of known mass or
+/// size.
 [[nodiscard]] std::vector<std::string> requiredProperties(const ProcessStep& step);
 
 /// The CONSTRUCT query for every skill instance's values of `propertyIris`, with the
@@ -54,10 +56,19 @@ private:
                                                  const SkillFacts& facts);
 
 /// How the cell meets `step`'s requirements on the cell (those with a skill type).
+/// The object `step` moves: the first parameter derived from an object (proc:objectId) whose
+/// mass or size the knowledge base gives; nullptr when there is none.
+[[nodiscard]] const DerivationSource* movedObject(const ProcessStep& step);
+/// Why the gripper skill `skill` cannot hold `object`, by its rating in the KB (proc:maxPayload
+/// against the object's mass, proc:maxGripWidth against its narrower horizontal side); empty
+/// when it can, or when the KB gives no rating.
+[[nodiscard]] std::string cannotHold(const DerivationSource& object,
+                                     const skills::SkillInstance& skill, const SkillFacts& facts);
+
 struct CellMatch {
     /// Parallel to step.requirements: for a requirement on the cell, the live instance that
-    /// meets it (the first by component URI and browse path); nothing for one on the skill,
-    /// or one unmet.
+    /// meets it and can hold the object the step moves (the first by component URI and browse
+    /// path); nothing for one on the skill, or one unmet.
     std::vector<std::optional<skills::SkillInstance>> byRequirement;
     /// Why some are unmet, naming each and what the live instances of its type have
     /// instead; empty when all are met.

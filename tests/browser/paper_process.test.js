@@ -1,8 +1,9 @@
 // The paper's process run from the dashboard, in headless Chromium (paper_process_test.sh
 // brings up examples/cells/paper.toml with `skillcell cell up`): the Observer's Run is refused
 // by the MES, the Operator's runs the process to its end, and the picture shows the boxes
-// where the process put them; a second order, cancelled from the page, ends cancelled. Every wait is bounded; the first failed expectation ends the
-// test with exit code 1.
+// where the process put them; a second order, of a process that waits for a gripper no
+// component offers, is cancelled from the page and ends cancelled. Every wait is bounded; the
+// first failed expectation ends the test with exit code 1.
 "use strict";
 const { launch, check } = require("./browser");
 const fs = require("fs");
@@ -86,14 +87,19 @@ async function boxAt(page, id) {
     check(true, "and no tool on the flange");
     if (shots) await page.screenshot({ path: path.join(shots, "dashboard-process.png"), fullPage: true });
 
-    // An order cancelled from the page: the Operator runs the process again (order 2) and
-    // cancels it while it is queued or running; the MES halts it and it ends cancelled.
-    await page.waitForSelector(row + " button[data-action=start]:not([disabled])", wait);
-    await page.click(row + " button[data-action=start]");
+    // An order cancelled from the page: the Operator runs the process that waits for a
+    // gripper's MoveGripper (no tool is mounted, so none is offered: paper_process_test.sh
+    // added it), order 2; it waits at the MES until the page cancels it, and ends cancelled.
+    const waiting = '#processes tr[data-process="http://skillcell.dev/test/orders#waitsForAGripper"]';
+    await page.waitForSelector(waiting + " button[data-action=start]:not([disabled])", wait);
+    await page.click(waiting + " button[data-action=start]");
+    await page.waitForSelector(waiting + ' .result[data-status="Good"]', wait);
     const second = '#runs .run[data-run="2"]';
     await page.waitForSelector(second + " button[data-action=cancel]", wait);
+    check(true, "order 2 waits for a gripper, with its Cancel button");
     await page.click(second + " button[data-action=cancel]");
     await page.waitForSelector(second + ' .result[data-status="Good"]', wait);
+    check(true, "the MES accepted the cancel");
     await page.waitForSelector(second + '[data-state="cancelled"]', wait);
     check(!(await page.$(second + " button[data-action=cancel]")), "order 2, cancelled from the page, ends cancelled");
 

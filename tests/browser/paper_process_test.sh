@@ -5,7 +5,8 @@
 # MES, dashboard) in its own network namespace; paper_process.test.js runs inside it, tries
 # the process as the Observer (refused), runs it as the Operator and watches it complete.
 # Then the journal, read by SQLite itself, must show that order, its five steps finished, and
-# the second order, cancelled from the page.
+# the second order (of a process that waits for a gripper no component offers), cancelled
+# from the page.
 # SCREENSHOT_DIR (if set) receives the pictures.
 # Usage: paper_process_test.sh SKILLCELL_BINARY SOURCE_DIR
 set -euo pipefail
@@ -30,6 +31,16 @@ grep -q 'is up' "$tmp/up.out" || fail "the cell did not come up"
 page=$(grep -o 'PAGE https://[^ ]*' "$tmp/up.out" | head -1 | cut -d' ' -f2)
 netns=$(grep -o '/proc/[0-9]*/ns/net' "$tmp/up.out" | head -1)
 [ -n "$page" ] && [ -n "$netns" ] || fail "cell up printed no dashboard page or network"
+# A process that waits for a gripper's MoveGripper, which no component offers while no tool is
+# mounted: its order, run from the page, stays at the MES until the page cancels it. Added
+# by the Engineer, as an integrator would.
+kb=$(sed -n 's/^ *kb  *\(opc\.tcp:[^ ]*\).*/\1/p' "$tmp/up.out" | head -1)
+[ -n "$kb" ] || fail "cell up printed no knowledge base endpoint"
+nsenter --net="$netns" "$skillcell" process add "$src/tests/data/mes/waits_for_a_gripper.ttl" \
+  --kb "$kb" --pki-dir "$work/pki-operator" --user engineer \
+  --password-file "$work/engineer.pw" >"$tmp/add.out" 2>&1 ||
+  { cat "$tmp/add.out" >&2; fail "process add"; }
+
 # The browser trusts the dashboard's certificate (issued by the cell CA) by its public key.
 spki=$(openssl x509 -inform der -in "$work/pki-dashboard/own/certs/cert.der" -pubkey -noout |
   openssl pkey -pubin -outform der | openssl dgst -sha256 -binary | base64)

@@ -26,7 +26,7 @@ start() {
     --insecure --pki-dir "$tmp/pki-$name"
 }
 
-waiting=$here/../data/mes/waits_for_a_skill.ttl
+waiting=$here/../data/mes/waits_for_a_gripper.ttl
 start kb 120 kb --demo-process --process "$waiting" --http-port 0 --data-dir "$tmp/kb"
 pid=$last_pid
 sparql=$(sed -n 's/^SPARQL //p' "$tmp/kb.before")
@@ -41,7 +41,7 @@ timeout 120 node "$here/execute_process.js" "$url" http://skillcell.dev/demo#pic
 timeout 120 node "$here/execute_process.js" "$url" http://skillcell.dev/demo#noSuchProcess \
   "halted:has no process <http://skillcell.dev/demo#noSuchProcess>" reading stopped ||
   fail "an unknown process"
-timeout 120 node "$here/orders.js" "$url" http://skillcell.dev/test/orders#waitsForATool ||
+timeout 120 node "$here/orders.js" "$url" http://skillcell.dev/test/orders#waitsForAGripper ||
   fail "orders through node-opcua"
 kill -0 "$mes_pid" 2>/dev/null || fail "the MES died during the test"
 echo "OK"

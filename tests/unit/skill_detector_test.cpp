@@ -420,7 +420,8 @@ TEST(SkillDetector, ResolvesTypesThroughTheServersOwnHierarchyAndNamespaces) {
     EXPECT_EQ(chain, (std::vector<std::string>{"Widget", "GraspGripperSkillType",
                                                "GripperSkillType", "SkillType"}));
     EXPECT_EQ(hands[0].types[0].id.toString(), "nsu=urn:test:own-types;i=1");
-    EXPECT_EQ(hands[0].parameters.size(), 2u);  // GripPointOffset, GripPointType
+    // GripPointOffset, GripPointType, MaxPayload, MaxGripWidth
+    EXPECT_EQ(hands[0].parameters.size(), 4u);
 }
 
 TEST(SkillDetector, ServerWithoutSkillsIsConnectedWithNone) {
@@ -795,7 +796,7 @@ TEST(RemoteSkillBrowser, WalksEverythingThroughContinuationPoints) {
     ASSERT_TRUE(found.ok()) << ua::statusName(found.status());
     EXPECT_EQ(found->size(), 21u);
     for (const auto& skill : *found)
-        EXPECT_EQ(skill.parameters.size(), 2u) << skill.browsePathString();
+        EXPECT_EQ(skill.parameters.size(), 4u) << skill.browsePathString();  // the grip's
     EXPECT_GT(cachedAfterFirst, 0u);
 }
 

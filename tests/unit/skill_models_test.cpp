@@ -23,6 +23,7 @@ namespace {
 
 constexpr std::string_view kUnece = "http://www.opcfoundation.org/UA/units/un/cefact";
 constexpr std::int32_t kMetre = 0x4D5452;            // MTR
+constexpr std::int32_t kKilogram = 0x4B474D;         // KGM
 constexpr std::int32_t kMetrePerSecond = 0x4D5453;   // MTS
 constexpr std::int32_t kMetrePerSecond2 = 0x4D534B;  // MSK
 constexpr std::int32_t kRadian = 0x433831;           // C81
@@ -125,7 +126,9 @@ std::vector<Expected> expectedParameters() {
     add(cm::kRoboticSkillsUri, "JointPtpMoveSkillType", join(ptp, joint));
 
     const std::vector<Expected> grip = {{{}, {}, "GripPointOffset", Kind::Frame, 0, false},
-                                        {{}, {}, "GripPointType", Kind::GripPointType, 0, false}};
+                                        {{}, {}, "GripPointType", Kind::GripPointType, 0, false},
+                                        {{}, {}, "MaxPayload", Kind::Double, kKilogram, false},
+                                        {{}, {}, "MaxGripWidth", Kind::Double, kMetre, false}};
     add(cm::kGripperSkillsUri, "GripperSkillType", grip);
     add(cm::kGripperSkillsUri, "GraspGripperSkillType", grip);
     add(cm::kGripperSkillsUri, "ReleaseGripperSkillType", grip);

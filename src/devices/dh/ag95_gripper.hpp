@@ -38,6 +38,8 @@ public:
     void suspend() override { worker_.suspend(); }
     void resume() override { worker_.resume(); }
     void halt() override { worker_.halt(); }
+    /// The AG-95's datasheet: 3 kg recommended payload, the fingers' 95 mm stroke.
+    [[nodiscard]] GripperRating rating() const override { return {3.0, kStroke}; }
 
     struct Token {
     private:

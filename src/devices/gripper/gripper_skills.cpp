@@ -73,6 +73,7 @@ ua::StatusCode addSkills(skills::SkillServer& skills, Gripper& gripper, Parallel
                           {"ReleaseGripperSkillType", "Release", Operation::Release},
                           {"MoveGripperSkillType", "MoveGripper", Operation::Move}};
     ua::AddressSpace& as = skills.server().addressSpace();
+    const GripperRating rating = gripper.rating();
     for (const Spec& spec : specs) {
         if (spec.operation == Operation::Move && parallel == nullptr) continue;
         const auto skillType = skills.findSkillType(spec.type);
@@ -91,6 +92,10 @@ ua::StatusCode addSkills(skills::SkillServer& skills, Gripper& gripper, Parallel
             if (p.name == "GripPointOffset") (void)as.setValue(p.nodeId, frameToVariant(offset));
             if (p.name == "GripPointType") {
                 (void)as.setValue(p.nodeId, ua::Variant(static_cast<std::int32_t>(type)));
+            }
+            if (p.name == "MaxPayload") (void)as.setValue(p.nodeId, ua::Variant(rating.maxPayload));
+            if (p.name == "MaxGripWidth") {
+                (void)as.setValue(p.nodeId, ua::Variant(rating.maxGripWidth));
             }
             if (p.name == "Width") (void)as.setValue(p.nodeId, ua::Variant(0.0));
             if (p.name == "Force") (void)as.setValue(p.nodeId, ua::Variant(0.0));

@@ -2,7 +2,8 @@
 // The gripper skills: Grasp (GraspGripperSkillType) and Release (ReleaseGripperSkillType)
 // of any Gripper, and MoveGripper (MoveGripperSkillType) of a ParallelGripper, each a thin
 // SkillBehaviour, and the grip point they publish in their read-only parameters
-// GripPointOffset and GripPointType.
+// GripPointOffset and GripPointType, with what the gripper can hold (its rating) in
+// MaxPayload and MaxGripWidth.
 #include <kdl/frames.hpp>
 
 #include "devices/gripper/parallel_gripper.hpp"

@@ -12,6 +12,13 @@
 
 namespace skillcell::devices {
 
+/// What a gripper can hold, from its maker's ratings: what its skills publish (MaxPayload,
+/// MaxGripWidth) for the MES to choose a gripper that suits an object.
+struct GripperRating {
+    double maxPayload = 0;    // kg
+    double maxGripWidth = 0;  // m across the fingers; 0: width does not limit it (vacuum)
+};
+
 class Gripper {
 public:
     using Done = std::function<void(std::optional<std::string> failure)>;
@@ -28,6 +35,7 @@ public:
     virtual void suspend() = 0;
     virtual void resume() = 0;
     virtual void halt() = 0;
+    [[nodiscard]] virtual GripperRating rating() const = 0;
 };
 
 class ParallelGripper : public Gripper {

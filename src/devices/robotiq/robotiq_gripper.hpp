@@ -39,6 +39,8 @@ public:
     void suspend() override { worker_.suspend(); }
     void resume() override { worker_.resume(); }
     void halt() override { worker_.halt(); }
+    /// The 2F-85's datasheet: 5 kg (friction grip), the fingers' 85 mm stroke.
+    [[nodiscard]] GripperRating rating() const override { return {5.0, kStroke}; }
 
     struct Token {
     private:

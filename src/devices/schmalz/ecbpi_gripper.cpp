@@ -1,6 +1,15 @@
 #include "devices/schmalz/ecbpi_gripper.hpp"
 
+#include <numbers>
+
 namespace skillcell::devices::schmalz {
+
+GripperRating EcbpiGripper::rating() const {
+    constexpr double kGravity = 9.81;  // m/s²
+    const double area = std::numbers::pi * options_.cupDiameter * options_.cupDiameter / 4;
+    const double force = options_.holdingVacuum * 100 /* Pa per mbar */ * area;
+    return {force / (options_.safetyFactor * kGravity), 0};
+}
 
 std::unique_ptr<EcbpiGripper> EcbpiGripper::start(IoLinkMaster& master,
                                                   EcbpiGripperOptions options) {

@@ -25,6 +25,12 @@ struct EcbpiGripperOptions {
     std::chrono::milliseconds evacuationTime{1000};  // real time for SP2 to come
     std::chrono::milliseconds releaseTime{1000};     // real time for the vacuum to go
     std::uint16_t releasedBelow = 20;                // mbar: the part is free
+    // What the rating is computed from: the suction cup on the tool, the vacuum at which the
+    // ECBPi reports the part held (its SP2 switching point), and the safety factor for a
+    // horizontal face lifted vertically.
+    double cupDiameter = 0.04;   // m
+    double holdingVacuum = 400;  // mbar
+    double safetyFactor = 2;
 };
 
 class EcbpiGripper final : public Gripper {
@@ -38,6 +44,9 @@ public:
     void suspend() override { worker_.suspend(); }
     void resume() override { worker_.resume(); }
     void halt() override { worker_.halt(); }
+    /// The holding force of the cup at the holding vacuum, over the safety factor; a suction
+    /// cup's width does not limit what it holds.
+    [[nodiscard]] GripperRating rating() const override;
 
     struct Token {
     private:

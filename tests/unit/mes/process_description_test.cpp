@@ -9,6 +9,7 @@
 #include "cell/scene_graph.hpp"
 #include "kb/owl/embedded_ontologies.hpp"
 #include "kb/rdf/turtle.hpp"
+#include "mes/skill_facts.hpp"
 
 namespace skillcell::mes::process_description_test {
 namespace {
@@ -109,6 +110,29 @@ TEST(ProcessDescription, TakesRequirementsOnTheSkillOrOnTheCell) {
     EXPECT_EQ(r[0].describe(), "reach \"0.85\"");
     EXPECT_EQ(r[1].skillTypeIri, "http://skillcell.dev/UA/ToolChangerSkills/Grasp");
     EXPECT_EQ(r[1].propertyIri, "http://skillcell.dev/ontology/process#gripType");
+}
+
+TEST(ProcessDescription, AnObjectBringsItsMassAndSizeFromTheCell) {
+    // What the query gives the process's object from the cell's object of the same id.
+    auto p = parseProcess("http://example.org/p#p", triples(std::string(kPrefixes) + R"(
+        :p a proc:Process ; proc:hasStep :s1 .
+        :s1 a proc:Step ; proc:requiresSkillType t:DetachToolSkillType ;
+            proc:hasParameter [ proc:parameterName "ObjectId" ; proc:derivedFrom :box ] .
+        :box proc:objectId "box" ; proc:mass 0.5 ; proc:mass 2.5 ;
+            proc:sizeX 0.04 ; proc:sizeY 0.1 ; proc:sizeZ 0.05 .)"));
+    ASSERT_TRUE(p) << p.error();
+    const auto& box = std::get<DerivationSource>(p->steps[0].parameters[0].value);
+    EXPECT_EQ(box.mass, 2.5) << "the heaviest, when the process and the cell differ";
+    EXPECT_EQ(box.size, (std::array{0.04, 0.1, 0.05}));
+    EXPECT_EQ(movedObject(p->steps[0]), &box);
+    // Without mass or size, nothing to check a gripper against.
+    p = parseProcess("http://example.org/p#p", triples(std::string(kPrefixes) + R"(
+        :p a proc:Process ; proc:hasStep :s1 .
+        :s1 a proc:Step ; proc:requiresSkillType t:DetachToolSkillType ;
+            proc:hasParameter [ proc:parameterName "ObjectId" ; proc:derivedFrom :box ] .
+        :box proc:objectId "box" ; proc:sizeX 0.04 .)"));
+    ASSERT_TRUE(p) << p.error();
+    EXPECT_EQ(movedObject(p->steps[0]), nullptr);
 }
 
 TEST(ProcessDescription, TakesGivenValues) {

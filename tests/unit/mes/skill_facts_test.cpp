@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <optional>
+
 #include "kb/rdf/turtle.hpp"
 
 namespace skillcell::mes::skill_facts_test {
@@ -127,6 +130,70 @@ TEST(SkillFacts, ACellRequirementIsMetBySomeLiveSkillOfTheTypeWithTheFact) {
     EXPECT_EQ(own.unmet, "");
     ASSERT_EQ(own.byRequirement.size(), 1U);
     EXPECT_FALSE(own.byRequirement[0]);
+}
+
+// A pick of `object` (its mass and size as the KB gives them) with a parallel gripper.
+ProcessStep pickOf(std::optional<double> mass, std::optional<std::array<double, 3>> size) {
+    auto step = pickStep({{kGripType, "parallel", kGrasp}});
+    DerivationSource box;
+    box.iri = "http://example.com/demo#box";
+    box.objectId = "box";
+    box.mass = mass;
+    box.size = size;
+    step.parameters.push_back({"ObjectId", box});
+    return step;
+}
+
+TEST(SkillFacts, TheGripperChosenCanHoldTheObjectByItsRating) {
+    const std::string payload = std::string(kProcessNs) + "maxPayload";
+    const std::string width = std::string(kProcessNs) + "maxGripWidth";
+    SkillFacts facts;
+    // As the grippers publish them: an AG-95 (3 kg, 95 mm) and a 2F-85 (5 kg, 85 mm).
+    facts.add(keyOf(grasp("urn:ag95")), kGripType, "parallel");
+    facts.add(keyOf(grasp("urn:ag95")), payload, "3");
+    facts.add(keyOf(grasp("urn:ag95")), width, "0.095");
+    facts.add(keyOf(grasp("urn:robotiq")), kGripType, "parallel");
+    facts.add(keyOf(grasp("urn:robotiq")), payload, "5.0");
+    facts.add(keyOf(grasp("urn:robotiq")), width, "0.085");
+    const std::vector<skills::SkillInstance> both{grasp("urn:robotiq"), grasp("urn:ag95")};
+
+    // The step asks for the rating only when it moves an object of known mass or size.
+    EXPECT_EQ(requiredProperties(pickOf(4.0, std::nullopt)),
+              (std::vector<std::string>{kGripType, width, payload}));
+    EXPECT_EQ(requiredProperties(pickStep({{kGripType, "parallel", kGrasp}})),
+              (std::vector<std::string>{kGripType}));
+
+    // Light and narrow: both can; the first by URI (the AG-95).
+    auto m = matchCellRequirements(pickOf(1.0, std::array{0.04, 0.1, 0.05}), both, facts);
+    ASSERT_TRUE(m.byRequirement[0]) << m.unmet;
+    EXPECT_EQ(m.byRequirement[0]->componentUri, "urn:ag95");
+
+    // 4 kg: only the 2F-85 carries it, although the AG-95 comes first.
+    m = matchCellRequirements(pickOf(4.0, std::nullopt), both, facts);
+    ASSERT_TRUE(m.byRequirement[0]) << m.unmet;
+    EXPECT_EQ(m.byRequirement[0]->componentUri, "urn:robotiq");
+
+    // 90 mm across its narrower side: only the AG-95's fingers open that wide.
+    m = matchCellRequirements(pickOf(1.0, std::array{0.12, 0.09, 0.05}), both, facts);
+    ASSERT_TRUE(m.byRequirement[0]) << m.unmet;
+    EXPECT_EQ(m.byRequirement[0]->componentUri, "urn:ag95");
+
+    // 6 kg and 90 mm: neither; the reason names each gripper and why it cannot.
+    m = matchCellRequirements(pickOf(6.0, std::array{0.12, 0.09, 0.05}), both, facts);
+    EXPECT_FALSE(m.byRequirement[0]);
+    EXPECT_NE(m.unmet.find("Skills/Grasp of urn:ag95: it holds at most 3 kg, and box weighs 6 kg"),
+              std::string::npos)
+        << m.unmet;
+    EXPECT_NE(m.unmet.find("Skills/Grasp of urn:robotiq: it holds at most 5 kg, and box weighs 6 "
+                           "kg; it grips at most 0.085 m across, and box is 0.09 m across"),
+              std::string::npos)
+        << m.unmet;
+
+    // A gripper without a rating in the KB is not judged by one (recorded before ratings).
+    SkillFacts unrated;
+    unrated.add(keyOf(grasp("urn:ag95")), kGripType, "parallel");
+    m = matchCellRequirements(pickOf(6.0, std::nullopt), {grasp("urn:ag95")}, unrated);
+    EXPECT_TRUE(m.byRequirement[0]) << m.unmet;
 }
 
 TEST(SkillFacts, ASkillRequirementConcernsTheSkillThatRunsTheStep) {

@@ -94,7 +94,8 @@ TEST(StepBinding, DerivedValuesTakeTheFormTheParameterDeclares) {
     EXPECT_EQ(std::string(*text), "boxA") << "a String from an object is its id";
 
     // A 3DFrame from something without a pose, a String from a bare pose: refused, named.
-    step.parameters = {{"ToolPosition", DerivationSource{"urn:nowhere", {}, {}, "x", {}, {}, {}}}};
+    step.parameters = {
+        {"ToolPosition", DerivationSource{"urn:nowhere", {}, {}, "x", {}, {}, {}, {}, {}}}};
     auto bad = parameterValues(step, changer("urn:c1"));
     ASSERT_FALSE(bad);
     EXPECT_NE(bad.error().find("step 1 (ChangeToolSkillType), parameter ToolPosition"),
