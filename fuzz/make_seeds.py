@@ -44,3 +44,48 @@ answer = (struct.pack(">HHHHHH", 0, 0x8400, 0, 4, 0, 0)
 for name, data in {"query": query, "announcement": answer}.items():
     with open(os.path.join(mdns_out, name), "wb") as f:
         f.write(data)
+
+# fuzz_session_services: requests in a session, each [service][length LE16][request after its
+# RequestHeader]; the service numbers are the index in session_services_fuzzer.cpp's kServices.
+READ, WRITE, BROWSE, CALL, CREATE_SUBSCRIPTION, CREATE_MONITORED_ITEMS, PUBLISH = 0, 1, 2, 7, 8, 12, 16
+
+
+def request(service, body):
+    return bytes([service]) + struct.pack("<H", len(body)) + body
+
+
+def numeric(i):  # a NodeId in ns 0: two-byte form below 256, else four-byte
+    return bytes([0, i]) if i < 256 else b"\x01\x00" + struct.pack("<H", i)
+
+
+def read_value_id(node, attribute=13):
+    return numeric(node) + struct.pack("<I", attribute) + null_string + b"\x00\x00" + null_string
+
+
+session_out = os.path.join(here, "corpus", "fuzz_session_services")
+os.makedirs(session_out, exist_ok=True)
+read = struct.pack("<di", 0.0, 2) + struct.pack("<i", 2) + read_value_id(2255) + read_value_id(2258)
+browse = (b"\x00\x00" + bytes(8) + struct.pack("<I", 0)  # no view
+          + struct.pack("<I", 0) + struct.pack("<i", 1)
+          + numeric(85) + struct.pack("<i", 0) + numeric(33) + b"\x01" + struct.pack("<II", 0, 63))
+write = (struct.pack("<i", 1) + numeric(2255) + struct.pack("<I", 13) + null_string
+         + b"\x01" + b"\x06" + struct.pack("<i", 7))  # DataValue with an Int32 value
+subscription = struct.pack("<dIIIB", 20.0, 600, 10, 0, 1) + b"\x00"
+monitored = (struct.pack("<Ii", 1, 2) + struct.pack("<i", 1) + read_value_id(2258)
+             + struct.pack("<i", 2) + struct.pack("<Id", 1, 0.0) + b"\x00\x00\x00"
+             + struct.pack("<I", 4) + b"\x01")
+publish = struct.pack("<i", 0)
+call = (struct.pack("<i", 1) + numeric(2253) + b"\x01\x00" + struct.pack("<H", 11492)
+        + struct.pack("<i", 1) + b"\x07" + struct.pack("<I", 1))  # GetMonitoredItems(1)
+seeds = {
+    "read": request(READ, read),
+    "browse": request(BROWSE, browse),
+    "write": request(WRITE, write),
+    "call": request(CALL, call),
+    "subscribe_and_publish": request(CREATE_SUBSCRIPTION, subscription)
+    + request(CREATE_MONITORED_ITEMS, monitored) + request(PUBLISH, publish)
+    + request(PUBLISH, publish),
+}
+for name, data in seeds.items():
+    with open(os.path.join(session_out, name), "wb") as f:
+        f.write(data)

@@ -83,7 +83,8 @@ slowest build-asan
 
 begin "fuzz build"
 cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz -j "$jobs" --target fuzz_message_decoder fuzz_mdns_datagram
+cmake --build --preset fuzz -j "$jobs" --target fuzz_message_decoder fuzz_mdns_datagram \
+  fuzz_session_services
 
 begin "fuzz (short runs)"
 for target in build-fuzz/fuzz/fuzz_*; do

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "ua/messages/secure_channel.hpp"
+#include "ua/server/request_dispatch.hpp"
 #include "ua/transport/no_throw.hpp"
 
 namespace skillcell::ua {
@@ -194,68 +195,34 @@ StatusCode Connection::handleOpen(const ChannelMessage& message, SteadyTime now)
 }
 
 StatusCode Connection::handleMessage(const ChannelMessage& message, SteadyTime now) {
-    BinaryReader r(message.body);
-    NodeId typeId;
-    decode(r, typeId);
-    if (!r.ok()) return r.status();  // not even a type id: the stream is corrupt
-    // Every request starts with a RequestHeader; peek at it so that even a fault for an
-    // unknown or undecodable request carries the client's request handle.
-    RequestHeader header;
-    BinaryReader peek = r;
-    decode(peek, header);
-    const std::uint32_t handle = peek.ok() ? header.requestHandle : 0;
-    auto fault = [&](StatusCode s) {
-        return sendMessage(MessageType::Message, message.requestId, handle,
-                           encodeServiceFault(handle, s));
-    };
-    const ServiceTable::Entry* entry = typeId.isNumeric() && typeId.namespaceIndex() == 0
-                                           ? env_.services.find(typeId.numeric())
-                                           : nullptr;
-    if (entry == nullptr) return fault(status::BadServiceUnsupported);
-    if (!peek.ok()) return fault(status::BadDecodingError);
-    if (discoveryOnly() && !isDiscoveryService(typeId.numeric())) {
-        return fault(status::BadSecurityPolicyRejected);
-    }
-
-    ServiceContext ctx;
-    ctx.channelId = channelId_;
-    ctx.limits = &env_.limits;
-    ctx.now = now;
-    ctx.endpointUrl = &endpointUrl_;
+    RequestChannel channel;
+    channel.channelId = channelId_;
+    channel.endpointUrl = &endpointUrl_;
     if (const SecurityPolicy* policy = channel_->policy(); policy != nullptr) {
-        ctx.securityPolicyUri = policy->uri();
-        ctx.clientCertificate = &policy->remoteCertificate();
+        channel.securityPolicyUri = policy->uri();
+        channel.clientCertificate = &policy->remoteCertificate();
     }
-    ctx.securityMode = channel_->securityMode();
-    if (entry->access == ServiceTable::Access::ActivatedSession) {
-        auto session = env_.sessions.authorize(header.authenticationToken, channelId_, now);
-        if (!session) return fault(session.status());
-        ctx.session = *session;
-    }
+    channel.securityMode = channel_->securityMode();
+    channel.discoveryOnly = discoveryOnly();
     // A deferred service answers through this later; the weak reference makes an answer
     // after the connection closed a no-op instead of keeping the connection alive.
-    if (entry->deferred) {
-        ctx.reply = [weak = weak_from_this(), requestId = message.requestId,
-                     handle](std::vector<std::uint8_t> body) {
-            if (auto self = weak.lock()) self->sendDeferred(requestId, handle, std::move(body));
-        };
-    }
-    std::vector<std::uint8_t> body;
-    const StatusCode s = entry->invoke(ctx, r, body);
-    if (s.isBad()) return fault(s);
-    if (body.empty()) return status::Good;  // deferred: answered through ctx.reply
-    return sendMessage(MessageType::Message, message.requestId, handle, std::move(body));
+    const ReplyFactory replyFor = [this, requestId = message.requestId](std::uint32_t handle) {
+        return ResponseSender(
+            [weak = weak_from_this(), requestId, handle](std::vector<std::uint8_t> body) {
+                if (auto self = weak.lock()) self->sendDeferred(requestId, handle, std::move(body));
+            });
+    };
+    auto served = dispatchRequest(env_.services, env_.sessions, env_.limits, channel, message.body,
+                                  now, replyFor);
+    if (served.status.isBad()) return served.status;
+    if (served.response.empty()) return status::Good;  // deferred: answered through the sender
+    return sendMessage(MessageType::Message, message.requestId, served.requestHandle,
+                       std::move(served.response));
 }
 
 bool Connection::discoveryOnly() const {
     return channel_->securityMode() == MessageSecurityMode::None &&
            !env_.description.offers(kSecurityPolicyNoneUri, MessageSecurityMode::None);
-}
-
-bool Connection::isDiscoveryService(std::uint32_t requestTypeId) {
-    return requestTypeId == GetEndpointsRequest::kBinaryEncodingId ||
-           requestTypeId == FindServersRequest::kBinaryEncodingId ||
-           requestTypeId == FindServersOnNetworkRequest::kBinaryEncodingId;
 }
 
 StatusCode Connection::sendMessage(MessageType type, std::uint32_t requestId,

@@ -60,7 +60,6 @@ private:
     void setDeadline(SteadyTime deadline);
     /// A None channel on a server that does not offer None: discovery services only.
     [[nodiscard]] bool discoveryOnly() const;
-    [[nodiscard]] static bool isDiscoveryService(std::uint32_t requestTypeId);
 
     /// Writes what is queued unless a write is in flight; closes once drained if closing.
     void writeQueued();

@@ -121,11 +121,7 @@ asio::awaitable<void> Server::acceptLoop() {
             continue;
         }
         const std::uint32_t channelId = nextChannelId_++;
-        auto connection = std::make_shared<Connection>(
-            std::move(socket),
-            ConnectionEnvironment{services_, sessions_, config_.limits, config_.channel,
-                                  config_.description, config_.security},
-            channelId);
+        auto connection = std::make_shared<Connection>(std::move(socket), environment(), channelId);
         connections_.emplace(channelId, connection);
         asio::co_spawn(io_, connection->run(), asio::detached);
     }

@@ -59,6 +59,13 @@ public:
     [[nodiscard]] ServiceTable& services() { return services_; }
     [[nodiscard]] const ServerConfig& config() const { return config_; }
     [[nodiscard]] std::size_t connectionCount() const { return connections_.size(); }
+    /// What a connection serves requests with (dispatchRequest): the service table, the
+    /// sessions, the limits, the description and the security. Also what the stateful fuzzer
+    /// drives without a socket.
+    [[nodiscard]] ConnectionEnvironment environment() {
+        return {services_,       sessions_,           config_.limits,
+                config_.channel, config_.description, config_.security};
+    }
     [[nodiscard]] std::size_t sessionCount() const { return sessions_.size(); }
     /// True while the session with this SessionId exists (not closed, not timed out).
     [[nodiscard]] bool hasSession(const NodeId& sessionId) const {
