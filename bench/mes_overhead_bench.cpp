@@ -32,8 +32,8 @@
 #include <string_view>
 #include <vector>
 
-#include <asio/experimental/as_tuple.hpp>
 #include <asio/detached.hpp>
+#include <asio/experimental/as_tuple.hpp>
 #include <asio/steady_timer.hpp>
 
 #include "client_thread.hpp"
@@ -144,7 +144,8 @@ OrdersResult concurrentOrders(std::size_t k, std::size_t steps, const fs::path& 
         std::vector<std::shared_ptr<skills::SkillClient>> skills;
         for (std::size_t i = 0; i < k; ++i) {
             clients.push_back(std::make_unique<ua::Client>(mesThread.io().get_executor()));
-            if ((co_await clients.back()->connect(servers[i]->url())).isBad()) co_return bench::LatencyStats{};
+            if ((co_await clients.back()->connect(servers[i]->url())).isBad())
+                co_return bench::LatencyStats{};
             auto sc = co_await skills::SkillClient::attach(*clients.back(),
                                                            test::NoOpComponent::moveSkill());
             if (!sc) co_return bench::LatencyStats{};
@@ -155,9 +156,9 @@ OrdersResult concurrentOrders(std::size_t k, std::size_t steps, const fs::path& 
         asio::steady_timer allDone(mesThread.io(), Clock::time_point::max());
         // The coroutine's state as parameters, which its frame copies (a lambda's captures
         // would dangle once the lambda object is gone).
-        auto invoke = [&times, &allDone](std::shared_ptr<skills::SkillClient> sc, std::size_t n,
-                                         std::shared_ptr<std::size_t> running)
-            -> asio::awaitable<void> {
+        auto invoke = [&times, &allDone](
+                          std::shared_ptr<skills::SkillClient> sc, std::size_t n,
+                          std::shared_ptr<std::size_t> running) -> asio::awaitable<void> {
             for (std::size_t i = 0; i < n; ++i) {
                 const auto t0 = Clock::now();
                 std::map<std::string, ua::Variant> parameters;
@@ -311,8 +312,8 @@ int main(int argc, char** argv) {
                 "skill invocation through a SkillClient (baseline)", base.medianUs, base.p99Us,
                 base.n);
     std::printf("  %-52s median %9.1f us   p99 %9.1f us   (n=%zu)\n",
-                "MES step (choose, reserve, journal, invoke)", mesSteps.medianUs,
-                mesSteps.p99Us, mesSteps.n);
+                "MES step (choose, reserve, journal, invoke)", mesSteps.medianUs, mesSteps.p99Us,
+                mesSteps.n);
     std::printf("  %-52s median %9.1f us   p99 %9.1f us   (%.1fx the invocation)\n",
                 "MES overhead (step - invocation)", mesSteps.medianUs - base.medianUs,
                 mesSteps.p99Us - base.p99Us, mesSteps.medianUs / base.medianUs);
@@ -322,8 +323,8 @@ int main(int argc, char** argv) {
     constexpr std::size_t kOrderSteps = 10;
     std::printf("\nconcurrent orders (%zu steps each, one no-op component per order)\n\n",
                 kOrderSteps);
-    std::printf("  %7s  %12s  %12s  %14s  %14s  %14s  %10s\n", "orders", "step median",
-                "step p99", "invocation med.", "overhead med.", "overhead p99", "orders/s");
+    std::printf("  %7s  %12s  %12s  %14s  %14s  %14s  %10s\n", "orders", "step median", "step p99",
+                "invocation med.", "overhead med.", "overhead p99", "orders/s");
     bool allCompleted = true;
     for (const std::size_t k : orderCounts) {
         const auto r = concurrentOrders(k, kOrderSteps, dir);

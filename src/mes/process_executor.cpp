@@ -134,9 +134,8 @@ ProcessExecutor::ProcessExecutor(Token, std::shared_ptr<skills::SkillDetector> d
       journal_(journal),
       kb_(std::move(kb)),
       options_(std::move(options)),
-      connections_(std::make_shared<SkillConnectionPool>(detector_->executor(), options_.client,
-                                                         options_.skillClient,
-                                                         options_.keepConnections)),
+      connections_(std::make_shared<SkillConnectionPool>(
+          detector_->executor(), options_.client, options_.skillClient, options_.keepConnections)),
       journalThread_(std::make_unique<asio::thread_pool>(1)) {}
 
 ProcessExecutor::~ProcessExecutor() {

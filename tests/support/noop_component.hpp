@@ -17,13 +17,13 @@ struct NoOpComponent {
         : uri(std::move(applicationUri)) {
         auto config = RunningServer::defaultConfig();
         config.description.applicationUri = uri;
-        server = std::make_unique<RunningServer>(std::move(config), [this,
-                                                                     duration](ua::Server& s) {
-            skills = skills::SkillServer::create(s, s.executor());
-            const auto type = skills->findSkillType("CartesianLinearMoveSkillType");
-            (void)skills->add(*type, "Move",
-                              std::make_unique<skills::NoOpBehaviour>(s.executor(), duration));
-        });
+        server =
+            std::make_unique<RunningServer>(std::move(config), [this, duration](ua::Server& s) {
+                skills = skills::SkillServer::create(s, s.executor());
+                const auto type = skills->findSkillType("CartesianLinearMoveSkillType");
+                (void)skills->add(*type, "Move",
+                                  std::make_unique<skills::NoOpBehaviour>(s.executor(), duration));
+            });
     }
     // The skills go on the server's thread, before the server.
     ~NoOpComponent() {

@@ -32,9 +32,8 @@ protected:
     std::unique_ptr<SkillConnectionPool> pool_;
 
     void makePool(std::chrono::milliseconds keep) {
-        pool_ = std::make_unique<SkillConnectionPool>(thread_.io().get_executor(),
-                                                      ua::ClientConfig{},
-                                                      skills::SkillClientOptions{}, keep);
+        pool_ = std::make_unique<SkillConnectionPool>(
+            thread_.io().get_executor(), ua::ClientConfig{}, skills::SkillClientOptions{}, keep);
     }
     // Takes a connection to `skill`, runs the skill once through it, gives it back.
     bool runOnce(const skills::SkillInstance& skill, std::string* why) {
