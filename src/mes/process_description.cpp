@@ -101,12 +101,16 @@ kb::Expected<DerivationSource> source(const Graph& g, const Term& node, const st
         const auto v = parseNumber(value);
         if (predicate == p("mass") && v && *v > 0 && (!s.mass || *v > *s.mass)) s.mass = v;
     }
-    std::array<std::optional<double>, 3> edges;
-    for (int i = 0; i < 3; ++i) {
-        const auto text = g.literal(node, p(i == 0 ? "sizeX" : i == 1 ? "sizeY" : "sizeZ"));
-        if (text) edges[static_cast<std::size_t>(i)] = parseNumber(*text);
+    // Its size only when all three edges are numbers.
+    std::array<double, 3> size{};
+    std::size_t edges = 0;
+    for (const char* edge : {"sizeX", "sizeY", "sizeZ"}) {
+        const auto text = g.literal(node, p(edge));
+        const auto v = text ? parseNumber(*text) : std::nullopt;
+        if (!v) break;
+        size[edges++] = *v;
     }
-    if (edges[0] && edges[1] && edges[2]) s.size = std::array{*edges[0], *edges[1], *edges[2]};
+    if (edges == size.size()) s.size = size;
     for (const Term* held : g.objects(node, p("holds"))) {
         for (const auto& [predicate, value] : g.literals(*held))
             s.held.emplace_back(predicate, value);

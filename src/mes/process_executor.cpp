@@ -40,13 +40,13 @@ std::int64_t median(std::vector<std::int64_t> v) {
 constexpr std::size_t kDurationHistory = 20;
 
 // Orders `skills` (suitable and free) by their expected duration, shortest first: the median of
-// their component's last finished runs in `durations`; those without a history after, in the
-// order given (URI order). Returns why the first was chosen, over the others.
-std::string rankByExpectedDuration(
-    std::vector<skills::SkillInstance>& skills,
-    const kb::Expected<std::map<std::string, std::vector<std::int64_t>>>& durations) {
+// their component's last finished runs in `durations` (none: the journal could not be read);
+// those without a history after, in the order given (URI order). Returns why the first was
+// chosen, over the others.
+std::string rankByExpectedDuration(std::vector<skills::SkillInstance>& skills,
+                                   const ProcessExecutor::Durations* durations) {
     std::map<std::string, std::int64_t> expected;
-    if (durations) {
+    if (durations != nullptr) {
         for (const auto& [component, ms] : *durations) {
             if (!ms.empty()) expected[component] = median(ms);
         }
@@ -783,7 +783,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
         if (!c.skills.empty()) {
             // What the journal knows of how long each candidate takes (read before the
             // availability below, which must not be separated from the take by a wait).
-            const auto durations = co_await expectedDurations(step.skillTypeIri);
+            const Durations* durations = co_await expectedDurations(step.skillTypeIri);
             if (order->halted) co_return Choice{};
             // Suitable: those the order may use now (no other order holds them, no other
             // of its steps uses them), else wait for one to be freed.
@@ -874,8 +874,8 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
     }
 }
 
-asio::awaitable<kb::Expected<std::map<std::string, std::vector<std::int64_t>>>>
-ProcessExecutor::expectedDurations(std::string skillTypeIri) {
+asio::awaitable<const ProcessExecutor::Durations*> ProcessExecutor::expectedDurations(
+    std::string skillTypeIri) {
     auto self = shared_from_this();
     if (!durations_.contains(skillTypeIri)) {
         // Read once per skill type from the journal (what earlier runs of this MES, or of
@@ -886,11 +886,12 @@ ProcessExecutor::expectedDurations(std::string skillTypeIri) {
         auto fromJournal = co_await journaled(read);
         if (!fromJournal) {
             spdlog::warn("mes: {}", fromJournal.error());
-            co_return fromJournal;
+            co_return nullptr;
         }
         durations_.try_emplace(skillTypeIri, std::move(*fromJournal));
     }
-    co_return durations_.at(skillTypeIri);
+    // Not a copy: this runs for every step, and the map grows with the cell's components.
+    co_return &durations_.at(skillTypeIri);
 }
 
 void ProcessExecutor::finishedIn(const std::string& skillTypeIri, const std::string& componentUri,

@@ -165,6 +165,10 @@ public:
     void suspend(std::int64_t order);
     void resume(std::int64_t order);
 
+    /// How long finished steps of one skill type took, by component: ms, newest first, at
+    /// most the last 20 each (what the MES ranks free instances by).
+    using Durations = std::map<std::string, std::vector<std::int64_t>>;
+
     /// The orders running in this MES now, each with its latest progress.
     [[nodiscard]] std::vector<Progress> running() const;
 
@@ -242,11 +246,10 @@ private:
     asio::awaitable<void> sleep(Order& order, std::shared_ptr<asio::steady_timer> timer);
     /// Wakes every order waiting for a component.
     void componentsFreed();
-    /// How long the last finished steps of `skillTypeIri` took on each component (ms, newest
-    /// first, at most kDurationHistory each): from the journal at first, then kept up to date
-    /// by finishedIn().
-    asio::awaitable<kb::Expected<std::map<std::string, std::vector<std::int64_t>>>>
-    expectedDurations(std::string skillTypeIri);
+    /// How long the last finished steps of `skillTypeIri` took on each component: from the
+    /// journal at first, then kept up to date by finishedIn(). Null when the journal cannot be
+    /// read. Read it before the caller next suspends: a step finishing meanwhile changes it.
+    asio::awaitable<const Durations*> expectedDurations(std::string skillTypeIri);
     /// A step of `skillTypeIri` finished on `componentUri` as `r` records.
     void finishedIn(const std::string& skillTypeIri, const std::string& componentUri,
                     const StepRecord& r);
@@ -297,8 +300,8 @@ private:
     /// Records waiting for the journal, and whether writeRecords() is at them.
     std::vector<std::shared_ptr<PendingRecord>> unrecorded_;
     bool recording_ = false;
-    /// expectedDurations(), by skill type, then component.
-    std::map<std::string, std::map<std::string, std::vector<std::int64_t>>> durations_;
+    /// expectedDurations(), by skill type.
+    std::map<std::string, Durations> durations_;
     /// Orders' waits for a component, cancelled when one is freed.
     std::vector<std::weak_ptr<asio::steady_timer>> claimWaits_;
     /// Where journal calls run (journaled()): one thread, so they stay in order. Last, so

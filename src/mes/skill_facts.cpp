@@ -1,8 +1,8 @@
 #include "mes/skill_facts.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
-#include <array>
-#include <cstdio>
 #include <optional>
 
 #include "kb/component_graph.hpp"
@@ -39,12 +39,6 @@ std::optional<double> leastNumber(const std::vector<std::string>& values) {
     return out;
 }
 
-std::string number(double v) {
-    std::array<char, 32> text{};
-    std::snprintf(text.data(), text.size(), "%g", v);
-    return text.data();
-}
-
 }  // namespace
 
 const DerivationSource* movedObject(const ProcessStep& step) {
@@ -62,8 +56,8 @@ std::string cannotHold(const DerivationSource& object, const skills::SkillInstan
     std::string why;
     const auto payload = leastNumber(facts.values(keyOf(skill), proc("maxPayload")));
     if (object.mass && payload && *object.mass > *payload) {
-        why = "it holds at most " + number(*payload) + " kg, and " + object.objectId + " weighs " +
-              number(*object.mass) + " kg";
+        why = "it holds at most " + fmt::format("{:g}", *payload) + " kg, and " + object.objectId +
+              " weighs " + fmt::format("{:g}", *object.mass) + " kg";
     }
     const auto width = leastNumber(facts.values(keyOf(skill), proc("maxGripWidth")));
     if (object.size && width && *width > 0) {
@@ -71,8 +65,9 @@ std::string cannotHold(const DerivationSource& object, const skills::SkillInstan
         // an upright box.
         const double across = std::min((*object.size)[0], (*object.size)[1]);
         if (across > *width) {
-            why += std::string(why.empty() ? "it" : "; it") + " grips at most " + number(*width) +
-                   " m across, and " + object.objectId + " is " + number(across) + " m across";
+            why += std::string(why.empty() ? "it" : "; it") + " grips at most " +
+                   fmt::format("{:g}", *width) + " m across, and " + object.objectId + " is " +
+                   fmt::format("{:g}", across) + " m across";
         }
     }
     return why;
