@@ -1,9 +1,12 @@
 // skillcell_bench_security: what security costs. In one run, against our server in this
 // process (loopback), for SecurityPolicy None and for each RSA policy with Sign and
-// SignAndEncrypt:
+// SignAndEncrypt, with RSA 2048 keys:
 //   - the handshake: connect (Hello, OpenSecureChannel, CreateSession, ActivateSession with
 //     a user name and password), median and p99 over --connects runs;
 //   - the Read round trip of one Double, median and p99 over --count sequential Reads.
+// Then, for the policy components use (Aes256_Sha256_RsaPss, SignAndEncrypt), the user token
+// (password: an scrypt hash on the server; X.509: one more RSA signature and verification)
+// and the key size (RSA 2048 and 3072, server and client).
 // Prints a table with each row's ratio to None.
 //
 //   skillcell_bench_security [--count N] [--connects M]
@@ -12,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -63,26 +67,47 @@ int main(int argc, char** argv) {
     }
     spdlog::set_level(spdlog::level::warn);
 
-    const auto serverCert = test::makeTestCertificate(2048, "urn:skillcell:server");
-    const auto clientCert = test::makeTestCertificate(2048, "urn:skillcell:bench-client");
-    ua::ServerConfig config = test::RunningServer::defaultConfig();
-    config.description.certificate = serverCert.der;
-    config.description.securityEndpoints = ua::allSecurityEndpoints(true);
-    ua::UserTokenPolicy password;
-    password.policyId = std::string(ua::kUserNamePolicyId);
-    password.tokenType = ua::UserTokenType::UserName;
-    config.description.userTokenPolicies = {password};
-    config.security.privateKey = serverCert.key;
-    config.security.allowAnonymous = false;
-    auto users = std::make_shared<ua::UserDatabase>();
-    if (users->setPassword("bench", ua::RoleSet{ua::Role::Operator}, "bench-pw").isBad()) return 1;
-    config.security.users = users;
-    test::RunningServer server(config);
+    // One server per key size, each knowing the bench's user by password and by certificate.
+    struct Keys {
+        int bits;
+        test::TestCertificate server;
+        test::TestCertificate client;
+    };
+    std::vector<Keys> keys;
+    for (int bits : {2048, 3072}) {
+        keys.push_back({bits, test::makeTestCertificate(bits, "urn:skillcell:server"),
+                        test::makeTestCertificate(bits, "urn:skillcell:bench-client")});
+    }
+    std::vector<std::unique_ptr<test::RunningServer>> servers;
+    for (const auto& k : keys) {
+        ua::ServerConfig config = test::RunningServer::defaultConfig();
+        config.description.certificate = k.server.der;
+        config.description.securityEndpoints = ua::allSecurityEndpoints(true);
+        ua::UserTokenPolicy password;
+        password.policyId = std::string(ua::kUserNamePolicyId);
+        password.tokenType = ua::UserTokenType::UserName;
+        ua::UserTokenPolicy x509;
+        x509.policyId = std::string(ua::kCertificatePolicyId);
+        x509.tokenType = ua::UserTokenType::Certificate;
+        config.description.userTokenPolicies = {password, x509};
+        config.security.privateKey = k.server.key;
+        config.security.allowAnonymous = false;
+        auto users = std::make_shared<ua::UserDatabase>();
+        if (users->setPassword("bench", ua::RoleSet{ua::Role::Operator}, "bench-pw").isBad() ||
+            users->setCertificate("bench-cert", ua::RoleSet{ua::Role::Operator}, k.client.der)
+                .isBad()) {
+            return 1;
+        }
+        config.security.users = users;
+        servers.push_back(std::make_unique<test::RunningServer>(config));
+    }
 
     struct Variant {
         std::string name;
         std::string policy;
         ua::MessageSecurityMode mode;
+        std::size_t keys = 0;  // index into keys
+        bool x509User = false;
     };
     std::vector<Variant> variants{
         {"None", std::string(ua::kSecurityPolicyNoneUri), ua::MessageSecurityMode::None}};
@@ -92,19 +117,36 @@ int main(int argc, char** argv) {
         variants.push_back({std::string(p.shortName) + " SignAndEncrypt", std::string(p.uri),
                             ua::MessageSecurityMode::SignAndEncrypt});
     }
+    const auto* best = ua::crypto::findSecurityPolicyProfileByName("Aes256_Sha256_RsaPss");
+    if (best == nullptr) return 1;
+    const std::string bestName = std::string(best->shortName) + " S&E";
+    variants.push_back({bestName + ", X.509 user", std::string(best->uri),
+                        ua::MessageSecurityMode::SignAndEncrypt, 0, true});
+    variants.push_back({bestName + ", RSA 3072", std::string(best->uri),
+                        ua::MessageSecurityMode::SignAndEncrypt, 1, false});
+    variants.push_back({bestName + ", RSA 3072, X.509 user", std::string(best->uri),
+                        ua::MessageSecurityMode::SignAndEncrypt, 1, true});
 
     std::vector<Row> rows;
     for (const auto& v : variants) {
+        const auto& k = keys[v.keys];
+        const auto& server = *servers[v.keys];
         ua::ClientConfig c;
         c.security.policyUri = v.policy;
         c.security.mode = v.mode;
-        c.security.certificate = clientCert.der;
-        c.security.privateKey = clientCert.key;
-        c.serverCertificate = serverCert.der;  // as a client that knows the server would
+        c.security.certificate = k.client.der;
+        c.security.privateKey = k.client.key;
+        c.serverCertificate = k.server.der;  // as a client that knows the server would
         c.applicationUri = "urn:skillcell:bench-client";
-        c.security.user.kind = ua::UserCredentials::Kind::UserName;
-        c.security.user.userName = "bench";
-        c.security.user.password = "bench-pw";
+        if (v.x509User) {
+            c.security.user.kind = ua::UserCredentials::Kind::Certificate;
+            c.security.user.certificate = k.client.der;
+            c.security.user.privateKey = k.client.key;
+        } else {
+            c.security.user.kind = ua::UserCredentials::Kind::UserName;
+            c.security.user.userName = "bench";
+            c.security.user.password = "bench-pw";
+        }
         Row row{v.name, {}, {}};
         bench::Samples connectTimes;
         for (std::size_t i = 0; i < connects; ++i) {
@@ -136,14 +178,14 @@ int main(int argc, char** argv) {
     }
 
     std::printf(
-        "security cost on loopback (our client and server, one process); %zu reads, "
-        "%zu connects per row\n\n",
+        "security cost on loopback (our client and server, one process; RSA 2048 and a "
+        "user with a password unless the row says otherwise); %zu reads, %zu connects per row\n\n",
         count, connects);
-    std::printf("%-36s %12s %10s %8s %12s %10s %8s\n", "policy / mode", "connect med", "p99 (ms)",
+    std::printf("%-48s %12s %10s %8s %12s %10s %8s\n", "policy / mode", "connect med", "p99 (ms)",
                 "x None", "read med", "p99 (us)", "x None");
     const auto& none = rows.front();
     for (const auto& r : rows) {
-        std::printf("%-36s %12.2f %10.2f %8.2f %12.1f %10.1f %8.2f\n", r.name.c_str(),
+        std::printf("%-48s %12.2f %10.2f %8.2f %12.1f %10.1f %8.2f\n", r.name.c_str(),
                     r.connect.medianUs / 1000, r.connect.p99Us / 1000,
                     r.connect.medianUs / none.connect.medianUs, r.read.medianUs, r.read.p99Us,
                     r.read.medianUs / none.read.medianUs);

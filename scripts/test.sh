@@ -87,16 +87,30 @@ cmake --build --preset fuzz -j "$jobs" --target fuzz_message_decoder fuzz_mdns_d
   fuzz_session_services
 
 begin "fuzz (short runs)"
+# The targets run side by side (each is one process on one core; three runs one after the other
+# left a core idle for 90 s), each for SKILLCELL_FUZZ_SECONDS of wall time.
+fuzz_pids=()
+fuzz_names=()
 for target in build-fuzz/fuzz/fuzz_*; do
   [ -x "$target" ] || continue
-  corpus="fuzz/corpus/$(basename "$target")"
-  mkdir -p "build-fuzz/corpus-$(basename "$target")"
-  log="build-fuzz/$(basename "$target").log"
-  if ! "$target" -max_total_time="${SKILLCELL_FUZZ_SECONDS:-30}" -rss_limit_mb=1024 \
-      "build-fuzz/corpus-$(basename "$target")" "$corpus" >"$log" 2>&1; then
-    tail -n 60 "$log"; echo "fuzz target $(basename "$target") found a failure" >&2; exit 1
-  fi
-  tail -n 1 "$log"
+  name=$(basename "$target")
+  mkdir -p "build-fuzz/corpus-$name"
+  "$target" -max_total_time="${SKILLCELL_FUZZ_SECONDS:-30}" -rss_limit_mb=1024 \
+    "build-fuzz/corpus-$name" "fuzz/corpus/$name" >"build-fuzz/$name.log" 2>&1 &
+  fuzz_pids+=($!)
+  fuzz_names+=("$name")
 done
+fuzz_failed=0
+for i in "${!fuzz_pids[@]}"; do
+  log="build-fuzz/${fuzz_names[$i]}.log"
+  if wait "${fuzz_pids[$i]}"; then
+    echo "${fuzz_names[$i]}: $(tail -n 1 "$log")"
+  else
+    tail -n 60 "$log"
+    echo "fuzz target ${fuzz_names[$i]} found a failure" >&2
+    fuzz_failed=1
+  fi
+done
+[ $fuzz_failed = 0 ] || exit 1
 finish
 echo "== all tests passed"

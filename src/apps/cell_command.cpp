@@ -149,6 +149,11 @@ int cellUp(const UpOptions& o) {
                     u.passwordFile.string().c_str());
     }
     if (!runtime.secure()) std::printf("  none: security is off (anonymous, no certificates)\n");
+    if (runtime.componentUser().applicationCertificate) {
+        std::printf(
+            "The components act on each other as the users cell-NAME (Operator), by their "
+            "certificates.\n");
+    }
     if (!runtime.dashboardUrl().empty()) {
         std::printf("The dashboard: %s%s\n", runtime.dashboardUrl().c_str(),
                     runtime.secure() ? " (log in as one of these users; its certificate is issued "

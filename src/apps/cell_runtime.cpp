@@ -53,11 +53,17 @@ struct GeneratedUser {
     ua::Role role;
     const char* roleName;
 };
-// "cell" is whom the components act as when they are clients of each other.
+// The people's users. The components are users too, but by their certificates
+// (componentUser()): passwords are for people.
 constexpr GeneratedUser kGeneratedUsers[] = {{"operator", ua::Role::Operator, "Operator"},
                                              {"engineer", ua::Role::Engineer, "Engineer"},
-                                             {"observer", ua::Role::Observer, "Observer"},
-                                             {"cell", ua::Role::Operator, "Operator"}};
+                                             {"observer", ua::Role::Observer, "Observer"}};
+
+/// Whether a component opens sessions on others (and so needs a user): all but the
+/// discovery server and the world, which only serve.
+bool actsAsCell(const std::string& name) {
+    return name != "lds" && name != "world";
+}
 
 }  // namespace
 
@@ -171,14 +177,62 @@ bool CellRuntime::prepare(std::string* error) {
         all.emplace_back(std::string(m.command), std::string(m.applicationUri));
     }
     all.emplace_back("operator", "urn:skillcell:operator");
+    std::vector<std::pair<std::string, ua::ByteString>> clients;  // name, certificate
     for (const auto& [name, uri] : all) {
-        if (!commission(name, uri, error)) {
+        auto identity = commission(name, uri, error);
+        if (!identity) {
             *error = "the certificate of " + name + ": " + *error;
             return false;
         }
+        if (name != "operator" && actsAsCell(name)) {
+            clients.emplace_back(name, identity->certificate().der);
+        }
     }
     identity_ = commission(options_.selfName, selfUri(), error);
-    return identity_.has_value();
+    if (!identity_) return false;
+    clients.emplace_back(options_.selfName, identity_->certificate().der);
+    return !certificateUsers() || addComponentUsers(clients, error);
+}
+
+bool CellRuntime::certificateUsers() const {
+    return secure() && cell_.security.users.empty();
+}
+
+bool CellRuntime::addComponentUsers(
+    const std::vector<std::pair<std::string, ua::ByteString>>& clients, std::string* error) {
+    // Each component is the user "cell-NAME", Operator, known by its certificate's
+    // thumbprint: an X.509 user token costs one RSA verification where a password costs an
+    // scrypt hash (tens of milliseconds, on purpose) on every session it opens.
+    const fs::path file = dir() / "users";
+    auto users = ua::UserDatabase::load(file, error);
+    if (!users) return false;
+    bool changed = false;
+    for (const auto& [name, certificate] : clients) {
+        const std::string user = "cell-" + name;
+        // A second `cell up` of the same work directory finds them.
+        if (auto known = users->authenticateCertificate(certificate);
+            known && known->name == user) {
+            continue;
+        }
+        if (users->setCertificate(user, ua::RoleSet{ua::Role::Operator}, certificate).isBad()) {
+            *error = "cannot make the user " + user + " of its certificate";
+            return false;
+        }
+        changed = true;
+    }
+    return !changed || users->save(file, error).isGood();
+}
+
+ClientUserOptions CellRuntime::componentUser() const {
+    ClientUserOptions user;
+    if (!secure()) return user;
+    if (certificateUsers()) {
+        user.applicationCertificate = true;
+    } else {
+        user.name = "cell";
+        user.passwordFile = passwordFile("cell").string();
+    }
+    return user;
 }
 
 bool CellRuntime::prepareUsers(std::string* error) {
@@ -271,8 +325,13 @@ std::vector<std::string> CellRuntime::componentArgs(const std::string& name, boo
     const fs::path users = cell_.security.users.empty() ? dir() / "users" : cell_.security.users;
     a.insert(a.end(), {"--users", users.string()});
     if (actsAsCell) {
-        a.insert(a.end(), {"--client-user", "cell", "--client-password-file",
-                           passwordFile("cell").string()});
+        const auto user = componentUser();
+        if (user.applicationCertificate) {
+            a.emplace_back("--client-user-certificate");
+        } else {
+            a.insert(a.end(),
+                     {"--client-user", user.name, "--client-password-file", user.passwordFile});
+        }
     }
     return a;
 }
@@ -322,7 +381,6 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
         }
         return std::nullopt;
     };
-    const bool actsAsCell = name != "lds" && name != "world";
     std::vector<std::string>& a = l.args;
     // The tool changer and pick-and-place wait for the skills they compose; detection of a
     // tinyua adapter takes its boot time.
@@ -392,7 +450,7 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
         a = {"device", robot->model, "--world", endpoint("world"), "--speed", speed};
     }
     a.insert(a.end(), {"--application-uri", l.applicationUri});
-    const auto tail = componentArgs(name, actsAsCell, port(name));
+    const auto tail = componentArgs(name, actsAsCell(name), port(name));
     a.insert(a.end(), tail.begin(), tail.end());
     return l;
 }

@@ -19,6 +19,7 @@
 #include "cell/cell_file.hpp"
 #include "cell/device_arguments.hpp"
 #include "cell_process.hpp"
+#include "client_security_options.hpp"
 #include "kb/expected.hpp"
 #include "work_directory.hpp"
 
@@ -107,6 +108,10 @@ public:
     /// The dashboard's page, once it runs; empty before, or when the cell has none.
     [[nodiscard]] const std::string& dashboardUrl() const { return dashboardUrl_; }
     [[nodiscard]] std::vector<Credential> credentials() const;
+    /// Whom a component acts as on the others, and so the runtime's own clients: its
+    /// certificate as an X.509 user token, or "cell" with a password where the cell file
+    /// brings a users database of its own; anonymous without security.
+    [[nodiscard]] ClientUserOptions componentUser() const;
     /// The runtime's own certificate (after prepare()), for its clients and detector.
     [[nodiscard]] const ApplicationIdentity& identity() const { return *identity_; }
     /// The runtime's own application URI (its detector's, its clients').
@@ -126,6 +131,12 @@ private:
     [[nodiscard]] std::string adapterCommand(const cell::Tool& tool,
                                              const cell::AdapterModel& model) const;
     bool prepareUsers(std::string* error);
+    /// Whether the components authenticate by their certificates (the generated users), or
+    /// as "cell" with its password (a users database of the cell file's, which we don't write).
+    [[nodiscard]] bool certificateUsers() const;
+    /// Each client component's certificate as the user "cell-NAME" (Operator).
+    bool addComponentUsers(const std::vector<std::pair<std::string, ua::ByteString>>& clients,
+                           std::string* error);
     [[nodiscard]] std::optional<ApplicationIdentity> commission(const std::string& name,
                                                                 const std::string& uri,
                                                                 std::string* error) const;

@@ -104,11 +104,7 @@ bool CellSupervisor::start(const Interruption& interruption) {
     // Our own detector, a client of the cell like any component: `cell status` shows the
     // skills as the cell's components see them.
     std::string error;
-    ClientUserOptions user;
-    if (runtime_.secure()) {
-        user.name = "cell";
-        user.passwordFile = runtime_.passwordFile("cell").string();
-    }
+    const ClientUserOptions user = runtime_.componentUser();
     auto security = componentClientSecurity(runtime_.identity(), user, !runtime_.secure(), &error);
     if (!security) {
         std::cerr << "cell: " << error << "\n";

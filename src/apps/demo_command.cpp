@@ -479,10 +479,8 @@ int DemoCell::run(const Interruption& interruption) {
         return 1;
     }
     // The demo's own detector: a client of the cell like any component, with a certificate of
-    // the cell CA, acting as "cell".
-    ClientUserOptions user;
-    user.name = "cell";
-    user.passwordFile = runtime_.passwordFile("cell").string();
+    // the cell CA, acting as the cell's components do.
+    const ClientUserOptions user = runtime_.componentUser();
     auto security = componentClientSecurity(runtime_.identity(), user, false, &error);
     if (!security) {
         std::cerr << "demo: " << error << "\n";

@@ -2,7 +2,9 @@
 # `skillcell cell up`, `cell status` and `cell down` on a small cell (robot_cell.toml):
 #  - a wrong cell file: exit 2, every problem with FILE:LINE:COLUMN, nothing started;
 #  - up: the endpoints and the generated users are printed, `cell status` shows every
-#    component up with the UR5's skills as detected;
+#    component up with the UR5's skills as detected; the components are users by their
+#    certificates (cell-NAME, x509$ in the users file, no password of theirs), and the UR5's
+#    session on the world is activated as cell-ur5;
 #  - a second `cell up` of the same work directory is refused while the first runs;
 #  - the UR5 killed with SIGKILL: reported with the last lines of its log, restarted
 #    (restart = "on-failure", the default) on the same endpoint, its skills detected again;
@@ -60,6 +62,12 @@ for line in '^  lds +opc\.tcp://' '^  world +opc\.tcp://' '^  ur5 +opc\.tcp://' 
   grep -qE "$line" "$tmp/up.out" || fail "cell up did not print: $line"
 done
 until_ok 60 skills_of_ur5 || fail "the UR5's skills were not detected"
+grep -qE '^cell-ur5:Operator:x509\$[0-9a-f]{40}$' "$work/users" ||
+  fail "the UR5 is not a user by its certificate: $(cut -c1-40 "$work/users")"
+! grep -qE '^cell(-[a-z0-9-]+)?:.*scrypt' "$work/users" || fail "a component has a password"
+[ ! -e "$work/cell.pw" ] || fail "a password file for the components"
+grep -q "activated for 'cell-ur5'" "$work/logs/world.log" ||
+  fail "the UR5's session on the world is not cell-ur5's"
 "$skillcell" cell status --work-dir "$work" >"$tmp/status.out" || fail "status: exit $?"
 grep -qE '^  ur5 +up ' "$tmp/status.out" || fail "ur5 is not up: $(cat "$tmp/status.out")"
 grep -qE 'skill Skills/CartesianLinearMove +CartesianLinearMoveSkillType' "$tmp/status.out" ||
