@@ -4,13 +4,17 @@
 //
 // usage: node secure_client.js opc.tcp://HOST:PORT --pki DIR --operator USER:PASSWORD
 //                              --observer USER:PASSWORD
+//                              [--x509-user CERT.der:KEY.pem --x509-stranger CERT.der:KEY.pem]
 //        node secure_client.js opc.tcp://HOST:PORT --pki DIR --expect-untrusted
 //
 // For each of Basic256Sha256, Aes128_Sha256_RsaOaep, Aes256_Sha256_RsaPss and each mode:
 // connect, open a session as the operator, read the server state, call Demo.Add (operators
 // may), close. Then, over Aes256_Sha256_RsaPss/SignAndEncrypt: the observer may read but
 // Demo.Add is refused with BadUserAccessDenied; a wrong password and an anonymous session are
-// refused. --expect-untrusted: the first connection must fail because the server does not
+// refused. With --x509-user: a session with an X.509 user token (the certificate the server's
+// users file knows as an Operator, the token signed with its key) may call Demo.Add; one with
+// --x509-stranger's certificate, which the users file does not know, is refused with
+// BadUserAccessDenied. --expect-untrusted: the first connection must fail because the server does not
 // trust our certificate yet (it then sits in the server's rejected/ folder).
 // Prints "OK ..." lines and exits 0, or the failures and 1.
 "use strict";
@@ -27,6 +31,8 @@ const {
     StatusCodes
 } = require("node-opcua-client");
 const { OPCUACertificateManager } = require("node-opcua-certificate-manager");
+const { readPrivateKey, keyOperationsFromPrivateKey } = require("node-opcua-crypto");
+const fs = require("fs");
 const { resolveNamespaceIndex, stringNodeId, DEMO_NAMESPACE_URI } = require("./common");
 
 const USAGE =
@@ -79,6 +85,16 @@ function makeClient(policy, mode) {
 function credentials(text) {
     const colon = text.indexOf(":");
     return { type: UserTokenType.UserName, userName: text.slice(0, colon), password: text.slice(colon + 1) };
+}
+
+// An X.509 user identity from "CERT.der:KEY.pem".
+function x509Identity(text) {
+    const [cert, key] = text.split(":");
+    return {
+        type: UserTokenType.Certificate,
+        certificateData: fs.readFileSync(cert),
+        keyOperations: keyOperationsFromPrivateKey(readPrivateKey(key))
+    };
 }
 
 async function callAdd(session) {
@@ -170,6 +186,21 @@ async function main() {
         fail(`wrong password: ${wrong.error ? wrong.error.message : "accepted"}`);
     } else {
         process.stdout.write("OK wrong password refused with BadUserAccessDenied\n");
+    }
+    if (option("--x509-user")) {
+        const machine = await withSession(strongest, encrypt, x509Identity(option("--x509-user")), async (session) => {
+            const add = await callAdd(session);
+            return add.statusCode;
+        });
+        if (machine.error) fail(`X.509 user session refused: ${machine.error.message}`);
+        else if (machine.value !== StatusCodes.Good) fail(`X.509 user (Operator): Demo.Add gave ${machine.value.toString()}`);
+        else process.stdout.write("OK X.509 user token accepted, Demo.Add as its Operator role\n");
+        const stranger = await withSession(strongest, encrypt, x509Identity(option("--x509-stranger")), async () => true);
+        if (!stranger.error || !/BadUserAccessDenied/.test(stranger.error.message)) {
+            fail(`unknown X.509 user: ${stranger.error ? stranger.error.message : "accepted"}`);
+        } else {
+            process.stdout.write("OK unknown X.509 user refused with BadUserAccessDenied\n");
+        }
     }
     const anonymous = await withSession(strongest, encrypt, { type: UserTokenType.Anonymous }, async () => true);
     if (!anonymous.error) fail("anonymous session accepted on a device server");
