@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes seed inputs for fuzz_message_decoder: a ReadRequest body (selector 0), the same
+"""Writes seed inputs for the fuzz targets. fuzz_message_decoder: a ReadRequest body (selector 0), the same
 request as a MSG frame on channel 1 / token 1 (selector 1), and a Hello (selector 2)."""
 import os
 import struct
@@ -88,4 +88,56 @@ seeds = {
 }
 for name, data in seeds.items():
     with open(os.path.join(session_out, name), "wb") as f:
+        f.write(data)
+
+
+# fuzz_http_endpoint: HTTP requests as a client sends them to the KB's endpoint, as each of
+# its users (the harness's table: observer/observer-pw, engineer/engineer-pw) and as nobody.
+import base64
+import urllib.parse
+
+http_out = os.path.join(here, "corpus", "fuzz_http_endpoint")
+os.makedirs(http_out, exist_ok=True)
+
+
+def basic(user):
+    return "Authorization: Basic " + base64.b64encode(f"{user}:{user}-pw".encode()).decode() + "\r\n"
+
+
+def http(method, target, user=None, content_type=None, body=b"", extra=""):
+    head = f"{method} {target} HTTP/1.1\r\nHost: localhost\r\n" + (basic(user) if user else "")
+    if content_type:
+        head += f"Content-Type: {content_type}\r\nContent-Length: {len(body)}\r\n"
+    return (head + extra + "\r\n").encode() + body
+
+
+select = "PREFIX ua: <http://opcfoundation.org/UA/> SELECT ?g WHERE { GRAPH ?g { ?s ?p ?o } } LIMIT 3"
+insert = "INSERT DATA { GRAPH <urn:x> { <urn:a> <urn:b> <urn:c> } }"
+turtle = b"@prefix ex: <http://example.org/> .\nex:a ex:b ex:c ; ex:d \"text\"@en , 42 .\n"
+seeds = {
+    "get_query": http("GET", "/sparql?query=" + urllib.parse.quote(select), "observer",
+                      extra="Accept: application/sparql-results+json\r\n"),
+    "get_graphs": http("GET", "/graphs", "observer"),
+    "post_form_query": http("POST", "/sparql", "observer", "application/x-www-form-urlencoded",
+                            ("query=" + urllib.parse.quote(select)).encode()),
+    "post_form_update_as_query": http("POST", "/sparql", "observer",
+                                      "application/x-www-form-urlencoded",
+                                      ("query=" + urllib.parse.quote(insert)).encode()),
+    "post_update_engineer": http("POST", "/sparql", "engineer", "application/sparql-update",
+                                 insert.encode()),
+    "post_sparql_query": http("POST", "/sparql", "engineer", "application/sparql-query",
+                              select.encode()),
+    "put_graph": http("PUT", "/graphs?graph=" + urllib.parse.quote("http://example.org/g"),
+                      "engineer", "text/turtle", turtle),
+    "chunked_update": (f"POST /sparql HTTP/1.1\r\nHost: localhost\r\n{basic('engineer')}"
+                       "Content-Type: application/sparql-update\r\n"
+                       "Transfer-Encoding: chunked\r\n\r\n").encode()
+                      + f"{len(insert):x}\r\n{insert}\r\n0\r\n\r\n".encode(),
+    "anonymous": http("GET", "/sparql?query=ASK%7B%7D"),
+    "wrong_password": http("GET", "/graphs", extra="Authorization: Basic "
+                           + base64.b64encode(b"engineer:nope").decode() + "\r\n"),
+    "two_requests": http("GET", "/graphs", "observer") + http("DELETE", "/sparql", "engineer"),
+}
+for name, data in seeds.items():
+    with open(os.path.join(http_out, name), "wb") as f:
         f.write(data)

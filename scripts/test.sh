@@ -83,7 +83,7 @@ slowest build-asan
 
 begin "fuzz build"
 cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz -j "$jobs" --target fuzz_message_decoder fuzz_mdns_datagram \
+cmake --build --preset fuzz -j "$jobs" --target fuzz_message_decoder fuzz_mdns_datagram fuzz_http_endpoint \
   fuzz_session_services
 
 begin "fuzz (short runs)"
@@ -95,7 +95,7 @@ for target in build-fuzz/fuzz/fuzz_*; do
   [ -x "$target" ] || continue
   name=$(basename "$target")
   mkdir -p "build-fuzz/corpus-$name"
-  "$target" -max_total_time="${SKILLCELL_FUZZ_SECONDS:-30}" -rss_limit_mb=1024 \
+  "$target" -max_total_time="${SKILLCELL_FUZZ_SECONDS:-60}" -rss_limit_mb=1024 \
     "build-fuzz/corpus-$name" "fuzz/corpus/$name" >"build-fuzz/$name.log" 2>&1 &
   fuzz_pids+=($!)
   fuzz_names+=("$name")
