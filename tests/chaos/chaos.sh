@@ -8,10 +8,13 @@
 # running), and link (the MES's host link down for 1-10 s, then up: a veth pair of its own is
 # not there yet, so this kind is refused for now).
 #
+# A trial runs one order of the process, or two orders of it submitted at once (the MES runs
+# them as their resources allow): CHAOS_ORDERS=1 or 2; by default the long run alternates,
+# odd trials one order, even trials two.
 # A trial passes when all of these hold:
-#  - the order completes after the component comes back (`cell up` restarts it), or stops
+#  - each order completes after the component comes back (`cell up` restarts it), or stops
 #    with a reason;
-#  - the journal shows no step finished twice;
+#  - the journal shows no step of any run finished twice;
 #  - when it completed: both boxes at their targets, no tool mounted, each tool in its dock;
 #    else each tool is in exactly one place (its dock, or mounted), none half-locked
 #    (not checked when the world itself was killed: the simulated world restarts from its
@@ -22,6 +25,7 @@
 #
 # Usage: chaos.sh PATH/TO/skillcell SOURCE_DIR [TRIALS_PER_KIND] [KIND...]
 #   SEED=N fixes the random moments (printed with each trial, to replay one).
+#   CHAOS_ORDERS=1|2 runs every trial with that many orders.
 # Needs root (network namespaces); skips (77) without, unless SKILLCELL_REQUIRE_NETNS=1.
 set -euo pipefail
 skillcell=$1
@@ -108,12 +112,15 @@ trial() {
     supervisor=
   done
   [ -n "$supervisor" ] || fail "trial $kind $n: the cell did not come up, twice"
-  local mes
+  local mes orders=${CHAOS_ORDERS:-$((2 - n % 2))} o
   mes=$(endpoint mes)
-  as_operator run "$process" --no-wait --mes "$mes" >"$tmp/run.out" 2>"$tmp/run.err" ||
-    fail "trial $kind $n: the order was not accepted: $(cat "$tmp/run.out" "$tmp/run.err")"
-  # The random moment: 0.2 to 4 s after the order, while the process runs (about 4 s here).
-  local delay_ms=$((200 + RANDOM % 3800))
+  for o in $(seq "$orders"); do
+    as_operator run "$process" --no-wait --mes "$mes" >"$tmp/run.out" 2>"$tmp/run.err" ||
+      fail "trial $kind $n: order $o was not accepted: $(cat "$tmp/run.out" "$tmp/run.err")"
+  done
+  # The random moment: 0.2 to 4 s after the orders, while the process runs (about 4 s here
+  # per order), or to 8 s for two.
+  local delay_ms=$((200 + RANDOM % (3800 + (orders - 1) * 4000)))
   sleep "$(printf '%d.%03d' $((delay_ms / 1000)) $((delay_ms % 1000)))"
   local pid
   pid=$(target_pid "$kind" || true)
@@ -121,19 +128,24 @@ trial() {
   if [ -n "$pid" ]; then
     kill -KILL "$pid" 2>/dev/null && killed="killed $kind (pid $pid) at +${delay_ms} ms"
   fi
-  # Follow the order to its end; a killed MES ends the following: follow it again once the
-  # supervisor has restarted it (bounded: 12 tries, 4 minutes in all).
-  local result=""
-  for i in $(seq 12); do
-    result=$(as_operator orders wait 1 --timeout 240 --mes "$(endpoint mes)" 2>/dev/null |
-      grep '^OUTCOME' || true)
-    case $result in "OUTCOME Finished"* | "OUTCOME Failed"* | "OUTCOME Cancelled"*) break ;; esac
-    sleep 1  # the MES is restarting: its supervisor reports it up again within seconds
+  # Follow each order to its end; a killed MES ends the following: follow it again once the
+  # supervisor has restarted it (bounded: 12 tries, 4 minutes in all, per order). The trial's
+  # result is the first order's that did not finish, else Finished.
+  local result="" each
+  for o in $(seq "$orders"); do
+    each=""
+    for i in $(seq 12); do
+      each=$(as_operator orders wait "$o" --timeout 240 --mes "$(endpoint mes)" 2>/dev/null |
+        grep '^OUTCOME' || true)
+      case $each in "OUTCOME Finished"* | "OUTCOME Failed"* | "OUTCOME Cancelled"*) break ;; esac
+      sleep 1  # the MES is restarting: its supervisor reports it up again within seconds
+    done
+    [ -n "$result" ] && [[ $result != "OUTCOME Finished"* ]] || result=$each
   done
   local journal=$work/journal.sqlite
   local twice
-  twice=$(sqlite3 "$journal" "SELECT group_concat(idx) FROM (SELECT idx FROM steps WHERE run = 1 \
-    AND state = 'finished' GROUP BY idx HAVING COUNT(*) > 1)" 2>&1 || true)
+  twice=$(sqlite3 "$journal" "SELECT group_concat(run || '.' || idx) FROM (SELECT run, idx \
+    FROM steps WHERE state = 'finished' GROUP BY run, idx HAVING COUNT(*) > 1)" 2>&1 || true)
   local snapshot
   snapshot=$(world)
   value() { grep -F "[Variable ns=2;s=World/$1]" <<<"$snapshot" | sed 's/.*\] = //' || true; }
@@ -142,7 +154,7 @@ trial() {
   dockP=$(value Docks/dockP/Tool)
   dockV=$(value Docks/dockV/Tool)
   if [ -n "$twice" ]; then
-    why="step(s) $twice finished twice"
+    why="step(s) $twice (run.step) finished twice"
   elif [[ $result == "OUTCOME Finished"* ]]; then
     if [ "$kind" != world ] && {
       [[ $(value Objects/boxA/Pose) != "3DFrame(0.250, 0.350, 0.025"* ]] ||
@@ -183,7 +195,7 @@ $(value Objects/boxB/Pose), mounted $mounted, docks $dockP $dockV"
     why="orphans after cell down: $(tr '\n' ';' <<<"$left")"
     pkill -KILL -f -- "$work/" || true
   fi
-  echo "trial $kind $n (seed $seed): $killed; $outcome${why:+ - $why}"
+  echo "trial $kind $n (seed $seed, $orders order(s)): $killed; $outcome${why:+ - $why}"
 }
 
 for kind in "${kinds[@]}"; do
