@@ -15,28 +15,25 @@
 // (it refuses to run where a non-loopback multicast interface is up).
 #include <spdlog/spdlog.h>
 
-#include <asio.hpp>
-#include <condition_variable>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <map>
-#include <mutex>
 #include <string>
-#include <thread>
 
+#include "detection_rig.hpp"
 #include "latency_stats.hpp"
 #include "process/child_process.hpp"
-#include "skills/skill_detector.hpp"
-#include "ua/discovery/mdns_responder.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
+using skillcell::bench::Clock;
+using skillcell::bench::DetectionRig;
+using skillcell::bench::onlyLoopbackMulticast;
+using skillcell::bench::portOf;
 using skillcell::bench::Samples;
+using skillcell::bench::Timeline;
 using skillcell::process::ChildProcess;
-using Clock = std::chrono::steady_clock;
-namespace mdns = skillcell::ua::mdns;
-namespace skills = skillcell::skills;
 
 struct Options {
     int count = 30;
@@ -49,53 +46,10 @@ struct Options {
 const std::vector<std::string> kSkills = {"CartesianLinearMoveSkillType=Move",
                                           "GraspGripperSkillType=Grasp"};
 
-/// When each event was seen; the main thread waits on it.
-class Timeline {
-public:
-    void record(const std::string& key) {
-        std::lock_guard lock(mutex_);
-        seen_.emplace(key, Clock::now());
-        changed_.notify_all();
-    }
-    std::optional<Clock::time_point> waitFor(const std::string& key,
-                                             std::chrono::milliseconds timeout) {
-        std::unique_lock lock(mutex_);
-        if (!changed_.wait_for(lock, timeout, [&] { return seen_.contains(key); }))
-            return std::nullopt;
-        return seen_.at(key);
-    }
-    void clear() {
-        std::lock_guard lock(mutex_);
-        seen_.clear();
-    }
-
-private:
-    std::mutex mutex_;
-    std::condition_variable changed_;
-    std::map<std::string, Clock::time_point> seen_;
-};
-
-/// "opc.tcp://127.0.0.1:4711/" -> "4711": runs reuse one application URI (one component
-/// restarted again and again, which keeps its certificate), a run is told by its port.
-std::string portOf(const std::string& url) {
-    const auto colon = url.rfind(':');
-    if (colon == std::string::npos) return url;
-    std::string port = url.substr(colon + 1);
-    if (const auto slash = port.find('/'); slash != std::string::npos) port.resize(slash);
-    return port;
-}
-
 void printRow(const char* what, const Samples& samples) {
     const auto s = skillcell::bench::summarize(samples);
     std::printf("  %-38s %9.2f %9.2f %9.2f %5zu\n", what, s.medianUs / 1000, s.p99Us / 1000,
                 s.maxUs / 1000, s.n);
-}
-
-bool onlyLoopbackMulticast() {
-    for (const auto& nic : mdns::listIpv4Interfaces()) {
-        if (nic.up && nic.multicast && !nic.loopback) return false;
-    }
-    return true;
 }
 
 int run(const Options& o) {
@@ -109,47 +63,13 @@ int run(const Options& o) {
                      ("skillcell-bench-skill-detection-" + std::to_string(::getpid()));
     std::filesystem::create_directories(tmp);
 
-    asio::io_context io{1};
-    auto work = asio::make_work_guard(io);
-    std::thread thread([&] { io.run(); });
-    Timeline timeline;
-    mdns::MdnsConfig config;
-    config.queryPeriod = 30s;
     std::string error;
-    auto responder =
-        asio::post(io, asio::use_future([&] {
-                       return mdns::MdnsResponder::create(io.get_executor(), config, &error);
-                   }))
-            .get();
-    if (!responder) {
+    auto rig = DetectionRig::start(kSkills.size(), &error);
+    if (!rig) {
         std::fprintf(stderr, "mDNS: %s\n", error.c_str());
-        work.reset();
-        io.stop();
-        thread.join();
         return 1;
     }
-    std::shared_ptr<skills::SkillDetector> detector;
-    std::shared_ptr<skillcell::ua::lds::ServerWatcher> watcher;
-    std::map<std::string, std::size_t> skillsAt;  // port -> skills in the map (io thread)
-    asio::post(io, asio::use_future([&] {
-                   (*responder)->subscribe([&](const mdns::ServiceEvent& e) {
-                       if (e.kind == mdns::ServiceEvent::Kind::Announced)
-                           timeline.record("announced " + e.instance.name);
-                   });
-                   detector = skills::SkillDetector::create(io.get_executor());
-                   detector->subscribe([&](const skills::SkillEvent& e) {
-                       const std::string port = portOf(e.instance.endpointUrl);
-                       std::size_t& n = skillsAt[port];
-                       if (e.kind == skills::SkillEvent::Kind::Added) {
-                           if (++n == kSkills.size()) timeline.record("skills " + port);
-                       } else if (n > 0 && --n == 0) {
-                           timeline.record("removed " + port);
-                       }
-                   });
-                   (*responder)->start();
-                   watcher = skills::attachMdns(detector, *responder);
-               }))
-        .get();
+    Timeline& timeline = rig->timeline();
 
     Samples ready, announced, detected, afterReady, goodbye, killed;
     const std::string log = (tmp / "server.log").string();
@@ -214,14 +134,7 @@ int run(const Options& o) {
         afterReady.push_back(*tDetected - tReady);
         (kill ? killed : goodbye).push_back(*tGone - tStop);
     }
-    asio::post(io, asio::use_future([&] {
-                   watcher->stop();
-                   detector->stop();
-                   (*responder)->shutdown();
-               }))
-        .get();
-    work.reset();
-    thread.join();
+    rig.reset();
     std::filesystem::remove_all(tmp);
 
     std::printf(

@@ -1,0 +1,389 @@
+// skillcell_bench_cell_scale: a cell of N components on one network segment, each a real
+// process (`skillcell server --noop-skill` x2, --insecure), for each N of --sizes:
+//
+//   all READY          from the first start to the last component listening (all started at once)
+//   cold detection     a new detector, started once all N are up, until it has every skill
+//   plug               one more component started until its skills are in that detector
+//                      (--plugs times, p50 and p99)
+//   unplug             SIGTERM, and kill -9, until its skills are gone (alternately)
+//   idle               over --idle-seconds with nothing happening: packets per second on the
+//                      segment (the loopback's counters, mDNS and OPC UA alike), and each
+//                      component's CPU and RSS (from /proc)
+//
+// Components are told apart by their application URIs: each has a PKI directory of its own,
+// made before the clock starts (an RSA key per component, kept in --pki-cache for the next
+// run). The KB's time to record a plugged component is not measured here: it needs the KB
+// and Virtuoso (bench/kb_query_bench.cpp, docs/knowledge_base.md).
+//
+// Run it inside a private network namespace (it refuses to send mDNS anywhere else):
+//   tests/netns/run_in_private_netns.sh build/bench/skillcell_bench_cell_scale --sizes 50,100
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "detection_rig.hpp"
+#include "latency_stats.hpp"
+#include "process/child_process.hpp"
+#include "ua/pki/own_certificate.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+using skillcell::bench::Clock;
+using skillcell::bench::DetectionRig;
+using skillcell::bench::portOf;
+using skillcell::bench::Samples;
+using skillcell::process::ChildProcess;
+namespace fs = std::filesystem;
+
+struct Options {
+    std::vector<int> sizes = {20};
+    int plugs = 10;
+    int idleSeconds = 10;
+    std::string skillcell = SKILLCELL_BINARY;
+    fs::path pkiCache = fs::temp_directory_path() / "skillcell-bench-cell-scale-pki";
+};
+
+const std::vector<std::string> kSkills = {"CartesianLinearMoveSkillType=Move",
+                                          "GraspGripperSkillType=Grasp"};
+
+std::string uriOf(int i) {
+    return "urn:skillcell:bench-cell-scale:" + std::to_string(i);
+}
+
+/// Each component's certificate, made before any clock starts (two threads: RSA key
+/// generation is most of it).
+bool commission(const Options& o, int count) {
+    std::atomic<int> next{0};
+    std::atomic<bool> ok{true};
+    auto work = [&] {
+        for (int i = next++; i < count && ok; i = next++) {
+            skillcell::ua::pki::CertificateSubject subject;
+            subject.applicationUri = uriOf(i);
+            subject.commonName = "bench component " + std::to_string(i);
+            subject.dnsNames = {"localhost"};
+            std::string why;
+            if (!skillcell::ua::pki::loadOrCreateOwnCertificate(o.pkiCache / std::to_string(i),
+                                                                subject, &why)) {
+                std::fprintf(stderr, "certificate %d: %s\n", i, why.c_str());
+                ok = false;
+            }
+        }
+    };
+    std::thread helper(work);
+    work();
+    helper.join();
+    return ok;
+}
+
+std::vector<std::string> argvOf(const Options& o, int i) {
+    std::vector<std::string> argv = {o.skillcell,
+                                     "--log-level",
+                                     "warn",
+                                     "server",
+                                     "--insecure",
+                                     "--port",
+                                     "0",
+                                     "--host",
+                                     "127.0.0.1",
+                                     "--application-uri",
+                                     uriOf(i),
+                                     "--mdns-name",
+                                     "scale-" + std::to_string(i),
+                                     "--pki-dir",
+                                     (o.pkiCache / std::to_string(i)).string()};
+    for (const auto& skill : kSkills) {
+        argv.emplace_back("--noop-skill");
+        argv.push_back(skill);
+    }
+    return argv;
+}
+
+struct Component {
+    ChildProcess process;
+    std::string port;
+};
+
+/// Starts component `i`; nothing when it does not start or print READY within `timeout`.
+std::optional<ChildProcess> launch(const Options& o, int i, const fs::path& log) {
+    auto child = ChildProcess::start(argvOf(o, i), skillcell::process::reportingChild(log));
+    if (!child) {
+        std::fprintf(stderr, "component %d: %s\n", i, child.error().c_str());
+        return std::nullopt;
+    }
+    return std::move(*child);
+}
+
+std::optional<std::string> readyPort(ChildProcess& child, int i, const fs::path& log) {
+    auto line = child.readLine(120s);
+    if (!line || line->rfind("READY ", 0) != 0) {
+        std::fprintf(stderr, "component %d: no READY line (see %s)\n", i, log.c_str());
+        return std::nullopt;
+    }
+    return portOf(line->substr(6));
+}
+
+/// utime + stime of a process, in clock ticks; 0 when it cannot be read.
+long cpuTicks(pid_t pid) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto close = text.rfind(')');  // the command name may hold spaces
+    if (close == std::string::npos) return 0;
+    std::istringstream fields(text.substr(close + 2));
+    std::string field;
+    long utime = 0;
+    long stime = 0;
+    for (int k = 3; fields >> field; ++k) {  // field 3 is the state
+        if (k == 14) utime = std::stol(field);
+        if (k == 15) {
+            stime = std::stol(field);
+            break;
+        }
+    }
+    return utime + stime;
+}
+
+/// Resident set size in kB.
+long rssKb(pid_t pid) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+    }
+    return 0;
+}
+
+/// Packets the loopback carried so far (each is sent and received once on it), from
+/// /proc/net/dev, which shows the reader's network namespace (/sys would show the host's).
+long loopbackPackets() {
+    std::ifstream in("/proc/net/dev");
+    std::string line;
+    while (std::getline(in, line)) {
+        const auto colon = line.find(':');
+        if (colon == std::string::npos) continue;
+        std::string name = line.substr(0, colon);
+        name.erase(0, name.find_first_not_of(' '));
+        if (name != "lo") continue;
+        // receive: bytes packets errs drop fifo frame compressed multicast; transmit: bytes
+        // packets ...
+        std::istringstream fields(line.substr(colon + 1));
+        long value = 0;
+        for (int k = 0; k < 10 && fields >> value; ++k) {
+            if (k == 9) return value;  // transmit packets
+        }
+    }
+    return 0;
+}
+
+void printLatency(const char* what, const Samples& samples) {
+    const auto s = skillcell::bench::summarize(samples);
+    std::printf("  %-34s p50 %9.2f  p99 %9.2f  max %9.2f ms  (n=%zu)\n", what, s.medianUs / 1000,
+                s.p99Us / 1000, s.maxUs / 1000, s.n);
+}
+
+double msSince(Clock::time_point t0, Clock::time_point t1) {
+    return std::chrono::duration<double, std::milli>(t1 - t0).count();
+}
+
+int runSize(const Options& o, int n, const fs::path& logs) {
+    std::printf("\nN = %d components (each a process with %zu no-op skills)\n", n, kSkills.size());
+    // All at once, as a cell powered on.
+    std::vector<Component> cell;
+    cell.reserve(static_cast<std::size_t>(n));
+    const auto t0 = Clock::now();
+    std::vector<ChildProcess> starting;
+    for (int i = 0; i < n; ++i) {
+        auto child = launch(o, i, logs / ("component-" + std::to_string(i) + ".log"));
+        if (!child) return 1;
+        starting.push_back(std::move(*child));
+    }
+    for (int i = 0; i < n; ++i) {
+        auto port = readyPort(starting[static_cast<std::size_t>(i)], i,
+                              logs / ("component-" + std::to_string(i) + ".log"));
+        if (!port) return 1;
+        cell.push_back({std::move(starting[static_cast<std::size_t>(i)]), *port});
+    }
+    const auto tReady = Clock::now();
+    std::printf("  all READY                          %9.1f ms after the first start\n",
+                msSince(t0, tReady));
+
+    // Cold detection by a new detector, in a cell that has been up a while: right after the
+    // components' announcements (sent twice, 1 s apart), RFC 6762's one-second rule (6.2)
+    // would hold their answers back, which no detector of a running cell meets.
+    std::this_thread::sleep_for(3s);  // the scenario's condition, not a synchronisation
+    std::string error;
+    const auto tDetector = Clock::now();
+    auto rig = DetectionRig::start(kSkills.size(), &error);
+    if (!rig) {
+        std::fprintf(stderr, "mDNS: %s\n", error.c_str());
+        return 1;
+    }
+    auto& timeline = rig->timeline();
+    const auto coldLimit = std::chrono::milliseconds(30'000 + 100 * n);
+    if (!timeline.waitForDetected(static_cast<std::size_t>(n), coldLimit)) {
+        std::fprintf(stderr, "cold detection: %zu of %d detected after %lld ms\n",
+                     timeline.detectedCount(), n, static_cast<long long>(coldLimit.count()));
+        return 1;
+    }
+    std::printf("  cold detection of all N            %9.1f ms (a new detector)\n",
+                msSince(tDetector, Clock::now()));
+
+    // Plug and unplug one more, --plugs times.
+    Samples plug;
+    Samples unplugTerm;
+    Samples unplugKill;
+    for (int k = 0; k < o.plugs; ++k) {
+        const int i = n + k;
+        const fs::path log = logs / ("component-" + std::to_string(i) + ".log");
+        timeline.clear();
+        const auto tStart = Clock::now();
+        auto child = launch(o, i, log);
+        if (!child) return 1;
+        auto port = readyPort(*child, i, log);
+        if (!port) return 1;
+        auto tDetected = timeline.waitFor("skills " + *port, 30s);
+        if (!tDetected) {
+            std::fprintf(stderr, "plug %d: not detected within 30 s (see %s)\n", k, log.c_str());
+            return 1;
+        }
+        plug.push_back(*tDetected - tStart);
+        const bool kill = k % 2 == 1;
+        const auto tStop = Clock::now();
+        ::kill(child->pid(), kill ? SIGKILL : SIGTERM);
+        auto tGone = timeline.waitFor("removed " + *port, 60s);
+        (void)child->terminate(5s);
+        if (!tGone) {
+            std::fprintf(stderr, "unplug %d: its skills were never removed\n", k);
+            return 1;
+        }
+        (kill ? unplugKill : unplugTerm).push_back(*tGone - tStop);
+    }
+    printLatency("plug (start -> skills detected)", plug);
+    printLatency("unplug, SIGTERM -> skills gone", unplugTerm);
+    printLatency("unplug, kill -9 -> skills gone", unplugKill);
+
+    // Idle: nothing starts or stops; the detector keeps its sessions.
+    std::this_thread::sleep_for(2s);  // what the last unplug set off settles (not a sync)
+    std::vector<long> ticks;
+    ticks.reserve(cell.size());
+    for (const auto& c : cell) ticks.push_back(cpuTicks(c.process.pid()));
+    const long packets = loopbackPackets();
+    const auto tIdle = Clock::now();
+    std::this_thread::sleep_for(std::chrono::seconds(o.idleSeconds));  // the idle period itself
+    const double seconds = msSince(tIdle, Clock::now()) / 1000;
+    const long idlePackets = loopbackPackets() - packets;
+    const double hz = static_cast<double>(::sysconf(_SC_CLK_TCK));
+    std::vector<double> cpu;
+    std::vector<double> rss;
+    for (std::size_t k = 0; k < cell.size(); ++k) {
+        const auto pid = cell[k].process.pid();
+        cpu.push_back(100.0 * static_cast<double>(cpuTicks(pid) - ticks[k]) / hz / seconds);
+        rss.push_back(static_cast<double>(rssKb(pid)) / 1024);
+    }
+    std::sort(cpu.begin(), cpu.end());
+    std::sort(rss.begin(), rss.end());
+    auto median = [](const std::vector<double>& v) { return v[v.size() / 2]; };
+    double cpuSum = 0;
+    for (double c : cpu) cpuSum += c;
+    std::printf("  idle packets on the segment        %9.1f /s (%.2f per component)\n",
+                static_cast<double>(idlePackets) / seconds,
+                static_cast<double>(idlePackets) / seconds / n);
+    std::printf(
+        "  idle CPU per component             median %.2f %%, max %.2f %% (all: %.1f %% of "
+        "one core)\n",
+        median(cpu), cpu.back(), cpuSum);
+    std::printf("  RSS per component                  median %.1f MB, max %.1f MB\n", median(rss),
+                rss.back());
+
+    rig.reset();
+    for (auto& c : cell) ::kill(c.process.pid(), SIGTERM);
+    for (auto& c : cell) (void)c.process.terminate(10s);
+    return 0;
+}
+
+std::optional<std::vector<int>> parseSizes(const std::string& text) {
+    std::vector<int> sizes;
+    std::istringstream in(text);
+    std::string part;
+    while (std::getline(in, part, ',')) {
+        int v = 0;
+        const auto* end = part.data() + part.size();
+        if (std::from_chars(part.data(), end, v).ptr != end || v < 1 || v > 2000) {
+            return std::nullopt;
+        }
+        sizes.push_back(v);
+    }
+    if (sizes.empty()) return std::nullopt;
+    return sizes;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        const bool hasValue = i + 1 < argc;
+        bool ok = hasValue;
+        if (arg == "--sizes" && hasValue) {
+            auto sizes = parseSizes(argv[++i]);
+            ok = sizes.has_value();
+            if (ok) o.sizes = *sizes;
+        } else if (arg == "--plugs" && hasValue) {
+            o.plugs = std::atoi(argv[++i]);
+            ok = o.plugs >= 1;
+        } else if (arg == "--idle-seconds" && hasValue) {
+            o.idleSeconds = std::atoi(argv[++i]);
+            ok = o.idleSeconds >= 1;
+        } else if (arg == "--skillcell" && hasValue) {
+            o.skillcell = argv[++i];
+        } else if (arg == "--pki-cache" && hasValue) {
+            o.pkiCache = argv[++i];
+        } else {
+            ok = false;
+        }
+        if (!ok) {
+            std::fprintf(stderr,
+                         "usage: %s [--sizes N[,N...]=20] [--plugs K=10] [--idle-seconds S=10] "
+                         "[--skillcell PATH] [--pki-cache DIR]\n"
+                         "Run it inside tests/netns/run_in_private_netns.sh.\n",
+                         argv[0]);
+            return arg == "--help" ? 0 : 2;
+        }
+    }
+    if (!skillcell::bench::onlyLoopbackMulticast()) {
+        std::fprintf(stderr,
+                     "refusing to send mDNS here: a real network interface is up. Run inside "
+                     "tests/netns/run_in_private_netns.sh.\n");
+        return 2;
+    }
+    spdlog::set_level(spdlog::level::warn);
+    const int most = *std::max_element(o.sizes.begin(), o.sizes.end()) + o.plugs;
+    std::printf("commissioning %d certificates in %s ...\n", most, o.pkiCache.c_str());
+    std::fflush(stdout);
+    if (!commission(o, most)) return 1;
+    const fs::path logs =
+        fs::temp_directory_path() / ("skillcell-bench-cell-scale-" + std::to_string(::getpid()));
+    fs::create_directories(logs);
+    std::printf(
+        "cell scale on one segment (loopback of a private network namespace, --insecure)\n");
+    for (int n : o.sizes) {
+        if (const int s = runSize(o, n, logs); s != 0) {
+            std::fprintf(stderr, "the logs are in %s\n", logs.c_str());
+            return s;
+        }
+    }
+    fs::remove_all(logs);
+    return 0;
+}
