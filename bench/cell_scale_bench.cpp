@@ -201,6 +201,7 @@ int runSize(const Options& o, int n, const fs::path& logs) {
     // All at once, as a cell powered on.
     std::vector<Component> cell;
     cell.reserve(static_cast<std::size_t>(n));
+    const long packetsBefore = loopbackPackets();
     const auto t0 = Clock::now();
     std::vector<ChildProcess> starting;
     for (int i = 0; i < n; ++i) {
@@ -222,6 +223,10 @@ int runSize(const Options& o, int n, const fs::path& logs) {
     // components' announcements (sent twice, 1 s apart), RFC 6762's one-second rule (6.2)
     // would hold their answers back, which no detector of a running cell meets.
     std::this_thread::sleep_for(3s);  // the scenario's condition, not a synchronisation
+    std::printf("  packets from the first start to 3 s after the last READY: %ld (%.1f per "
+                "component)\n",
+                loopbackPackets() - packetsBefore,
+                static_cast<double>(loopbackPackets() - packetsBefore) / n);
     std::string error;
     const auto tDetector = Clock::now();
     auto rig = DetectionRig::start(kSkills.size(), &error);
