@@ -223,11 +223,14 @@ int runSize(const Options& o, int n, const fs::path& logs) {
     // components' announcements (sent twice, 1 s apart), RFC 6762's one-second rule (6.2)
     // would hold their answers back, which no detector of a running cell meets.
     std::this_thread::sleep_for(3s);  // the scenario's condition, not a synchronisation
-    std::printf("  packets from the first start to 3 s after the last READY: %ld (%.1f per "
-                "component)\n",
-                loopbackPackets() - packetsBefore,
-                static_cast<double>(loopbackPackets() - packetsBefore) / n);
+    std::printf(
+        "  packets from the first start to 3 s after the last READY: %ld (%.1f per "
+        "component)\n",
+        loopbackPackets() - packetsBefore,
+        static_cast<double>(loopbackPackets() - packetsBefore) / n);
     std::string error;
+    const long rssBefore = rssKb(::getpid());
+    const long cpuBefore = cpuTicks(::getpid());
     const auto tDetector = Clock::now();
     auto rig = DetectionRig::start(kSkills.size(), &error);
     if (!rig) {
@@ -243,6 +246,26 @@ int runSize(const Options& o, int n, const fs::path& logs) {
     }
     std::printf("  cold detection of all N            %9.1f ms (a new detector)\n",
                 msSince(tDetector, Clock::now()));
+    {  // where the time went: the components' mDNS answers, then their sessions and browses
+        Samples heard;
+        Samples detected;
+        for (int i = 0; i < n; ++i) {
+            if (auto t = timeline.waitFor("announced scale-" + std::to_string(i), 0ms)) {
+                heard.push_back(*t - tDetector);
+            }
+            if (auto t =
+                    timeline.waitFor("skills " + cell[static_cast<std::size_t>(i)].port, 0ms)) {
+                detected.push_back(*t - tDetector);
+            }
+        }
+        printLatency("  of which: mDNS answer heard", heard);
+        printLatency("  of which: skills detected", detected);
+    }
+    std::printf("  the detector's CPU for it          %9.1f ms\n",
+                1000.0 * static_cast<double>(cpuTicks(::getpid()) - cpuBefore) /
+                    static_cast<double>(::sysconf(_SC_CLK_TCK)));
+    std::printf("  the detector's memory              %9.1f MB more RSS with N components\n",
+                static_cast<double>(rssKb(::getpid()) - rssBefore) / 1024);
 
     // Plug and unplug one more, --plugs times.
     Samples plug;
