@@ -153,6 +153,23 @@ TEST_F(ResponsePlannerTest, AnotherQuerierKeepsTheAnswerThatOneQuerierRetires) {
     EXPECT_EQ(planner.takeDue(t0 + 600ms).size(), 7u);
 }
 
+TEST_F(ResponsePlannerTest, AQueryFromTheAddressOfAHeldOneIsAnsweredOnItsOwn) {
+    // Two processes of one host (one address): the first's browse knows every server and is
+    // held for more known answers; the second's knows none and must still be answered.
+    auto first = browse({ptrTo("pump", kTtl), ptrTo("press", kTtl)});
+    first.truncated = true;
+    planner.onQuery(first, kAsker, t0);
+    planner.onQuery(browse(), kAsker, t0 + 5ms);
+    const auto due = *planner.nextDeadline();
+    EXPECT_LE(due - t0, 5ms + 120ms);
+    EXPECT_EQ(planner.takeDue(due).size(), 7u);  // both services and the address
+    // The held query's own continuation still joins it, and it asks for nothing more.
+    DnsMessage rest;
+    rest.records = {ptrTo("pump", kTtl)};
+    planner.onQuery(rest, kAsker, t0 + 10ms);
+    EXPECT_TRUE(planner.takeDue(t0 + 600ms).empty());
+}
+
 TEST_F(ResponsePlannerTest, AnswersPendingTogetherLeaveTogether) {
     DnsMessage srvQuestion;
     srvQuestion.questions = {{"pump." + kType, static_cast<std::uint16_t>(DnsType::Srv), kClassIn}};

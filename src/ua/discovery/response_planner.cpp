@@ -117,18 +117,23 @@ std::vector<const ResponsePlanner::Own*> ResponsePlanner::answersTo(
 }
 
 void ResponsePlanner::onQuery(const DnsMessage& query, const Ipv4& source, Clock::time_point now) {
-    if (auto held = held_.find(source); held != held_.end()) {
-        // More known answers of a query held for them: they join it; so do its further
-        // questions (a querier sends one query at a time).
-        auto& q = held->second.query;
-        if (q.questions.size() + q.records.size() < kMaxHeldEntries) {  // a flood is bounded
-            q.questions.insert(q.questions.end(), query.questions.begin(), query.questions.end());
-            q.records.insert(q.records.end(), query.records.begin(), query.records.end());
+    if (query.questions.empty()) {
+        // More known answers of a query held for them (7.2: the datagrams after the first
+        // carry known answers only): they join it. Known answers of a query we did not hold
+        // are nothing to answer.
+        if (auto held = held_.find(source); held != held_.end()) {
+            auto& q = held->second.query;
+            if (q.records.size() < kMaxHeldEntries) {  // a flood is bounded
+                q.records.insert(q.records.end(), query.records.begin(), query.records.end());
+            }
         }
         return;
     }
-    if (query.questions.empty()) return;  // known answers of a query we did not hold
-    if (query.truncated && held_.size() < kMaxHeldQueries) {
+    // A datagram with questions is a query of its own, even from the address of a held one:
+    // the processes of one host share its address (and port 5353), and another querier's
+    // question must not be answered by the held query's known answers. Each cell of ours
+    // has that on every host; a browser that was sent nothing waited for its next query.
+    if (query.truncated && !held_.contains(source) && held_.size() < kMaxHeldQueries) {
         const auto wait =
             std::chrono::milliseconds(std::uniform_int_distribution<int>(400, 500)(random_));
         held_.emplace(source, Held{query, now + wait});
