@@ -88,26 +88,8 @@ bool commission(const Options& o, int count) {
 }
 
 std::vector<std::string> argvOf(const Options& o, int i) {
-    std::vector<std::string> argv = {o.skillcell,
-                                     "--log-level",
-                                     "warn",
-                                     "server",
-                                     "--insecure",
-                                     "--port",
-                                     "0",
-                                     "--host",
-                                     "127.0.0.1",
-                                     "--application-uri",
-                                     uriOf(i),
-                                     "--mdns-name",
-                                     "scale-" + std::to_string(i),
-                                     "--pki-dir",
-                                     (o.pkiCache / std::to_string(i)).string()};
-    for (const auto& skill : kSkills) {
-        argv.emplace_back("--noop-skill");
-        argv.push_back(skill);
-    }
-    return argv;
+    return skillcell::bench::serverArgv(o.skillcell, uriOf(i), "scale-" + std::to_string(i),
+                                        o.pkiCache / std::to_string(i), 0, kSkills);
 }
 
 struct Component {

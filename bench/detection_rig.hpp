@@ -10,6 +10,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -17,6 +18,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "skills/skill_detector.hpp"
 #include "ua/discovery/mdns_responder.hpp"
@@ -78,6 +80,23 @@ inline std::string portOf(const std::string& url) {
     std::string port = url.substr(colon + 1);
     if (const auto slash = port.find('/'); slash != std::string::npos) port.resize(slash);
     return port;
+}
+
+/// The command line of a `skillcell server` component for the benchmarks: insecure, on the
+/// loopback, announcing `mdnsName` (with `ttl` seconds, 0: the default), offering `skills`
+/// (TYPE=NAME no-op skills).
+inline std::vector<std::string> serverArgv(const std::string& skillcell,
+                                           const std::string& applicationUri,
+                                           const std::string& mdnsName,
+                                           const std::filesystem::path& pkiDir, int ttl = 0,
+                                           const std::vector<std::string>& skills = {}) {
+    std::vector<std::string> argv = {
+        skillcell,      "--log-level", "warn",   "server",    "--insecure",
+        "--port",       "0",           "--host", "127.0.0.1", "--application-uri",
+        applicationUri, "--mdns-name", mdnsName, "--pki-dir", pkiDir.string()};
+    if (ttl > 0) argv.insert(argv.end(), {"--mdns-ttl", std::to_string(ttl)});
+    for (const auto& skill : skills) argv.insert(argv.end(), {"--noop-skill", skill});
+    return argv;
 }
 
 /// mDNS must not reach a real network: true when no interface but loopback does multicast

@@ -34,6 +34,7 @@
 #include <string>
 #include <thread>
 
+#include "detection_rig.hpp"
 #include "latency_stats.hpp"
 #include "process/child_process.hpp"
 #include "ua/discovery/mdns_responder.hpp"
@@ -42,9 +43,11 @@
 namespace {
 
 using namespace std::chrono_literals;
+using skillcell::bench::Clock;
+using skillcell::bench::onlyLoopbackMulticast;
 using skillcell::bench::Samples;
+using skillcell::bench::Timeline;
 using skillcell::process::ChildProcess;
-using Clock = std::chrono::steady_clock;
 namespace mdns = skillcell::ua::mdns;
 namespace lds = skillcell::ua::lds;
 
@@ -59,48 +62,11 @@ struct Options {
     std::string skillcell = SKILLCELL_BINARY;
 };
 
-/// When each event was seen, by mDNS name; the main thread waits on it.
-class Timeline {
-public:
-    void record(const std::string& key) {
-        std::lock_guard lock(mutex_);
-        seen_.emplace(key, Clock::now());
-        changed_.notify_all();
-    }
-    std::optional<Clock::time_point> waitFor(const std::string& key,
-                                             std::chrono::milliseconds timeout) {
-        std::unique_lock lock(mutex_);
-        if (!changed_.wait_for(lock, timeout, [&] { return seen_.contains(key); }))
-            return std::nullopt;
-        return seen_.at(key);
-    }
-
-private:
-    std::mutex mutex_;
-    std::condition_variable changed_;
-    std::map<std::string, Clock::time_point> seen_;
-};
-
-void printRow(const char* what, const Samples& samples) {
-    const auto s = skillcell::bench::summarize(samples);
-    std::printf("  %-34s %9.2f %9.2f %9.2f %5zu\n", what, s.medianUs / 1000, s.p99Us / 1000,
-                s.maxUs / 1000, s.n);
-}
-
-bool onlyLoopbackMulticast() {
-    for (const auto& nic : mdns::listIpv4Interfaces()) {
-        if (nic.up && nic.multicast && !nic.loopback) return false;
-    }
-    return true;
-}
-
 /// One `skillcell server` process announcing `name` with `ttl`, its output appended to `log`.
 auto startServer(const Options& o, const std::string& name, int ttl,
                  const std::filesystem::path& tmp, const std::string& log) {
     return ChildProcess::start(
-        {o.skillcell, "--log-level", "warn", "server", "--insecure", "--port", "0", "--host",
-         "127.0.0.1", "--application-uri", "urn:skillcell:bench", "--mdns-name", name, "--mdns-ttl",
-         std::to_string(ttl), "--pki-dir", (tmp / "pki").string()},
+        skillcell::bench::serverArgv(o.skillcell, "urn:skillcell:bench", name, tmp / "pki", ttl),
         skillcell::process::reportingChild(log));
 }
 
@@ -287,13 +253,13 @@ int run(const Options& o) {
     std::printf("discovery over %d server process starts (loopback, private network namespace)\n",
                 o.count);
     std::printf("  %-34s %9s %9s %9s %5s\n", "ms", "median", "p99", "max", "n");
-    printRow("start -> READY (listening)", ready);
-    printRow("start -> mDNS announced", announced);
-    printRow("start -> described (callback)", described);
-    printRow("SIGTERM -> gone (goodbye)", goodbye);
+    skillcell::bench::printLatencyRow("start -> READY (listening)", ready, 34);
+    skillcell::bench::printLatencyRow("start -> mDNS announced", announced, 34);
+    skillcell::bench::printLatencyRow("start -> described (callback)", described, 34);
+    skillcell::bench::printLatencyRow("SIGTERM -> gone (goodbye)", goodbye, 34);
     char row[64];
     std::snprintf(row, sizeof row, "kill -9 -> gone (expired, TTL %d s)", o.ttl);
-    printRow(row, expired);
+    skillcell::bench::printLatencyRow(row, expired, 34);
     const auto r = skillcell::bench::summarize(ready);
     const auto d = skillcell::bench::summarize(described);
     std::printf("  discovery after listening (described - READY, medians): %.2f ms\n",

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <vector>
 
 namespace skillcell::bench {
@@ -32,6 +33,13 @@ inline LatencyStats summarize(Samples samples) {
     s.p99Us = pct(99);
     s.maxUs = std::chrono::duration<double, std::micro>(samples.back()).count();
     return s;
+}
+
+/// One row of a latency table: what, then median, p99 and max in milliseconds, and n.
+inline void printLatencyRow(const char* what, const Samples& samples, int width = 38) {
+    const auto s = summarize(samples);
+    std::printf("  %-*s %9.2f %9.2f %9.2f %5zu\n", width, what, s.medianUs / 1000, s.p99Us / 1000,
+                s.maxUs / 1000, s.n);
 }
 
 }  // namespace skillcell::bench

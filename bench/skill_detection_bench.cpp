@@ -46,12 +46,6 @@ struct Options {
 const std::vector<std::string> kSkills = {"CartesianLinearMoveSkillType=Move",
                                           "GraspGripperSkillType=Grasp"};
 
-void printRow(const char* what, const Samples& samples) {
-    const auto s = skillcell::bench::summarize(samples);
-    std::printf("  %-38s %9.2f %9.2f %9.2f %5zu\n", what, s.medianUs / 1000, s.p99Us / 1000,
-                s.maxUs / 1000, s.n);
-}
-
 int run(const Options& o) {
     if (!onlyLoopbackMulticast()) {
         std::fprintf(stderr,
@@ -76,27 +70,8 @@ int run(const Options& o) {
     // Run 0 warms up: it creates the certificate the others reuse, and fills the caches.
     for (int i = 0; i <= o.count; ++i) {
         const std::string name = "bench-" + std::to_string(i);
-        std::vector<std::string> argv = {o.skillcell,
-                                         "--log-level",
-                                         "warn",
-                                         "server",
-                                         "--insecure",
-                                         "--port",
-                                         "0",
-                                         "--host",
-                                         "127.0.0.1",
-                                         "--application-uri",
-                                         "urn:skillcell:bench-component",
-                                         "--mdns-name",
-                                         name,
-                                         "--mdns-ttl",
-                                         std::to_string(o.ttl),
-                                         "--pki-dir",
-                                         (tmp / "pki").string()};
-        for (const auto& skill : kSkills) {
-            argv.emplace_back("--noop-skill");
-            argv.push_back(skill);
-        }
+        const auto argv = skillcell::bench::serverArgv(o.skillcell, "urn:skillcell:bench-component",
+                                                       name, tmp / "pki", o.ttl, kSkills);
         timeline.clear();
         const auto t0 = Clock::now();
         auto child = ChildProcess::start(argv, skillcell::process::reportingChild(log));
@@ -142,12 +117,12 @@ int run(const Options& o) {
         "private network namespace)\n",
         o.count);
     std::printf("  %-38s %9s %9s %9s %5s\n", "ms", "median", "p99", "max", "n");
-    printRow("start -> READY (listening)", ready);
-    printRow("start -> mDNS announced", announced);
-    printRow("start -> skills in the SkillDetector", detected);
-    printRow("READY -> skills in the SkillDetector", afterReady);
-    printRow("SIGTERM -> skills gone", goodbye);
-    printRow("kill -9 -> skills gone", killed);
+    skillcell::bench::printLatencyRow("start -> READY (listening)", ready);
+    skillcell::bench::printLatencyRow("start -> mDNS announced", announced);
+    skillcell::bench::printLatencyRow("start -> skills in the SkillDetector", detected);
+    skillcell::bench::printLatencyRow("READY -> skills in the SkillDetector", afterReady);
+    skillcell::bench::printLatencyRow("SIGTERM -> skills gone", goodbye);
+    skillcell::bench::printLatencyRow("kill -9 -> skills gone", killed);
     const auto d = skillcell::bench::summarize(detected);
     std::printf(
         "  start -> skills detected: median %.1f ms, p99 %.1f ms; paper (Profanter et al., PC "
