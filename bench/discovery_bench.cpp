@@ -145,12 +145,17 @@ int idleTraffic(const Options& o, const std::filesystem::path& tmp, Timeline& ti
     const double secs = o.idleSeconds;
     std::printf("idle traffic: %d servers (TTL %d s) and this listener, over %d s\n", o.idle,
                 o.idleTtl, o.idleSeconds);
-    std::printf("  %-34s %9.2f /s  (%.1f known answers each)\n", "queries", t.queries / secs,
-                t.queries == 0 ? 0.0 : static_cast<double>(t.knownAnswers) / t.queries);
-    std::printf("  %-34s %9.2f /s  (%.1f records each)\n", "responses", t.responses / secs,
-                t.responses == 0 ? 0.0 : static_cast<double>(t.answers) / t.responses);
+    std::printf("  %-34s %9.2f /s  (%.1f known answers each)\n", "queries",
+                static_cast<double>(t.queries) / secs,
+                t.queries == 0
+                    ? 0.0
+                    : static_cast<double>(t.knownAnswers) / static_cast<double>(t.queries));
+    std::printf(
+        "  %-34s %9.2f /s  (%.1f records each)\n", "responses",
+        static_cast<double>(t.responses) / secs,
+        t.responses == 0 ? 0.0 : static_cast<double>(t.answers) / static_cast<double>(t.responses));
     std::printf("  %-34s %9.3f /s\n", "datagrams per server",
-                (t.queries + t.responses) / secs / o.idle);
+                static_cast<double>(t.queries + t.responses) / secs / o.idle);
     std::printf("  before RFC 6762's rules, measured with 30 servers: 1 query/s, 30 responses/s\n");
     return 0;
 }
