@@ -451,14 +451,23 @@ double mean(const std::vector<double>& v) {
     return v.empty() ? 0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
 }
 
+// The median (of an even count, the lower middle: a time that was measured).
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    const auto middle = v.begin() + static_cast<std::ptrdiff_t>((v.size() - 1) / 2);
+    std::nth_element(v.begin(), middle, v.end());
+    return *middle;
+}
+
 void DemoCell::showDetectionTable(const std::vector<MeasuredComponent>& measured) const {
-    std::printf("  %-16s %10s %8s %8s %5s %11s %10s\n", "component", "mean (ms)", "min", "max",
-                "runs", "READY (ms)", "paper (ms)");
+    std::printf("  %-16s %9s %10s %8s %8s %5s %11s %10s\n", "component", "p50 (ms)", "mean", "min",
+                "max", "runs", "READY (ms)", "paper (ms)");
     for (const auto& m : measured) {
         if (m.samplesMs.empty()) continue;
         const auto [lo, hi] = std::minmax_element(m.samplesMs.begin(), m.samplesMs.end());
-        std::printf("  %-16s %10.0f %8.0f %8.0f %5zu %11.0f %10.0f\n", m.label.c_str(),
-                    mean(m.samplesMs), *lo, *hi, m.samplesMs.size(), mean(m.readyMs), m.paperMs);
+        std::printf("  %-16s %9.0f %10.0f %8.0f %8.0f %5zu %11.0f %10.0f\n", m.label.c_str(),
+                    median(m.samplesMs), mean(m.samplesMs), *lo, *hi, m.samplesMs.size(),
+                    mean(m.readyMs), m.paperMs);
     }
     std::printf(
         "  (from the start of the component's process to its skills in another component's "
