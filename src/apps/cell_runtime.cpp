@@ -427,6 +427,8 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
         if (auto e = needs("world")) return *e;
         a = {"device",        "toolchanger", "--world", endpoint("world"), "--detection-timeout-ms",
              detectionTimeout};
+        // Kept with the cell: a restarted changer puts the mounted tool back into its dock.
+        a.insert(a.end(), {"--dock-map", (dir() / "toolchanger-docks.json").string()});
         const auto power = [this](const cell::Tool& t, const cell::AdapterModel& m) {
             return adapterCommand(t, m);
         };

@@ -594,6 +594,7 @@ struct ToolChangerOptions {
     std::vector<std::string> tools;  // ID:MIN-MAX:APPLICATION-URI
     std::vector<std::string> power;  // ID=PROGRAM ARG...
     int moveTimeoutMs = 60'000;
+    std::string dockMap;  // empty: in memory only
 };
 
 /// What `device toolchanger` keeps alive, destroyed in reverse: the component (it powers the
@@ -634,6 +635,7 @@ ua::Result<ComponentContent> populateToolChanger(const ToolChangerOptions& optio
     o.detectionTimeout = std::chrono::milliseconds(options.composite.detectionTimeoutMs);
     o.moveTimeout = std::chrono::milliseconds(options.moveTimeoutMs);
     o.client = compositeClient(c, "tool changer");
+    o.dockMapFile = options.dockMap;
     std::string error;
     auto component = tc::ToolChangerComponent::create(c.server, *content->coupling,
                                                       std::move(tools), c.detector, o, &error);
@@ -673,6 +675,10 @@ CLI::App* addToolChanger(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--power", options->power,
                     "the adapter process of a tool, started when it is attached: "
                     "ID=PROGRAM ARG... (split at blanks)");
+    cmd->add_option("--dock-map", options->dockMap,
+                    "a file where the changer keeps the dock of each tool it took, so that it "
+                    "can put the mounted tool back after a restart (JSON, written atomically; "
+                    "default: in memory only)");
     cmd->add_option("--move-timeout-ms", options->moveTimeoutMs, "the longest move")
         ->check(CLI::Range(100, 600'000))
         ->capture_default_str();

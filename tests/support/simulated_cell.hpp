@@ -127,8 +127,9 @@ struct SimulatedCell {
             return binary + " device " + std::string(model.command) + " --pki-dir " + tools + "-" +
                    tool.name + " --grip-offset " + cell::vectorArgument(tool.gripOffset) + common;
         };
-        std::vector<std::string> changerArgs = {"toolchanger", "--world", world->url(),
-                                                "--detection-timeout-ms", "20000"};
+        std::vector<std::string> changerArgs = {
+            "toolchanger", "--world",    world->url(),         "--detection-timeout-ms",
+            "20000",       "--dock-map", tools + "-docks.json"};
         const auto table = cell::toolTableArguments(c, power);
         for (std::size_t i = 0; i + 1 < table.size(); i += 2) {
             // Without power for the vacuum gripper, as if its adapter were unplugged.
@@ -154,10 +155,13 @@ struct SimulatedCell {
         std::error_code ec;
         for (const auto& tool : paperCell().tools)
             std::filesystem::remove_all(tools + "-" + tool.name, ec);
+        std::filesystem::remove(tools + "-docks.json", ec);
     }
     SimulatedCell(const SimulatedCell&) = delete;
     SimulatedCell& operator=(const SimulatedCell&) = delete;
 
+    /// The changer's dock map (its --dock-map).
+    [[nodiscard]] std::string dockMapFile() const { return tools + "-docks.json"; }
     /// Starts the tool changer again with the same arguments (after a test killed it).
     void restartChanger() {
         changer.reset();

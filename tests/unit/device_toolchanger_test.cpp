@@ -16,9 +16,11 @@
 
 #include "client_thread.hpp"
 #include "devices/common/frame.hpp"
+#include "devices/toolchanger/dock_map_file.hpp"
 #include "devices/toolchanger/tool_table.hpp"
 #include "devices/world/world_link.hpp"
 #include "simulated_cell.hpp"
+#include "temp_dir.hpp"
 #include "ua/client/blocking_client.hpp"
 
 namespace skillcell::devices::device_toolchanger_test {
@@ -26,7 +28,10 @@ namespace {
 
 using namespace std::chrono_literals;
 using Kind = skills::SkillOutcome::Kind;
+using toolchanger::DockMap;
+using toolchanger::loadDockMap;
 using toolchanger::PinReading;
+using toolchanger::saveDockMap;
 using toolchanger::ToolTable;
 
 TEST(ToolTable, FindsToolsByTheirBandAndCallsTheGapsFaults) {
@@ -72,6 +77,35 @@ using test::vacuumDock;
 
 ua::Variant pose(const std::string& text) {
     return test::poseValue(text);
+}
+
+TEST(DockMapFile, KeepsEachToolsDockAndSaysWhyAFileIsNoDockMap) {
+    test::TempDir dir("dock-map");
+    const auto file = dir.path() / "docks.json";
+    auto none = loadDockMap(file);
+    ASSERT_TRUE(none);
+    EXPECT_TRUE(none->empty());  // no file yet: nothing taken
+    const KDL::Frame parallel = toFrame(*parsePose6(parallelDock()));
+    const KDL::Frame vacuum = toFrame(*parsePose6(vacuumDock()));
+    DockMap docks;
+    docks["parallel"] = parallel;
+    docks["vacuum"] = vacuum;
+    ASSERT_TRUE(saveDockMap(file, docks));
+    auto back = loadDockMap(file);
+    ASSERT_TRUE(back);
+    ASSERT_EQ(back->size(), 2u);
+    EXPECT_TRUE(KDL::Equal(back->at("parallel"), parallel, 1e-9));
+    EXPECT_TRUE(KDL::Equal(back->at("vacuum"), vacuum, 1e-9));
+    EXPECT_FALSE(std::filesystem::exists(file.string() + ".tmp"));
+
+    for (const char* text : {"not json", R"({"docks": []})", R"({"docks": {"p": [1, 2]}})",
+                             R"({"docks": {"p": [1, 2, 3, 4, 5, "x"]}})"}) {
+        std::ofstream(file) << text;
+        auto bad = loadDockMap(file);
+        ASSERT_FALSE(bad) << text;
+        EXPECT_NE(bad.failure().message.find(file.string()), std::string::npos)
+            << bad.failure().message;
+    }
 }
 
 TEST(ToolChangerProcess, ChangesToolsFoundByTheirPinAndPowersTheirAdapters) {
@@ -200,7 +234,7 @@ TEST(ToolChangerProcess, AToolsAdapterEndsWhenTheChangerIsKilled) {
 // After a crash the changer's memory is gone, but the tool is still locked on: the restarted
 // changer asks the identification pin which tool it is, publishes it and powers it again. It
 // does not guess where the tool came from: a change asks for a DetachTool at its dock first.
-TEST(ToolChangerProcess, ARestartedChangerReadsTheMountedToolFromItsPinAndPowersIt) {
+TEST(ToolChangerProcess, ARestartedChangerReadsTheMountedToolFromItsPinAndItsDockFromItsDockMap) {
     test::SimulatedCell cell(SKILLCELL_BINARY, {}, false);
     ASSERT_TRUE(cell.ready());
     ASSERT_NO_FATAL_FAILURE(mountParallelGripper(cell));
@@ -229,12 +263,34 @@ TEST(ToolChangerProcess, ARestartedChangerReadsTheMountedToolFromItsPinAndPowers
     auto detach =
         client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/DetachTool")));
     ASSERT_TRUE(change && detach);
+    // The dock it took the parallel gripper from survived in its dock map: a change puts that
+    // gripper back there and takes the vacuum one.
     auto outcome = client.invoke(
         change,
         {{"ToolPosition", pose(vacuumDock())}, {"ToolAppUri", test::textValue(schmalzUri())}}, 60s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    auto link = WorldLink::connect(cell.world->url());
+    ASSERT_TRUE(link.ok());
+    EXPECT_EQ(*(*link)->mountedTool(), "vacuum");
+    EXPECT_EQ(*(*link)->dockTool("dockP"), "parallel");
+
+    // Without its dock map (a changer that never took the mounted tool): the change is refused
+    // with the reason, and DetachTool at the dock is the way out.
+    std::filesystem::remove(cell.dockMapFile());
+    cell.changer->kill(SIGKILL);
+    cell.restartChanger();
+    ASSERT_FALSE(cell.changer->url().empty());
+    test::ClientThread again;
+    change = again.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    detach = again.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/DetachTool")));
+    ASSERT_TRUE(change && detach);
+    outcome = again.invoke(
+        change,
+        {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
+        60s);
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("its dock is unknown"), std::string::npos) << outcome.reason;
-    outcome = client.invoke(detach, {{"ToolPosition", pose(parallelDock())}}, 60s);
+    outcome = again.invoke(detach, {{"ToolPosition", pose(vacuumDock())}}, 60s);
     EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
 }
 

@@ -13,6 +13,7 @@
 
 #include "devices/common/blocking_call.hpp"
 #include "devices/common/frame.hpp"
+#include "devices/toolchanger/dock_map_file.hpp"
 
 namespace skillcell::devices::toolchanger {
 namespace {
@@ -52,7 +53,40 @@ ToolChanger::ToolChanger(Token, asio::any_io_executor executor, ToolChangerIo& i
       tools_(std::move(tools)),
       detector_(std::move(detector)),
       options_(std::move(options)),
-      subSkill_(executor_) {}
+      subSkill_(executor_) {
+    if (options_.dockMapFile.empty()) return;
+    auto docks = loadDockMap(options_.dockMapFile);
+    if (!docks) {
+        // The changer still works: a mounted tool's dock is then unknown until an operator
+        // detaches it at its dock, as after a first start.
+        spdlog::error("tool changer: the dock map: {}; starting without it",
+                      docks.failure().message);
+        return;
+    }
+    for (auto& [tool, dock] : *docks) {
+        if (tools_.byId(tool) == nullptr) {
+            spdlog::warn(
+                "tool changer: the dock map names tool '{}', which the tool table "
+                "does not know; dropped",
+                tool);
+            continue;
+        }
+        spdlog::info("tool changer: tool {} was taken from {} (dock map)", tool, describe(dock));
+        docks_.emplace(tool, dock);
+    }
+}
+
+void ToolChanger::rememberDock(const std::string& tool, const std::optional<KDL::Frame>& dock) {
+    if (dock) {
+        docks_[tool] = *dock;
+    } else {
+        docks_.erase(tool);
+    }
+    if (options_.dockMapFile.empty()) return;
+    if (auto s = saveDockMap(options_.dockMapFile, docks_); !s) {
+        spdlog::error("tool changer: the dock map: {}", s.failure().message);
+    }
+}
 
 ToolChanger::~ToolChanger() {
     ioThread_.join();
@@ -235,7 +269,7 @@ asio::awaitable<std::string> ToolChanger::attachAt(RobotMotion& move, KDL::Frame
         co_return "the tool at " + describe(position) + " is " + tool.id + " (" +
             tool.applicationUri + "), not " + appUri;
     }
-    docks_[tool.id] = position;
+    rememberDock(tool.id, position);
     spdlog::info("tool changer: tool {} locked ({})", tool.id, volts(pin.volts));
     if (auto why = co_await powerOn(tool); !why.empty()) {
         co_return "tool " + tool.id + " is locked but could not be powered: " + why;
@@ -288,7 +322,7 @@ asio::awaitable<std::string> ToolChanger::detachAt(RobotMotion& move, KDL::Frame
         (void)co_await powerOn(tool);
         co_return "the coupling did not open at " + describe(position) + ": not a free dock";
     }
-    docks_.erase(tool.id);
+    rememberDock(tool.id, std::nullopt);
     spdlog::info("tool changer: tool {} left at {}", tool.id, describe(position));
     if (auto why = co_await moveTo(move, approach, kLinear, generation); !why.empty())
         co_return why;

@@ -16,9 +16,11 @@
 #include <asio/awaitable.hpp>
 #include <asio/thread_pool.hpp>
 #include <chrono>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <kdl/frames.hpp>
@@ -41,6 +43,9 @@ struct ToolChangerOptions {
     std::chrono::milliseconds detectionTimeout{30'000};
     /// How the changer connects to the robot (its certificate and user).
     ua::ClientConfig client;
+    /// Where the changer keeps the dock of each tool it took (dock_map_file.hpp), so that a
+    /// restarted changer can put the mounted tool back; empty: in memory only.
+    std::filesystem::path dockMapFile;
 };
 
 enum class ToolOperation : std::uint8_t { Attach, Detach, Change };
@@ -124,6 +129,10 @@ private:
     std::shared_ptr<skills::SkillDetector> detector_;
     ToolChangerOptions options_;
     ToolPowerSupply power_;
+    /// Records where `tool` was taken (a pose) or that it is back in a dock (none), in
+    /// docks_ and in the dock map file.
+    void rememberDock(const std::string& tool, const std::optional<KDL::Frame>& dock);
+
     std::map<std::string, KDL::Frame> docks_;  // tool id -> where this changer took it
     skills::SubSkillRunner subSkill_;          // the robot's move, run now
     asio::thread_pool ioThread_{1};            // last: joined first, while the rest still exists

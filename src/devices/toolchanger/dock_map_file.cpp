@@ -1,0 +1,65 @@
+#include "devices/toolchanger/dock_map_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "devices/common/frame.hpp"
+
+namespace skillcell::devices::toolchanger {
+
+Expected<DockMap> loadDockMap(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) return DockMap{};
+    std::ifstream in(file);
+    if (!in) return Error{"cannot read " + file.string()};
+    const auto json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (json.is_discarded() || !json.is_object() || !json.contains("docks") ||
+        !json["docks"].is_object()) {
+        return Error{file.string() + ": not a dock map ({\"docks\": {TOOL: [x, y, z, a, b, c]}})"};
+    }
+    DockMap docks;
+    for (const auto& [tool, pose] : json["docks"].items()) {
+        if (!pose.is_array() || pose.size() != 6 ||
+            !std::all_of(pose.begin(), pose.end(), [](const auto& v) { return v.is_number(); })) {
+            return Error{file.string() + ": tool '" + tool + "': expected [x, y, z, a, b, c]"};
+        }
+        const Pose6 p{pose[0].get<double>(), pose[1].get<double>(), pose[2].get<double>(),
+                      pose[3].get<double>(), pose[4].get<double>(), pose[5].get<double>()};
+        docks.emplace(tool, toFrame(p));
+    }
+    return docks;
+}
+
+Status saveDockMap(const std::filesystem::path& file, const DockMap& docks) {
+    nlohmann::json json;
+    json["docks"] = nlohmann::json::object();
+    for (const auto& [tool, frame] : docks) {
+        const Pose6 p = toPose6(frame);
+        json["docks"][tool] = {p.x, p.y, p.z, p.a, p.b, p.c};
+    }
+    const std::string text = json.dump() + "\n";
+    const std::string tmp = file.string() + ".tmp";
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) return Error{"cannot write " + tmp};
+    std::size_t written = 0;
+    while (written < text.size()) {
+        const auto n = ::write(fd, text.data() + written, text.size() - written);
+        if (n <= 0) break;
+        written += static_cast<std::size_t>(n);
+    }
+    const bool ok = written == text.size() && ::fsync(fd) == 0;
+    ::close(fd);
+    std::error_code ec;
+    if (ok) std::filesystem::rename(tmp, file, ec);
+    if (!ok || ec) {
+        std::filesystem::remove(tmp, ec);
+        return Error{"cannot replace " + file.string()};
+    }
+    return Done{};
+}
+
+}  // namespace skillcell::devices::toolchanger
