@@ -22,6 +22,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 
@@ -117,6 +119,28 @@ struct Harness {
     }
 };
 
+/// Before a hang is reported: what each thread of this process waits in (state and kernel
+/// wait channel), to tell a deadlock (futex) from a wait on the network (poll, accept).
+void describeThreads() {
+    std::error_code ec;
+    for (const auto& task : std::filesystem::directory_iterator("/proc/self/task", ec)) {
+        std::ifstream comm(task.path() / "comm");
+        std::ifstream wchan(task.path() / "wchan");
+        std::ifstream stat(task.path() / "stat");
+        std::string name;
+        std::string channel;
+        std::string fields;
+        std::getline(comm, name);
+        std::getline(wchan, channel);
+        std::getline(stat, fields);
+        const auto close = fields.rfind(')');
+        const char state =
+            close != std::string::npos && close + 2 < fields.size() ? fields[close + 2] : '?';
+        std::fprintf(stderr, "  thread %s (%s): state %c, waiting in %s\n",
+                     task.path().filename().c_str(), name.c_str(), state, channel.c_str());
+    }
+}
+
 /// Sends `data` on a new connection, closes our side, and reads the answer to its end.
 void exchange(std::uint16_t port, const std::uint8_t* data, std::size_t size) {
     const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
@@ -141,6 +165,7 @@ void exchange(std::uint16_t port, const std::uint8_t* data, std::size_t size) {
         pollfd p{fd, POLLIN, 0};
         if (::poll(&p, 1, 30'000) <= 0) {
             std::fprintf(stderr, "finding: no answer and no close within 30 s\n");
+            describeThreads();
             std::abort();
         }
         if (::recv(fd, buffer.data(), buffer.size(), 0) <= 0) break;

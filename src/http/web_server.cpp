@@ -157,8 +157,9 @@ Status WebServer::start() {
         server_ = std::make_unique<httplib::Server>();
     }
     auto& s = *server_;
-    s.set_read_timeout(std::chrono::duration_cast<std::chrono::seconds>(config_.readTimeout));
-    s.set_write_timeout(std::chrono::duration_cast<std::chrono::seconds>(config_.writeTimeout));
+    // The duration itself: cast to seconds first, a timeout under a second became none.
+    s.set_read_timeout(config_.readTimeout);
+    s.set_write_timeout(config_.writeTimeout);
     s.set_payload_max_length(config_.maxBodyBytes);
     // cpp-httplib owns the queue it is given (its API takes a raw pointer).
     s.new_task_queue = [threads = std::max<std::size_t>(config_.threads, 1)] {
