@@ -281,16 +281,19 @@ TEST(ToolChangerProcess, ARestartedChangerReadsTheMountedToolFromItsPinAndItsDoc
     cell.restartChanger();
     ASSERT_FALSE(cell.changer->url().empty());
     test::ClientThread again;
-    change = again.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
-    detach = again.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/DetachTool")));
-    ASSERT_TRUE(change && detach);
+    // Clients of this thread of their own: they must go before it does.
+    auto changeAgain =
+        again.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    auto detachAgain =
+        again.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/DetachTool")));
+    ASSERT_TRUE(changeAgain && detachAgain);
     outcome = again.invoke(
-        change,
+        changeAgain,
         {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
         60s);
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("its dock is unknown"), std::string::npos) << outcome.reason;
-    outcome = again.invoke(detach, {{"ToolPosition", pose(vacuumDock())}}, 60s);
+    outcome = again.invoke(detachAgain, {{"ToolPosition", pose(vacuumDock())}}, 60s);
     EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
 }
 
