@@ -309,7 +309,7 @@ std::uint16_t CellRuntime::port(const std::string& key) {
     return it->second;
 }
 
-std::vector<std::string> CellRuntime::componentArgs(const std::string& name, bool actsAsCell,
+std::vector<std::string> CellRuntime::componentArgs(const std::string& name,
                                                     std::uint16_t tcpPort) const {
     const bool host = cell_.network.kind == cell::Network::Kind::Host;
     std::vector<std::string> a = {"--port", std::to_string(tcpPort)};
@@ -324,7 +324,7 @@ std::vector<std::string> CellRuntime::componentArgs(const std::string& name, boo
     }
     const fs::path users = cell_.security.users.empty() ? dir() / "users" : cell_.security.users;
     a.insert(a.end(), {"--users", users.string()});
-    if (actsAsCell) {
+    if (actsAsCell(name)) {
         const auto user = componentUser();
         if (user.applicationCertificate) {
             a.emplace_back("--client-user-certificate");
@@ -342,7 +342,7 @@ std::string CellRuntime::adapterCommand(const cell::Tool& tool,
     std::string cmd =
         skillcell_ + " device " + std::string(model.command) + " --world " + endpoint("world");
     // Powered adapters come and go: each start takes any free port.
-    for (const auto& a : componentArgs(std::string(model.command), true, 0)) cmd += " " + a;
+    for (const auto& a : componentArgs(std::string(model.command), 0)) cmd += " " + a;
     char speed[32];
     std::snprintf(speed, sizeof speed, "%g", this->speed());
     cmd += std::string(" --speed ") + speed + " --boot-profile " + options_.bootProfile +
@@ -364,7 +364,7 @@ kb::Expected<ComponentLaunch> CellRuntime::adapterLaunch(const cell::Tool& tool)
               "--speed",        speed,
               "--boot-profile", options_.bootProfile,
               "--grip-offset",  cell::vectorArgument(tool.gripOffset)};
-    const auto tail = componentArgs(l.name, true, 0);
+    const auto tail = componentArgs(l.name, 0);
     l.args.insert(l.args.end(), tail.begin(), tail.end());
     l.readyTimeout = 120s;  // a tinyua boot takes 8-10 s, more under a sanitizer
     return l;
@@ -452,7 +452,7 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
         a = {"device", robot->model, "--world", endpoint("world"), "--speed", speed};
     }
     a.insert(a.end(), {"--application-uri", l.applicationUri});
-    const auto tail = componentArgs(name, actsAsCell(name), port(name));
+    const auto tail = componentArgs(name, port(name));
     a.insert(a.end(), tail.begin(), tail.end());
     return l;
 }

@@ -125,7 +125,7 @@ public:
 private:
     /// What every component takes: its address and ports, mDNS, its PKI, the users and,
     /// for those that are clients of others, the user it acts as ("cell").
-    [[nodiscard]] std::vector<std::string> componentArgs(const std::string& name, bool actsAsCell,
+    [[nodiscard]] std::vector<std::string> componentArgs(const std::string& name,
                                                          std::uint16_t tcpPort) const;
     [[nodiscard]] std::uint16_t port(const std::string& key);
     [[nodiscard]] std::string adapterCommand(const cell::Tool& tool,
