@@ -10,6 +10,7 @@
 
 #include <asio.hpp>
 #include <iostream>
+#include <utility>
 
 #include "client_security_options.hpp"
 #include "commands.hpp"
@@ -58,12 +59,19 @@ int runDetect(const DetectOptions& o) {
     auto watcher = skills::attachMdns(detector, *responder);
     if (o.watch && !o.json) std::cout << "WATCHING" << std::endl;
 
+    bool finishing = false;
     auto finish = [&] {
+        if (std::exchange(finishing, true)) return;
         printSkillSnapshot(std::cout, detector->instances(), o.json);
         watcher->stop();
-        detector->stop();
-        (*responder)->shutdown();
-        io.stop();
+        asio::co_spawn(
+            io,
+            [&]() -> asio::awaitable<void> {
+                co_await detector->shutdown(std::chrono::seconds(1));
+                (*responder)->shutdown();
+                io.stop();
+            },
+            asio::detached);
     };
     asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&](const asio::error_code& ec, int) {

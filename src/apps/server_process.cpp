@@ -264,7 +264,7 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
                         printSkillSnapshot(std::cout, detector->instances(), false);
                     }
                     if (detectorWatcher) detectorWatcher->stop();
-                    detector->stop();
+                    co_await detector->shutdown(std::chrono::seconds(1));
                 }
                 if (discovery) co_await discovery->stop();
                 server->stop();

@@ -240,8 +240,38 @@ void SkillDetector::stop() {
     status_.clear();
 }
 
+asio::awaitable<void> SkillDetector::shutdown(std::chrono::milliseconds grace) {
+    auto self = shared_from_this();
+    std::vector<std::weak_ptr<Watch>> watches;
+    for (const auto& [id, watch] : components_) watches.push_back(watch);
+    stop();
+    for (int round = 0; round < 2 && running_ > 0; ++round) {
+        if (round == 1) {
+            spdlog::debug("skill detector: {} connection(s) still closing after {} ms: cut",
+                          running_, grace.count());
+            for (const auto& weak : watches) {
+                if (auto w = weak.lock(); w && w->client) w->client->abort();
+            }
+        }
+        drained_.emplace(executor_);
+        drained_->expires_after(grace);
+        co_await drained_->async_wait(as_tuple(asio::use_awaitable));
+    }
+    drained_.reset();
+}
+
 asio::awaitable<void> SkillDetector::run(std::shared_ptr<Watch> w) {
     auto self = shared_from_this();  // alive while this runs
+    // Counted for shutdown(); the guard also counts a frame destroyed without finishing.
+    struct Running {
+        SkillDetector& detector;
+        explicit Running(SkillDetector& d) : detector(d) { ++detector.running_; }
+        Running(const Running&) = delete;
+        Running& operator=(const Running&) = delete;
+        ~Running() {
+            if (--detector.running_ == 0 && detector.drained_) detector.drained_->cancel();
+        }
+    } running(*this);
     auto delay = config_.retryDelay;
     std::set<std::string> tried;  // addresses that failed since the last back-off
     while (!w->ended) {

@@ -34,11 +34,13 @@
 // alive until they end, which stop() brings about promptly.
 #include <asio/any_io_executor.hpp>
 #include <asio/awaitable.hpp>
+#include <asio/steady_timer.hpp>
 #include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -153,6 +155,11 @@ public:
     void gone(const std::string& key, GoneReason reason);
     /// Forgets every component and listener and ends every connection (no events).
     void stop();
+    /// stop(), then waits until every connection has ended: idle ones close their sessions
+    /// politely; whatever is still going after `grace` is cut. A process that stops its
+    /// io_context must await this first: a request in flight holds its connection (and the
+    /// coroutine waiting for the reply) in a cycle that only the reply or a cut breaks.
+    asio::awaitable<void> shutdown(std::chrono::milliseconds grace);
 
     // --- Listeners (on the executor) -------------------------------------------------------
     /// Calls `listener` with Added for every instance known now, then with every change.
@@ -196,6 +203,8 @@ private:
     bool stopped_ = false;
 
     // Executor only.
+    std::size_t running_ = 0;                      // run() coroutines not yet ended
+    std::optional<asio::steady_timer> drained_;    // cancelled when running_ drops to 0
     std::map<std::string, std::shared_ptr<Watch>> components_;  // by component id
     std::map<std::string, std::string> keys_;                   // source key -> component id
     std::map<std::size_t, Listener> listeners_;

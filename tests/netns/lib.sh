@@ -20,6 +20,8 @@
 #                              returns 0, or returns 1 at the deadline.
 #   wait_for_line_until FILE REGEX DEADLINE_MS [FROM_LINE]   same with an absolute deadline (now_ms).
 #   line_count FILE            number of lines in FILE so far (to wait for lines after it).
+#   sanitizer_report NAME      prints the head of the sanitizer report in NAME.err, if any (for
+#                              a failure message: a CI log keeps its beginning, not every tail).
 #   now_ms                     milliseconds since the epoch.
 #   netns_fail MESSAGE         prints FAIL: MESSAGE and the last lines of every process's output
 #                              in $NETNS_DIR, then exits 1 (the trap cleans up).
@@ -215,6 +217,13 @@ proc_wait_exit() {
   } 2>/dev/null # also silences bash's "Killed" job notice
   unset "NETNS_PIDS[$name]"
   return 0
+}
+
+sanitizer_report() {
+  local f="$NETNS_DIR/$1.err"
+  [ -f "$f" ] || return 0
+  # The report's headlines and the frames in our code: the asio frames between them say little.
+  grep -E 'Sanitizer|runtime error|leak of|in skillcell::' "$f" | sed 's/^ *//' | cut -c1-240 | head -n 40
 }
 
 line_count() {

@@ -161,7 +161,7 @@ stop_gracefully() {
   local p=$1
   proc_signal "$p" TERM || fail "$p is not running (it should be)"
   proc_wait_exit "$p" 5 || fail "$p did not exit within 5 s of SIGTERM"
-  [ "$PROC_RC" = 0 ] || fail "$p exited with status $PROC_RC after SIGTERM (expected 0)"
+  [ "$PROC_RC" = 0 ] || { sanitizer_report "$p"; fail "$p exited with status $PROC_RC after SIGTERM (expected 0)"; }
 }
 
 check_sanitizers() {

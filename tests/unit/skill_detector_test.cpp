@@ -208,6 +208,11 @@ public:
         thread_.join();  // returns once every connection of the detector has ended
     }
 
+    /// The detector's shutdown(grace), awaited on its thread.
+    void shutdown(std::chrono::milliseconds grace) {
+        asio::co_spawn(io_, detector_->shutdown(grace), asio::use_future).get();
+    }
+
     /// Runs `f` on the detector's thread and waits for it.
     void onDetector(const std::function<void(SkillDetector&)>& f) {
         std::packaged_task<void()> task([&] { f(*detector_); });
@@ -608,6 +613,25 @@ TEST(SkillDetector, ANewStartTimeOnALiveConnectionMeansABrowseAgain) {
     EXPECT_EQ(h.component("urn:test:robot")->browses, 2u);
     EXPECT_EQ(h.log().count(SkillEvent::Kind::Removed, RemovalReason::Restarted), 2u)
         << "the instances of the earlier run are replaced";
+}
+
+// A process stops its io_context right after shutdown(): by then every session is closed
+// politely and no connection is half way (a request in flight would leak its connection).
+TEST(SkillDetector, ShutdownReturnsOnceEverySessionIsClosed) {
+    auto robot = skillServer("urn:test:robot", kRobotSkills);
+    auto hand = skillServer("urn:test:gripper", kGripperSkills);
+    DetectorHarness h;
+    h.appeared("mdns:robot", "urn:test:robot", robot->url());
+    h.appeared("mdns:gripper", "urn:test:gripper", hand->url());
+    ASSERT_TRUE(h.waitForSkills(4));
+    // Watching (idle): a connection still browsing or subscribing would be cut, not closed.
+    ASSERT_TRUE(h.waitForState("urn:test:robot", ComponentStatus::State::Connected));
+    ASSERT_TRUE(h.waitForState("urn:test:gripper", ComponentStatus::State::Connected));
+    EXPECT_EQ(robot->inServer([](ua::Server& s) { return s.sessionCount(); }), 1u);
+    h.shutdown(kDeadline);
+    EXPECT_EQ(robot->inServer([](ua::Server& s) { return s.sessionCount(); }), 0u);
+    EXPECT_EQ(hand->inServer([](ua::Server& s) { return s.sessionCount(); }), 0u);
+    EXPECT_TRUE(h.detector().instances().empty());
 }
 
 TEST(SkillDetector, AServerThatNeverAnswersTimesOut) {
