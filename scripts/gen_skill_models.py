@@ -7,9 +7,8 @@ from the repository root, then commit script and XML together. Namespace-0 NodeI
 are facts of OPC 10000-3/-5/-10; everything else is ours.
 
 Layering (RequiredModel):
-  ns0 <- DI <- Robotics
-  ns0 <- DI <- Skills <- RoboticSkills, GripperSkills, ToolChangerSkills,
-                         CompositeSkills, MesSkills
+  ns0 <- DI (the OPC Foundation's, models/opcfoundation/) <- Skills <- RoboticSkills,
+         GripperSkills, ToolChangerSkills, CompositeSkills, MesSkills
 """
 from __future__ import annotations
 
@@ -19,6 +18,11 @@ from xml.sax.saxutils import escape
 NS0_URI = "http://opcfoundation.org/UA/"
 NS0_VERSION = "1.05.03"
 NS0_DATE = "2023-12-15T00:00:00Z"
+# The OPC Foundation's DI (OPC 10000-100): the oldest version with what the skills use
+# (ParameterSet of TopologyElementType) that the Foundation's Robotics 1.02 also accepts.
+DI_URI = "http://opcfoundation.org/UA/DI/"
+DI_VERSION = "1.04.0"
+DI_DATE = "2022-11-03T00:00:00Z"
 VERSION = "1.00.0"
 DATE = "2026-11-22T00:00:00Z"
 BASE = "http://skillcell.dev/UA/"
@@ -91,9 +95,12 @@ SYMBOLS: dict[str, tuple[str, int]] = {}
 
 
 class Model:
-    def __init__(self, key: str, title: str, requires: list["Model"]):
+    def __init__(self, key: str, title: str, requires: list["Model"], uri: str | None = None,
+                 version: str = VERSION, date: str = DATE):
         self.key = key
-        self.uri = f"{BASE}{key}/"
+        self.uri = uri or f"{BASE}{key}/"
+        self.version, self.date = version, date
+        self.external = uri is not None  # another organisation's model: required, not written
         self.title = title
         self.requires = requires
         # own namespace first, then every namespace of the required models
@@ -331,8 +338,8 @@ class Model:
     def xml(self) -> str:
         req = [f'      <RequiredModel ModelUri="{NS0_URI}" Version="{NS0_VERSION}" '
                f'PublicationDate="{NS0_DATE}"/>']
-        req += [f'      <RequiredModel ModelUri="{r.uri}" Version="{VERSION}" '
-                f'PublicationDate="{DATE}"/>' for r in self.requires]
+        req += [f'      <RequiredModel ModelUri="{r.uri}" Version="{r.version}" '
+                f'PublicationDate="{r.date}"/>' for r in self.requires]
         uris = "\n".join(f"    <Uri>{u}</Uri>" for u in self.uris)
         return "\n".join([
             '<?xml version="1.0" encoding="utf-8"?>',
@@ -368,49 +375,9 @@ def add(key: str, title: str, requires: list[str]) -> Model:
 
 
 def build() -> None:
-    # --- DI subset (OPC 10000-100 shapes) ----------------------------------------------
-    di = add("DI", "Devices subset (topology elements, ParameterSet, DeviceSet)", [])
-    di.intro = ("The part of the Devices model (OPC 10000-100) skillcell uses: components with a "
-                "`ParameterSet`, and the `DeviceSet` entry point under Objects. Skills name "
-                "their `ParameterSet` with this namespace's browse name, as DI does.")
-    di.object_type("TopologyElementType", "TopologyElementType", BASE_OBJECT_TYPE, True,
-                   "Base of everything in a device topology: parameters and methods.")
-    di.obj("TopologyElementType.ParameterSet", "ParameterSet", "TopologyElementType",
-           BASE_OBJECT_TYPE, OPTIONAL, desc="Flat list of the element's parameters.")
-    di.obj("TopologyElementType.MethodSet", "MethodSet", "TopologyElementType",
-           BASE_OBJECT_TYPE, OPTIONAL, desc="Flat list of the element's methods.")
-    di.object_type("ComponentType", "ComponentType", "TopologyElementType", True,
-                   "A hardware or software component.")
-    for n in ["Manufacturer", "Model"]:
-        di.var(f"ComponentType.{n}", n, "ComponentType", LOCALIZED_TEXT, PROPERTY_TYPE,
-               OPTIONAL, HAS_PROPERTY)
-    for n in ["SerialNumber", "ProductInstanceUri"]:
-        di.var(f"ComponentType.{n}", n, "ComponentType", STRING, PROPERTY_TYPE, OPTIONAL,
-               HAS_PROPERTY)
-    di.object_type("DeviceType", "DeviceType", "ComponentType", True, "A device.")
-    di.object_type("SoftwareType", "SoftwareType", "ComponentType", False,
-                   "A software component.")
-    di.new_id("DeviceSet", "inst")
-    di._node("UAObject", di.nid("DeviceSet"), di.qn("DeviceSet"), "DeviceSet", "",
-             [(HAS_TYPEDEF, BASE_OBJECT_TYPE, True), (ORGANIZES, OBJECTS_FOLDER, False)],
-             "Entry point: the components of this server.")
-
-    # --- Robotics subset (OPC 40010-1 shapes) ------------------------------------------
-    rob = add("Robotics", "Robotics subset (motion device system)", ["DI"])
-    rob.intro = ("The part of the Robotics model (OPC 40010-1) skillcell uses: a motion device "
-                 "system and its motion devices, as DI components. The robotic skills sit "
-                 "on top of it in the paper's figure 4; they reference no node of it yet.")
-    rob.object_type("MotionDeviceSystemType", "MotionDeviceSystemType", "ComponentType", False,
-                    "A robot system: its motion devices and controllers.")
-    rob.obj("MotionDeviceSystemType.MotionDevices", "MotionDevices", "MotionDeviceSystemType",
-            FOLDER_TYPE, MANDATORY, desc="The manipulators, axes and tools of the system.")
-    rob.obj("MotionDeviceSystemType.Controllers", "Controllers", "MotionDeviceSystemType",
-            FOLDER_TYPE, OPTIONAL)
-    rob.object_type("MotionDeviceType", "MotionDeviceType", "ComponentType", False,
-                    "A manipulator or other motion device.")
-    rob.obj("MotionDeviceType.Axes", "Axes", "MotionDeviceType", FOLDER_TYPE, OPTIONAL)
-    rob.obj("MotionDeviceType.FlangeLoad", "FlangeLoad", "MotionDeviceType", BASE_OBJECT_TYPE,
-            OPTIONAL, desc="The load mounted on the flange (a tool).")
+    # --- DI: the OPC Foundation's own (models/opcfoundation/Opc.Ua.Di.NodeSet2.xml) --------
+    MODELS["DI"] = Model("DI", "Devices (OPC 10000-100)", [], uri=DI_URI, version=DI_VERSION,
+                         date=DI_DATE)
 
     # --- Skills ------------------------------------------------------------------------
     sk = add("Skills", "Skills (SkillType and its transition event)", ["DI"])
@@ -592,7 +559,8 @@ def param_doc(p: dict) -> str:
 
 def docs(m: Model) -> str:
     req = ", ".join(["OPC UA namespace 0 (" + NS0_VERSION + ")"] +
-                    [f"[{r.key}]({r.key}.md)" for r in m.requires])
+                    [f"the OPC Foundation's {r.key} ({r.version}, `{r.uri}`)" if r.external
+                     else f"[{r.key}]({r.key}.md)" for r in m.requires])
     out = [f"# {m.title}", "",
            f"Namespace `{m.uri}`, version {VERSION}, file "
            f"`models/Skillcell.{m.key}.NodeSet2.xml`. RequiredModels: {req}.", ""]
@@ -646,11 +614,12 @@ def main() -> None:
     build()
     doc_root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "models")
     os.makedirs(doc_root, exist_ok=True)
-    for key, m in MODELS.items():
+    written = {key: m for key, m in MODELS.items() if not m.external}
+    for key, m in written.items():
         with open(os.path.join(doc_root, f"{key}.md"), "w", encoding="utf-8") as f:
             f.write(docs(m))
     root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models")
-    for key, m in MODELS.items():
+    for key, m in written.items():
         path = os.path.join(root, f"Skillcell.{key}.NodeSet2.xml")
         with open(path, "w", encoding="utf-8") as f:
             f.write(m.xml())

@@ -163,4 +163,12 @@ Expected<HttpReply> HttpClient::put(const std::string& path, const Params& query
     return exchange(*impl_, server_, r);
 }
 
+Expected<HttpReply> HttpClient::post(const std::string& path, const Params& query,
+                                     const std::string& body, const std::string& contentType) {
+    auto r = request("POST", path, query);
+    r.headers.emplace("Content-Type", contentType);
+    r.body = body;
+    return exchange(*impl_, server_, r);
+}
+
 }  // namespace skillcell::http

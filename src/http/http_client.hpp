@@ -68,6 +68,8 @@ public:
                                                const std::string& accept);
     [[nodiscard]] Expected<HttpReply> put(const std::string& path, const Params& query,
                                           const std::string& body, const std::string& contentType);
+    [[nodiscard]] Expected<HttpReply> post(const std::string& path, const Params& query,
+                                           const std::string& body, const std::string& contentType);
 
     [[nodiscard]] const HttpUrl& server() const { return server_; }
 

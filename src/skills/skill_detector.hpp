@@ -203,8 +203,8 @@ private:
     bool stopped_ = false;
 
     // Executor only.
-    std::size_t running_ = 0;                      // run() coroutines not yet ended
-    std::optional<asio::steady_timer> drained_;    // cancelled when running_ drops to 0
+    std::size_t running_ = 0;                    // run() coroutines not yet ended
+    std::optional<asio::steady_timer> drained_;  // cancelled when running_ drops to 0
     std::map<std::string, std::shared_ptr<Watch>> components_;  // by component id
     std::map<std::string, std::string> keys_;                   // source key -> component id
     std::map<std::size_t, Listener> listeners_;

@@ -1,5 +1,6 @@
 // Interop: node-opcua, an independent implementation, loads our companion models
-// (models/Skillcell.*.NodeSet2.xml) on top of its own namespace 0, instantiates every
+// (models/Skillcell.*.NodeSet2.xml) on top of its own namespace 0 and the OPC Foundation's
+// DI, IA and Robotics as we ship them (models/opcfoundation/), instantiates every
 // concrete skill type and checks what a skill client relies on: the ParameterSet with every
 // parameter, engineering units, the 3D frame and the grip point enumeration.
 // Usage: node load_skill_models.js MODELS_DIR
@@ -10,7 +11,8 @@ const { AddressSpace } = require("node-opcua-address-space");
 const { generateAddressSpace } = require("node-opcua-address-space/nodeJS");
 const { nodesets } = require("node-opcua-nodesets");
 
-const order = ["DI", "Robotics", "Skills", "RoboticSkills", "GripperSkills", "ToolChangerSkills",
+const foundation = ["Opc.Ua.Di", "Opc.Ua.IA", "Opc.Ua.Robotics"];
+const order = ["Skills", "RoboticSkills", "GripperSkills", "ToolChangerSkills",
                "CompositeSkills", "MesSkills"];
 const concrete = {
   RoboticSkills: ["CartesianLinearMoveSkillType", "CartesianPtpMoveSkillType",
@@ -26,7 +28,9 @@ const uri = (key) => `http://skillcell.dev/UA/${key}/`;
   const dir = process.argv[2];
   const as = AddressSpace.create();
   await generateAddressSpace(
-      as, [nodesets.standard, ...order.map((k) => path.join(dir, `Skillcell.${k}.NodeSet2.xml`))]);
+      as, [nodesets.standard,
+           ...foundation.map((f) => path.join(dir, "opcfoundation", `${f}.NodeSet2.xml`)),
+           ...order.map((k) => path.join(dir, `Skillcell.${k}.NodeSet2.xml`))]);
   const skillType = as.findObjectType("SkillType", as.getNamespaceIndex(uri("Skills")));
   assert(skillType, "SkillType");
   assert(skillType.isSubtypeOf(as.findObjectType("ProgramStateMachineType")));

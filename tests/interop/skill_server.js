@@ -40,7 +40,9 @@ const {
 const { HOST, pickFreePort } = require("./discovery_common");
 
 const NAMESPACE_URI = "urn:skillcell:interop:skills";
-const MODELS = ["DI", "Robotics", "Skills", "RoboticSkills", "GripperSkills", "ToolChangerSkills",
+// The OPC Foundation's models as we ship them, then ours layered on DI.
+const FOUNDATION = ["Opc.Ua.Di", "Opc.Ua.IA", "Opc.Ua.Robotics"];
+const MODELS = ["Skills", "RoboticSkills", "GripperSkills", "ToolChangerSkills",
                 "CompositeSkills", "MesSkills"];
 const uri = (key) => `http://skillcell.dev/UA/${key}/`;
 
@@ -206,6 +208,8 @@ function createServer(port, pkiRoot, models) {
         host: HOST,
         hostname: HOST,
         nodeset_filename: [nodesets.standard,
+                           ...FOUNDATION.map((f) => path.join(models, "opcfoundation",
+                                                              `${f}.NodeSet2.xml`)),
                            ...MODELS.map((k) => path.join(models, `Skillcell.${k}.NodeSet2.xml`))],
         securityPolicies: [SecurityPolicy.None],
         securityModes: [MessageSecurityMode.None],

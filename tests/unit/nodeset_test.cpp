@@ -308,4 +308,21 @@ TEST(NodeSet, OtherErrors) {
               "models/x.xml:1: root element is 'Nodes', expected 'UANodeSet'");
 }
 
+// The OPC Foundation's own DI, IA and Robotics NodeSets (models/opcfoundation/) load over
+// namespace 0 as loadBaseNodeSet loads it: our subset plus the nodes they use from the
+// Foundation's (Opc.Ua.NodeSet2.Closure.xml).
+TEST(NodeSet, TheOpcFoundationsDiIaAndRoboticsModelsLoad) {
+    AddressSpace as = baseSpace();
+    EXPECT_NE(as.find(NodeId(11575)), nullptr) << "FileType, from the closure";
+    for (const char* name :
+         {"Opc.Ua.Di.NodeSet2.xml", "Opc.Ua.IA.NodeSet2.xml", "Opc.Ua.Robotics.NodeSet2.xml"}) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto st = loadNodeSet(as, embeddedModel(name), name);
+        const auto t1 = std::chrono::steady_clock::now();
+        ASSERT_TRUE(st.ok()) << st.error;
+        std::printf("[ timing ] loading %s: %zu nodes, %zu references in %.3f ms\n", name, st.nodes,
+                    st.references, std::chrono::duration<double, std::milli>(t1 - t0).count());
+    }
+}
+
 }  // namespace nodeset_test

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <map>
+#include <set>
 #include <unordered_map>
 
 #include "kb/owl/embedded_ontologies.hpp"
@@ -322,18 +323,31 @@ Expected<Ontology> nodeSetToOntology(const ua::AddressSpace& known,
 Expected<std::vector<Ontology>> convertNodeSets(const std::vector<NodeSetText>& files,
                                                 bool includeBase, bool afterCompanionModels) {
     std::vector<Ontology> out;
-    const std::string_view baseXml = ua::embeddedModel("Opc.Ua.NodeSet2.Base.xml");
     if (includeBase) {
-        // Namespace 0 converted on its own: parsed against an empty address space, every
-        // node it points to is in the file itself.
-        ua::AddressSpace empty;
-        ua::ParsedNodeSet base;
-        if (auto s = ua::parseNodeSet(empty, baseXml, "Opc.Ua.NodeSet2.Base.xml", base); !s.ok()) {
-            return Error{s.error};
+        // Namespace 0 converted on its own: our subset parsed against an empty address
+        // space (every node it points to is in the file itself), then the Foundation's
+        // nodes the companion models use beyond it, into the same ontology.
+        ua::AddressSpace ns0;
+        Ontology merged;
+        for (const std::string_view file :
+             {"Opc.Ua.NodeSet2.Base.xml", "Opc.Ua.NodeSet2.Closure.xml"}) {
+            ua::ParsedNodeSet parsed;
+            if (auto s = ua::parseNodeSet(ns0, ua::embeddedModel(file), file, parsed); !s.ok()) {
+                return Error{s.error};
+            }
+            auto ontology = nodeSetToOntology(ns0, parsed);
+            if (!ontology) return Error{ontology.error()};
+            if (auto s = ua::commitNodeSet(ns0, parsed); !s.ok()) return Error{s.error};
+            if (merged.iri.empty()) {
+                merged = std::move(*ontology);
+                continue;
+            }
+            std::set<Triple> have(merged.triples.begin(), merged.triples.end());
+            for (auto& t : ontology->triples) {
+                if (have.insert(t).second) merged.triples.push_back(std::move(t));
+            }
         }
-        auto ontology = nodeSetToOntology(empty, base);
-        if (!ontology) return Error{ontology.error()};
-        out.push_back(std::move(*ontology));
+        out.push_back(std::move(merged));
     }
     ua::AddressSpace known;
     if (auto s = ua::loadBaseNodeSet(known); !s.ok()) return Error{s.error};
@@ -372,6 +386,7 @@ std::vector<rdf::Prefix> standardPrefixes() {
         {"opc", std::string(kOpc)},
         {"ua", "http://opcfoundation.org/UA/"},
         {"di", std::string(ua::companion::kDiUri)},
+        {"ia", std::string(ua::companion::kIaUri)},
         {"rob", std::string(ua::companion::kRoboticsUri)},
         {"skill", std::string(ua::companion::kSkillsUri)},
         {"rskill", std::string(ua::companion::kRoboticSkillsUri)},

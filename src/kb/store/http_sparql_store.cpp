@@ -49,15 +49,49 @@ Expected<SparqlResponse> HttpSparqlStore::query(const std::string& sparql,
     return SparqlResponse{std::move(reply->contentType), std::move(reply->body)};
 }
 
-Status HttpSparqlStore::replaceGraph(const std::string& graphIri, const std::string& nTriples) {
-    if (!replacesGraphs()) return SparqlStore::replaceGraph(graphIri, nTriples);
-    auto reply =
-        client_->put(endpoint_.graphStorePath, {{"graph", graphIri}}, nTriples, media::kNTriples);
+namespace {
+
+/// Bodies up to this size go to the graph store in one request.
+constexpr std::size_t kGraphPiece = std::size_t{256} * 1024;
+
+}  // namespace
+
+Status HttpSparqlStore::sendGraph(bool replace, const std::string& graphIri,
+                                  const std::string& nTriples) {
+    const http::Params graph{{"graph", graphIri}};
+    auto reply = replace
+                     ? client_->put(endpoint_.graphStorePath, graph, nTriples, media::kNTriples)
+                     : client_->post(endpoint_.graphStorePath, graph, nTriples, media::kNTriples);
     const std::string where = endpoint_.url.withPath(endpoint_.graphStorePath).toString();
     if (!reply) return Error{"graph store " + reply.error(), ErrorKind::Unavailable};
-    // 201 Created for a new graph, 200 or 204 for a replaced one.
+    // 201 Created for a new graph, 200 or 204 for a replaced or merged one.
     if (reply->status < 200 || reply->status > 299) return engineError(where, *reply);
     return Done{};
+}
+
+Status HttpSparqlStore::replaceGraph(const std::string& graphIri, const std::string& nTriples) {
+    if (!replacesGraphs()) return SparqlStore::replaceGraph(graphIri, nTriples);
+    if (nTriples.size() <= kGraphPiece) return sendGraph(true, graphIri, nTriples);
+    // A large graph goes in pieces (whole lines) into a staging graph that one update then
+    // moves over the graph: a store may answer the first request of an authentication
+    // exchange before it has read a large body and hang up (Virtuoso with Digest does), and
+    // a reader sees the old graph or the new one, never half of it.
+    const std::string staging =
+        graphIri + (graphIri.find('#') == std::string::npos ? "#staging" : "-staging");
+    bool first = true;
+    for (std::size_t begin = 0; begin < nTriples.size(); first = false) {
+        std::size_t end = nTriples.size();
+        if (begin + kGraphPiece < end) {
+            const std::size_t nl = nTriples.find('\n', begin + kGraphPiece);
+            end = nl == std::string::npos ? end : nl + 1;
+        }
+        if (auto st = sendGraph(first, staging, nTriples.substr(begin, end - begin)); !st) {
+            (void)update("DROP SILENT GRAPH <" + staging + ">");
+            return st;
+        }
+        begin = end;
+    }
+    return update("MOVE <" + staging + "> TO <" + graphIri + ">");
 }
 
 Status HttpSparqlStore::update(const std::string& sparqlUpdate) {

@@ -46,6 +46,10 @@ public:
     [[nodiscard]] const HttpSparqlEndpoint& endpoint() const { return endpoint_; }
 
 private:
+    /// One Graph Store request: PUT (replace) or POST (merge) of `nTriples` into the graph.
+    [[nodiscard]] Status sendGraph(bool replace, const std::string& graphIri,
+                                   const std::string& nTriples);
+
     HttpSparqlEndpoint endpoint_;
     std::unique_ptr<http::HttpClient> client_;
 };

@@ -1,8 +1,9 @@
 #pragma once
-// skillcell's companion models (models/Skillcell.*.NodeSet2.xml, docs/models/): the DI and
-// Robotics subsets and the skill specifications layered on them as in the paper's figure 4.
-// They are compiled into the library like namespace 0 and loaded at run time, in
-// dependency order, by loadCompanionModels.
+// The companion models every skillcell server loads: the OPC Foundation's DI (OPC 10000-100),
+// IA and Robotics (OPC 40010-1) NodeSets as published (models/opcfoundation/, MIT), and
+// skillcell's skill specifications layered on DI (models/Skillcell.*.NodeSet2.xml,
+// docs/models/), as in the paper's figure 4. The XML is compiled into the library like
+// namespace 0 and parsed at run time, in dependency order, by loadCompanionModels.
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -20,8 +21,11 @@ struct CompanionModel {
 };
 
 namespace companion {
-inline constexpr std::string_view kDiUri = "http://skillcell.dev/UA/DI/";
-inline constexpr std::string_view kRoboticsUri = "http://skillcell.dev/UA/Robotics/";
+// The OPC Foundation's models (models/opcfoundation/, their NodeSet2 files as published).
+inline constexpr std::string_view kDiUri = "http://opcfoundation.org/UA/DI/";
+inline constexpr std::string_view kIaUri = "http://opcfoundation.org/UA/IA/";
+inline constexpr std::string_view kRoboticsUri = "http://opcfoundation.org/UA/Robotics/";
+// skillcell's own, layered on DI.
 inline constexpr std::string_view kSkillsUri = "http://skillcell.dev/UA/Skills/";
 inline constexpr std::string_view kRoboticSkillsUri = "http://skillcell.dev/UA/RoboticSkills/";
 inline constexpr std::string_view kGripperSkillsUri = "http://skillcell.dev/UA/GripperSkills/";
@@ -37,9 +41,10 @@ inline constexpr std::uint32_t kReservationType = 1003;
 }  // namespace companion
 
 /// Every companion model, each after the models it requires.
-inline constexpr std::array<CompanionModel, 8> kCompanionModels{{
-    {companion::kDiUri, "Skillcell.DI.NodeSet2.xml"},
-    {companion::kRoboticsUri, "Skillcell.Robotics.NodeSet2.xml"},
+inline constexpr std::array<CompanionModel, 9> kCompanionModels{{
+    {companion::kDiUri, "Opc.Ua.Di.NodeSet2.xml"},
+    {companion::kIaUri, "Opc.Ua.IA.NodeSet2.xml"},
+    {companion::kRoboticsUri, "Opc.Ua.Robotics.NodeSet2.xml"},
     {companion::kSkillsUri, "Skillcell.Skills.NodeSet2.xml"},
     {companion::kRoboticSkillsUri, "Skillcell.RoboticSkills.NodeSet2.xml"},
     {companion::kGripperSkillsUri, "Skillcell.GripperSkills.NodeSet2.xml"},

@@ -200,12 +200,25 @@ int compareVersions(std::string_view a, std::string_view b) {
     return 0;
 }
 
+std::string lineText(const ParsedNodeSet& p, std::size_t line);
+NodeSetStatus checkRequiredModels(const AddressSpace& as, const ParsedNodeSet& parsed);
+
 class Parser {
 public:
     Parser(const AddressSpace& as, std::string_view xml, std::string_view source)
         : as_(as), xml_(xml), source_(source) {}
 
     NodeSetStatus run(ParsedNodeSet& out) {
+        NodeSetStatus st = runPasses(out);
+        if (st.ok()) return st;
+        // A file read before its prerequisites fails on their types or aliases: say what
+        // is missing rather than which of its uses broke first.
+        NodeSetStatus required = checkRequiredModels(as_, out);
+        return required.ok() ? st : required;
+    }
+
+private:
+    NodeSetStatus runPasses(ParsedNodeSet& out) {
         pugi::xml_document doc;
         const auto res =
             doc.load_buffer(xml_.data(), xml_.size(), pugi::parse_default, pugi::encoding_utf8);
@@ -310,7 +323,6 @@ public:
         return ok;
     }
 
-private:
     static std::optional<NodeClass> nodeClassOf(std::string_view name) {
         if (name == "UAObject") return NodeClass::Object;
         if (name == "UAVariable") return NodeClass::Variable;
@@ -968,19 +980,10 @@ std::string lineText(const ParsedNodeSet& p, std::size_t line) {
     return p.source + ":" + std::to_string(line) + ": ";
 }
 
-}  // namespace
-
-NodeSetStatus parseNodeSet(const AddressSpace& as, std::string_view xml,
-                           std::string_view sourceName, ParsedNodeSet& out) {
-    out = ParsedNodeSet{};
-    return Parser(as, xml, sourceName).run(out);
-}
-
-NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
+// Required models first (loaded before, or declared by this file, and recent enough): a
+// file loaded before its prerequisites is told so, not that a node or a type is missing.
+NodeSetStatus checkRequiredModels(const AddressSpace& as, const ParsedNodeSet& parsed) {
     NodeSetStatus st;
-    // Check everything first: a failed load leaves the address space as it was.
-    // Required models first (loaded before, or declared by this file, and recent enough):
-    // a file loaded before its prerequisites is told so, not that a node is missing.
     for (const auto& m : parsed.models) {
         for (const auto& req : m.required) {
             const AddressSpace::Model* loaded = as.findModel(req.uri);
@@ -1020,6 +1023,21 @@ NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
             }
         }
     }
+    return st;
+}
+
+}  // namespace
+
+NodeSetStatus parseNodeSet(const AddressSpace& as, std::string_view xml,
+                           std::string_view sourceName, ParsedNodeSet& out) {
+    out = ParsedNodeSet{};
+    return Parser(as, xml, sourceName).run(out);
+}
+
+NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
+    // Check everything first: a failed load leaves the address space as it was.
+    NodeSetStatus st = checkRequiredModels(as, parsed);
+    if (!st.ok()) return st;
 
     std::unordered_map<NodeId, const ParsedNode*> inFile;
     inFile.reserve(parsed.nodes.size());
@@ -1092,10 +1110,24 @@ NodeSetStatus loadNodeSetFile(AddressSpace& as, const std::filesystem::path& pat
 }
 
 NodeSetStatus loadBaseNodeSet(AddressSpace& as) {
-    constexpr std::string_view kBase = "Opc.Ua.NodeSet2.Base.xml";
-    const auto xml = embeddedModel(kBase);
-    if (xml.empty()) return NodeSetStatus{"models/Opc.Ua.NodeSet2.Base.xml: not embedded", 0, 0};
-    return loadNodeSet(as, xml, "models/Opc.Ua.NodeSet2.Base.xml");
+    // Our subset, then the namespace-0 nodes the OPC Foundation's companion models use
+    // beyond it (from the Foundation's own NodeSet, models/opcfoundation/).
+    NodeSetStatus total;
+    for (const std::string_view file :
+         {"Opc.Ua.NodeSet2.Base.xml", "opcfoundation/Opc.Ua.NodeSet2.Closure.xml"}) {
+        const std::string_view name = file.substr(file.find('/') + 1);
+        const std::string source = "models/" + std::string(file);
+        const auto xml = embeddedModel(name);
+        if (xml.empty()) return NodeSetStatus{source + ": not embedded", 0, 0};
+        const auto st = loadNodeSet(as, xml, source);
+        total.nodes += st.nodes;
+        total.references += st.references;
+        if (!st.ok()) {
+            total.error = st.error;
+            return total;
+        }
+    }
+    return total;
 }
 
 }  // namespace skillcell::ua

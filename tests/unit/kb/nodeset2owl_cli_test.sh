@@ -22,7 +22,7 @@ expect_err() { grep -qF -- "$1" "$tmp/err" || fail "missing in stderr: $1"; }
 # Usage errors: 2, saying what to give.
 run 2
 expect_err "give NodeSet2 files or --embedded"
-run 2 --embedded "$models/Skillcell.DI.NodeSet2.xml"
+run 2 --embedded "$models/opcfoundation/Opc.Ua.Di.NodeSet2.xml"
 expect_err "give NodeSet2 files or --embedded"
 run 2 --embedded
 expect_err "give --output-dir"
@@ -35,10 +35,10 @@ run 1 "$tmp/broken.xml"
 expect_err "broken.xml"
 # A model without the one it requires (Skills requires DI): named.
 run 1 "$models/Skillcell.Skills.NodeSet2.xml"
-expect_err "http://skillcell.dev/UA/DI/"
+expect_err "http://opcfoundation.org/UA/DI/"
 
 # A good run: one file per ontology, each Turtle.
-run 0 "$models/Skillcell.DI.NodeSet2.xml" "$models/Skillcell.Skills.NodeSet2.xml" -o "$tmp/owl" --core
+run 0 "$models/opcfoundation/Opc.Ua.Di.NodeSet2.xml" "$models/Skillcell.Skills.NodeSet2.xml" -o "$tmp/owl" --core
 [ "$(grep -c '^WROTE ' "$tmp/out")" = 3 ] || fail "expected 3 WROTE lines: $(cat "$tmp/out")"
 grep -q 'owl:Ontology' "$tmp/owl/opcua-core.ttl" || fail "opcua-core.ttl is not an ontology"
 ls "$tmp/owl" | grep -q 'Skills' || fail "no ontology of the Skills model: $(ls "$tmp/owl")"
