@@ -1,7 +1,7 @@
 #!/usr/bin/env node
 // node-opcua conformance client for the skillcell interop tests.
 //
-// usage: node client.js opc.tcp://HOST:PORT [--skip-method] [--strict] [--max-refs N]
+// usage: node client.js opc.tcp://HOST:PORT [--skip-method] [--strict] [--max-refs N] [--no-demo]
 //
 //   (a) browses recursively from RootFolder (i=84), forward HierarchicalReferences
 //       (and subtypes), following BrowseNext continuation points; cycle-safe; at
@@ -16,6 +16,7 @@
 //              exist, that attributes foreign to the NodeClass are reported as
 //              BadAttributeIdInvalid, and that no attribute read says
 //              BadNodeIdUnknown for a node the server itself returned.
+// --no-demo    a server without the Demo namespace (a device): (c) and (d) are skipped.
 // --max-refs N requestedMaxReferencesPerNode for Browse (default 0 = server
 //              decides); a small N forces continuation points / BrowseNext.
 "use strict";
@@ -40,7 +41,7 @@ const {
     stringNodeId
 } = require("./common");
 
-const USAGE = "usage: node client.js opc.tcp://HOST:PORT [--skip-method] [--strict] [--max-refs N]";
+const USAGE = "usage: node client.js opc.tcp://HOST:PORT [--skip-method] [--strict] [--max-refs N] [--no-demo]";
 const OVERALL_TIMEOUT_MS = 60000;
 const MAX_NODES = 20000;
 const ROOT_FOLDER = "ns=0;i=84";
@@ -82,10 +83,11 @@ function fail(msg) {
 }
 
 function parseArgs(argv) {
-    const opts = { url: null, skipMethod: false, strict: false, maxRefs: 0 };
+    const opts = { url: null, skipMethod: false, strict: false, maxRefs: 0, demo: true };
     for (let i = 0; i < argv.length; i++) {
         const a = argv[i];
         if (a === "--skip-method") opts.skipMethod = true;
+        else if (a === "--no-demo") opts.demo = false;
         else if (a === "--strict") opts.strict = true;
         else if (a === "--max-refs" && i + 1 < argv.length) opts.maxRefs = Number(argv[++i]);
         else if (a === "-h" || a === "--help") {
@@ -612,7 +614,7 @@ async function main() {
         ({ client, session } = await connect(opts.url, "skillcell-interop-client", fail));
 
         const { index: ns, namespaces } = await resolveNamespaceIndex(session, DEMO_NAMESPACE_URI);
-        if (ns < 0) fail(`namespace ${DEMO_NAMESPACE_URI} not in NamespaceArray [${namespaces.join(", ")}]`);
+        if (ns < 0 && opts.demo) fail(`namespace ${DEMO_NAMESPACE_URI} not in NamespaceArray [${namespaces.join(", ")}]`);
 
         const maxBrowse = await readOperationLimit(session, OP_LIMIT_MAX_NODES_PER_BROWSE);
         const maxRead = await readOperationLimit(session, OP_LIMIT_MAX_NODES_PER_READ);

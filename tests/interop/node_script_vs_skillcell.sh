@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Interop: a node-opcua client script against our server.
 # Usage: node_script_vs_skillcell.sh PATH/TO/skillcell SCRIPT.js [-- SERVER ARGS... [-- SCRIPT ARGS...]]
-# Starts `skillcell server --port 0 --insecure` (with the extra server arguments; the secured
+# Starts `skillcell server --port 0 --insecure` (with the extra server arguments; SERVER ARGS
+# that begin with `device NAME` start that device instead of `server`; the secured
 # server has its own driver, node_secure_client_vs_skillcell.sh), learns its port from the READY line, runs the script
 # with the server's URL (client.js: browse from Root, read every attribute of every node,
 # write + read back, call; subscribe.js: data change after a write, event after
@@ -26,7 +27,12 @@ source "$here/interop_lib.sh"
 interop_require_node
 interop_temp_dir
 mkfifo "$tmp/ready"
-"$skillcell" server --port 0 --host 127.0.0.1 --no-discovery --pki-dir "$tmp/pki" --insecure \
+command=(server)
+if [ "${server_args[0]:-}" = device ]; then
+  command=(device "${server_args[1]}")
+  server_args=("${server_args[@]:2}")
+fi
+"$skillcell" "${command[@]}" --port 0 --host 127.0.0.1 --no-discovery --pki-dir "$tmp/pki" --insecure \
   ${server_args[@]+"${server_args[@]}"} >"$tmp/ready" 2>"$tmp/server.log" &
 pid=$!
 exec 3<"$tmp/ready"

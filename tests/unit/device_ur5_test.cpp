@@ -19,6 +19,7 @@
 #include "running_server.hpp"
 #include "ua/encoding/codec.hpp"
 #include "ua/messages/data_access.hpp"
+#include "ua/nodeset/companion_models.hpp"
 
 namespace skillcell::devices::device_ur5_test {
 namespace {
@@ -294,6 +295,21 @@ public:
             return node == nullptr ? ua::Variant() : *s.addressSpace().readValue(*node).value;
         });
     }
+    /// The value at a browse path (namespace URI, name pairs) from Objects.
+    ua::Variant readPath(const std::vector<std::pair<std::string_view, std::string>>& path) {
+        return server_.inServer([&](ua::Server& s) {
+            const ua::AddressSpace& as = s.addressSpace();
+            ua::NodeId at(ua::ns0::ObjectsFolder);
+            for (const auto& [uri, name] : path) {
+                const auto ns =
+                    uri.empty() ? std::optional<std::uint16_t>(1) : as.namespaceIndex(uri);
+                const ua::Node* n = ns ? as.findChild(at, ua::QualifiedName{*ns, name}) : nullptr;
+                if (n == nullptr) return ua::Variant();
+                at = n->nodeId;
+            }
+            return *as.readValue(*as.find(at)).value;
+        });
+    }
     KDL::Frame forward(const Joints& q) { return kinematics_.forward(q); }
     TickCounter& ticks() { return ticks_; }
     static ua::NodeId skill(const std::string& name) {
@@ -369,6 +385,48 @@ TEST(DeviceUr5Skills, JointAndCartesianMovesReachTheirTargets) {
     outcome = t.invoke(jlin, {{"TargetJointPosition", joints(nearby)}}, 10s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     EXPECT_LT(maxDiff(cell.joints(), nearby), 1e-6);
+}
+
+// A client that knows the OPC Foundation's Robotics model and nothing of skillcell finds the
+// arm in DI's DeviceSet: its nameplate, its category, and each axis's ActualPosition.
+TEST(DeviceUr5Skills, TheArmIsInTheRoboticsModelWithEachAxisPosition) {
+    namespace cm = ua::companion;
+    Ur5Cell cell;
+    test::ClientThread t;
+    auto ptp = t.attach(cell.url(), Ur5Cell::skill("JointPtpMove"));
+    ASSERT_TRUE(ptp);
+    const Joints target{0.5, -1.3, 1.2, -1.5, -1.57, 0.2};
+    auto outcome = t.invoke(ptp, {{"TargetJointPosition", joints(target)}}, 10s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+
+    using Path = std::vector<std::pair<std::string_view, std::string>>;
+    const Path device{{cm::kDiUri, "DeviceSet"},
+                      {"", "UR5System"},
+                      {cm::kRoboticsUri, "MotionDevices"},
+                      {"", "UR5"}};
+    auto at = [&](Path tail) {
+        Path p = device;
+        p.insert(p.end(), tail.begin(), tail.end());
+        return cell.readPath(p);
+    };
+    const ua::Variant manufacturerValue = at({{cm::kDiUri, "Manufacturer"}});
+    const auto* manufacturer = manufacturerValue.get<ua::LocalizedText>();
+    ASSERT_NE(manufacturer, nullptr);
+    EXPECT_EQ(manufacturer->text, "Universal Robots");
+    const ua::Variant categoryValue = at({{cm::kRoboticsUri, "MotionDeviceCategory"}});
+    const auto* category = categoryValue.get<std::int32_t>();
+    ASSERT_NE(category, nullptr);
+    EXPECT_EQ(*category, 1);  // ARTICULATED_ROBOT
+    const char* axes[] = {"Base", "Shoulder", "Elbow", "Wrist1", "Wrist2", "Wrist3"};
+    for (std::size_t i = 0; i < kUr5Joints; ++i) {
+        const auto value = at({{cm::kRoboticsUri, "Axes"},
+                               {"", axes[i]},
+                               {cm::kDiUri, "ParameterSet"},
+                               {cm::kRoboticsUri, "ActualPosition"}});
+        const auto* position = value.get<double>();
+        ASSERT_NE(position, nullptr) << axes[i];
+        EXPECT_NEAR(*position, target[i], 1e-9) << axes[i];
+    }
 }
 
 TEST(DeviceUr5Skills, AnUnreachableTargetHaltsTheSkillWithTheReason) {

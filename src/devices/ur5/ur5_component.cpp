@@ -1,6 +1,7 @@
 #include "devices/ur5/ur5_component.hpp"
 
 #include "devices/common/frame.hpp"
+#include "devices/common/motion_device_system.hpp"
 #include "devices/ur5/move_behaviour.hpp"
 
 namespace skillcell::devices {
@@ -53,6 +54,21 @@ ua::StatusCode Ur5Component::build(std::string* error) {
                                           [this](const Joints& q) { publish(q); });
     skills_ = skills::SkillServer::create(server_, server_.executor(), error);
     if (!skills_) return ua::status::BadConfigurationError;
+    // The same arm as the Robotics model shows it, for clients that know that model (the
+    // skill server has loaded the companion models).
+    MotionDeviceDescription description;
+    description.name = "UR5";
+    description.manufacturer = "Universal Robots";
+    description.model = "UR5";
+    description.productCode = "UR5";
+    description.axes = {"Base", "Shoulder", "Elbow", "Wrist1", "Wrist2", "Wrist3"};
+    auto motionDevice = MotionDeviceSystem::create(as, description);
+    if (!motionDevice) {
+        if (error != nullptr) *error = "cannot add the UR5 to the Robotics model's DeviceSet";
+        return motionDevice.status();
+    }
+    motionDevice_ = std::move(*motionDevice);
+
     struct SkillSpec {
         const char* type;
         const char* name;
@@ -103,6 +119,7 @@ void Ur5Component::publish(const Joints& q) {
     (void)as.setValue(ua::NodeId(1, ua::String("UR5/JointPositions")),
                       ua::Variant::array(std::vector<double>(q.begin(), q.end())));
     (void)as.setValue(ua::NodeId(1, ua::String("UR5/FlangePose")), frameToVariant(flange));
+    if (motionDevice_) motionDevice_->update(as, std::span<const double>(q.data(), q.size()));
     (void)as.setValue(ua::NodeId(1, ua::String("UR5/TcpPose")),
                       frameToVariant(flange * toolFrame_));
     if (options_.onFlange) options_.onFlange(flange);

@@ -2,11 +2,15 @@
 // Ur5Component: everything `skillcell device ur5` serves: the simulated arm, the four
 // move skills in Objects/Skills (CartesianLinearMove, CartesianPtpMove, JointLinearMove,
 // JointPtpMove) and Objects/UR5 with the arm's state as variables (JointPositions,
-// FlangePose, TcpPose, ToolFrame: the ToolFrame of the last move, which defines the TCP).
+// FlangePose, TcpPose, ToolFrame: the ToolFrame of the last move, which defines the TCP),
+// and the arm in the Robotics model: DeviceSet/UR5System/MotionDevices/UR5 with its six axes'
+// ActualPosition (motion_device_system.hpp).
 // Build and destroy it on the server's io_context thread.
 #include <functional>
 #include <memory>
+#include <optional>
 
+#include "devices/common/motion_device_system.hpp"
 #include "devices/ur5/motion_planner.hpp"
 #include "devices/ur5/simulated_ur5.hpp"
 #include "devices/ur5/ur5_kinematics.hpp"
@@ -52,6 +56,7 @@ private:
     MotionPlanner planner_;
     ua::NodeId robot_;
     KDL::Frame toolFrame_ = KDL::Frame::Identity();
+    std::optional<MotionDeviceSystem> motionDevice_;  // DeviceSet/UR5System (Robotics model)
     std::unique_ptr<SimulatedUr5> arm_;
     // After the arm: the skills' behaviours refer to it, so they go first.
     std::unique_ptr<skills::SkillServer> skills_;
