@@ -5,6 +5,23 @@
 #include <cerrno>
 
 namespace skillcell::devices {
+namespace {
+
+constexpr int kAttempts = 3;
+
+/// Runs a request again when its reply was lost (a timeout), as masters on real lines do:
+/// writing registers and reading them are idempotent. Other errors are not retried; errno
+/// is the failed attempt's.
+template <class Request>
+bool withRetries(modbus_t* ctx, Request request) {
+    for (int attempt = 1;; ++attempt) {
+        if (request()) return true;
+        if (errno != ETIMEDOUT || attempt == kAttempts) return false;
+        modbus_flush(ctx);  // a late reply must not answer the next request
+    }
+}
+
+}  // namespace
 
 struct ModbusRtuMaster::Context {
     explicit Context(modbus_t* c) : ctx(c) {}
@@ -33,7 +50,8 @@ ua::Result<std::unique_ptr<ModbusRtuMaster>> ModbusRtuMaster::open(const std::st
         if (why != nullptr) *why = device + ": " + modbus_strerror(errno);
         return ua::status::BadCommunicationError;
     }
-    // A reply that does not come within 200 ms is lost (the grippers answer in ~1 ms).
+    // A reply that does not come within 200 ms is lost (the grippers answer in ~1 ms); the
+    // request is then sent again, up to kAttempts in all.
     modbus_set_response_timeout(ctx, 0, 200'000);
     return master;
 }
@@ -47,21 +65,31 @@ ua::StatusCode ModbusRtuMaster::failed(const char* what) {
 ua::StatusCode ModbusRtuMaster::writeRegisters(std::uint16_t address,
                                                std::span<const std::uint16_t> values) {
     const int n = static_cast<int>(values.size());
-    if (modbus_write_registers(ctx_->ctx, address, n, values.data()) != n) return failed("write");
+    modbus_t* ctx = ctx_->ctx;
+    if (!withRetries(ctx,
+                     [&] { return modbus_write_registers(ctx, address, n, values.data()) == n; })) {
+        return failed("write");
+    }
     return ua::status::Good;
 }
 
 ua::StatusCode ModbusRtuMaster::readHoldingRegisters(std::uint16_t address,
                                                      std::span<std::uint16_t> out) {
     const int n = static_cast<int>(out.size());
-    if (modbus_read_registers(ctx_->ctx, address, n, out.data()) != n) return failed("read");
+    modbus_t* ctx = ctx_->ctx;
+    if (!withRetries(ctx,
+                     [&] { return modbus_read_registers(ctx, address, n, out.data()) == n; })) {
+        return failed("read");
+    }
     return ua::status::Good;
 }
 
 ua::StatusCode ModbusRtuMaster::readInputRegisters(std::uint16_t address,
                                                    std::span<std::uint16_t> out) {
     const int n = static_cast<int>(out.size());
-    if (modbus_read_input_registers(ctx_->ctx, address, n, out.data()) != n) {
+    modbus_t* ctx = ctx_->ctx;
+    if (!withRetries(
+            ctx, [&] { return modbus_read_input_registers(ctx, address, n, out.data()) == n; })) {
         return failed("read");
     }
     return ua::status::Good;
