@@ -8,18 +8,7 @@ NodeSetStatus loadCompanionModels(AddressSpace& as) {
     NodeSetStatus total;
     for (const auto& model : kCompanionModels) {
         if (as.findModel(model.uri) != nullptr) continue;
-        const std::string_view xml = embeddedModel(model.fileName);
-        if (xml.empty()) {
-            total.error = std::string(model.fileName) + ": not embedded";
-            return total;
-        }
-        const auto st = loadNodeSet(as, xml, model.fileName);
-        total.nodes += st.nodes;
-        total.references += st.references;
-        if (!st.ok()) {
-            total.error = st.error;
-            return total;
-        }
+        if (!loadEmbeddedModel(as, model.fileName, model.fileName, total)) break;
     }
     return total;
 }

@@ -1109,23 +1109,26 @@ NodeSetStatus loadNodeSetFile(AddressSpace& as, const std::filesystem::path& pat
     return loadNodeSet(as, xml, path.string());
 }
 
+bool loadEmbeddedModel(AddressSpace& as, std::string_view fileName, std::string_view sourceName,
+                       NodeSetStatus& total) {
+    const auto xml = embeddedModel(fileName);
+    if (xml.empty()) {
+        total.error = std::string(sourceName) + ": not embedded";
+        return false;
+    }
+    const auto st = loadNodeSet(as, xml, sourceName);
+    total.nodes += st.nodes;
+    total.references += st.references;
+    if (!st.ok()) total.error = st.error;
+    return st.ok();
+}
+
 NodeSetStatus loadBaseNodeSet(AddressSpace& as) {
-    // Our subset, then the namespace-0 nodes the OPC Foundation's companion models use
-    // beyond it (from the Foundation's own NodeSet, models/opcfoundation/).
     NodeSetStatus total;
-    for (const std::string_view file :
-         {"Opc.Ua.NodeSet2.Base.xml", "opcfoundation/Opc.Ua.NodeSet2.Closure.xml"}) {
-        const std::string_view name = file.substr(file.find('/') + 1);
-        const std::string source = "models/" + std::string(file);
-        const auto xml = embeddedModel(name);
-        if (xml.empty()) return NodeSetStatus{source + ": not embedded", 0, 0};
-        const auto st = loadNodeSet(as, xml, source);
-        total.nodes += st.nodes;
-        total.references += st.references;
-        if (!st.ok()) {
-            total.error = st.error;
-            return total;
-        }
+    if (loadEmbeddedModel(as, "Opc.Ua.NodeSet2.Base.xml", "models/Opc.Ua.NodeSet2.Base.xml",
+                          total)) {
+        (void)loadEmbeddedModel(as, "Opc.Ua.NodeSet2.Closure.xml",
+                                "models/opcfoundation/Opc.Ua.NodeSet2.Closure.xml", total);
     }
     return total;
 }

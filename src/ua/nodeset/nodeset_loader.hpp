@@ -91,7 +91,12 @@ struct NodeSetStatus {
 [[nodiscard]] std::string_view embeddedModel(std::string_view fileName);
 /// Names of all embedded model files.
 [[nodiscard]] std::vector<std::string_view> embeddedModelNames();
-/// Loads namespace 0 (the embedded models/Opc.Ua.NodeSet2.Base.xml).
+/// Loads the embedded `fileName` and adds its counts (or its error) to `total`; false on
+/// error (also when it is not embedded). Messages name the file `sourceName`.
+bool loadEmbeddedModel(AddressSpace& as, std::string_view fileName, std::string_view sourceName,
+                       NodeSetStatus& total);
+/// Loads namespace 0: our subset (models/Opc.Ua.NodeSet2.Base.xml), then the nodes the OPC
+/// Foundation's companion models use beyond it (models/opcfoundation/...Closure.xml).
 [[nodiscard]] NodeSetStatus loadBaseNodeSet(AddressSpace& as);
 
 }  // namespace skillcell::ua
