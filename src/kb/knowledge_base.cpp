@@ -284,7 +284,10 @@ Status KnowledgeBase::loadTurtle(const std::string& graphIri, std::string_view t
 
 Expected<std::vector<GraphData>> KnowledgeBase::builtInModels(bool withDemoProcess) {
     std::vector<GraphData> graphs;
-    auto ontologies = owl::embeddedModelOntologies();
+    // The reasoner realizes the whole KB on every load: the OPC Foundation's DI, IA and
+    // Robotics would triple its work for nothing a process queries (a component's use of
+    // them loads them from --models).
+    auto ontologies = owl::embeddedModelOntologies(false);
     if (!ontologies) return ontologies.failure();
     for (auto& o : *ontologies) graphs.push_back({o.iri, std::move(o.triples)});
     struct File {

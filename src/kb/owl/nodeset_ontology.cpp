@@ -321,7 +321,8 @@ Expected<Ontology> nodeSetToOntology(const ua::AddressSpace& known,
 }
 
 Expected<std::vector<Ontology>> convertNodeSets(const std::vector<NodeSetText>& files,
-                                                bool includeBase, bool afterCompanionModels) {
+                                                bool includeBase, bool afterCompanionModels,
+                                                bool withClosure) {
     std::vector<Ontology> out;
     if (includeBase) {
         // Namespace 0 converted on its own: our subset parsed against an empty address
@@ -331,6 +332,7 @@ Expected<std::vector<Ontology>> convertNodeSets(const std::vector<NodeSetText>& 
         Ontology merged;
         for (const std::string_view file :
              {"Opc.Ua.NodeSet2.Base.xml", "Opc.Ua.NodeSet2.Closure.xml"}) {
+            if (!withClosure && file != "Opc.Ua.NodeSet2.Base.xml") break;
             ua::ParsedNodeSet parsed;
             if (auto s = ua::parseNodeSet(ns0, ua::embeddedModel(file), file, parsed); !s.ok()) {
                 return Error{s.error};
@@ -368,13 +370,20 @@ Expected<std::vector<Ontology>> convertNodeSets(const std::vector<NodeSetText>& 
     return out;
 }
 
-Expected<std::vector<Ontology>> embeddedModelOntologies() {
+Expected<std::vector<Ontology>> embeddedModelOntologies(bool withFoundationModels) {
     std::vector<NodeSetText> files;
     files.reserve(ua::kCompanionModels.size());
     for (const auto& m : ua::kCompanionModels) {
         files.push_back({std::string(m.fileName), std::string(ua::embeddedModel(m.fileName))});
     }
-    return convertNodeSets(files, true);
+    auto all = convertNodeSets(files, true, false, withFoundationModels);
+    if (!all || withFoundationModels) return all;
+    // Converted all the same (each file is parsed against the ones before it); dropped here.
+    std::erase_if(*all, [](const Ontology& o) {
+        return o.iri == ua::companion::kDiUri || o.iri == ua::companion::kIaUri ||
+               o.iri == ua::companion::kRoboticsUri;
+    });
+    return all;
 }
 
 std::vector<rdf::Prefix> standardPrefixes() {

@@ -52,14 +52,20 @@ struct NodeSetText {
 /// NodeSet) and the ones before it. The base NodeSet's own ontology comes first when
 /// `includeBase`. On error nothing is returned; the message names the file and line.
 /// With `afterCompanionModels`, the embedded companion models are loaded first (not
-/// converted), so that the files may require them too.
+/// converted), so that the files may require them too. Namespace 0's ontology includes the
+/// nodes the OPC Foundation's models use beyond our subset (the closure) unless
+/// `withClosure` is false.
 [[nodiscard]] Expected<std::vector<Ontology>> convertNodeSets(const std::vector<NodeSetText>& files,
                                                               bool includeBase,
-                                                              bool afterCompanionModels = false);
+                                                              bool afterCompanionModels = false,
+                                                              bool withClosure = true);
 
 /// The embedded NodeSets (models/*.xml): namespace 0 and every companion model, in
-/// dependency order, each as an ontology.
-[[nodiscard]] Expected<std::vector<Ontology>> embeddedModelOntologies();
+/// dependency order, each as an ontology. Without `withFoundationModels`, only namespace 0
+/// (our subset) and skillcell's skill models: what processes are written against, and a
+/// quarter of the triples a reasoner would otherwise realize on every load.
+[[nodiscard]] Expected<std::vector<Ontology>> embeddedModelOntologies(
+    bool withFoundationModels = true);
 
 /// The prefixes Turtle output uses (rdf, rdfs, owl, xsd, opc, ua and the companion models).
 [[nodiscard]] std::vector<rdf::Prefix> standardPrefixes();
