@@ -5,6 +5,7 @@
 # the grasp planning of the pick-and-place composite (pure geometry).
 skillcell_unit_test(test_devices
   device_world_test.cpp
+  device_din_rail_test.cpp
   device_ur5_test.cpp
   device_robotiq_test.cpp
   device_cell_test.cpp

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "devices/common/frame.hpp"
 
 namespace skillcell::devices {
@@ -20,7 +22,8 @@ bool positive(const BoxSize& s) {
 }  // namespace
 
 bool World::idTaken(const std::string& id) const {
-    return objects_.contains(id) || tools_.contains(id) || docks_.contains(id);
+    return objects_.contains(id) || tools_.contains(id) || docks_.contains(id) ||
+           rails_.contains(id);
 }
 
 bool World::flangeAt(const ToolDock& dock) const {
@@ -98,20 +101,90 @@ ua::StatusCode World::moveTool(const std::string& toolId, const std::string& doc
     return ua::status::Good;
 }
 
+ua::StatusCode World::addRail(DinRail rail, std::string* why) {
+    if (rail.id.empty()) return fail(ua::status::BadInvalidArgument, why, "empty rail id");
+    if (!std::isfinite(rail.length) || rail.length <= 0 || !std::isfinite(rail.width) ||
+        rail.width <= 0) {
+        return fail(ua::status::BadInvalidArgument, why,
+                    "rail " + rail.id + ": its length and width must be positive");
+    }
+    if (idTaken(rail.id)) {
+        return fail(ua::status::BadNodeIdExists, why, "id " + rail.id + " is taken");
+    }
+    const std::string id = rail.id;
+    rails_.emplace(id, std::move(rail));
+    ++revision_;
+    return ua::status::Good;
+}
+
 ua::StatusCode World::removeObject(const std::string& id, std::string* why) {
     if (!objects_.contains(id)) return fail(ua::status::BadNotFound, why, "no object " + id);
     if (grasped_ == id) {
         return fail(ua::status::BadInvalidState, why, "object " + id + " is grasped");
     }
     objects_.erase(id);
+    railMounts_.erase(id);
     ++revision_;
     return ua::status::Good;
 }
 
 void World::setFlangePose(const KDL::Frame& flange) {
     flange_ = flange;
-    if (!grasped_.empty()) objects_.at(grasped_).pose = flange_ * flangeToGrasped_;
+    if (!grasped_.empty()) {
+        objects_.at(grasped_).pose = flange_ * flangeToGrasped_;
+        trackHeldBlock();
+    }
     ++revision_;
+}
+
+std::optional<std::string> World::blockInTheWay(const std::string& rail, double position,
+                                                double width) const {
+    for (const auto& [id, mount] : railMounts_) {
+        if (mount.rail != rail) continue;
+        const double otherWidth = objects_.at(id).size.x;
+        if (spansOverlap(position, width, mount.position, otherWidth, tolerances_.railOverlap)) {
+            return id;
+        }
+    }
+    return std::nullopt;
+}
+
+void World::trackHeldBlock() {
+    const WorldObject& block = objects_.at(grasped_);
+    const std::optional<RailMount> before = hooked_;
+    hooked_.reset();
+    snapped_ = false;
+    railRefusal_.clear();
+    if (block.kind != ObjectKind::TerminalBlock) return;
+    for (const auto& [id, rail] : rails_) {
+        const auto contact = railContact(rail, block.pose, block.size, tolerances_.railContact);
+        if (!contact) continue;
+        hooked_ = RailMount{id, contact->position};
+        if (contact->tilt > kSnapTilt) return;  // hooked, not yet rotated down
+        // Lying flat on the rail. It snaps only when it was rotated down about the upper
+        // edge from where it hooked: a block pressed straight down meets the upper edge
+        // with its foot and stays on top.
+        const bool rotatedDown =
+            before && before->rail == id &&
+            std::abs(before->position - contact->position) <= tolerances_.railContact;
+        if (!rotatedDown) {
+            railRefusal_ = "terminal block " + block.id + " came down flat on rail " + id +
+                           " without hooking over its upper edge first";
+            return;
+        }
+        // The spring foot snaps over the lower edge, unless another block stands where this
+        // one would sit (it rests on that block instead).
+        if (const auto other = blockInTheWay(id, contact->position, block.size.x)) {
+            railRefusal_ = fmt::format(
+                "terminal block {} at {:.1f} mm on rail {} would sit over terminal block {} "
+                "at {:.1f} mm",
+                block.id, contact->position * 1000, id, *other,
+                railMounts_.at(*other).position * 1000);
+            return;
+        }
+        snapped_ = true;
+        return;
+    }
 }
 
 ua::StatusCode World::mountTool(const std::string& dockId, std::string* why) {
@@ -170,17 +243,23 @@ KDL::Frame World::gripPoint() const {
 }
 
 std::optional<std::string> World::objectAt(const KDL::Vector& point) const {
+    // Blocks side by side on a rail are closer than the tolerance: the one whose centre is
+    // nearest wins.
+    std::optional<std::string> nearest;
+    double nearestDistance = 0;
     for (const auto& [id, object] : objects_) {
         if (id == grasped_) continue;
         const KDL::Vector local = object.pose.Inverse(point);
         const double t = tolerances_.grasp;
         if (std::abs(local.x()) <= object.size.x / 2 + t &&
             std::abs(local.y()) <= object.size.y / 2 + t &&
-            std::abs(local.z()) <= object.size.z / 2 + t) {
-            return id;
+            std::abs(local.z()) <= object.size.z / 2 + t &&
+            (!nearest || local.Norm() < nearestDistance)) {
+            nearest = id;
+            nearestDistance = local.Norm();
         }
     }
-    return std::nullopt;
+    return nearest;
 }
 
 std::optional<double> World::extentAlong(const std::string& objectId,
@@ -209,13 +288,28 @@ ua::StatusCode World::grasp(const std::string& objectId, std::string* why) {
     }
     grasped_ = objectId;
     flangeToGrasped_ = flange_.Inverse() * object->second.pose;
+    // Taken off a rail, if it was on one (the gripper pulls it off as it moves away; until
+    // then it is held where it snapped).
+    if (const auto mount = railMounts_.find(objectId); mount != railMounts_.end()) {
+        railMounts_.erase(mount);
+    }
+    trackHeldBlock();
     ++revision_;
     return ua::status::Good;
 }
 
 ua::StatusCode World::release(std::string* why) {
     if (grasped_.empty()) return fail(ua::status::BadInvalidState, why, "no object is held");
+    if (snapped_ && hooked_) {
+        // The latch holds the block square on the rail, at the position it snapped at.
+        WorldObject& block = objects_.at(grasped_);
+        block.pose = mountedPose(rails_.at(hooked_->rail), hooked_->position, block.size);
+        railMounts_[grasped_] = *hooked_;
+    }
     grasped_.clear();
+    hooked_.reset();
+    snapped_ = false;
+    railRefusal_.clear();
     ++revision_;
     return ua::status::Good;
 }

@@ -5,26 +5,38 @@
 // robot; a released one stays where it was put. Every change is checked against the
 // state of the cell (a tool is taken from a dock only by a flange at that dock, an object
 // is grasped only at the mounted tool's grip point, ...), so the world stays consistent
-// whatever its clients report. The OPC UA face is world_nodes.hpp.
+// whatever its clients report. Terminal blocks mount on DIN rails as they do on real ones
+// (din_rail.hpp): hooked over the upper edge, rotated down until they snap, and never over
+// another block. The OPC UA face is world_nodes.hpp.
 #include <kdl/frames.hpp>
 #include <map>
 #include <optional>
 #include <string>
 
+#include "devices/world/box_size.hpp"
+#include "devices/world/din_rail.hpp"
 #include "ua/types/status_code.hpp"
 
 namespace skillcell::devices {
 
-/// Edge lengths of a box, metres.
-struct BoxSize {
-    double x = 0, y = 0, z = 0;
-    friend bool operator==(const BoxSize&, const BoxSize&) = default;
+/// What an object is, where that changes how it behaves.
+enum class ObjectKind {
+    Box,            // rests where it is put
+    TerminalBlock,  // also mounts on a DIN rail
 };
 
 struct WorldObject {
     std::string id;
     BoxSize size;
     KDL::Frame pose;  // the box's centre and orientation, in the cell's base frame
+    ObjectKind kind = ObjectKind::Box;
+};
+
+/// Where a terminal block is mounted.
+struct RailMount {
+    std::string rail;
+    double position = 0;  // the block's centre along the rail, m
+    friend bool operator==(const RailMount&, const RailMount&) = default;
 };
 
 struct Tool {
@@ -45,6 +57,8 @@ struct WorldTolerances {
     double dockPosition = 0.005;  // m
     double dockAngle = 0.02;      // rad
     double grasp = 0.005;         // m
+    double railContact = 0.002;   // m: a block's foot on a rail's edge
+    double railOverlap = 0.0001;  // m: blocks side by side may touch by this much
 };
 
 class World {
@@ -63,6 +77,9 @@ public:
     /// BadInvalidState for a mounted tool or an occupied dock.
     ua::StatusCode moveTool(const std::string& toolId, const std::string& dockId,
                             std::string* why = nullptr);
+    /// A DIN rail (BadInvalidArgument for an empty id or a length that is not positive,
+    /// BadNodeIdExists for an id taken).
+    ua::StatusCode addRail(DinRail rail, std::string* why = nullptr);
     /// Removes an object that is not grasped (BadNotFound, BadInvalidState).
     ua::StatusCode removeObject(const std::string& id, std::string* why = nullptr);
 
@@ -79,13 +96,24 @@ public:
     /// The mounted gripper holds `objectId`: the object must contain the grip point
     /// (within the grasp tolerance) and nothing may be held already.
     ua::StatusCode grasp(const std::string& objectId, std::string* why = nullptr);
-    /// The gripper let go: the object stays where it is. BadInvalidState if none is held.
+    /// The gripper let go: the object stays where it is, or, a terminal block that has
+    /// snapped onto a rail, mounted there. BadInvalidState if none is held.
     ua::StatusCode release(std::string* why = nullptr);
 
     // Queries.
     [[nodiscard]] const std::map<std::string, WorldObject>& objects() const { return objects_; }
     [[nodiscard]] const std::map<std::string, Tool>& tools() const { return tools_; }
     [[nodiscard]] const std::map<std::string, ToolDock>& docks() const { return docks_; }
+    [[nodiscard]] const std::map<std::string, DinRail>& rails() const { return rails_; }
+    /// The terminal blocks mounted on rails, by object id.
+    [[nodiscard]] const std::map<std::string, RailMount>& railMounts() const { return railMounts_; }
+    /// The held block's contact with a rail: hooked over its upper edge (not yet snapped),
+    /// or snapped and still held; nullopt when it touches no rail.
+    [[nodiscard]] const std::optional<RailMount>& heldBlockOnRail() const { return hooked_; }
+    [[nodiscard]] bool heldBlockSnapped() const { return snapped_; }
+    /// Why the held block, rotated down on a rail, did not snap (it would sit over another
+    /// block); empty when nothing stopped it.
+    [[nodiscard]] const std::string& railRefusal() const { return railRefusal_; }
     [[nodiscard]] const WorldObject* object(const std::string& id) const;
     [[nodiscard]] const KDL::Frame& flangePose() const { return flange_; }
     /// The mounted tool's id, empty when none.
@@ -97,7 +125,8 @@ public:
     /// The dock the flange is at (within the dock tolerances), if any: what a tool changer's
     /// coupling meets when it locks or unlocks.
     [[nodiscard]] std::optional<std::string> dockAtFlange() const;
-    /// The free object whose box contains `point` (within the grasp tolerance), if any.
+    /// The free object whose box contains `point` (within the grasp tolerance) and whose
+    /// centre is nearest to it, if any.
     [[nodiscard]] std::optional<std::string> objectAt(const KDL::Vector& point) const;
     /// The object's extent along `direction` (base frame; normalised here): what a
     /// parallel gripper closing along that direction meets.
@@ -109,15 +138,25 @@ public:
 private:
     [[nodiscard]] bool idTaken(const std::string& id) const;
     [[nodiscard]] bool flangeAt(const ToolDock& dock) const;
+    /// Follows a held terminal block onto and off the rails after the flange moved.
+    void trackHeldBlock();
+    /// The mounted block whose span on `rail` overlaps [position +- width / 2], if any.
+    [[nodiscard]] std::optional<std::string> blockInTheWay(const std::string& rail, double position,
+                                                           double width) const;
 
     WorldTolerances tolerances_;
     std::map<std::string, WorldObject> objects_;
     std::map<std::string, Tool> tools_;
     std::map<std::string, ToolDock> docks_;
+    std::map<std::string, DinRail> rails_;
+    std::map<std::string, RailMount> railMounts_;
     KDL::Frame flange_ = KDL::Frame::Identity();
     std::string mounted_;
     std::string grasped_;
     KDL::Frame flangeToGrasped_ = KDL::Frame::Identity();
+    std::optional<RailMount> hooked_;  // the held block's contact with a rail
+    bool snapped_ = false;             // ... and it has snapped there
+    std::string railRefusal_;
     std::uint64_t revision_ = 0;
 };
 

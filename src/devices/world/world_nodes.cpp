@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cmath>
+
 #include "devices/common/frame.hpp"
 
 namespace skillcell::devices {
@@ -66,7 +68,7 @@ StatusCode WorldNodes::build() {
     if (auto r = as.addObject(NodeId(ua::ns0::ObjectsFolder), world, "World"); !r) {
         return r.status();
     }
-    for (const char* folder : {"Objects", "Tools", "Docks"}) {
+    for (const char* folder : {"Objects", "Tools", "Docks", "Rails"}) {
         if (auto r = as.addFolder(world, id(std::string("World/") + folder), folder); !r) {
             return r.status();
         }
@@ -117,6 +119,43 @@ StatusCode WorldNodes::build() {
              }
              if (!pose) return pose.status();
              return world_.addObject(WorldObject{stringArg(in[0]), *size, *pose}, &why);
+         }});
+    methods.push_back(
+        {"AddTerminalBlock",
+         ua::Role::Engineer,
+         {arg("Id", kString, "object id"),
+          arg("Size", kDouble, "width along a rail, depth across it, height off it (m)",
+              ua::value_rank::kOneDimension),
+          arg("Pose", kFrame, "the block's centre in the base frame")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             const auto size = sizeFrom(in[1]);
+             const auto pose = frameFromVariant(in[2]);
+             if (!size) {
+                 why = "Size must hold three Doubles";
+                 return StatusCode(ua::status::BadInvalidArgument);
+             }
+             if (!pose) return pose.status();
+             return world_.addObject(
+                 WorldObject{stringArg(in[0]), *size, *pose, ObjectKind::TerminalBlock}, &why);
+         }});
+    methods.push_back(
+        {"AddRail",
+         ua::Role::Engineer,
+         {arg("Id", kString, "rail id"),
+          arg("Pose", kFrame,
+              "the rail's start on its face's centre line: x along the rail, y towards its "
+              "upper edge, z out of its face"),
+          arg("Length", kDouble, "m"), arg("Width", kDouble, "m (TS35: 0.035)")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             const auto pose = frameFromVariant(in[1]);
+             if (!pose) return pose.status();
+             const double* length = in[2].get<double>();
+             const double* width = in[3].get<double>();
+             if (length == nullptr || width == nullptr)
+                 return StatusCode(ua::status::BadTypeMismatch);
+             return world_.addRail(DinRail{stringArg(in[0]), *pose, *length, *width}, &why);
          }});
     methods.push_back(
         {"AddDock",
@@ -267,6 +306,27 @@ void WorldNodes::sync() {
             ua::value_rank::kScalar);
         put(path + "/Size", path, "Size", NodeId(ua::ns0::Double), sizeValue(object.size),
             ua::value_rank::kOneDimension);
+        if (object.kind == ObjectKind::TerminalBlock) {
+            // Where it is mounted: the rail and the block's centre along it; an empty rail
+            // and NaN when it is on none.
+            const auto mount = world_.railMounts().find(oid);
+            const bool on = mount != world_.railMounts().end();
+            put(path + "/Rail", path, "Rail", NodeId(ua::ns0::String),
+                Variant(ua::String(on ? mount->second.rail : std::string())),
+                ua::value_rank::kScalar);
+            put(path + "/RailPosition", path, "RailPosition", NodeId(ua::ns0::Double),
+                Variant(on ? mount->second.position : std::nan("")), ua::value_rank::kScalar);
+        }
+    }
+    for (const auto& [rid, rail] : world_.rails()) {
+        const std::string path = "World/Rails/" + rid;
+        ensureObject(path, "World/Rails", rid);
+        put(path + "/Pose", path, "Pose", frame, frameToVariant(rail.pose),
+            ua::value_rank::kScalar);
+        put(path + "/Length", path, "Length", NodeId(ua::ns0::Double), Variant(rail.length),
+            ua::value_rank::kScalar);
+        put(path + "/Width", path, "Width", NodeId(ua::ns0::Double), Variant(rail.width),
+            ua::value_rank::kScalar);
     }
     for (const auto& [tid, tool] : world_.tools()) {
         const std::string path = "World/Tools/" + tid;

@@ -5,9 +5,11 @@
 //   World/FlangePose, GripPoint (3DFrame), MountedTool, GraspedObject (String)
 //   World/Objects/<id>/Pose (3DFrame), Size (Double[3])
 //   World/Tools/<id>/GripPoint (3DFrame)
+//   World/Objects/<id>/Rail (String), RailPosition (Double, m): a terminal block's mount
 //   World/Docks/<id>/Pose (3DFrame), Tool (String)
-//   methods on World: AddObject, AddDock, AddTool, MoveTool, SetFlangePose, MountTool,
-//   UnmountTool, Grasp, Release, ObjectAtGripPoint
+//   World/Rails/<id>/Pose (3DFrame), Length, Width (Double, m)
+//   methods on World: AddObject, AddTerminalBlock, AddRail, AddDock, AddTool, MoveTool,
+//   SetFlangePose, MountTool, UnmountTool, Grasp, Release, ObjectAtGripPoint
 //
 // Every change goes through a method, so the World's consistency checks decide it; a
 // refused change answers the World's status code (BadNotFound, BadInvalidState, ...) and
