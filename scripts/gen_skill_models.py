@@ -508,7 +508,7 @@ def build() -> None:
                   "Detaches the current tool, then attaches the one at ToolPosition.", app)
 
     # --- Composite skills --------------------------------------------------------------
-    cs = add("CompositeSkills", "Composite skills (pick and place)", ["DI", "Skills"])
+    cs = add("CompositeSkills", "Composite skills (pick and place, place a terminal block)", ["DI", "Skills"])
     cs.intro = ("Skills composed of other components' skills (paper section VI.B): pick and "
                 "place uses a tool's gripper skills and a move skill, both named by endpoint.")
     cs.skill_type("PickAndPlaceSkillType", "PickAndPlaceSkillType", "SkillType", False,
@@ -518,6 +518,18 @@ def build() -> None:
                       cs.param("MoveSkillControllerEndpoint", "string"),
                       cs.param("PlacePosition", "frame",
                                desc="Target pose of the object.")])
+    cs.skill_type("PlaceTerminalBlockSkillType", "PlaceTerminalBlockSkillType", "SkillType",
+                  False,
+                  "Places the terminal block ObjectId on the DIN rail RailId at Position: "
+                  "hooks it over the rail's upper edge, rotates it down until it snaps, "
+                  "releases it and checks that it is mounted.", [
+                      cs.param("ObjectId", "string"),
+                      cs.param("RailId", "string", desc="The rail, as the world model names it."),
+                      cs.param("Position", "double", unit="m", range=(-1, 10),
+                               desc="The block's centre along the rail from its start; "
+                                    "negative: side by side after the last block on the rail."),
+                      cs.param("ToolSkillControllerEndpoint", "string"),
+                      cs.param("MoveSkillControllerEndpoint", "string")])
 
     # --- MES skills --------------------------------------------------------------------
     ms = add("MesSkills", "MES skills (execute process)", ["DI", "Skills"])

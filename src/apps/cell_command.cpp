@@ -283,15 +283,23 @@ void printSummary(const cell::CellFile& c) {
         component("mes",
                   "semantic MES, step timeout " + std::to_string(c.mes->stepTimeoutMs) + " ms");
     }
-    if (!c.docks.empty() || !c.objects.empty()) component("world", "world model");
+    if (!c.docks.empty() || !c.objects.empty() || !c.rails.empty()) {
+        component("world", "world model");
+    }
     for (const auto& d : c.docks) {
         std::printf("    dock     %-12s %s\n", d.name.c_str(), devices::describe(d.pose).c_str());
+    }
+    for (const auto& r : c.rails) {
+        std::printf("    rail     %-12s TS35, %.1f mm long from %s\n", r.name.c_str(),
+                    r.length * 1000, devices::describe(r.pose).c_str());
     }
     for (const auto& o : c.objects) {
         char mass[32] = "";
         if (o.mass) std::snprintf(mass, sizeof mass, ", %g kg", *o.mass);
-        std::printf("    object   %-12s %.3f x %.3f x %.3f m%s at %s\n", o.name.c_str(), o.size[0],
-                    o.size[1], o.size[2], mass, devices::describe(o.pose).c_str());
+        const bool block = o.kind == cell::WorldObject::Kind::TerminalBlock;
+        std::printf("    %-8s %-12s %.4g x %.4g x %.4g m%s at %s\n", block ? "block" : "object",
+                    o.name.c_str(), o.size[0], o.size[1], o.size[2], mass,
+                    devices::describe(o.pose).c_str());
     }
     for (const auto& r : c.robots) {
         char speed[32];

@@ -14,7 +14,8 @@
 //     SkillDetector (what any other component runs) clocks the time from the start of the
 //     process to the arrival of its skills. The gripper adapters start like the paper's
 //     microcontroller boards (--boot-profile tinyua) unless told otherwise;
-//  2. the process: an operator hands the MES the paper's process (`skillcell run`, a client
+//  2. the process: an operator hands the MES the cell's process ([demo] process of the cell
+//     file; the paper's for examples/cells/paper.toml) (`skillcell run`, a client
 //     like any other) and the demo shows its progress;
 //  3. the evidence: the world model's boxes and mounted tool, the MES's journal, and the
 //     detection times beside the paper's figures.
@@ -61,8 +62,6 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
-constexpr const char* kProcessIri = "http://skillcell.dev/demo#pickAndPlaceTwoBoxes";
-
 struct DemoOptions {
     std::string cellFile = SKILLCELL_DEFAULT_CELL;  // examples/cells/paper.toml of the source tree
     double speed = 0;                               // 0: the cell file's robot speed
@@ -74,13 +73,14 @@ struct DemoOptions {
     double processTimeoutSeconds = 900;
 };
 
-/// What the demo needs of a cell file: the paper's process runs on a tool changer that moves
+/// What the demo needs of a cell file: the process it names, run on a tool changer that moves
 /// a UR5, the pick-and-place composite, and the KB and MES; empty when the cell has them.
 std::string whatTheDemoLacks(const cell::CellFile& c) {
     std::string lacks;
     auto need = [&](bool has, const char* what) {
         if (!has) lacks += (lacks.empty() ? "" : ", ") + std::string(what);
     };
+    need(!c.demoProcess.empty(), "[demo] process (the process to run)");
     need(c.lds, "[lds]");
     need(c.kb.has_value(), "[kb]");
     need(c.mes.has_value(), "[mes]");
@@ -259,7 +259,7 @@ int DemoCell::runProcess(const Interruption& interruption,
                          const std::function<void(const std::string&)>& onProgress) {
     std::vector<std::string> argv = {skillcell_,
                                      "run",
-                                     kProcessIri,
+                                     cell_.demoProcess,
                                      "--mes",
                                      runtime_.endpoint("mes"),
                                      "--pki-dir",
@@ -411,11 +411,22 @@ bool DemoCell::showSecurity() {
 void DemoCell::showWorld() {
     auto world = connectWorld("operator");
     if (!world) return;
-    for (const char* box : {"boxA", "boxB"}) {
-        const auto pose = world->objectPose(box);
-        std::printf("  World/Objects/%s/Pose = %s\n", box,
+    for (const auto& object : cell_.objects) {
+        const std::string& id = object.name;
+        const auto pose = world->objectPose(id);
+        std::printf("  World/Objects/%s/Pose = %s\n", id.c_str(),
                     pose ? ("3DFrame" + devices::describe(*pose)).c_str()
                          : ua::statusName(pose.status()).data());
+        if (object.kind != cell::WorldObject::Kind::TerminalBlock) continue;
+        const auto mount = world->railMount(id);
+        if (!mount) {
+            std::printf("    on a rail: %s\n", ua::statusName(mount.status()).data());
+        } else if (!*mount) {
+            std::printf("    on no rail\n");
+        } else {
+            std::printf("    on rail %s at %.1f mm\n", (*mount)->rail.c_str(),
+                        (*mount)->position * 1000);
+        }
     }
     const auto tool = world->mountedTool();
     std::printf("  World/MountedTool = %s\n",
@@ -428,7 +439,7 @@ void DemoCell::showJournal() {
         std::cerr << "demo: " << journal.error() << "\n";
         return;
     }
-    auto run = (*journal)->latestRun(kProcessIri);
+    auto run = (*journal)->latestRun(cell_.demoProcess);
     if (!run || !*run) {
         std::cerr << "demo: the journal has no run of the process" << (run ? "" : ": ")
                   << run.error() << "\n";
@@ -555,7 +566,8 @@ int DemoCell::run(const Interruption& interruption) {
 
     if (!keep("mes")) return 1;
 
-    std::printf("\n== the operator hands the MES the paper's process %s\n", kProcessIri);
+    std::printf("\n== the operator hands the MES the cell's process %s\n",
+                cell_.demoProcess.c_str());
     int outcome = runProcess(interruption);
     if (interruption.requested()) return 130;
     if (o_.swap && outcome == 0) {
@@ -591,7 +603,7 @@ int DemoCell::run(const Interruption& interruption) {
         if (!ag95) outcome = 1;
     }
 
-    std::printf("\n== the world model afterwards: where the boxes are, which tool is mounted\n");
+    std::printf("\n== the world model afterwards: where the objects are, which tool is mounted\n");
     showWorld();
     std::printf("\n== the MES's journal\n");
     showJournal();
@@ -634,7 +646,7 @@ int runDemo(const DemoOptions& o) {
         return 2;
     }
     if (const auto lacks = whatTheDemoLacks(*read.cell); !lacks.empty()) {
-        std::cerr << "demo: " << o.cellFile << ": the demo runs the paper's process, which needs "
+        std::cerr << "demo: " << o.cellFile << ": the demo runs the cell's process, which needs "
                   << lacks << " in the cell file\n";
         return 2;
     }
@@ -684,7 +696,8 @@ Command addDemoCommand(CLI::App& app) {
         "changer with Robotiq and Schmalz adapters, pick-and-place and MES, each a process, "
         "security on, inside a private network namespace (needs root unless this is one "
         "already). Measures the time from starting each component to the detection of its "
-        "skills, runs the paper's process through the MES with its progress, and prints the "
+        "skills, runs the cell's process ([demo] process) through the MES with its progress, and "
+        "prints the "
         "world state, the MES's journal and the detection times beside the paper's. Exit code "
         "0 when the process completed, 1 when it or the cell failed (the logs are kept), 2 "
         "when the demo cannot run here, 130 when interrupted.");

@@ -15,6 +15,7 @@
 //   pickplace  the pick-and-place composite: PickAndPlace over the robot's move skill and
 //            the mounted tool's Grasp and Release, the object from the world model
 #include <spdlog/spdlog.h>
+#include <charconv>
 
 #include "cell/component_uris.hpp"
 #include "cell/device_arguments.hpp"
@@ -72,9 +73,11 @@ ua::Result<std::unique_ptr<devices::WorldLink>> connectWorld(const std::string& 
 
 struct WorldOptions {
     ServerProcessOptions process;
-    std::vector<std::string> objects;  // ID:SX,SY,SZ@POSE
-    std::vector<std::string> docks;    // ID@POSE
-    std::vector<std::string> tools;    // ID:DOCK@GRIPPOINT
+    std::vector<std::string> objects;         // ID:SX,SY,SZ@POSE
+    std::vector<std::string> docks;           // ID@POSE
+    std::vector<std::string> tools;           // ID:DOCK@GRIPPOINT
+    std::vector<std::string> rails;           // ID:LENGTH@POSE
+    std::vector<std::string> terminalBlocks;  // ID:SX,SY,SZ@POSE
 };
 
 /// Splits "HEAD@POSE" into HEAD and the pose.
@@ -86,22 +89,57 @@ std::optional<std::pair<std::string, KDL::Frame>> headAndPose(const std::string&
     return std::make_pair(spec.substr(0, at), toFrame(*pose));
 }
 
+/// Adds a box of `kind` from "ID:SX,SY,SZ@POSE" (`option` names the option in errors).
+ua::StatusCode seedObject(const std::string& option, const std::string& spec,
+                          devices::ObjectKind kind, devices::World& world) {
+    const auto hp = headAndPose(spec);
+    const auto colon = hp ? hp->first.find(':') : std::string::npos;
+    const auto size = colon == std::string::npos
+                          ? std::nullopt
+                          : parsePose6(std::string_view(hp->first).substr(colon + 1));
+    if (!size || size->a != 0 || size->b != 0 || size->c != 0) {
+        spdlog::critical("{} {}: expected ID:SX,SY,SZ@X,Y,Z[,A,B,C]", option, spec);
+        return ua::status::BadInvalidArgument;
+    }
+    std::string why;
+    const auto s = world.addObject(
+        {hp->first.substr(0, colon), {size->x, size->y, size->z}, hp->second, kind}, &why);
+    if (s.isBad()) spdlog::critical("{} {}: {}", option, spec, why);
+    return s;
+}
+
 ua::StatusCode seedWorld(const WorldOptions& options, devices::World& world) {
     std::string why;
-    for (const auto& spec : options.objects) {
+    // Rails first: a terminal block may be given already mounted on one.
+    for (const auto& spec : options.rails) {
         const auto hp = headAndPose(spec);
         const auto colon = hp ? hp->first.find(':') : std::string::npos;
-        const auto size = colon == std::string::npos
-                              ? std::nullopt
-                              : parsePose6(std::string_view(hp->first).substr(colon + 1));
-        if (!size || size->a != 0 || size->b != 0 || size->c != 0) {
-            spdlog::critical("--object {}: expected ID:SX,SY,SZ@X,Y,Z[,A,B,C]", spec);
+        double length = 0;
+        const std::string lengthText =
+            colon == std::string::npos ? std::string() : hp->first.substr(colon + 1);
+        const auto [end, ec] =
+            std::from_chars(lengthText.data(), lengthText.data() + lengthText.size(), length);
+        if (colon == std::string::npos || ec != std::errc() ||
+            end != lengthText.data() + lengthText.size()) {
+            spdlog::critical("--rail {}: expected ID:LENGTH@X,Y,Z[,A,B,C]", spec);
             return ua::status::BadInvalidArgument;
         }
-        const auto s = world.addObject(
-            {hp->first.substr(0, colon), {size->x, size->y, size->z}, hp->second}, &why);
+        const auto s = world.addRail({hp->first.substr(0, colon), hp->second, length}, &why);
         if (s.isBad()) {
-            spdlog::critical("--object {}: {}", spec, why);
+            spdlog::critical("--rail {}: {}", spec, why);
+            return s;
+        }
+    }
+    for (const auto& spec : options.objects) {
+        if (const auto s = seedObject("--object", spec, devices::ObjectKind::Box, world);
+            s.isBad()) {
+            return s;
+        }
+    }
+    for (const auto& spec : options.terminalBlocks) {
+        if (const auto s =
+                seedObject("--terminal-block", spec, devices::ObjectKind::TerminalBlock, world);
+            s.isBad()) {
             return s;
         }
     }
@@ -150,6 +188,12 @@ CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--tool", options->tools,
                     "a tool stored in a dock: ID:DOCK@X,Y,Z[,A,B,C] (its grip point relative "
                     "to the mounting plate)");
+    cmd->add_option("--rail", options->rails,
+                    "a TS35 DIN rail: ID:LENGTH@X,Y,Z[,A,B,C] (m; the pose of its start, x "
+                    "along the rail, y towards its upper edge, z out of its face)");
+    cmd->add_option("--terminal-block", options->terminalBlocks,
+                    "a terminal block: ID:WIDTH,DEPTH,HEIGHT@X,Y,Z[,A,B,C] (m and rad; it "
+                    "snaps onto a rail when hooked over the upper edge and rotated down)");
     commands.push_back(
         {cmd, [options] {
              return runServerProcess(

@@ -411,6 +411,21 @@ void readMes(Reader& r, const toml::table& root, CellFile& cell) {
     }
 }
 
+void readDemo(Reader& r, const toml::table& root, CellFile& cell) {
+    const toml::table* t = r.table(root, "demo", "[demo]");
+    if (t == nullptr) return;
+    r.onlyKeys(*t, "[demo]", {"process"});
+    if (auto iri = r.string(*t, "process", "[demo]", true)) {
+        if (iri->find("://") == std::string::npos) {
+            r.problem(
+                t->get("process")->source(),
+                "'process' in [demo] must be a process IRI (http://...), not \"" + *iri + "\"");
+        } else {
+            cell.demoProcess = *iri;
+        }
+    }
+}
+
 void readDashboard(Reader& r, const toml::table& root, CellFile& cell) {
     const toml::table* t = r.table(root, "dashboard", "[dashboard]");
     if (t == nullptr) return;
@@ -448,7 +463,7 @@ private:
 void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks) {
     const toml::table* t = r.table(root, "world", "[world]");
     if (t == nullptr) return;
-    r.onlyKeys(*t, "[world]", {"dock", "object", "restart"});
+    r.onlyKeys(*t, "[world]", {"dock", "object", "rail", "restart"});
     r.restart(*t, "[world]", "world", out);
     for (const toml::table* d : r.tables(*t, "dock", "world.dock")) {
         r.onlyKeys(*d, "[[world.dock]]", {"name", "pose"});
@@ -456,10 +471,32 @@ void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks
         auto pose = r.pose(*d, "pose", "[[world.dock]]", true);
         if (name && docks.add(r, *d, *name) && pose) out.docks.push_back({*name, *pose});
     }
+    // Rails, docks and objects share the world's ids.
     NameSet objects("object");
+    for (const toml::table* rail : r.tables(*t, "rail", "world.rail")) {
+        r.onlyKeys(*rail, "[[world.rail]]", {"name", "pose", "length"});
+        auto name = r.name(*rail, "[[world.rail]]");
+        auto pose = r.pose(*rail, "pose", "[[world.rail]]", true);
+        auto length = r.number(*rail, "length", "[[world.rail]]", 0.01, 10);
+        if (!length && rail->get("length") == nullptr) {
+            r.problem(rail->source(), "[[world.rail]] needs 'length' (m)");
+        }
+        if (name && docks.has(*name)) {
+            r.problem(rail->get("name")->source(),
+                      "rail '" + *name + "': the name is a [[world.dock]]'s already");
+        } else if (name && objects.add(r, *rail, *name) && pose && length) {
+            out.rails.push_back({*name, *pose, *length});
+        }
+    }
+    static const std::vector<std::string_view> kinds = {"box", "terminal-block"};
     for (const toml::table* o : r.tables(*t, "object", "world.object")) {
-        r.onlyKeys(*o, "[[world.object]]", {"name", "size", "pose", "mass"});
+        r.onlyKeys(*o, "[[world.object]]", {"name", "size", "pose", "mass", "kind"});
         auto name = r.name(*o, "[[world.object]]");
+        auto kind = WorldObject::Kind::Box;
+        if (o->get("kind") != nullptr) {
+            const auto k = r.oneOf(*o, "kind", "[[world.object]]", kinds, "an object kind");
+            if (k == "terminal-block") kind = WorldObject::Kind::TerminalBlock;
+        }
         const auto mass = r.number(*o, "mass", "[[world.object]]", 1e-6, 10'000);
         auto size = r.numbers(*o, "size", "[[world.object]]", {3}, "edges x, y, z in m", true);
         auto pose = r.pose(*o, "pose", "[[world.object]]", true);
@@ -468,7 +505,7 @@ void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks
             size.reset();
         }
         if (name && objects.add(r, *o, *name) && size && pose) {
-            out.objects.push_back({*name, {(*size)[0], (*size)[1], (*size)[2]}, *pose, mass});
+            out.objects.push_back({*name, {(*size)[0], (*size)[1], (*size)[2]}, *pose, mass, kind});
         }
     }
 }
@@ -656,8 +693,8 @@ ReadResult readCellText(std::string_view text, const std::string& sourceName,
     Reader r(sourceName, baseDirectory);
     CellFile cell;
     r.onlyKeys(root, "the cell file",
-               {"name", "network", "security", "lds", "kb", "mes", "dashboard", "world", "tool",
-                "robot", "toolchanger", "pickplace"});
+               {"name", "network", "security", "lds", "kb", "mes", "demo", "dashboard", "world",
+                "tool", "robot", "toolchanger", "pickplace"});
     if (auto name = r.name(root, "the cell file")) cell.name = *name;
     readNetwork(r, root, cell.network);
     readSecurity(r, root, cell.security);
@@ -668,6 +705,7 @@ ReadResult readCellText(std::string_view text, const std::string& sourceName,
     }
     readKnowledgeBase(r, root, cell);
     readMes(r, root, cell);
+    readDemo(r, root, cell);
     readDashboard(r, root, cell);
     NameSet docks("dock");
     readWorld(r, root, cell, docks);

@@ -58,12 +58,22 @@ struct Dock {
     Pose pose;  // the flange pose at which its tool locks
 };
 
-/// A box in the world.
+/// A box in the world: a plain box, or a terminal block that snaps onto a DIN rail.
 struct WorldObject {
+    enum class Kind { Box, TerminalBlock };
     std::string name;
-    std::array<double, 3> size{};  // edges, m
+    std::array<double, 3> size{};  // edges, m (a terminal block: width, depth, height)
     Pose pose;                     // its centre
     std::optional<double> mass;    // kg; none: not said (no gripper is checked against it)
+    Kind kind = Kind::Box;
+};
+
+/// A TS35 DIN rail (src/devices/world/din_rail.hpp): the pose of its start, x along the rail,
+/// y towards its upper edge, z out of its face.
+struct Rail {
+    std::string name;
+    Pose pose;
+    double length = 0;  // m
 };
 
 /// A tool: where it is stored, what the tool changer reads on its identification pin, and
@@ -105,9 +115,13 @@ struct CellFile {
     bool lds = false;  // a local discovery server (LDS-ME) of the cell's own
     std::optional<KnowledgeBase> kb;
     std::optional<Mes> mes;
+    /// [demo] process: the IRI of the process `skillcell demo --cell` runs on this cell (one
+    /// of the [kb] files'); empty when the cell names none.
+    std::string demoProcess;
     std::optional<Dashboard> dashboard;
     std::vector<Dock> docks;
     std::vector<WorldObject> objects;
+    std::vector<Rail> rails;
     std::vector<Tool> tools;
     std::vector<Robot> robots;
     std::optional<ToolChanger> toolChanger;

@@ -56,8 +56,13 @@ std::vector<std::string> worldArguments(const CellFile& cell) {
         args.insert(args.end(),
                     {"--tool", t.name + ":" + t.dock + "@" + vectorArgument(t.gripOffset)});
     }
+    for (const auto& r : cell.rails) {
+        args.insert(args.end(),
+                    {"--rail", r.name + ":" + number(r.length) + "@" + poseArgument(r.pose)});
+    }
     for (const auto& o : cell.objects) {
-        args.insert(args.end(), {"--object", objectArgument(o)});
+        const bool block = o.kind == WorldObject::Kind::TerminalBlock;
+        args.insert(args.end(), {block ? "--terminal-block" : "--object", objectArgument(o)});
     }
     return args;
 }

@@ -22,18 +22,21 @@
 
 namespace skillcell::test {
 
-/// The paper's cell, read once: a test that changes it changes a copy. A file that does not
-/// read is a broken test setup: it says why and aborts.
+/// An example cell file (examples/cells/NAME.toml). A file that does not read is a broken
+/// test setup: it says why and aborts.
+inline cell::CellFile exampleCell(const std::string& name) {
+    auto read = cell::readCellFile(std::filesystem::path(SKILLCELL_SOURCE_DIR) / "examples/cells" /
+                                   (name + ".toml"));
+    if (!read.cell) {
+        for (const auto& p : read.problems) std::fprintf(stderr, "%s\n", p.describe().c_str());
+        std::abort();
+    }
+    return *read.cell;
+}
+
+/// The paper's cell, read once: a test that changes it changes a copy.
 inline const cell::CellFile& paperCell() {
-    static const cell::CellFile paper = [] {
-        auto read = cell::readCellFile(std::filesystem::path(SKILLCELL_SOURCE_DIR) /
-                                       "examples/cells/paper.toml");
-        if (!read.cell) {
-            for (const auto& p : read.problems) std::fprintf(stderr, "%s\n", p.describe().c_str());
-            std::abort();
-        }
-        return *read.cell;
-    }();
+    static const cell::CellFile paper = exampleCell("paper");
     return paper;
 }
 
@@ -98,10 +101,11 @@ struct SimulatedCell {
     /// `objects`: `--object` specs for the world model. `vacuumPowered` false: the changer
     /// has no adapter process for the vacuum gripper (as if its adapter were unplugged).
     /// `robotSpeed`: the UR5's --speed (lower: its motions, and the skills using them, last
-    /// longer).
+    /// longer). `moreWorld`: further arguments of the world model (rails, terminal blocks).
     SimulatedCell(const std::string& binary, const std::vector<std::string>& objects,
                   bool withPickAndPlace, ParallelGripperModel parallel = kRobotiq2f85,
-                  bool vacuumPowered = true, const std::string& robotSpeed = "50")
+                  bool vacuumPowered = true, const std::string& robotSpeed = "50",
+                  const std::vector<std::string>& moreWorld = {})
         : parallelUri(parallel.adapter().applicationUri) {
         // The paper's cell with this test's parallel gripper in its dock, and its own boxes.
         cell::CellFile c = paperCell();
@@ -118,6 +122,7 @@ struct SimulatedCell {
         const auto scene = cell::worldArguments(c);
         args.insert(args.end(), scene.begin(), scene.end());
         for (const auto& o : objects) args.insert(args.end(), {"--object", o});
+        args.insert(args.end(), moreWorld.begin(), moreWorld.end());
         world = start(binary, std::move(args));
         if (world->url().empty()) return;
         tools = world->pkiDir().string() + "-tools";

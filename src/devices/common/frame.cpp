@@ -96,4 +96,14 @@ bool near(const KDL::Frame& a, const KDL::Frame& b, double positionTolerance,
     return std::abs(angle) <= angleTolerance;
 }
 
+bool isFinite(const KDL::Frame& frame) {
+    for (int i = 0; i < 3; ++i) {
+        if (!std::isfinite(frame.p(i))) return false;
+        for (int j = 0; j < 3; ++j) {
+            if (!std::isfinite(frame.M(i, j))) return false;
+        }
+    }
+    return true;
+}
+
 }  // namespace skillcell::devices

@@ -43,4 +43,7 @@ struct Pose6 {
 [[nodiscard]] bool near(const KDL::Frame& a, const KDL::Frame& b, double positionTolerance,
                         double angleTolerance);
 
+/// True when every element of the position and the rotation matrix is finite.
+[[nodiscard]] bool isFinite(const KDL::Frame& frame);
+
 }  // namespace skillcell::devices

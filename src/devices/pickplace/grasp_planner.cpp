@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "devices/common/frame.hpp"
+
 namespace skillcell::devices::pickplace {
 namespace {
 
@@ -21,16 +23,6 @@ std::string number(double value) {
     std::array<char, 32> text{};
     std::snprintf(text.data(), text.size(), "%.4g", value);
     return text.data();
-}
-
-bool finite(const KDL::Frame& f) {
-    for (int i = 0; i < 3; ++i) {
-        if (!std::isfinite(f.p(i))) return false;
-        for (int j = 0; j < 3; ++j) {
-            if (!std::isfinite(f.M(i, j))) return false;
-        }
-    }
-    return true;
 }
 
 KDL::Vector column(const KDL::Rotation& r, int i) {
@@ -86,7 +78,7 @@ std::optional<GraspPlan> planGrasp(const GraspRequest& request, std::string* why
         {"place position", &request.placePosition},
     }};
     for (const auto& [name, frame] : frames) {
-        if (!finite(*frame)) return fail(why, std::string("the ") + name + " is not finite");
+        if (!isFinite(*frame)) return fail(why, std::string("the ") + name + " is not finite");
         if (!proper(frame->M)) {
             return fail(why, std::string("the ") + name + "'s rotation is not a proper rotation");
         }

@@ -1,5 +1,6 @@
 #include "devices/pickplace/pick_and_place.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "devices/common/blocking_call.hpp"
@@ -11,6 +12,8 @@ namespace {
 constexpr const char* kMoveType = "CartesianLinearMoveSkillType";
 constexpr const char* kGraspType = "GraspGripperSkillType";
 constexpr const char* kReleaseType = "ReleaseGripperSkillType";
+/// Blocks side by side may touch by as much as the world allows.
+constexpr double kRailOverlapTolerance = WorldTolerances{}.railOverlap;
 
 /// The object as the world model has it.
 struct ObjectFacts {
@@ -107,7 +110,7 @@ asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request
 }
 
 asio::awaitable<std::string> PickAndPlace::plan(const PickRequest& request, Skills& skills,
-                                                GraspPlan& result, GripPointType& type) {
+                                                Script& script) {
     auto read = [this, id = request.objectId] {
         ObjectFacts facts;
         const auto size = world_.objectSize(id);
@@ -135,7 +138,10 @@ asio::awaitable<std::string> PickAndPlace::plan(const PickRequest& request, Skil
         co_return "the Grasp skill at " + skills.grasp->endpointUrl() +
             " publishes no usable GripPointOffset and GripPointType";
     }
-    type = static_cast<GripPointType>(*typeNumber);
+    const auto type = static_cast<GripPointType>(*typeNumber);
+    if (request.rail) {
+        co_return co_await planRail(request, object.size, object.pose, *offset, type, script);
+    }
     GraspRequest g;
     g.size = object.size;
     g.objectPose = object.pose;
@@ -146,7 +152,121 @@ asio::awaitable<std::string> PickAndPlace::plan(const PickRequest& request, Skil
     std::string why;
     const auto planned = planGrasp(g, &why);
     if (!planned) co_return "cannot plan the grasp of " + request.objectId + ": " + why;
-    result = *planned;
+    // Parallel fingers must be open before they go round the object. To each approach point
+    // to point (free space), everything near the object in a straight line.
+    using K = Action::Kind;
+    if (type == GripPointType::Parallel) script.push_back({K::Open, "open", {}});
+    script.insert(script.end(), {{K::Transfer, "approach", planned->approach},
+                                 {K::Linear, "grasp", planned->grasp},
+                                 {K::Grasp, "Grasp", {}},
+                                 {K::Linear, "retreat", planned->retreat},
+                                 {K::Transfer, "place-approach", planned->placeApproach},
+                                 {K::Linear, "place", planned->place},
+                                 {K::Release, "Release", {}},
+                                 {K::Linear, "place-retreat", planned->placeRetreat}});
+    co_return std::string();
+}
+
+asio::awaitable<std::string> PickAndPlace::planRail(const PickRequest& request, const BoxSize& size,
+                                                    const KDL::Frame& pose,
+                                                    const KDL::Frame& gripOffset,
+                                                    GripPointType type, Script& script) {
+    // The rail, and the blocks on it now: the world model's, read where the block goes.
+    struct RailFacts {
+        ua::StatusCode status;
+        std::string failed;  // what could not be read
+        DinRail rail;
+        std::vector<std::pair<std::string, WorldLink::Mount>> mounted;
+    };
+    const std::string railId = request.rail->railId;
+    auto read = [this, railId, self = request.objectId] {
+        RailFacts facts;
+        const auto rail = world_.rail(railId);
+        if (!rail) {
+            facts.status = rail.status();
+            facts.failed = "rail " + railId;
+            return facts;
+        }
+        facts.rail = DinRail{railId, rail->pose, rail->length, rail->width};
+        const auto ids = world_.objectIds();
+        if (!ids) {
+            facts.status = ids.status();
+            facts.failed = "its objects";
+            return facts;
+        }
+        for (const auto& id : *ids) {
+            if (id == self) continue;
+            const auto mount = world_.railMount(id);
+            if (!mount) continue;  // a box, not a terminal block
+            if (*mount && (*mount)->rail == railId) facts.mounted.emplace_back(id, **mount);
+        }
+        return facts;
+    };
+    const RailFacts facts = co_await blockingCall(ioThread_, std::move(read));
+    if (facts.status.isBad()) {
+        co_return "the world model has no " + facts.failed + " (" +
+            std::string(ua::statusName(facts.status)) + ")";
+    }
+    // The widths of the blocks on the rail, for side by side and overlap.
+    std::vector<std::pair<double, double>> spans;
+    for (const auto& [id, mount] : facts.mounted) {
+        // Named: GCC 12 destroys a co_await expression's temporaries twice.
+        auto readSize = [this, id] { return world_.objectSize(id); };
+        auto width = co_await blockingCall(ioThread_, std::move(readSize));
+        if (!width) {
+            co_return "the world model gives no size of terminal block " + id + " (" +
+                std::string(ua::statusName(width.status())) + ")";
+        }
+        spans.emplace_back(mount.position, (*width)[0]);
+    }
+    double position = request.rail->position;
+    if (position < 0) {
+        const auto next = nextFreePosition(facts.rail, size.x, spans);
+        if (!next) {
+            co_return fmt::format(
+                "rail {} is full: no room for a block {:.1f} mm wide after its "
+                "{} blocks",
+                railId, size.x * 1000, spans.size());
+        }
+        position = *next;
+    }
+    // Refused before anything moves: a block over another one would not snap.
+    for (std::size_t i = 0; i < spans.size(); ++i) {
+        if (spansOverlap(position, size.x, spans[i].first, spans[i].second,
+                         kRailOverlapTolerance)) {
+            co_return fmt::format(
+                "terminal block {} at {:.1f} mm on rail {} would sit over terminal block {} at "
+                "{:.1f} mm",
+                request.objectId, position * 1000, railId, facts.mounted[i].first,
+                spans[i].first * 1000);
+        }
+    }
+    RailPlacementRequest r;
+    r.size = size;
+    r.blockPose = pose;
+    r.gripPointOffset = gripOffset;
+    r.type = type;
+    r.rail = facts.rail;
+    r.position = position;
+    r.approachDistance = options_.approachDistance;
+    std::string why;
+    const auto planned = planRailPlacement(r, &why);
+    if (!planned) co_return "cannot place " + request.objectId + ": " + why;
+    spdlog::info("pick and place: terminal block {} goes to {:.1f} mm on rail {}", request.objectId,
+                 position * 1000, railId);
+    using K = Action::Kind;
+    if (type == GripPointType::Parallel) script.push_back({K::Open, "open", {}});
+    script.insert(script.end(), {{K::Transfer, "approach", planned->approach},
+                                 {K::Linear, "grasp", planned->grasp},
+                                 {K::Grasp, "Grasp", {}},
+                                 {K::Linear, "retreat", planned->retreat},
+                                 {K::Transfer, "hook-approach", planned->hookApproach},
+                                 {K::Linear, "hook", planned->hook}});
+    for (const auto& f : planned->rotateDown) script.push_back({K::Linear, "rotate-down", f});
+    script.insert(script.end(), {{K::CheckSnapped, "snap", {}},
+                                 {K::Release, "Release", {}},
+                                 {K::Linear, "rail-retreat", planned->railRetreat},
+                                 {K::CheckMounted, "check", {}}});
     co_return std::string();
 }
 
@@ -173,31 +293,52 @@ asio::awaitable<std::string> PickAndPlace::move(std::string name, RobotMotion& m
     co_return "step " + name + ": " + why;
 }
 
-asio::awaitable<std::string> PickAndPlace::execute(const GraspPlan& plan, GripPointType type,
+asio::awaitable<std::string> PickAndPlace::execute(const Script& script, const PickRequest& request,
                                                    Skills& skills, std::uint64_t generation) {
-    // Parallel fingers must be open before they go round the object.
-    if (type == GripPointType::Parallel) {
-        if (auto why = co_await step("open", *skills.release, generation); !why.empty()) {
-            co_return why;
+    using K = Action::Kind;
+    for (const Action& a : script) {
+        std::string why;
+        switch (a.kind) {
+            case K::Transfer:
+            case K::Linear: {
+                const auto path =
+                    a.kind == K::Transfer ? RobotMotion::Path::Transfer : RobotMotion::Path::Linear;
+                why = co_await move(a.name, *skills.move, a.flange, path, generation);
+                break;
+            }
+            case K::Open:
+            case K::Release:
+                why = co_await step(a.name, *skills.release, generation);
+                break;
+            case K::Grasp:
+                why = co_await step(a.name, *skills.grasp, generation);
+                break;
+            case K::CheckSnapped: {
+                // The world says whether the spring foot caught; a block that did not is
+                // still held, on the rail but loose: the run stops there, with the reason.
+                publish(a.name);
+                auto readRefusal = [this] { return world_.railRefusal(); };
+                const auto refusal = co_await blockingCall(ioThread_, std::move(readRefusal));
+                if (!refusal) {
+                    why = "step snap: cannot read the world model's RailRefusal (" +
+                          std::string(ua::statusName(refusal.status())) + ")";
+                } else if (!refusal->empty()) {
+                    why = "step snap: " + *refusal;
+                }
+                break;
+            }
+            case K::CheckMounted: {
+                publish(a.name);
+                auto readMount = [this, id = request.objectId] { return world_.railMount(id); };
+                const auto mount = co_await blockingCall(ioThread_, std::move(readMount));
+                if (!mount || !*mount || (*mount)->rail != request.rail->railId) {
+                    why = "step check: terminal block " + request.objectId + " is not on rail " +
+                          request.rail->railId + " after its release";
+                }
+                break;
+            }
         }
-    }
-    // approach, grasp, retreat, place-approach, place, place-retreat: to each approach
-    // point to point (free space), everything near the object in a straight line.
-    const auto poses = steps(plan);
-    for (std::size_t i = 0; i < poses.size(); ++i) {
-        const auto path =
-            (i == 0 || i == 3) ? RobotMotion::Path::Transfer : RobotMotion::Path::Linear;
-        if (auto why =
-                co_await move(poses[i].first, *skills.move, poses[i].second, path, generation);
-            !why.empty()) {
-            co_return why;
-        }
-        if (i == 1 || i == 4) {
-            const bool grasp = i == 1;
-            skills::SkillConnection& tool = grasp ? *skills.grasp : *skills.release;
-            std::string name = grasp ? "Grasp" : "Release";
-            if (auto why = co_await step(name, tool, generation); !why.empty()) co_return why;
-        }
+        if (!why.empty()) co_return why;
     }
     co_return std::string();
 }
@@ -208,13 +349,12 @@ asio::awaitable<std::string> PickAndPlace::run(PickRequest request) {
     Skills skills;
     publish("connecting");
     std::string why = co_await openSkills(request, skills);
-    GraspPlan grasp;
-    GripPointType type = GripPointType::Vacuum;
+    Script script;
     if (why.empty()) {
         publish("planning");
-        why = co_await plan(request, skills, grasp, type);
+        why = co_await plan(request, skills, script);
     }
-    if (why.empty()) why = co_await execute(grasp, type, skills, generation);
+    if (why.empty()) why = co_await execute(script, request, skills, generation);
     if (skills.move) co_await skills.move->close();
     for (Connection* c : {&skills.grasp, &skills.release}) {
         if (*c) co_await (*c)->close();

@@ -4,7 +4,9 @@
 // flange poses (GraspPlanner: a vacuum gripper from the top, a parallel one from the side,
 // approaches 5 cm off), and runs the robot's moves (RobotMotion: point to point to the
 // approaches, linear in and out) and the tool's Grasp and Release through SkillClients:
-// approach, grasp pose, Grasp, retreat, place approach, place, Release, retreat. The move and tool
+// approach, grasp pose, Grasp, retreat, place approach, place, Release, retreat. A terminal
+// block for a DIN rail is hooked over the rail's upper edge and rotated down instead of being
+// put down (rail_planner.hpp), and the world must show it snapped. The move and tool
 // skills come by endpoint, or are the ones the SkillDetector finds. It publishes its current step;
 // a sub-skill that fails or is missing ends the run with the step and the reason.
 //
@@ -16,12 +18,15 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <kdl/frames.hpp>
 
 #include "devices/common/robot_motion.hpp"
 #include "devices/pickplace/grasp_planner.hpp"
+#include "devices/pickplace/rail_planner.hpp"
 #include "devices/world/world_link.hpp"
 #include "skills/skill_connection.hpp"
 #include "skills/sub_skill_runner.hpp"
@@ -38,11 +43,19 @@ struct PickAndPlaceOptions {
     ua::ClientConfig client;
 };
 
+/// A terminal block's place on a DIN rail (rail_planner.hpp).
+struct RailTarget {
+    std::string railId;
+    double position = -1;  // m, the block's centre along the rail; negative: the next free
+};
+
 struct PickRequest {
     std::string objectId;
     std::string toolEndpoint;  // empty: the detected Grasp skill's component
     std::string moveEndpoint;  // empty: the detected CartesianLinearMove's component
     KDL::Frame placePosition;  // where the object's centre and orientation end up
+    /// Set: the object is a terminal block hooked onto this rail (placePosition unused).
+    std::optional<RailTarget> rail;
 };
 
 class PickAndPlace : public std::enable_shared_from_this<PickAndPlace> {
@@ -87,10 +100,21 @@ private:
 
     asio::awaitable<std::string> openSkills(const PickRequest& request, Skills& skills);
     asio::awaitable<Connection> open(std::string endpoint, std::string typeName, std::string& why);
-    asio::awaitable<std::string> plan(const PickRequest& request, Skills& skills, GraspPlan& plan,
-                                      GripPointType& type);
-    asio::awaitable<std::string> execute(const GraspPlan& plan, GripPointType type, Skills& skills,
-                                         std::uint64_t generation);
+    /// One thing the composite does, in order: a move, a tool skill, or a check of the world.
+    struct Action {
+        enum class Kind { Transfer, Linear, Open, Grasp, Release, CheckSnapped, CheckMounted };
+        Kind kind;
+        std::string name;
+        KDL::Frame flange;  // moves
+    };
+    using Script = std::vector<Action>;
+
+    asio::awaitable<std::string> plan(const PickRequest& request, Skills& skills, Script& script);
+    asio::awaitable<std::string> planRail(const PickRequest& request, const BoxSize& size,
+                                          const KDL::Frame& pose, const KDL::Frame& gripOffset,
+                                          GripPointType type, Script& script);
+    asio::awaitable<std::string> execute(const Script& script, const PickRequest& request,
+                                         Skills& skills, std::uint64_t generation);
     asio::awaitable<std::string> step(std::string name, skills::SkillConnection& skill,
                                       std::uint64_t generation);
     asio::awaitable<std::string> move(std::string name, RobotMotion& motion, KDL::Frame flange,

@@ -2,6 +2,8 @@
 
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
+#include <cmath>
+#include <tuple>
 
 #include "devices/common/frame.hpp"
 #include "skills/skill_behaviour.hpp"
@@ -9,10 +11,12 @@
 namespace skillcell::devices::pickplace {
 namespace {
 
+/// PickAndPlace (a box to a pose) and PlaceTerminalBlock (a block onto a DIN rail): one
+/// composite, two skills; the component runs one at a time.
 class PickAndPlaceBehaviour final : public skills::SkillBehaviour {
 public:
-    explicit PickAndPlaceBehaviour(std::shared_ptr<PickAndPlace> composite)
-        : composite_(std::move(composite)) {}
+    PickAndPlaceBehaviour(std::shared_ptr<PickAndPlace> composite, bool onRail)
+        : composite_(std::move(composite)), onRail_(onRail) {}
 
     void start(const skills::SkillParameters& p, skills::SkillRun run) override {
         PickRequest request;
@@ -21,13 +25,28 @@ public:
             run.failed("ObjectId is empty");
             return;
         }
-        const auto place = frameFromVariant(p.value("PlacePosition"));
-        if (!place) {
-            run.failed("PlacePosition is not a valid 3DFrame (" +
-                       std::string(ua::statusName(place.status())) + ")");
-            return;
+        if (onRail_) {
+            RailTarget target;
+            target.railId = p.get<ua::String>("RailId").value_or("");
+            target.position = p.get<double>("Position").value_or(-1);
+            if (target.railId.empty()) {
+                run.failed("RailId is empty");
+                return;
+            }
+            if (!std::isfinite(target.position)) {
+                run.failed("Position is not a number");
+                return;
+            }
+            request.rail = target;
+        } else {
+            const auto place = frameFromVariant(p.value("PlacePosition"));
+            if (!place) {
+                run.failed("PlacePosition is not a valid 3DFrame (" +
+                           std::string(ua::statusName(place.status())) + ")");
+                return;
+            }
+            request.placePosition = *place;
         }
-        request.placePosition = *place;
         request.toolEndpoint = p.get<ua::String>("ToolSkillControllerEndpoint").value_or("");
         request.moveEndpoint = p.get<ua::String>("MoveSkillControllerEndpoint").value_or("");
         asio::co_spawn(
@@ -48,6 +67,7 @@ public:
 
 private:
     std::shared_ptr<PickAndPlace> composite_;
+    bool onRail_;
 };
 
 }  // namespace
@@ -81,21 +101,29 @@ ua::Result<std::unique_ptr<PickAndPlaceComponent>> PickAndPlaceComponent::create
     };
     component->skills_ = skills::SkillServer::create(server, server.executor(), error);
     if (!component->skills_) return ua::status::BadConfigurationError;
-    const auto type = component->skills_->findSkillType("PickAndPlaceSkillType");
-    if (!type) {
-        if (error != nullptr) *error = "no skill type PickAndPlaceSkillType";
-        return ua::status::BadTypeDefinitionInvalid;
-    }
-    auto skill = component->skills_->add(
-        *type, "PickAndPlace", std::make_unique<PickAndPlaceBehaviour>(component->composite_));
-    if (!skill) {
-        if (error != nullptr) *error = "cannot add PickAndPlace";
-        return skill.status();
-    }
-    // Empty endpoints mean "the detected ones": a client need not write them.
-    for (const auto& p : (*skill)->parameters()) {
-        if (p.name == "ToolSkillControllerEndpoint" || p.name == "MoveSkillControllerEndpoint") {
-            (void)as.setValue(p.nodeId, ua::Variant(ua::String()));
+    for (const auto& [typeName, name, onRail] :
+         {std::tuple{"PickAndPlaceSkillType", "PickAndPlace", false},
+          std::tuple{"PlaceTerminalBlockSkillType", "PlaceTerminalBlock", true}}) {
+        const auto type = component->skills_->findSkillType(typeName);
+        if (!type) {
+            if (error != nullptr) *error = std::string("no skill type ") + typeName;
+            return ua::status::BadTypeDefinitionInvalid;
+        }
+        auto skill = component->skills_->add(
+            *type, name, std::make_unique<PickAndPlaceBehaviour>(component->composite_, onRail));
+        if (!skill) {
+            if (error != nullptr) *error = std::string("cannot add ") + name;
+            return skill.status();
+        }
+        // Empty endpoints mean "the detected ones": a client need not write them. A negative
+        // position: the next free place on the rail.
+        for (const auto& p : (*skill)->parameters()) {
+            if (p.name == "ToolSkillControllerEndpoint" ||
+                p.name == "MoveSkillControllerEndpoint") {
+                (void)as.setValue(p.nodeId, ua::Variant(ua::String()));
+            } else if (p.name == "Position") {
+                (void)as.setValue(p.nodeId, ua::Variant(-1.0));
+            }
         }
     }
     return component;

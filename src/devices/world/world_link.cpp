@@ -57,6 +57,19 @@ ua::StatusCode WorldLink::addObject(const std::string& objectId, const std::arra
         {ua::Variant(ua::String(objectId)),
          ua::Variant::array(std::vector<double>(size.begin(), size.end())), frameToVariant(pose)}));
 }
+ua::StatusCode WorldLink::addTerminalBlock(const std::string& objectId,
+                                           const std::array<double, 3>& size,
+                                           const KDL::Frame& pose) {
+    return statusOf(call(
+        "AddTerminalBlock",
+        {ua::Variant(ua::String(objectId)),
+         ua::Variant::array(std::vector<double>(size.begin(), size.end())), frameToVariant(pose)}));
+}
+ua::StatusCode WorldLink::addRail(const std::string& railId, const KDL::Frame& pose, double length,
+                                  double width) {
+    return statusOf(call("AddRail", {ua::Variant(ua::String(railId)), frameToVariant(pose),
+                                     ua::Variant(length), ua::Variant(width)}));
+}
 ua::StatusCode WorldLink::addDock(const std::string& dockId, const KDL::Frame& pose) {
     return statusOf(call("AddDock", {ua::Variant(ua::String(dockId)), frameToVariant(pose)}));
 }
@@ -161,6 +174,43 @@ ua::Result<std::string> WorldLink::readString(const std::string& path) {
     if (s == nullptr) return ua::status::BadTypeMismatch;
     return *s;
 }
+ua::Result<double> WorldLink::readDouble(const std::string& path) {
+    const auto value = client_.readValue(id(path));
+    if (!value) return value.status();
+    const auto* d = value->get<double>();
+    if (d == nullptr) return ua::status::BadTypeMismatch;
+    return *d;
+}
+
+ua::Result<WorldLink::Rail> WorldLink::rail(const std::string& railId) {
+    const std::string path = "World/Rails/" + railId;
+    const auto pose = readFrame(path + "/Pose");
+    if (!pose) return pose.status();
+    const auto length = readDouble(path + "/Length");
+    if (!length) return length.status();
+    const auto width = readDouble(path + "/Width");
+    if (!width) return width.status();
+    return Rail{*pose, *length, *width};
+}
+
+ua::Result<std::vector<std::string>> WorldLink::railIds() {
+    return children("World/Rails");
+}
+
+ua::Result<std::optional<WorldLink::Mount>> WorldLink::railMount(const std::string& objectId) {
+    const std::string path = "World/Objects/" + objectId;
+    const auto railId = readString(path + "/Rail");
+    if (!railId) return railId.status();
+    if (railId->empty()) return std::optional<Mount>();
+    const auto position = readDouble(path + "/RailPosition");
+    if (!position) return position.status();
+    return std::optional<Mount>(Mount{*railId, *position});
+}
+
+ua::Result<std::string> WorldLink::railRefusal() {
+    return readString("World/RailRefusal");
+}
+
 ua::Result<std::string> WorldLink::mountedTool() {
     return readString("World/MountedTool");
 }

@@ -32,6 +32,10 @@ public:
     ua::StatusCode release();
     ua::StatusCode addObject(const std::string& id, const std::array<double, 3>& size,
                              const KDL::Frame& pose);
+    ua::StatusCode addTerminalBlock(const std::string& id, const std::array<double, 3>& size,
+                                    const KDL::Frame& pose);
+    ua::StatusCode addRail(const std::string& id, const KDL::Frame& pose, double length,
+                           double width);
     ua::StatusCode addDock(const std::string& id, const KDL::Frame& pose);
     ua::StatusCode addTool(const std::string& id, const std::string& dockId,
                            const KDL::Frame& gripPoint);
@@ -59,6 +63,23 @@ public:
     /// The tool stored in the dock; empty when it is empty.
     [[nodiscard]] ua::Result<std::string> dockTool(const std::string& dockId);
 
+    struct Rail {
+        KDL::Frame pose;
+        double length = 0, width = 0;  // m
+    };
+    /// A DIN rail's pose, length and width; BadNodeIdUnknown for an unknown rail.
+    [[nodiscard]] ua::Result<Rail> rail(const std::string& railId);
+    [[nodiscard]] ua::Result<std::vector<std::string>> railIds();
+    struct Mount {
+        std::string rail;
+        double position = 0;  // m, the block's centre along the rail
+    };
+    /// Where a terminal block is mounted; nullopt when it is on no rail. BadNodeIdUnknown
+    /// for an object that is no terminal block.
+    [[nodiscard]] ua::Result<std::optional<Mount>> railMount(const std::string& objectId);
+    /// Why the held terminal block lying on a rail has not snapped; empty when it has.
+    [[nodiscard]] ua::Result<std::string> railRefusal();
+
     struct Token {
     private:
         friend class WorldLink;
@@ -70,6 +91,7 @@ private:
     ua::Result<std::vector<ua::Variant>> call(const char* method, std::vector<ua::Variant> in);
     ua::Result<std::string> readString(const std::string& path);
     ua::Result<KDL::Frame> readFrame(const std::string& path);
+    ua::Result<double> readDouble(const std::string& path);
     ua::Result<std::vector<std::string>> children(const std::string& path);
     [[nodiscard]] ua::NodeId id(const std::string& path) const {
         return ua::NodeId(ns_, ua::String(path));

@@ -81,7 +81,9 @@ StatusCode WorldNodes::build() {
             return r.status();
         }
     }
-    for (const char* name : {"MountedTool", "GraspedObject"}) {
+    // RailRefusal: why the held terminal block, lying on a rail, has not snapped (empty when
+    // it has, or holds none): what a placing skill reports when its block stays loose.
+    for (const char* name : {"MountedTool", "GraspedObject", "RailRefusal"}) {
         if (auto r = as.addVariable(world, id(std::string("World/") + name), name,
                                     NodeId(ua::ns0::String), Variant(ua::String()));
             !r) {
@@ -346,6 +348,7 @@ void WorldNodes::sync() {
     (void)as.setValue(id("World/GripPoint"), frameToVariant(world_.gripPoint()));
     (void)as.setValue(id("World/MountedTool"), Variant(ua::String(world_.mountedTool())));
     (void)as.setValue(id("World/GraspedObject"), Variant(ua::String(world_.graspedObject())));
+    (void)as.setValue(id("World/RailRefusal"), Variant(ua::String(world_.railRefusal())));
 }
 
 }  // namespace skillcell::devices
