@@ -448,10 +448,10 @@ void DemoCell::showJournal() {
     const auto& r = **run;
     std::printf("  run %lld: %s%s%s\n", static_cast<long long>(r.id), mes::toString(r.state),
                 r.reason.empty() ? "" : " - ", r.reason.c_str());
-    std::printf("  %4s %7s %-9s %-24s %-40s %7s\n", "step", "attempt", "state", "skill type",
+    std::printf("  %4s %7s %-9s %-28s %-40s %7s\n", "step", "attempt", "state", "skill type",
                 "component", "ms");
     for (const auto& s : r.steps) {
-        std::printf("  %4d %7d %-9s %-24s %-40s %7lld\n", s.index, s.attempt,
+        std::printf("  %4d %7d %-9s %-28s %-40s %7lld\n", s.index, s.attempt,
                     mes::toString(s.state), mes::shortName(s.skillTypeIri).c_str(),
                     s.componentUri.c_str(),
                     static_cast<long long>(s.endedMs > 0 ? s.endedMs - s.startedMs : 0));

@@ -26,3 +26,10 @@ add_test(NAME cli.mes
 add_test(NAME cli.demo
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mes/demo_test.sh $<TARGET_FILE:skillcell>)
 set_tests_properties(cli.demo PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 960)
+
+# The paper's second demonstrator: terminal blocks on a DIN rail, a cell file and a process
+# the MES runs unchanged; world state and journal.
+add_test(NAME cli.demo_din_rail
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mes/demo_din_rail_test.sh $<TARGET_FILE:skillcell>
+                 ${PROJECT_SOURCE_DIR})
+set_tests_properties(cli.demo_din_rail PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 660)
