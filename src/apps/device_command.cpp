@@ -12,8 +12,9 @@
 //   toolchanger  the Kelvin tool changer: AttachTool, DetachTool, ChangeTool on the robot's
 //            move skill; a simulated coupling on the world model; it powers the tools'
 //            adapter processes
-//   pickplace  the pick-and-place composite: PickAndPlace over the robot's move skill and
-//            the mounted tool's Grasp and Release, the object from the world model
+//   pickplace  the pick-and-place composite: PickAndPlace and PlaceTerminalBlock over the
+//            robot's move skill and the mounted tool's Grasp and Release, the object from the
+//            world model
 #include <spdlog/spdlog.h>
 #include <charconv>
 
@@ -753,11 +754,13 @@ CLI::App* addPickPlace(CLI::App* device, std::vector<Command>& commands) {
     options->composite.process.applicationName = "skillcell pick and place";
     CLI::App* cmd = device->add_subcommand(
         "pickplace",
-        "Run the pick-and-place composite with the skill PickAndPlace: it reads the object "
-        "from the world model and the grip point from the tool's Grasp skill, plans the "
-        "approach (vacuum from the top, parallel from the side, 5 cm off), and runs the "
-        "robot's CartesianLinearMove and the tool's Grasp and Release (the ones discovery "
-        "finds, or the endpoints given). Objects/PickAndPlace/CurrentStep shows its step.");
+        "Run the pick-and-place composite with the skills PickAndPlace and "
+        "PlaceTerminalBlock: it reads the object from the world model and the grip point from "
+        "the tool's Grasp skill, plans the approach (vacuum from the top, parallel from the "
+        "side, 5 cm off; a terminal block from the top, hooked over a DIN rail's upper edge and "
+        "rotated down until it snaps), and runs the robot's CartesianLinearMove and the tool's "
+        "Grasp and Release (the ones discovery finds, or the endpoints given). "
+        "Objects/PickAndPlace/CurrentStep shows its step.");
     addCompositeOptions(cmd, options->composite,
                         "the world model's endpoint: where the objects' boxes and poses are "
                         "read");
