@@ -34,7 +34,16 @@ Json toJson(const SkillView& s) {
 Json toJson(const SceneView& s) {
     Json objects = Json::array();
     for (const auto& o : s.objects) {
-        objects.push_back({{"id", o.id}, {"position", o.position}, {"size", o.size}});
+        Json object = {{"id", o.id}, {"position", o.position}, {"size", o.size}};
+        if (o.terminalBlock) {
+            object["rail"] = o.rail;
+            object["railPosition"] = o.railPosition;
+        }
+        objects.push_back(std::move(object));
+    }
+    Json rails = Json::array();
+    for (const auto& r : s.rails) {
+        rails.push_back({{"id", r.id}, {"start", r.start}, {"end", r.end}});
     }
     Json docks = Json::array();
     for (const auto& d : s.docks) {
@@ -44,7 +53,8 @@ Json toJson(const SceneView& s) {
             {"mountedTool", s.mountedTool},
             {"graspedObject", s.graspedObject},
             {"objects", std::move(objects)},
-            {"docks", std::move(docks)}};
+            {"docks", std::move(docks)},
+            {"rails", std::move(rails)}};
 }
 
 Json toJson(const std::vector<RunView>& runs) {

@@ -58,7 +58,17 @@ struct SceneView {
         std::string id;
         std::array<double, 3> position{};
         std::array<double, 3> size{};
+        bool terminalBlock = false;
+        std::string rail;           // a terminal block's rail; empty when on none
+        double railPosition = 0;    // its centre along that rail, m
         friend bool operator==(const Box&, const Box&) = default;
+    };
+    /// A DIN rail: from its start to its end, which do not move.
+    struct Rail {
+        std::string id;
+        std::array<double, 3> start{};
+        std::array<double, 3> end{};
+        friend bool operator==(const Rail&, const Rail&) = default;
     };
     struct Dock {
         std::string id;
@@ -71,6 +81,7 @@ struct SceneView {
     std::string graspedObject;
     std::vector<Box> objects;
     std::vector<Dock> docks;
+    std::vector<Rail> rails;
     friend bool operator==(const SceneView&, const SceneView&) = default;
 };
 

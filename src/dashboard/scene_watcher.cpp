@@ -118,17 +118,38 @@ asio::awaitable<ua::StatusCode> SceneWatcher::watch(ua::Client& client) {
     if (!objects) co_return objects.status();
     auto docks = co_await children(client, id("World/Docks"));
     if (!docks) co_return docks.status();
+    // A world from before rails has no Rails folder: no rails.
+    auto rails = co_await children(client, id("World/Rails"));
+    if (!rails && rails.status() != ua::StatusCode(ua::status::BadNodeIdUnknown)) {
+        co_return rails.status();
+    }
 
     SceneView scene;
     for (const auto& o : *objects) {
         auto size = co_await client.readValue(id("World/Objects/" + o + "/Size"));
         if (!size) co_return size.status();
-        SceneView::Box box{o, {}, {}};
+        SceneView::Box box;
+        box.id = o;
         const auto& edges = size->elements();
         for (std::size_t i = 0; i < 3 && i < edges.size(); ++i) {
             if (const auto* d = std::get_if<double>(&edges[i])) box.size[i] = *d;
         }
+        // Only a terminal block has a Rail.
+        auto rail = co_await client.readValue(id("World/Objects/" + o + "/Rail"));
+        box.terminalBlock = rail.ok();
         scene.objects.push_back(std::move(box));
+    }
+    for (const auto& r : rails ? *rails : std::vector<std::string>()) {
+        auto pose = co_await client.readValue(id("World/Rails/" + r + "/Pose"));
+        if (!pose) co_return pose.status();
+        auto length = co_await client.readValue(id("World/Rails/" + r + "/Length"));
+        if (!length) co_return length.status();
+        const auto frame = devices::frameFromVariant(*pose);
+        const double* l = length->get<double>();
+        if (!frame || l == nullptr) co_return ua::status::BadTypeMismatch;
+        const KDL::Vector end = *frame * KDL::Vector(*l, 0, 0);
+        scene.rails.push_back(
+            {r, {frame->p.x(), frame->p.y(), frame->p.z()}, {end.x(), end.y(), end.z()}});
     }
     for (const auto& d : *docks) {
         auto pose = co_await client.readValue(id("World/Docks/" + d + "/Pose"));
@@ -149,6 +170,17 @@ asio::awaitable<ua::StatusCode> SceneWatcher::watch(ua::Client& client) {
                              [i](SceneView& s, const ua::Variant& v) {
                                  if (i < s.objects.size()) s.objects[i].position = position(v);
                              });
+    }
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        if (!scene.objects[i].terminalBlock) continue;
+        const std::string path = "World/Objects/" + scene.objects[i].id;
+        watched.emplace_back(path + "/Rail", [i](SceneView& s, const ua::Variant& v) {
+            if (i < s.objects.size()) s.objects[i].rail = text(v);
+        });
+        watched.emplace_back(path + "/RailPosition", [i](SceneView& s, const ua::Variant& v) {
+            const double* d = v.get<double>();
+            if (i < s.objects.size()) s.objects[i].railPosition = d != nullptr ? *d : 0;
+        });
     }
     for (std::size_t i = 0; i < scene.docks.size(); ++i) {
         watched.emplace_back("World/Docks/" + scene.docks[i].id + "/Tool",

@@ -220,8 +220,10 @@ function renderScene() {
   const picture = $("scene");
   picture.replaceChildren();
   const W = 640, H = 420, margin = 0.15;
+  const rails = scene.rails || [];
   const points = [[0, 0], scene.flange, ...scene.objects.map((o) => o.position),
-                  ...scene.docks.map((d) => d.position)];
+                  ...scene.docks.map((d) => d.position),
+                  ...rails.flatMap((r) => [r.start, r.end])];
   const xs = points.map((p) => p[0]), ys = points.map((p) => p[1]);
   const minX = Math.min(...xs) - margin, maxX = Math.max(...xs) + margin;
   const minY = Math.min(...ys) - margin, maxY = Math.max(...ys) + margin;
@@ -239,13 +241,26 @@ function renderScene() {
                  d.id + (d.tool ? ": " + d.tool : ": empty")));
     picture.append(g);
   }
+  // A rail, and the blocks on it named along it in their order (they are too narrow to
+  // label one by one).
+  for (const r of rails) {
+    const on = scene.objects.filter((o) => o.rail === r.id)
+                            .sort((a, b) => a.railPosition - b.railPosition);
+    const g = svg("g", { class: "rail", "data-rail": r.id,
+                         "data-blocks": on.map((o) => o.id + "@" + (o.railPosition * 1000).toFixed(1)).join(" ") });
+    g.append(svg("line", { x1: px(r.start[0]), y1: py(r.start[1]), x2: px(r.end[0]), y2: py(r.end[1]) }),
+             svg("text", { x: px(r.start[0]), y: py(r.start[1]) - 14 },
+                 r.id + (on.length ? ": " + on.map((o) => o.id + " at " + (o.railPosition * 1000).toFixed(1) + " mm").join(", ")
+                                   : ": empty")));
+    picture.append(g);
+  }
   for (const o of scene.objects) {
-    const w = Math.max(4, o.size[0] * scale), h = Math.max(4, o.size[1] * scale);
+    const w = Math.max(3, o.size[0] * scale), h = Math.max(4, o.size[1] * scale);
     const held = o.id === scene.graspedObject;
     const g = svg("g", { class: "object" + (held ? " held" : ""), "data-object": o.id,
                          "data-x": o.position[0].toFixed(3), "data-y": o.position[1].toFixed(3) });
-    g.append(svg("rect", { x: px(o.position[0]) - w / 2, y: py(o.position[1]) - h / 2, width: w, height: h }),
-             svg("text", { x: px(o.position[0]) + w / 2 + 4, y: py(o.position[1]) + 4 }, o.id));
+    g.append(svg("rect", { x: px(o.position[0]) - w / 2, y: py(o.position[1]) - h / 2, width: w, height: h }));
+    if (!o.rail) g.append(svg("text", { x: px(o.position[0]) + w / 2 + 4, y: py(o.position[1]) + 4 }, o.id));
     picture.append(g);
   }
   const f = scene.flange;

@@ -166,7 +166,7 @@ TEST(CellView, TheSceneIsPushedWhenItChangesAndOnlyThen) {
     SceneView scene;
     scene.flange = {0.3, -0.45, 0.35};
     scene.mountedTool = "parallel";
-    scene.objects = {{"boxA", {0.45, 0.15, 0.025}, {0.04, 0.1, 0.05}}};
+    scene.objects = {{"boxA", {0.45, 0.15, 0.025}, {0.04, 0.1, 0.05}, false, "", 0}};
     scene.docks = {{"dockP", {0.3, -0.45, 0.35}, ""}};
     view.scene(scene);
     view.scene(scene);  // the same again: nothing to say

@@ -1,6 +1,8 @@
 // The dashboard's SceneWatcher against a real world model server: the first scene is whole
 // (sizes, docks, poses, tools), and what a robot then changes through the world's methods
 // (the flange moves, a tool is mounted) arrives by the subscription, without any polling.
+// A DIN rail is drawn from its start to its end, and a terminal block snapped onto it shows
+// the rail and its position along it.
 #include "dashboard/scene_watcher.hpp"
 
 #include <gtest/gtest.h>
@@ -11,6 +13,7 @@
 #include <thread>
 
 #include "devices/common/frame.hpp"
+#include "devices/world/din_rail.hpp"
 #include "devices/world/world_link.hpp"
 #include "devices/world/world_nodes.hpp"
 #include "running_server.hpp"
@@ -102,6 +105,83 @@ TEST(SceneWatcher, TheFirstSceneIsWholeAndChangesComeBySubscription) {
     asio::post(io, [watcher] { watcher->stop(); });
     work.reset();
     thread.join();  // the watch ends: its connection closes
+    server.inServer([&nodes](ua::Server&) { nodes.reset(); });
+}
+
+TEST(SceneWatcher, ARailAndATerminalBlockSnappedOntoIt) {
+    const devices::BoxSize block{0.0052, 0.045, 0.035};
+    const devices::DinRail rail{"rail1", at(0.3, 0.3, 0.0075), 0.2};
+    std::unique_ptr<devices::WorldNodes> nodes;
+    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+        devices::World w;
+        ASSERT_EQ(w.addRail(rail), ua::status::Good);
+        ASSERT_EQ(w.addObject({"tb1", block, at(0.45, 0, 0.0175), devices::ObjectKind::TerminalBlock}),
+                  ua::status::Good);
+        ASSERT_EQ(w.addObject({"box1", {0.04, 0.04, 0.04}, at(0.45, 0.15, 0.02)}),
+                  ua::status::Good);
+        ASSERT_EQ(w.addDock({"dock1", at(0.3, -0.45, 0.35, M_PI), {}}), ua::status::Good);
+        ASSERT_EQ(w.addTool({"parallel", at(0, 0, 0.15)}, "dock1"), ua::status::Good);
+        auto created = devices::WorldNodes::create(s, std::move(w));
+        ASSERT_TRUE(created.ok());
+        nodes = std::move(*created);
+    });
+    ASSERT_TRUE(nodes);
+
+    asio::io_context io(1);
+    auto work = asio::make_work_guard(io);
+    std::thread thread([&io] { io.run(); });
+    Scenes scenes;
+    auto watcher = SceneWatcher::start(io.get_executor(), server.url(), ua::ClientConfig{},
+                                       [&scenes](const SceneView& s) { scenes.add(s); });
+    auto first = scenes.waitFor([](const SceneView& s) { return !s.rails.empty(); });
+    ASSERT_TRUE(first);
+    ASSERT_EQ(first->rails.size(), 1U);
+    EXPECT_EQ(first->rails[0].id, "rail1");
+    EXPECT_NEAR(first->rails[0].start[0], 0.3, 1e-9);
+    EXPECT_NEAR(first->rails[0].end[0], 0.5, 1e-9);
+    EXPECT_NEAR(first->rails[0].end[1], 0.3, 1e-9);
+    ASSERT_EQ(first->objects.size(), 2U);
+    for (const auto& o : first->objects) {
+        EXPECT_EQ(o.terminalBlock, o.id == "tb1") << o.id;
+        EXPECT_EQ(o.rail, "") << o.id;
+    }
+
+    // A robot picks tb1 from the top, hooks it over the rail's upper edge and rotates it down.
+    auto link = devices::WorldLink::connect(server.url());
+    ASSERT_TRUE(link.ok());
+    devices::WorldLink& w = **link;
+    const KDL::Frame gripPoint = at(0, 0, 0.15);
+    const KDL::Frame gripInBlock(KDL::Rotation::RotX(M_PI), KDL::Vector::Zero());
+    auto flangeFor = [&](const KDL::Frame& blockPose) {
+        return blockPose * gripInBlock * gripPoint.Inverse();
+    };
+    ASSERT_EQ(w.setFlangePose(at(0.3, -0.45, 0.35, M_PI)), ua::status::Good);
+    ASSERT_EQ(w.mountTool("dock1"), ua::status::Good);
+    ASSERT_EQ(w.setFlangePose(flangeFor(at(0.45, 0, 0.0175))), ua::status::Good);
+    ASSERT_EQ(w.grasp("tb1"), ua::status::Good);
+    for (int i = 0; i <= 3; ++i) {
+        const double tilt = devices::kHookTilt * (3 - i) / 3;
+        ASSERT_EQ(w.setFlangePose(flangeFor(devices::hookedPose(rail, 0.0026, block, tilt))),
+                  ua::status::Good);
+    }
+    ASSERT_EQ(w.release(), ua::status::Good);
+    auto tb1 = [](const SceneView& s) -> const SceneView::Box* {
+        for (const auto& o : s.objects) {
+            if (o.id == "tb1") return &o;
+        }
+        return nullptr;
+    };
+    auto snapped = scenes.waitFor([&](const SceneView& s) {
+        return tb1(s) != nullptr && tb1(s)->rail == "rail1";
+    });
+    ASSERT_TRUE(snapped && tb1(*snapped));
+    EXPECT_EQ(tb1(*snapped)->rail, "rail1");
+    EXPECT_NEAR(tb1(*snapped)->railPosition, 0.0026, 1e-9);
+    EXPECT_NEAR(tb1(*snapped)->position[0], 0.3026, 1e-9);
+
+    asio::post(io, [watcher] { watcher->stop(); });
+    work.reset();
+    thread.join();
     server.inServer([&nodes](ua::Server&) { nodes.reset(); });
 }
 
