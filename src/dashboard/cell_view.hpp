@@ -59,8 +59,8 @@ struct SceneView {
         std::array<double, 3> position{};
         std::array<double, 3> size{};
         bool terminalBlock = false;
-        std::string rail;           // a terminal block's rail; empty when on none
-        double railPosition = 0;    // its centre along that rail, m
+        std::string rail;         // a terminal block's rail; empty when on none
+        double railPosition = 0;  // its centre along that rail, m
         friend bool operator==(const Box&, const Box&) = default;
     };
     /// A DIN rail: from its start to its end, which do not move.

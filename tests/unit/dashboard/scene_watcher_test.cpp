@@ -115,8 +115,9 @@ TEST(SceneWatcher, ARailAndATerminalBlockSnappedOntoIt) {
     test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
         devices::World w;
         ASSERT_EQ(w.addRail(rail), ua::status::Good);
-        ASSERT_EQ(w.addObject({"tb1", block, at(0.45, 0, 0.0175), devices::ObjectKind::TerminalBlock}),
-                  ua::status::Good);
+        ASSERT_EQ(
+            w.addObject({"tb1", block, at(0.45, 0, 0.0175), devices::ObjectKind::TerminalBlock}),
+            ua::status::Good);
         ASSERT_EQ(w.addObject({"box1", {0.04, 0.04, 0.04}, at(0.45, 0.15, 0.02)}),
                   ua::status::Good);
         ASSERT_EQ(w.addDock({"dock1", at(0.3, -0.45, 0.35, M_PI), {}}), ua::status::Good);
@@ -171,9 +172,8 @@ TEST(SceneWatcher, ARailAndATerminalBlockSnappedOntoIt) {
         }
         return nullptr;
     };
-    auto snapped = scenes.waitFor([&](const SceneView& s) {
-        return tb1(s) != nullptr && tb1(s)->rail == "rail1";
-    });
+    auto snapped = scenes.waitFor(
+        [&](const SceneView& s) { return tb1(s) != nullptr && tb1(s)->rail == "rail1"; });
     ASSERT_TRUE(snapped && tb1(*snapped));
     EXPECT_EQ(tb1(*snapped)->rail, "rail1");
     EXPECT_NEAR(tb1(*snapped)->railPosition, 0.0026, 1e-9);
