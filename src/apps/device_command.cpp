@@ -3,6 +3,7 @@
 // READY line, SIGTERM) whose content is the device:
 //   world    the world model (Objects/World), optionally seeded with a scene
 //   ur5      the simulated UR5 with its four move skills, reporting to a world model
+//   iiwa     the simulated KUKA LBR iiwa 7 R800 (7 axes), the same skills and reports
 //   robotiq  the Robotiq 2F-85 adapter on a serial device; without --serial, on a
 //            simulated 2F-85 behind a pseudo-terminal that asks the world model what lies
 //            between its fingers and reports grasps and releases there
@@ -21,6 +22,7 @@
 #include "cell/component_uris.hpp"
 #include "cell/device_arguments.hpp"
 #include "commands.hpp"
+#include "devices/arm/arm_component.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/dh/ag95_component.hpp"
 #include "devices/dh/simulated_ag95.hpp"
@@ -30,7 +32,6 @@
 #include "devices/schmalz/ecbpi_component.hpp"
 #include "devices/toolchanger/simulated_kelvin_changer.hpp"
 #include "devices/toolchanger/tool_changer_component.hpp"
-#include "devices/ur5/ur5_component.hpp"
 #include "devices/world/flange_reporter.hpp"
 #include "devices/world/world_nodes.hpp"
 #include "server_process.hpp"
@@ -212,28 +213,35 @@ CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
     return cmd;
 }
 
-struct Ur5Options {
+struct ArmOptions {
     ServerProcessOptions process;
     double speed = 1;
     int tickMs = 10;
     std::string world;
 };
 
-/// What `device ur5` keeps alive: the reporter outlives the component that feeds it.
-struct Ur5Content {
+/// What `device ur5` or `device iiwa` keeps alive: the reporter outlives the component that
+/// feeds it.
+struct ArmContent {
     std::unique_ptr<devices::FlangeReporter> reporter;
-    std::unique_ptr<devices::Ur5Component> component;
+    std::unique_ptr<devices::ArmComponent> component;
 };
 
-CLI::App* addUr5(CLI::App* device, std::vector<Command>& commands) {
-    auto options = std::make_shared<Ur5Options>();
-    options->process.applicationUri = std::string(cell::kUr5Uri);
-    options->process.applicationName = "skillcell UR5 (simulated)";
+/// A simulated robot arm of `model` as the command `name`.
+CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* name,
+                 std::string_view applicationUri, const devices::ArmModel& model) {
+    auto options = std::make_shared<ArmOptions>();
+    options->process.applicationUri = std::string(applicationUri);
+    options->process.applicationName = "skillcell " + model.model + " (simulated)";
     CLI::App* cmd = device->add_subcommand(
-        "ur5",
-        "Run a simulated Universal Robots UR5 with the skills CartesianLinearMove, "
-        "CartesianPtpMove, JointLinearMove and JointPtpMove, and Objects/UR5 with its joint "
-        "positions, flange and TCP poses.");
+        name, "Run a simulated " + model.manufacturer + " " + model.model + " (" +
+                  std::to_string(model.joints()) +
+                  " axes) with the skills CartesianLinearMove, CartesianPtpMove, "
+                  "JointLinearMove and JointPtpMove, Objects/" +
+                  model.name +
+                  " with its joint positions, flange and TCP poses, and the arm in the OPC "
+                  "Foundation's Robotics model (DeviceSet/" +
+                  model.name + "System).");
     addServerProcessOptions(cmd, options->process);
     addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
     cmd->add_option("--speed", options->speed, "simulated seconds per real second")
@@ -246,12 +254,13 @@ CLI::App* addUr5(CLI::App* device, std::vector<Command>& commands) {
                     "the world model's endpoint (opc.tcp://...): the flange pose is reported "
                     "there");
     commands.push_back(
-        {cmd, [options] {
+        {cmd, [options, model, name = std::string(name)] {
              return runServerProcess(
                  options->process,
-                 [options](const ComponentContext& c) -> ua::Result<ComponentContent> {
-                     auto content = std::make_shared<Ur5Content>();
-                     devices::Ur5ComponentOptions o;
+                 [options, model, name](const ComponentContext& c) -> ua::Result<ComponentContent> {
+                     auto content = std::make_shared<ArmContent>();
+                     devices::ArmComponentOptions o;
+                     o.model = model;
                      o.arm.speed = options->speed;
                      o.arm.tick = std::chrono::milliseconds(options->tickMs);
                      if (!options->world.empty()) {
@@ -269,9 +278,9 @@ CLI::App* addUr5(CLI::App* device, std::vector<Command>& commands) {
                              };
                      }
                      std::string error;
-                     auto component = devices::Ur5Component::create(c.server, o, &error);
+                     auto component = devices::ArmComponent::create(c.server, o, &error);
                      if (!component) {
-                         spdlog::critical("ur5: {}", error);
+                         spdlog::critical("{}: {}", name, error);
                          return component.status();
                      }
                      content->component = std::move(*component);
@@ -809,7 +818,8 @@ std::vector<Command> addDeviceCommands(CLI::App& app) {
     device->require_subcommand(1);
     std::vector<Command> commands;
     addWorld(device, commands);
-    addUr5(device, commands);
+    addArm(device, commands, "ur5", cell::kUr5Uri, devices::ArmModel::ur5());
+    addArm(device, commands, "iiwa", cell::kIiwaUri, devices::ArmModel::lbrIiwa7());
     addParallelGripper(device, commands, robotiq2f85());
     addParallelGripper(device, commands, dhAg95());
     addSchmalz(device, commands);

@@ -13,6 +13,7 @@ inline constexpr std::string_view kMesUri = "urn:skillcell:mes";
 inline constexpr std::string_view kDashboardUri = "urn:skillcell:dashboard";
 inline constexpr std::string_view kWorldUri = "urn:skillcell:device:world";
 inline constexpr std::string_view kUr5Uri = "urn:skillcell:device:ur5";
+inline constexpr std::string_view kIiwaUri = "urn:skillcell:device:lbr-iiwa7";
 inline constexpr std::string_view kToolChangerUri = "urn:skillcell:device:kelvin-toolchanger";
 inline constexpr std::string_view kPickAndPlaceUri = "urn:skillcell:device:pick-and-place";
 

@@ -5,10 +5,10 @@
 #include <gtest/gtest.h>
 
 #include "client_thread.hpp"
+#include "devices/arm/arm_component.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/robotiq/robotiq_component.hpp"
 #include "devices/robotiq/simulated_gripper_port.hpp"
-#include "devices/ur5/ur5_component.hpp"
 #include "devices/world/flange_reporter.hpp"
 #include "devices/world/world_link.hpp"
 #include "devices/world/world_nodes.hpp"
@@ -54,9 +54,9 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     auto robotLink = WorldLink::connect(worldServer.url());
     ASSERT_TRUE(robotLink.ok());
     auto reporter = FlangeReporter::start(std::move(*robotLink));
-    std::unique_ptr<Ur5Component> robot;
+    std::unique_ptr<ArmComponent> robot;
     test::RunningServer robotServer(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
-        Ur5ComponentOptions o;
+        ArmComponentOptions o;
         o.arm.speed = 20;
         o.arm.tick = 2ms;
         o.onFlange = [r = reporter.get()](const KDL::Frame& f) { r->report(f); };
@@ -64,7 +64,7 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
         o.arm.beforeDone = [r = reporter.get()](std::function<void()> report) {
             r->whenSent(std::move(report));
         };
-        auto c = Ur5Component::create(s, o);
+        auto c = ArmComponent::create(s, o);
         ASSERT_TRUE(c.ok());
         robot = std::move(*c);
     });

@@ -6,14 +6,14 @@
 skillcell_unit_test(test_devices
   device_world_test.cpp
   device_din_rail_test.cpp
-  device_ur5_test.cpp
+  device_arm_test.cpp
   device_robotiq_test.cpp
   device_cell_test.cpp
   device_schmalz_test.cpp
   device_process_test.cpp
   device_parallel_grippers_test.cpp
   grasp_planner_test.cpp)
-target_link_libraries(test_devices PRIVATE skillcell_world skillcell_ur5 skillcell_robotiq
+target_link_libraries(test_devices PRIVATE skillcell_world skillcell_arm skillcell_robotiq
   skillcell_schmalz skillcell_dh skillcell_skills skillcell_pickplace skillcell_test_support
   PkgConfig::MODBUS)
 target_compile_definitions(test_devices PRIVATE SKILLCELL_BINARY="$<TARGET_FILE:skillcell>")

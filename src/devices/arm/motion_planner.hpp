@@ -8,21 +8,12 @@
 #include <string>
 #include <variant>
 
-#include "devices/ur5/trajectory.hpp"
-#include "devices/ur5/ur5_kinematics.hpp"
+#include "devices/arm/arm_kinematics.hpp"
+#include "devices/arm/trajectory.hpp"
 
 namespace skillcell::devices {
 
 enum class MoveKind : std::uint8_t { CartesianLinear, CartesianPtp, JointLinear, JointPtp };
-
-/// The limits a move uses when MaxVelocity / MaxAcceleration are zero: the UR5's own
-/// defaults (linear: 250 mm/s, 1.2 m/s^2; joints: 60 deg/s, 80 deg/s^2).
-struct MoveDefaults {
-    double linearVelocity = 0.25;
-    double linearAcceleration = 1.2;
-    double jointVelocity = 1.05;
-    double jointAcceleration = 1.4;
-};
 
 struct MoveRequest {
     MoveKind kind = MoveKind::JointPtp;
@@ -30,7 +21,7 @@ struct MoveRequest {
     double maxVelocity = 0;                         // 0: the default
     double maxAcceleration = 0;
     KDL::Frame target = KDL::Frame::Identity();  // Cartesian moves: the TCP's target
-    Joints targetJoints{};                       // joint moves
+    Joints targetJoints;                         // joint moves
     std::optional<JointBounds> axisBounds;       // Cartesian moves: narrows the joint limits
 };
 
@@ -41,7 +32,8 @@ inline constexpr double kRotationRadius = 0.1;
 
 class MotionPlanner {
 public:
-    explicit MotionPlanner(const Ur5Kinematics& kinematics, MoveDefaults defaults = {})
+    /// Moves without limits of their own use `defaults` (the arm model's own).
+    MotionPlanner(const ArmKinematics& kinematics, MoveDefaults defaults)
         : kinematics_(kinematics), defaults_(defaults) {}
 
     /// A trajectory from `current`, or the reason there is none.
@@ -53,7 +45,7 @@ private:
         const Joints& current, const KDL::Frame& tcpTarget, const KDL::Frame& toolFrame,
         const JointBounds& bounds, double velocity, double acceleration) const;
 
-    const Ur5Kinematics& kinematics_;
+    const ArmKinematics& kinematics_;
     MoveDefaults defaults_;
 };
 

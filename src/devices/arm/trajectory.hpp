@@ -5,8 +5,8 @@
 // move samples the Cartesian line and its parameter is the tool centre point's path.
 #include <vector>
 
-#include "devices/ur5/trapezoidal_profile.hpp"
-#include "devices/ur5/ur5_kinematics.hpp"
+#include "devices/arm/arm_kinematics.hpp"
+#include "devices/arm/trapezoidal_profile.hpp"
 
 namespace skillcell::devices {
 

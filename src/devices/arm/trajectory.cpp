@@ -1,4 +1,4 @@
-#include "devices/ur5/trajectory.hpp"
+#include "devices/arm/trajectory.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,9 @@ Trajectory::Trajectory(std::vector<Joints> samples, std::vector<double> arc, dou
 Trajectory Trajectory::jointSpace(const Joints& from, const Joints& to, double maxVelocity,
                                   double maxAcceleration) {
     double lead = 0;
-    for (std::size_t i = 0; i < kUr5Joints; ++i) lead = std::max(lead, std::abs(to[i] - from[i]));
+    for (std::size_t i = 0; i < from.size() && i < to.size(); ++i) {
+        lead = std::max(lead, std::abs(to[i] - from[i]));
+    }
     return Trajectory({from, to}, {0.0, lead}, maxVelocity, maxAcceleration);
 }
 
@@ -26,8 +28,8 @@ Joints Trajectory::at(double t) const {
     const auto i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(1, upper - arc_.begin()));
     const double length = arc_[i] - arc_[i - 1];
     const double f = length > 0 ? (s - arc_[i - 1]) / length : 1.0;
-    Joints q;
-    for (std::size_t j = 0; j < kUr5Joints; ++j) {
+    Joints q(samples_[i].size());
+    for (std::size_t j = 0; j < q.size(); ++j) {
         q[j] = samples_[i - 1][j] + f * (samples_[i][j] - samples_[i - 1][j]);
     }
     return q;

@@ -1,4 +1,4 @@
-#include "devices/ur5/ur5_kinematics.hpp"
+#include "devices/arm/arm_kinematics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -19,79 +19,54 @@ constexpr double kAngleTolerance = 1e-6;
 constexpr std::size_t kStarts = 32;
 
 KDL::JntArray toJnt(const Joints& q) {
-    KDL::JntArray a(kUr5Joints);
-    for (std::size_t i = 0; i < kUr5Joints; ++i) a(static_cast<unsigned>(i)) = q[i];
+    KDL::JntArray a(static_cast<unsigned>(q.size()));
+    for (std::size_t i = 0; i < q.size(); ++i) a(static_cast<unsigned>(i)) = q[i];
     return a;
 }
 
 }  // namespace
 
-JointBounds JointBounds::ur5() {
-    JointBounds b;
-    b.lower.fill(-kTwoPi);
-    b.upper.fill(kTwoPi);
-    return b;
-}
-
-bool JointBounds::contains(const Joints& q, double tolerance) const {
-    for (std::size_t i = 0; i < kUr5Joints; ++i) {
-        if (q[i] < lower[i] - tolerance || q[i] > upper[i] + tolerance) return false;
-    }
-    return true;
-}
-
-JointBounds JointBounds::intersect(const JointBounds& other) const {
-    JointBounds b;
-    for (std::size_t i = 0; i < kUr5Joints; ++i) {
-        b.lower[i] = std::max(lower[i], other.lower[i]);
-        b.upper[i] = std::min(upper[i], other.upper[i]);
-    }
-    return b;
-}
-
-Ur5Kinematics::Ur5Kinematics() {
-    struct Dh {
-        double a, alpha, d;
-    };
-    const Dh dh[kUr5Joints] = {{0, M_PI / 2, 0.089159}, {-0.425, 0, 0},          {-0.39225, 0, 0},
-                               {0, M_PI / 2, 0.10915},  {0, -M_PI / 2, 0.09465}, {0, 0, 0.0823}};
-    for (const Dh& j : dh) {
-        chain_.addSegment(
-            KDL::Segment(KDL::Joint(KDL::Joint::RotZ), KDL::Frame::DH(j.a, j.alpha, j.d, 0)));
-    }
-    fk_ = std::make_unique<KDL::ChainFkSolverPos_recursive>(chain_);
-    ik_ = std::make_unique<KDL::ChainIkSolverPos_LMA>(chain_, 1e-12, 500, 1e-15);
-    // Starting points spread over the usual working range, fixed so results are
+ArmKinematics::ArmKinematics(ArmModel model) : model_(std::move(model)) {
+    fk_ = std::make_unique<KDL::ChainFkSolverPos_recursive>(model_.chain);
+    ik_ = std::make_unique<KDL::ChainIkSolverPos_LMA>(model_.chain, 1e-12, 500, 1e-15);
+    // Starting points spread over the joint bounds (within +-pi), fixed so results are
     // reproducible.
     std::mt19937 random(5);
-    std::uniform_real_distribution<double> angle(-M_PI, M_PI);
-    for (std::size_t i = 0; i < kStarts; ++i) {
-        Joints q;
-        for (double& v : q) v = angle(random);
+    for (std::size_t k = 0; k < kStarts; ++k) {
+        Joints q(joints());
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            std::uniform_real_distribution<double> angle(std::max(-M_PI, model_.bounds.lower[i]),
+                                                         std::min(M_PI, model_.bounds.upper[i]));
+            q[i] = angle(random);
+        }
         starts_.push_back(q);
     }
 }
 
-Ur5Kinematics::~Ur5Kinematics() = default;
+ArmKinematics::~ArmKinematics() = default;
 
-KDL::Frame Ur5Kinematics::forward(const Joints& q) const {
+KDL::Frame ArmKinematics::forward(const Joints& q) const {
     KDL::Frame f;
+    if (q.size() != joints()) return f;  // no pose for the wrong number of joints
     fk_->JntToCart(toJnt(q), f);
     return f;
 }
 
-std::optional<Joints> Ur5Kinematics::solveFrom(const KDL::Frame& flange, const Joints& start,
+std::optional<Joints> ArmKinematics::solveFrom(const KDL::Frame& flange, const Joints& start,
                                                const Joints& reference, const JointBounds& bounds,
                                                bool* converged) const {
-    KDL::JntArray out(kUr5Joints);
+    if (start.size() != joints() || reference.size() != joints() || bounds.size() != joints()) {
+        return std::nullopt;
+    }
+    KDL::JntArray out(static_cast<unsigned>(joints()));
     (void)ik_->CartToJnt(toJnt(start), flange, out);
-    Joints q;
-    for (std::size_t i = 0; i < kUr5Joints; ++i) q[i] = out(static_cast<unsigned>(i));
+    Joints q(joints());
+    for (std::size_t i = 0; i < q.size(); ++i) q[i] = out(static_cast<unsigned>(i));
     if (!near(forward(q), flange, kPositionTolerance, kAngleTolerance)) return std::nullopt;
     *converged = true;
     // Revolute joints: a solution plus whole turns is a solution. Take the turn nearest
     // the reference (the arm's present position) that lies within the bounds.
-    for (std::size_t i = 0; i < kUr5Joints; ++i) {
+    for (std::size_t i = 0; i < q.size(); ++i) {
         double v = q[i] + kTwoPi * std::round((reference[i] - q[i]) / kTwoPi);
         if (v < bounds.lower[i]) v += kTwoPi * std::ceil((bounds.lower[i] - v) / kTwoPi);
         if (v > bounds.upper[i]) v -= kTwoPi * std::ceil((v - bounds.upper[i]) / kTwoPi);
@@ -101,18 +76,26 @@ std::optional<Joints> Ur5Kinematics::solveFrom(const KDL::Frame& flange, const J
     return q;
 }
 
-std::optional<Joints> Ur5Kinematics::inverseNear(const KDL::Frame& flange, const Joints& seed,
+std::optional<Joints> ArmKinematics::inverseNear(const KDL::Frame& flange, const Joints& seed,
                                                  const JointBounds& bounds) const {
     bool converged = false;
     return solveFrom(flange, seed, seed, bounds, &converged);
 }
 
-std::optional<Joints> Ur5Kinematics::inverse(const KDL::Frame& flange, const Joints& seed,
+std::optional<Joints> ArmKinematics::inverse(const KDL::Frame& flange, const Joints& seed,
                                              const JointBounds& bounds, std::string* why) const {
-    const KDL::Vector shoulder(0, 0, 0.089159);
-    if ((flange.p - shoulder).Norm() > kReach) {
+    if ((flange.p - model_.shoulder).Norm() > model_.reach) {
         if (why != nullptr) {
-            *why = "the flange pose " + describe(flange) + " is out of the UR5's reach";
+            *why = "the flange pose " + describe(flange) + " is out of the " + model_.name +
+                   "'s reach";
+        }
+        return std::nullopt;
+    }
+    if (seed.empty()) return inverse(flange, Joints(joints(), 0.0), bounds, why);
+    if (seed.size() != joints()) {
+        if (why != nullptr) {
+            *why = "the seed has " + std::to_string(seed.size()) + " joints, the " + model_.name +
+                   " " + std::to_string(joints());
         }
         return std::nullopt;
     }
@@ -123,7 +106,7 @@ std::optional<Joints> Ur5Kinematics::inverse(const KDL::Frame& flange, const Joi
         const auto q = solveFrom(flange, start, seed, bounds, &converged);
         if (!q) return;
         double distance = 0;
-        for (std::size_t i = 0; i < kUr5Joints; ++i) {
+        for (std::size_t i = 0; i < q->size(); ++i) {
             distance = std::max(distance, std::abs((*q)[i] - seed[i]));
         }
         if (!best || distance < bestDistance) {
@@ -139,7 +122,8 @@ std::optional<Joints> Ur5Kinematics::inverse(const KDL::Frame& flange, const Joi
     if (!best && why != nullptr) {
         *why = converged ? "no solution for the flange pose " + describe(flange) +
                                " lies within the joint bounds"
-                         : "the flange pose " + describe(flange) + " is out of the UR5's reach";
+                         : "the flange pose " + describe(flange) + " is out of the " + model_.name +
+                               "'s reach";
     }
     return best;
 }

@@ -1,25 +1,25 @@
-#include "devices/ur5/simulated_ur5.hpp"
+#include "devices/arm/simulated_arm.hpp"
 
 #include <asio/post.hpp>
 
 namespace skillcell::devices {
 
-SimulatedUr5::SimulatedUr5(const asio::any_io_executor& executor, SimulatedUr5Options options,
+SimulatedArm::SimulatedArm(const asio::any_io_executor& executor, SimulatedArmOptions options,
                            Observer observer)
     : timer_(executor),
       options_(std::move(options)),
       observer_(std::move(observer)),
       joints_(options_.initial) {}
 
-SimulatedUr5::~SimulatedUr5() {
+SimulatedArm::~SimulatedArm() {
     timer_.cancel();
 }
 
-std::chrono::steady_clock::time_point SimulatedUr5::now() const {
+std::chrono::steady_clock::time_point SimulatedArm::now() const {
     return options_.clock ? options_.clock() : std::chrono::steady_clock::now();
 }
 
-bool SimulatedUr5::execute(Trajectory trajectory, Done done) {
+bool SimulatedArm::execute(Trajectory trajectory, Done done) {
     if (trajectory_) return false;
     trajectory_ = std::move(trajectory);
     done_ = std::move(done);
@@ -30,7 +30,7 @@ bool SimulatedUr5::execute(Trajectory trajectory, Done done) {
     return true;
 }
 
-void SimulatedUr5::arm() {
+void SimulatedArm::arm() {
     timer_.expires_after(options_.tick);
     timer_.async_wait([this, generation = generation_](const std::error_code& ec) {
         if (ec || generation != generation_) return;
@@ -38,7 +38,7 @@ void SimulatedUr5::arm() {
     });
 }
 
-void SimulatedUr5::tick() {
+void SimulatedArm::tick() {
     if (!trajectory_) return;
     const auto t = now();
     const double dt = std::chrono::duration<double>(t - last_).count() * options_.speed;
@@ -71,19 +71,19 @@ void SimulatedUr5::tick() {
     arm();
 }
 
-void SimulatedUr5::pause() {
+void SimulatedArm::pause() {
     if (!trajectory_ || paused_) return;
     tick();  // account for the time up to now before freezing (it may end the motion)
     if (trajectory_) paused_ = true;
 }
 
-void SimulatedUr5::resume() {
+void SimulatedArm::resume() {
     if (!trajectory_ || !paused_) return;
     paused_ = false;
     last_ = now();  // the pause does not count as motion time
 }
 
-void SimulatedUr5::stop() {
+void SimulatedArm::stop() {
     if (!trajectory_) return;
     if (!paused_) {
         const auto t = now();

@@ -1,4 +1,4 @@
-#include "devices/ur5/move_behaviour.hpp"
+#include "devices/arm/move_behaviour.hpp"
 
 #include "devices/common/frame.hpp"
 #include "ua/encoding/codec.hpp"
@@ -31,12 +31,10 @@ std::variant<MoveRequest, std::string> MoveBehaviour::request(MoveKind kind,
     r.maxAcceleration = p.get<double>("MaxAcceleration").value_or(0);
 
     if (kind == MoveKind::JointLinear || kind == MoveKind::JointPtp) {
+        // The planner checks the count against the arm's joints.
         const auto joints = p.doubles("TargetJointPosition");
-        if (!joints || joints->size() != kUr5Joints) {
-            return "TargetJointPosition must hold " + std::to_string(kUr5Joints) +
-                   " joint positions, not " + std::to_string(joints ? joints->size() : 0);
-        }
-        std::copy(joints->begin(), joints->end(), r.targetJoints.begin());
+        if (!joints) return std::string("TargetJointPosition must hold the joint positions");
+        r.targetJoints.assign(joints->begin(), joints->end());
         return r;
     }
     auto target = frameParameter(p, "TargetPosition");
@@ -45,20 +43,16 @@ std::variant<MoveRequest, std::string> MoveBehaviour::request(MoveKind kind,
 
     const ua::Variant& bounds = p.value("AxisBounds");
     if (bounds.isArray() && !bounds.elements().empty()) {
-        if (bounds.elements().size() != kUr5Joints) {
-            return "AxisBounds must hold one Range per joint (" + std::to_string(kUr5Joints) +
-                   "), not " + std::to_string(bounds.elements().size());
-        }
         JointBounds b;
-        for (std::size_t i = 0; i < kUr5Joints; ++i) {
+        for (std::size_t i = 0; i < bounds.elements().size(); ++i) {
             const auto* eo = std::get_if<ua::ExtensionObject>(&bounds.elements()[i]);
             ua::Range range;
             if (eo == nullptr || ua::fromExtensionObject(*eo, range).isBad() ||
                 !(range.low <= range.high)) {
                 return "AxisBounds[" + std::to_string(i) + "] is not a Range with low <= high";
             }
-            b.lower[i] = range.low;
-            b.upper[i] = range.high;
+            b.lower.push_back(range.low);
+            b.upper.push_back(range.high);
         }
         r.axisBounds = b;
     }

@@ -1,4 +1,4 @@
-#include "devices/ur5/trapezoidal_profile.hpp"
+#include "devices/arm/trapezoidal_profile.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,31 +1,45 @@
-#include "devices/ur5/ur5_component.hpp"
+#include "devices/arm/arm_component.hpp"
 
+#include "devices/arm/move_behaviour.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/common/motion_device_system.hpp"
-#include "devices/ur5/move_behaviour.hpp"
 
 namespace skillcell::devices {
 
-Ur5Component::Ur5Component(Token, ua::Server& server, Ur5ComponentOptions options)
-    : server_(server), options_(std::move(options)), planner_(kinematics_, options_.defaults) {}
+ArmComponent::ArmComponent(Token, ua::Server& server, ArmComponentOptions options)
+    : server_(server),
+      options_(std::move(options)),
+      kinematics_(options_.model),
+      planner_(kinematics_, options_.model.defaults) {
+    if (options_.arm.initial.empty()) options_.arm.initial = options_.model.home;
+}
 
-Ur5Component::~Ur5Component() = default;
+ArmComponent::~ArmComponent() = default;
 
-ua::Result<std::unique_ptr<Ur5Component>> Ur5Component::create(ua::Server& server,
-                                                               Ur5ComponentOptions options,
+ua::Result<std::unique_ptr<ArmComponent>> ArmComponent::create(ua::Server& server,
+                                                               ArmComponentOptions options,
                                                                std::string* error) {
-    auto component = std::make_unique<Ur5Component>(Token{}, server, std::move(options));
+    auto component = std::make_unique<ArmComponent>(Token{}, server, std::move(options));
     if (const auto s = component->build(error); s.isBad()) return s;
     return component;
 }
 
-ua::StatusCode Ur5Component::build(std::string* error) {
+ua::StatusCode ArmComponent::build(std::string* error) {
     ua::AddressSpace& as = server_.addressSpace();
-    robot_ = ua::NodeId(1, ua::String("UR5"));
-    auto id = [](const char* name) {
-        return ua::NodeId(1, ua::String(std::string("UR5/") + name));
+    const ArmModel& model = options_.model;
+    if (options_.arm.initial.size() != model.joints()) {
+        if (error != nullptr) {
+            *error = "the " + model.name + " has " + std::to_string(model.joints()) +
+                     " joints; the initial position gives " +
+                     std::to_string(options_.arm.initial.size());
+        }
+        return ua::status::BadConfigurationError;
+    }
+    robot_ = ua::NodeId(1, ua::String(model.name));
+    auto id = [&model](const char* name) {
+        return ua::NodeId(1, ua::String(model.name + "/" + name));
     };
-    if (auto r = as.addObject(ua::NodeId(ua::ns0::ObjectsFolder), robot_, "UR5"); !r) {
+    if (auto r = as.addObject(ua::NodeId(ua::ns0::ObjectsFolder), robot_, model.name); !r) {
         return r.status();
     }
     const ua::NodeId frame(ua::ns0::ThreeDFrame);
@@ -50,21 +64,23 @@ ua::StatusCode Ur5Component::build(std::string* error) {
         if (!r) return r.status();
     }
 
-    arm_ = std::make_unique<SimulatedUr5>(server_.executor(), options_.arm,
+    arm_ = std::make_unique<SimulatedArm>(server_.executor(), options_.arm,
                                           [this](const Joints& q) { publish(q); });
     skills_ = skills::SkillServer::create(server_, server_.executor(), error);
     if (!skills_) return ua::status::BadConfigurationError;
     // The same arm as the Robotics model shows it, for clients that know that model (the
     // skill server has loaded the companion models).
     MotionDeviceDescription description;
-    description.name = "UR5";
-    description.manufacturer = "Universal Robots";
-    description.model = "UR5";
-    description.productCode = "UR5";
-    description.axes = {"Base", "Shoulder", "Elbow", "Wrist1", "Wrist2", "Wrist3"};
+    description.name = model.name;
+    description.manufacturer = model.manufacturer;
+    description.model = model.model;
+    description.productCode = model.productCode;
+    description.axes = model.axes;
     auto motionDevice = MotionDeviceSystem::create(as, description);
     if (!motionDevice) {
-        if (error != nullptr) *error = "cannot add the UR5 to the Robotics model's DeviceSet";
+        if (error != nullptr) {
+            *error = "cannot add the " + model.name + " to the Robotics model's DeviceSet";
+        }
         return motionDevice.status();
     }
     motionDevice_ = std::move(*motionDevice);
@@ -89,8 +105,9 @@ ua::StatusCode Ur5Component::build(std::string* error) {
         auto behaviour = std::make_unique<MoveBehaviour>(
             spec.kind, *arm_, planner_, [this](const KDL::Frame& tool) {
                 toolFrame_ = tool;
-                (void)server_.addressSpace().setValue(ua::NodeId(1, ua::String("UR5/ToolFrame")),
-                                                      frameToVariant(tool));
+                (void)server_.addressSpace().setValue(
+                    ua::NodeId(1, ua::String(options_.model.name + "/ToolFrame")),
+                    frameToVariant(tool));
             });
         auto skill = skills_->add(*type, spec.name, std::move(behaviour));
         if (!skill) {
@@ -113,14 +130,15 @@ ua::StatusCode Ur5Component::build(std::string* error) {
     return ua::status::Good;
 }
 
-void Ur5Component::publish(const Joints& q) {
+void ArmComponent::publish(const Joints& q) {
     ua::AddressSpace& as = server_.addressSpace();
     const KDL::Frame flange = kinematics_.forward(q);
-    (void)as.setValue(ua::NodeId(1, ua::String("UR5/JointPositions")),
+    const std::string& name = options_.model.name;
+    (void)as.setValue(ua::NodeId(1, ua::String(name + "/JointPositions")),
                       ua::Variant::array(std::vector<double>(q.begin(), q.end())));
-    (void)as.setValue(ua::NodeId(1, ua::String("UR5/FlangePose")), frameToVariant(flange));
+    (void)as.setValue(ua::NodeId(1, ua::String(name + "/FlangePose")), frameToVariant(flange));
     if (motionDevice_) motionDevice_->update(as, std::span<const double>(q.data(), q.size()));
-    (void)as.setValue(ua::NodeId(1, ua::String("UR5/TcpPose")),
+    (void)as.setValue(ua::NodeId(1, ua::String(name + "/TcpPose")),
                       frameToVariant(flange * toolFrame_));
     if (options_.onFlange) options_.onFlange(flange);
 }

@@ -1,7 +1,7 @@
 #pragma once
 // ArmController: what the move skills need from a robot arm: its joint positions, and
 // executing a planned trajectory that can be paused, resumed and stopped. The simulated
-// UR5 (simulated_ur5.hpp) is one implementation; a driver for the real controller would
+// UR5 (simulated_arm.hpp) is one implementation; a driver for the real controller would
 // be another, and the move skills would not change.
 //
 // Threading: the owner's io_context thread only; `done` runs there too.
@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "devices/ur5/trajectory.hpp"
+#include "devices/arm/trajectory.hpp"
 
 namespace skillcell::devices {
 

@@ -1,5 +1,5 @@
 #pragma once
-// SimulatedUr5: the UR5 hardware in simulation: joint positions that follow the trajectory
+// SimulatedArm: a robot arm's hardware in simulation: joint positions that follow the trajectory
 // being executed in simulated time. A steady timer ticks on the io_context; each tick
 // advances simulated time by the real time elapsed since the last one (read from an
 // injectable clock) times the speed factor, and reports the joints to an observer (the
@@ -12,29 +12,29 @@
 #include <memory>
 #include <optional>
 
-#include "devices/ur5/arm_controller.hpp"
+#include "devices/arm/arm_controller.hpp"
 
 namespace skillcell::devices {
 
-struct SimulatedUr5Options {
+struct SimulatedArmOptions {
     using Clock = std::function<std::chrono::steady_clock::time_point()>;
-    SimulatedUr5Options() = default;
+    SimulatedArmOptions() = default;
     double speed = 1.0;  // simulated seconds per real second
     std::chrono::milliseconds tick{10};
-    Clock clock;  // empty: std::chrono::steady_clock::now
-    Joints initial{0, -M_PI / 2, M_PI / 2, -M_PI / 2, -M_PI / 2, 0};  // a folded pose, tool down
+    Clock clock;     // empty: std::chrono::steady_clock::now
+    Joints initial;  // where the arm starts; empty: the arm model's home (ArmComponent)
     /// Called when a motion reaches its end, before the move is reported: it calls its
     /// argument (from any thread) when the end may be reported, e.g. once the world model
     /// has the final flange pose. Empty: report at once.
     std::function<void(std::function<void()> report)> beforeDone;
 };
 
-class SimulatedUr5 final : public ArmController {
+class SimulatedArm final : public ArmController {
 public:
     using Observer = std::function<void(const Joints&)>;
-    SimulatedUr5(const asio::any_io_executor& executor, SimulatedUr5Options options,
+    SimulatedArm(const asio::any_io_executor& executor, SimulatedArmOptions options,
                  Observer observer = {});
-    ~SimulatedUr5() override;
+    ~SimulatedArm() override;
 
     [[nodiscard]] Joints joints() const override { return joints_; }
     [[nodiscard]] bool busy() const override { return trajectory_.has_value(); }
@@ -53,7 +53,7 @@ private:
     [[nodiscard]] std::chrono::steady_clock::time_point now() const;
 
     asio::steady_timer timer_;
-    SimulatedUr5Options options_;
+    SimulatedArmOptions options_;
     Observer observer_;
     Joints joints_;
     std::optional<Trajectory> trajectory_;

@@ -1,7 +1,10 @@
-// The simulated UR5: kinematics (IK against FK on random reachable poses, unreachable
-// poses refused), trapezoidal profiles within their limits, planned motions, and the four
-// move skills through a real server and SkillClient: success, an unreachable target
-// (Halted with the reason), Suspend/Resume and Halt mid-motion on a test-driven clock.
+// The simulated arms. The UR5: kinematics (IK against FK on random reachable poses,
+// unreachable poses refused), trapezoidal profiles within their limits, planned motions, and
+// the four move skills through a real server and SkillClient: success, an unreachable target
+// (Halted with the reason), Suspend/Resume and Halt mid-motion on a test-driven clock. The
+// KUKA LBR iiwa 7 R800 (7 axes) on the same stack: its kinematics from KUKA's dimensions,
+// IK against FK within its axis limits, a linear move with its elbow kept, and its seven
+// axes in the Robotics model.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -11,17 +14,17 @@
 #include <random>
 
 #include "client_thread.hpp"
+#include "devices/arm/arm_component.hpp"
+#include "devices/arm/arm_kinematics.hpp"
+#include "devices/arm/motion_planner.hpp"
+#include "devices/arm/trapezoidal_profile.hpp"
 #include "devices/common/frame.hpp"
-#include "devices/ur5/motion_planner.hpp"
-#include "devices/ur5/trapezoidal_profile.hpp"
-#include "devices/ur5/ur5_component.hpp"
-#include "devices/ur5/ur5_kinematics.hpp"
 #include "running_server.hpp"
 #include "ua/encoding/codec.hpp"
 #include "ua/messages/data_access.hpp"
 #include "ua/nodeset/companion_models.hpp"
 
-namespace skillcell::devices::device_ur5_test {
+namespace skillcell::devices::device_arm_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -35,12 +38,14 @@ KDL::Frame at(double x, double y, double z, double a = 0, double b = 0, double c
 
 double maxDiff(const Joints& a, const Joints& b) {
     double d = 0;
-    for (std::size_t i = 0; i < kUr5Joints; ++i) d = std::max(d, std::abs(a[i] - b[i]));
+    for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+        d = std::max(d, std::abs(a[i] - b[i]));
+    }
     return d;
 }
 
-TEST(DeviceUr5Kinematics, ForwardKinematicsMatchesThePublishedZeroPose) {
-    Ur5Kinematics k;
+TEST(DeviceArmKinematics, ForwardKinematicsMatchesThePublishedZeroPose) {
+    ArmKinematics k(ArmModel::ur5());
     // All joints at zero: the arm stretched along -x (UR's own documentation).
     const KDL::Frame f = k.forward({0, 0, 0, 0, 0, 0});
     EXPECT_NEAR(f.p.x(), -0.81725, 1e-9);
@@ -48,15 +53,15 @@ TEST(DeviceUr5Kinematics, ForwardKinematicsMatchesThePublishedZeroPose) {
     EXPECT_NEAR(f.p.z(), -0.005491, 1e-9);
 }
 
-TEST(DeviceUr5Kinematics, InverseMatchesForwardOnRandomReachablePoses) {
-    Ur5Kinematics k;
+TEST(DeviceArmKinematics, InverseMatchesForwardOnRandomReachablePoses) {
+    ArmKinematics k(ArmModel::ur5());
     std::mt19937 random(20261122);
     std::uniform_real_distribution<double> angle(-M_PI, M_PI);
-    const JointBounds bounds = JointBounds::ur5();
+    const JointBounds bounds = ArmModel::ur5().bounds;
     int solved = 0;
     for (int n = 0; n < 100; ++n) {
-        Joints q, seed;
-        for (std::size_t i = 0; i < kUr5Joints; ++i) {
+        Joints q(6), seed(6);
+        for (std::size_t i = 0; i < q.size(); ++i) {
             q[i] = angle(random);
             seed[i] = angle(random);  // an unrelated present position
         }
@@ -71,19 +76,19 @@ TEST(DeviceUr5Kinematics, InverseMatchesForwardOnRandomReachablePoses) {
     EXPECT_EQ(solved, 100);
 }
 
-TEST(DeviceUr5Kinematics, SolutionsHonourTheBoundsAndPreferTheSeed) {
-    Ur5Kinematics k;
+TEST(DeviceArmKinematics, SolutionsHonourTheBoundsAndPreferTheSeed) {
+    ArmKinematics k(ArmModel::ur5());
     const Joints q{0.3, -1.2, 1.4, -1.8, -1.57, 0.4};
     const KDL::Frame target = k.forward(q);
     // From a seed near q, the solution is q itself (not another configuration).
     Joints seed = q;
     for (double& v : seed) v += 0.05;
-    const auto near = k.inverse(target, seed, JointBounds::ur5());
+    const auto near = k.inverse(target, seed, ArmModel::ur5().bounds);
     ASSERT_TRUE(near);
     EXPECT_LT(maxDiff(*near, q), 1e-6);
 
     // Bounds around q admit q; bounds that exclude this configuration's wrist do not.
-    JointBounds tight = JointBounds::ur5();
+    JointBounds tight = ArmModel::ur5().bounds;
     tight.lower[5] = 0.3;
     tight.upper[5] = 0.5;
     const auto bounded = k.inverse(target, {0, -1.57, 0, -1.57, 0, 0}, tight);
@@ -92,19 +97,19 @@ TEST(DeviceUr5Kinematics, SolutionsHonourTheBoundsAndPreferTheSeed) {
     EXPECT_TRUE(devices::near(k.forward(*bounded), target, 1e-6, 1e-6));
 }
 
-TEST(DeviceUr5Kinematics, UnreachablePosesAreRefusedWithAReason) {
-    Ur5Kinematics k;
+TEST(DeviceArmKinematics, UnreachablePosesAreRefusedWithAReason) {
+    ArmKinematics k(ArmModel::ur5());
     std::string why;
-    EXPECT_FALSE(k.inverse(at(1.5, 0, 0.3), {}, JointBounds::ur5(), &why));
+    EXPECT_FALSE(k.inverse(at(1.5, 0, 0.3), {}, ArmModel::ur5().bounds, &why));
     EXPECT_NE(why.find("out of the UR5's reach"), std::string::npos) << why;
     // Inside the bounding sphere but not reachable with this orientation: the flange
     // pointing up right above the base, at the reach limit.
-    EXPECT_FALSE(k.inverse(at(0, 0, 0.089159 + 0.99, 0, 0, 0), {}, JointBounds::ur5(), &why));
+    EXPECT_FALSE(k.inverse(at(0, 0, 0.089159 + 0.99, 0, 0, 0), {}, ArmModel::ur5().bounds, &why));
 
     // Reachable, but only outside the bounds given: a shoulder pan limited to a range
     // where the target is behind the robot.
     const Joints q{2.5, -1.2, 1.4, -1.8, -1.57, 0.4};
-    JointBounds narrow = JointBounds::ur5();
+    JointBounds narrow = ArmModel::ur5().bounds;
     narrow.lower[0] = -0.2;
     narrow.upper[0] = 0.2;
     why.clear();
@@ -147,8 +152,8 @@ TEST(DeviceUr5Profile, TrapezoidRespectsItsLimits) {
 }
 
 TEST(DeviceUr5Planner, PointToPointMovesEveryJointWithinTheLimits) {
-    Ur5Kinematics k;
-    MotionPlanner planner(k);
+    ArmKinematics k(ArmModel::ur5());
+    MotionPlanner planner(k, k.model().defaults);
     const Joints from{0, -1.57, 1.57, -1.57, -1.57, 0};
     MoveRequest r;
     r.kind = MoveKind::JointPtp;
@@ -179,8 +184,8 @@ TEST(DeviceUr5Planner, PointToPointMovesEveryJointWithinTheLimits) {
 }
 
 TEST(DeviceUr5Planner, LinearMovesKeepTheToolOnTheLine) {
-    Ur5Kinematics k;
-    MotionPlanner planner(k);
+    ArmKinematics k(ArmModel::ur5());
+    MotionPlanner planner(k, k.model().defaults);
     const Joints from{0, -1.57, 1.57, -1.57, -1.57, 0};
     const KDL::Frame tool = at(0, 0, 0.1);  // TCP 10 cm beyond the flange
     const KDL::Frame start = k.forward(from) * tool;
@@ -251,17 +256,19 @@ private:
     std::uint64_t ticks_ = 0;
 };
 
-/// A UR5 component on a real server.
+/// An arm component (a UR5 unless told otherwise) on a real server.
 class Ur5Cell {
 public:
-    explicit Ur5Cell(ManualClock* clock = nullptr, double speed = 20)
-        : server_(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
-              Ur5ComponentOptions o;
+    explicit Ur5Cell(ManualClock* clock = nullptr, double speed = 20,
+                     const ArmModel& model = ArmModel::ur5())
+        : kinematics_(model), server_(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+              ArmComponentOptions o;
+              o.model = model;
               o.arm.speed = speed;
               o.arm.tick = 1ms;
               if (clock != nullptr) o.arm.clock = [clock] { return clock->now(); };
               o.onFlange = [this](const KDL::Frame&) { ticks_.tick(); };
-              auto c = Ur5Component::create(s, o);
+              auto c = ArmComponent::create(s, o);
               ASSERT_TRUE(c.ok());
               component_ = std::move(*c);
           }) {}
@@ -317,9 +324,9 @@ public:
     }
 
 private:
-    Ur5Kinematics kinematics_;
+    ArmKinematics kinematics_;
     TickCounter ticks_;
-    std::unique_ptr<Ur5Component> component_;
+    std::unique_ptr<ArmComponent> component_;
     test::RunningServer server_;
 };
 
@@ -363,7 +370,7 @@ TEST(DeviceUr5Skills, JointAndCartesianMovesReachTheirTargets) {
     ASSERT_TRUE(cptp);
     const KDL::Frame goal2 = at(-0.3, -0.4, 0.3, M_PI, 0, 0);
     std::vector<ua::Scalar> bounds;
-    for (std::size_t i = 0; i < kUr5Joints; ++i) {
+    for (std::size_t i = 0; i < 6; ++i) {
         bounds.emplace_back(ua::toExtensionObject(ua::Range{-M_PI, M_PI}));
     }
     outcome = t.invoke(
@@ -418,7 +425,7 @@ TEST(DeviceUr5Skills, TheArmIsInTheRoboticsModelWithEachAxisPosition) {
     ASSERT_NE(category, nullptr);
     EXPECT_EQ(*category, 1);  // ARTICULATED_ROBOT
     const char* axes[] = {"Base", "Shoulder", "Elbow", "Wrist1", "Wrist2", "Wrist3"};
-    for (std::size_t i = 0; i < kUr5Joints; ++i) {
+    for (std::size_t i = 0; i < std::size(axes); ++i) {
         const auto value = at({{cm::kRoboticsUri, "Axes"},
                                {"", axes[i]},
                                {cm::kDiUri, "ParameterSet"},
@@ -531,5 +538,143 @@ TEST(DeviceUr5Skills, SuspendResumeAndHaltWorkMidMotion) {
     EXPECT_EQ(cell.state("JointPtpMove"), SkillState::Ready);
 }
 
+TEST(DeviceIiwaKinematics, StretchedUpTheFlangeIsAboveTheBaseAtTheSumOfTheLinks) {
+    ArmKinematics k(ArmModel::lbrIiwa7());
+    ASSERT_EQ(k.joints(), 7u);
+    const KDL::Frame up = k.forward(Joints(7, 0.0));
+    EXPECT_NEAR(up.p.x(), 0, 1e-9);
+    EXPECT_NEAR(up.p.y(), 0, 1e-9);
+    EXPECT_NEAR(up.p.z(), 0.34 + 0.4 + 0.4 + 0.126, 1e-9);
+    // Axis 4 bent by 90 degrees: the forearm horizontal, 0.4 m out from the elbow.
+    const KDL::Frame bent = k.forward({0, 0, 0, -M_PI / 2, 0, 0, 0});
+    EXPECT_NEAR(bent.p.z(), 0.34 + 0.4, 1e-9);
+    EXPECT_NEAR(std::hypot(bent.p.x(), bent.p.y()), 0.4 + 0.126, 1e-9);
+    // At home the flange points down, in front of the robot, within reach.
+    const KDL::Frame home = k.forward(ArmModel::lbrIiwa7().home);
+    EXPECT_LT(home.M.UnitZ().z(), -0.99) << describe(home);
+    EXPECT_GT(home.p.x(), 0.3);
+    EXPECT_TRUE(ArmModel::lbrIiwa7().bounds.contains(ArmModel::lbrIiwa7().home));
+    // The wrong number of joints gives no pose, not a crash.
+    EXPECT_TRUE(near(k.forward({0, 0, 0}), KDL::Frame::Identity(), 0, 0));
+}
+
+TEST(DeviceIiwaKinematics, InverseMatchesForwardWithinTheAxisLimits) {
+    const ArmModel model = ArmModel::lbrIiwa7();
+    ArmKinematics k(model);
+    std::mt19937 random(20261129);
+    int solved = 0;
+    for (int n = 0; n < 50; ++n) {
+        Joints q(7);
+        for (std::size_t i = 0; i < 7; ++i) {
+            // Away from the limits, where the arm works.
+            std::uniform_real_distribution<double> angle(model.bounds.lower[i] * 0.8,
+                                                         model.bounds.upper[i] * 0.8);
+            q[i] = angle(random);
+        }
+        const KDL::Frame target = k.forward(q);
+        std::string why;
+        const auto solution = k.inverse(target, model.home, model.bounds, &why);
+        ASSERT_TRUE(solution) << "pose " << n << " " << describe(target) << ": " << why;
+        EXPECT_TRUE(model.bounds.contains(*solution)) << n;
+        EXPECT_TRUE(near(k.forward(*solution), target, 1e-6, 1e-6)) << n;
+        ++solved;
+    }
+    EXPECT_EQ(solved, 50);
+    std::string why;
+    EXPECT_FALSE(k.inverse(at(1.2, 0, 0.3), {}, model.bounds, &why));
+    EXPECT_NE(why.find("out of the LBRiiwa7's reach"), std::string::npos) << why;
+    // The UR5's six joints are no seed for seven axes.
+    EXPECT_FALSE(k.inverse(k.forward(model.home), Joints(6, 0.0), model.bounds, &why));
+    EXPECT_NE(why.find("6 joints"), std::string::npos) << why;
+}
+
+TEST(DeviceIiwaPlanner, ALinearMoveKeepsTheToolOnTheLineAndTheElbowWhereItWas) {
+    const ArmModel model = ArmModel::lbrIiwa7();
+    ArmKinematics k(model);
+    MotionPlanner planner(k, model.defaults);
+    MoveRequest r;
+    r.kind = MoveKind::CartesianLinear;
+    const KDL::Frame start = k.forward(model.home);
+    r.target = KDL::Frame(start.M, start.p + KDL::Vector(0.05, 0.1, -0.15));
+    const auto planned = planner.plan(model.home, r);
+    ASSERT_TRUE(std::holds_alternative<Trajectory>(planned)) << std::get<std::string>(planned);
+    const Trajectory& t = std::get<Trajectory>(planned);
+    const KDL::Vector line = r.target.p - start.p;
+    for (int i = 0; i <= 100; ++i) {
+        const KDL::Frame f = k.forward(t.at(t.duration() * i / 100));
+        const KDL::Vector off = f.p - start.p;
+        const KDL::Vector across = off - line * (KDL::dot(off, line) / KDL::dot(line, line));
+        EXPECT_LT(across.Norm(), 1e-3) << i;
+        EXPECT_TRUE(near(KDL::Frame(f.M), KDL::Frame(start.M), 0, 1e-3)) << i;
+    }
+    EXPECT_TRUE(near(k.forward(t.end()), r.target, 1e-6, 1e-6));
+    // A redundant arm could reach the end with its elbow elsewhere; the line keeps it near.
+    EXPECT_LT(maxDiff(t.end(), model.home), 0.6);
+
+    // Joint moves need seven positions.
+    MoveRequest six;
+    six.kind = MoveKind::JointPtp;
+    six.targetJoints = Joints(6, 0.0);
+    const auto refused = planner.plan(model.home, six);
+    ASSERT_TRUE(std::holds_alternative<std::string>(refused));
+    EXPECT_NE(std::get<std::string>(refused).find("must hold 7 joint positions, not 6"),
+              std::string::npos)
+        << std::get<std::string>(refused);
+}
+
+TEST(DeviceIiwaSkills, MovesThroughItsSkillsAndShowsItsSevenAxesInTheRoboticsModel) {
+    namespace cm = ua::companion;
+    const ArmModel model = ArmModel::lbrIiwa7();
+    Ur5Cell cell(nullptr, 20, model);
+    test::ClientThread t;
+    auto ptp = t.attach(cell.url(), Ur5Cell::skill("JointPtpMove"));
+    ASSERT_TRUE(ptp);
+    const Joints target{0.3, 0.6, -0.2, -1.4, 0.1, 0.9, 0.5};
+    auto outcome = t.invoke(ptp, {{"TargetJointPosition", joints(target)}}, 10s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_LT(maxDiff(cell.joints(), target), 1e-12);
+    const ua::Variant published = cell.read("LBRiiwa7/JointPositions");
+    ASSERT_TRUE(published.isArray());
+    EXPECT_EQ(published.elements().size(), 7u);
+
+    auto lin = t.attach(cell.url(), Ur5Cell::skill("CartesianLinearMove"));
+    ASSERT_TRUE(lin);
+    const KDL::Frame here = cell.forward(cell.joints());
+    const KDL::Frame goal(here.M, here.p + KDL::Vector(0, 0, -0.05));
+    outcome = t.invoke(lin, {{"TargetPosition", frameToVariant(goal)}}, 10s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_TRUE(near(cell.forward(cell.joints()), goal, 1e-6, 1e-6));
+
+    // Six positions for seven axes: Halted with the reason.
+    outcome = t.invoke(ptp, {{"TargetJointPosition", joints(Joints(6, 0.0))}}, 10s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("must hold 7 joint positions"), std::string::npos)
+        << outcome.reason;
+
+    using Path = std::vector<std::pair<std::string_view, std::string>>;
+    const Path device{{cm::kDiUri, "DeviceSet"},
+                      {"", "LBRiiwa7System"},
+                      {cm::kRoboticsUri, "MotionDevices"},
+                      {"", "LBRiiwa7"}};
+    const auto manufacturer =
+        cell.readPath({device[0], device[1], device[2], device[3], {cm::kDiUri, "Manufacturer"}});
+    ASSERT_NE(manufacturer.get<ua::LocalizedText>(), nullptr);
+    EXPECT_EQ(manufacturer.get<ua::LocalizedText>()->text, "KUKA");
+    const Joints q = cell.joints();
+    for (std::size_t i = 0; i < 7; ++i) {
+        const std::string axis = "A" + std::to_string(i + 1);
+        const auto value = cell.readPath({device[0],
+                                          device[1],
+                                          device[2],
+                                          device[3],
+                                          {cm::kRoboticsUri, "Axes"},
+                                          {"", axis},
+                                          {cm::kDiUri, "ParameterSet"},
+                                          {cm::kRoboticsUri, "ActualPosition"}});
+        ASSERT_NE(value.get<double>(), nullptr) << axis;
+        EXPECT_NEAR(*value.get<double>(), q[i], 1e-9) << axis;
+    }
+}
+
 }  // namespace
-}  // namespace skillcell::devices::device_ur5_test
+}  // namespace skillcell::devices::device_arm_test

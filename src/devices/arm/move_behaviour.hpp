@@ -8,8 +8,8 @@
 #include <functional>
 #include <memory>
 
-#include "devices/ur5/arm_controller.hpp"
-#include "devices/ur5/motion_planner.hpp"
+#include "devices/arm/arm_controller.hpp"
+#include "devices/arm/motion_planner.hpp"
 #include "skills/skill_behaviour.hpp"
 
 namespace skillcell::devices {

@@ -1,4 +1,4 @@
-#include "devices/ur5/motion_planner.hpp"
+#include "devices/arm/motion_planner.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,19 +29,35 @@ std::variant<Trajectory, std::string> MotionPlanner::plan(const Joints& current,
     const double acceleration = request.maxAcceleration > 0 ? request.maxAcceleration
                                 : linear                    ? defaults_.linearAcceleration
                                                             : defaults_.jointAcceleration;
-    const JointBounds limits = JointBounds::ur5();
+    const ArmModel& arm = kinematics_.model();
+    const JointBounds& limits = arm.bounds;
+    if (current.size() != arm.joints()) {
+        return "the arm reports " + std::to_string(current.size()) + " joints, the " + arm.name +
+               " has " + std::to_string(arm.joints());
+    }
     JointBounds bounds = limits;
-    if (request.axisBounds) bounds = limits.intersect(*request.axisBounds);
-    for (std::size_t i = 0; i < kUr5Joints; ++i) {
+    if (request.axisBounds) {
+        if (request.axisBounds->size() != arm.joints()) {
+            return "AxisBounds must hold one Range per joint (" + std::to_string(arm.joints()) +
+                   "), not " + std::to_string(request.axisBounds->size());
+        }
+        bounds = limits.intersect(*request.axisBounds);
+    }
+    for (std::size_t i = 0; i < bounds.size(); ++i) {
         if (bounds.lower[i] > bounds.upper[i]) {
-            return "AxisBounds of " + jointName(i) + " do not overlap the UR5's joint range";
+            return "AxisBounds of " + jointName(i) + " do not overlap the " + arm.name +
+                   "'s joint range";
         }
     }
 
     switch (request.kind) {
         case MoveKind::JointPtp:
         case MoveKind::JointLinear:
-            for (std::size_t i = 0; i < kUr5Joints; ++i) {
+            if (request.targetJoints.size() != arm.joints()) {
+                return "TargetJointPosition must hold " + std::to_string(arm.joints()) +
+                       " joint positions, not " + std::to_string(request.targetJoints.size());
+            }
+            for (std::size_t i = 0; i < arm.joints(); ++i) {
                 if (!std::isfinite(request.targetJoints[i]) ||
                     request.targetJoints[i] < limits.lower[i] ||
                     request.targetJoints[i] > limits.upper[i]) {
@@ -60,7 +76,7 @@ std::variant<Trajectory, std::string> MotionPlanner::plan(const Joints& current,
                     request.toolFrame, limits, velocity, acceleration);
                 if (auto* t = std::get_if<Trajectory>(&planned)) {
                     // The line must end in the configuration asked for, not just the pose.
-                    for (std::size_t i = 0; i < kUr5Joints; ++i) {
+                    for (std::size_t i = 0; i < arm.joints(); ++i) {
                         if (std::abs(t->end()[i] - request.targetJoints[i]) > 1e-3) {
                             return std::string(
                                 "a straight line from the present configuration ends in "
@@ -110,7 +126,7 @@ std::variant<Trajectory, std::string> MotionPlanner::linear(
         const std::string where =
             std::to_string(static_cast<int>(std::round(f * 100))) + "% of the line";
         if (!q) return "the straight line leaves the workspace at " + where;
-        for (std::size_t i = 0; i < kUr5Joints; ++i) {
+        for (std::size_t i = 0; i < q->size(); ++i) {
             if (std::abs((*q)[i] - previous[i]) > kMaxJointStep) {
                 return "the straight line passes a singularity at " + where + " (" + jointName(i) +
                        " would jump)";
