@@ -135,7 +135,10 @@ std::string CellRuntime::applicationUri(const std::string& name) const {
         return cell::componentUri(cell::kPickAndPlaceUri, name, cell::PickAndPlace{}.name);
     }
     for (const auto& r : cell_.robots) {
-        if (r.name == name) return cell::componentUri(cell::kUr5Uri, name, r.model);
+        if (r.name == name) {
+            return cell::componentUri(r.model == "iiwa" ? cell::kIiwaUri : cell::kUr5Uri, name,
+                                      r.model);
+        }
     }
     return {};
 }

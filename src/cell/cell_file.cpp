@@ -674,7 +674,7 @@ const std::vector<std::string_view>& adapterModels() {
 }
 
 const std::vector<std::string_view>& robotModels() {
-    static const std::vector<std::string_view> models = {"ur5"};
+    static const std::vector<std::string_view> models = {"ur5", "iiwa"};
     return models;
 }
 
