@@ -211,7 +211,7 @@ asio::awaitable<std::string> PickAndPlace::planRail(const PickRequest& request, 
     std::vector<std::pair<double, double>> spans;
     for (const auto& [id, mount] : facts.mounted) {
         // Named: GCC 12 destroys a co_await expression's temporaries twice.
-        auto readSize = [this, id] { return world_.objectSize(id); };
+        auto readSize = [this, objectId = id] { return world_.objectSize(objectId); };
         auto width = co_await blockingCall(ioThread_, std::move(readSize));
         if (!width) {
             co_return "the world model gives no size of terminal block " + id + " (" +
