@@ -80,6 +80,8 @@ struct WorldOptions {
     std::vector<std::string> tools;           // ID:DOCK@GRIPPOINT
     std::vector<std::string> rails;           // ID:LENGTH@POSE
     std::vector<std::string> terminalBlocks;  // ID:SX,SY,SZ@POSE
+    std::vector<std::string> fuses;           // ID:SX,SY,SZ@POSE
+    std::vector<std::string> fuseSlots;       // ID@POSE
 };
 
 /// Splits "HEAD@POSE" into HEAD and the pose.
@@ -145,6 +147,26 @@ ua::StatusCode seedWorld(const WorldOptions& options, devices::World& world) {
             return s;
         }
     }
+    for (const auto& spec : options.fuses) {
+        if (const auto s = seedObject("--fuse", spec, devices::ObjectKind::Fuse, world);
+            s.isBad()) {
+            return s;
+        }
+    }
+    for (const auto& spec : options.fuseSlots) {
+        const auto hp = headAndPose(spec);
+        if (!hp) {
+            spdlog::critical("--fuse-slot {}: expected ID@X,Y,Z[,A,B,C]", spec);
+            return ua::status::BadInvalidArgument;
+        }
+        devices::FuseSlot slot;
+        slot.id = hp->first;
+        slot.pose = hp->second;
+        if (const auto s = world.addFuseSlot(std::move(slot), &why); s.isBad()) {
+            spdlog::critical("--fuse-slot {}: {}", spec, why);
+            return s;
+        }
+    }
     for (const auto& spec : options.docks) {
         const auto hp = headAndPose(spec);
         if (!hp) {
@@ -196,6 +218,12 @@ CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--terminal-block", options->terminalBlocks,
                     "a terminal block: ID:WIDTH,DEPTH,HEIGHT@X,Y,Z[,A,B,C] (m and rad; it "
                     "snaps onto a rail when hooked over the upper edge and rotated down)");
+    cmd->add_option("--fuse", options->fuses,
+                    "a blade fuse: ID:WIDTH,THICKNESS,HEIGHT@X,Y,Z[,A,B,C] (m and rad, blades "
+                    "down its -z; it meets a force as it enters a fuse slot)");
+    cmd->add_option("--fuse-slot", options->fuseSlots,
+                    "a fuse box's slot for an ATO fuse: ID@X,Y,Z[,A,B,C] (the opening's centre, "
+                    "z out of the box, x through the terminals; 8 mm deep)");
     commands.push_back(
         {cmd, [options] {
              return runServerProcess(

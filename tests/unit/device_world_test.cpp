@@ -235,6 +235,46 @@ TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
     EXPECT_TRUE(consistent);
 }
 
+// A fuse pushed into a slot through the world's methods: the force it meets and the slot it
+// is seated in, as a reader of the address space sees them.
+TEST(DeviceWorldNodes, AFuseInsertedThroughTheMethodsShowsItsForceAndItsSlot) {
+    std::unique_ptr<WorldNodes> nodes;
+    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+        auto created = WorldNodes::create(s);
+        ASSERT_TRUE(created.ok());
+        nodes = std::move(*created);
+    });
+    auto link = WorldLink::connect(server.url());
+    ASSERT_TRUE(link.ok()) << ua::statusName(link.status());
+    WorldLink& w = **link;
+    const std::array<double, 3> ato{0.0191, 0.0051, 0.0185};
+    EXPECT_EQ(w.addFuseSlot("F1", at(0.5, 0.2, 0.05), 0.008), Good);
+    EXPECT_EQ(w.addFuseSlot("F1", at(0.5, 0.2, 0.05), 0.008), BadNodeIdExists);
+    EXPECT_EQ(w.addFuseSlot("F2", at(0.5, 0.3, 0.05), -1), BadInvalidArgument);
+    EXPECT_EQ(w.addFuse("fuse1", ato, at(0.3, 0.1, ato[2] / 2)), Good);
+    EXPECT_EQ(w.addDock("dock1", at(0.3, -0.4, 0.3, M_PI, 0, 0)), Good);
+    EXPECT_EQ(w.addTool("gripper", "dock1", at(0, 0, 0.15)), Good);
+    EXPECT_EQ(w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0)), Good);
+    EXPECT_EQ(w.mountTool("dock1"), Good);
+    // Gripped from the top at its centre; the flange 0.15 m above the grip point.
+    EXPECT_EQ(w.setFlangePose(at(0.3, 0.1, ato[2] / 2 + 0.15, M_PI, 0, 0)), Good);
+    EXPECT_EQ(w.grasp("fuse1"), Good);
+    const double seatedZ = 0.05 + ato[2] / 2 - 0.008;
+    EXPECT_EQ(w.setFlangePose(at(0.5, 0.2, seatedZ + 0.004 + 0.15, M_PI, 0, 0)), Good);
+    auto force = w.contactForce();
+    ASSERT_TRUE(force.ok());
+    EXPECT_NEAR(*force, kTerminalFriction, 1e-6);  // half way in, the terminals rub
+    EXPECT_EQ(w.setFlangePose(at(0.5, 0.2, seatedZ + 0.15, M_PI, 0, 0)), Good);
+    EXPECT_EQ(w.release(), Good);
+    EXPECT_NEAR(*w.contactForce(), 0, 1e-12);
+    auto slot = w.fuseSlot("F1");
+    ASSERT_TRUE(slot.ok());
+    EXPECT_EQ(slot->fuse, "fuse1");
+    EXPECT_NEAR(slot->depth, 0.008, 1e-12);
+    EXPECT_EQ(*w.fuseSeat("fuse1"), "F1");
+    EXPECT_EQ(w.fuseSlot("F9").status(), ua::status::BadNodeIdUnknown);
+}
+
 TEST(DeviceWorldNodes, MalformedCallsGetPreciseStatusCodesAndChangeNothing) {
     std::unique_ptr<WorldNodes> nodes;
     test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {

@@ -6,6 +6,7 @@
 skillcell_unit_test(test_devices
   device_world_test.cpp
   device_din_rail_test.cpp
+  device_fuse_slot_test.cpp
   device_arm_test.cpp
   device_robotiq_test.cpp
   device_cell_test.cpp

@@ -23,7 +23,7 @@ bool positive(const BoxSize& s) {
 
 bool World::idTaken(const std::string& id) const {
     return objects_.contains(id) || tools_.contains(id) || docks_.contains(id) ||
-           rails_.contains(id);
+           rails_.contains(id) || fuseSlots_.contains(id);
 }
 
 bool World::flangeAt(const ToolDock& dock) const {
@@ -117,6 +117,22 @@ ua::StatusCode World::addRail(DinRail rail, std::string* why) {
     return ua::status::Good;
 }
 
+ua::StatusCode World::addFuseSlot(FuseSlot slot, std::string* why) {
+    if (slot.id.empty()) return fail(ua::status::BadInvalidArgument, why, "empty fuse slot id");
+    if (!std::isfinite(slot.depth) || slot.depth <= 0 || !std::isfinite(slot.clearance) ||
+        slot.clearance <= 0) {
+        return fail(ua::status::BadInvalidArgument, why,
+                    "fuse slot " + slot.id + ": its depth and clearance must be positive");
+    }
+    if (idTaken(slot.id)) {
+        return fail(ua::status::BadNodeIdExists, why, "id " + slot.id + " is taken");
+    }
+    const std::string id = slot.id;
+    fuseSlots_.emplace(id, std::move(slot));
+    ++revision_;
+    return ua::status::Good;
+}
+
 ua::StatusCode World::removeObject(const std::string& id, std::string* why) {
     if (!objects_.contains(id)) return fail(ua::status::BadNotFound, why, "no object " + id);
     if (grasped_ == id) {
@@ -124,6 +140,7 @@ ua::StatusCode World::removeObject(const std::string& id, std::string* why) {
     }
     objects_.erase(id);
     railMounts_.erase(id);
+    seatedFuses_.erase(id);
     ++revision_;
     return ua::status::Good;
 }
@@ -133,6 +150,7 @@ void World::setFlangePose(const KDL::Frame& flange) {
     if (!grasped_.empty()) {
         objects_.at(grasped_).pose = flange_ * flangeToGrasped_;
         trackHeldBlock();
+        trackHeldFuse();
     }
     ++revision_;
 }
@@ -184,6 +202,18 @@ void World::trackHeldBlock() {
         }
         snapped_ = true;
         return;
+    }
+}
+
+void World::trackHeldFuse() {
+    fuseContact_.reset();
+    const WorldObject& fuse = objects_.at(grasped_);
+    if (fuse.kind != ObjectKind::Fuse) return;
+    for (const auto& [id, slot] : fuseSlots_) {
+        if (const auto contact = slotContact(slot, fuse.pose, fuse.size)) {
+            fuseContact_.emplace(id, *contact);
+            return;
+        }
     }
 }
 
@@ -293,7 +323,9 @@ ua::StatusCode World::grasp(const std::string& objectId, std::string* why) {
     if (const auto mount = railMounts_.find(objectId); mount != railMounts_.end()) {
         railMounts_.erase(mount);
     }
+    seatedFuses_.erase(objectId);  // pulled out of its slot as it is taken
     trackHeldBlock();
+    trackHeldFuse();
     ++revision_;
     return ua::status::Good;
 }
@@ -306,6 +338,13 @@ ua::StatusCode World::release(std::string* why) {
         block.pose = mountedPose(rails_.at(hooked_->rail), hooked_->position, block.size);
         railMounts_[grasped_] = *hooked_;
     }
+    if (fuseContact_ && fuseContact_->second.seated(fuseSlots_.at(fuseContact_->first))) {
+        // The terminals hold a seated fuse square in its slot.
+        WorldObject& fuse = objects_.at(grasped_);
+        fuse.pose = seatedPose(fuseSlots_.at(fuseContact_->first), fuse.size);
+        seatedFuses_[grasped_] = fuseContact_->first;
+    }
+    fuseContact_.reset();
     grasped_.clear();
     hooked_.reset();
     snapped_ = false;

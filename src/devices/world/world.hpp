@@ -7,7 +7,9 @@
 // is grasped only at the mounted tool's grip point, ...), so the world stays consistent
 // whatever its clients report. Terminal blocks mount on DIN rails as they do on real ones
 // (din_rail.hpp): hooked over the upper edge, rotated down until they snap, and never over
-// another block. The OPC UA face is world_nodes.hpp.
+// another block. Blade fuses meet a force as they enter a fuse box's slot (fuse_slot.hpp),
+// small when they are aligned with its terminals, steep when they are not, and stay seated
+// when released at its depth. The OPC UA face is world_nodes.hpp.
 #include <kdl/frames.hpp>
 #include <map>
 #include <optional>
@@ -15,6 +17,7 @@
 
 #include "devices/world/box_size.hpp"
 #include "devices/world/din_rail.hpp"
+#include "devices/world/fuse_slot.hpp"
 #include "ua/types/status_code.hpp"
 
 namespace skillcell::devices {
@@ -23,6 +26,7 @@ namespace skillcell::devices {
 enum class ObjectKind {
     Box,            // rests where it is put
     TerminalBlock,  // also mounts on a DIN rail
+    Fuse,           // a blade fuse: goes into a fuse slot
 };
 
 struct WorldObject {
@@ -80,6 +84,9 @@ public:
     /// A DIN rail (BadInvalidArgument for an empty id or a length that is not positive,
     /// BadNodeIdExists for an id taken).
     ua::StatusCode addRail(DinRail rail, std::string* why = nullptr);
+    /// A fuse box's slot (BadInvalidArgument for an empty id or a depth or clearance that is
+    /// not positive, BadNodeIdExists for an id taken).
+    ua::StatusCode addFuseSlot(FuseSlot slot, std::string* why = nullptr);
     /// Removes an object that is not grasped (BadNotFound, BadInvalidState).
     ua::StatusCode removeObject(const std::string& id, std::string* why = nullptr);
 
@@ -114,6 +121,22 @@ public:
     /// Why the held block, rotated down on a rail, did not snap (it would sit over another
     /// block); empty when nothing stopped it.
     [[nodiscard]] const std::string& railRefusal() const { return railRefusal_; }
+    [[nodiscard]] const std::map<std::string, FuseSlot>& fuseSlots() const { return fuseSlots_; }
+    /// The fuses seated in slots: fuse id to slot id.
+    [[nodiscard]] const std::map<std::string, std::string>& seatedFuses() const {
+        return seatedFuses_;
+    }
+    /// The held fuse's contact with a slot (the slot's id and the contact); nullopt when it
+    /// touches none.
+    [[nodiscard]] const std::optional<std::pair<std::string, SlotContact>>& heldFuseContact()
+        const {
+        return fuseContact_;
+    }
+    /// The force the held object meets (N, pushing it back along its way in): a fuse in a
+    /// slot; 0 otherwise.
+    [[nodiscard]] double contactForce() const {
+        return fuseContact_ ? fuseContact_->second.force : 0;
+    }
     [[nodiscard]] const WorldObject* object(const std::string& id) const;
     [[nodiscard]] const KDL::Frame& flangePose() const { return flange_; }
     /// The mounted tool's id, empty when none.
@@ -140,6 +163,8 @@ private:
     [[nodiscard]] bool flangeAt(const ToolDock& dock) const;
     /// Follows a held terminal block onto and off the rails after the flange moved.
     void trackHeldBlock();
+    /// Follows a held fuse into and out of the slots after the flange moved.
+    void trackHeldFuse();
     /// The mounted block whose span on `rail` overlaps [position +- width / 2], if any.
     [[nodiscard]] std::optional<std::string> blockInTheWay(const std::string& rail, double position,
                                                            double width) const;
@@ -157,6 +182,9 @@ private:
     std::optional<RailMount> hooked_;  // the held block's contact with a rail
     bool snapped_ = false;             // ... and it has snapped there
     std::string railRefusal_;
+    std::map<std::string, FuseSlot> fuseSlots_;
+    std::map<std::string, std::string> seatedFuses_;                  // fuse -> slot
+    std::optional<std::pair<std::string, SlotContact>> fuseContact_;  // the held fuse's
     std::uint64_t revision_ = 0;
 };
 

@@ -70,6 +70,18 @@ ua::StatusCode WorldLink::addRail(const std::string& railId, const KDL::Frame& p
     return statusOf(call("AddRail", {ua::Variant(ua::String(railId)), frameToVariant(pose),
                                      ua::Variant(length), ua::Variant(width)}));
 }
+ua::StatusCode WorldLink::addFuse(const std::string& fuseId, const std::array<double, 3>& size,
+                                  const KDL::Frame& pose) {
+    return statusOf(call(
+        "AddFuse",
+        {ua::Variant(ua::String(fuseId)),
+         ua::Variant::array(std::vector<double>(size.begin(), size.end())), frameToVariant(pose)}));
+}
+ua::StatusCode WorldLink::addFuseSlot(const std::string& slotId, const KDL::Frame& pose,
+                                      double depth) {
+    return statusOf(call("AddFuseSlot", {ua::Variant(ua::String(slotId)), frameToVariant(pose),
+                                         ua::Variant(depth)}));
+}
 ua::StatusCode WorldLink::addDock(const std::string& dockId, const KDL::Frame& pose) {
     return statusOf(call("AddDock", {ua::Variant(ua::String(dockId)), frameToVariant(pose)}));
 }
@@ -209,6 +221,25 @@ ua::Result<std::optional<WorldLink::Mount>> WorldLink::railMount(const std::stri
 
 ua::Result<std::string> WorldLink::railRefusal() {
     return readString("World/RailRefusal");
+}
+
+ua::Result<WorldLink::Slot> WorldLink::fuseSlot(const std::string& slotId) {
+    const std::string path = "World/FuseSlots/" + slotId;
+    const auto pose = readFrame(path + "/Pose");
+    if (!pose) return pose.status();
+    const auto depth = readDouble(path + "/Depth");
+    if (!depth) return depth.status();
+    const auto fuse = readString(path + "/Fuse");
+    if (!fuse) return fuse.status();
+    return Slot{*pose, *depth, *fuse};
+}
+
+ua::Result<std::string> WorldLink::fuseSeat(const std::string& fuseId) {
+    return readString("World/Objects/" + fuseId + "/Slot");
+}
+
+ua::Result<double> WorldLink::contactForce() {
+    return readDouble("World/ContactForce");
 }
 
 ua::Result<std::string> WorldLink::mountedTool() {

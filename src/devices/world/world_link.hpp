@@ -36,6 +36,9 @@ public:
                                     const KDL::Frame& pose);
     ua::StatusCode addRail(const std::string& id, const KDL::Frame& pose, double length,
                            double width);
+    ua::StatusCode addFuse(const std::string& id, const std::array<double, 3>& size,
+                           const KDL::Frame& pose);
+    ua::StatusCode addFuseSlot(const std::string& id, const KDL::Frame& pose, double depth);
     ua::StatusCode addDock(const std::string& id, const KDL::Frame& pose);
     ua::StatusCode addTool(const std::string& id, const std::string& dockId,
                            const KDL::Frame& gripPoint);
@@ -79,6 +82,19 @@ public:
     [[nodiscard]] ua::Result<std::optional<Mount>> railMount(const std::string& objectId);
     /// Why the held terminal block lying on a rail has not snapped; empty when it has.
     [[nodiscard]] ua::Result<std::string> railRefusal();
+
+    struct Slot {
+        KDL::Frame pose;  // the opening's centre, z out of the box
+        double depth = 0;
+        std::string fuse;  // seated in it; empty when none
+    };
+    /// A fuse slot; BadNodeIdUnknown for an unknown one.
+    [[nodiscard]] ua::Result<Slot> fuseSlot(const std::string& slotId);
+    /// The slot a fuse is seated in; empty when none. BadNodeIdUnknown for an object that
+    /// is no fuse.
+    [[nodiscard]] ua::Result<std::string> fuseSeat(const std::string& fuseId);
+    /// The force the held object meets (N; a fuse entering a slot).
+    [[nodiscard]] ua::Result<double> contactForce();
 
     struct Token {
     private:

@@ -68,7 +68,7 @@ StatusCode WorldNodes::build() {
     if (auto r = as.addObject(NodeId(ua::ns0::ObjectsFolder), world, "World"); !r) {
         return r.status();
     }
-    for (const char* folder : {"Objects", "Tools", "Docks", "Rails"}) {
+    for (const char* folder : {"Objects", "Tools", "Docks", "Rails", "FuseSlots"}) {
         if (auto r = as.addFolder(world, id(std::string("World/") + folder), folder); !r) {
             return r.status();
         }
@@ -89,6 +89,13 @@ StatusCode WorldNodes::build() {
             !r) {
             return r.status();
         }
+    }
+    // ContactForce: what the held object meets (N, pushing it back along its way in; a fuse
+    // entering a slot): what a force-sensing arm measures at its flange.
+    if (auto r = as.addVariable(world, id("World/ContactForce"), "ContactForce",
+                                NodeId(ua::ns0::Double), Variant(0.0));
+        !r) {
+        return r.status();
     }
 
     // The methods. The Call service has checked the argument count and types against the
@@ -140,6 +147,43 @@ StatusCode WorldNodes::build() {
              if (!pose) return pose.status();
              return world_.addObject(
                  WorldObject{stringArg(in[0]), *size, *pose, ObjectKind::TerminalBlock}, &why);
+         }});
+    methods.push_back(
+        {"AddFuse",
+         ua::Role::Engineer,
+         {arg("Id", kString, "object id"),
+          arg("Size", kDouble, "width (through both blades), thickness, height (m)",
+              ua::value_rank::kOneDimension),
+          arg("Pose", kFrame, "the fuse's centre in the base frame, blades down its -z")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             const auto size = sizeFrom(in[1]);
+             const auto pose = frameFromVariant(in[2]);
+             if (!size) {
+                 why = "Size must hold three Doubles";
+                 return StatusCode(ua::status::BadInvalidArgument);
+             }
+             if (!pose) return pose.status();
+             return world_.addObject(WorldObject{stringArg(in[0]), *size, *pose, ObjectKind::Fuse},
+                                     &why);
+         }});
+    methods.push_back(
+        {"AddFuseSlot",
+         ua::Role::Engineer,
+         {arg("Id", kString, "slot id"),
+          arg("Pose", kFrame, "the opening's centre on the fuse box's face, z out of the box"),
+          arg("Depth", kDouble, "m the blades go in when seated")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             const auto pose = frameFromVariant(in[1]);
+             if (!pose) return pose.status();
+             const double* depth = in[2].get<double>();
+             if (depth == nullptr) return StatusCode(ua::status::BadTypeMismatch);
+             FuseSlot slot;
+             slot.id = stringArg(in[0]);
+             slot.pose = *pose;
+             slot.depth = *depth;
+             return world_.addFuseSlot(std::move(slot), &why);
          }});
     methods.push_back(
         {"AddRail",
@@ -319,6 +363,28 @@ void WorldNodes::sync() {
             put(path + "/RailPosition", path, "RailPosition", NodeId(ua::ns0::Double),
                 Variant(on ? mount->second.position : std::nan("")), ua::value_rank::kScalar);
         }
+        if (object.kind == ObjectKind::Fuse) {
+            // The slot it is seated in; empty when none.
+            const auto seat = world_.seatedFuses().find(oid);
+            put(path + "/Slot", path, "Slot", NodeId(ua::ns0::String),
+                Variant(
+                    ua::String(seat != world_.seatedFuses().end() ? seat->second : std::string())),
+                ua::value_rank::kScalar);
+        }
+    }
+    for (const auto& [sid, slot] : world_.fuseSlots()) {
+        const std::string path = "World/FuseSlots/" + sid;
+        ensureObject(path, "World/FuseSlots", sid);
+        put(path + "/Pose", path, "Pose", frame, frameToVariant(slot.pose),
+            ua::value_rank::kScalar);
+        put(path + "/Depth", path, "Depth", NodeId(ua::ns0::Double), Variant(slot.depth),
+            ua::value_rank::kScalar);
+        std::string seated;
+        for (const auto& [fuse, at] : world_.seatedFuses()) {
+            if (at == sid) seated = fuse;
+        }
+        put(path + "/Fuse", path, "Fuse", NodeId(ua::ns0::String), Variant(ua::String(seated)),
+            ua::value_rank::kScalar);
     }
     for (const auto& [rid, rail] : world_.rails()) {
         const std::string path = "World/Rails/" + rid;
@@ -349,6 +415,7 @@ void WorldNodes::sync() {
     (void)as.setValue(id("World/MountedTool"), Variant(ua::String(world_.mountedTool())));
     (void)as.setValue(id("World/GraspedObject"), Variant(ua::String(world_.graspedObject())));
     (void)as.setValue(id("World/RailRefusal"), Variant(ua::String(world_.railRefusal())));
+    (void)as.setValue(id("World/ContactForce"), Variant(world_.contactForce()));
 }
 
 }  // namespace skillcell::devices

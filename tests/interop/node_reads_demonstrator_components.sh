@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Interop: node-opcua browses and reads every node (client.js --strict) of the DIN-rail
-# demonstrator's new parts: the world model with a rail and terminal blocks (on no rail yet:
-# an empty Rail and a NaN RailPosition), and the pick-and-place component with its
-# PlaceTerminalBlock skill (from the CompositeSkills companion model).
-# Usage: node_reads_din_rail_components.sh PATH/TO/skillcell
+# Interop: node-opcua browses and reads every node (client.js --strict) of the demonstrators'
+# new parts: the world model with a DIN rail and terminal blocks (on no rail yet: an empty
+# Rail and a NaN RailPosition), a fuse slot and a fuse, and the pick-and-place component with
+# its PlaceTerminalBlock skill (from the CompositeSkills companion model).
+# Usage: node_reads_demonstrator_components.sh PATH/TO/skillcell
 # Skips (77) without node-opcua unless SKILLCELL_REQUIRE_NODE=1.
 set -euo pipefail
 skillcell=$1
@@ -17,7 +17,8 @@ common=(--port 0 --host 127.0.0.1 --no-discovery --insecure)
 interop_start world 20 "$skillcell" device world "${common[@]}" --pki-dir "$tmp/pki-world" \
   --rail 'rail1:0.2@0.3,0.3,0.0075' \
   --terminal-block 'tb1:0.0052,0.045,0.035@0.45,0,0.0175' \
-  --terminal-block 'tb2:0.0052,0.045,0.035@0.48,0,0.0175'
+  --terminal-block 'tb2:0.0052,0.045,0.035@0.48,0,0.0175' \
+  --fuse-slot 'F1@0.5,0.2,0.05' --fuse 'fuse1:0.0191,0.0051,0.0185@0.3,0.1,0.00925'
 pid=$last_pid
 world=$url
 echo "world ready at $world"
