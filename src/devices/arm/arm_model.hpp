@@ -47,7 +47,7 @@ struct ArmModel {
     JointBounds bounds;             // the arm's own joint limits
     Joints home;                    // where the simulated arm starts: folded, flange down
     KDL::Vector shoulder;           // a point the reach is measured from
-    double reach = 0;  // m: no flange position farther from `shoulder` can be reached
+    double reach = 0;               // m: no flange position farther from `shoulder` can be reached
     MoveDefaults defaults;
 
     [[nodiscard]] std::size_t joints() const { return axes.size(); }
