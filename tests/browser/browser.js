@@ -1,8 +1,11 @@
 // What the browser tests share: Debian's Chromium, headless, trusting the dashboard's key by
-// its pin as a cell's browsers would trust the cell CA; and check(), which ends the test at
-// the first failed expectation.
+// its pin as a cell's browsers would trust the cell CA; check(), which ends the test at the
+// first failed expectation; and logIn(), a cell user's login with the password `cell up`
+// generated in its work directory.
 "use strict";
 const { chromium } = require("playwright-core");
+const fs = require("fs");
+const path = require("path");
 
 function launch(spki) {
   return chromium.launch({
@@ -18,4 +21,14 @@ function check(condition, what) {
   console.log("ok  " + what);
 }
 
-module.exports = { launch, check };
+// Logs `user` in on the page, with the password in `<workDir>/<user>.pw`, and waits for the
+// cell's view.
+async function logIn(page, workDir, user, wait) {
+  await page.waitForSelector("#login:not([hidden])", wait);
+  await page.fill("#login-user", user);
+  await page.fill("#login-password", fs.readFileSync(path.join(workDir, user + ".pw"), "utf8").trim());
+  await page.click("#login button[type=submit]");
+  await page.waitForSelector("#cell:not([hidden])", wait);
+}
+
+module.exports = { launch, check, logIn };

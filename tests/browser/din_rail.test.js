@@ -4,8 +4,7 @@
 // tb3 on rail1 side by side at their width. Every wait is bounded; the first failed
 // expectation ends the test with exit code 1.
 "use strict";
-const { launch, check } = require("./browser");
-const fs = require("fs");
+const { launch, check, logIn } = require("./browser");
 const path = require("path");
 
 const url = process.env.DASHBOARD_URL;
@@ -21,11 +20,7 @@ const processIri = "http://skillcell.dev/demo/din-rail#terminalBlocksOnARail";
   try {
     const page = await browser.newPage({ viewport: { width: 1200, height: 900 } });
     await page.goto(url);
-    await page.waitForSelector("#login:not([hidden])", wait);
-    await page.fill("#login-user", "operator");
-    await page.fill("#login-password", fs.readFileSync(path.join(work, "operator.pw"), "utf8").trim());
-    await page.click("#login button[type=submit]");
-    await page.waitForSelector("#cell:not([hidden])", wait);
+    await logIn(page, work, "operator", wait);
 
     const rail = '#scene g.rail[data-rail="rail1"]';
     await page.waitForSelector(rail + '[data-blocks=""]', wait);

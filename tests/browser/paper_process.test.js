@@ -5,7 +5,7 @@
 // component offers, is cancelled from the page and ends cancelled. Every wait is bounded; the
 // first failed expectation ends the test with exit code 1.
 "use strict";
-const { launch, check } = require("./browser");
+const { launch, check, logIn: logInTo } = require("./browser");
 const fs = require("fs");
 const path = require("path");
 
@@ -21,12 +21,8 @@ function password(user) {
   return fs.readFileSync(path.join(work, user + ".pw"), "utf8").trim();
 }
 
-async function logIn(page, user) {
-  await page.waitForSelector("#login:not([hidden])", wait);
-  await page.fill("#login-user", user);
-  await page.fill("#login-password", password(user));
-  await page.click("#login button[type=submit]");
-  await page.waitForSelector("#cell:not([hidden])", wait);
+function logIn(page, user) {
+  return logInTo(page, work, user, wait);
 }
 
 async function boxAt(page, id) {

@@ -19,18 +19,7 @@ source "$here/require_browser.sh"
 source "$src/tests/support/cell_up.sh"
 
 # Speed 20: a process of some seconds, slow enough to watch, quick enough for CI.
-"$skillcell" cell up "$src/examples/cells/paper.toml" --speed 20 --work-dir "$work" \
-  >"$tmp/up.out" 2>"$tmp/up.err" &
-supervisor=$!
-for _ in $(seq 600); do
-  grep -q 'is up' "$tmp/up.out" && break
-  kill -0 "$supervisor" 2>/dev/null || break
-  sleep 0.5  # a bounded poll of the output a child process writes
-done
-grep -q 'is up' "$tmp/up.out" || fail "the cell did not come up"
-page=$(grep -o 'PAGE https://[^ ]*' "$tmp/up.out" | head -1 | cut -d' ' -f2)
-netns=$(grep -o '/proc/[0-9]*/ns/net' "$tmp/up.out" | head -1)
-[ -n "$page" ] && [ -n "$netns" ] || fail "cell up printed no dashboard page or network"
+up_with_dashboard "$skillcell" "$src/examples/cells/paper.toml" --speed 20
 # A process that waits for a gripper's MoveGripper, which no component offers while no tool is
 # mounted: its order, run from the page, stays at the MES until the page cancels it. Added
 # by the Engineer, as an integrator would.
@@ -40,10 +29,6 @@ nsenter --net="$netns" "$skillcell" process add "$src/tests/data/mes/waits_for_a
   --kb "$kb" --pki-dir "$work/pki-operator" --user engineer \
   --password-file "$work/engineer.pw" >"$tmp/add.out" 2>&1 ||
   { cat "$tmp/add.out" >&2; fail "process add"; }
-
-# The browser trusts the dashboard's certificate (issued by the cell CA) by its public key.
-spki=$(openssl x509 -inform der -in "$work/pki-dashboard/own/certs/cert.der" -pubkey -noout |
-  openssl pkey -pubin -outform der | openssl dgst -sha256 -binary | base64)
 
 DASHBOARD_URL="$page" DASHBOARD_SPKI="$spki" CELL_WORK_DIR="$work" \
   nsenter --net="$netns" node "$here/paper_process.test.js" || fail "in the browser"
@@ -55,8 +40,4 @@ steps=$(sqlite3 "$work/journal.sqlite" \
 [ "$steps" = "1:finished 2:finished 3:finished 4:finished 5:finished" ] ||
   fail "the journal's steps: $steps"
 echo "ok  the journal: order 1 completed, its five steps finished; order 2 cancelled"
-"$skillcell" cell down --work-dir "$work" >/dev/null || fail "cell down"
-rc=0
-wait "$supervisor" || rc=$?
-supervisor=
-[ "$rc" = 0 ] || fail "cell up exited $rc"
+down "$skillcell"

@@ -177,13 +177,22 @@ TEST(DeviceWorld, ExtentAlongADirectionFollowsTheBoxOrientation) {
     EXPECT_FALSE(w.extentAlong("none", KDL::Vector(0, 0, 1)));
 }
 
+/// An empty world model on a real server.
+struct WorldServer {
+    WorldServer()
+        : server(test::RunningServer::defaultConfig(), [this](ua::Server& s) {
+              auto created = WorldNodes::create(s);
+              ASSERT_TRUE(created.ok());
+              nodes = std::move(*created);
+          }) {}
+    std::unique_ptr<WorldNodes> nodes;  // before the server: it goes after the server stops
+    test::RunningServer server;
+};
+
 TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
-    std::unique_ptr<WorldNodes> nodes;
-    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
-        auto created = WorldNodes::create(s);
-        ASSERT_TRUE(created.ok());
-        nodes = std::move(*created);
-    });
+    WorldServer fixture;
+    test::RunningServer& server = fixture.server;
+    const std::unique_ptr<WorldNodes>& nodes = fixture.nodes;
     auto link = WorldLink::connect(server.url());
     ASSERT_TRUE(link.ok()) << ua::statusName(link.status());
     WorldLink& w = **link;
@@ -238,12 +247,8 @@ TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
 // A fuse pushed into a slot through the world's methods: the force it meets and the slot it
 // is seated in, as a reader of the address space sees them.
 TEST(DeviceWorldNodes, AFuseInsertedThroughTheMethodsShowsItsForceAndItsSlot) {
-    std::unique_ptr<WorldNodes> nodes;
-    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
-        auto created = WorldNodes::create(s);
-        ASSERT_TRUE(created.ok());
-        nodes = std::move(*created);
-    });
+    WorldServer fixture;
+    test::RunningServer& server = fixture.server;
     auto link = WorldLink::connect(server.url());
     ASSERT_TRUE(link.ok()) << ua::statusName(link.status());
     WorldLink& w = **link;
@@ -276,12 +281,9 @@ TEST(DeviceWorldNodes, AFuseInsertedThroughTheMethodsShowsItsForceAndItsSlot) {
 }
 
 TEST(DeviceWorldNodes, MalformedCallsGetPreciseStatusCodesAndChangeNothing) {
-    std::unique_ptr<WorldNodes> nodes;
-    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
-        auto created = WorldNodes::create(s);
-        ASSERT_TRUE(created.ok());
-        nodes = std::move(*created);
-    });
+    WorldServer fixture;
+    test::RunningServer& server = fixture.server;
+    const std::unique_ptr<WorldNodes>& nodes = fixture.nodes;
     ua::BlockingClient c;
     ASSERT_EQ(c.connect(server.url()), Good);
     const auto ns = server.inServer(

@@ -112,61 +112,42 @@ StatusCode WorldNodes::build() {
     const std::uint32_t kString = ua::ns0::String;
     const std::uint32_t kDouble = ua::ns0::Double;
     std::vector<MethodSpec> methods;
-    methods.push_back(
-        {"AddObject",
-         ua::Role::Engineer,
-         {arg("Id", kString, "object id"),
-          arg("Size", kDouble, "box edges x, y, z (m)", ua::value_rank::kOneDimension),
-          arg("Pose", kFrame, "the box centre in the base frame")},
-         {},
-         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             const auto size = sizeFrom(in[1]);
-             const auto pose = frameFromVariant(in[2]);
-             if (!size) {
-                 why = "Size must hold three Doubles";
-                 return StatusCode(ua::status::BadInvalidArgument);
-             }
-             if (!pose) return pose.status();
-             return world_.addObject(WorldObject{stringArg(in[0]), *size, *pose}, &why);
-         }});
-    methods.push_back(
-        {"AddTerminalBlock",
-         ua::Role::Engineer,
-         {arg("Id", kString, "object id"),
-          arg("Size", kDouble, "width along a rail, depth across it, height off it (m)",
-              ua::value_rank::kOneDimension),
-          arg("Pose", kFrame, "the block's centre in the base frame")},
-         {},
-         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             const auto size = sizeFrom(in[1]);
-             const auto pose = frameFromVariant(in[2]);
-             if (!size) {
-                 why = "Size must hold three Doubles";
-                 return StatusCode(ua::status::BadInvalidArgument);
-             }
-             if (!pose) return pose.status();
-             return world_.addObject(
-                 WorldObject{stringArg(in[0]), *size, *pose, ObjectKind::TerminalBlock}, &why);
-         }});
-    methods.push_back(
-        {"AddFuse",
-         ua::Role::Engineer,
-         {arg("Id", kString, "object id"),
-          arg("Size", kDouble, "width (through both blades), thickness, height (m)",
-              ua::value_rank::kOneDimension),
-          arg("Pose", kFrame, "the fuse's centre in the base frame, blades down its -z")},
-         {},
-         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             const auto size = sizeFrom(in[1]);
-             const auto pose = frameFromVariant(in[2]);
-             if (!size) {
-                 why = "Size must hold three Doubles";
-                 return StatusCode(ua::status::BadInvalidArgument);
-             }
-             if (!pose) return pose.status();
-             return world_.addObject(WorldObject{stringArg(in[0]), *size, *pose, ObjectKind::Fuse},
-                                     &why);
-         }});
+    // AddObject, AddTerminalBlock, AddFuse: one method per kind of object, alike but for
+    // what their size and pose mean.
+    struct ObjectMethod {
+        const char* name;
+        ObjectKind kind;
+        const char* size;
+        const char* pose;
+    };
+    const ObjectMethod objectMethods[] = {
+        {"AddObject", ObjectKind::Box, "box edges x, y, z (m)", "the box centre in the base frame"},
+        {"AddTerminalBlock", ObjectKind::TerminalBlock,
+         "width along a rail, depth across it, height off it (m)",
+         "the block's centre in the base frame"},
+        {"AddFuse", ObjectKind::Fuse, "width (through both blades), thickness, height (m)",
+         "the fuse's centre in the base frame, blades down its -z"},
+    };
+    for (const ObjectMethod& m : objectMethods) {
+        methods.push_back(
+            {m.name,
+             ua::Role::Engineer,
+             {arg("Id", kString, "object id"),
+              arg("Size", kDouble, m.size, ua::value_rank::kOneDimension),
+              arg("Pose", kFrame, m.pose)},
+             {},
+             [this, kind = m.kind](std::span<const Variant> in, std::vector<Variant>&,
+                                   std::string& why) {
+                 const auto size = sizeFrom(in[1]);
+                 const auto pose = frameFromVariant(in[2]);
+                 if (!size) {
+                     why = "Size must hold three Doubles";
+                     return StatusCode(ua::status::BadInvalidArgument);
+                 }
+                 if (!pose) return pose.status();
+                 return world_.addObject(WorldObject{stringArg(in[0]), *size, *pose, kind}, &why);
+             }});
+    }
     methods.push_back(
         {"AddFuseSlot",
          ua::Role::Engineer,

@@ -50,26 +50,50 @@ private:
     int count_ = 0;
 };
 
-TEST(SceneWatcher, TheFirstSceneIsWholeAndChangesComeBySubscription) {
-    std::unique_ptr<devices::WorldNodes> nodes;
-    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
-        devices::World w;
-        ASSERT_EQ(w.addObject({"box1", {0.04, 0.1, 0.05}, at(0.45, 0.15, 0.025)}),
-                  ua::status::Good);
-        ASSERT_EQ(w.addDock({"dock1", at(0.3, -0.45, 0.35, M_PI), {}}), ua::status::Good);
-        ASSERT_EQ(w.addTool({"parallel", at(0, 0, 0.15)}, "dock1"), ua::status::Good);
-        auto created = devices::WorldNodes::create(s, std::move(w));
-        ASSERT_TRUE(created.ok());
-        nodes = std::move(*created);
-    });
-    ASSERT_TRUE(nodes);
+/// A world model server holding `world`, watched by a SceneWatcher on a thread of its own;
+/// what it reports goes to `scenes`. Stops the watch, then the world, when it goes.
+class WatchedWorld {
+public:
+    explicit WatchedWorld(devices::World world)
+        : server_(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+              auto created = devices::WorldNodes::create(s, std::move(world));
+              ASSERT_TRUE(created.ok());
+              nodes_ = std::move(*created);
+          }) {
+        thread_ = std::thread([this] { io_.run(); });
+        watcher_ = SceneWatcher::start(io_.get_executor(), server_.url(), ua::ClientConfig{},
+                                       [this](const SceneView& s) { scenes.add(s); });
+    }
+    WatchedWorld(const WatchedWorld&) = delete;
+    WatchedWorld& operator=(const WatchedWorld&) = delete;
+    ~WatchedWorld() {
+        asio::post(io_, [w = watcher_] { w->stop(); });
+        work_.reset();
+        thread_.join();  // the watch ends: its connection closes
+        server_.inServer([this](ua::Server&) { nodes_.reset(); });
+    }
+    [[nodiscard]] bool ready() const { return nodes_ != nullptr; }
+    [[nodiscard]] std::string url() const { return server_.url(); }
 
-    asio::io_context io(1);
-    auto work = asio::make_work_guard(io);
-    std::thread thread([&io] { io.run(); });
     Scenes scenes;
-    auto watcher = SceneWatcher::start(io.get_executor(), server.url(), ua::ClientConfig{},
-                                       [&scenes](const SceneView& s) { scenes.add(s); });
+
+private:
+    std::unique_ptr<devices::WorldNodes> nodes_;
+    test::RunningServer server_;
+    asio::io_context io_{1};
+    asio::executor_work_guard<asio::io_context::executor_type> work_ = asio::make_work_guard(io_);
+    std::thread thread_;
+    std::shared_ptr<SceneWatcher> watcher_;
+};
+
+TEST(SceneWatcher, TheFirstSceneIsWholeAndChangesComeBySubscription) {
+    devices::World w;
+    ASSERT_EQ(w.addObject({"box1", {0.04, 0.1, 0.05}, at(0.45, 0.15, 0.025)}), ua::status::Good);
+    ASSERT_EQ(w.addDock({"dock1", at(0.3, -0.45, 0.35, M_PI), {}}), ua::status::Good);
+    ASSERT_EQ(w.addTool({"parallel", at(0, 0, 0.15)}, "dock1"), ua::status::Good);
+    WatchedWorld world(std::move(w));
+    ASSERT_TRUE(world.ready());
+    Scenes& scenes = world.scenes;
 
     auto first = scenes.waitFor([](const SceneView& s) { return !s.objects.empty(); });
     ASSERT_TRUE(first);
@@ -84,7 +108,7 @@ TEST(SceneWatcher, TheFirstSceneIsWholeAndChangesComeBySubscription) {
     EXPECT_EQ(first->mountedTool, "");
 
     // A robot takes the tool from the dock, as the tool changer's skill would.
-    auto link = devices::WorldLink::connect(server.url());
+    auto link = devices::WorldLink::connect(world.url());
     ASSERT_TRUE(link.ok());
     ASSERT_EQ((*link)->setFlangePose(at(0.3, -0.45, 0.35, M_PI)), ua::status::Good);
     ASSERT_EQ((*link)->mountTool("dock1"), ua::status::Good);
@@ -101,39 +125,21 @@ TEST(SceneWatcher, TheFirstSceneIsWholeAndChangesComeBySubscription) {
         scenes.waitFor([](const SceneView& s) { return std::abs(s.flange[0] - 0.2) < 1e-9; });
     ASSERT_TRUE(moved);
     EXPECT_NEAR(moved->flange[1], 0.1, 1e-9);
-
-    asio::post(io, [watcher] { watcher->stop(); });
-    work.reset();
-    thread.join();  // the watch ends: its connection closes
-    server.inServer([&nodes](ua::Server&) { nodes.reset(); });
 }
 
 TEST(SceneWatcher, ARailAndATerminalBlockSnappedOntoIt) {
     const devices::BoxSize block{0.0052, 0.045, 0.035};
     const devices::DinRail rail{"rail1", at(0.3, 0.3, 0.0075), 0.2};
-    std::unique_ptr<devices::WorldNodes> nodes;
-    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
-        devices::World w;
-        ASSERT_EQ(w.addRail(rail), ua::status::Good);
-        ASSERT_EQ(
-            w.addObject({"tb1", block, at(0.45, 0, 0.0175), devices::ObjectKind::TerminalBlock}),
-            ua::status::Good);
-        ASSERT_EQ(w.addObject({"box1", {0.04, 0.04, 0.04}, at(0.45, 0.15, 0.02)}),
-                  ua::status::Good);
-        ASSERT_EQ(w.addDock({"dock1", at(0.3, -0.45, 0.35, M_PI), {}}), ua::status::Good);
-        ASSERT_EQ(w.addTool({"parallel", at(0, 0, 0.15)}, "dock1"), ua::status::Good);
-        auto created = devices::WorldNodes::create(s, std::move(w));
-        ASSERT_TRUE(created.ok());
-        nodes = std::move(*created);
-    });
-    ASSERT_TRUE(nodes);
-
-    asio::io_context io(1);
-    auto work = asio::make_work_guard(io);
-    std::thread thread([&io] { io.run(); });
-    Scenes scenes;
-    auto watcher = SceneWatcher::start(io.get_executor(), server.url(), ua::ClientConfig{},
-                                       [&scenes](const SceneView& s) { scenes.add(s); });
+    devices::World w;
+    ASSERT_EQ(w.addRail(rail), ua::status::Good);
+    ASSERT_EQ(w.addObject({"tb1", block, at(0.45, 0, 0.0175), devices::ObjectKind::TerminalBlock}),
+              ua::status::Good);
+    ASSERT_EQ(w.addObject({"box1", {0.04, 0.04, 0.04}, at(0.45, 0.15, 0.02)}), ua::status::Good);
+    ASSERT_EQ(w.addDock({"dock1", at(0.3, -0.45, 0.35, M_PI), {}}), ua::status::Good);
+    ASSERT_EQ(w.addTool({"parallel", at(0, 0, 0.15)}, "dock1"), ua::status::Good);
+    WatchedWorld world(std::move(w));
+    ASSERT_TRUE(world.ready());
+    Scenes& scenes = world.scenes;
     auto first = scenes.waitFor([](const SceneView& s) { return !s.rails.empty(); });
     ASSERT_TRUE(first);
     ASSERT_EQ(first->rails.size(), 1U);
@@ -148,24 +154,24 @@ TEST(SceneWatcher, ARailAndATerminalBlockSnappedOntoIt) {
     }
 
     // A robot picks tb1 from the top, hooks it over the rail's upper edge and rotates it down.
-    auto link = devices::WorldLink::connect(server.url());
+    auto link = devices::WorldLink::connect(world.url());
     ASSERT_TRUE(link.ok());
-    devices::WorldLink& w = **link;
+    devices::WorldLink& robot = **link;
     const KDL::Frame gripPoint = at(0, 0, 0.15);
     const KDL::Frame gripInBlock(KDL::Rotation::RotX(M_PI), KDL::Vector::Zero());
     auto flangeFor = [&](const KDL::Frame& blockPose) {
         return blockPose * gripInBlock * gripPoint.Inverse();
     };
-    ASSERT_EQ(w.setFlangePose(at(0.3, -0.45, 0.35, M_PI)), ua::status::Good);
-    ASSERT_EQ(w.mountTool("dock1"), ua::status::Good);
-    ASSERT_EQ(w.setFlangePose(flangeFor(at(0.45, 0, 0.0175))), ua::status::Good);
-    ASSERT_EQ(w.grasp("tb1"), ua::status::Good);
+    ASSERT_EQ(robot.setFlangePose(at(0.3, -0.45, 0.35, M_PI)), ua::status::Good);
+    ASSERT_EQ(robot.mountTool("dock1"), ua::status::Good);
+    ASSERT_EQ(robot.setFlangePose(flangeFor(at(0.45, 0, 0.0175))), ua::status::Good);
+    ASSERT_EQ(robot.grasp("tb1"), ua::status::Good);
     for (int i = 0; i <= 3; ++i) {
         const double tilt = devices::kHookTilt * (3 - i) / 3;
-        ASSERT_EQ(w.setFlangePose(flangeFor(devices::hookedPose(rail, 0.0026, block, tilt))),
+        ASSERT_EQ(robot.setFlangePose(flangeFor(devices::hookedPose(rail, 0.0026, block, tilt))),
                   ua::status::Good);
     }
-    ASSERT_EQ(w.release(), ua::status::Good);
+    ASSERT_EQ(robot.release(), ua::status::Good);
     auto tb1 = [](const SceneView& s) -> const SceneView::Box* {
         for (const auto& o : s.objects) {
             if (o.id == "tb1") return &o;
@@ -178,11 +184,6 @@ TEST(SceneWatcher, ARailAndATerminalBlockSnappedOntoIt) {
     EXPECT_EQ(tb1(*snapped)->rail, "rail1");
     EXPECT_NEAR(tb1(*snapped)->railPosition, 0.0026, 1e-9);
     EXPECT_NEAR(tb1(*snapped)->position[0], 0.3026, 1e-9);
-
-    asio::post(io, [watcher] { watcher->stop(); });
-    work.reset();
-    thread.join();
-    server.inServer([&nodes](ua::Server&) { nodes.reset(); });
 }
 
 }  // namespace
