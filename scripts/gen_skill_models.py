@@ -454,6 +454,14 @@ def build() -> None:
                   "LinearMoveSkillType", False, "Linear move to joint positions.", joints)
     rs.skill_type("JointPtpMoveSkillType", "JointPtpMoveSkillType", "PtpMoveSkillType", False,
                   "Point-to-point move to joint positions.", joints)
+    rs.skill_type("CartesianForceLimitedLinearMoveSkillType",
+                  "CartesianForceLimitedLinearMoveSkillType", "CartesianLinearMoveSkillType",
+                  False,
+                  "Linear move to a Cartesian pose that stops, Halted with the force in its "
+                  "reason, where the tool meets more than ForceLimit (an insertion). Offered by "
+                  "arms that measure force.", [
+                      rs.param("ForceLimit", "double", unit="N", range=(0, 500),
+                               desc="The contact force above which the move stops.")])
 
     # --- Gripper skills ----------------------------------------------------------------
     gs = add("GripperSkills", "Gripper skills (grasp, release, move gripper)", ["DI", "Skills"])

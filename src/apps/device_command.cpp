@@ -304,6 +304,12 @@ CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* n
                              [r = content->reporter.get()](std::function<void()> report) {
                                  r->whenSent(std::move(report));
                              };
+                         // What the arm's torque sensing measures: the world's answer.
+                         if (model.sensesForce) {
+                             o.arm.contactForce = [r = content->reporter.get()] {
+                                 return r->contactForce();
+                             };
+                         }
                      }
                      std::string error;
                      auto component = devices::ArmComponent::create(c.server, o, &error);

@@ -259,15 +259,24 @@ private:
 /// An arm component (a UR5 unless told otherwise) on a real server.
 class Ur5Cell {
 public:
+    /// `forceAt`: the force the tool meets at a flange pose (the arm senses it if its model
+    /// does); empty: none.
     explicit Ur5Cell(ManualClock* clock = nullptr, double speed = 20,
-                     const ArmModel& model = ArmModel::ur5())
+                     const ArmModel& model = ArmModel::ur5(),
+                     std::function<double(const KDL::Frame&)> forceAt = {})
         : kinematics_(model), server_(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
               ArmComponentOptions o;
               o.model = model;
+              if (forceAt) {
+                  o.arm.contactForce = [this, forceAt] { return forceAt(flange_); };
+              }
               o.arm.speed = speed;
               o.arm.tick = 1ms;
               if (clock != nullptr) o.arm.clock = [clock] { return clock->now(); };
-              o.onFlange = [this](const KDL::Frame&) { ticks_.tick(); };
+              o.onFlange = [this](const KDL::Frame& f) {
+                  flange_ = f;  // on the server's thread, as the arm asks for the force
+                  ticks_.tick();
+              };
               auto c = ArmComponent::create(s, o);
               ASSERT_TRUE(c.ok());
               component_ = std::move(*c);
@@ -294,6 +303,11 @@ public:
                 if (s->name() == name) return s->state();
             }
             return SkillState::Halted;
+        });
+    }
+    bool has(const std::string& path) {
+        return server_.inServer([&](ua::Server& s) {
+            return s.addressSpace().find(ua::NodeId(1, ua::String(path))) != nullptr;
         });
     }
     ua::Variant read(const std::string& path) {
@@ -325,6 +339,7 @@ public:
 
 private:
     ArmKinematics kinematics_;
+    KDL::Frame flange_;
     TickCounter ticks_;
     std::unique_ptr<ArmComponent> component_;
     test::RunningServer server_;
@@ -674,6 +689,66 @@ TEST(DeviceIiwaSkills, MovesThroughItsSkillsAndShowsItsSevenAxesInTheRoboticsMod
         ASSERT_NE(value.get<double>(), nullptr) << axis;
         EXPECT_NEAR(*value.get<double>(), q[i], 1e-9) << axis;
     }
+}
+
+// An arm that senses force stops a force-limited move where its tool meets a surface, Halted
+// with the force in the reason; the same move in free space ends; an arm that senses no force
+// offers no such move.
+TEST(DeviceIiwaSkills, AForceLimitedMoveStopsOnContactWithTheForceInItsReason) {
+    const ArmModel model = ArmModel::lbrIiwa7();
+    ArmKinematics k(model);
+    const double surface = k.forward(model.home).p.z() - 0.01;  // 1 cm below the flange
+    constexpr double kStiffness = 30'000;                       // N/m
+    Ur5Cell cell(nullptr, 20, model, [surface](const KDL::Frame& f) {
+        return kStiffness * std::max(0.0, surface - f.p.z());
+    });
+    test::ClientThread t;
+    auto press = t.attach(cell.url(), Ur5Cell::skill("CartesianForceLimitedLinearMove"));
+    ASSERT_TRUE(press);
+    const KDL::Frame start = cell.forward(cell.joints());
+    const KDL::Frame down(start.M, start.p - KDL::Vector(0, 0, 0.03));
+    auto outcome = t.invoke(press,
+                            {{"TargetPosition", frameToVariant(down)},
+                             {"ForceLimit", ua::Variant(20.0)},
+                             {"MaxVelocity", ua::Variant(0.02)}},
+                            10s);
+    ASSERT_EQ(outcome.kind, Kind::Failed) << outcome.reason;
+    EXPECT_NE(outcome.reason.find("exceeded the limit of 20.0 N"), std::string::npos)
+        << outcome.reason;
+    // Stopped past the surface by at least the limit's 0.7 mm (plus what the ticks' lag
+    // adds, which a loaded machine makes longer), short of the target.
+    const double z = cell.forward(cell.joints()).p.z();
+    EXPECT_LT(z, surface - 20 / kStiffness + 1e-9);
+    EXPECT_GT(z, down.p.z() + 1e-4);
+    const ua::Variant force = cell.read("LBRiiwa7/ContactForce");
+    ASSERT_NE(force.get<double>(), nullptr);
+    EXPECT_GT(*force.get<double>(), 20.0);
+
+    // A plain linear move backs off; in free space the force-limited move ends.
+    ASSERT_EQ(t.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_return co_await press->call(SkillMethod::Reset);
+    }),
+              ua::status::Good);
+    auto lin = t.attach(cell.url(), Ur5Cell::skill("CartesianLinearMove"));
+    ASSERT_TRUE(lin);
+    outcome = t.invoke(lin, {{"TargetPosition", frameToVariant(start)}}, 10s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    const KDL::Frame above(start.M, start.p + KDL::Vector(0, 0, 0.01));
+    outcome = t.invoke(
+        press, {{"TargetPosition", frameToVariant(above)}, {"ForceLimit", ua::Variant(20.0)}}, 10s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_TRUE(near(cell.forward(cell.joints()), above, 1e-6, 1e-6));
+    // No limit, no move.
+    outcome = t.invoke(
+        press, {{"TargetPosition", frameToVariant(down)}, {"ForceLimit", ua::Variant(0.0)}}, 10s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("ForceLimit must be above 0 N"), std::string::npos)
+        << outcome.reason;
+
+    // The UR5 measures no force: it offers no force-limited move.
+    Ur5Cell ur5;
+    EXPECT_FALSE(ur5.has("Skills/CartesianForceLimitedLinearMove"));
+    EXPECT_TRUE(ur5.has("Skills/CartesianLinearMove"));
 }
 
 }  // namespace

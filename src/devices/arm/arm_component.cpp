@@ -50,7 +50,7 @@ ua::StatusCode ArmComponent::build(std::string* error) {
         ua::Variant value;
         std::int32_t rank;
     };
-    const Var vars[] = {
+    std::vector<Var> vars = {
         {"JointPositions", ua::NodeId(ua::ns0::Double),
          ua::Variant::array(std::vector<double>(q0.begin(), q0.end())),
          ua::value_rank::kOneDimension},
@@ -58,6 +58,10 @@ ua::StatusCode ArmComponent::build(std::string* error) {
         {"TcpPose", frame, frameToVariant(kinematics_.forward(q0)), ua::value_rank::kScalar},
         {"ToolFrame", frame, frameToVariant(KDL::Frame::Identity()), ua::value_rank::kScalar},
     };
+    if (sensesForce()) {
+        vars.push_back({"ContactForce", ua::NodeId(ua::ns0::Double), ua::Variant(0.0),
+                        ua::value_rank::kScalar});
+    }
     for (const Var& v : vars) {
         auto r = as.addVariable(robot_, id(v.name), v.name, v.type, v.value,
                                 ua::access_level::kCurrentRead, v.rank);
@@ -90,12 +94,17 @@ ua::StatusCode ArmComponent::build(std::string* error) {
         const char* name;
         MoveKind kind;
     };
-    const SkillSpec specs[] = {
+    std::vector<SkillSpec> specs = {
         {"CartesianLinearMoveSkillType", "CartesianLinearMove", MoveKind::CartesianLinear},
         {"CartesianPtpMoveSkillType", "CartesianPtpMove", MoveKind::CartesianPtp},
         {"JointLinearMoveSkillType", "JointLinearMove", MoveKind::JointLinear},
         {"JointPtpMoveSkillType", "JointPtpMove", MoveKind::JointPtp},
     };
+    // An arm that measures force, fed what it measures, also stops a move on contact.
+    if (sensesForce()) {
+        specs.push_back({"CartesianForceLimitedLinearMoveSkillType",
+                         "CartesianForceLimitedLinearMove", MoveKind::CartesianForceLimitedLinear});
+    }
     for (const SkillSpec& spec : specs) {
         const auto type = skills_->findSkillType(spec.type);
         if (!type) {
@@ -119,7 +128,9 @@ ua::StatusCode ArmComponent::build(std::string* error) {
         for (const auto& p : (*skill)->parameters()) {
             ua::Variant value;
             if (p.name == "ToolFrame") value = frameToVariant(KDL::Frame::Identity());
-            if (p.name == "MaxVelocity" || p.name == "MaxAcceleration") value = ua::Variant(0.0);
+            if (p.name == "MaxVelocity" || p.name == "MaxAcceleration" || p.name == "ForceLimit") {
+                value = ua::Variant(0.0);
+            }
             if (p.name == "AxisBounds") {
                 value = ua::Variant::array(ua::BuiltinType::ExtensionObject, {});
             }
@@ -138,6 +149,10 @@ void ArmComponent::publish(const Joints& q) {
                       ua::Variant::array(std::vector<double>(q.begin(), q.end())));
     (void)as.setValue(ua::NodeId(1, ua::String(name + "/FlangePose")), frameToVariant(flange));
     if (motionDevice_) motionDevice_->update(as, std::span<const double>(q.data(), q.size()));
+    if (sensesForce()) {
+        (void)as.setValue(ua::NodeId(1, ua::String(name + "/ContactForce")),
+                          ua::Variant(arm_ ? arm_->contactForce() : 0.0));
+    }
     (void)as.setValue(ua::NodeId(1, ua::String(name + "/TcpPose")),
                       frameToVariant(flange * toolFrame_));
     if (options_.onFlange) options_.onFlange(flange);

@@ -3,7 +3,8 @@
 // arm of its ArmModel, the four move skills in Objects/Skills (CartesianLinearMove,
 // CartesianPtpMove, JointLinearMove, JointPtpMove) and Objects/<model name> (Objects/UR5,
 // Objects/LBRiiwa7) with the arm's state as variables (JointPositions, FlangePose, TcpPose,
-// ToolFrame: the ToolFrame of the last move, which defines the TCP), and the arm in the
+// ToolFrame: the ToolFrame of the last move, which defines the TCP; ContactForce, N, for an
+// arm that senses force, which also offers CartesianForceLimitedLinearMove), and the arm in the
 // Robotics model: DeviceSet/<name>System/MotionDevices/<name> with each axis's
 // ActualPosition (motion_device_system.hpp).
 // Build and destroy it on the server's io_context thread.
@@ -49,6 +50,9 @@ public:
 
 private:
     ua::StatusCode build(std::string* error);
+    [[nodiscard]] bool sensesForce() const {
+        return options_.model.sensesForce && static_cast<bool>(options_.arm.contactForce);
+    }
     void publish(const Joints& q);
 
     ua::Server& server_;

@@ -97,6 +97,7 @@ ArmModel ArmModel::lbrIiwa7() {
     m.defaults.linearAcceleration = 1.0;
     m.defaults.jointVelocity = 1.0;
     m.defaults.jointAcceleration = 1.2;
+    m.sensesForce = true;  // a torque sensor in every axis
     return m;
 }
 

@@ -49,6 +49,9 @@ struct ArmModel {
     KDL::Vector shoulder;           // a point the reach is measured from
     double reach = 0;               // m: no flange position farther from `shoulder` can be reached
     MoveDefaults defaults;
+    /// The arm measures the force its tool meets (joint torque sensors), so it offers
+    /// force-limited moves.
+    bool sensesForce = false;
 
     [[nodiscard]] std::size_t joints() const { return axes.size(); }
 

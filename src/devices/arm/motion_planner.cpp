@@ -21,8 +21,9 @@ std::string jointName(std::size_t i) {
 
 std::variant<Trajectory, std::string> MotionPlanner::plan(const Joints& current,
                                                           const MoveRequest& request) const {
-    const bool linear =
-        request.kind == MoveKind::CartesianLinear || request.kind == MoveKind::JointLinear;
+    const bool linear = request.kind == MoveKind::CartesianLinear ||
+                        request.kind == MoveKind::JointLinear ||
+                        request.kind == MoveKind::CartesianForceLimitedLinear;
     const double velocity = request.maxVelocity > 0 ? request.maxVelocity
                             : linear                ? defaults_.linearVelocity
                                                     : defaults_.jointVelocity;
@@ -96,6 +97,15 @@ std::variant<Trajectory, std::string> MotionPlanner::plan(const Joints& current,
         case MoveKind::CartesianLinear:
             return this->linear(current, request.target, request.toolFrame, bounds, velocity,
                                 acceleration);
+        case MoveKind::CartesianForceLimitedLinear: {
+            if (!(request.forceLimit > 0)) {
+                return std::string("ForceLimit must be above 0 N");
+            }
+            auto planned = this->linear(current, request.target, request.toolFrame, bounds,
+                                        velocity, acceleration);
+            if (auto* t = std::get_if<Trajectory>(&planned)) t->limitForce(request.forceLimit);
+            return planned;
+        }
     }
     return std::string("unknown move");
 }

@@ -13,7 +13,13 @@
 
 namespace skillcell::devices {
 
-enum class MoveKind : std::uint8_t { CartesianLinear, CartesianPtp, JointLinear, JointPtp };
+enum class MoveKind : std::uint8_t {
+    CartesianLinear,
+    CartesianPtp,
+    JointLinear,
+    JointPtp,
+    CartesianForceLimitedLinear,  // a linear move that stops above a contact force
+};
 
 struct MoveRequest {
     MoveKind kind = MoveKind::JointPtp;
@@ -23,6 +29,7 @@ struct MoveRequest {
     KDL::Frame target = KDL::Frame::Identity();  // Cartesian moves: the TCP's target
     Joints targetJoints;                         // joint moves
     std::optional<JointBounds> axisBounds;       // Cartesian moves: narrows the joint limits
+    double forceLimit = 0;                       // N, force-limited moves
 };
 
 /// Path parameter of a linear move: the TCP's distance, or for a turn in place the arc a

@@ -40,6 +40,9 @@ std::variant<MoveRequest, std::string> MoveBehaviour::request(MoveKind kind,
     auto target = frameParameter(p, "TargetPosition");
     if (auto* why = std::get_if<std::string>(&target)) return *why;
     r.target = std::get<KDL::Frame>(target);
+    if (kind == MoveKind::CartesianForceLimitedLinear) {
+        r.forceLimit = p.get<double>("ForceLimit").value_or(0);
+    }
 
     const ua::Variant& bounds = p.value("AxisBounds");
     if (bounds.isArray() && !bounds.elements().empty()) {

@@ -2,6 +2,8 @@
 
 #include <asio/post.hpp>
 
+#include <fmt/format.h>
+
 namespace skillcell::devices {
 
 SimulatedArm::SimulatedArm(const asio::any_io_executor& executor, SimulatedArmOptions options,
@@ -48,6 +50,17 @@ void SimulatedArm::tick() {
         joints_ = trajectory_->at(elapsed_);
     }
     if (observer_) observer_(joints_);
+    // A force-limited motion stops where its tool meets more than its limit (the measured
+    // force lags the motion by the sensing's round trip, as a real arm's filter does).
+    if (const double limit = trajectory_->forceLimit(); limit > 0 && options_.contactForce) {
+        if (const double force = options_.contactForce(); force > limit) {
+            abort(
+                fmt::format("the contact force {:.1f} N exceeded the limit of {:.1f} N; the "
+                            "arm stopped",
+                            force, limit));
+            return;
+        }
+    }
     if (!paused_ && elapsed_ >= trajectory_->duration()) {
         joints_ = trajectory_->end();
         trajectory_.reset();
@@ -69,6 +82,12 @@ void SimulatedArm::tick() {
         return;
     }
     arm();
+}
+
+void SimulatedArm::abort(const std::string& fault) {
+    Done done = std::move(done_);
+    stop();
+    if (done) done(fault);
 }
 
 void SimulatedArm::pause() {

@@ -27,6 +27,9 @@ struct SimulatedArmOptions {
     /// argument (from any thread) when the end may be reported, e.g. once the world model
     /// has the final flange pose. Empty: report at once.
     std::function<void(std::function<void()> report)> beforeDone;
+    /// The force the tool meets (N), as the arm's torque sensing measures it; empty: the arm
+    /// senses none (a force-limited motion then never stops for force).
+    std::function<double()> contactForce;
 };
 
 class SimulatedArm final : public ArmController {
@@ -44,12 +47,18 @@ public:
     void stop() override;
 
     [[nodiscard]] bool paused() const { return paused_; }
+    /// The force the tool meets now (N; 0 when the arm senses none).
+    [[nodiscard]] double contactForce() const {
+        return options_.contactForce ? options_.contactForce() : 0.0;
+    }
     /// Simulated seconds the current motion has run (0 when idle).
     [[nodiscard]] double elapsed() const { return elapsed_; }
 
 private:
     void arm();
     void tick();
+    /// Ends the motion where it is (stop()), then tells its owner why.
+    void abort(const std::string& fault);
     [[nodiscard]] std::chrono::steady_clock::time_point now() const;
 
     asio::steady_timer timer_;

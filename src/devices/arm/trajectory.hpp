@@ -27,11 +27,16 @@ public:
     [[nodiscard]] const Joints& end() const { return samples_.back(); }
     [[nodiscard]] const TrapezoidalProfile& profile() const { return profile_; }
     [[nodiscard]] const std::vector<Joints>& samples() const { return samples_; }
+    /// A force-limited motion stops where the force its tool meets exceeds `newtons`
+    /// (0: no limit).
+    void limitForce(double newtons) { forceLimit_ = newtons; }
+    [[nodiscard]] double forceLimit() const { return forceLimit_; }
 
 private:
     std::vector<Joints> samples_{Joints{}};
     std::vector<double> arc_{0.0};
     TrapezoidalProfile profile_;
+    double forceLimit_ = 0;
 };
 
 }  // namespace skillcell::devices

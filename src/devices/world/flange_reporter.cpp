@@ -54,7 +54,9 @@ void FlangeReporter::run() {
         const std::uint64_t covers = reported_;
         pending_.reset();
         lock.unlock();
-        const auto status = link_->setFlangePose(flange);
+        double force = 0;
+        const auto status = link_->setFlangePose(flange, &force);
+        if (status.isGood()) contactForce_.store(force);
         lock.lock();
         if (status.isBad() && !warned_) {
             spdlog::warn("world model: SetFlangePose failed: {}", ua::statusName(status));

@@ -2,7 +2,9 @@
 // FlangeReporter: sends a robot's flange poses to the world model from a thread of its
 // own, so that the robot's io_context never waits for a round trip. Poses are coalesced:
 // while one report travels, only the newest pending pose is kept, and the last pose of a
-// motion is always sent.
+// motion is always sent. Each answer carries the contact force at the pose sent: what a
+// force-sensing arm measures, one round trip late.
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -33,6 +35,8 @@ public:
     /// have, else on the reporter's thread). A failed send counts as sent: a lost world
     /// model must not stop the robot.
     void whenSent(std::function<void()> callback);
+    /// The contact force at the last pose the world answered for (N); any thread.
+    [[nodiscard]] double contactForce() const { return contactForce_.load(); }
 
     struct Token {
     private:
@@ -53,6 +57,7 @@ private:
     std::uint64_t sent_ = 0;
     bool stopping_ = false;
     bool warned_ = false;
+    std::atomic<double> contactForce_{0.0};
     std::thread thread_;
 };
 

@@ -34,8 +34,15 @@ ua::StatusCode statusOf(const ua::Result<std::vector<ua::Variant>>& r) {
 }
 }  // namespace
 
-ua::StatusCode WorldLink::setFlangePose(const KDL::Frame& flange) {
-    return statusOf(call("SetFlangePose", {frameToVariant(flange)}));
+ua::StatusCode WorldLink::setFlangePose(const KDL::Frame& flange, double* contactForce) {
+    const auto out = call("SetFlangePose", {frameToVariant(flange)});
+    if (!out) return out.status();
+    if (contactForce != nullptr) {
+        const double* force = out->size() == 1 ? (*out)[0].get<double>() : nullptr;
+        if (force == nullptr) return ua::status::BadTypeMismatch;
+        *contactForce = *force;
+    }
+    return ua::status::Good;
 }
 ua::StatusCode WorldLink::mountTool(const std::string& dockId) {
     return statusOf(call("MountTool", {ua::Variant(ua::String(dockId))}));

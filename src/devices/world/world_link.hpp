@@ -25,7 +25,9 @@ public:
     WorldLink& operator=(const WorldLink&) = delete;
     ~WorldLink() = default;
 
-    ua::StatusCode setFlangePose(const KDL::Frame& flange);
+    /// Reports the flange; `contactForce` (if given) receives the force the held object
+    /// meets there (N).
+    ua::StatusCode setFlangePose(const KDL::Frame& flange, double* contactForce = nullptr);
     ua::StatusCode mountTool(const std::string& dockId);
     ua::StatusCode unmountTool(const std::string& dockId);
     ua::StatusCode grasp(const std::string& objectId);

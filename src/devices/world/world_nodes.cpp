@@ -215,16 +215,21 @@ StatusCode WorldNodes::build() {
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
              return world_.moveTool(stringArg(in[0]), stringArg(in[1]), &why);
          }});
-    methods.push_back({"SetFlangePose",
-                       ua::Role::Operator,
-                       {arg("Pose", kFrame, "the robot flange in the base frame")},
-                       {},
-                       [this](std::span<const Variant> in, std::vector<Variant>&, std::string&) {
-                           const auto pose = frameFromVariant(in[0]);
-                           if (!pose) return pose.status();
-                           world_.setFlangePose(*pose);
-                           return StatusCode(ua::status::Good);
-                       }});
+    // The answer is the physics' to the robot's motion: the force the held object meets
+    // there, which an arm with force sensing measures.
+    methods.push_back(
+        {"SetFlangePose",
+         ua::Role::Operator,
+         {arg("Pose", kFrame, "the robot flange in the base frame")},
+         {arg("ContactForce", kDouble,
+              "N the held object meets at this pose, pushing it back (a fuse in a slot)")},
+         [this](std::span<const Variant> in, std::vector<Variant>& out, std::string&) {
+             const auto pose = frameFromVariant(in[0]);
+             if (!pose) return pose.status();
+             world_.setFlangePose(*pose);
+             out.emplace_back(world_.contactForce());
+             return StatusCode(ua::status::Good);
+         }});
     methods.push_back(
         {"MountTool",
          ua::Role::Operator,
