@@ -152,6 +152,11 @@ TEST(DinRail, ABlockPressedDownFlatWithoutHookingDoesNotSnap) {
     w.setFlangePose(flangeFor(w, flat));
     EXPECT_FALSE(w.heldBlockSnapped());
     EXPECT_NE(w.railRefusal().find("without hooking"), std::string::npos) << w.railRefusal();
+    // Reported again there, and pressed 1 mm further: still not.
+    w.setFlangePose(flangeFor(w, flat));
+    EXPECT_FALSE(w.heldBlockSnapped());
+    w.setFlangePose(flangeFor(w, KDL::Frame(KDL::Vector(0, 0, -0.001)) * flat));
+    EXPECT_FALSE(w.heldBlockSnapped());
     ASSERT_EQ(w.release(), Good);
     EXPECT_TRUE(w.railMounts().empty());
 }

@@ -197,7 +197,14 @@ asio::awaitable<std::string> PickAndPlace::planRail(const PickRequest& request, 
         for (const auto& id : *ids) {
             if (id == self) continue;
             const auto mount = world_.railMount(id);
-            if (!mount) continue;  // a box, not a terminal block
+            if (!mount && mount.status() == ua::StatusCode(ua::status::BadNodeIdUnknown)) {
+                continue;  // no Rail: a box, not a terminal block
+            }
+            if (!mount) {
+                facts.status = mount.status();
+                facts.failed = "mount of " + id;
+                return facts;
+            }
             if (*mount && (*mount)->rail == railId) facts.mounted.emplace_back(id, **mount);
         }
         return facts;

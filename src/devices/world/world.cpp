@@ -170,7 +170,10 @@ std::optional<std::string> World::blockInTheWay(const std::string& rail, double 
 void World::trackHeldBlock() {
     const WorldObject& block = objects_.at(grasped_);
     const std::optional<RailMount> before = hooked_;
+    const bool wasTilted = tilted_;
+    const bool wasSnapped = snapped_;
     hooked_.reset();
+    tilted_ = false;
     snapped_ = false;
     railRefusal_.clear();
     if (block.kind != ObjectKind::TerminalBlock) return;
@@ -178,12 +181,16 @@ void World::trackHeldBlock() {
         const auto contact = railContact(rail, block.pose, block.size, tolerances_.railContact);
         if (!contact) continue;
         hooked_ = RailMount{id, contact->position};
-        if (contact->tilt > kSnapTilt) return;  // hooked, not yet rotated down
+        if (contact->tilt > kSnapTilt) {
+            tilted_ = true;  // hooked, not yet rotated down
+            return;
+        }
         // Lying flat on the rail. It snaps only when it was rotated down about the upper
-        // edge from where it hooked: a block pressed straight down meets the upper edge
-        // with its foot and stays on top.
+        // edge from where it hooked (or had snapped there already): a block pressed straight
+        // down meets the upper edge with its foot and stays on top, however often it is
+        // reported there.
         const bool rotatedDown =
-            before && before->rail == id &&
+            before && before->rail == id && (wasTilted || wasSnapped) &&
             std::abs(before->position - contact->position) <= tolerances_.railContact;
         if (!rotatedDown) {
             railRefusal_ = "terminal block " + block.id + " came down flat on rail " + id +
@@ -347,6 +354,7 @@ ua::StatusCode World::release(std::string* why) {
     fuseContact_.reset();
     grasped_.clear();
     hooked_.reset();
+    tilted_ = false;
     snapped_ = false;
     railRefusal_.clear();
     ++revision_;

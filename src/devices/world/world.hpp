@@ -180,7 +180,8 @@ private:
     std::string grasped_;
     KDL::Frame flangeToGrasped_ = KDL::Frame::Identity();
     std::optional<RailMount> hooked_;  // the held block's contact with a rail
-    bool snapped_ = false;             // ... and it has snapped there
+    bool tilted_ = false;              // ... tilted back over the upper edge
+    bool snapped_ = false;             // ... or it has snapped there
     std::string railRefusal_;
     std::map<std::string, FuseSlot> fuseSlots_;
     std::map<std::string, std::string> seatedFuses_;                  // fuse -> slot
