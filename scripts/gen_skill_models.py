@@ -539,6 +539,18 @@ def build() -> None:
                       cs.param("ToolSkillControllerEndpoint", "string"),
                       cs.param("MoveSkillControllerEndpoint", "string")])
 
+    cs.skill_type("InsertFuseSkillType", "InsertFuseSkillType", "SkillType", False,
+                  "Picks the blade fuse ObjectId from the top and inserts it into the fuse "
+                  "slot SlotId along the slot's axis with the robot's force-limited linear "
+                  "move; releases it and checks that it is seated. Stops with the force in "
+                  "its reason where the fuse meets more than ForceLimit (a misaligned slot).", [
+                      cs.param("ObjectId", "string"),
+                      cs.param("SlotId", "string", desc="The slot, as the world model names it."),
+                      cs.param("ForceLimit", "double", unit="N", range=(0, 500),
+                               desc="The contact force above which the insertion stops."),
+                      cs.param("ToolSkillControllerEndpoint", "string"),
+                      cs.param("MoveSkillControllerEndpoint", "string")])
+
     # --- MES skills --------------------------------------------------------------------
     ms = add("MesSkills", "MES skills (execute process)", ["DI", "Skills"])
     ms.intro = ("The skill a manufacturing execution system offers: execute a process "

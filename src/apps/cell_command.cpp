@@ -283,7 +283,7 @@ void printSummary(const cell::CellFile& c) {
         component("mes",
                   "semantic MES, step timeout " + std::to_string(c.mes->stepTimeoutMs) + " ms");
     }
-    if (!c.docks.empty() || !c.objects.empty() || !c.rails.empty()) {
+    if (!c.docks.empty() || !c.objects.empty() || !c.rails.empty() || !c.fuseSlots.empty()) {
         component("world", "world model");
     }
     for (const auto& d : c.docks) {
@@ -293,13 +293,19 @@ void printSummary(const cell::CellFile& c) {
         std::printf("    rail     %-12s TS35, %.1f mm long from %s\n", r.name.c_str(),
                     r.length * 1000, devices::describe(r.pose).c_str());
     }
+    for (const auto& f : c.fuseSlots) {
+        std::printf("    slot     %-12s ATO fuse slot at %s%s\n", f.name.c_str(),
+                    devices::describe(f.pose).c_str(),
+                    f.misalignment != std::array<double, 3>{} ? " (made out of tolerance)" : "");
+    }
     for (const auto& o : c.objects) {
         char mass[32] = "";
         if (o.mass) std::snprintf(mass, sizeof mass, ", %g kg", *o.mass);
-        const bool block = o.kind == cell::WorldObject::Kind::TerminalBlock;
-        std::printf("    %-8s %-12s %.4g x %.4g x %.4g m%s at %s\n", block ? "block" : "object",
-                    o.name.c_str(), o.size[0], o.size[1], o.size[2], mass,
-                    devices::describe(o.pose).c_str());
+        const char* kind = o.kind == cell::WorldObject::Kind::TerminalBlock ? "block"
+                           : o.kind == cell::WorldObject::Kind::Fuse        ? "fuse"
+                                                                            : "object";
+        std::printf("    %-8s %-12s %.4g x %.4g x %.4g m%s at %s\n", kind, o.name.c_str(),
+                    o.size[0], o.size[1], o.size[2], mass, devices::describe(o.pose).c_str());
     }
     for (const auto& r : c.robots) {
         char speed[32];

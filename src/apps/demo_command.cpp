@@ -74,7 +74,7 @@ struct DemoOptions {
 };
 
 /// What the demo needs of a cell file: the process it names, run on a tool changer that moves
-/// a UR5, the pick-and-place composite, and the KB and MES; empty when the cell has them.
+/// a robot, the pick-and-place composite, and the KB and MES; empty when the cell has them.
 std::string whatTheDemoLacks(const cell::CellFile& c) {
     std::string lacks;
     auto need = [&](bool has, const char* what) {
@@ -84,7 +84,7 @@ std::string whatTheDemoLacks(const cell::CellFile& c) {
     need(c.lds, "[lds]");
     need(c.kb.has_value(), "[kb]");
     need(c.mes.has_value(), "[mes]");
-    need(c.robots.size() == 1 && c.robots[0].model == "ur5", "one [[robot]] of model ur5");
+    need(c.robots.size() == 1, "one [[robot]]");
     need(c.toolChanger.has_value(), "[toolchanger]");
     need(!c.tools.empty(), "[[tool]]");
     need(c.pickAndPlace.has_value(), "[pickplace]");
@@ -417,6 +417,16 @@ void DemoCell::showWorld() {
         std::printf("  World/Objects/%s/Pose = %s\n", id.c_str(),
                     pose ? ("3DFrame" + devices::describe(*pose)).c_str()
                          : ua::statusName(pose.status()).data());
+        if (object.kind == cell::WorldObject::Kind::Fuse) {
+            const auto seat = world->fuseSeat(id);
+            if (!seat) {
+                std::printf("    in a slot: %s\n", ua::statusName(seat.status()).data());
+            } else if (seat->empty()) {
+                std::printf("    in no slot\n");
+            } else {
+                std::printf("    seated in slot %s\n", seat->c_str());
+            }
+        }
         if (object.kind != cell::WorldObject::Kind::TerminalBlock) continue;
         const auto mount = world->railMount(id);
         if (!mount) {

@@ -18,6 +18,7 @@
 //            world model
 #include <spdlog/spdlog.h>
 #include <charconv>
+#include <map>
 
 #include "cell/component_uris.hpp"
 #include "cell/device_arguments.hpp"
@@ -75,13 +76,14 @@ ua::Result<std::unique_ptr<devices::WorldLink>> connectWorld(const std::string& 
 
 struct WorldOptions {
     ServerProcessOptions process;
-    std::vector<std::string> objects;         // ID:SX,SY,SZ@POSE
-    std::vector<std::string> docks;           // ID@POSE
-    std::vector<std::string> tools;           // ID:DOCK@GRIPPOINT
-    std::vector<std::string> rails;           // ID:LENGTH@POSE
-    std::vector<std::string> terminalBlocks;  // ID:SX,SY,SZ@POSE
-    std::vector<std::string> fuses;           // ID:SX,SY,SZ@POSE
-    std::vector<std::string> fuseSlots;       // ID@POSE
+    std::vector<std::string> objects;          // ID:SX,SY,SZ@POSE
+    std::vector<std::string> docks;            // ID@POSE
+    std::vector<std::string> tools;            // ID:DOCK@GRIPPOINT
+    std::vector<std::string> rails;            // ID:LENGTH@POSE
+    std::vector<std::string> terminalBlocks;   // ID:SX,SY,SZ@POSE
+    std::vector<std::string> fuses;            // ID:SX,SY,SZ@POSE
+    std::vector<std::string> fuseSlots;        // ID@POSE
+    std::vector<std::string> misalignedSlots;  // ID:DX,DY,DZ
 };
 
 /// Splits "HEAD@POSE" into HEAD and the pose.
@@ -153,6 +155,19 @@ ua::StatusCode seedWorld(const WorldOptions& options, devices::World& world) {
             return s;
         }
     }
+    // A slot's hidden manufacturing error, by slot id.
+    std::map<std::string, KDL::Vector> misalignments;
+    for (const auto& m : options.misalignedSlots) {
+        const auto colon = m.find(':');
+        const auto offset = colon == std::string::npos
+                                ? std::nullopt
+                                : parsePose6(std::string_view(m).substr(colon + 1));
+        if (!offset || offset->a != 0 || offset->b != 0 || offset->c != 0) {
+            spdlog::critical("--misaligned-slot {}: expected ID:DX,DY,DZ", m);
+            return ua::status::BadInvalidArgument;
+        }
+        misalignments[m.substr(0, colon)] = KDL::Vector(offset->x, offset->y, offset->z);
+    }
     for (const auto& spec : options.fuseSlots) {
         const auto hp = headAndPose(spec);
         if (!hp) {
@@ -162,9 +177,18 @@ ua::StatusCode seedWorld(const WorldOptions& options, devices::World& world) {
         devices::FuseSlot slot;
         slot.id = hp->first;
         slot.pose = hp->second;
+        if (const auto m = misalignments.find(slot.id); m != misalignments.end()) {
+            slot.misalignment = m->second;
+        }
         if (const auto s = world.addFuseSlot(std::move(slot), &why); s.isBad()) {
             spdlog::critical("--fuse-slot {}: {}", spec, why);
             return s;
+        }
+    }
+    for (const auto& [id, offset] : misalignments) {
+        if (!world.fuseSlots().contains(id)) {
+            spdlog::critical("--misaligned-slot {}: no --fuse-slot {}", id, id);
+            return ua::status::BadInvalidArgument;
         }
     }
     for (const auto& spec : options.docks) {
@@ -224,6 +248,9 @@ CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--fuse-slot", options->fuseSlots,
                     "a fuse box's slot for an ATO fuse: ID@X,Y,Z[,A,B,C] (the opening's centre, "
                     "z out of the box, x through the terminals; 8 mm deep)");
+    cmd->add_option("--misaligned-slot", options->misalignedSlots,
+                    "a fuse slot made out of tolerance: ID:DX,DY,DZ, its terminals that far (m, "
+                    "in its frame) from where --fuse-slot draws it; only the physics knows it");
     commands.push_back(
         {cmd, [options] {
              return runServerProcess(

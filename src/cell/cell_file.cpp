@@ -463,7 +463,7 @@ private:
 void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks) {
     const toml::table* t = r.table(root, "world", "[world]");
     if (t == nullptr) return;
-    r.onlyKeys(*t, "[world]", {"dock", "object", "rail", "restart"});
+    r.onlyKeys(*t, "[world]", {"dock", "object", "rail", "fuse-slot", "restart"});
     r.restart(*t, "[world]", "world", out);
     for (const toml::table* d : r.tables(*t, "dock", "world.dock")) {
         r.onlyKeys(*d, "[[world.dock]]", {"name", "pose"});
@@ -488,7 +488,31 @@ void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks
             out.rails.push_back({*name, *pose, *length});
         }
     }
-    static const std::vector<std::string_view> kinds = {"box", "terminal-block"};
+    for (const toml::table* slot : r.tables(*t, "fuse-slot", "world.fuse-slot")) {
+        r.onlyKeys(*slot, "[[world.fuse-slot]]", {"name", "pose", "misalignment"});
+        auto name = r.name(*slot, "[[world.fuse-slot]]");
+        auto pose = r.pose(*slot, "pose", "[[world.fuse-slot]]", true);
+        std::array<double, 3> misalignment{};
+        if (slot->get("misalignment") != nullptr) {
+            auto m = r.numbers(*slot, "misalignment", "[[world.fuse-slot]]", {3},
+                               "its terminals' offset from its pose, x, y, z in m", false);
+            if (m &&
+                std::any_of(m->begin(), m->end(), [](double v) { return std::abs(v) > 0.01; })) {
+                r.problem(slot->get("misalignment")->source(),
+                          "'misalignment' in [[world.fuse-slot]]: at most 0.01 m each way");
+                m.reset();
+            }
+            if (!m) continue;
+            misalignment = {(*m)[0], (*m)[1], (*m)[2]};
+        }
+        if (name && docks.has(*name)) {
+            r.problem(slot->get("name")->source(),
+                      "fuse slot '" + *name + "': the name is a [[world.dock]]'s already");
+        } else if (name && objects.add(r, *slot, *name) && pose) {
+            out.fuseSlots.push_back({*name, *pose, misalignment});
+        }
+    }
+    static const std::vector<std::string_view> kinds = {"box", "terminal-block", "fuse"};
     for (const toml::table* o : r.tables(*t, "object", "world.object")) {
         r.onlyKeys(*o, "[[world.object]]", {"name", "size", "pose", "mass", "kind"});
         auto name = r.name(*o, "[[world.object]]");
@@ -496,6 +520,7 @@ void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks
         if (o->get("kind") != nullptr) {
             const auto k = r.oneOf(*o, "kind", "[[world.object]]", kinds, "an object kind");
             if (k == "terminal-block") kind = WorldObject::Kind::TerminalBlock;
+            if (k == "fuse") kind = WorldObject::Kind::Fuse;
         }
         const auto mass = r.number(*o, "mass", "[[world.object]]", 1e-6, 10'000);
         auto size = r.numbers(*o, "size", "[[world.object]]", {3}, "edges x, y, z in m", true);

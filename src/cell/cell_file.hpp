@@ -58,13 +58,15 @@ struct Dock {
     Pose pose;  // the flange pose at which its tool locks
 };
 
-/// A box in the world: a plain box, or a terminal block that snaps onto a DIN rail.
+/// A box in the world: a plain box, a terminal block that snaps onto a DIN rail, or a blade
+/// fuse that goes into a fuse slot.
 struct WorldObject {
-    enum class Kind { Box, TerminalBlock };
+    enum class Kind { Box, TerminalBlock, Fuse };
     std::string name;
-    std::array<double, 3> size{};  // edges, m (a terminal block: width, depth, height)
-    Pose pose;                     // its centre
-    std::optional<double> mass;    // kg; none: not said (no gripper is checked against it)
+    /// Edges, m (a terminal block: width, depth, height; a fuse: width, thickness, height).
+    std::array<double, 3> size{};
+    Pose pose;                   // its centre
+    std::optional<double> mass;  // kg; none: not said (no gripper is checked against it)
     Kind kind = Kind::Box;
 };
 
@@ -78,6 +80,16 @@ struct Rail {
 
 /// A tool: where it is stored, what the tool changer reads on its identification pin, and
 /// the adapter that the changer powers when it is mounted.
+/// A fuse box's slot for an ATO blade fuse (src/devices/world/fuse_slot.hpp): the pose of its
+/// opening's centre, z out of the box, x through its terminals.
+struct FuseSlot {
+    std::string name;
+    Pose pose;
+    /// Where its terminals really are from `pose`, in its frame (m): a box made out of
+    /// tolerance, which only the world's physics knows.
+    std::array<double, 3> misalignment{};
+};
+
 struct Tool {
     std::string name;
     std::string dock;
@@ -122,6 +134,7 @@ struct CellFile {
     std::vector<Dock> docks;
     std::vector<WorldObject> objects;
     std::vector<Rail> rails;
+    std::vector<FuseSlot> fuseSlots;
     std::vector<Tool> tools;
     std::vector<Robot> robots;
     std::optional<ToolChanger> toolChanger;

@@ -60,9 +60,18 @@ std::vector<std::string> worldArguments(const CellFile& cell) {
         args.insert(args.end(),
                     {"--rail", r.name + ":" + number(r.length) + "@" + poseArgument(r.pose)});
     }
+    for (const auto& s : cell.fuseSlots) {
+        args.insert(args.end(), {"--fuse-slot", s.name + "@" + poseArgument(s.pose)});
+        if (s.misalignment != std::array<double, 3>{}) {
+            args.insert(args.end(),
+                        {"--misaligned-slot", s.name + ":" + vectorArgument(s.misalignment)});
+        }
+    }
     for (const auto& o : cell.objects) {
-        const bool block = o.kind == WorldObject::Kind::TerminalBlock;
-        args.insert(args.end(), {block ? "--terminal-block" : "--object", objectArgument(o)});
+        const char* option = o.kind == WorldObject::Kind::TerminalBlock ? "--terminal-block"
+                             : o.kind == WorldObject::Kind::Fuse        ? "--fuse"
+                                                                        : "--object";
+        args.insert(args.end(), {option, objectArgument(o)});
     }
     return args;
 }

@@ -39,10 +39,17 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::o
         co_await c->client_->disconnect();
         co_return found.status();
     }
-    const auto it = std::find_if(found->begin(), found->end(), [&](const RemoteSkill& s) {
-        return std::any_of(s.types.begin(), s.types.end(),
-                           [&](const SkillTypeRef& t) { return t.browseName == typeName; });
+    // A skill of that very type first: a subtype may want more (a force-limited move its
+    // limit); else one of a subtype.
+    auto it = std::find_if(found->begin(), found->end(), [&](const RemoteSkill& s) {
+        return !s.types.empty() && s.types.front().browseName == typeName;
     });
+    if (it == found->end()) {
+        it = std::find_if(found->begin(), found->end(), [&](const RemoteSkill& s) {
+            return std::any_of(s.types.begin(), s.types.end(),
+                               [&](const SkillTypeRef& t) { return t.browseName == typeName; });
+        });
+    }
     if (it == found->end()) {
         say(why, endpointUrl + " offers no " + typeName);
         co_await c->client_->disconnect();

@@ -75,6 +75,21 @@ TEST(FuseSlot, AMisalignedOrTurnedFuseMeetsTheBoxFace) {
     EXPECT_TRUE(slotContact(s, fuseAt(s, 0.003, 0, M_PI), kAto)->aligned);
 }
 
+TEST(FuseSlot, ASlotOutOfToleranceIsMetWhereItReallyIs) {
+    FuseSlot s = slot();
+    s.misalignment = KDL::Vector(0.0015, 0, 0);  // the terminals 1.5 mm off the drawing
+    // A fuse aligned with the drawing meets the box's face...
+    const auto drawn = slotContact(s, fuseAt(s, 0.0005), kAto);
+    ASSERT_TRUE(drawn);
+    EXPECT_FALSE(drawn->aligned);
+    EXPECT_NEAR(drawn->force, kFaceStiffness * 0.0005, 1e-9);
+    // ...one aligned with the terminals goes in, and is seated where they are.
+    const auto real = slotContact(s, fuseAt(s, 0.003, 0.0015), kAto);
+    ASSERT_TRUE(real);
+    EXPECT_TRUE(real->aligned);
+    EXPECT_TRUE(near(seatedPose(s, kAto), fuseAt(s, s.depth, 0.0015), 1e-12, 1e-12));
+}
+
 // A world with the slot, a tool 0.15 m below the flange, mounted, and a fuse in a tray.
 World cell() {
     World w;

@@ -33,3 +33,12 @@ add_test(NAME cli.demo_din_rail
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mes/demo_din_rail_test.sh $<TARGET_FILE:skillcell>
                  ${PROJECT_SOURCE_DIR})
 set_tests_properties(cli.demo_din_rail PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 660)
+
+# The paper's first demonstrator: fuses into a fuse box with the KUKA iiwa's force-limited
+# insertion; world state and journal, and a slot out of tolerance stopping on the force limit.
+foreach(mode aligned misaligned)
+  add_test(NAME cli.demo_fuse_box_${mode}
+           COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mes/demo_fuse_box_test.sh $<TARGET_FILE:skillcell>
+                   ${PROJECT_SOURCE_DIR} ${mode})
+  set_tests_properties(cli.demo_fuse_box_${mode} PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 660)
+endforeach()

@@ -1,5 +1,6 @@
 #include "devices/arm/simulated_arm.hpp"
 
+#include <algorithm>
 #include <asio/post.hpp>
 
 #include <fmt/format.h>
@@ -33,7 +34,8 @@ bool SimulatedArm::execute(Trajectory trajectory, Done done) {
 }
 
 void SimulatedArm::arm() {
-    timer_.expires_after(options_.tick);
+    const bool sensing = trajectory_ && trajectory_->forceLimit() > 0;
+    timer_.expires_after(sensing ? std::min(options_.tick, kForceTick) : options_.tick);
     timer_.async_wait([this, generation = generation_](const std::error_code& ec) {
         if (ec || generation != generation_) return;
         tick();
@@ -43,7 +45,9 @@ void SimulatedArm::arm() {
 void SimulatedArm::tick() {
     if (!trajectory_) return;
     const auto t = now();
-    const double dt = std::chrono::duration<double>(t - last_).count() * options_.speed;
+    const double limit = options_.contactForce ? trajectory_->forceLimit() : 0;
+    double dt = std::chrono::duration<double>(t - last_).count() * options_.speed;
+    if (limit > 0) dt = std::min(dt, kForceSamplePeriod);
     last_ = t;
     if (!paused_) {
         elapsed_ += dt;
@@ -52,12 +56,9 @@ void SimulatedArm::tick() {
     if (observer_) observer_(joints_);
     // A force-limited motion stops where its tool meets more than its limit (the measured
     // force lags the motion by the sensing's round trip, as a real arm's filter does).
-    if (const double limit = trajectory_->forceLimit(); limit > 0 && options_.contactForce) {
+    if (limit > 0) {
         if (const double force = options_.contactForce(); force > limit) {
-            abort(
-                fmt::format("the contact force {:.1f} N exceeded the limit of {:.1f} N; the "
-                            "arm stopped",
-                            force, limit));
+            abort(forceFault(force, limit));
             return;
         }
     }
@@ -72,16 +73,25 @@ void SimulatedArm::tick() {
             done(std::nullopt);
             return;
         }
-        // Report on this thread once the hook allows it, unless the arm is gone by then.
-        options_.beforeDone([executor = timer_.get_executor(), alive = std::weak_ptr<int>(alive_),
-                             done = std::move(done)]() mutable {
-            asio::post(executor, [alive, done = std::move(done)] {
-                if (alive.lock()) done(std::nullopt);
+        // Report on this thread once the hook allows it, unless the arm is gone by then; a
+        // force-limited motion by the force measured at its end.
+        options_.beforeDone([this, limit, executor = timer_.get_executor(),
+                             alive = std::weak_ptr<int>(alive_), done = std::move(done)]() mutable {
+            asio::post(executor, [this, limit, alive, done = std::move(done)] {
+                if (!alive.lock()) return;
+                const double force = limit > 0 ? options_.contactForce() : 0;
+                done(force > limit && limit > 0 ? std::optional(forceFault(force, limit))
+                                                : std::nullopt);
             });
         });
         return;
     }
     arm();
+}
+
+std::string SimulatedArm::forceFault(double force, double limit) {
+    return fmt::format("the contact force {:.1f} N exceeded the limit of {:.1f} N; the arm stopped",
+                       force, limit);
 }
 
 void SimulatedArm::abort(const std::string& fault) {

@@ -4,17 +4,25 @@
 // advances simulated time by the real time elapsed since the last one (read from an
 // injectable clock) times the speed factor, and reports the joints to an observer (the
 // published variables, the world model). Pausing freezes simulated time for the motion;
-// stopping ends it in place (the simulation stops at once; a real arm decelerates).
+// stopping ends it in place (the simulation stops at once; a real arm decelerates). A
+// force-limited motion is sampled finely, as a real arm's force control loop runs: its
+// simulated time advances at most kForceSamplePeriod per tick, ticks come every
+// kForceTick, and it ends only when the force at its last pose is within the limit.
 #include <asio/any_io_executor.hpp>
 #include <asio/steady_timer.hpp>
 #include <chrono>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "devices/arm/arm_controller.hpp"
 
 namespace skillcell::devices {
+
+/// A force-limited motion's sampling: at an insertion's 20 mm/s, 0.04 mm per sample.
+inline constexpr double kForceSamplePeriod = 0.002;  // s of simulated time
+inline constexpr std::chrono::milliseconds kForceTick{1};
 
 struct SimulatedArmOptions {
     using Clock = std::function<std::chrono::steady_clock::time_point()>;
@@ -57,6 +65,7 @@ public:
 private:
     void arm();
     void tick();
+    [[nodiscard]] static std::string forceFault(double force, double limit);
     /// Ends the motion where it is (stop()), then tells its owner why.
     void abort(const std::string& fault);
     [[nodiscard]] std::chrono::steady_clock::time_point now() const;

@@ -9,7 +9,8 @@ RobotMotion::~RobotMotion() = default;
 asio::awaitable<std::unique_ptr<RobotMotion>> RobotMotion::open(asio::any_io_executor executor,
                                                                 std::string endpoint,
                                                                 ua::ClientConfig config,
-                                                                std::string& why) {
+                                                                std::string& why,
+                                                                bool forceLimited) {
     auto motion = std::make_unique<RobotMotion>(Token{});
     std::string linearType = "CartesianLinearMoveSkillType";
     auto linear =
@@ -21,13 +22,30 @@ asio::awaitable<std::unique_ptr<RobotMotion>> RobotMotion::open(asio::any_io_exe
     auto ptp =
         co_await skills::SkillConnection::open(executor, endpoint, ptpType, config, &ignored);
     if (ptp) motion->ptp_ = std::move(*ptp);
+    if (forceLimited) {
+        std::string forceType = "CartesianForceLimitedLinearMoveSkillType";
+        auto opened =
+            co_await skills::SkillConnection::open(executor, endpoint, forceType, config, &ignored);
+        if (opened) motion->forceLimited_ = std::move(*opened);
+    }
     co_return motion;
 }
 
 asio::awaitable<std::string> RobotMotion::moveTo(skills::SubSkillRunner& runner, KDL::Frame flange,
-                                                 Path path, std::chrono::milliseconds timeout) {
-    skills::SkillConnection& move = (path == Path::Transfer && ptp_) ? *ptp_ : *linear_;
+                                                 Path path, std::chrono::milliseconds timeout,
+                                                 MoveLimits limits) {
+    if (path == Path::ForceLimited && !forceLimited_) {
+        co_return "the robot at " + linear_->endpointUrl() +
+            " offers no CartesianForceLimitedLinearMove: it senses no force";
+    }
+    skills::SkillConnection& move = path == Path::ForceLimited         ? *forceLimited_
+                                    : (path == Path::Transfer && ptp_) ? *ptp_
+                                                                       : *linear_;
     std::map<std::string, ua::Variant> parameters;
+    if (path == Path::ForceLimited) parameters["ForceLimit"] = ua::Variant(limits.force);
+    if (path != Path::Transfer && limits.velocity > 0) {
+        parameters["MaxVelocity"] = ua::Variant(limits.velocity);
+    }
     parameters["TargetPosition"] = frameToVariant(flange);
     parameters["ToolFrame"] = frameToVariant(KDL::Frame::Identity());
     const skills::SkillOutcome outcome =
@@ -39,6 +57,7 @@ asio::awaitable<std::string> RobotMotion::moveTo(skills::SubSkillRunner& runner,
 
 asio::awaitable<void> RobotMotion::close() {
     if (ptp_) co_await ptp_->close();
+    if (forceLimited_) co_await forceLimited_->close();
     co_await linear_->close();
 }
 

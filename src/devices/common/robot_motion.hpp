@@ -2,8 +2,10 @@
 // RobotMotion: a robot's Cartesian moves as a composite uses them (the tool changer, the
 // pick and place): a transfer through free space goes point to point (CartesianPtpMove: the
 // joints interpolate, so no wrist singularity lies on the way), an approach or a retreat goes
-// in a straight line (CartesianLinearMove). Both skills are found on the robot's component;
-// without a PTP skill every move is linear. Poses are flange poses (ToolFrame identity).
+// in a straight line (CartesianLinearMove), and an insertion in a straight line that stops on
+// contact (CartesianForceLimitedLinearMove, on arms that sense force). The skills are found on
+// the robot's component; without a PTP skill every move is linear. Poses are flange poses
+// (ToolFrame identity).
 //
 // Threading: on the executor it was opened with.
 #include <asio/any_io_executor.hpp>
@@ -19,23 +21,35 @@
 
 namespace skillcell::devices {
 
+/// What a linear move may not exceed; 0: the robot's own limits.
+struct MoveLimits {
+    double force = 0;     // N, RobotMotion::Path::ForceLimited: where it stops
+    double velocity = 0;  // m/s of the tool centre point, linear paths
+};
+
 class RobotMotion {
 public:
-    enum class Path : std::uint8_t { Linear, Transfer };
+    enum class Path : std::uint8_t { Linear, Transfer, ForceLimited };
 
     /// Opens the robot's CartesianLinearMove (required) and CartesianPtpMove (optional) at
-    /// `endpoint`; null with `why` when the linear move is not there.
+    /// `endpoint`, and with `forceLimited` its CartesianForceLimitedLinearMove (optional: a
+    /// connection of its own, so only for who inserts); null with `why` when the linear move
+    /// is not there.
     static asio::awaitable<std::unique_ptr<RobotMotion>> open(asio::any_io_executor executor,
                                                               std::string endpoint,
                                                               ua::ClientConfig config,
-                                                              std::string& why);
+                                                              std::string& why,
+                                                              bool forceLimited = false);
     ~RobotMotion();
     RobotMotion(const RobotMotion&) = delete;
     RobotMotion& operator=(const RobotMotion&) = delete;
 
     /// Moves the flange to `flange` as `runner`'s current sub-skill; "" or why it failed.
     asio::awaitable<std::string> moveTo(skills::SubSkillRunner& runner, KDL::Frame flange,
-                                        Path path, std::chrono::milliseconds timeout);
+                                        Path path, std::chrono::milliseconds timeout,
+                                        MoveLimits limits = {});
+    /// Whether the robot offers force-limited moves.
+    [[nodiscard]] bool sensesForce() const { return static_cast<bool>(forceLimited_); }
     asio::awaitable<void> close();
     [[nodiscard]] const std::string& endpointUrl() const { return linear_->endpointUrl(); }
 
@@ -48,7 +62,8 @@ public:
 
 private:
     std::unique_ptr<skills::SkillConnection> linear_;
-    std::unique_ptr<skills::SkillConnection> ptp_;  // may be null
+    std::unique_ptr<skills::SkillConnection> ptp_;           // may be null
+    std::unique_ptr<skills::SkillConnection> forceLimited_;  // may be null
 };
 
 /// "Finished", or "Failed: <reason> (<status>)": how a sub-skill's run ended, for a reason.

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "devices/common/frame.hpp"
+#include "devices/pickplace/plan_refusal.hpp"
 
 namespace skillcell::devices::pickplace {
 namespace {
@@ -13,11 +14,6 @@ namespace {
 // Below this, the wide axis counts as perpendicular to base x and the approach side is
 // chosen by base y instead, so rounding cannot flip the side of a yaw-90 box.
 constexpr double kSideTie = 1e-9;
-
-std::nullopt_t fail(std::string* why, std::string reason) {
-    if (why != nullptr) *why = std::move(reason);
-    return std::nullopt;
-}
 
 std::string number(double value) {
     std::array<char, 32> text{};
@@ -55,21 +51,21 @@ KDL::Frame shifted(const KDL::Frame& grip, const KDL::Vector& offset) {
 std::optional<GraspPlan> planGrasp(const GraspRequest& request, std::string* why) {
     const bool vacuum = request.type == GripPointType::Vacuum;
     if (!vacuum && request.type != GripPointType::Parallel) {
-        return fail(why, "only vacuum and parallel grip points can be planned");
+        return refuse(why, "only vacuum and parallel grip points can be planned");
     }
     const std::array<double, 3> size{request.size.x, request.size.y, request.size.z};
     for (double edge : size) {
         if (!std::isfinite(edge) || edge <= 0) {
-            return fail(why, "every edge of the box must be positive (" + number(size[0]) + " x " +
-                                 number(size[1]) + " x " + number(size[2]) + " m)");
+            return refuse(why, "every edge of the box must be positive (" + number(size[0]) +
+                                   " x " + number(size[1]) + " x " + number(size[2]) + " m)");
         }
     }
     const double d = request.approachDistance;
     if (!std::isfinite(d) || d < 0) {
-        return fail(why, "the approach distance must not be negative (" + number(d) + " m)");
+        return refuse(why, "the approach distance must not be negative (" + number(d) + " m)");
     }
     if (!std::isfinite(request.maxOpening) || request.maxOpening < 0) {
-        return fail(
+        return refuse(
             why, "the maximum opening must not be negative (" + number(request.maxOpening) + " m)");
     }
     const std::array<std::pair<const char*, const KDL::Frame*>, 3> frames{{
@@ -78,9 +74,9 @@ std::optional<GraspPlan> planGrasp(const GraspRequest& request, std::string* why
         {"place position", &request.placePosition},
     }};
     for (const auto& [name, frame] : frames) {
-        if (!isFinite(*frame)) return fail(why, std::string("the ") + name + " is not finite");
+        if (!isFinite(*frame)) return refuse(why, std::string("the ") + name + " is not finite");
         if (!proper(frame->M)) {
-            return fail(why, std::string("the ") + name + "'s rotation is not a proper rotation");
+            return refuse(why, std::string("the ") + name + "'s rotation is not a proper rotation");
         }
     }
 
@@ -98,9 +94,9 @@ std::optional<GraspPlan> planGrasp(const GraspRequest& request, std::string* why
     }
     if (std::abs(upDot) < std::cos(kMaxTopFaceTilt)) {
         const double tilt = std::acos(std::min(1.0, std::abs(upDot))) * 180 / std::numbers::pi;
-        return fail(why, "the box is tilted by " + number(tilt) + " degrees; no face is within " +
-                             number(kMaxTopFaceTilt * 180 / std::numbers::pi) +
-                             " degrees of horizontal");
+        return refuse(why, "the box is tilted by " + number(tilt) + " degrees; no face is within " +
+                               number(kMaxTopFaceTilt * 180 / std::numbers::pi) +
+                               " degrees of horizontal");
     }
     const KDL::Vector normal = column(object.M, up) * (upDot > 0 ? 1.0 : -1.0);
     const KDL::Vector baseUp(0, 0, 1);
@@ -121,9 +117,9 @@ std::optional<GraspPlan> planGrasp(const GraspRequest& request, std::string* why
         const int wide = narrow == a ? b : a;
         plan.width = size[narrow];
         if (request.maxOpening > 0 && plan.width > request.maxOpening) {
-            return fail(why, "the box is " + number(plan.width) +
-                                 " m wide between the fingers; they open to " +
-                                 number(request.maxOpening) + " m");
+            return refuse(why, "the box is " + number(plan.width) +
+                                   " m wide between the fingers; they open to " +
+                                   number(request.maxOpening) + " m");
         }
         KDL::Vector z = column(object.M, wide);
         const bool flip = std::abs(z.x()) > kSideTie ? z.x() < 0 : z.y() < 0;

@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <cmath>
 
 #include "devices/common/blocking_call.hpp"
 #include "devices/common/frame.hpp"
+#include "devices/pickplace/fuse_planner.hpp"
 
 namespace skillcell::devices::pickplace {
 namespace {
@@ -12,6 +14,9 @@ namespace {
 constexpr const char* kMoveType = "CartesianLinearMoveSkillType";
 constexpr const char* kGraspType = "GraspGripperSkillType";
 constexpr const char* kReleaseType = "ReleaseGripperSkillType";
+/// How fast a fuse goes into its slot: slow enough for the arm's force sensing to stop it a
+/// fraction of a millimetre into a face it should not meet.
+constexpr double kInsertionSpeed = 0.02;  // m/s
 /// Blocks side by side may touch by as much as the world allows.
 constexpr double kRailOverlapTolerance = WorldTolerances{}.railOverlap;
 
@@ -99,8 +104,13 @@ asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request
         moveEndpoint = probe->endpointUrl();
         co_await probe->close();
     }
-    skills.move = co_await RobotMotion::open(executor_, moveEndpoint, options_.client, why);
+    skills.move = co_await RobotMotion::open(executor_, moveEndpoint, options_.client, why,
+                                             /*forceLimited=*/request.fuse.has_value());
     if (!skills.move) co_return why;
+    if (request.fuse && !skills.move->sensesForce()) {
+        co_return "the robot at " + moveEndpoint +
+            " offers no CartesianForceLimitedLinearMove: a fuse is inserted under a force limit";
+    }
     // The tool is what the robot carries now: Grasp and Release on one component.
     skills.grasp = co_await open(request.toolEndpoint, kGraspType, why);
     if (!skills.grasp) co_return why;
@@ -141,6 +151,9 @@ asio::awaitable<std::string> PickAndPlace::plan(const PickRequest& request, Skil
     const auto type = static_cast<GripPointType>(*typeNumber);
     if (request.rail) {
         co_return co_await planRail(request, object.size, object.pose, *offset, type, script);
+    }
+    if (request.fuse) {
+        co_return co_await planFuse(request, object.size, object.pose, *offset, type, script);
     }
     GraspRequest g;
     g.size = object.size;
@@ -277,6 +290,73 @@ asio::awaitable<std::string> PickAndPlace::planRail(const PickRequest& request, 
     co_return std::string();
 }
 
+asio::awaitable<std::string> PickAndPlace::planFuse(const PickRequest& request, const BoxSize& size,
+                                                    const KDL::Frame& pose,
+                                                    const KDL::Frame& gripOffset,
+                                                    GripPointType type, Script& script) {
+    // The slot as drawn, and whether the object is a fuse and the slot is free.
+    struct SlotFacts {
+        ua::StatusCode status;
+        std::string problem;
+        WorldLink::Slot slot;
+    };
+    const FuseTarget target = *request.fuse;
+    auto read = [this, target, fuseId = request.objectId] {
+        SlotFacts facts;
+        const auto slot = world_.fuseSlot(target.slotId);
+        if (!slot) {
+            facts.status = slot.status();
+            facts.problem = "the world model has no fuse slot " + target.slotId;
+            return facts;
+        }
+        facts.slot = *slot;
+        const auto seat = world_.fuseSeat(fuseId);
+        if (!seat) {
+            facts.status = seat.status();
+            facts.problem = "object " + fuseId + " is no fuse";
+            return facts;
+        }
+        if (!slot->fuse.empty() && slot->fuse != fuseId) {
+            facts.status = ua::status::BadInvalidState;
+            facts.problem = "slot " + target.slotId + " holds fuse " + slot->fuse + " already";
+        }
+        return facts;
+    };
+    const SlotFacts facts = co_await blockingCall(ioThread_, std::move(read));
+    if (facts.status.isBad()) {
+        co_return facts.problem + " (" + std::string(ua::statusName(facts.status)) + ")";
+    }
+    if (!std::isfinite(target.forceLimit) || target.forceLimit <= 0) {
+        co_return fmt::format("the force limit must be above 0 N ({} N)", target.forceLimit);
+    }
+    FuseInsertionRequest r;
+    r.size = size;
+    r.fusePose = pose;
+    r.gripPointOffset = gripOffset;
+    r.type = type;
+    r.slotPose = facts.slot.pose;
+    r.slotDepth = facts.slot.depth;
+    r.approachDistance = options_.approachDistance;
+    std::string why;
+    const auto planned = planFuseInsertion(r, &why);
+    if (!planned) co_return "cannot insert " + request.objectId + ": " + why;
+    spdlog::info("pick and place: fuse {} goes into slot {}, at most {:.1f} N", request.objectId,
+                 target.slotId, target.forceLimit);
+    using K = Action::Kind;
+    script.insert(script.end(), {{K::Open, "open", {}},
+                                 {K::Transfer, "approach", planned->approach},
+                                 {K::Linear, "grasp", planned->grasp},
+                                 {K::Grasp, "Grasp", {}},
+                                 {K::Linear, "retreat", planned->retreat},
+                                 {K::Transfer, "insert-approach", planned->insertApproach},
+                                 {K::Linear, "pre-insert", planned->preInsert},
+                                 {K::Insert, "insert", planned->insert},
+                                 {K::Release, "Release", {}},
+                                 {K::Linear, "insert-retreat", planned->insertRetreat},
+                                 {K::CheckSeated, "check", {}}});
+    co_return std::string();
+}
+
 asio::awaitable<std::string> PickAndPlace::step(std::string name, skills::SkillConnection& skill,
                                                 std::uint64_t generation) {
     if (subSkill_.halted(generation)) co_return std::string("halted");
@@ -291,10 +371,11 @@ asio::awaitable<std::string> PickAndPlace::step(std::string name, skills::SkillC
 
 asio::awaitable<std::string> PickAndPlace::move(std::string name, RobotMotion& motion,
                                                 KDL::Frame flange, RobotMotion::Path path,
-                                                std::uint64_t generation) {
+                                                std::uint64_t generation, MoveLimits limits) {
     if (subSkill_.halted(generation)) co_return std::string("halted");
     publish(name);
-    std::string why = co_await motion.moveTo(subSkill_, flange, path, options_.skillTimeout);
+    std::string why =
+        co_await motion.moveTo(subSkill_, flange, path, options_.skillTimeout, limits);
     if (subSkill_.halted(generation)) co_return std::string("halted");
     if (why.empty()) co_return why;
     co_return "step " + name + ": " + why;
@@ -313,6 +394,10 @@ asio::awaitable<std::string> PickAndPlace::execute(const Script& script, const P
                 why = co_await move(a.name, *skills.move, a.flange, path, generation);
                 break;
             }
+            case K::Insert:
+                why = co_await move(a.name, *skills.move, a.flange, RobotMotion::Path::ForceLimited,
+                                    generation, {request.fuse->forceLimit, kInsertionSpeed});
+                break;
             case K::Open:
             case K::Release:
                 why = co_await step(a.name, *skills.release, generation);
@@ -341,6 +426,16 @@ asio::awaitable<std::string> PickAndPlace::execute(const Script& script, const P
                 if (!mount || !*mount || (*mount)->rail != request.rail->railId) {
                     why = "step check: terminal block " + request.objectId + " is not on rail " +
                           request.rail->railId + " after its release";
+                }
+                break;
+            }
+            case K::CheckSeated: {
+                publish(a.name);
+                auto readSeat = [this, id = request.objectId] { return world_.fuseSeat(id); };
+                const auto seat = co_await blockingCall(ioThread_, std::move(readSeat));
+                if (!seat || *seat != request.fuse->slotId) {
+                    why = "step check: fuse " + request.objectId + " is not seated in slot " +
+                          request.fuse->slotId + " after its release";
                 }
                 break;
             }

@@ -6,7 +6,9 @@
 // approaches, linear in and out) and the tool's Grasp and Release through SkillClients:
 // approach, grasp pose, Grasp, retreat, place approach, place, Release, retreat. A terminal
 // block for a DIN rail is hooked over the rail's upper edge and rotated down instead of being
-// put down (rail_planner.hpp), and the world must show it snapped. The move and tool
+// put down (rail_planner.hpp), and the world must show it snapped. A blade fuse is gripped
+// from the top and inserted into its slot with the robot's force-limited move
+// (fuse_planner.hpp), and the world must show it seated. The move and tool
 // skills come by endpoint, or are the ones the SkillDetector finds. It publishes its current step;
 // a sub-skill that fails or is missing ends the run with the step and the reason.
 //
@@ -49,6 +51,12 @@ struct RailTarget {
     double position = -1;  // m, the block's centre along the rail; negative: the next free
 };
 
+/// A blade fuse's slot (fuse_planner.hpp).
+struct FuseTarget {
+    std::string slotId;
+    double forceLimit = 0;  // N, where the insertion stops
+};
+
 struct PickRequest {
     std::string objectId;
     std::string toolEndpoint;  // empty: the detected Grasp skill's component
@@ -56,6 +64,8 @@ struct PickRequest {
     KDL::Frame placePosition;  // where the object's centre and orientation end up
     /// Set: the object is a terminal block hooked onto this rail (placePosition unused).
     std::optional<RailTarget> rail;
+    /// Set: the object is a blade fuse inserted into this slot (placePosition unused).
+    std::optional<FuseTarget> fuse;
 };
 
 class PickAndPlace : public std::enable_shared_from_this<PickAndPlace> {
@@ -102,7 +112,17 @@ private:
     asio::awaitable<Connection> open(std::string endpoint, std::string typeName, std::string& why);
     /// One thing the composite does, in order: a move, a tool skill, or a check of the world.
     struct Action {
-        enum class Kind { Transfer, Linear, Open, Grasp, Release, CheckSnapped, CheckMounted };
+        enum class Kind {
+            Transfer,
+            Linear,
+            Insert,  // linear, force-limited
+            Open,
+            Grasp,
+            Release,
+            CheckSnapped,
+            CheckMounted,
+            CheckSeated,
+        };
         Kind kind;
         std::string name;
         KDL::Frame flange;  // moves
@@ -113,12 +133,16 @@ private:
     asio::awaitable<std::string> planRail(const PickRequest& request, const BoxSize& size,
                                           const KDL::Frame& pose, const KDL::Frame& gripOffset,
                                           GripPointType type, Script& script);
+    asio::awaitable<std::string> planFuse(const PickRequest& request, const BoxSize& size,
+                                          const KDL::Frame& pose, const KDL::Frame& gripOffset,
+                                          GripPointType type, Script& script);
     asio::awaitable<std::string> execute(const Script& script, const PickRequest& request,
                                          Skills& skills, std::uint64_t generation);
     asio::awaitable<std::string> step(std::string name, skills::SkillConnection& skill,
                                       std::uint64_t generation);
     asio::awaitable<std::string> move(std::string name, RobotMotion& motion, KDL::Frame flange,
-                                      RobotMotion::Path path, std::uint64_t generation);
+                                      RobotMotion::Path path, std::uint64_t generation,
+                                      MoveLimits limits = {});
     void publish(const std::string& name);
 
     asio::any_io_executor executor_;

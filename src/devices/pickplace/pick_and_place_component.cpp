@@ -11,12 +11,16 @@
 namespace skillcell::devices::pickplace {
 namespace {
 
-/// PickAndPlace (a box to a pose) and PlaceTerminalBlock (a block onto a DIN rail): one
-/// composite, two skills; the component runs one at a time.
+/// What a skill of the component places where.
+enum class Placement { Pose, Rail, FuseSlot };
+
+/// PickAndPlace (a box to a pose), PlaceTerminalBlock (a block onto a DIN rail) and
+/// InsertFuse (a fuse into its slot): one composite, three skills; the component runs one at
+/// a time.
 class PickAndPlaceBehaviour final : public skills::SkillBehaviour {
 public:
-    PickAndPlaceBehaviour(std::shared_ptr<PickAndPlace> composite, bool onRail)
-        : composite_(std::move(composite)), onRail_(onRail) {}
+    PickAndPlaceBehaviour(std::shared_ptr<PickAndPlace> composite, Placement placement)
+        : composite_(std::move(composite)), placement_(placement) {}
 
     void start(const skills::SkillParameters& p, skills::SkillRun run) override {
         PickRequest request;
@@ -25,7 +29,7 @@ public:
             run.failed("ObjectId is empty");
             return;
         }
-        if (onRail_) {
+        if (placement_ == Placement::Rail) {
             RailTarget target;
             target.railId = p.get<ua::String>("RailId").value_or("");
             target.position = p.get<double>("Position").value_or(-1);
@@ -38,6 +42,19 @@ public:
                 return;
             }
             request.rail = target;
+        } else if (placement_ == Placement::FuseSlot) {
+            FuseTarget target;
+            target.slotId = p.get<ua::String>("SlotId").value_or("");
+            target.forceLimit = p.get<double>("ForceLimit").value_or(0);
+            if (target.slotId.empty()) {
+                run.failed("SlotId is empty");
+                return;
+            }
+            if (!std::isfinite(target.forceLimit) || target.forceLimit <= 0) {
+                run.failed("ForceLimit must be above 0 N");
+                return;
+            }
+            request.fuse = target;
         } else {
             const auto place = frameFromVariant(p.value("PlacePosition"));
             if (!place) {
@@ -67,7 +84,7 @@ public:
 
 private:
     std::shared_ptr<PickAndPlace> composite_;
-    bool onRail_;
+    Placement placement_;
 };
 
 }  // namespace
@@ -101,16 +118,17 @@ ua::Result<std::unique_ptr<PickAndPlaceComponent>> PickAndPlaceComponent::create
     };
     component->skills_ = skills::SkillServer::create(server, server.executor(), error);
     if (!component->skills_) return ua::status::BadConfigurationError;
-    for (const auto& [typeName, name, onRail] :
-         {std::tuple{"PickAndPlaceSkillType", "PickAndPlace", false},
-          std::tuple{"PlaceTerminalBlockSkillType", "PlaceTerminalBlock", true}}) {
+    for (const auto& [typeName, name, placement] :
+         {std::tuple{"PickAndPlaceSkillType", "PickAndPlace", Placement::Pose},
+          std::tuple{"PlaceTerminalBlockSkillType", "PlaceTerminalBlock", Placement::Rail},
+          std::tuple{"InsertFuseSkillType", "InsertFuse", Placement::FuseSlot}}) {
         const auto type = component->skills_->findSkillType(typeName);
         if (!type) {
             if (error != nullptr) *error = std::string("no skill type ") + typeName;
             return ua::status::BadTypeDefinitionInvalid;
         }
         auto skill = component->skills_->add(
-            *type, name, std::make_unique<PickAndPlaceBehaviour>(component->composite_, onRail));
+            *type, name, std::make_unique<PickAndPlaceBehaviour>(component->composite_, placement));
         if (!skill) {
             if (error != nullptr) *error = std::string("cannot add ") + name;
             return skill.status();

@@ -6,14 +6,10 @@
 #include <fmt/format.h>
 
 #include "devices/common/frame.hpp"
+#include "devices/pickplace/plan_refusal.hpp"
 
 namespace skillcell::devices::pickplace {
 namespace {
-
-std::nullopt_t refuse(std::string* why, std::string reason) {
-    if (why != nullptr) *why = std::move(reason);
-    return std::nullopt;
-}
 
 // The grip point in the block's frame: from the top, fingers across the width.
 KDL::Frame gripInBlock(const BoxSize& size, GripPointType type) {

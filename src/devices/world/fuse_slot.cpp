@@ -7,7 +7,7 @@ namespace skillcell::devices {
 
 std::optional<SlotContact> slotContact(const FuseSlot& slot, const KDL::Frame& fusePose,
                                        const BoxSize& fuse, double reach) {
-    const KDL::Frame local = slot.pose.Inverse() * fusePose;
+    const KDL::Frame local = slot.truePose().Inverse() * fusePose;
     const KDL::Vector tip = local * KDL::Vector(0, 0, -fuse.z / 2);
     if (tip.z() >= 0) return std::nullopt;  // above the opening
     const double misalignment = std::hypot(tip.x(), tip.y());
@@ -29,7 +29,7 @@ std::optional<SlotContact> slotContact(const FuseSlot& slot, const KDL::Frame& f
 }
 
 KDL::Frame seatedPose(const FuseSlot& slot, const BoxSize& fuse) {
-    return slot.pose * KDL::Frame(KDL::Vector(0, 0, fuse.z / 2 - slot.depth));
+    return slot.truePose() * KDL::Frame(KDL::Vector(0, 0, fuse.z / 2 - slot.depth));
 }
 
 }  // namespace skillcell::devices

@@ -36,9 +36,14 @@ inline constexpr double kSeatTolerance = 0.0005;  // m
 
 struct FuseSlot {
     std::string id;
-    KDL::Frame pose;            // the opening's centre, z out of the box
+    KDL::Frame pose;            // the opening's centre, z out of the box, as drawn
     double depth = 0.008;       // m the blades go in when the fuse is seated
     double clearance = 0.0004;  // m of lateral play the terminals admit
+    /// Where the terminals really are, from `pose`, in its frame: a box made out of
+    /// tolerance. Only the physics knows it; whoever plans an insertion sees `pose`.
+    KDL::Vector misalignment = KDL::Vector::Zero();
+    /// The opening as it really is.
+    [[nodiscard]] KDL::Frame truePose() const { return pose * KDL::Frame(misalignment); }
 };
 
 /// A fuse's contact with a slot.
@@ -58,7 +63,7 @@ struct SlotContact {
                                                      const KDL::Frame& fusePose,
                                                      const BoxSize& fuse, double reach = 0.01);
 
-/// The fuse's pose seated in `slot`.
+/// The fuse's pose seated in `slot` (where it really is).
 [[nodiscard]] KDL::Frame seatedPose(const FuseSlot& slot, const BoxSize& fuse);
 
 }  // namespace skillcell::devices
