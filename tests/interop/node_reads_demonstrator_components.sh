@@ -2,7 +2,7 @@
 # Interop: node-opcua browses and reads every node (client.js --strict) of the demonstrators'
 # new parts: the world model with a DIN rail and terminal blocks (on no rail yet: an empty
 # Rail and a NaN RailPosition), a fuse slot and a fuse, and the pick-and-place component with
-# its PlaceTerminalBlock skill (from the CompositeSkills companion model).
+# its PlaceTerminalBlock and InsertFuse skills (from the CompositeSkills companion model).
 # Usage: node_reads_demonstrator_components.sh PATH/TO/skillcell
 # Skips (77) without node-opcua unless SKILLCELL_REQUIRE_NODE=1.
 set -euo pipefail

@@ -751,5 +751,26 @@ TEST(DeviceIiwaSkills, AForceLimitedMoveStopsOnContactWithTheForceInItsReason) {
     EXPECT_TRUE(ur5.has("Skills/CartesianLinearMove"));
 }
 
+TEST(DeviceIiwaSkills, AForceLimitedMoveThatEndsPressedHarderThanItsLimitFails) {
+    // A face exactly at the target: the move gets there, and the force there is what counts.
+    const ArmModel model = ArmModel::lbrIiwa7();
+    ArmKinematics k(model);
+    const KDL::Frame start = k.forward(model.home);
+    const double face = start.p.z() - 0.005;
+    Ur5Cell cell(nullptr, 20, model,
+                 [face](const KDL::Frame& f) { return f.p.z() < face + 1e-6 ? 50.0 : 0.0; });
+    test::ClientThread t;
+    auto press = t.attach(cell.url(), Ur5Cell::skill("CartesianForceLimitedLinearMove"));
+    ASSERT_TRUE(press);
+    const KDL::Frame onTheFace(start.M, KDL::Vector(start.p.x(), start.p.y(), face));
+    const auto outcome = t.invoke(
+        press, {{"TargetPosition", frameToVariant(onTheFace)}, {"ForceLimit", ua::Variant(20.0)}},
+        10s);
+    ASSERT_EQ(outcome.kind, Kind::Failed) << outcome.reason;
+    EXPECT_NE(outcome.reason.find("the contact force 50.0 N exceeded the limit of 20.0 N"),
+              std::string::npos)
+        << outcome.reason;
+}
+
 }  // namespace
 }  // namespace skillcell::devices::device_arm_test

@@ -13,7 +13,8 @@ skillcell_unit_test(test_devices
   device_schmalz_test.cpp
   device_process_test.cpp
   device_parallel_grippers_test.cpp
-  grasp_planner_test.cpp)
+  grasp_planner_test.cpp
+  device_fuse_planner_test.cpp)
 target_link_libraries(test_devices PRIVATE skillcell_world skillcell_arm skillcell_robotiq
   skillcell_schmalz skillcell_dh skillcell_skills skillcell_pickplace skillcell_test_support
   PkgConfig::MODBUS)

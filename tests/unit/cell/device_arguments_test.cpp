@@ -31,6 +31,34 @@ TEST(DeviceArguments, TheWorldGetsThePapersDocksToolsAndBoxes) {
               "--object", "boxB:0.04,0.04,0.04@0.45,-0.05,0.02"}));
 }
 
+TEST(DeviceArguments, TheFuseBoxCellGivesItsSlotsAndFusesAndAMisalignmentOnlyWhereSaid) {
+    auto read = readCellFile(fs::path(SKILLCELL_SOURCE_DIR) / "examples/cells/fuse-box.toml");
+    ASSERT_TRUE(read.cell);
+    CellFile cell = *read.cell;
+    ASSERT_EQ(cell.fuseSlots.size(), 3U);
+    cell.fuseSlots[1].misalignment = {0.0015, 0, 0};
+    const Args args = worldArguments(cell);
+    const Args expected = {"--dock",
+                           "dockP@0.35,-0.4,0.35,3.141592653589793,0,0",
+                           "--tool",
+                           "parallel:dockP@0,0,0.15",
+                           "--fuse-slot",
+                           "F1@0.45,0.25,0.06",
+                           "--fuse-slot",
+                           "F2@0.45,0.262,0.06",
+                           "--misaligned-slot",
+                           "F2:0.0015,0,0",
+                           "--fuse-slot",
+                           "F3@0.45,0.274,0.06",
+                           "--fuse",
+                           "fuse10A:0.0191,0.0051,0.0185@0.45,-0.05,0.00925,0,0,3.141592653589793",
+                           "--fuse",
+                           "fuse15A:0.0191,0.0051,0.0185@0.45,-0.03,0.00925,0,0,3.141592653589793",
+                           "--fuse",
+                           "fuse20A:0.0191,0.0051,0.0185@0.45,-0.01,0.00925,0,0,3.141592653589793"};
+    EXPECT_EQ(args, expected);
+}
+
 TEST(DeviceArguments, TheToolChangerGetsEachToolsBandAdapterAndPowerCommand) {
     const auto power = [](const Tool& tool, const AdapterModel& model) {
         return "skillcell device " + std::string(model.command) + " --grip-offset " +
