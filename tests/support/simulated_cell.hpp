@@ -102,10 +102,12 @@ struct SimulatedCell {
     /// has no adapter process for the vacuum gripper (as if its adapter were unplugged).
     /// `robotSpeed`: the UR5's --speed (lower: its motions, and the skills using them, last
     /// longer). `moreWorld`: further arguments of the world model (rails, terminal blocks).
+    /// `robotModel`: `skillcell device` of the robot (ur5, iiwa).
     SimulatedCell(const std::string& binary, const std::vector<std::string>& objects,
                   bool withPickAndPlace, ParallelGripperModel parallel = kRobotiq2f85,
                   bool vacuumPowered = true, const std::string& robotSpeed = "50",
-                  const std::vector<std::string>& moreWorld = {})
+                  const std::vector<std::string>& moreWorld = {},
+                  const std::string& robotModel = "ur5")
         : parallelUri(parallel.adapter().applicationUri) {
         // The paper's cell with this test's parallel gripper in its dock, and its own boxes.
         cell::CellFile c = paperCell();
@@ -150,7 +152,7 @@ struct SimulatedCell {
             pickplace = start(
                 binary, {"pickplace", "--world", world->url(), "--detection-timeout-ms", "5000"});
         }
-        robot = start(binary, {"ur5", "--speed", robotSpeed, "--world", world->url()});
+        robot = start(binary, {robotModel, "--speed", robotSpeed, "--world", world->url()});
     }
     ~SimulatedCell() {
         // The changer powers the tools off when it stops; then their PKI directories go.

@@ -6,6 +6,7 @@
 #   - the Kelvin tool changer: its tool table, and the changer in a cell;
 #   - the whole work cell: tool changes and two picks and places, checked in the world model;
 #   - terminal blocks placed on a DIN rail by the PlaceTerminalBlock composite;
+#   - fuses inserted into a fuse box by the InsertFuse composite, and its refusals;
 #   - the knowledge-base component: discovery, recording, models, kills;
 #   - the MES in the paper's work cell.
 add_executable(test_in_namespaces
@@ -13,6 +14,7 @@ add_executable(test_in_namespaces
   device_toolchanger_test.cpp
   device_work_cell_test.cpp
   device_din_rail_cell_test.cpp
+  device_fuse_box_cell_test.cpp
   kb/kb_component_test.cpp
   mes/mes_cell_test.cpp)
 target_link_libraries(test_in_namespaces PRIVATE skillcell_ua_discovery skillcell_world
