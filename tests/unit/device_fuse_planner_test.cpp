@@ -52,9 +52,9 @@ TEST(FusePlanner, TheFuseCarriedByThePlanIsSeatedAtTheEndAndClearBefore) {
     EXPECT_NEAR(std::abs(KDL::dot(grip.M.UnitY(), r.fusePose.M.UnitY())), 1, 1e-12);
     EXPECT_DOUBLE_EQ(plan->thickness, kAto.y);
     // Approach and retreat straight above it.
-    EXPECT_TRUE(near(plan->approach, KDL::Frame(plan->grasp.M, plan->grasp.p +
-                                                                  KDL::Vector(0, 0, 0.05)),
-                     1e-12, 1e-12));
+    EXPECT_TRUE(near(plan->approach,
+                     KDL::Frame(plan->grasp.M, plan->grasp.p + KDL::Vector(0, 0, 0.05)), 1e-12,
+                     1e-12));
     EXPECT_TRUE(near(plan->retreat, plan->approach, 1e-12, 1e-12));
 
     FuseSlot slot;
