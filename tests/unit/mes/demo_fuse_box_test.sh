@@ -18,22 +18,9 @@ set -euo pipefail
 skillcell=$1
 source_dir=$2
 mode=$3
-if ! unshare -n true 2>/dev/null; then
-  echo "!!! SKIPPED: cannot create a network namespace (not root?) !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NETNS:-0}" = 1 ] && exit 1
-  exit 77
-fi
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail() {
-  echo "FAILED: $*" >&2
-  echo "--- the demo's output (last 40 lines)"
-  tail -n 40 "$tmp/out"
-  for log in "$tmp"/work/logs/*.log; do
-    [ -f "$log" ] && { echo "--- $log"; tail -n 15 "$log"; }
-  done
-  exit 1
-}
+# shellcheck source=demo_test_lib.sh
+source "$(dirname "$0")/demo_test_lib.sh"
+demo_require_netns
 
 cell=$source_dir/examples/cells/fuse-box.toml
 if [ "$mode" = misaligned ]; then

@@ -18,23 +18,11 @@
 # Usage: demo_test.sh PATH/TO/skillcell
 set -euo pipefail
 skillcell=$1
-if ! unshare -n true 2>/dev/null; then
-  echo "!!! SKIPPED: cannot create a network namespace (not root?) !!!" >&2
-  [ "${SKILLCELL_REQUIRE_NETNS:-0}" = 1 ] && exit 1
-  exit 77
-fi
-tmp=$(mktemp -d)
+# shellcheck source=demo_test_lib.sh
+source "$(dirname "$0")/demo_test_lib.sh"
+demo_require_netns
 demo=
-trap 'if [ -n "$demo" ]; then kill -TERM "$demo" 2>/dev/null; wait "$demo" 2>/dev/null; fi; rm -rf "$tmp"' EXIT
-fail() {
-  echo "FAILED: $*" >&2
-  echo "--- the demo's output (last 40 lines)"
-  tail -n 40 "$tmp/out"
-  for log in "$tmp"/work/logs/*.log; do
-    [ -f "$log" ] && { echo "--- $log"; tail -n 15 "$log"; }
-  done
-  exit 1
-}
+demo_on_exit='if [ -n "$demo" ]; then kill -TERM "$demo" 2>/dev/null; wait "$demo" 2>/dev/null; fi'
 
 # With --keep-running the cell stays up after the evidence, supervised as `cell up`
 # supervises it: `cell status` shows its skills, a killed UR5 comes back, `cell down` ends
