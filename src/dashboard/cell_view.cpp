@@ -49,12 +49,17 @@ Json toJson(const SceneView& s) {
     for (const auto& d : s.docks) {
         docks.push_back({{"id", d.id}, {"position", d.position}, {"tool", d.tool}});
     }
+    Json fuseSlots = Json::array();
+    for (const auto& f : s.fuseSlots) {
+        fuseSlots.push_back({{"id", f.id}, {"position", f.position}, {"fuse", f.fuse}});
+    }
     return {{"flange", s.flange},
             {"mountedTool", s.mountedTool},
             {"graspedObject", s.graspedObject},
             {"objects", std::move(objects)},
             {"docks", std::move(docks)},
-            {"rails", std::move(rails)}};
+            {"rails", std::move(rails)},
+            {"fuseSlots", std::move(fuseSlots)}};
 }
 
 Json toJson(const std::vector<RunView>& runs) {

@@ -76,12 +76,20 @@ struct SceneView {
         std::string tool;  // stored in it; empty when empty
         friend bool operator==(const Dock&, const Dock&) = default;
     };
+    /// A fuse box's slot: its opening, which does not move, and the fuse seated in it.
+    struct FuseSlot {
+        std::string id;
+        std::array<double, 3> position{};
+        std::string fuse;  // empty when none
+        friend bool operator==(const FuseSlot&, const FuseSlot&) = default;
+    };
     std::array<double, 3> flange{};
     std::string mountedTool;
     std::string graspedObject;
     std::vector<Box> objects;
     std::vector<Dock> docks;
     std::vector<Rail> rails;
+    std::vector<FuseSlot> fuseSlots;
     friend bool operator==(const SceneView&, const SceneView&) = default;
 };
 

@@ -124,6 +124,12 @@ asio::awaitable<ua::StatusCode> SceneWatcher::watch(ua::Client& client) {
         co_return rails.status();
     }
 
+    // Nor fuse slots before them.
+    auto slots = co_await children(client, id("World/FuseSlots"));
+    if (!slots && slots.status() != ua::StatusCode(ua::status::BadNodeIdUnknown)) {
+        co_return slots.status();
+    }
+
     SceneView scene;
     for (const auto& o : *objects) {
         auto size = co_await client.readValue(id("World/Objects/" + o + "/Size"));
@@ -150,6 +156,11 @@ asio::awaitable<ua::StatusCode> SceneWatcher::watch(ua::Client& client) {
         const KDL::Vector end = *frame * KDL::Vector(*l, 0, 0);
         scene.rails.push_back(
             {r, {frame->p.x(), frame->p.y(), frame->p.z()}, {end.x(), end.y(), end.z()}});
+    }
+    for (const auto& f : slots ? *slots : std::vector<std::string>()) {
+        auto pose = co_await client.readValue(id("World/FuseSlots/" + f + "/Pose"));
+        if (!pose) co_return pose.status();
+        scene.fuseSlots.push_back({f, position(*pose), {}});
     }
     for (const auto& d : *docks) {
         auto pose = co_await client.readValue(id("World/Docks/" + d + "/Pose"));
@@ -186,6 +197,12 @@ asio::awaitable<ua::StatusCode> SceneWatcher::watch(ua::Client& client) {
         watched.emplace_back("World/Docks/" + scene.docks[i].id + "/Tool",
                              [i](SceneView& s, const ua::Variant& v) {
                                  if (i < s.docks.size()) s.docks[i].tool = text(v);
+                             });
+    }
+    for (std::size_t i = 0; i < scene.fuseSlots.size(); ++i) {
+        watched.emplace_back("World/FuseSlots/" + scene.fuseSlots[i].id + "/Fuse",
+                             [i](SceneView& s, const ua::Variant& v) {
+                                 if (i < s.fuseSlots.size()) s.fuseSlots[i].fuse = text(v);
                              });
     }
     for (const auto& [path, update] : watched) {

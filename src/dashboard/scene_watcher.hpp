@@ -2,8 +2,8 @@
 // SceneWatcher: the world model's scene as the dashboard draws it, kept current by a
 // subscription to the world's variables (devices/world/world_nodes.hpp): the flange's pose,
 // the mounted tool and the grasped object, each object's pose (and a terminal block's rail
-// and position on it) and each dock's tool. What does not move (object sizes, dock poses,
-// rails) is read once per connection. The changes of one
+// and position on it), each dock's tool and each fuse slot's fuse. What does not move (object
+// sizes, dock poses, rails, fuse slots) is read once per connection. The changes of one
 // publish come out as one scene. The world's objects and docks are browsed when it connects;
 // one added later is drawn after the next reconnection.
 //

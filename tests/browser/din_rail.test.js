@@ -1,4 +1,4 @@
-// The DIN-rail demonstrator run from the dashboard, in headless Chromium (din_rail_test.sh
+// The DIN-rail demonstrator run from the dashboard, in headless Chromium (demonstrator_test.sh
 // brings up examples/cells/din-rail.toml with `skillcell cell up`): the rail is drawn empty,
 // the Operator runs the cell's process to its end, and the picture then shows tb1, tb2 and
 // tb3 on rail1 side by side at their width. Every wait is bounded; the first failed

@@ -221,9 +221,11 @@ function renderScene() {
   picture.replaceChildren();
   const W = 640, H = 420, margin = 0.15;
   const rails = scene.rails || [];
+  const fuseSlots = scene.fuseSlots || [];
   const points = [[0, 0], scene.flange, ...scene.objects.map((o) => o.position),
                   ...scene.docks.map((d) => d.position),
-                  ...rails.flatMap((r) => [r.start, r.end])];
+                  ...rails.flatMap((r) => [r.start, r.end]),
+                  ...fuseSlots.map((f) => f.position)];
   const xs = points.map((p) => p[0]), ys = points.map((p) => p[1]);
   const minX = Math.min(...xs) - margin, maxX = Math.max(...xs) + margin;
   const minY = Math.min(...ys) - margin, maxY = Math.max(...ys) + margin;
@@ -254,7 +256,25 @@ function renderScene() {
                                    : ": empty")));
     picture.append(g);
   }
+  // A fuse box's slots, side by side: an outline each, filled when a fuse is seated, and one
+  // label for the row (they are too close to label one by one).
+  if (fuseSlots.length) {
+    const box = svg("g", { class: "fuse-box",
+                           "data-seated": fuseSlots.map((f) => f.id + ":" + f.fuse).join(" ") });
+    for (const f of fuseSlots) {
+      // An ATO slot's opening, 19 x 5 mm, at the picture's scale (a few pixels).
+      const w = Math.max(6, 0.019 * scale), h = Math.max(2, 0.005 * scale);
+      box.append(svg("rect", { class: "slot" + (f.fuse ? " full" : ""), "data-slot": f.id, "data-fuse": f.fuse,
+                               x: px(f.position[0]) - w / 2, y: py(f.position[1]) - h / 2, width: w, height: h }));
+    }
+    const top = fuseSlots.reduce((a, f) => (f.position[1] > a.position[1] ? f : a));
+    box.append(svg("text", { x: px(top.position[0]) + 16, y: py(top.position[1]) - 8 },
+                   "fuse box: " + fuseSlots.map((f) => f.id + (f.fuse ? " " + f.fuse : " empty")).join(", ")));
+    picture.append(box);
+  }
   for (const o of scene.objects) {
+    // A fuse seated in its slot is drawn as the slot, filled.
+    if (fuseSlots.some((f) => f.fuse === o.id)) continue;
     const w = Math.max(3, o.size[0] * scale), h = Math.max(4, o.size[1] * scale);
     const held = o.id === scene.graspedObject;
     const g = svg("g", { class: "object" + (held ? " held" : ""), "data-object": o.id,
