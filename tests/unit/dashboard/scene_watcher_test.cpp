@@ -14,6 +14,7 @@
 
 #include "devices/common/frame.hpp"
 #include "devices/world/din_rail.hpp"
+#include "devices/world/fuse_slot.hpp"
 #include "devices/world/world_link.hpp"
 #include "devices/world/world_nodes.hpp"
 #include "running_server.hpp"
@@ -184,6 +185,48 @@ TEST(SceneWatcher, ARailAndATerminalBlockSnappedOntoIt) {
     EXPECT_EQ(tb1(*snapped)->rail, "rail1");
     EXPECT_NEAR(tb1(*snapped)->railPosition, 0.0026, 1e-9);
     EXPECT_NEAR(tb1(*snapped)->position[0], 0.3026, 1e-9);
+}
+
+TEST(SceneWatcher, AFuseSlotAndTheFuseSeatedInIt) {
+    const devices::BoxSize ato{0.0191, 0.0051, 0.0185};
+    devices::FuseSlot slot;
+    slot.id = "F1";
+    slot.pose = at(0.45, 0.25, 0.06);
+    devices::World w;
+    ASSERT_EQ(w.addFuseSlot(slot), ua::status::Good);
+    ASSERT_EQ(w.addObject({"fuse1", ato, at(0.45, -0.05, ato.z / 2), devices::ObjectKind::Fuse}),
+              ua::status::Good);
+    ASSERT_EQ(w.addDock({"dock1", at(0.3, -0.45, 0.35, M_PI), {}}), ua::status::Good);
+    ASSERT_EQ(w.addTool({"parallel", at(0, 0, 0.15)}, "dock1"), ua::status::Good);
+    WatchedWorld world(std::move(w));
+    ASSERT_TRUE(world.ready());
+    Scenes& scenes = world.scenes;
+    auto first = scenes.waitFor([](const SceneView& s) { return !s.fuseSlots.empty(); });
+    ASSERT_TRUE(first);
+    ASSERT_EQ(first->fuseSlots.size(), 1U);
+    EXPECT_EQ(first->fuseSlots[0].id, "F1");
+    EXPECT_NEAR(first->fuseSlots[0].position[1], 0.25, 1e-9);
+    EXPECT_EQ(first->fuseSlots[0].fuse, "");
+
+    // A robot picks the fuse from the top and pushes it into the slot to its depth.
+    auto link = devices::WorldLink::connect(world.url());
+    ASSERT_TRUE(link.ok());
+    devices::WorldLink& robot = **link;
+    const KDL::Frame gripPoint = at(0, 0, 0.15);
+    const KDL::Frame gripInFuse(KDL::Rotation::RotX(M_PI), KDL::Vector::Zero());
+    auto flangeFor = [&](const KDL::Frame& fusePose) {
+        return fusePose * gripInFuse * gripPoint.Inverse();
+    };
+    ASSERT_EQ(robot.setFlangePose(at(0.3, -0.45, 0.35, M_PI)), ua::status::Good);
+    ASSERT_EQ(robot.mountTool("dock1"), ua::status::Good);
+    ASSERT_EQ(robot.setFlangePose(flangeFor(at(0.45, -0.05, ato.z / 2))), ua::status::Good);
+    ASSERT_EQ(robot.grasp("fuse1"), ua::status::Good);
+    ASSERT_EQ(robot.setFlangePose(flangeFor(devices::seatedPose(slot, ato))), ua::status::Good);
+    ASSERT_EQ(robot.release(), ua::status::Good);
+    auto seated = scenes.waitFor([](const SceneView& s) {
+        return s.fuseSlots.size() == 1 && s.fuseSlots[0].fuse == "fuse1";
+    });
+    ASSERT_TRUE(seated);
 }
 
 }  // namespace
