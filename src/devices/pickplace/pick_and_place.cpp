@@ -1,8 +1,9 @@
 #include "devices/pickplace/pick_and_place.hpp"
 
+#include <cmath>
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
-#include <cmath>
 
 #include "devices/common/blocking_call.hpp"
 #include "devices/common/frame.hpp"
