@@ -95,6 +95,13 @@ std::optional<std::pair<std::string, KDL::Frame>> headAndPose(const std::string&
     return std::make_pair(spec.substr(0, at), toFrame(*pose));
 }
 
+/// Three numbers X,Y,Z (a pose's text without angles): a size or an offset.
+std::optional<KDL::Vector> threeNumbers(std::string_view text) {
+    const auto p = parsePose6(text);
+    if (!p || p->a != 0 || p->b != 0 || p->c != 0) return std::nullopt;
+    return KDL::Vector(p->x, p->y, p->z);
+}
+
 /// Adds a box of `kind` from "ID:SX,SY,SZ@POSE" (`option` names the option in errors).
 ua::StatusCode seedObject(const std::string& option, const std::string& spec,
                           devices::ObjectKind kind, devices::World& world) {
@@ -102,14 +109,14 @@ ua::StatusCode seedObject(const std::string& option, const std::string& spec,
     const auto colon = hp ? hp->first.find(':') : std::string::npos;
     const auto size = colon == std::string::npos
                           ? std::nullopt
-                          : parsePose6(std::string_view(hp->first).substr(colon + 1));
-    if (!size || size->a != 0 || size->b != 0 || size->c != 0) {
+                          : threeNumbers(std::string_view(hp->first).substr(colon + 1));
+    if (!size) {
         spdlog::critical("{} {}: expected ID:SX,SY,SZ@X,Y,Z[,A,B,C]", option, spec);
         return ua::status::BadInvalidArgument;
     }
     std::string why;
     const auto s = world.addObject(
-        {hp->first.substr(0, colon), {size->x, size->y, size->z}, hp->second, kind}, &why);
+        {hp->first.substr(0, colon), {size->x(), size->y(), size->z()}, hp->second, kind}, &why);
     if (s.isBad()) spdlog::critical("{} {}: {}", option, spec, why);
     return s;
 }
@@ -161,12 +168,12 @@ ua::StatusCode seedWorld(const WorldOptions& options, devices::World& world) {
         const auto colon = m.find(':');
         const auto offset = colon == std::string::npos
                                 ? std::nullopt
-                                : parsePose6(std::string_view(m).substr(colon + 1));
-        if (!offset || offset->a != 0 || offset->b != 0 || offset->c != 0) {
+                                : threeNumbers(std::string_view(m).substr(colon + 1));
+        if (!offset) {
             spdlog::critical("--misaligned-slot {}: expected ID:DX,DY,DZ", m);
             return ua::status::BadInvalidArgument;
         }
-        misalignments[m.substr(0, colon)] = KDL::Vector(offset->x, offset->y, offset->z);
+        misalignments[m.substr(0, colon)] = *offset;
     }
     for (const auto& spec : options.fuseSlots) {
         const auto hp = headAndPose(spec);

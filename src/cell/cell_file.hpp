@@ -78,8 +78,6 @@ struct Rail {
     double length = 0;  // m
 };
 
-/// A tool: where it is stored, what the tool changer reads on its identification pin, and
-/// the adapter that the changer powers when it is mounted.
 /// A fuse box's slot for an ATO blade fuse (src/devices/world/fuse_slot.hpp): the pose of its
 /// opening's centre, z out of the box, x through its terminals.
 struct FuseSlot {
@@ -90,6 +88,8 @@ struct FuseSlot {
     std::array<double, 3> misalignment{};
 };
 
+/// A tool: where it is stored, what the tool changer reads on its identification pin, and
+/// the adapter that the changer powers when it is mounted.
 struct Tool {
     std::string name;
     std::string dock;

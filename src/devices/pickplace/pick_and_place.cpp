@@ -1,7 +1,5 @@
 #include "devices/pickplace/pick_and_place.hpp"
 
-#include <cmath>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -326,9 +324,6 @@ asio::awaitable<std::string> PickAndPlace::planFuse(const PickRequest& request, 
     const SlotFacts facts = co_await blockingCall(ioThread_, std::move(read));
     if (facts.status.isBad()) {
         co_return facts.problem + " (" + std::string(ua::statusName(facts.status)) + ")";
-    }
-    if (!std::isfinite(target.forceLimit) || target.forceLimit <= 0) {
-        co_return fmt::format("the force limit must be above 0 N ({} N)", target.forceLimit);
     }
     FuseInsertionRequest r;
     r.size = size;
