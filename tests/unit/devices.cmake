@@ -21,6 +21,11 @@ target_link_libraries(test_devices PRIVATE skillcell_world skillcell_arm skillce
 target_compile_definitions(test_devices PRIVATE SKILLCELL_BINARY="$<TARGET_FILE:skillcell>")
 add_dependencies(test_devices skillcell)
 
+# The world model's command line on a bad scene (fuse slots, their misalignment).
+add_test(NAME cli.device_world_scene
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/device_world_scene_cli.sh $<TARGET_FILE:skillcell>)
+set_tests_properties(cli.device_world_scene PROPERTIES TIMEOUT 120)
+
 # The gripper adapters' microcontroller boot profile (`--boot-profile tinyua`).
 add_test(NAME cli.device_boot_profile
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/device_boot_profile.sh $<TARGET_FILE:skillcell>)
