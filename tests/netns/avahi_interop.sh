@@ -3,6 +3,8 @@
 # lib.sh): Avahi's daemon on h1 (with a D-Bus system bus of its own, so that nothing of the
 # machine's is touched), a skillcell server and a skillcell watcher on h2.
 #   - avahi-browse on h1 resolves the skillcell server: its instance, address, port and TXT;
+#   - avahi-browse of the LDS subtype (_lds._sub._opcua-tcp._tcp) resolves a skillcell LDS
+#     and not the server;
 #   - the skillcell watcher on h2 sees an OPC UA server on h1 that avahi-publish announces for
 #     it (and describes it over OPC UA), and sees it gone when avahi-publish stops.
 # Usage: avahi_interop.sh SKILLCELL_BINARY. Needs root and Avahi (avahi-daemon, avahi-utils);
@@ -94,6 +96,28 @@ done
 echo "$found" | grep -q '"path=' || fail "avahi-browse resolved no TXT path=: $found"
 echo "$found" | grep -q '"caps=' || fail "avahi-browse resolved no TXT caps=: $found"
 echo "ok: avahi-browse resolves the skillcell server: $found"
+
+# Our LDS announces itself under the LDS subtype too (RFC 6763 7.1): avahi-browse of the
+# subtype resolves it, and not the pump, which is no LDS.
+start_in h2 lds "$BIN" lds --port 4842 --mdns-name skillcell-lds --application-uri urn:test:lds \
+  --pki-dir "$NETNS_DIR/pki-lds" --insecure
+wait_for_line "$NETNS_DIR/lds.out" '^READY' 20 >/dev/null || fail "lds did not start"
+found=""
+deadline=$(($(now_ms) + 15000))
+while [ "$(now_ms)" -lt "$deadline" ]; do
+  netns_exec h1 timeout 10 avahi-browse -rpt _lds._sub._opcua-tcp._tcp >"$NETNS_DIR/browse-lds.out" \
+    2>"$NETNS_DIR/browse-lds.err" || true
+  if found=$(grep -E '^=;eth0;IPv4;skillcell-lds;_opcua-tcp\._tcp;local;[^;]+;198\.18\.0\.2;4842;' \
+      "$NETNS_DIR/browse-lds.out"); then
+    break
+  fi
+  found=""
+  sleep 0.2
+done
+[ -n "$found" ] || fail "avahi-browse of the LDS subtype did not resolve the skillcell LDS: $(cat "$NETNS_DIR/browse-lds.out")"
+! grep -q 'skillcell-pump' "$NETNS_DIR/browse-lds.out" ||
+  fail "avahi-browse of the LDS subtype lists the pump, which is no LDS"
+echo "ok: avahi-browse of _lds._sub._opcua-tcp._tcp resolves the skillcell LDS alone: $found"
 
 # An OPC UA server that does not announce itself (--no-discovery); Avahi announces it.
 start_in h1 press "$BIN" server --port 4999 --no-discovery --application-uri urn:test:press \

@@ -89,6 +89,34 @@ TEST_F(ResponsePlannerTest, ABrowseIsAnsweredAfter20To120MsWithServiceAndAddress
     EXPECT_EQ(planner.pendingCount(), 0u);
 }
 
+TEST(ResponsePlannerSubtype, AQueryForTheLdsSubtypeIsAnsweredByTheLdsAlone) {
+    // One process publishes a pump and an LDS; the LDS also under the subtype (RFC 6763 7.1).
+    auto own = published({"pump", "the-lds"});
+    const std::string subtype = subtypeName(kLdsCapability);
+    auto sub = rec(subtype, DnsType::Ptr);
+    sub.target = "the-lds." + kType;
+    own.push_back(sub);
+    ResponsePlanner planner(7);
+    planner.setOwn(own);
+    const auto t0 = Clock::time_point{} + 1000s;
+    DnsMessage q;
+    q.questions = {{subtype, static_cast<std::uint16_t>(DnsType::Ptr), kClassIn}};
+    planner.onQuery(q, kAsker, t0);
+    const auto sent = planner.takeDue(*planner.nextDeadline());
+    std::set<std::string> names;
+    for (const auto& r : sent) names.insert(r.name);
+    // The subtype's PTR, the LDS's SRV and TXT and the host's address; nothing of the pump.
+    EXPECT_EQ(sent.size(), 4u);
+    EXPECT_EQ(names, (std::set<std::string>{subtype, "the-lds." + kType, "h.local"}));
+    // Who knows the LDS already (a known answer under the subtype) gets nothing.
+    DnsMessage knowing = q;
+    auto known = sub;
+    known.ttl = kTtl;
+    knowing.records = {known};
+    planner.onQuery(knowing, kAsker, t0 + 5s);
+    EXPECT_EQ(planner.pendingCount(), 0u);
+}
+
 TEST_F(ResponsePlannerTest, DelaysDifferFromQueryToQuery) {
     std::set<Clock::duration> delays;
     for (int i = 0; i < 8; ++i) {

@@ -232,6 +232,61 @@ TEST_F(ServiceCacheTest, AQuestionSeenLongBeforeOurRefreshDoesNotReplaceIt) {
     }));
 }
 
+TEST(ServiceCacheSubtype, TheLdsSubtypeIsNamedAfterTheCapability) {
+    EXPECT_EQ(subtypeName(kLdsCapability), "_lds._sub._opcua-tcp._tcp.local");
+}
+
+TEST_F(ServiceCacheTest, ASubtypePointerNamesTheInstanceAsTheTypesDoes) {
+    // An LDS answering a query for the subtype: its PTR is the subtype's, not the type's.
+    auto m = announcement("the-lds", "host-a.local", kHostA, 4840);
+    m.records[0].name = "_lds._sub._opcua-tcp._tcp.local";
+    auto events = cache.ingest(m, kHostA, t0);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].instance.name, "the-lds");
+    // A subtype of another service type, or a malformed one, names nothing.
+    ServiceCache other;
+    auto wrong = announcement("x", "host-b.local", kHostB, 4840);
+    wrong.records[0].name = "_lds._sub._http._tcp.local";
+    EXPECT_TRUE(other.ingest(wrong, kHostB, t0).empty());
+    wrong.records[0].name = "_a.b._sub._opcua-tcp._tcp.local";
+    EXPECT_TRUE(other.ingest(wrong, kHostB, t0).empty());
+}
+
+TEST_F(ServiceCacheTest, AnInterestInLdsesRefreshesOnlyTheirRecordsAndAsksForTheSubtype) {
+    cache.setInterest(std::string(kLdsCapability));
+    EXPECT_EQ(cache.browseName(), "_lds._sub._opcua-tcp._tcp.local");
+    cache.ingest(announcement("the-lds", "host-a.local", kHostA, 4840, 10), kHostA, t0);
+    cache.ingest(announcement("pump", "host-b.local", kHostB, 4841, 10, {"path=/", "caps=DA"}),
+                 kHostB, t0);
+    EXPECT_EQ(cache.size(), 2u);  // both reported
+    auto q = cache.refreshQueries(t0 + 8s);
+    std::set<std::string> asked;
+    for (const auto& x : q) asked.insert(x.name);
+    EXPECT_EQ(asked, (std::set<std::string>{"_lds._sub._opcua-tcp._tcp.local",
+                                            "the-lds._opcua-tcp._tcp.local", "host-a.local"}));
+    // The known answers of a subtype query list the LDSes only, under the subtype's name.
+    auto known = cache.knownAnswers(t0 + 1s, cache.browseName());
+    ASSERT_EQ(known.size(), 1u);
+    EXPECT_EQ(known[0].name, "_lds._sub._opcua-tcp._tcp.local");
+    EXPECT_EQ(known[0].target, "the-lds._opcua-tcp._tcp.local");
+    EXPECT_EQ(cache.knownAnswers(t0 + 1s).size(), 2u);  // of the type: every server
+    // The pump, never asked for, goes at its TTL.
+    const auto gone = cache.expire(t0 + 10s);
+    EXPECT_EQ(gone.size(), 2u);
+}
+
+TEST_F(ServiceCacheTest, AnotherHostsSubtypeQueryCountsAsOurRefreshOfTheLdsesOnly) {
+    cache.setInterest(std::string(kLdsCapability));
+    cache.ingest(announcement("the-lds", "host-a.local", kHostA, 4840, 100), kHostA, t0);
+    cache.questionSeen(
+        {"_lds._sub._opcua-tcp._tcp.local", static_cast<std::uint16_t>(DnsType::Ptr), kClassIn}, {},
+        t0 + 79s);
+    auto q = cache.refreshQueries(t0 + 80s);
+    EXPECT_TRUE(std::none_of(q.begin(), q.end(), [](const DnsQuestion& x) {
+        return x.type == static_cast<std::uint16_t>(DnsType::Ptr);
+    }));
+}
+
 TEST(ServiceCacheJitter, RefreshTimesSpreadOverTwoPercentOfTheTtl) {
     const auto t0 = Clock::time_point{} + 1000s;
     std::set<Clock::time_point> deadlines;

@@ -126,11 +126,17 @@ std::vector<std::vector<std::uint8_t>> packDatagrams(DnsMessage head,
     return out;
 }
 
-bool isBrowseQuestion(const DnsQuestion& q) {
-    return foldCase(q.name) == foldCase(kOpcUaServiceType) &&
+bool isPtrQuestionFor(const DnsQuestion& q, std::string_view name) {
+    return foldCase(q.name) == foldCase(name) &&
            (q.type == static_cast<std::uint16_t>(DnsType::Ptr) ||
             q.type == static_cast<std::uint16_t>(DnsType::Any)) &&
            (q.qclass & ~kClassTopBit) == kClassIn;
+}
+
+bool announcesLds(const ServiceAnnouncement& a) {
+    return std::any_of(a.capabilities.begin(), a.capabilities.end(), [](const std::string& c) {
+        return foldCase(c) == foldCase(kLdsCapability);
+    });
 }
 
 std::size_t digestOf(std::span<const std::uint8_t> bytes) {
@@ -293,12 +299,20 @@ void MdnsResponder::start() {
     asio::co_spawn(executor_, timerLoop(), asio::detached);
 }
 
-std::size_t MdnsResponder::subscribe(Listener listener) {
+std::size_t MdnsResponder::subscribe(Listener listener, BrowseScope scope) {
     const std::size_t id = nextListener_++;
     // A late subscriber first hears what is already known, as if it had just been announced.
     for (const auto& s : cache_.services()) listener({ServiceEvent::Kind::Announced, s, {}});
     listeners_.emplace(id, std::move(listener));
-    if (!browse_.active()) startBrowsing();
+    const bool widens = scope == BrowseScope::AllServers && scope_ == BrowseScope::DiscoveryServers;
+    if (!browse_.active() || widens) {
+        scope_ = scope;
+        askEveryServerOnce_ = scope == BrowseScope::DiscoveryServers;
+        cache_.setInterest(scope == BrowseScope::DiscoveryServers
+                               ? std::optional<std::string>(kLdsCapability)
+                               : std::nullopt);
+        startBrowsing();
+    }
     return id;
 }
 
@@ -372,6 +386,12 @@ StatusCode MdnsResponder::announce(const ServiceAnnouncement& a) {
     const std::string rdata = txtRdata(a);
     mdns_adapter_set_raw(d, txt, rdata.data(), static_cast<unsigned short>(rdata.size()));
     p.records.insert(p.records.end(), {ptr, srv, txt});
+    if (announcesLds(a)) {
+        mdns_adapter_record* sub = mdns_adapter_shared(d, fqdn(subtypeName(kLdsCapability)).c_str(),
+                                                       MDNS_ADAPTER_PTR, ttl);
+        mdns_adapter_set_host(d, sub, instance.c_str());
+        p.records.push_back(sub);
+    }
     published_.emplace(key, std::move(p));
     rebuildOwnRecords();
     spdlog::info("mDNS: announcing '{}' port {} path '{}'", a.name, a.port, a.path);
@@ -463,6 +483,11 @@ void MdnsResponder::rebuildOwnRecords() {
         auto txt = record(instance, DnsType::Txt);
         txt.txt = txtStrings(p.announcement);
         own.insert(own.end(), {ptr, srv, txt});
+        if (announcesLds(p.announcement)) {
+            auto sub = record(subtypeName(kLdsCapability), DnsType::Ptr);
+            sub.target = instance;
+            own.push_back(std::move(sub));
+        }
         if (p.announcement.address) {
             auto a = record(bare(p.hostFqdn), DnsType::A);
             a.ipv4 = *p.announcement.address;
@@ -547,8 +572,8 @@ void MdnsResponder::handleQuery(const DnsMessage& query, std::span<const std::ui
         }
         for (const auto& q : query.questions) {
             const bool multicastAnswer = (q.qclass & kClassTopBit) == 0;
-            if (isBrowseQuestion(q) && multicastAnswer && sourcePort == config_.port &&
-                cache_.knowsAll(knownByAsker, now)) {
+            if (isPtrQuestionFor(q, browseName()) && multicastAnswer &&
+                sourcePort == config_.port && cache_.knowsAll(knownByAsker, now)) {
                 browse_.duplicateSeen(now);
             }
             if (multicastAnswer) cache_.questionSeen(q, knownByAsker, now);
@@ -578,15 +603,14 @@ void MdnsResponder::answerWithAdditionals(const DnsMessage& query, const Ipv4& s
     // second round trip for SRV, TXT and A; several browsers (node-opcua's among them)
     // expect them in the same response (RFC 6763, 12.1). We ask libmdnsd those questions
     // too, so its next datagram carries them all.
-    const std::string typeKey = foldCase(kOpcUaServiceType);
     std::vector<DnsQuestion> extra;
     for (const auto& q : query.questions) {
         const std::string name = foldCase(q.name);
-        const bool browse =
-            name == typeKey && (q.type == static_cast<std::uint16_t>(DnsType::Ptr) ||
-                                q.type == static_cast<std::uint16_t>(DnsType::Any));
+        const bool browseAll = isPtrQuestionFor(q, kOpcUaServiceType);
+        const bool browseLds = isPtrQuestionFor(q, subtypeName(kLdsCapability));
         for (const auto& [key, p] : published_) {
             const std::string instance = instanceName(p.announcement.name);
+            const bool browse = browseAll || (browseLds && announcesLds(p.announcement));
             if (!browse && name != foldCase(instance)) continue;
             if (browse) {
                 extra.push_back(
@@ -671,11 +695,16 @@ void MdnsResponder::sendMulticast(std::span<const std::uint8_t> bytes) {
 void MdnsResponder::sendQuestions(std::vector<DnsQuestion> questions, Clock::time_point now) {
     DnsMessage m;
     m.id = queryId_;
-    const bool browse = std::any_of(questions.begin(), questions.end(), isBrowseQuestion);
+    // Known answers (7.1): the servers we know need not answer again. For our browse
+    // question only: a question for every server that a DiscoveryServers browser asks once
+    // goes without them (it knows LDSes only).
+    const std::string name = browseName();
+    const bool browse = std::any_of(questions.begin(), questions.end(), [&](const DnsQuestion& q) {
+        return isPtrQuestionFor(q, name);
+    });
     m.questions = std::move(questions);
-    // Known answers (7.1): the servers we know need not answer again.
     for (auto& bytes : packDatagrams(
-             std::move(m), browse ? cache_.knownAnswers(now) : std::vector<DnsRecord>{})) {
+             std::move(m), browse ? cache_.knownAnswers(now, name) : std::vector<DnsRecord>{})) {
         recentQueries_.push_back(digestOf(bytes));
         if (recentQueries_.size() > 16) recentQueries_.erase(recentQueries_.begin());
         ++stats_.queriesSent;
@@ -703,7 +732,13 @@ asio::awaitable<void> MdnsResponder::timerLoop() {
             dispatch(cache_.expire(now));
             questions = cache_.refreshQueries(now);
             if (now >= *browse_.next()) {
-                if (std::none_of(questions.begin(), questions.end(), isBrowseQuestion)) {
+                const std::string name = browseName();
+                if (std::none_of(questions.begin(), questions.end(),
+                                 [&](const DnsQuestion& q) { return isPtrQuestionFor(q, name); })) {
+                    questions.push_back({name, static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
+                }
+                if (askEveryServerOnce_) {
+                    askEveryServerOnce_ = false;
                     questions.push_back({std::string(kOpcUaServiceType),
                                          static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
                 }

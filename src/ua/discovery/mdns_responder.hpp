@@ -12,6 +12,13 @@
 // - Only a process with a subscriber browses (BrowseSchedule: at once, then backing off up to
 //   `queryPeriod`), with its known answers in the query; and only it keeps the records it
 //   hears fresh with refresh queries. A server that only announces never queries.
+// - A browser that looks for LDSes alone (BrowseScope::DiscoveryServers: a server that
+//   registers) asks for the LDS subtype (RFC 6763, 7.1), which our LDSes announce beside the
+//   service type: only LDSes answer, its known answers list only LDSes, and it refreshes
+//   only their records. On a segment of N servers that is what keeps their queries from
+//   carrying N known answers each. An LDS of another vendor, which announces no subtype, is
+//   found by its TXT caps: from its own announcements, from the answers to other browsers,
+//   and from one query for every server when the browsing starts.
 // - What others announce goes into our ServiceCache (TTL-honouring, see service_cache.hpp),
 //   whose changes reach subscribers as "announced" / "gone" events.
 // - Every datagram is checked by parseDnsMessage() first; a malformed one is counted and
@@ -65,6 +72,10 @@ struct MdnsConfig {
     bool ipv6 = true;
 };
 
+/// What a subscriber looks for: every OPC UA server (a detector, an LDS), or the Local
+/// Discovery Servers alone (a server that registers with them).
+enum class BrowseScope : std::uint8_t { AllServers, DiscoveryServers };
+
 /// A server to announce.
 struct ServiceAnnouncement {
     std::string name;  // the mDNS server name: one DNS label (1..63 bytes, no dots)
@@ -112,9 +123,11 @@ public:
     void queryNow();
 
     /// Calls `listener` with an Announced event for every server known now, then with every
-    /// change. Returns the id for unsubscribe(). The first subscriber starts browsing: the
-    /// first query goes out at once, so that servers started earlier are found now.
-    std::size_t subscribe(Listener listener);
+    /// change (of every server heard, whatever the scope). Returns the id for unsubscribe().
+    /// The first subscriber starts browsing: the first query goes out at once, so that servers
+    /// started earlier are found now; the first AllServers subscriber after DiscoveryServers
+    /// ones starts it again for every server.
+    std::size_t subscribe(Listener listener, BrowseScope scope = BrowseScope::AllServers);
     void unsubscribe(std::size_t id);
 
     [[nodiscard]] std::vector<ServiceInstance> services() const { return cache_.services(); }
@@ -153,6 +166,8 @@ private:
     [[nodiscard]] bool isOwnQuery(const DnsMessage& query,
                                   std::span<const std::uint8_t> bytes) const;
     void startBrowsing();
+    /// What our browse queries ask for: the service type, or the LDS subtype.
+    [[nodiscard]] std::string browseName() const { return cache_.browseName(); }
     void rebuildOwnRecords();
     void flushOutput();
     void sendMulticast(std::span<const std::uint8_t> bytes);
@@ -182,6 +197,9 @@ private:
     std::vector<std::size_t> recentQueries_;
     std::map<std::size_t, Listener> listeners_;
     std::size_t nextListener_ = 1;
+    BrowseScope scope_ = BrowseScope::DiscoveryServers;  // the widest of the subscribers'
+    // A DiscoveryServers browser's first query asks for every server too, once (see above).
+    bool askEveryServerOnce_ = false;
     Stats stats_;
     bool started_ = false;
     bool closed_ = false;

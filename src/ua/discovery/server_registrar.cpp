@@ -34,15 +34,22 @@ ServerRegistrar::~ServerRegistrar() {
 
 void ServerRegistrar::start() {
     std::weak_ptr<ServerRegistrar> weak = weak_from_this();
-    subscription_ = responder_->subscribe([weak](const mdns::ServiceEvent& e) {
-        if (auto self = weak.lock()) self->onMdnsEvent(e);
-    });
+    // LDSes only: on a segment of many servers, browsing for all of them would make every
+    // registering server a browser of the whole cell (see MdnsResponder).
+    subscription_ = responder_->subscribe(
+        [weak](const mdns::ServiceEvent& e) {
+            if (auto self = weak.lock()) self->onMdnsEvent(e);
+        },
+        mdns::BrowseScope::DiscoveryServers);
 }
 
 void ServerRegistrar::onMdnsEvent(const mdns::ServiceEvent& e) {
     if (stopped_) return;
     const std::string key = mdns::foldCase(e.instance.name);
-    if (key == mdns::foldCase(mdns_.mdnsServerName) || !e.instance.hasCapability("LDS")) return;
+    if (key == mdns::foldCase(mdns_.mdnsServerName) ||
+        !e.instance.hasCapability(mdns::kLdsCapability)) {
+        return;
+    }
     auto it = targets_.find(key);
     if (e.kind == mdns::ServiceEvent::Kind::Gone) {
         if (it == targets_.end()) return;

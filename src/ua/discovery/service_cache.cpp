@@ -66,6 +66,10 @@ std::optional<Ipv4> parseIpv4Literal(std::string_view name) {
     return out;
 }
 
+std::string subtypeName(std::string_view capability, std::string_view serviceType) {
+    return "_" + foldCase(capability) + "._sub." + std::string(serviceType);
+}
+
 std::string toString(const Ipv4& a) {
     return std::to_string(a[0]) + "." + std::to_string(a[1]) + "." + std::to_string(a[2]) + "." +
            std::to_string(a[3]);
@@ -106,7 +110,8 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
     const bool goodbye = rr.ttl == 0;
     switch (static_cast<DnsType>(rr.type)) {
         case DnsType::Ptr: {
-            if (key != serviceTypeKey_) return false;
+            // The type's PTR, or a subtype's (RFC 6763, 7.1): either names the instance.
+            if (key != serviceTypeKey_ && !subtypeCapability(key)) return false;
             const std::string instance = foldCase(rr.target);
             if (!endsWith(instance, "." + serviceTypeKey_)) return false;
             if (goodbye) {
@@ -306,10 +311,10 @@ std::vector<DnsQuestion> ServiceCache::refreshQueries(Clock::time_point now) {
         return true;
     };
     for (auto& [key, ptr] : pointers_) {
-        if (due(ptr)) ask(serviceType_, DnsType::Ptr);
+        if (interesting(key) && due(ptr)) ask(browseName(), DnsType::Ptr);
     }
     for (auto& [key, srv] : srvs_) {
-        if (!announced_.contains(key)) continue;
+        if (!announced_.contains(key) || !interesting(key)) continue;
         const std::string& instance = pointers_.contains(key) ? pointers_[key].instance : key;
         if (due(srv)) {
             ask(instance, DnsType::Srv);
@@ -337,26 +342,34 @@ std::optional<Clock::time_point> ServiceCache::nextDeadline() const {
         if (!best || at < *best) best = at;
     };
     std::set<std::string> refreshedHosts;
-    for (const auto& [k, v] : pointers_) consider(v, true);
+    for (const auto& [k, v] : pointers_) consider(v, interesting(k));
     for (const auto& [k, v] : srvs_) {
-        const bool live = announced_.contains(k);
+        const bool live = announced_.contains(k) && interesting(k);
         consider(v, live);
         if (live) refreshedHosts.insert(v.host);
     }
-    for (const auto& [k, v] : txts_) consider(v, announced_.contains(k));
+    for (const auto& [k, v] : txts_) consider(v, announced_.contains(k) && interesting(k));
     for (const auto& [k, list] : addresses_) {
         for (const auto& a : list) consider(a, refreshedHosts.contains(k));
     }
     return best;
 }
 
-std::vector<DnsRecord> ServiceCache::knownAnswers(Clock::time_point now) const {
+std::vector<DnsRecord> ServiceCache::knownAnswers(Clock::time_point now,
+                                                  std::string_view browseName) const {
     std::vector<DnsRecord> out;
+    const std::string name = foldCase(browseName);
+    const auto capability = subtypeCapability(name);
+    if (name != serviceTypeKey_ && !capability) return out;
     for (const auto& [key, p] : pointers_) {
         const auto left = std::chrono::duration_cast<std::chrono::seconds>(p.expiry() - now);
         if (left * 2 <= p.ttl) continue;
+        if (capability) {
+            const auto it = announced_.find(key);
+            if (it == announced_.end() || !it->second.hasCapability(*capability)) continue;
+        }
         DnsRecord r;
-        r.name = serviceType_;
+        r.name = std::string(browseName);
         r.type = static_cast<std::uint16_t>(DnsType::Ptr);
         r.ttl = static_cast<std::uint32_t>(left.count());
         r.target = p.instance;
@@ -384,9 +397,15 @@ void ServiceCache::questionSeen(const DnsQuestion& question,
     const std::string name = foldCase(question.name);
     const auto type = static_cast<DnsType>(question.type);
     const bool any = type == DnsType::Any;
-    if (name == serviceTypeKey_ && (any || type == DnsType::Ptr)) {
+    const auto capability = subtypeCapability(name);
+    if ((name == serviceTypeKey_ || capability) && (any || type == DnsType::Ptr)) {
         for (auto& [key, p] : pointers_) {
-            if (!knownByAsker.contains(key)) counts(p);
+            if (knownByAsker.contains(key)) continue;
+            if (capability) {
+                const auto it = announced_.find(key);
+                if (it == announced_.end() || !it->second.hasCapability(*capability)) continue;
+            }
+            counts(p);
         }
         return;
     }
@@ -399,6 +418,32 @@ void ServiceCache::questionSeen(const DnsQuestion& question,
     if (auto it = addresses_.find(name); it != addresses_.end() && (any || type == DnsType::A)) {
         for (auto& a : it->second) counts(a);
     }
+}
+
+void ServiceCache::setInterest(std::optional<std::string> capability) {
+    interest_ = std::move(capability);
+}
+
+std::string ServiceCache::browseName() const {
+    return interest_ ? subtypeName(*interest_, serviceType_) : serviceType_;
+}
+
+bool ServiceCache::interesting(const std::string& key) const {
+    if (!interest_) return true;
+    const auto it = announced_.find(key);
+    return it != announced_.end() && it->second.hasCapability(*interest_);
+}
+
+std::optional<std::string> ServiceCache::subtypeCapability(const std::string& foldedName) const {
+    // "_<capability>._sub.<service type>"
+    const std::string suffix = "._sub." + serviceTypeKey_;
+    if (foldedName.size() <= suffix.size() + 1 || foldedName.front() != '_' ||
+        !endsWith(foldedName, suffix)) {
+        return std::nullopt;
+    }
+    std::string capability = foldedName.substr(1, foldedName.size() - suffix.size() - 1);
+    if (capability.find('.') != std::string::npos) return std::nullopt;
+    return capability;
 }
 
 std::vector<ServiceInstance> ServiceCache::services() const {

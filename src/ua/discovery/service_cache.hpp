@@ -25,6 +25,15 @@
 namespace skillcell::ua::mdns {
 
 inline constexpr std::string_view kOpcUaServiceType = "_opcua-tcp._tcp.local";
+/// The capability of a Local Discovery Server (OPC 10000-12, Annex D).
+inline constexpr std::string_view kLdsCapability = "LDS";
+
+/// The DNS-SD subtype (RFC 6763, 7.1) under which a server with `capability` is announced
+/// besides its service type, so that who looks for those servers alone asks only them:
+/// "_lds._sub._opcua-tcp._tcp.local" for "LDS". OPC 10000-12 defines no subtypes; an LDS of
+/// ours announces this one, and other vendors' LDSes are found by their TXT caps.
+[[nodiscard]] std::string subtypeName(std::string_view capability,
+                                      std::string_view serviceType = kOpcUaServiceType);
 
 using Clock = std::chrono::steady_clock;
 using Ipv4 = std::array<std::uint8_t, 4>;
@@ -81,9 +90,22 @@ public:
     std::vector<DnsQuestion> refreshQueries(Clock::time_point now);
     /// The next time expire() or refreshQueries() has something to do.
     [[nodiscard]] std::optional<Clock::time_point> nextDeadline() const;
-    /// The known answers for a browse query (RFC 6762, 7.1): the PTR records with more than
-    /// half of their TTL left, with the TTL they have left.
-    [[nodiscard]] std::vector<DnsRecord> knownAnswers(Clock::time_point now) const;
+    /// The known answers for a browse query (RFC 6762, 7.1) for `browseName` (the service
+    /// type, or a subtype of it): the PTR records with more than half of their TTL left, with
+    /// the TTL they have left; for a subtype, those of the instances with its capability.
+    [[nodiscard]] std::vector<DnsRecord> knownAnswers(Clock::time_point now,
+                                                      std::string_view browseName) const;
+    [[nodiscard]] std::vector<DnsRecord> knownAnswers(Clock::time_point now) const {
+        return knownAnswers(now, serviceType_);
+    }
+    /// What this cache's owner wants kept fresh: every server (none), or only the servers
+    /// with a capability (a server looking for its LDS). Records of the others are still
+    /// taken in and reported, but never asked for again: they live as long as their TTL and
+    /// whatever others' queries bring. The refresh of a PTR then asks for the subtype.
+    void setInterest(std::optional<std::string> capability);
+    /// The name a browse query of this cache's owner asks for: the service type, or the
+    /// subtype of the capability of interest.
+    [[nodiscard]] std::string browseName() const;
     /// Another host asked `question`, and holds `knownByAsker` (the PTR targets, folded, of its
     /// known answers): a refresh of ours that is due soon and that the answers will renew
     /// counts as asked (RFC 6762, 7.3).
@@ -130,6 +152,10 @@ private:
                    const std::set<std::string>& keys);
     [[nodiscard]] std::set<std::string> allKeys() const;
     [[nodiscard]] std::optional<ServiceInstance> complete(const std::string& key) const;
+    /// Whether the instance `key` (folded) is one whose records are refreshed (setInterest).
+    [[nodiscard]] bool interesting(const std::string& key) const;
+    /// The capability (folded) a PTR name is the subtype of, e.g. "lds"; none for another name.
+    [[nodiscard]] std::optional<std::string> subtypeCapability(const std::string& foldedName) const;
 
     std::string serviceType_;
     std::string serviceTypeKey_;
@@ -140,6 +166,7 @@ private:
     std::map<std::string, ServiceInstance> announced_;       // folded instance name
     std::vector<DnsQuestion> pending_;  // A questions for SRV targets we have no address for
     std::optional<std::minstd_rand> jitter_;
+    std::optional<std::string> interest_;  // the capability, as given
 };
 
 }  // namespace skillcell::ua::mdns
