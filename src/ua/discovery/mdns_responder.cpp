@@ -307,7 +307,6 @@ std::size_t MdnsResponder::subscribe(Listener listener, BrowseScope scope) {
     const bool widens = scope == BrowseScope::AllServers && scope_ == BrowseScope::DiscoveryServers;
     if (!browse_.active() || widens) {
         scope_ = scope;
-        askEveryServerOnce_ = scope == BrowseScope::DiscoveryServers;
         cache_.setInterest(scope == BrowseScope::DiscoveryServers
                                ? std::optional<std::string>(kLdsCapability)
                                : std::nullopt);
@@ -695,9 +694,7 @@ void MdnsResponder::sendMulticast(std::span<const std::uint8_t> bytes) {
 void MdnsResponder::sendQuestions(std::vector<DnsQuestion> questions, Clock::time_point now) {
     DnsMessage m;
     m.id = queryId_;
-    // Known answers (7.1): the servers we know need not answer again. For our browse
-    // question only: a question for every server that a DiscoveryServers browser asks once
-    // goes without them (it knows LDSes only).
+    // Known answers (7.1): the servers we know need not answer again.
     const std::string name = browseName();
     const bool browse = std::any_of(questions.begin(), questions.end(), [&](const DnsQuestion& q) {
         return isPtrQuestionFor(q, name);
@@ -736,11 +733,6 @@ asio::awaitable<void> MdnsResponder::timerLoop() {
                 if (std::none_of(questions.begin(), questions.end(),
                                  [&](const DnsQuestion& q) { return isPtrQuestionFor(q, name); })) {
                     questions.push_back({name, static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
-                }
-                if (askEveryServerOnce_) {
-                    askEveryServerOnce_ = false;
-                    questions.push_back({std::string(kOpcUaServiceType),
-                                         static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
                 }
                 browse_.sent(now);
             }
