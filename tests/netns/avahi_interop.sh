@@ -79,19 +79,20 @@ start_in h2 server "$BIN" server --port 4841 --mdns-ttl 120 --mdns-name skillcel
   --application-uri urn:test:pump --pki-dir "$NETNS_DIR/pki-server" --insecure
 wait_for_line "$NETNS_DIR/server.out" '^READY' 20 >/dev/null || fail "server did not start"
 
-# avahi-browse: -r resolve, -p parseable, -t terminate once the cache is complete.
-found=""
-deadline=$(($(now_ms) + 15000))
-while [ "$(now_ms)" -lt "$deadline" ]; do
-  netns_exec h1 timeout 10 avahi-browse -rpt _opcua-tcp._tcp >"$NETNS_DIR/browse.out" \
-    2>"$NETNS_DIR/browse.err" || true
-  if found=$(grep -E '^=;eth0;IPv4;skillcell-pump;_opcua-tcp\._tcp;local;[^;]+;198\.18\.0\.2;4841;' \
-      "$NETNS_DIR/browse.out"); then
-    break
-  fi
-  found=""
-  sleep 0.2
-done
+# Runs avahi-browse on h1 for TYPE until it resolves INSTANCE on 198.18.0.2:PORT (15 s at
+# most); prints that line, or nothing. -r resolve, -p parseable, -t terminate once the cache
+# is complete. The whole output stays in $NETNS_DIR/browse-NAME.out.
+avahi_resolves() { # NAME TYPE INSTANCE PORT
+  local out="$NETNS_DIR/browse-$1.out" deadline=$(($(now_ms) + 15000))
+  while [ "$(now_ms)" -lt "$deadline" ]; do
+    netns_exec h1 timeout 10 avahi-browse -rpt "$2" >"$out" 2>"$NETNS_DIR/browse-$1.err" || true
+    grep -E "^=;eth0;IPv4;$3;_opcua-tcp\._tcp;local;[^;]+;198\.18\.0\.2;$4;" "$out" && return 0
+    sleep 0.2
+  done
+  return 1
+}
+
+found=$(avahi_resolves pump _opcua-tcp._tcp skillcell-pump 4841)
 [ -n "$found" ] || fail "avahi-browse did not resolve the skillcell server"
 echo "$found" | grep -q '"path=' || fail "avahi-browse resolved no TXT path=: $found"
 echo "$found" | grep -q '"caps=' || fail "avahi-browse resolved no TXT caps=: $found"
@@ -102,18 +103,7 @@ echo "ok: avahi-browse resolves the skillcell server: $found"
 start_in h2 lds "$BIN" lds --port 4842 --mdns-name skillcell-lds --application-uri urn:test:lds \
   --pki-dir "$NETNS_DIR/pki-lds" --insecure
 wait_for_line "$NETNS_DIR/lds.out" '^READY' 20 >/dev/null || fail "lds did not start"
-found=""
-deadline=$(($(now_ms) + 15000))
-while [ "$(now_ms)" -lt "$deadline" ]; do
-  netns_exec h1 timeout 10 avahi-browse -rpt _lds._sub._opcua-tcp._tcp >"$NETNS_DIR/browse-lds.out" \
-    2>"$NETNS_DIR/browse-lds.err" || true
-  if found=$(grep -E '^=;eth0;IPv4;skillcell-lds;_opcua-tcp\._tcp;local;[^;]+;198\.18\.0\.2;4842;' \
-      "$NETNS_DIR/browse-lds.out"); then
-    break
-  fi
-  found=""
-  sleep 0.2
-done
+found=$(avahi_resolves lds _lds._sub._opcua-tcp._tcp skillcell-lds 4842)
 [ -n "$found" ] || fail "avahi-browse of the LDS subtype did not resolve the skillcell LDS: $(cat "$NETNS_DIR/browse-lds.out")"
 ! grep -q 'skillcell-pump' "$NETNS_DIR/browse-lds.out" ||
   fail "avahi-browse of the LDS subtype lists the pump, which is no LDS"
