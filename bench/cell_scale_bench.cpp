@@ -29,6 +29,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -136,14 +137,19 @@ long cpuTicks(pid_t pid) {
     return utime + stime;
 }
 
-/// Resident set size in kB.
-long rssKb(pid_t pid) {
-    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+/// A field of a /proc file in kB ("VmRSS:" of status, "Pss:" of smaps_rollup), 0 if absent.
+long procKb(pid_t pid, const char* file, std::string_view field) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/" + file);
     std::string line;
     while (std::getline(in, line)) {
-        if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+        if (line.rfind(field, 0) == 0) return std::stol(line.substr(field.size()));
     }
     return 0;
+}
+
+/// Resident set size in kB.
+long rssKb(pid_t pid) {
+    return procKb(pid, "status", "VmRSS:");
 }
 
 /// Packets the loopback carried so far (each is sent and received once on it), from
@@ -296,13 +302,22 @@ int runSize(const Options& o, int n, const fs::path& logs) {
     const double hz = static_cast<double>(::sysconf(_SC_CLK_TCK));
     std::vector<double> cpu;
     std::vector<double> rss;
+    // RSS counts the pages of the binary and libraries that every component shares; the
+    // proportional set size divides them among their users, and the anonymous part is what
+    // each component costs on its own.
+    std::vector<double> pss;
+    std::vector<double> anon;
     for (std::size_t k = 0; k < cell.size(); ++k) {
         const auto pid = cell[k].process.pid();
         cpu.push_back(100.0 * static_cast<double>(cpuTicks(pid) - ticks[k]) / hz / seconds);
         rss.push_back(static_cast<double>(rssKb(pid)) / 1024);
+        pss.push_back(static_cast<double>(procKb(pid, "smaps_rollup", "Pss:")) / 1024);
+        anon.push_back(static_cast<double>(procKb(pid, "status", "RssAnon:")) / 1024);
     }
     std::sort(cpu.begin(), cpu.end());
     std::sort(rss.begin(), rss.end());
+    std::sort(pss.begin(), pss.end());
+    std::sort(anon.begin(), anon.end());
     auto median = [](const std::vector<double>& v) { return v[v.size() / 2]; };
     double cpuSum = 0;
     for (double c : cpu) cpuSum += c;
@@ -315,6 +330,10 @@ int runSize(const Options& o, int n, const fs::path& logs) {
         median(cpu), cpu.back(), cpuSum);
     std::printf("  RSS per component                  median %.1f MB, max %.1f MB\n", median(rss),
                 rss.back());
+    std::printf("    of which its own (RssAnon)       median %.1f MB, max %.1f MB\n", median(anon),
+                anon.back());
+    std::printf("  PSS per component                  median %.1f MB, max %.1f MB\n", median(pss),
+                pss.back());
 
     rig.reset();
     for (auto& c : cell) ::kill(c.process.pid(), SIGTERM);
