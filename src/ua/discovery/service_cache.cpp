@@ -364,10 +364,7 @@ std::vector<DnsRecord> ServiceCache::knownAnswers(Clock::time_point now,
     for (const auto& [key, p] : pointers_) {
         const auto left = std::chrono::duration_cast<std::chrono::seconds>(p.expiry() - now);
         if (left * 2 <= p.ttl) continue;
-        if (capability) {
-            const auto it = announced_.find(key);
-            if (it == announced_.end() || !it->second.hasCapability(*capability)) continue;
-        }
+        if (capability && !announcedWith(key, *capability)) continue;
         DnsRecord r;
         r.name = std::string(browseName);
         r.type = static_cast<std::uint16_t>(DnsType::Ptr);
@@ -401,10 +398,7 @@ void ServiceCache::questionSeen(const DnsQuestion& question,
     if ((name == serviceTypeKey_ || capability) && (any || type == DnsType::Ptr)) {
         for (auto& [key, p] : pointers_) {
             if (knownByAsker.contains(key)) continue;
-            if (capability) {
-                const auto it = announced_.find(key);
-                if (it == announced_.end() || !it->second.hasCapability(*capability)) continue;
-            }
+            if (capability && !announcedWith(key, *capability)) continue;
             counts(p);
         }
         return;
@@ -429,9 +423,12 @@ std::string ServiceCache::browseName() const {
 }
 
 bool ServiceCache::interesting(const std::string& key) const {
-    if (!interest_) return true;
+    return !interest_ || announcedWith(key, *interest_);
+}
+
+bool ServiceCache::announcedWith(const std::string& key, std::string_view capability) const {
     const auto it = announced_.find(key);
-    return it != announced_.end() && it->second.hasCapability(*interest_);
+    return it != announced_.end() && it->second.hasCapability(capability);
 }
 
 std::optional<std::string> ServiceCache::subtypeCapability(const std::string& foldedName) const {

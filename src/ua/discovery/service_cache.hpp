@@ -154,6 +154,8 @@ private:
     [[nodiscard]] std::optional<ServiceInstance> complete(const std::string& key) const;
     /// Whether the instance `key` (folded) is one whose records are refreshed (setInterest).
     [[nodiscard]] bool interesting(const std::string& key) const;
+    /// Whether the instance `key` (folded) is announced with `capability`.
+    [[nodiscard]] bool announcedWith(const std::string& key, std::string_view capability) const;
     /// The capability (folded) a PTR name is the subtype of, e.g. "lds"; none for another name.
     [[nodiscard]] std::optional<std::string> subtypeCapability(const std::string& foldedName) const;
 
