@@ -18,11 +18,11 @@
 #include <random>
 #include <sstream>
 
-#include "kb/component_graph.hpp"
 #include "kb/engine/virtuoso_instance.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "latency_stats.hpp"
+#include "synthetic_components.hpp"
 
 namespace {
 
@@ -30,27 +30,12 @@ using namespace skillcell;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-const char* const kPrefixes =
-    "PREFIX rdfs: <http://www.w3.org/2000/01/rdf-schema#>\n"
-    "PREFIX opc: <http://skillcell.dev/ontology/opcua#>\n"
-    "PREFIX ua: <http://opcfoundation.org/UA/>\n"
-    "PREFIX gskill: <http://skillcell.dev/UA/GripperSkills/>\n"
-    "PREFIX rskill: <http://skillcell.dev/UA/RoboticSkills/>\n"
-    "PREFIX proc: <http://skillcell.dev/ontology/process#>\n";
-
-const std::string kGraspQuery =
-    std::string(kPrefixes) +
-    "SELECT ?skill ?url WHERE {"
-    "  ?skill a ?type ; proc:available true ; proc:gripType \"parallel\" ."
-    "  ?type rdfs:subClassOf* gskill:GripperSkillType ."
-    "  ?component proc:offers ?skill ; proc:available true ;"
-    "             proc:discoveryUrl ?url } LIMIT 1";
 // The declaring types first, in a subquery: Virtuoso 7.2 answers a join of two property
 // paths over an unbound middle (?type subClassOf* MoveSkillType, ?type subClassOf*
 // ?declaring) with only some of the rows, depending on the plan (measured here: one declaring
 // type of six). A subquery is evaluated on its own.
 const std::string kMoveQuery =
-    std::string(kPrefixes) +
+    std::string(bench::kSyntheticPrefixes) +
     "SELECT ?skill WHERE {"
     "  { SELECT DISTINCT ?declaring WHERE {"
     "      ?declaring ua:HasComponent ?set . ?set opc:browseName \"ParameterSet\" ."
@@ -59,45 +44,6 @@ const std::string kMoveQuery =
     "  ?type rdfs:subClassOf* ?declaring ."
     "  ?type rdfs:subClassOf* rskill:MoveSkillType ."
     "  ?skill a ?type ; proc:available true } LIMIT 1";
-
-skills::SkillInstance skill(const std::string& component, const std::string& name,
-                            const std::string& ns, const std::string& type, std::uint32_t id) {
-    skills::SkillInstance s;
-    s.componentUri = component;
-    s.endpointUrl = "opc.tcp://198.18.0." + std::to_string(component.size()) + ":4840";
-    s.nodeId = ua::NodeId(2, ua::String("Skills/" + name));
-    s.browsePath = {{component, "Skills"}, {component, name}};
-    s.types = {{skills::GlobalNodeId(std::string_view(ns), id), type}};
-    return s;
-}
-
-// n components; only the last one's skills are available and fit the queries.
-std::vector<kb::GraphData> components(std::size_t n) {
-    kb::ComponentGraphs graphs;
-    std::vector<kb::GraphData> out;
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::string uri = "urn:bench:component:" + std::to_string(i);
-        const bool fits = i + 1 == n;
-        std::vector<skills::SkillInstance> skills{
-            skill(uri, "Grasp", "http://skillcell.dev/UA/GripperSkills/", "GraspGripperSkillType",
-                  1002),
-            skill(uri, "Release", "http://skillcell.dev/UA/GripperSkills/",
-                  "ReleaseGripperSkillType", 1003),
-            skill(uri, "MoveLinear", "http://skillcell.dev/UA/RoboticSkills/",
-                  "CartesianLinearMoveSkillType", 1004),
-            skill(uri, "MovePtp", "http://skillcell.dev/UA/RoboticSkills/",
-                  "CartesianPtpMoveSkillType", 1005)};
-        // Seen, then (for all but the last) gone: recorded with proc:available false.
-        (void)graphs.update(uri, skills);
-        kb::GraphData g = graphs.update(uri, fits ? skills : std::vector<skills::SkillInstance>{});
-        const std::string grasp = kb::componentIri(uri) + "/ns%3D2%3Bs%3DSkills%2FGrasp";
-        g.triples.push_back({kb::rdf::iri(grasp),
-                             kb::rdf::iri(std::string(kb::kProcessVocabulary) + "gripType"),
-                             kb::rdf::literal(i % 2 == 0 || fits ? "parallel" : "vacuum")});
-        out.push_back(std::move(g));
-    }
-    return out;
-}
 
 bench::Samples timeQuery(kb::KnowledgeBase& kb, const std::string& q, int count,
                          const std::string& mustContain, bool& wrong) {
@@ -164,7 +110,7 @@ int main(int argc, char** argv) {
         std::printf("Virtuoso 7.2, SPARQL over HTTP on loopback, %d queries each\n", count);
         for (const std::size_t n : sizes) {
             const auto t0 = Clock::now();
-            auto graphs = components(n);
+            auto graphs = bench::syntheticComponents(n);
             // In loads of 40 components: each is one request of ~800 triples.
             for (std::size_t at = 0; at < graphs.size() && rc == 0; at += 40) {
                 const std::vector<kb::GraphData> batch(
@@ -183,7 +129,8 @@ int main(int argc, char** argv) {
             const auto baseline =
                 bench::summarize(timeQuery(knowledge, "ASK {}", count, "boolean", wrong));
             const std::string lastIri = kb::componentIri(last);
-            print("grasp", n, timeQuery(knowledge, kGraspQuery, count, lastIri + "/", wrong),
+            print("grasp", n,
+                  timeQuery(knowledge, bench::kSyntheticGraspQuery, count, lastIri + "/", wrong),
                   baseline.medianUs);
             print("move", n, timeQuery(knowledge, kMoveQuery, count, lastIri + "/", wrong),
                   baseline.medianUs);

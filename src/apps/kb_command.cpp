@@ -285,8 +285,9 @@ void logRecorded(const ComponentRecord& r) {
 }
 
 // Records every component with a recording queued. Components that appear together (a cell
-// starting, a rack plugged in) are read one by one and then loaded together
-// (KnowledgeBase::loadParts), in batches of what one load may hold.
+// starting, a rack plugged in) are read one by one and then recorded together
+// (KnowledgeBase::record: checked against the models, not against each other), in batches
+// of what one recording may hold.
 void recordPending(KbComponent& c) {
     std::set<std::string> uris;
     {
@@ -301,10 +302,10 @@ void recordPending(KbComponent& c) {
     for (std::size_t at = 0; at < records.size() && !c.stopping;
          at += kb::KnowledgeBase::kMaxGraphsPerLoad) {
         const std::size_t end = std::min(records.size(), at + kb::KnowledgeBase::kMaxGraphsPerLoad);
-        std::vector<std::vector<kb::GraphData>> parts;
-        parts.reserve(end - at);
-        for (std::size_t i = at; i < end; ++i) parts.push_back({records[i].graph});
-        const auto loaded = c.kb.loadParts(parts);
+        std::vector<kb::GraphData> graphs;
+        graphs.reserve(end - at);
+        for (std::size_t i = at; i < end; ++i) graphs.push_back(records[i].graph);
+        const auto loaded = c.kb.record(graphs);
         std::size_t recorded = 0;
         for (std::size_t i = at; i < end; ++i) {
             if (const auto& s = loaded[i - at]; !s) {

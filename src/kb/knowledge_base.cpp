@@ -86,6 +86,28 @@ std::vector<Status> KnowledgeBase::loadParts(const std::vector<std::vector<Graph
     return each;
 }
 
+Status KnowledgeBase::refusal(const std::vector<std::string>& names,
+                              const std::vector<rdf::Triple>& rest,
+                              const std::vector<rdf::Triple>& incoming) const {
+    std::string what = "refused: loading ";
+    for (const auto& n : names) what += "<" + n + "> ";
+    what += "would make the knowledge base inconsistent";
+    auto why = reasoner_->explainInconsistency(rest, incoming);
+    if (!why) {
+        return Error{what + " (no explanation: " + why.error() + ")", ErrorKind::Refused};
+    }
+    if (!why->inconsistent) {
+        return Error{what +
+                         " (the reasoner found no conflict in the new statements "
+                         "alone; the loaded models conflict among themselves)",
+                     ErrorKind::Refused};
+    }
+    return Error{what + "; these statements conflict" +
+                     (why->runLimitHit ? " (perhaps not a minimal set)" : "") + ":" +
+                     describe(why->conflict),
+                 ErrorKind::Refused};
+}
+
 Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
     if (graphs.size() > kMaxGraphsPerLoad) {
         return Error{"at most " + std::to_string(kMaxGraphsPerLoad) + " graphs per load, not " +
@@ -100,68 +122,68 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
         incoming.insert(incoming.end(), g.triples.begin(), g.triples.end());
     }
     const std::lock_guard lock(writeMutex_);
-    std::vector<rdf::Triple> inferred;
-    if (reasoner_ != nullptr) {
-        auto rest = everythingBut(names);
-        if (!rest) {
-            return Error{"cannot read the knowledge base: " + rest.error(), rest.errorKind()};
+    if (reasoner_ == nullptr) {
+        auto s = commit(graphs, false, {}, {});
+        ++modelsGeneration_;
+        return s;
+    }
+    // Models change rarely and may change what any instance is: the whole KB is checked.
+    auto rest = everythingBut(names);
+    if (!rest) return Error{"cannot read the knowledge base: " + rest.error(), rest.errorKind()};
+    std::vector<rdf::Triple> all = *rest;
+    all.insert(all.end(), incoming.begin(), incoming.end());
+    auto realization = reasoner_->realize(rdf::writeNTriples(all));
+    if (!realization) return Error{"reasoner: " + realization.error()};
+    if (!realization->consistent) return refusal(names, *rest, incoming);
+    // What the reasoner adds: the types not stated anywhere.
+    std::set<std::pair<std::string, std::string>> stated;
+    for (const auto& t : all) {
+        if (t.predicate.value == kRdfType && t.object.kind == rdf::Term::Kind::Iri) {
+            stated.emplace(t.subject.value, t.object.value);
         }
-        std::vector<rdf::Triple> all = *rest;
-        all.insert(all.end(), incoming.begin(), incoming.end());
-        const std::string text = rdf::writeNTriples(all);
-        auto realization = reasoner_->realize(text);
-        if (!realization) return Error{"reasoner: " + realization.error()};
-        if (!realization->consistent) {
-            std::string what = "refused: loading ";
-            for (const auto& n : names) what += "<" + n + "> ";
-            what += "would make the knowledge base inconsistent";
-            auto why = reasoner_->explainInconsistency(*rest, incoming);
-            if (!why) {
-                return Error{what + " (no explanation: " + why.error() + ")", ErrorKind::Refused};
-            }
-            if (!why->inconsistent) {
-                return Error{what +
-                                 " (the reasoner found no conflict in the new statements "
-                                 "alone; the loaded models conflict among themselves)",
-                             ErrorKind::Refused};
-            }
-            return Error{what + "; these statements conflict" +
-                             (why->runLimitHit ? " (perhaps not a minimal set)" : "") + ":" +
-                             describe(why->conflict),
-                         ErrorKind::Refused};
-        }
-        // What the reasoner adds: the types not stated anywhere.
-        std::set<std::pair<std::string, std::string>> stated;
-        for (const auto& t : all) {
-            if (t.predicate.value == kRdfType && t.object.kind == rdf::Term::Kind::Iri) {
-                stated.emplace(t.subject.value, t.object.value);
-            }
-        }
-        for (const auto& a : realization->types) {
-            // Anonymous individuals (blank nodes: a pose, a parameter) are named by the
-            // reasoner's own scheme, which no query could use.
-            if (a.individual.rfind("_:", 0) == 0) continue;
-            if (stated.count({a.individual, a.cls}) != 0) continue;
-            inferred.push_back({rdf::iri(a.individual), rdf::iri(kRdfType), rdf::iri(a.cls)});
-        }
+    }
+    std::set<rdf::Triple> now;
+    for (const auto& a : realization->types) {
+        // Anonymous individuals (blank nodes: a pose, a parameter) are named by the
+        // reasoner's own scheme, which no query could use.
+        if (a.individual.rfind("_:", 0) == 0) continue;
+        if (stated.count({a.individual, a.cls}) != 0) continue;
+        now.insert({rdf::iri(a.individual), rdf::iri(kRdfType), rdf::iri(a.cls)});
     }
     // The inferred graph changes by what changed: a small load stays a small request.
+    if (auto s = knowInferred(); !s) return s;
     std::vector<rdf::Triple> added;
     std::vector<rdf::Triple> removed;
-    if (reasoner_ != nullptr) {
-        if (!inferredKnown_) {
-            auto current = graphContent(kInferredGraph);
-            if (!current) return current.failure();
-            inferred_ = std::set<rdf::Triple>(current->begin(), current->end());
-            inferredKnown_ = true;
-        }
-        const std::set<rdf::Triple> now(inferred.begin(), inferred.end());
-        std::set_difference(now.begin(), now.end(), inferred_.begin(), inferred_.end(),
-                            std::back_inserter(added));
-        std::set_difference(inferred_.begin(), inferred_.end(), now.begin(), now.end(),
-                            std::back_inserter(removed));
-        inferred = std::vector<rdf::Triple>(now.begin(), now.end());
-    }
+    std::set_difference(now.begin(), now.end(), inferred_.begin(), inferred_.end(),
+                        std::back_inserter(added));
+    std::set_difference(inferred_.begin(), inferred_.end(), now.begin(), now.end(),
+                        std::back_inserter(removed));
+    auto s = commit(graphs, false, added, removed);
+    ++modelsGeneration_;
+    return s;
+}
+
+Status KnowledgeBase::knowInferred() {
+    if (reasoner_ == nullptr || inferredKnown_) return Done{};
+    auto current = graphContent(kInferredGraph);
+    if (!current) return current.failure();
+    inferred_ = std::set<rdf::Triple>(current->begin(), current->end());
+    inferredKnown_ = true;
+    return Done{};
+}
+
+Status KnowledgeBase::commit(const std::vector<GraphData>& graphs, bool instances,
+                             const std::vector<rdf::Triple>& added,
+                             const std::vector<rdf::Triple>& removed) {
+    // A graph is registered as a model or as an instance graph, as its last writer said.
+    const std::string member = "<" + registryMember() + ">";
+    const std::string instance = "<" + std::string(kKbVocabulary) + "InstanceGraph>";
+    const auto registration = [&](const std::string& iri) {
+        const std::string g = "GRAPH <" + std::string(kRegistryGraph) + "> { <" + iri + "> a ";
+        return (instances ? "INSERT DATA { " + g + member + " , " + instance + " } } ;\n"
+                          : "DELETE DATA { " + g + instance + " } } ;\nINSERT DATA { " + g +
+                                member + " } } ;\n");
+    };
     std::size_t size = added.size() + removed.size();
     for (const auto& g : graphs) size += g.triples.size();
 
@@ -172,8 +194,7 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
         for (std::size_t i = 0; i < graphs.size(); ++i) {
             u += "DROP SILENT GRAPH <" + graphs[i].iri + "> ;\n";
             u += insertText(graphs[i].iri, graphs[i].triples, i);
-            u += "INSERT DATA { GRAPH <" + std::string(kRegistryGraph) + "> { <" + graphs[i].iri +
-                 "> a <" + registryMember() + "> } } ;\n";
+            u += registration(graphs[i].iri);
         }
         if (!removed.empty()) {
             u += "DELETE DATA { GRAPH <" + std::string(kInferredGraph) + "> {\n" +
@@ -193,7 +214,12 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
                 {std::string(kStagingGraphPrefix) + std::to_string(i), graphs[i].triples});
         }
         if (reasoner_ != nullptr) {
-            staged.push_back({std::string(kStagingGraphPrefix) + "inferred", inferred});
+            if (auto s = knowInferred(); !s) return s;
+            std::set<rdf::Triple> whole = inferred_;
+            for (const auto& t : removed) whole.erase(t);
+            whole.insert(added.begin(), added.end());
+            staged.push_back({std::string(kStagingGraphPrefix) + "inferred",
+                              std::vector<rdf::Triple>(whole.begin(), whole.end())});
         }
         for (std::size_t i = 0; i < staged.size(); ++i) {
             if (auto s = stage(staged[i], i); !s) {
@@ -204,8 +230,7 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
             // DROP first: Virtuoso 7.2's MOVE adds to the target without clearing it.
             u += "DROP SILENT GRAPH <" + graphs[i].iri + "> ;\n";
             u += "MOVE SILENT GRAPH <" + staged[i].iri + "> TO GRAPH <" + graphs[i].iri + "> ;\n";
-            u += "INSERT DATA { GRAPH <" + std::string(kRegistryGraph) + "> { <" + graphs[i].iri +
-                 "> a <" + registryMember() + "> } } ;\n";
+            u += registration(graphs[i].iri);
         }
         if (reasoner_ != nullptr) {
             u += "DROP SILENT GRAPH <" + std::string(kInferredGraph) + "> ;\n";
@@ -217,8 +242,175 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
         inferredKnown_ = false;  // the request may or may not have run: read it again
         return Error{"store: " + s.error(), s.errorKind()};
     }
-    if (reasoner_ != nullptr) inferred_ = std::set<rdf::Triple>(inferred.begin(), inferred.end());
+    if (inferredKnown_) {
+        for (const auto& t : removed) inferred_.erase(t);
+        inferred_.insert(added.begin(), added.end());
+    }
     return Done{};
+}
+
+Expected<std::shared_ptr<const KnowledgeBase::Models>> KnowledgeBase::models() {
+    {
+        const std::lock_guard lock(modelsMutex_);
+        if (models_ && models_->generation == modelsGeneration_.load()) return models_;
+    }
+    // Read under the write lock: the models of one generation, not of a load half seen.
+    const std::lock_guard write(writeMutex_);
+    auto m = std::make_shared<Models>();
+    m->generation = modelsGeneration_.load();
+    const std::string q = "CONSTRUCT { ?s ?p ?o } WHERE { GRAPH <" + std::string(kRegistryGraph) +
+                          "> { ?g a <" + registryMember() + "> FILTER NOT EXISTS { ?g a <" +
+                          std::string(kKbVocabulary) + "InstanceGraph> } } GRAPH ?g { ?s ?p ?o } }";
+    auto r = store_.query(q, media::kNTriples);
+    if (!r) return r.failure();
+    auto triples = rdf::readTurtle(r->body);
+    if (!triples) return triples.failure();
+    m->triples = std::move(*triples);
+    m->text = rdf::writeNTriples(m->triples);
+    for (const auto& t : m->triples) {
+        if (t.subject.kind == rdf::Term::Kind::Iri) m->subjects.insert(t.subject.value);
+    }
+    const std::lock_guard lock(modelsMutex_);
+    models_ = m;
+    return std::shared_ptr<const Models>(std::move(m));
+}
+
+std::set<rdf::Triple> KnowledgeBase::inferredFor(const GraphData& instance, const Models& models,
+                                                 const engine::Realization& realization) {
+    std::set<std::string> individuals;
+    std::set<std::pair<std::string, std::string>> stated;
+    for (const auto& t : instance.triples) {
+        if (t.subject.kind != rdf::Term::Kind::Iri) continue;
+        if (models.subjects.count(t.subject.value) == 0) individuals.insert(t.subject.value);
+        if (t.predicate.value == kRdfType && t.object.kind == rdf::Term::Kind::Iri) {
+            stated.emplace(t.subject.value, t.object.value);
+        }
+    }
+    std::set<rdf::Triple> out;
+    for (const auto& a : realization.types) {
+        if (individuals.count(a.individual) == 0 || stated.count({a.individual, a.cls}) != 0) {
+            continue;
+        }
+        out.insert({rdf::iri(a.individual), rdf::iri(kRdfType), rdf::iri(a.cls)});
+    }
+    return out;
+}
+
+std::vector<Status> KnowledgeBase::record(const std::vector<GraphData>& instances) {
+    std::vector<Status> out(instances.size(), Done{});
+    if (instances.size() > kMaxGraphsPerLoad) {
+        return std::vector<Status>(
+            instances.size(),
+            Error{"at most " + std::to_string(kMaxGraphsPerLoad) + " graphs per recording, not " +
+                      std::to_string(instances.size()),
+                  ErrorKind::BadInput});
+    }
+    std::set<std::string> seen;
+    for (std::size_t i = 0; i < instances.size(); ++i) {
+        if (auto ref = sparqlIri(instances[i].iri); !ref) {
+            out[i] = ref.failure();
+        } else if (!seen.insert(instances[i].iri).second) {
+            out[i] = Error{"<" + instances[i].iri + "> given twice in one recording",
+                           ErrorKind::BadInput};
+        }
+    }
+    // A load of models while this one reasons makes it reason again: a few times at most.
+    constexpr int kAttempts = 4;
+    for (int attempt = 0; attempt < kAttempts; ++attempt) {
+        std::vector<std::size_t> pending;
+        for (std::size_t i = 0; i < instances.size(); ++i) {
+            if (out[i]) pending.push_back(i);
+        }
+        if (pending.empty()) return out;
+        auto models = this->models();
+        if (!models) {
+            for (auto i : pending) out[i] = Error{"cannot read the models: " + models.error()};
+            return out;
+        }
+        const Models& m = **models;
+        // Reasoning, without a lock: all together, since they are independent of each other;
+        // when that is inconsistent, each alone, so that the one at fault is named.
+        std::vector<std::set<rdf::Triple>> inferred(instances.size());
+        if (reasoner_ != nullptr) {
+            const auto realize = [&](const std::vector<std::size_t>& which) {
+                std::string text = m.text;
+                for (auto i : which) text += rdf::writeNTriples(instances[i].triples);
+                return reasoner_->realize(text);
+            };
+            auto together = realize(pending);
+            if (!together) {
+                for (auto i : pending) out[i] = Error{"reasoner: " + together.error()};
+                return out;
+            }
+            if (together->consistent) {
+                for (auto i : pending) inferred[i] = inferredFor(instances[i], m, *together);
+            } else {
+                for (auto i : pending) {
+                    auto alone = pending.size() == 1 ? together : realize({i});
+                    if (!alone) {
+                        out[i] = Error{"reasoner: " + alone.error()};
+                    } else if (!alone->consistent) {
+                        out[i] = refusal({instances[i].iri}, m.triples, instances[i].triples);
+                    } else {
+                        inferred[i] = inferredFor(instances[i], m, *alone);
+                    }
+                }
+            }
+        }
+        std::vector<std::size_t> accepted;
+        for (auto i : pending) {
+            if (out[i]) accepted.push_back(i);
+        }
+        if (accepted.empty()) return out;
+
+        const std::lock_guard lock(writeMutex_);
+        if (m.generation != modelsGeneration_.load()) continue;  // the models changed
+        // The types the previous versions of these graphs brought, for their individuals
+        // (those the models describe keep theirs).
+        std::vector<rdf::Triple> added;
+        std::vector<rdf::Triple> removed;
+        std::vector<GraphData> graphs;
+        std::set<rdf::Triple> now;
+        for (auto i : accepted) {
+            graphs.push_back(instances[i]);
+            now.insert(inferred[i].begin(), inferred[i].end());
+        }
+        if (reasoner_ != nullptr) {
+            std::string in;
+            for (const auto& g : graphs) in += (in.empty() ? "" : ", ") + ("<" + g.iri + ">");
+            auto before = store_.query(
+                "CONSTRUCT { ?s a ?t } WHERE { GRAPH ?g { ?s ?p ?o } FILTER(?g IN (" + in +
+                    ")) GRAPH <" + std::string(kInferredGraph) + "> { ?s a ?t } }",
+                media::kNTriples);
+            auto previous = before ? rdf::readTurtle(before->body)
+                                   : Expected<std::vector<rdf::Triple>>(before.failure());
+            if (!previous) {
+                for (auto i : accepted) {
+                    out[i] = Error{"cannot read the inferred graph: " + previous.error(),
+                                   previous.errorKind()};
+                }
+                return out;
+            }
+            std::set<rdf::Triple> then;
+            for (auto& t : *previous) {
+                if (m.subjects.count(t.subject.value) == 0) then.insert(std::move(t));
+            }
+            std::set_difference(now.begin(), now.end(), then.begin(), then.end(),
+                                std::back_inserter(added));
+            std::set_difference(then.begin(), then.end(), now.begin(), now.end(),
+                                std::back_inserter(removed));
+        }
+        const auto s = commit(graphs, true, added, removed);
+        for (auto i : accepted) out[i] = s;
+        return out;
+    }
+    for (std::size_t i = 0; i < instances.size(); ++i) {
+        if (out[i]) {
+            out[i] = Error{"the models changed during each of " + std::to_string(kAttempts) +
+                           " attempts to record it: try again"};
+        }
+    }
+    return out;
 }
 
 std::string KnowledgeBase::insertText(const std::string& graphIri,
@@ -346,9 +538,12 @@ Expected<SparqlResponse> KnowledgeBase::query(const std::string& sparql,
 
 Status KnowledgeBase::update(const std::string& sparqlUpdate) {
     const std::lock_guard lock(writeMutex_);
-    // An update may touch the inferred graph: the next load reads it again.
+    // An update may touch the inferred graph and any model: the next load reads the one
+    // again, the next recording the other.
     inferredKnown_ = false;
-    return store_.update(sparqlUpdate);
+    auto s = store_.update(sparqlUpdate);
+    ++modelsGeneration_;
+    return s;
 }
 
 }  // namespace skillcell::kb

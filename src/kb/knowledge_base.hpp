@@ -9,8 +9,18 @@
 // update (all or nothing), together with the reasoner's inferred types, which live in their
 // own graph (kInferredGraph) so that queries can take them or leave them.
 //
+// Models and instances. What a component says about itself (kb/component_graph) is an
+// instance graph, written by record(): it is checked against the models alone (every graph
+// that is not an instance graph), so that recording a component costs in proportion to its
+// own graph and the models, not to the number of components recorded before it. Instance
+// graphs are assumed independent of each other (each describes its own individuals).
+//
 // Threading: every method may be called from any thread. Loads and updates are serialized
-// (a load's check must see the store it writes to); queries run concurrently.
+// (a load's check must see the store it writes to); a recording reasons without any lock
+// and takes the write lock only to write; queries never take a lock.
+#include <atomic>
+#include <cstdint>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <string>
@@ -58,6 +68,14 @@ public:
     /// each part alone, so that the part at fault is named and the others load all the same.
     /// One status per part. A store that fails (not a refusal) fails every part at once.
     [[nodiscard]] std::vector<Status> loadParts(const std::vector<std::vector<GraphData>>& parts);
+    /// Records instance graphs (what components say about themselves): each is checked
+    /// against the models alone, and its individuals' inferred types replace those of its
+    /// previous version. The reasoner runs without the write lock, over the models and these
+    /// graphs only; a load or update that changes the models meanwhile makes the recording
+    /// reason again. Everything accepted is written in one update. One status per graph: a
+    /// graph inconsistent with the models is refused (Refused, naming the statements that
+    /// conflict), the others are recorded. More than kMaxGraphsPerLoad graphs: BadInput.
+    [[nodiscard]] std::vector<Status> record(const std::vector<GraphData>& instances);
     /// load() of one graph given as Turtle; `baseIri` resolves relative IRIs (default: the
     /// graph's IRI).
     [[nodiscard]] Status loadTurtle(const std::string& graphIri, std::string_view turtle);
@@ -79,7 +97,27 @@ public:
     [[nodiscard]] Status update(const std::string& sparqlUpdate);
 
 private:
+    /// The models (every graph but the instance graphs) as of one generation, shared by the
+    /// recordings that reason over them.
+    struct Models {
+        std::uint64_t generation = 0;
+        std::vector<rdf::Triple> triples;
+        std::string text;                // N-Triples, for the reasoner
+        std::set<std::string> subjects;  // IRIs the models say something about
+    };
     Expected<std::vector<rdf::Triple>> everythingBut(const std::vector<std::string>& graphIris);
+    Expected<std::shared_ptr<const Models>> models();
+    /// The types inferred for the individuals of `instance` (its IRI subjects that the models
+    /// do not describe), less those it states.
+    static std::set<rdf::Triple> inferredFor(const GraphData& instance, const Models& models,
+                                             const engine::Realization& realization);
+    Status refusal(const std::vector<std::string>& names, const std::vector<rdf::Triple>& rest,
+                   const std::vector<rdf::Triple>& incoming) const;
+    /// Writes `graphs` (registered as instance graphs or as models) and the change to the
+    /// inferred graph, as one transaction where it fits one request. Under writeMutex_.
+    Status commit(const std::vector<GraphData>& graphs, bool instances,
+                  const std::vector<rdf::Triple>& added, const std::vector<rdf::Triple>& removed);
+    Status knowInferred();
     Status stage(const GraphData& graph, std::size_t number);
     static std::string insertText(const std::string& graphIri,
                                   const std::vector<rdf::Triple>& triples, std::size_t number);
@@ -95,6 +133,11 @@ private:
     // writes what changed; read from the store when not known.
     std::set<rdf::Triple> inferred_;
     bool inferredKnown_ = false;
+    // Bumped (under writeMutex_) by every load of models and every update: a recording that
+    // reasoned over an older generation reasons again.
+    std::atomic<std::uint64_t> modelsGeneration_{0};
+    std::mutex modelsMutex_;  // guards models_
+    std::shared_ptr<const Models> models_;
 };
 
 /// "<iri>" with the characters SPARQL forbids in an IRI reference refused: an Error names

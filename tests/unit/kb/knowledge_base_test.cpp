@@ -4,6 +4,7 @@
 // and a kill -9 of the store.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <random>
@@ -279,6 +280,92 @@ TEST_F(KnowledgeBaseTest, InferredTypesAreQueryableInTheirOwnGraph) {
     EXPECT_TRUE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:inferred#d> a proc:ToolDock }"));
     EXPECT_TRUE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:inferred#d> a proc:Resource }"));
     EXPECT_FALSE(ask("GRAPH <urn:test:inferred> { <urn:test:inferred#d> a proc:ToolDock }"));
+}
+
+GraphData turtleGraph(const std::string& iri, const std::string& turtle) {
+    auto triples = rdf::readTurtle(
+        "@prefix proc: <http://skillcell.dev/ontology/process#> .\n"
+        "@prefix rdfs: <http://www.w3.org/2000/01/rdf-schema#> .\n" +
+            turtle,
+        iri);
+    EXPECT_TRUE(triples) << triples.error();
+    return GraphData{iri, triples ? *triples : std::vector<rdf::Triple>{}};
+}
+
+// A component's graph is recorded as an instance graph: its individuals' inferred types go
+// to the inferred graph, and a new version replaces the types the old one brought, leaving
+// the models' own inferred types alone.
+TEST_F(KnowledgeBaseTest, ARecordingInfersItsTypesAndANewVersionReplacesThem) {
+    ASSERT_TRUE(kb_->loadTurtle("urn:test:rec-model",
+                                "@prefix proc: <http://skillcell.dev/ontology/process#> .\n"
+                                "<urn:test:rec-model#m> proc:holds <urn:test:rec-model#t> .\n"));
+    auto first = kb_->record(
+        {turtleGraph("urn:test:rec", "<urn:test:rec#d> proc:holds <urn:test:rec#t> .")});
+    ASSERT_EQ(first.size(), 1U);
+    ASSERT_TRUE(first[0]) << first[0].error();
+    EXPECT_TRUE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:rec#d> a proc:ToolDock }"));
+    EXPECT_TRUE(
+        ask("GRAPH <urn:skillcell:kb:graphs> { <urn:test:rec> a "
+            "<http://skillcell.dev/ontology/kb#InstanceGraph> }"));
+    auto listed = kb_->graphs();
+    ASSERT_TRUE(listed) << listed.error();
+    EXPECT_NE(std::find(listed->begin(), listed->end(), "urn:test:rec"), listed->end());
+
+    auto second = kb_->record({turtleGraph("urn:test:rec",
+                                           "<urn:test:rec#e> proc:holds <urn:test:rec#t> .\n"
+                                           "<urn:test:rec#d> a proc:Step .")});
+    ASSERT_TRUE(second[0]) << second[0].error();
+    EXPECT_FALSE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:rec#d> a proc:ToolDock }"));
+    EXPECT_TRUE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:rec#e> a proc:ToolDock }"));
+    EXPECT_FALSE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:rec#d> a proc:Step }"))
+        << "a stated type is not an inferred one";
+    EXPECT_TRUE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:rec-model#m> a proc:ToolDock }"))
+        << "the models' inferred types stay";
+}
+
+// Each graph of a recording is checked against the models: the one that contradicts them is
+// refused, naming the statements, and the others are recorded.
+TEST_F(KnowledgeBaseTest, ARecordingInconsistentWithTheModelsIsRefusedAndTheOthersRecorded) {
+    auto r = kb_->record(
+        {turtleGraph("urn:test:rec-a", "<urn:test:rec-a#s> a proc:Step ."),
+         turtleGraph("urn:test:rec-bad", "<urn:test:rec-bad#s> a proc:Step , proc:Process ."),
+         turtleGraph("urn:test:rec-c", "<urn:test:rec-c#s> a proc:Step .")});
+    ASSERT_EQ(r.size(), 3U);
+    EXPECT_TRUE(r[0]) << r[0].error();
+    ASSERT_FALSE(r[1]);
+    EXPECT_EQ(r[1].errorKind(), ErrorKind::Refused);
+    EXPECT_NE(r[1].error().find("urn:test:rec-bad#s"), std::string::npos) << r[1].error();
+    EXPECT_TRUE(r[2]) << r[2].error();
+    EXPECT_TRUE(ask("GRAPH <urn:test:rec-c> { ?s ?p ?o }"));
+    EXPECT_FALSE(ask("GRAPH <urn:test:rec-bad> { ?s ?p ?o }"));
+
+    auto twice = kb_->record({turtleGraph("urn:test:rec-a", "<urn:test:rec-a#s> a proc:Step ."),
+                              turtleGraph("urn:test:rec-a", "<urn:test:rec-a#s> a proc:Step .")});
+    EXPECT_TRUE(twice[0]) << twice[0].error();
+    ASSERT_FALSE(twice[1]);
+    EXPECT_EQ(twice[1].errorKind(), ErrorKind::BadInput);
+}
+
+// A model loaded after a component was recorded is checked against everything, and what it
+// makes of the component's individuals is inferred; the next recording reasons over it.
+TEST_F(KnowledgeBaseTest, AModelLoadedAfterARecordingTypesTheRecordedIndividuals) {
+    auto r = kb_->record(
+        {turtleGraph("urn:test:rec-m", "<urn:test:rec-m#x> a <urn:test:vocab#Fixture> .")});
+    ASSERT_TRUE(r[0]) << r[0].error();
+    EXPECT_FALSE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:rec-m#x> a proc:Resource }"));
+    ASSERT_TRUE(kb_->loadTurtle(
+        "urn:test:vocab",
+        "@prefix proc: <http://skillcell.dev/ontology/process#> .\n"
+        "@prefix owl: <http://www.w3.org/2002/07/owl#> .\n"
+        "@prefix rdfs: <http://www.w3.org/2000/01/rdf-schema#> .\n"
+        "<urn:test:vocab#Fixture> a owl:Class ; rdfs:subClassOf proc:Resource .\n"));
+    EXPECT_TRUE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:rec-m#x> a proc:Resource }"));
+    r = kb_->record({turtleGraph("urn:test:rec-m",
+                                 "<urn:test:rec-m#x> a <urn:test:vocab#Fixture> ."
+                                 "<urn:test:rec-m#y> a <urn:test:vocab#Fixture> .")});
+    ASSERT_TRUE(r[0]) << r[0].error();
+    EXPECT_TRUE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:rec-m#x> a proc:Resource }"));
+    EXPECT_TRUE(ask("GRAPH <urn:skillcell:kb:inferred> { <urn:test:rec-m#y> a proc:Resource }"));
 }
 
 TEST_F(KnowledgeBaseTest, AcknowledgedDataSurvivesARestartAndAKillOfTheStore) {
