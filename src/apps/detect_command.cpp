@@ -27,7 +27,7 @@ struct DetectOptions {
     double durationSeconds = 3;
     bool json = false;
     double connectTimeoutSeconds = 2;
-    double keepAliveSeconds = 1;
+    double keepAliveSeconds = 5;
     DiscoveryOptions discovery;
     ClientSecurityOptions security;
 };

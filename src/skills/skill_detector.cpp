@@ -375,8 +375,14 @@ asio::awaitable<StatusCode> SkillDetector::serve(const std::shared_ptr<Watch>& w
     // Callbacks are named before co_await: GCC 12 destroys a closure temporary inside a
     // co_await expression twice (see ua::ClientConfig).
     const std::weak_ptr<Watch> weak = w;
-    const auto period = static_cast<double>(config_.keepAlivePeriod.count());
-    const ua::SubscriptionSettings settings(period, 10, 1);
+    // Published every interval when StartTime changes; a keep-alive every keepAlivePeriod
+    // otherwise (a whole number of intervals); the lifetime the standard's 3 keep-alives.
+    const auto interval = std::min(config_.publishingInterval, config_.keepAlivePeriod);
+    const auto keepAliveCount = static_cast<std::uint32_t>(std::max<std::int64_t>(
+        1, config_.keepAlivePeriod.count() / std::max<std::int64_t>(1, interval.count())));
+    const auto period = static_cast<double>(interval.count());
+    const ua::SubscriptionSettings settings(period, std::max<std::uint32_t>(10, 3 * keepAliveCount),
+                                            keepAliveCount);
     const std::uint64_t connection = w->connections;
     ua::Subscription::StatusCallback onStatus = [weak, connection](StatusCode st) {
         auto watch = weak.lock();

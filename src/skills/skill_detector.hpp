@@ -119,8 +119,14 @@ struct SkillDetectorConfig {
     /// Each request of the session and the browse.
     std::chrono::milliseconds requestTimeout{5000};
     /// A connected component is heard from at least this often (subscription keep-alive);
-    /// silence for 1.5 times as long counts as a timeout.
-    std::chrono::milliseconds keepAlivePeriod{1000};
+    /// silence for 1.5 times as long counts as a timeout. Only a host that vanishes without a
+    /// word (a cable pulled) waits for it: a stopped or killed process closes its connection.
+    /// Each keep-alive costs about three packets, for every component and every detector.
+    std::chrono::milliseconds keepAlivePeriod{5000};
+    /// How often a component's StartTime is sampled and published when it changes (a
+    /// gateway whose backend restarted without closing the connection); at most
+    /// keepAlivePeriod.
+    std::chrono::milliseconds publishingInterval{1000};
     /// First delay before connecting again to a component a source still lists; doubles
     /// up to maxRetryDelay.
     std::chrono::milliseconds retryDelay{250};
