@@ -174,6 +174,25 @@ long loopbackPackets() {
     return 0;
 }
 
+/// UDP datagrams this network namespace dropped because a socket's receive buffer was full
+/// (/proc/net/snmp, Udp: RcvbufErrors): mDNS answers that a burst lost.
+long udpReceiveBufferErrors() {
+    std::ifstream in("/proc/net/snmp");
+    std::string names;
+    std::string values;
+    while (std::getline(in, names) && std::getline(in, values)) {
+        if (names.rfind("Udp:", 0) != 0) continue;
+        std::istringstream n(names.substr(4));
+        std::istringstream v(values.substr(4));
+        std::string name;
+        long value = 0;
+        while (n >> name && v >> value) {
+            if (name == "RcvbufErrors") return value;
+        }
+    }
+    return 0;
+}
+
 void printLatency(const char* what, const Samples& samples) {
     const auto s = skillcell::bench::summarize(samples);
     std::printf("  %-34s p50 %9.2f  p99 %9.2f  max %9.2f ms  (n=%zu)\n", what, s.medianUs / 1000,
@@ -190,6 +209,7 @@ int runSize(const Options& o, int n, const fs::path& logs) {
     std::vector<Component> cell;
     cell.reserve(static_cast<std::size_t>(n));
     const long packetsBefore = loopbackPackets();
+    const long dropsBefore = udpReceiveBufferErrors();
     const auto t0 = Clock::now();
     std::vector<ChildProcess> starting;
     for (int i = 0; i < n; ++i) {
@@ -216,6 +236,9 @@ int runSize(const Options& o, int n, const fs::path& logs) {
         "component)\n",
         loopbackPackets() - packetsBefore,
         static_cast<double>(loopbackPackets() - packetsBefore) / n);
+    std::printf("  UDP datagrams dropped, receive buffer full: %ld\n",
+                udpReceiveBufferErrors() - dropsBefore);
+    const long coldDropsBefore = udpReceiveBufferErrors();
     std::string error;
     const long rssBefore = rssKb(::getpid());
     const long cpuBefore = cpuTicks(::getpid());
@@ -234,6 +257,8 @@ int runSize(const Options& o, int n, const fs::path& logs) {
     }
     std::printf("  cold detection of all N            %9.1f ms (a new detector)\n",
                 msSince(tDetector, Clock::now()));
+    std::printf("    UDP datagrams dropped meanwhile, receive buffer full: %ld\n",
+                udpReceiveBufferErrors() - coldDropsBefore);
     {  // where the time went: the components' mDNS answers, then their sessions and browses
         Samples heard;
         Samples detected;

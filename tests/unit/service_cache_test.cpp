@@ -287,6 +287,60 @@ TEST_F(ServiceCacheTest, AnotherHostsSubtypeQueryCountsAsOurRefreshOfTheLdsesOnl
     }));
 }
 
+// Records' times wait in a queue, moved later lazily: a record renewed before its refresh
+// time is not asked for at the old time, and the next deadline follows the renewal.
+TEST_F(ServiceCacheTest, ARecordRenewedBeforeItsRefreshTimeIsAskedForAtItsNewOneOnly) {
+    cache.ingest(announcement("pump", "host-a.local", kHostA, 4840, 100), kHostA, t0);
+    EXPECT_EQ(*cache.nextDeadline(), t0 + 80s);
+    cache.ingest(announcement("pump", "host-a.local", kHostA, 4840, 100), kHostA, t0 + 50s);
+    // The old time comes (an early wake): nothing to ask, nothing gone.
+    EXPECT_TRUE(cache.refreshQueries(t0 + 80s).empty());
+    EXPECT_TRUE(cache.expire(t0 + 80s).empty());
+    EXPECT_EQ(*cache.nextDeadline(), t0 + 130s);
+    EXPECT_EQ(cache.refreshQueries(t0 + 130s).size(), 4u);  // PTR, SRV, TXT, A
+    EXPECT_EQ(cache.expire(t0 + 149s).size(), 0u);
+    EXPECT_EQ(cache.expire(t0 + 150s).size(), 1u);  // gone at its renewed TTL
+}
+
+// With an interest in LDSes, a server's refresh times pass unasked while it is not known to
+// be one; once its TXT says it is, what is due is asked for at once.
+TEST_F(ServiceCacheTest, ARecordThatComesToCountIsAskedForWhenItsRefreshIsDue) {
+    cache.setInterest(std::string(kLdsCapability));
+    auto m = announcement("late-lds", "host-a.local", kHostA, 4840, 100);
+    const auto txt = m.records[2];
+    m.records.erase(m.records.begin() + 2);  // its TXT comes later
+    cache.ingest(m, kHostA, t0);
+    EXPECT_TRUE(cache.refreshQueries(t0 + 81s).empty());  // nothing known to count yet
+    DnsMessage late;
+    late.isResponse = true;
+    auto renewed = txt;
+    late.records = {renewed};
+    EXPECT_EQ(cache.ingest(late, kHostA, t0 + 82s).size(), 1u);  // announced: an LDS
+    std::set<std::string> asked;
+    for (const auto& q : cache.refreshQueries(t0 + 82s)) asked.insert(q.name);
+    EXPECT_EQ(asked, (std::set<std::string>{"_lds._sub._opcua-tcp._tcp.local",
+                                            "late-lds._opcua-tcp._tcp.local", "host-a.local"}));
+}
+
+// Many instances: the queue holds one entry per record however often they are renewed, and
+// everything still expires on time.
+TEST_F(ServiceCacheTest, ManyRenewalsStillExpireEachRecordOnTime) {
+    for (int round = 0; round < 20; ++round) {
+        for (int i = 0; i < 50; ++i) {
+            const Ipv4 ip{198, 18, 1, static_cast<std::uint8_t>(i)};
+            cache.ingest(announcement("s" + std::to_string(i), "h" + std::to_string(i) + ".local",
+                                      ip, 4840, 100),
+                         ip, t0 + std::chrono::seconds(round));
+        }
+    }
+    EXPECT_EQ(cache.size(), 50u);
+    EXPECT_TRUE(cache.expire(t0 + 118s).empty());
+    EXPECT_EQ(cache.expire(t0 + 119s).size(), 50u);
+    EXPECT_EQ(cache.size(), 0u);
+    (void)cache.refreshQueries(t0 + 119s);  // the refreshes that came due on the way
+    EXPECT_FALSE(cache.nextDeadline().has_value());
+}
+
 TEST(ServiceCacheJitter, RefreshTimesSpreadOverTwoPercentOfTheTtl) {
     const auto t0 = Clock::time_point{} + 1000s;
     std::set<Clock::time_point> deadlines;

@@ -106,7 +106,7 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
                          std::vector<std::string>& goodbyes) {
     const std::string key = foldCase(rr.name);
     const int jitter = jitter_ ? static_cast<int>((*jitter_)() % 21) : 0;
-    const Timed timed{now, std::chrono::seconds(rr.ttl), 0, jitter};
+    const Timed timed{now, std::chrono::seconds(rr.ttl), 0, jitter, std::nullopt};
     const bool goodbye = rr.ttl == 0;
     switch (static_cast<DnsType>(rr.type)) {
         case DnsType::Ptr: {
@@ -118,7 +118,11 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
                 pointers_.erase(instance);
                 goodbyes.push_back(instance);
             } else if (roomFor(pointers_, instance)) {
-                pointers_[instance] = Pointer{timed, rr.target};
+                auto& p = pointers_[instance];
+                const auto queued = p.scheduledAt;
+                p = Pointer{timed, rr.target};
+                p.scheduledAt = queued;
+                schedule(p, RecordKind::Ptr, instance);
             }
             return false;
         }
@@ -132,7 +136,11 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
                 const bool known = srvs_.contains(key) && srvs_[key].host == host;
                 // A copy that came over IPv6 has no IPv4 sender: keep the one we know.
                 const Ipv4 sender = (source == Ipv4{} && known) ? srvs_[key].sender : source;
-                srvs_[key] = Srv{timed, host, rr.port, sender};
+                auto& srv = srvs_[key];
+                const auto queued = srv.scheduledAt;
+                srv = Srv{timed, host, rr.port, sender};
+                srv.scheduledAt = queued;
+                schedule(srv, RecordKind::Srv, key);
                 // A target without an address (yet): ask for it, once per new target. The
                 // A record often comes in the same message; asking then costs one datagram.
                 if (!known && !parseIpv4Literal(host) && pending_.size() < 64) {
@@ -147,7 +155,11 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
                 txts_.erase(key);
                 goodbyes.push_back(key);
             } else if (roomFor(txts_, key)) {
-                txts_[key] = Txt{timed, rr.txt};
+                auto& txt = txts_[key];
+                const auto queued = txt.scheduledAt;
+                txt = Txt{timed, rr.txt};
+                txt.scheduledAt = queued;
+                schedule(txt, RecordKind::Txt, key);
             }
             return false;
         case DnsType::A: {
@@ -171,9 +183,13 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
                 }
                 goodbyes.push_back(key);
             } else if (it != list.end()) {
+                const auto queued = it->scheduledAt;
                 static_cast<Timed&>(*it) = timed;
+                it->scheduledAt = queued;
+                schedule(*it, RecordKind::Address, key, rr.ipv4);
             } else if (list.size() < 16) {
                 list.push_back(Address{timed, rr.ipv4});
+                schedule(list.back(), RecordKind::Address, key, rr.ipv4);
                 changed = true;
             }
             if (list.empty()) addresses_.erase(key);
@@ -218,17 +234,164 @@ std::vector<ServiceEvent> ServiceCache::ingest(const DnsMessage& message, const 
 }
 
 std::vector<ServiceEvent> ServiceCache::expire(Clock::time_point now) {
-    auto expired = [now](const Timed& t) { return t.expiry() <= now; };
-    std::erase_if(pointers_, [&](const auto& kv) { return expired(kv.second); });
-    std::erase_if(srvs_, [&](const auto& kv) { return expired(kv.second); });
-    std::erase_if(txts_, [&](const auto& kv) { return expired(kv.second); });
-    for (auto it = addresses_.begin(); it != addresses_.end();) {
-        std::erase_if(it->second, expired);
-        it = it->second.empty() ? addresses_.erase(it) : std::next(it);
+    processDue(now);
+    std::set<std::string> keys;
+    keys.swap(expiredKeys_);
+    std::set<std::string> hosts;
+    hosts.swap(expiredHosts_);
+    if (!hosts.empty()) {
+        for (const auto& [key, srv] : srvs_) {
+            if (hosts.contains(srv.host)) keys.insert(key);
+        }
+        for (const auto& [key, st] : announced_) {
+            if (hosts.contains(st.host)) keys.insert(key);
+        }
     }
     std::vector<ServiceEvent> events;
-    reconcile(events, {}, allKeys());
+    if (!keys.empty()) reconcile(events, {}, keys);
     return events;
+}
+
+ServiceCache::Timed* ServiceCache::recordOf(const Due& due) {
+    switch (due.kind) {
+        case RecordKind::Ptr: {
+            auto it = pointers_.find(due.key);
+            return it == pointers_.end() ? nullptr : &it->second;
+        }
+        case RecordKind::Srv: {
+            auto it = srvs_.find(due.key);
+            return it == srvs_.end() ? nullptr : &it->second;
+        }
+        case RecordKind::Txt: {
+            auto it = txts_.find(due.key);
+            return it == txts_.end() ? nullptr : &it->second;
+        }
+        case RecordKind::Address: {
+            auto it = addresses_.find(due.key);
+            if (it == addresses_.end()) return nullptr;
+            auto a = std::find_if(it->second.begin(), it->second.end(),
+                                  [&](const Address& x) { return x.ip == due.ip; });
+            return a == it->second.end() ? nullptr : &*a;
+        }
+    }
+    return nullptr;
+}
+
+bool ServiceCache::refreshed(const Due& due) const {
+    switch (due.kind) {
+        case RecordKind::Ptr:
+            return interesting(due.key);
+        case RecordKind::Srv:
+        case RecordKind::Txt:
+            return announced_.contains(due.key) && interesting(due.key);
+        case RecordKind::Address:
+            // The host of a live instance that counts (a scan, but only when an address's
+            // refresh comes due: four times per TTL).
+            return std::any_of(srvs_.begin(), srvs_.end(), [&](const auto& kv) {
+                return kv.second.host == due.key && announced_.contains(kv.first) &&
+                       interesting(kv.first);
+            });
+    }
+    return false;
+}
+
+void ServiceCache::schedule(Timed& t, RecordKind kind, const std::string& key, const Ipv4& ip) {
+    // The refresh times count for every record here; refreshed() decides when they come.
+    auto at = t.expiry();
+    if (auto r = t.nextRefresh(); r && *r < at) at = *r;
+    if (t.scheduledAt && *t.scheduledAt <= at) return;  // due as early already
+    t.scheduledAt = at;
+    queue_.push(Due{at, kind, key, ip});
+}
+
+void ServiceCache::scheduleInstance(const std::string& key) {
+    if (auto it = pointers_.find(key); it != pointers_.end()) {
+        schedule(it->second, RecordKind::Ptr, key);
+    }
+    if (auto it = txts_.find(key); it != txts_.end()) schedule(it->second, RecordKind::Txt, key);
+    if (auto it = srvs_.find(key); it != srvs_.end()) {
+        schedule(it->second, RecordKind::Srv, key);
+        if (auto a = addresses_.find(it->second.host); a != addresses_.end()) {
+            for (auto& address : a->second) {
+                schedule(address, RecordKind::Address, it->second.host, address.ip);
+            }
+        }
+    }
+}
+
+void ServiceCache::processDue(Clock::time_point now) {
+    auto ask = [&](std::string name, DnsType type) {
+        const auto t = static_cast<std::uint16_t>(type);
+        const bool dup = std::any_of(refreshQuestions_.begin(), refreshQuestions_.end(),
+                                     [&](const DnsQuestion& q) {
+                                         return q.type == t && foldCase(q.name) == foldCase(name);
+                                     });
+        if (!dup) refreshQuestions_.push_back({std::move(name), t, kClassIn});
+    };
+    while (!queue_.empty() && queue_.top().at <= now) {
+        const Due due = queue_.top();
+        queue_.pop();
+        Timed* t = recordOf(due);
+        if (t == nullptr || t->scheduledAt != due.at) continue;  // gone, or queued again
+        t->scheduledAt.reset();
+        if (t->expiry() <= now) {
+            switch (due.kind) {
+                case RecordKind::Ptr:
+                    pointers_.erase(due.key);
+                    expiredKeys_.insert(due.key);
+                    break;
+                case RecordKind::Srv:
+                    srvs_.erase(due.key);
+                    expiredKeys_.insert(due.key);
+                    break;
+                case RecordKind::Txt:
+                    txts_.erase(due.key);
+                    expiredKeys_.insert(due.key);
+                    break;
+                case RecordKind::Address: {
+                    auto& list = addresses_[due.key];
+                    std::erase_if(list, [&](const Address& a) { return a.ip == due.ip; });
+                    if (list.empty()) addresses_.erase(due.key);
+                    expiredHosts_.insert(due.key);
+                    break;
+                }
+            }
+            continue;
+        }
+        if (auto r = t->nextRefresh(); r && *r <= now) {
+            if (!refreshed(due)) {
+                // Not ours to ask now; queued at its expiry. Should it come to count (its
+                // instance announced with the capability of interest), it is queued again.
+                t->scheduledAt = t->expiry();
+                queue_.push(Due{t->expiry(), due.kind, due.key, due.ip});
+                continue;
+            }
+            // Several thresholds may have passed at once (a stalled loop): ask once, skip them.
+            while (t->nextRefresh() && *t->nextRefresh() <= now) ++t->refreshesAsked;
+            switch (due.kind) {
+                case RecordKind::Ptr:
+                    ask(browseName(), DnsType::Ptr);
+                    break;
+                case RecordKind::Srv: {
+                    const auto p = pointers_.find(due.key);
+                    const std::string instance =
+                        p != pointers_.end() ? p->second.instance : due.key;
+                    ask(instance, DnsType::Srv);
+                    ask(instance, DnsType::Txt);
+                    break;
+                }
+                case RecordKind::Txt: {
+                    const auto p = pointers_.find(due.key);
+                    ask(p != pointers_.end() ? p->second.instance : due.key, DnsType::Txt);
+                    break;
+                }
+                case RecordKind::Address:
+                    ask(due.key, DnsType::A);
+                    break;
+            }
+        }
+        schedule(*t, due.kind, due.key, due.ip);  // its next time (early entries: put back)
+    }
 }
 
 std::optional<ServiceInstance> ServiceCache::complete(const std::string& key) const {
@@ -277,6 +440,7 @@ void ServiceCache::reconcile(std::vector<ServiceEvent>& events,
             if (was == announced_.end() || was->second != *now) {
                 events.push_back({ServiceEvent::Kind::Announced, *now, RemovalReason::Expired});
                 announced_[key] = std::move(*now);
+                scheduleInstance(key);  // its refreshes may count now
             }
         } else if (was != announced_.end()) {
             const bool bye = std::any_of(goodbyes.begin(), goodbyes.end(), [&](const auto& g) {
@@ -290,69 +454,30 @@ void ServiceCache::reconcile(std::vector<ServiceEvent>& events,
 }
 
 std::vector<DnsQuestion> ServiceCache::refreshQueries(Clock::time_point now) {
+    processDue(now);
     std::vector<DnsQuestion> out;
     for (auto& q : pending_) {
         const auto addrs = addresses_.find(foldCase(q.name));
         if (addrs == addresses_.end() || addrs->second.empty()) out.push_back(std::move(q));
     }
     pending_.clear();
-    auto ask = [&](std::string name, DnsType type) {
-        const auto t = static_cast<std::uint16_t>(type);
-        const bool dup = std::any_of(out.begin(), out.end(), [&](const DnsQuestion& q) {
-            return q.type == t && foldCase(q.name) == foldCase(name);
+    for (auto& q : refreshQuestions_) {
+        const bool dup = std::any_of(out.begin(), out.end(), [&](const DnsQuestion& o) {
+            return o.type == q.type && foldCase(o.name) == foldCase(q.name);
         });
-        if (!dup) out.push_back({std::move(name), t, kClassIn});
-    };
-    auto due = [now](Timed& t) {
-        const auto at = t.nextRefresh();
-        if (!at || *at > now) return false;
-        // Several thresholds may have passed at once (a stalled loop): ask once, skip them.
-        while (t.nextRefresh() && *t.nextRefresh() <= now) ++t.refreshesAsked;
-        return true;
-    };
-    for (auto& [key, ptr] : pointers_) {
-        if (interesting(key) && due(ptr)) ask(browseName(), DnsType::Ptr);
+        if (!dup) out.push_back(std::move(q));
     }
-    for (auto& [key, srv] : srvs_) {
-        if (!announced_.contains(key) || !interesting(key)) continue;
-        const std::string& instance = pointers_.contains(key) ? pointers_[key].instance : key;
-        if (due(srv)) {
-            ask(instance, DnsType::Srv);
-            ask(instance, DnsType::Txt);
-        }
-        if (auto txt = txts_.find(key); txt != txts_.end() && due(txt->second)) {
-            ask(instance, DnsType::Txt);
-        }
-        if (auto addrs = addresses_.find(srv.host); addrs != addresses_.end()) {
-            bool any = false;
-            for (auto& a : addrs->second) any = due(a) || any;
-            if (any) ask(srv.host, DnsType::A);
-        }
-    }
+    refreshQuestions_.clear();
     return out;
 }
 
 std::optional<Clock::time_point> ServiceCache::nextDeadline() const {
-    std::optional<Clock::time_point> best;
-    // Refresh times count only for what refreshQueries() asks about (else the deadline would
-    // stay in the past); expiry counts for every record.
-    auto consider = [&](const Timed& t, bool refreshed) {
-        auto at = t.expiry();
-        if (auto r = t.nextRefresh(); refreshed && r && *r < at) at = *r;
-        if (!best || at < *best) best = at;
-    };
-    std::set<std::string> refreshedHosts;
-    for (const auto& [k, v] : pointers_) consider(v, interesting(k));
-    for (const auto& [k, v] : srvs_) {
-        const bool live = announced_.contains(k) && interesting(k);
-        consider(v, live);
-        if (live) refreshedHosts.insert(v.host);
+    // The queue's first entry: perhaps early (a record renewed since), never late.
+    if (!refreshQuestions_.empty() || !expiredKeys_.empty() || !expiredHosts_.empty()) {
+        return Clock::time_point::min();
     }
-    for (const auto& [k, v] : txts_) consider(v, announced_.contains(k) && interesting(k));
-    for (const auto& [k, list] : addresses_) {
-        for (const auto& a : list) consider(a, refreshedHosts.contains(k));
-    }
-    return best;
+    if (queue_.empty()) return std::nullopt;
+    return queue_.top().at;
 }
 
 std::vector<DnsRecord> ServiceCache::knownAnswers(Clock::time_point now,
@@ -416,6 +541,8 @@ void ServiceCache::questionSeen(const DnsQuestion& question,
 
 void ServiceCache::setInterest(std::optional<std::string> capability) {
     interest_ = std::move(capability);
+    // What counts changed: every record at its next time again (rare: a browse widening).
+    for (auto& [key, p] : pointers_) scheduleInstance(key);
 }
 
 std::string ServiceCache::browseName() const {

@@ -10,11 +10,19 @@
 // 0-2 % of its own (RFC 6762, 5.2), so a live server is kept and a vanished one is dropped when
 // its TTL runs out. When another host asks the same question first, that counts as our refresh
 // (7.3): on a segment of many browsers each record is asked for about once, not once by each.
+//
+// Its cost per message is in proportion to the message, not to the cache: every process of a
+// cell browses (a registrar looks for its LDS) and hears every answer on the segment, so a
+// scan of the whole cache per datagram made a cell's start-up cost grow as N^3. Records' times
+// are kept in a queue (one entry per record, moved later lazily: an entry that comes due
+// early is put back at the record's current time), and expire() and refreshQueries() look
+// only at what is due.
 #include <array>
 #include <chrono>
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <queue>
 #include <random>
 #include <set>
 #include <string>
@@ -125,6 +133,9 @@ private:
         std::chrono::seconds ttl{0};
         int refreshesAsked = 0;
         int jitterPermille = 0;  // 0..20: the random part of the refresh times
+        /// When this record's entry in the queue comes due (none: not queued). Never later
+        /// than the record's expiry or its next refresh, when that one counts.
+        std::optional<Clock::time_point> scheduledAt;
         [[nodiscard]] Clock::time_point expiry() const { return received + ttl; }
         [[nodiscard]] std::optional<Clock::time_point> nextRefresh() const;
     };
@@ -142,6 +153,29 @@ private:
     struct Address : Timed {
         Ipv4 ip{};
     };
+
+    enum class RecordKind : std::uint8_t { Ptr, Srv, Txt, Address };
+    /// A record's time in the queue: its kind, its key (an instance, or a host for an
+    /// address) and, for an address, which one.
+    struct Due {
+        Clock::time_point at;
+        RecordKind kind = RecordKind::Ptr;
+        std::string key;
+        Ipv4 ip{};
+        friend bool operator>(const Due& a, const Due& b) { return a.at > b.at; }
+    };
+
+    /// The record a queue entry names, or null when it is gone.
+    Timed* recordOf(const Due& due);
+    /// Whether the refreshes of this record are asked for (setInterest).
+    [[nodiscard]] bool refreshed(const Due& due) const;
+    /// Queues `t` (of kind/key/ip) at its next time, unless it is queued as early already.
+    void schedule(Timed& t, RecordKind kind, const std::string& key, const Ipv4& ip = {});
+    /// Queues the records of instance `key` again (it became interesting: its refreshes count).
+    void scheduleInstance(const std::string& key);
+    /// Takes what is due by `now` off the queue: expired records are erased (their instances
+    /// go to expiredKeys_), due refreshes become questions (refreshQuestions_).
+    void processDue(Clock::time_point now);
 
     /// Returns whether an address record was added or removed (else a refresh, or another type).
     bool store(const DnsRecord& rr, const Ipv4& source, Clock::time_point now,
@@ -167,6 +201,10 @@ private:
     std::map<std::string, std::vector<Address>> addresses_;  // folded host -> A records
     std::map<std::string, ServiceInstance> announced_;       // folded instance name
     std::vector<DnsQuestion> pending_;  // A questions for SRV targets we have no address for
+    std::priority_queue<Due, std::vector<Due>, std::greater<>> queue_;
+    std::vector<DnsQuestion> refreshQuestions_;  // due, not yet returned by refreshQueries()
+    std::set<std::string> expiredKeys_;   // instances touched by expiries, not yet reconciled
+    std::set<std::string> expiredHosts_;  // hosts whose addresses expired, likewise
     std::optional<std::minstd_rand> jitter_;
     std::optional<std::string> interest_;  // the capability, as given
 };
