@@ -1,6 +1,7 @@
 #include "ua/discovery/mdns_responder.hpp"
 
 #include <spdlog/spdlog.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include "libmdnsd_adapter/libmdnsd_adapter.h"
@@ -85,6 +86,26 @@ asio::error_code openMulticastSocket(asio::ip::udp::socket& s,
         s.close(ignored);
     }
     return ec;
+}
+
+/// A browser of every server hears the answers of a whole cell at once (a new detector's
+/// first query: 500 answers within ~120 ms, ~1 MB of socket buffer as the kernel counts it);
+/// the default buffer (net.core.rmem_default, 208 KiB) drops most of them, and each lost
+/// answer waits for the next query (1 s, 2 s, 4 s ...). Where the process may (CAP_NET_ADMIN)
+/// the buffer is set beyond net.core.rmem_max; elsewhere it is what rmem_max allows. Memory
+/// is only taken while datagrams wait.
+void enlargeReceiveBuffer(asio::ip::udp::socket& s) {
+    if (!s.is_open()) return;
+    constexpr int kBytes = 4 << 20;
+    const int fd = s.native_handle();
+    if (setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &kBytes, sizeof kBytes) != 0) {
+        (void)setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &kBytes, sizeof kBytes);
+    }
+    int got = 0;
+    socklen_t len = sizeof got;
+    if (getsockopt(fd, SOL_SOCKET, SO_RCVBUF, &got, &len) == 0) {
+        spdlog::debug("mDNS: receive buffer {} KiB", got / 1024);
+    }
 }
 
 /// Splits `records` over datagrams of at most kFrameBytes, the first with `head`'s questions.
@@ -307,6 +328,10 @@ std::size_t MdnsResponder::subscribe(Listener listener, BrowseScope scope) {
     const bool widens = scope == BrowseScope::AllServers && scope_ == BrowseScope::DiscoveryServers;
     if (!browse_.active() || widens) {
         scope_ = scope;
+        if (scope == BrowseScope::AllServers) {
+            enlargeReceiveBuffer(socket_);
+            enlargeReceiveBuffer(socket6_);
+        }
         cache_.setInterest(scope == BrowseScope::DiscoveryServers
                                ? std::optional<std::string>(kLdsCapability)
                                : std::nullopt);
