@@ -313,8 +313,7 @@ TEST_F(ServiceCacheTest, ARecordThatComesToCountIsAskedForWhenItsRefreshIsDue) {
     EXPECT_TRUE(cache.refreshQueries(t0 + 81s).empty());  // nothing known to count yet
     DnsMessage late;
     late.isResponse = true;
-    auto renewed = txt;
-    late.records = {renewed};
+    late.records = {txt};
     EXPECT_EQ(cache.ingest(late, kHostA, t0 + 82s).size(), 1u);  // announced: an LDS
     std::set<std::string> asked;
     for (const auto& q : cache.refreshQueries(t0 + 82s)) asked.insert(q.name);
