@@ -77,10 +77,7 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--components" && i + 1 < argc) {
-            sizes.clear();
-            std::stringstream list(argv[++i]);
-            for (std::string item; std::getline(list, item, ',');)
-                sizes.push_back(std::stoul(item));
+            sizes = bench::componentCounts(argv[++i]);
         } else if (a == "--queries" && i + 1 < argc) {
             count = std::stoi(argv[++i]);
         } else {
