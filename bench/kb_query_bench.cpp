@@ -13,21 +13,18 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
-#include <filesystem>
 #include <iostream>
-#include <random>
 #include <sstream>
 
-#include "kb/engine/virtuoso_instance.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "latency_stats.hpp"
+#include "private_virtuoso.hpp"
 #include "synthetic_components.hpp"
 
 namespace {
 
 using namespace skillcell;
-namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 // The declaring types first, in a subquery: Virtuoso 7.2 answers a join of two property
@@ -87,18 +84,15 @@ int main(int argc, char** argv) {
         }
     }
     spdlog::set_level(spdlog::level::warn);
-    std::random_device rd;
-    const fs::path dir = fs::temp_directory_path() / ("skillcell-bench-kb-" + std::to_string(rd()));
+    std::string error;
+    auto virtuoso = bench::PrivateVirtuoso::start("skillcell-bench-kb", &error);
+    if (!virtuoso) {
+        std::cerr << error << "\n";
+        return 1;
+    }
     int rc = 0;
     {
-        kb::engine::VirtuosoConfig config;
-        config.dataDir = dir;
-        kb::engine::VirtuosoInstance virtuoso(config);
-        if (auto s = virtuoso.start(); !s) {
-            std::cerr << "Virtuoso: " << s.error() << "\n";
-            return 1;
-        }
-        kb::HttpSparqlStore store(kb::HttpSparqlEndpoint::of(virtuoso));
+        kb::HttpSparqlStore store(kb::HttpSparqlEndpoint::of(virtuoso->instance()));
         kb::KnowledgeBase knowledge(store, nullptr);  // the store's speed, not the reasoner's
         if (auto s = knowledge.loadBuiltInModels(false); !s) {
             std::cerr << s.error() << "\n";
@@ -137,9 +131,6 @@ int main(int argc, char** argv) {
                 break;
             }
         }
-        (void)virtuoso.stop();
     }
-    std::error_code ec;
-    fs::remove_all(dir, ec);
     return rc;
 }

@@ -13,23 +13,20 @@
 
 #include <atomic>
 #include <chrono>
-#include <filesystem>
 #include <iostream>
-#include <random>
 #include <sstream>
 #include <thread>
 
 #include "kb/engine/konclude_reasoner.hpp"
-#include "kb/engine/virtuoso_instance.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "latency_stats.hpp"
+#include "private_virtuoso.hpp"
 #include "synthetic_components.hpp"
 
 namespace {
 
 using namespace skillcell;
-namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 // The MES's question before a pick, as a KB with a reasoner answers it: the inferred types
@@ -94,19 +91,15 @@ int main(int argc, char** argv) {
         }
     }
     spdlog::set_level(spdlog::level::warn);
-    std::random_device rd;
-    const fs::path dir =
-        fs::temp_directory_path() / ("skillcell-bench-kb-record-" + std::to_string(rd()));
+    std::string error;
+    auto virtuoso = bench::PrivateVirtuoso::start("skillcell-bench-kb-record", &error);
+    if (!virtuoso) {
+        std::cerr << error << "\n";
+        return 1;
+    }
     int rc = 0;
     {
-        kb::engine::VirtuosoConfig config;
-        config.dataDir = dir;
-        kb::engine::VirtuosoInstance virtuoso(config);
-        if (auto s = virtuoso.start(); !s) {
-            std::cerr << "Virtuoso: " << s.error() << "\n";
-            return 1;
-        }
-        kb::HttpSparqlStore store(kb::HttpSparqlEndpoint::of(virtuoso));
+        kb::HttpSparqlStore store(kb::HttpSparqlEndpoint::of(virtuoso->instance()));
         const kb::engine::KoncludeReasoner reasoner;
         kb::KnowledgeBase knowledge(store, &reasoner);
         if (auto s = knowledge.loadBuiltInModels(false); !s) {
@@ -191,9 +184,6 @@ int main(int argc, char** argv) {
                         loadOne.medianUs / recordOne.medianUs, pair(idle).c_str(),
                         pair(busy).c_str(), recordings.load());
         }
-        (void)virtuoso.stop();
     }
-    std::error_code ec;
-    fs::remove_all(dir, ec);
     return rc;
 }
