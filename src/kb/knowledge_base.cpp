@@ -322,6 +322,14 @@ std::vector<Status> KnowledgeBase::record(const std::vector<GraphData>& instance
             if (out[i]) pending.push_back(i);
         }
         if (pending.empty()) return out;
+        if (reasoner_ == nullptr) {  // nothing to check or infer: written as they are
+            std::vector<GraphData> graphs;
+            for (auto i : pending) graphs.push_back(instances[i]);
+            const std::lock_guard lock(writeMutex_);
+            const auto s = commit(graphs, true, {}, {});
+            for (auto i : pending) out[i] = s;
+            return out;
+        }
         auto models = this->models();
         if (!models) {
             for (auto i : pending) out[i] = Error{"cannot read the models: " + models.error()};
@@ -331,29 +339,27 @@ std::vector<Status> KnowledgeBase::record(const std::vector<GraphData>& instance
         // Reasoning, without a lock: all together, since they are independent of each other;
         // when that is inconsistent, each alone, so that the one at fault is named.
         std::vector<std::set<rdf::Triple>> inferred(instances.size());
-        if (reasoner_ != nullptr) {
-            const auto realize = [&](const std::vector<std::size_t>& which) {
-                std::string text = m.text;
-                for (auto i : which) text += rdf::writeNTriples(instances[i].triples);
-                return reasoner_->realize(text);
-            };
-            auto together = realize(pending);
-            if (!together) {
-                for (auto i : pending) out[i] = Error{"reasoner: " + together.error()};
-                return out;
-            }
-            if (together->consistent) {
-                for (auto i : pending) inferred[i] = inferredFor(instances[i], m, *together);
-            } else {
-                for (auto i : pending) {
-                    auto alone = pending.size() == 1 ? together : realize({i});
-                    if (!alone) {
-                        out[i] = Error{"reasoner: " + alone.error()};
-                    } else if (!alone->consistent) {
-                        out[i] = refusal({instances[i].iri}, m.triples, instances[i].triples);
-                    } else {
-                        inferred[i] = inferredFor(instances[i], m, *alone);
-                    }
+        const auto realize = [&](const std::vector<std::size_t>& which) {
+            std::string text = m.text;
+            for (auto i : which) text += rdf::writeNTriples(instances[i].triples);
+            return reasoner_->realize(text);
+        };
+        auto together = realize(pending);
+        if (!together) {
+            for (auto i : pending) out[i] = Error{"reasoner: " + together.error()};
+            return out;
+        }
+        if (together->consistent) {
+            for (auto i : pending) inferred[i] = inferredFor(instances[i], m, *together);
+        } else {
+            for (auto i : pending) {
+                auto alone = pending.size() == 1 ? together : realize({i});
+                if (!alone) {
+                    out[i] = Error{"reasoner: " + alone.error()};
+                } else if (!alone->consistent) {
+                    out[i] = refusal({instances[i].iri}, m.triples, instances[i].triples);
+                } else {
+                    inferred[i] = inferredFor(instances[i], m, *alone);
                 }
             }
         }
@@ -375,31 +381,29 @@ std::vector<Status> KnowledgeBase::record(const std::vector<GraphData>& instance
             graphs.push_back(instances[i]);
             now.insert(inferred[i].begin(), inferred[i].end());
         }
-        if (reasoner_ != nullptr) {
-            std::string in;
-            for (const auto& g : graphs) in += (in.empty() ? "" : ", ") + ("<" + g.iri + ">");
-            auto before = store_.query(
-                "CONSTRUCT { ?s a ?t } WHERE { GRAPH ?g { ?s ?p ?o } FILTER(?g IN (" + in +
-                    ")) GRAPH <" + std::string(kInferredGraph) + "> { ?s a ?t } }",
-                media::kNTriples);
-            auto previous = before ? rdf::readTurtle(before->body)
-                                   : Expected<std::vector<rdf::Triple>>(before.failure());
-            if (!previous) {
-                for (auto i : accepted) {
-                    out[i] = Error{"cannot read the inferred graph: " + previous.error(),
-                                   previous.errorKind()};
-                }
-                return out;
+        std::string in;
+        for (const auto& g : graphs) in += (in.empty() ? "" : ", ") + ("<" + g.iri + ">");
+        auto before =
+            store_.query("CONSTRUCT { ?s a ?t } WHERE { GRAPH ?g { ?s ?p ?o } FILTER(?g IN (" + in +
+                             ")) GRAPH <" + std::string(kInferredGraph) + "> { ?s a ?t } }",
+                         media::kNTriples);
+        auto previous = before ? rdf::readTurtle(before->body)
+                               : Expected<std::vector<rdf::Triple>>(before.failure());
+        if (!previous) {
+            for (auto i : accepted) {
+                out[i] = Error{"cannot read the inferred graph: " + previous.error(),
+                               previous.errorKind()};
             }
-            std::set<rdf::Triple> then;
-            for (auto& t : *previous) {
-                if (m.subjects.count(t.subject.value) == 0) then.insert(std::move(t));
-            }
-            std::set_difference(now.begin(), now.end(), then.begin(), then.end(),
-                                std::back_inserter(added));
-            std::set_difference(then.begin(), then.end(), now.begin(), now.end(),
-                                std::back_inserter(removed));
+            return out;
         }
+        std::set<rdf::Triple> then;
+        for (auto& t : *previous) {
+            if (m.subjects.count(t.subject.value) == 0) then.insert(std::move(t));
+        }
+        std::set_difference(now.begin(), now.end(), then.begin(), then.end(),
+                            std::back_inserter(added));
+        std::set_difference(then.begin(), then.end(), now.begin(), now.end(),
+                            std::back_inserter(removed));
         const auto s = commit(graphs, true, added, removed);
         for (auto i : accepted) out[i] = s;
         return out;

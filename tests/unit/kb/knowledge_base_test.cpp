@@ -346,6 +346,21 @@ TEST_F(KnowledgeBaseTest, ARecordingInconsistentWithTheModelsIsRefusedAndTheOthe
     EXPECT_EQ(twice[1].errorKind(), ErrorKind::BadInput);
 }
 
+// Without a reasoner, a recording is written as it is (nothing inferred), registered as an
+// instance graph.
+TEST_F(KnowledgeBaseTest, WithoutAReasonerARecordingIsWrittenAsItIs) {
+    KnowledgeBase plain(*store_, nullptr);
+    auto r = plain.record(
+        {turtleGraph("urn:test:rec-plain", "<urn:test:rec-plain#s> proc:holds <urn:test:t> .")});
+    ASSERT_EQ(r.size(), 1U);
+    EXPECT_TRUE(r[0]) << r[0].error();
+    EXPECT_TRUE(ask("GRAPH <urn:test:rec-plain> { <urn:test:rec-plain#s> proc:holds ?t }"));
+    EXPECT_FALSE(ask("<urn:test:rec-plain#s> a proc:ToolDock"));  // nothing inferred
+    EXPECT_TRUE(
+        ask("GRAPH <urn:skillcell:kb:graphs> { <urn:test:rec-plain> a "
+            "<http://skillcell.dev/ontology/kb#InstanceGraph> }"));
+}
+
 // A model loaded after a component was recorded is checked against everything, and what it
 // makes of the component's individuals is inferred; the next recording reasons over it.
 TEST_F(KnowledgeBaseTest, AModelLoadedAfterARecordingTypesTheRecordedIndividuals) {
