@@ -324,6 +324,7 @@ std::vector<Status> KnowledgeBase::record(const std::vector<GraphData>& instance
         if (pending.empty()) return out;
         if (reasoner_ == nullptr) {  // nothing to check or infer: written as they are
             std::vector<GraphData> graphs;
+            graphs.reserve(pending.size());
             for (auto i : pending) graphs.push_back(instances[i]);
             const std::lock_guard lock(writeMutex_);
             const auto s = commit(graphs, true, {}, {});
