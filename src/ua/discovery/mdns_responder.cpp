@@ -525,6 +525,15 @@ void MdnsResponder::wake() {
     if (started_) timer_.cancel();
 }
 
+void MdnsResponder::wakeIfSooner() {
+    for (const auto& d : {browse_.next(), cache_.nextDeadline(), planner_.nextDeadline()}) {
+        if (d && *d < timer_.expiry()) {
+            wake();
+            return;
+        }
+    }
+}
+
 asio::awaitable<void> MdnsResponder::receiveLoop(asio::ip::udp::socket& socket) {
     auto self = shared_from_this();
     std::vector<std::uint8_t> buf(65536);
@@ -568,7 +577,7 @@ void MdnsResponder::handleDatagram(std::span<const std::uint8_t> bytes, const Ip
         planner_.onResponse(*msg, now);
         // Only a browser keeps what it hears: a server that only announces has no use for it.
         if (browse_.active()) dispatch(cache_.ingest(*msg, source, now));
-        wake();  // new records: new deadlines
+        wakeIfSooner();  // new records: perhaps new deadlines
         return;
     }
     handleQuery(*msg, bytes, source, sourcePort);

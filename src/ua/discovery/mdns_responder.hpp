@@ -159,6 +159,9 @@ private:
     bool openIpv6(std::string& why);
     asio::awaitable<void> timerLoop();
     void wake();
+    /// wake(), only when what a received datagram changed is due before the timer's time:
+    /// a round of the timer loop per datagram is most of a datagram's cost in a large cell.
+    void wakeIfSooner();
     void feedLibmdnsd(std::span<const std::uint8_t> bytes, const Ipv4& source,
                       std::uint16_t sourcePort);
     void answerWithAdditionals(const DnsMessage& query, const Ipv4& source);

@@ -473,7 +473,14 @@ std::vector<DnsQuestion> ServiceCache::refreshQueries(Clock::time_point now) {
 
 std::optional<Clock::time_point> ServiceCache::nextDeadline() const {
     // The queue's first entry: perhaps early (a record renewed since), never late.
-    if (!refreshQuestions_.empty() || !expiredKeys_.empty() || !expiredHosts_.empty()) {
+    // Something to ask or report at once: a refresh or an expiry taken off the queue, or the
+    // address of an SRV target that did not come with it (at most 64 of those).
+    const bool unanswered = std::any_of(pending_.begin(), pending_.end(), [&](const auto& q) {
+        const auto a = addresses_.find(foldCase(q.name));
+        return a == addresses_.end() || a->second.empty();
+    });
+    if (unanswered || !refreshQuestions_.empty() || !expiredKeys_.empty() ||
+        !expiredHosts_.empty()) {
         return Clock::time_point::min();
     }
     if (queue_.empty()) return std::nullopt;

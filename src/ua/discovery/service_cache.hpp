@@ -96,7 +96,8 @@ public:
     /// The questions due by `now`: refreshes of records before they expire (each asked once
     /// per threshold), and the address of an SRV target that came without one.
     std::vector<DnsQuestion> refreshQueries(Clock::time_point now);
-    /// The next time expire() or refreshQueries() has something to do.
+    /// The next time expire() or refreshQueries() has something to do (perhaps earlier: a
+    /// record renewed since; never later). The distant past when a question is waiting.
     [[nodiscard]] std::optional<Clock::time_point> nextDeadline() const;
     /// The known answers for a browse query (RFC 6762, 7.1) for `browseName` (the service
     /// type, or a subtype of it): the PTR records with more than half of their TTL left, with
