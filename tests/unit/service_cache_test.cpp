@@ -340,6 +340,20 @@ TEST_F(ServiceCacheTest, ManyRenewalsStillExpireEachRecordOnTime) {
     EXPECT_FALSE(cache.nextDeadline().has_value());
 }
 
+// A sender that shortens its records' TTL again and again moves their times earlier each
+// time: the queue is made again from the records before it grows without end.
+TEST_F(ServiceCacheTest, RecordsShortenedAgainAndAgainKeepTheQueueBounded) {
+    std::size_t most = 0;
+    for (std::uint32_t ttl = 66'000; ttl > 0; --ttl) {  // past 64 Ki entries once
+        cache.ingest(announcement("pump", "host-a.local", kHostA, 4840, ttl), kHostA, t0);
+        most = std::max(most, cache.queued());
+    }
+    EXPECT_LE(most, 64u * 1024u + 1u);
+    EXPECT_EQ(cache.size(), 1u);
+    EXPECT_TRUE(cache.expire(t0).empty());
+    EXPECT_EQ(cache.expire(t0 + 1s).size(), 1u);  // the last TTL, 1 s, still counts
+}
+
 TEST(ServiceCacheJitter, RefreshTimesSpreadOverTwoPercentOfTheTtl) {
     const auto t0 = Clock::time_point{} + 1000s;
     std::set<Clock::time_point> deadlines;

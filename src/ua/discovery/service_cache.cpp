@@ -10,6 +10,10 @@ namespace {
 constexpr std::array<int, 4> kRefreshPercent = {80, 85, 90, 95};
 // Bounds what a flood of records can make us keep (each map separately).
 constexpr std::size_t kMaxEntries = 1024;
+// Queue entries beyond one per record come from records whose time moved earlier (a shorter
+// TTL); a sender that keeps shortening them would grow the queue without end: past this
+// many, it is made again from the records, one entry each.
+constexpr std::size_t kMaxQueued = 64 * kMaxEntries;
 
 bool endsWith(std::string_view s, std::string_view suffix) {
     return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
@@ -302,6 +306,21 @@ void ServiceCache::schedule(Timed& t, RecordKind kind, const std::string& key, c
     if (t.scheduledAt && *t.scheduledAt <= at) return;  // due as early already
     t.scheduledAt = at;
     queue_.push(Due{at, kind, key, ip});
+    if (queue_.size() > kMaxQueued) requeueAll();
+}
+
+void ServiceCache::requeueAll() {
+    queue_ = {};
+    const auto again = [&](Timed& t, RecordKind kind, const std::string& key, const Ipv4& ip) {
+        t.scheduledAt.reset();
+        schedule(t, kind, key, ip);
+    };
+    for (auto& [key, p] : pointers_) again(p, RecordKind::Ptr, key, {});
+    for (auto& [key, srv] : srvs_) again(srv, RecordKind::Srv, key, {});
+    for (auto& [key, txt] : txts_) again(txt, RecordKind::Txt, key, {});
+    for (auto& [host, list] : addresses_) {
+        for (auto& a : list) again(a, RecordKind::Address, host, a.ip);
+    }
 }
 
 void ServiceCache::scheduleInstance(const std::string& key) {

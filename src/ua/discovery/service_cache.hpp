@@ -127,6 +127,8 @@ public:
     [[nodiscard]] std::vector<ServiceInstance> services() const;
     [[nodiscard]] std::size_t size() const { return announced_.size(); }
     [[nodiscard]] const std::string& serviceType() const { return serviceType_; }
+    /// Entries in the queue of record times (for tests: it stays bounded).
+    [[nodiscard]] std::size_t queued() const { return queue_.size(); }
 
 private:
     struct Timed {
@@ -172,6 +174,8 @@ private:
     [[nodiscard]] bool refreshed(const Due& due) const;
     /// Queues `t` (of kind/key/ip) at its next time, unless it is queued as early already.
     void schedule(Timed& t, RecordKind kind, const std::string& key, const Ipv4& ip = {});
+    /// Makes the queue again from the records, one entry each (kMaxQueued reached).
+    void requeueAll();
     /// Queues the records of instance `key` again (it became interesting: its refreshes count).
     void scheduleInstance(const std::string& key);
     /// Takes what is due by `now` off the queue: expired records are erased (their instances
