@@ -155,9 +155,7 @@ bool isPtrQuestionFor(const DnsQuestion& q, std::string_view name) {
 }
 
 bool announcesLds(const ServiceAnnouncement& a) {
-    return std::any_of(a.capabilities.begin(), a.capabilities.end(), [](const std::string& c) {
-        return foldCase(c) == foldCase(kLdsCapability);
-    });
+    return hasCapability(a.capabilities, kLdsCapability);
 }
 
 std::size_t digestOf(std::span<const std::uint8_t> bytes) {

@@ -49,6 +49,14 @@ bool roomFor(const Map& map, const std::string& key) {
     return map.size() < kMaxEntries || map.contains(key);
 }
 
+/// Adds `q` to `questions` unless the same question (name folded) is there already.
+void addQuestion(std::vector<DnsQuestion>& questions, DnsQuestion q) {
+    const bool dup = std::any_of(questions.begin(), questions.end(), [&](const DnsQuestion& o) {
+        return o.type == q.type && foldCase(o.name) == foldCase(q.name);
+    });
+    if (!dup) questions.push_back(std::move(q));
+}
+
 }  // namespace
 
 std::optional<Ipv4> parseIpv4Literal(std::string_view name) {
@@ -87,10 +95,14 @@ std::string ServiceInstance::discoveryUrl() const {
     return "opc.tcp://" + toString(address) + ":" + std::to_string(port) + path;
 }
 
-bool ServiceInstance::hasCapability(std::string_view cap) const {
+bool hasCapability(const std::vector<std::string>& capabilities, std::string_view cap) {
     const std::string folded = foldCase(cap);
     return std::any_of(capabilities.begin(), capabilities.end(),
                        [&](const std::string& c) { return foldCase(c) == folded; });
+}
+
+bool ServiceInstance::hasCapability(std::string_view cap) const {
+    return mdns::hasCapability(capabilities, cap);
 }
 
 std::optional<Clock::time_point> ServiceCache::Timed::nextRefresh() const {
@@ -122,11 +134,7 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
                 pointers_.erase(instance);
                 goodbyes.push_back(instance);
             } else if (roomFor(pointers_, instance)) {
-                auto& p = pointers_[instance];
-                const auto queued = p.scheduledAt;
-                p = Pointer{timed, rr.target};
-                p.scheduledAt = queued;
-                schedule(p, RecordKind::Ptr, instance);
+                renew(pointers_[instance], Pointer{timed, rr.target}, RecordKind::Ptr, instance);
             }
             return false;
         }
@@ -140,11 +148,7 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
                 const bool known = srvs_.contains(key) && srvs_[key].host == host;
                 // A copy that came over IPv6 has no IPv4 sender: keep the one we know.
                 const Ipv4 sender = (source == Ipv4{} && known) ? srvs_[key].sender : source;
-                auto& srv = srvs_[key];
-                const auto queued = srv.scheduledAt;
-                srv = Srv{timed, host, rr.port, sender};
-                srv.scheduledAt = queued;
-                schedule(srv, RecordKind::Srv, key);
+                renew(srvs_[key], Srv{timed, host, rr.port, sender}, RecordKind::Srv, key);
                 // A target without an address (yet): ask for it, once per new target. The
                 // A record often comes in the same message; asking then costs one datagram.
                 if (!known && !parseIpv4Literal(host) && pending_.size() < 64) {
@@ -159,11 +163,7 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
                 txts_.erase(key);
                 goodbyes.push_back(key);
             } else if (roomFor(txts_, key)) {
-                auto& txt = txts_[key];
-                const auto queued = txt.scheduledAt;
-                txt = Txt{timed, rr.txt};
-                txt.scheduledAt = queued;
-                schedule(txt, RecordKind::Txt, key);
+                renew(txts_[key], Txt{timed, rr.txt}, RecordKind::Txt, key);
             }
             return false;
         case DnsType::A: {
@@ -187,10 +187,7 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
                 }
                 goodbyes.push_back(key);
             } else if (it != list.end()) {
-                const auto queued = it->scheduledAt;
-                static_cast<Timed&>(*it) = timed;
-                it->scheduledAt = queued;
-                schedule(*it, RecordKind::Address, key, rr.ipv4);
+                renew(*it, Address{timed, rr.ipv4}, RecordKind::Address, key, rr.ipv4);
             } else if (list.size() < 16) {
                 list.push_back(Address{timed, rr.ipv4});
                 schedule(list.back(), RecordKind::Address, key, rr.ipv4);
@@ -224,14 +221,7 @@ std::vector<ServiceEvent> ServiceCache::ingest(const DnsMessage& message, const 
             touched.insert(foldCase(rr.name));
         }
     }
-    if (!hosts.empty()) {
-        for (const auto& [key, srv] : srvs_) {
-            if (hosts.contains(srv.host)) touched.insert(key);
-        }
-        for (const auto& [key, s] : announced_) {
-            if (hosts.contains(s.host)) touched.insert(key);
-        }
-    }
+    addInstancesOn(hosts, touched);
     std::vector<ServiceEvent> events;
     reconcile(events, goodbyes, touched);
     return events;
@@ -241,19 +231,22 @@ std::vector<ServiceEvent> ServiceCache::expire(Clock::time_point now) {
     processDue(now);
     std::set<std::string> keys;
     keys.swap(expiredKeys_);
-    std::set<std::string> hosts;
-    hosts.swap(expiredHosts_);
-    if (!hosts.empty()) {
-        for (const auto& [key, srv] : srvs_) {
-            if (hosts.contains(srv.host)) keys.insert(key);
-        }
-        for (const auto& [key, st] : announced_) {
-            if (hosts.contains(st.host)) keys.insert(key);
-        }
-    }
+    addInstancesOn(expiredHosts_, keys);
+    expiredHosts_.clear();
     std::vector<ServiceEvent> events;
     if (!keys.empty()) reconcile(events, {}, keys);
     return events;
+}
+
+void ServiceCache::addInstancesOn(const std::set<std::string>& hosts,
+                                  std::set<std::string>& keys) const {
+    if (hosts.empty()) return;
+    for (const auto& [key, srv] : srvs_) {
+        if (hosts.contains(srv.host)) keys.insert(key);
+    }
+    for (const auto& [key, st] : announced_) {
+        if (hosts.contains(st.host)) keys.insert(key);
+    }
 }
 
 ServiceCache::Timed* ServiceCache::recordOf(const Due& due) {
@@ -340,12 +333,8 @@ void ServiceCache::scheduleInstance(const std::string& key) {
 
 void ServiceCache::processDue(Clock::time_point now) {
     auto ask = [&](std::string name, DnsType type) {
-        const auto t = static_cast<std::uint16_t>(type);
-        const bool dup = std::any_of(refreshQuestions_.begin(), refreshQuestions_.end(),
-                                     [&](const DnsQuestion& q) {
-                                         return q.type == t && foldCase(q.name) == foldCase(name);
-                                     });
-        if (!dup) refreshQuestions_.push_back({std::move(name), t, kClassIn});
+        addQuestion(refreshQuestions_,
+                    {std::move(name), static_cast<std::uint16_t>(type), kClassIn});
     };
     while (!queue_.empty() && queue_.top().at <= now) {
         const Due due = queue_.top();
@@ -442,13 +431,6 @@ std::optional<ServiceInstance> ServiceCache::complete(const std::string& key) co
     return s;
 }
 
-std::set<std::string> ServiceCache::allKeys() const {
-    std::set<std::string> keys;
-    for (const auto& [k, v] : pointers_) keys.insert(k);
-    for (const auto& [k, v] : announced_) keys.insert(k);
-    return keys;
-}
-
 void ServiceCache::reconcile(std::vector<ServiceEvent>& events,
                              const std::vector<std::string>& goodbyes,
                              const std::set<std::string>& keys) {
@@ -480,18 +462,12 @@ std::vector<DnsQuestion> ServiceCache::refreshQueries(Clock::time_point now) {
         if (addrs == addresses_.end() || addrs->second.empty()) out.push_back(std::move(q));
     }
     pending_.clear();
-    for (auto& q : refreshQuestions_) {
-        const bool dup = std::any_of(out.begin(), out.end(), [&](const DnsQuestion& o) {
-            return o.type == q.type && foldCase(o.name) == foldCase(q.name);
-        });
-        if (!dup) out.push_back(std::move(q));
-    }
+    for (auto& q : refreshQuestions_) addQuestion(out, std::move(q));
     refreshQuestions_.clear();
     return out;
 }
 
 std::optional<Clock::time_point> ServiceCache::nextDeadline() const {
-    // The queue's first entry: perhaps early (a record renewed since), never late.
     // Something to ask or report at once: a refresh or an expiry taken off the queue, or the
     // address of an SRV target that did not come with it (at most 64 of those).
     const bool unanswered = std::any_of(pending_.begin(), pending_.end(), [&](const auto& q) {
@@ -503,7 +479,7 @@ std::optional<Clock::time_point> ServiceCache::nextDeadline() const {
         return Clock::time_point::min();
     }
     if (queue_.empty()) return std::nullopt;
-    return queue_.top().at;
+    return queue_.top().at;  // perhaps early (a record renewed since), never late
 }
 
 std::vector<DnsRecord> ServiceCache::knownAnswers(Clock::time_point now,

@@ -70,6 +70,10 @@ struct ServiceInstance {
     bool operator==(const ServiceInstance&) const = default;
 };
 
+/// Whether `capabilities` (a TXT caps= list, ours or another server's) holds `cap`, in any case.
+[[nodiscard]] bool hasCapability(const std::vector<std::string>& capabilities,
+                                 std::string_view cap);
+
 enum class RemovalReason : std::uint8_t { Goodbye, Expired };
 [[nodiscard]] std::string_view toString(RemovalReason reason);
 
@@ -172,6 +176,17 @@ private:
     Timed* recordOf(const Due& due);
     /// Whether the refreshes of this record are asked for (setInterest).
     [[nodiscard]] bool refreshed(const Due& due) const;
+    /// Replaces `record` by `fresh` (a new copy heard), keeping its place in the queue, and
+    /// queues it earlier if the copy is due sooner.
+    template <class Record>
+    void renew(Record& record, Record fresh, RecordKind kind, const std::string& key,
+               const Ipv4& ip = {}) {
+        fresh.scheduledAt = record.scheduledAt;
+        record = std::move(fresh);
+        schedule(record, kind, key, ip);
+    }
+    /// Adds to `keys` the instances whose SRV or announcement names one of `hosts`.
+    void addInstancesOn(const std::set<std::string>& hosts, std::set<std::string>& keys) const;
     /// Queues `t` (of kind/key/ip) at its next time, unless it is queued as early already.
     void schedule(Timed& t, RecordKind kind, const std::string& key, const Ipv4& ip = {});
     /// Makes the queue again from the records, one entry each (kMaxQueued reached).
@@ -189,7 +204,6 @@ private:
     /// emits the differences.
     void reconcile(std::vector<ServiceEvent>& events, const std::vector<std::string>& goodbyes,
                    const std::set<std::string>& keys);
-    [[nodiscard]] std::set<std::string> allKeys() const;
     [[nodiscard]] std::optional<ServiceInstance> complete(const std::string& key) const;
     /// Whether the instance `key` (folded) is one whose records are refreshed (setInterest).
     [[nodiscard]] bool interesting(const std::string& key) const;
