@@ -430,7 +430,15 @@ def build() -> None:
     rs.skill_type("MoveSkillType", "MoveSkillType", "SkillType", True,
                   "Moves a manipulator.", [
                       rs.param("ToolFrame", "frame",
-                               desc="Tool centre point relative to the flange.")])
+                               desc="Tool centre point relative to the flange."),
+                      rs.param("Reach", "double", unit="m", range=(0, 100), readonly=True,
+                               desc="How far the manipulator reaches: no flange position "
+                                    "farther than this from ReachCentre can be reached "
+                                    "(0: not published). What an MES checks a target "
+                                    "against before it chooses the manipulator."),
+                      rs.param("ReachCentre", "frame", readonly=True,
+                               desc="The point Reach is measured from (the shoulder), in "
+                                    "the cell's frame; its orientation is not used.")])
     lin = [rs.param("MaxVelocity", "double", unit="m/s", range=(0, 2),
                     desc="Cartesian speed limit of the tool centre point."),
            rs.param("MaxAcceleration", "double", unit="m/s2", range=(0, 10))]

@@ -125,6 +125,8 @@ GraphData ComponentGraphs::update(const std::string& applicationUri,
                 // that the MES checks an object against.
                 if (p.name == "MaxPayload") add(skill, proc("maxPayload"), decimal(*number));
                 if (p.name == "MaxGripWidth") add(skill, proc("maxGripWidth"), decimal(*number));
+                // How far a manipulator reaches (MoveSkillType), checked against the targets.
+                if (p.name == "Reach" && *number > 0) add(skill, proc("reach"), decimal(*number));
             } else {
                 const auto& pose = std::get<PoseValue>(p.value);
                 const std::pair<const char*, double> parts[] = {
@@ -138,6 +140,11 @@ GraphData ComponentGraphs::update(const std::string& applicationUri,
                 add(parameter, proc("poseValue"), node);
                 add(node, rdfType(), rdf::iri(proc("Pose")));
                 for (const auto& [local, part] : parts) add(node, proc(local), decimal(part));
+                if (p.name == "ReachCentre") {
+                    add(skill, proc("reachCentreX"), decimal(pose.x));
+                    add(skill, proc("reachCentreY"), decimal(pose.y));
+                    add(skill, proc("reachCentreZ"), decimal(pose.z));
+                }
             }
         }
     }
@@ -155,9 +162,10 @@ std::set<std::string> ComponentGraphs::typeNamespaces() const {
 }
 
 const std::vector<std::string>& recordedSkillProperties() {
-    static const std::vector<std::string> properties = {proc("available"),    proc("gripType"),
-                                                        proc("maxGripWidth"), proc("maxPayload"),
-                                                        proc("skillName"),    proc("skillNodeId")};
+    static const std::vector<std::string> properties = {
+        proc("available"), proc("gripType"),     proc("maxGripWidth"), proc("maxPayload"),
+        proc("reach"),     proc("reachCentreX"), proc("reachCentreY"), proc("reachCentreZ"),
+        proc("skillName"), proc("skillNodeId")};
     return properties;
 }
 

@@ -36,7 +36,9 @@ bool broughtBefore(const ProcessDescription& process, int index, const FactRequi
 std::vector<std::string> requiredProperties(const ProcessDescription& process) {
     std::set<std::string> out;
     for (const auto& step : process.steps) {
-        for (const auto& r : step.requirements) out.insert(r.propertyIri);
+        for (const auto& r : step.requirements) {
+            if (!r.propertyIri.empty()) out.insert(r.propertyIri);
+        }
     }
     return {out.begin(), out.end()};
 }
@@ -59,11 +61,13 @@ std::vector<std::string> infeasibility(const ProcessDescription& process,
                              " skill in the cell has all its parameters"
                        : "no component in the cell offers a " + shortName(step.skillTypeIri)));
         }
-        if (facts == nullptr) continue;
         for (const auto& r : step.requirements) {
             if (r.skillTypeIri.empty()) continue;  // on the step's own skill: checked as it runs
+            // A requirement by type alone needs no facts; one on a fact, the KB's.
+            if (facts == nullptr && !r.propertyIri.empty()) continue;
             const bool present = std::any_of(live.begin(), live.end(), [&](const auto& s) {
-                return isOfType(s, r.skillTypeIri) && facts->has(keyOf(s), r);
+                return isOfType(s, r.skillTypeIri) &&
+                       (r.propertyIri.empty() || facts->has(keyOf(s), r));
             });
             if (!present && !broughtBefore(process, step.index, r)) {
                 out.push_back(step.label() + " requires " + r.describe() +

@@ -497,8 +497,14 @@ private:
         const int line = where_.iriLine(r, 1) != 0 ? where_.subjectLine(r) : stepLine;
         const std::string name = label + ", requirement " + tailOfIri(r);
         const Term* property = g_.object(r, procIri("factProperty"));
-        if (property == nullptr) {
-            problem(line, name + " has no proc:factProperty");
+        const Term* type = g_.object(r, procIri("ofSkillType"));
+        if (property == nullptr && type != nullptr) {
+            // On the cell by type alone: any available instance of it.
+            if (g_.has(r, procIri("factValue"))) {
+                problem(line, name + " has a proc:factValue but no proc:factProperty");
+            }
+        } else if (property == nullptr) {
+            problem(line, name + " has neither a proc:factProperty nor a proc:ofSkillType");
         } else {
             const auto& recorded = recordedSkillProperties();
             if (std::find(recorded.begin(), recorded.end(), property->value) == recorded.end()) {
@@ -511,8 +517,10 @@ private:
                             "> for a skill; the knowledge base records " + list);
             }
         }
-        if (!g_.has(r, procIri("factValue"))) problem(line, name + " has no proc:factValue");
-        if (const Term* of = g_.object(r, procIri("ofSkillType"))) {
+        if (property != nullptr && !g_.has(r, procIri("factValue"))) {
+            problem(line, name + " has no proc:factValue");
+        }
+        if (const Term* of = type) {
             if (!models_.isSkillType(of->value)) {
                 problem(where_.iriLine(of->value, line),
                         name + ": proc:ofSkillType <" + of->value + "> is no known skill type");

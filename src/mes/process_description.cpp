@@ -176,15 +176,6 @@ kb::Expected<FactRequirement> requirement(const Graph& g, const Term& node,
         property != nullptr && property->kind != Term::Kind::Blank) {
         out.propertyIri = property->value;
     }
-    if (out.propertyIri.empty()) {
-        return kb::badInput(step + ": the requirement " + name(node) + " has no proc:factProperty");
-    }
-    const auto value = g.literal(node, p("factValue"));
-    if (!value) {
-        return kb::badInput(step + ": the requirement " + name(node) + " on " +
-                            shortName(out.propertyIri) + " has no proc:factValue");
-    }
-    out.value = *value;
     if (const Term* type = g.object(node, p("ofSkillType"))) {
         if (type->kind != Term::Kind::Iri) {
             return kb::badInput(step + ": the requirement " + name(node) +
@@ -192,6 +183,25 @@ kb::Expected<FactRequirement> requirement(const Graph& g, const Term& node,
         }
         out.skillTypeIri = type->value;
     }
+    const auto value = g.literal(node, p("factValue"));
+    if (out.propertyIri.empty()) {
+        // A requirement on the cell may name a type alone: any available instance of it (a
+        // robot for a pick, whose endpoint the pick then takes).
+        if (out.skillTypeIri.empty()) {
+            return kb::badInput(step + ": the requirement " + name(node) +
+                                " has neither a proc:factProperty nor a proc:ofSkillType");
+        }
+        if (value) {
+            return kb::badInput(step + ": the requirement " + name(node) +
+                                " has a proc:factValue but no proc:factProperty");
+        }
+        return out;
+    }
+    if (!value) {
+        return kb::badInput(step + ": the requirement " + name(node) + " on " +
+                            shortName(out.propertyIri) + " has no proc:factValue");
+    }
+    out.value = *value;
     return out;
 }
 
@@ -206,6 +216,7 @@ std::optional<double> parseNumber(const std::string& text) {
 }
 
 std::string FactRequirement::describe() const {
+    if (propertyIri.empty()) return "an available " + shortName(skillTypeIri);
     const std::string fact = shortName(propertyIri) + " \"" + value + "\"";
     return skillTypeIri.empty() ? fact
                                 : "an available " + shortName(skillTypeIri) + " with " + fact;
@@ -269,6 +280,17 @@ kb::Expected<std::string> processQuery(const std::string& processIri) {
            "> ?id . ?o ?b ?c . FILTER(?b = <" + p("mass") + "> || ?b = <" + p("sizeX") +
            "> || ?b = <" + p("sizeY") + "> || ?b = <" + p("sizeZ") +
            ">) }\n"
+           // And its pose in the cell (where a robot must reach to pick it), with its parts.
+           "  UNION { " +
+           P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " + derivedFrom +
+           " ?a . ?a <" + p("objectId") + "> ?id . ?o <" + p("objectId") + "> ?id . ?o <" +
+           p("pose") + "> ?c . BIND(<" + p("pose") +
+           "> AS ?b) FILTER(?o != ?a) }\n"
+           "  UNION { " +
+           P + " " + hasStep + " ?s . ?s " + hasParameter + " ?q . ?q " + derivedFrom +
+           " ?r . ?r <" + p("objectId") + "> ?id . ?o <" + p("objectId") + "> ?id . ?o <" +
+           p("pose") +
+           "> ?a . ?a ?b ?c }\n"
            "}";
 }
 

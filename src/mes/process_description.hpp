@@ -44,9 +44,10 @@ struct DerivationSource {
 
 /// A fact the knowledge base must hold for a skill to suit a step (proc:requiresFact): the
 /// skill instance has `propertyIri` with `value`. With a `skillTypeIri` it concerns the cell:
-/// some available skill of that type (or a subtype) must have the fact.
+/// some available skill of that type (or a subtype) must have the fact; without a property,
+/// any available one of that type will do.
 struct FactRequirement {
-    std::string propertyIri;
+    std::string propertyIri;   // empty: none (a requirement on the cell by type alone)
     std::string value;         // its lexical form; numbers compare by value
     std::string skillTypeIri;  // empty: the skill that runs the step
     friend bool operator==(const FactRequirement&, const FactRequirement&) = default;

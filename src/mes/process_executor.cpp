@@ -663,6 +663,10 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
     const std::vector<skills::SkillInstance>& live) {
     auto self = shared_from_this();
     Choice c;
+    if (!kb_.facts && step.requirements.empty()) {
+        c.skills = std::move(typed);  // positions, but no KB to tell any robot's reach
+        co_return c;
+    }
     if (!kb_.facts) {
         c.unmet = "it has requirements (" + step.requirements.front().describe() +
                   "), and this MES has no knowledge base to check them";
@@ -679,6 +683,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
     c.unmet = std::move(cell.unmet);
     if (!c.unmet.empty()) co_return c;
     c.cellMatches = std::move(cell.byRequirement);
+    c.chosen = std::move(cell.chosen);
     std::string unfit;
     for (auto& s : typed) {
         const std::string why = unmetSkillRequirements(step, s, *facts);
@@ -688,7 +693,11 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
             unfit += (unfit.empty() ? "" : "; ") + where(s) + ": " + why;
         }
     }
-    if (c.skills.empty()) c.unmet = "no skill of its type meets its requirements: " + unfit;
+    if (c.skills.empty()) {
+        c.unmet = "no skill of its type meets its requirements: " + unfit;
+    } else if (!unfit.empty()) {
+        c.chosen += (c.chosen.empty() ? "" : "; ") + std::string("passed over: ") + unfit;
+    }
     co_return c;
 }
 
@@ -773,7 +782,9 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
         auto typed = candidates(step, live, excluded);
         Choice c;
         bool askAgain = false;  // whether the KB may soon know what it does not know now
-        if (typed.empty() || step.requirements.empty()) {
+        // The KB is asked when the step has requirements or names positions (whose reach a
+        // robot's facts tell); a step without either takes any instance of its type.
+        if (typed.empty() || (step.requirements.empty() && stepTargets(step).empty())) {
             c.skills = std::move(typed);
         } else {
             c = co_await withRequirements(step, std::move(typed), live);
@@ -812,6 +823,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             if (!free.skills.empty()) {
                 free.cellMatches = std::move(c.cellMatches);
                 free.why = rankByExpectedDuration(free.skills, durations);
+                if (!c.chosen.empty()) free.why += "; " + c.chosen;
                 if (!holders.empty()) free.why += "; not free: " + holders;
                 co_return free;
             }
@@ -920,13 +932,10 @@ asio::awaitable<kb::Expected<std::optional<std::uint64_t>>> ProcessExecutor::res
     skills::SkillConnection& connection, const Order& order) {
     auto self = shared_from_this();
     const std::string holder = options_.holder + " order " + std::to_string(order.id);
-    auto token = co_await skills::reserve(connection.client(), holder, /*takeover=*/false);
-    if (token) co_return std::optional<std::uint64_t>(*token);
-    if (skills::noReservation(token.status())) co_return std::optional<std::uint64_t>();
-    const std::string other = co_await skills::reservationHolder(connection.client());
-    co_return kb::Error{"reserved by " + (other.empty() ? std::string("another holder") : other) +
-                            " (" + std::string(ua::statusName(token.status())) + ")",
-                        kb::ErrorKind::Unavailable};
+    std::vector<ua::Client*> sessions{&connection.client()};  // named: see reservation_client
+    const skills::Hold held = co_await skills::hold(std::move(sessions), holder);
+    if (!held.refusal.empty()) co_return kb::Error{held.refusal, kb::ErrorKind::Unavailable};
+    co_return held.token;
 }
 
 asio::awaitable<bool> ProcessExecutor::componentGone(std::shared_ptr<Order> order,

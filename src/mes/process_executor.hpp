@@ -217,6 +217,8 @@ private:
         std::vector<std::optional<skills::SkillInstance>> cellMatches;
         /// Why the first of `skills` was chosen (journaled with the attempt).
         std::string why;
+        /// What met the requirements on the cell, and why (CellMatch::chosen).
+        std::string chosen;
     };
     /// Why the cell cannot run `process` (empty: it can), after waiting up to skillWait for
     /// the skills it lacks to appear (or for the KB to record their facts).

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "kb/component_graph.hpp"
@@ -73,6 +74,50 @@ std::string cannotHold(const DerivationSource& object, const skills::SkillInstan
     return why;
 }
 
+std::vector<StepTarget> stepTargets(const ProcessStep& step) {
+    std::vector<StepTarget> out;
+    auto add = [&out](std::string what, const devices::Pose6& pose) {
+        const bool known = std::any_of(out.begin(), out.end(), [&](const StepTarget& t) {
+            return t.x == pose.x && t.y == pose.y && t.z == pose.z;
+        });
+        if (!known) out.push_back({std::move(what), pose.x, pose.y, pose.z});
+    };
+    for (const auto& p : step.parameters) {
+        if (const auto* pose = std::get_if<devices::Pose6>(&p.value)) {
+            if (p.name != "ToolFrame") add(p.name, *pose);
+            continue;
+        }
+        const auto* from = std::get_if<DerivationSource>(&p.value);
+        if (from == nullptr) continue;
+        const std::string name = from->objectId.empty() ? shortName(from->iri) : from->objectId;
+        if (from->pose) add(name, *from->pose);
+        if (from->targetPose) add(name + "'s target", *from->targetPose);
+    }
+    return out;
+}
+
+std::string cannotReach(const ProcessStep& step, const skills::SkillInstance& skill,
+                        const SkillFacts& facts) {
+    const SkillKey key = keyOf(skill);
+    const auto reach = leastNumber(facts.values(key, proc("reach")));
+    if (!reach || *reach <= 0) return {};
+    const auto cx = leastNumber(facts.values(key, proc("reachCentreX")));
+    const auto cy = leastNumber(facts.values(key, proc("reachCentreY")));
+    const auto cz = leastNumber(facts.values(key, proc("reachCentreZ")));
+    const double x0 = cx.value_or(0), y0 = cy.value_or(0), z0 = cz.value_or(0);
+    std::string why;
+    for (const auto& t : stepTargets(step)) {
+        const double d = std::hypot(t.x - x0, t.y - y0, t.z - z0);
+        if (d <= *reach) continue;
+        why += (why.empty() ? "" : "; ") +
+               fmt::format(
+                   "{} at ({:g}, {:g}, {:g}) is {:.3f} m from its reach centre, beyond "
+                   "its reach of {:g} m",
+                   t.what, t.x, t.y, t.z, d, *reach);
+    }
+    return why;
+}
+
 void SkillFacts::add(const SkillKey& skill, const std::string& propertyIri, std::string value) {
     auto& values = values_[skill][propertyIri];
     if (std::find(values.begin(), values.end(), value) == values.end()) {
@@ -89,6 +134,7 @@ std::vector<std::string> SkillFacts::values(const SkillKey& skill,
 }
 
 bool SkillFacts::has(const SkillKey& skill, const FactRequirement& requirement) const {
+    if (requirement.propertyIri.empty()) return true;  // any instance of the type
     const auto all = values(skill, requirement.propertyIri);
     return std::any_of(all.begin(), all.end(),
                        [&](const std::string& v) { return sameValue(v, requirement.value); });
@@ -96,11 +142,19 @@ bool SkillFacts::has(const SkillKey& skill, const FactRequirement& requirement) 
 
 std::vector<std::string> requiredProperties(const ProcessStep& step) {
     std::set<std::string> out;
-    for (const auto& r : step.requirements) out.insert(r.propertyIri);
+    for (const auto& r : step.requirements) {
+        if (!r.propertyIri.empty()) out.insert(r.propertyIri);
+    }
     // A step that moves an object of known mass or size checks the gripper's rating.
-    if (!out.empty() && movedObject(step) != nullptr) {
+    if (!step.requirements.empty() && movedObject(step) != nullptr) {
         out.insert(proc("maxPayload"));
         out.insert(proc("maxGripWidth"));
+    }
+    // One that names positions checks the manipulator's reach.
+    if (!stepTargets(step).empty()) {
+        for (const char* p : {"reach", "reachCentreX", "reachCentreY", "reachCentreZ"}) {
+            out.insert(proc(p));
+        }
     }
     return {out.begin(), out.end()};
 }
@@ -167,7 +221,7 @@ kb::Expected<SkillFacts> readFacts(kb::SparqlStore& store,
 
 std::string unmetSkillRequirements(const ProcessStep& step, const skills::SkillInstance& skill,
                                    const SkillFacts& facts) {
-    std::string out;
+    std::string out = cannotReach(step, skill, facts);
     for (const auto& r : step.requirements) {
         if (!r.skillTypeIri.empty() || facts.has(keyOf(skill), r)) continue;
         const std::string has = quoted(facts.values(keyOf(skill), r.propertyIri));
@@ -199,12 +253,17 @@ CellMatch matchCellRequirements(const ProcessStep& step,
         for (const auto* s : ordered) {
             if (!isOfType(*s, r.skillTypeIri)) continue;
             if (facts.has(keyOf(*s), r)) {
-                if (const std::string why = object ? cannotHold(*object, *s, facts) : "";
-                    !why.empty()) {
+                std::string why = object ? cannotHold(*object, *s, facts) : "";
+                if (const std::string far = cannotReach(step, *s, facts); !far.empty()) {
+                    why += (why.empty() ? "" : "; ") + far;
+                }
+                if (!why.empty()) {
                     offered += (offered.empty() ? "" : "; ") + where(*s) + ": " + why;
                     continue;
                 }
                 out.byRequirement[i] = *s;
+                out.chosen += (out.chosen.empty() ? "" : "; ") + r.describe() + ": " + where(*s) +
+                              (offered.empty() ? "" : " (passed over: " + offered + ")");
                 break;
             }
             const std::string has = quoted(facts.values(keyOf(*s), r.propertyIri));

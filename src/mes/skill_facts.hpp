@@ -37,7 +37,8 @@ private:
 
 /// The properties `step`'s requirements ask about (sorted, each once); with the gripper's
 /// rating (proc:maxPayload, proc:maxGripWidth) when the step moves an object of known mass or
-/// size.
+/// size, and a manipulator's reach (proc:reach, proc:reachCentreX/Y/Z) when it names
+/// positions (stepTargets).
 [[nodiscard]] std::vector<std::string> requiredProperties(const ProcessStep& step);
 
 /// The CONSTRUCT query for every skill instance's values of `propertyIris`, with the
@@ -49,8 +50,8 @@ private:
 [[nodiscard]] kb::Expected<SkillFacts> readFacts(kb::SparqlStore& store,
                                                  const std::vector<std::string>& propertyIris);
 
-/// Why `skill` lacks `step`'s own requirements (those without a skill type); empty when it
-/// has them all.
+/// Why `skill` lacks `step`'s own requirements (those without a skill type), or does not reach
+/// the positions it names (cannotReach); empty when it has them all.
 [[nodiscard]] std::string unmetSkillRequirements(const ProcessStep& step,
                                                  const skills::SkillInstance& skill,
                                                  const SkillFacts& facts);
@@ -65,14 +66,36 @@ private:
 [[nodiscard]] std::string cannotHold(const DerivationSource& object,
                                      const skills::SkillInstance& skill, const SkillFacts& facts);
 
+/// A position a step sends a manipulator to, in the cell's frame, and what it is.
+struct StepTarget {
+    std::string what;  // "boxA", "boxA's target", "dockP", "TargetPosition"
+    double x = 0, y = 0, z = 0;
+};
+/// The positions `step` names: its literal poses (not ToolFrame, which is relative to the
+/// flange), an object's pose and target where a parameter derives from the object, a dock's
+/// pose where one derives from the dock. Each once.
+[[nodiscard]] std::vector<StepTarget> stepTargets(const ProcessStep& step);
+/// Why the manipulator behind `skill` cannot reach every target of `step`, by its reach in the
+/// KB (proc:reach from proc:reachCentreX/Y/Z, a move skill's Reach and ReachCentre); empty
+/// when it can, or when the KB gives it no reach (not a manipulator, or not published). A
+/// sphere: a target inside may still be refused by the manipulator's own planner (a tool's
+/// length, its wrist), which then fails the step as before.
+[[nodiscard]] std::string cannotReach(const ProcessStep& step, const skills::SkillInstance& skill,
+                                      const SkillFacts& facts);
+
 struct CellMatch {
     /// Parallel to step.requirements: for a requirement on the cell, the live instance that
-    /// meets it and can hold the object the step moves (the first by component URI and browse
-    /// path); nothing for one on the skill, or one unmet.
+    /// meets it, can hold the object the step moves and reaches the positions it names (the
+    /// first by component URI and browse path); nothing for one on the skill, or one unmet.
     std::vector<std::optional<skills::SkillInstance>> byRequirement;
     /// Why some are unmet, naming each and what the live instances of its type have
     /// instead; empty when all are met.
     std::string unmet;
+    /// For the choice's reason: each met requirement, the instance that meets it, and why
+    /// those before it did not ("an available CartesianLinearMoveSkillType: Skills/... of
+    /// urn:b (passed over: Skills/... of urn:a: boxC at ... is 1.6 m from its reach centre,
+    /// ...)").
+    std::string chosen;
 };
 [[nodiscard]] CellMatch matchCellRequirements(const ProcessStep& step,
                                               const std::vector<skills::SkillInstance>& live,

@@ -88,12 +88,20 @@ bool Reservation::permits(const ua::Caller& caller) const {
 ua::StatusCode Reservation::reserve(const ua::Caller& caller, const std::string& holder,
                                     bool takeover, std::uint64_t& token) {
     if (holder.empty()) return ua::status::BadInvalidArgument;
-    if (token_ != 0 && holder != holder_ && !takeover) {
+    // The holder's lease: its sessions. When every session bound to the token has closed or
+    // timed out (a composite killed mid-run, an MES gone for longer than its session
+    // timeout), the reservation no longer keeps others out.
+    const bool orphaned = !sessions_.empty() && std::none_of(sessions_.begin(), sessions_.end(),
+                                                             [this](const ua::NodeId& s) {
+                                                                 return server_.hasSession(s);
+                                                             });
+    if (token_ != 0 && holder != holder_ && !takeover && !orphaned) {
         spdlog::info("reservation: {} refused: {} holds it", holder, holder_);
         return ua::status::BadResourceUnavailable;
     }
     if (token_ != 0 && holder != holder_) {
-        spdlog::warn("reservation: {} takes it over from {}", holder, holder_);
+        spdlog::warn("reservation: {} takes it over from {}{}", holder, holder_,
+                     orphaned ? ", none of whose sessions is left" : "");
     }
     lastToken_ = std::max(lastToken_ + 1, clockToken());
     token_ = lastToken_;

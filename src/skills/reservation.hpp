@@ -10,6 +10,11 @@
 // session it uses: Use and Release with its old token are Bad_InvalidArgument, writes and
 // methods from its sessions Bad_UserAccessDenied.
 //
+// The holder's sessions are its lease: once every session bound to the token has closed or
+// timed out, another holder's Reserve is granted without Takeover (a holder killed for good
+// does not keep the component forever). A component reserved by application code (no
+// session) keeps its reservation until released.
+//
 // Threading: the server's thread (the address space's).
 #include <cstdint>
 #include <memory>

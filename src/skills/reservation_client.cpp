@@ -19,6 +19,14 @@ asio::awaitable<ua::Result<std::uint64_t>> reserve(ua::Client& client, std::stri
     co_return *token;
 }
 
+asio::awaitable<ua::StatusCode> use(ua::Client& client, std::uint64_t token) {
+    std::vector<ua::Variant> in{ua::Variant(token)};
+    const ua::NodeId object = reservationNode();
+    const ua::NodeId method = reservationNode("Use");
+    auto out = co_await client.call(object, method, std::move(in));
+    co_return out ? ua::StatusCode(ua::status::Good) : out.status();
+}
+
 asio::awaitable<ua::StatusCode> release(ua::Client& client, std::uint64_t token) {
     std::vector<ua::Variant> in{ua::Variant(token)};
     const ua::NodeId object = reservationNode();
@@ -36,6 +44,37 @@ asio::awaitable<std::string> reservationHolder(ua::Client& client) {
 
 bool noReservation(ua::StatusCode status) {
     return status == ua::status::BadNodeIdUnknown || status == ua::status::BadMethodInvalid;
+}
+
+asio::awaitable<Hold> hold(std::vector<ua::Client*> sessions, std::string holder) {
+    Hold out;
+    if (sessions.empty()) co_return out;
+    ua::Client& first = *sessions.front();
+    auto token = co_await reserve(first, holder, /*takeover=*/false);
+    if (!token) {
+        if (noReservation(token.status())) co_return out;
+        const std::string status(ua::statusName(token.status()));
+        if (token.status() != ua::status::BadResourceUnavailable) {
+            out.refusal = "its Reserve was refused (" + status + ")";
+            co_return out;
+        }
+        const std::string other = co_await reservationHolder(first);
+        out.refusal = "reserved by " + (other.empty() ? std::string("another holder") : other) +
+                      " (" + status + ")";
+        co_return out;
+    }
+    for (std::size_t i = 1; i < sessions.size(); ++i) {
+        const ua::StatusCode bound = co_await use(*sessions[i], *token);
+        if (bound.isBad()) {
+            // Taken over between the two calls, or the session is gone: let go of all of it.
+            (void)co_await release(first, *token);
+            out.refusal = "cannot drive it through a second session: Use was refused (" +
+                          std::string(ua::statusName(bound)) + ")";
+            co_return out;
+        }
+    }
+    out.token = *token;
+    co_return out;
 }
 
 }  // namespace skillcell::skills

@@ -9,7 +9,9 @@
 //   3. session B with the token (Use) is accepted: it writes the parameter and runs the skill;
 //   4. session C takes the reservation over (Takeover): a greater token; A and B, whose
 //      token is stale now, are refused (write: BadUserAccessDenied, Use and Release of the old
-//      token: BadInvalidArgument); C releases, and the component is free for anyone again.
+//      token: BadInvalidArgument); C releases, and the component is free for anyone again;
+//   5. session D reserves and closes its session: its lease is over, so E, another holder,
+//      reserves without Takeover.
 // usage: node reservation.js opc.tcp://HOST:PORT SKILL_NAME
 // Prints "OK reservation" and exits 0, or prints the failure on stderr and exits 1.
 "use strict";
@@ -106,6 +108,22 @@ async function main() {
         expect("C writes", await write(c.session, 0.4), StatusCodes.Good);
         expect("C releases", (await call(c.session, releaseId, [token(tokenC)])).statusCode, StatusCodes.Good);
         expect("A writes once it is free", await write(a.session, 0.3), StatusCodes.Good);
+
+        // 5. D's sessions are its lease: closed, another holder may reserve.
+        const d = await connect(url, "skillcell-reservation-d", (m) => problems.push(m));
+        try {
+            expect("Reserve by D", (await reserve(d.session, "node D", false)).statusCode, StatusCodes.Good);
+            expect("E reserves while D's session lives", (await reserve(c.session, "node E", false)).statusCode,
+                StatusCodes.BadResourceUnavailable);
+        } finally {
+            await disconnect(d.client, d.session); // CloseSession, then the connection
+        }
+        const afterD = await reserve(c.session, "node E", false);
+        expect("E reserves once D's session is closed", afterD.statusCode, StatusCodes.Good);
+        const holderE = await c.session.read({ nodeId: holderNode, attributeId: AttributeIds.Value });
+        if (holderE.value.value !== "node E") throw new Error(`Holder after D: ${holderE.value.value}`);
+        expect("E releases", (await call(c.session, releaseId, [token(afterD.outputArguments[0].value)])).statusCode,
+            StatusCodes.Good);
         if (problems.length) throw new Error(problems.join("; "));
         process.stdout.write("OK reservation\n");
     } finally {

@@ -11,6 +11,7 @@
 #include "devices/common/frame.hpp"
 #include "devices/world/world_link.hpp"
 #include "simulated_cell.hpp"
+#include "skills/reservation_client.hpp"
 
 namespace skillcell::devices::device_work_cell_test {
 namespace {
@@ -53,10 +54,38 @@ TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
         pickClient.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
     ASSERT_TRUE(change && detach && pick);
 
+    // Another holder has the robot (a second MES): the changer does not move it, and says
+    // who holds it. Released, the change runs; the changer holds the robot while it moves it,
+    // and lets go of it at its end (checked at the end of the test).
+    test::ClientThread other;
+    const std::uint64_t token = other.run([&]() -> asio::awaitable<std::uint64_t> {
+        if ((co_await other.client().connect(cell.robot->url())).isBad()) co_return 0;
+        auto t = co_await skills::reserve(other.client(), "urn:test:another-mes", false);
+        co_return t ? *t : 0;
+    });
+    ASSERT_NE(token, 0U);
     auto outcome = client.invoke(change,
                                  {{"ToolPosition", poseValue(parallelDock())},
                                   {"ToolAppUri", textValue(cell.parallelUri.c_str())}},
                                  60s);
+    EXPECT_EQ(outcome.kind, Kind::Failed);
+    EXPECT_NE(outcome.reason.find("reserved by urn:test:another-mes (BadResourceUnavailable)"),
+              std::string::npos)
+        << outcome.reason;
+    EXPECT_EQ(*w.mountedTool(), "");
+    ASSERT_EQ(client.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_return co_await change->call(skills::SkillMethod::Reset);
+    }),
+              ua::status::Good);
+    ASSERT_EQ(other.run([&]() -> asio::awaitable<ua::StatusCode> {
+        co_return co_await skills::release(other.client(), token);
+    }),
+              ua::status::Good);
+
+    outcome = client.invoke(change,
+                            {{"ToolPosition", poseValue(parallelDock())},
+                             {"ToolAppUri", textValue(cell.parallelUri.c_str())}},
+                            60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     outcome = pickClient.invoke(
         pick,
@@ -97,6 +126,11 @@ TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
     expectAt(w, "boxB", 0.25, -0.2, 0.02);
     EXPECT_EQ(*w.mountedTool(), "");
     EXPECT_EQ(*w.graspedObject(), "");
+    // The composites let go of the robot after each run, failed ones too.
+    EXPECT_EQ(other.run([&]() -> asio::awaitable<std::string> {
+        co_return co_await skills::reservationHolder(other.client());
+    }),
+              "");
 
     // No tool: the composite fails cleanly, naming what is missing.
     outcome = pickClient.invoke(

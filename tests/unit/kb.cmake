@@ -8,7 +8,8 @@ skillcell_unit_test(test_kb SHARED_FIXTURE VirtuosoTest KnowledgeBaseTest
   kb/engine_test.cpp
   kb/knowledge_base_test.cpp)
 target_link_libraries(test_kb PRIVATE skillcell_kb skillcell_kb_owl skillcell_http
-                                      skillcell_kb_components skillcell_kb_engine skillcell_kb_rdf)
+                                      skillcell_kb_components skillcell_kb_engine skillcell_kb_rdf
+                                      skillcell_mes skillcell_cell)
 target_compile_definitions(test_kb PRIVATE SKILLCELL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 target_include_directories(test_kb PRIVATE ${PROJECT_SOURCE_DIR}/tests/support)
 

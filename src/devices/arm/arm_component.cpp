@@ -134,6 +134,12 @@ ua::StatusCode ArmComponent::build(std::string* error) {
             if (p.name == "AxisBounds") {
                 value = ua::Variant::array(ua::BuiltinType::ExtensionObject, {});
             }
+            // Where it reaches, for an MES to choose a robot that reaches its targets before
+            // any motion (the base stands at the cell's origin).
+            if (p.name == "Reach") value = ua::Variant(options_.model.reach);
+            if (p.name == "ReachCentre") {
+                value = frameToVariant(KDL::Frame(options_.model.shoulder));
+            }
             if (!value.isEmpty()) (void)as.setValue(p.nodeId, std::move(value));
         }
     }

@@ -1,6 +1,7 @@
 #include "devices/common/robot_motion.hpp"
 
 #include "devices/common/frame.hpp"
+#include "skills/reservation_client.hpp"
 
 namespace skillcell::devices {
 
@@ -28,6 +29,17 @@ asio::awaitable<std::unique_ptr<RobotMotion>> RobotMotion::open(asio::any_io_exe
             co_await skills::SkillConnection::open(executor, endpoint, forceType, config, &ignored);
         if (opened) motion->forceLimited_ = std::move(*opened);
     }
+    std::vector<ua::Client*> sessions{&motion->linear_->client()};
+    for (auto* c : {motion->ptp_.get(), motion->forceLimited_.get()}) {
+        if (c != nullptr) sessions.push_back(&c->client());
+    }
+    const skills::Hold held = co_await skills::hold(std::move(sessions), config.applicationUri);
+    if (!held.refusal.empty()) {
+        why = "the robot at " + endpoint + " cannot be driven: " + held.refusal;
+        co_await motion->close();
+        co_return nullptr;
+    }
+    motion->token_ = held.token;
     co_return motion;
 }
 
@@ -56,6 +68,12 @@ asio::awaitable<std::string> RobotMotion::moveTo(skills::SubSkillRunner& runner,
 }
 
 asio::awaitable<void> RobotMotion::close() {
+    if (token_) {
+        const std::uint64_t token = *token_;
+        token_.reset();
+        // Refused only when another took it over meanwhile: it is theirs then.
+        (void)co_await skills::release(linear_->client(), token);
+    }
     if (ptp_) co_await ptp_->close();
     if (forceLimited_) co_await forceLimited_->close();
     co_await linear_->close();

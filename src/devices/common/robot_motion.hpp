@@ -7,11 +7,17 @@
 // the robot's component; without a PTP skill every move is linear. Poses are flange poses
 // (ToolFrame identity).
 //
+// A composite holds the robot while it drives it: open() reserves the robot's component
+// (docs/skills.md, "Reservation") for the composite's application URI, through every session,
+// and close() releases it. Another MES, or another composite, cannot move the robot meanwhile;
+// a restarted composite (same URI) takes back what its former self held.
+//
 // Threading: on the executor it was opened with.
 #include <asio/any_io_executor.hpp>
 #include <asio/awaitable.hpp>
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <kdl/frames.hpp>
@@ -33,8 +39,9 @@ public:
 
     /// Opens the robot's CartesianLinearMove (required) and CartesianPtpMove (optional) at
     /// `endpoint`, and with `forceLimited` its CartesianForceLimitedLinearMove (optional: a
-    /// connection of its own, so only for who inserts); null with `why` when the linear move
-    /// is not there.
+    /// connection of its own, so only for who inserts), and reserves the robot for
+    /// `config.applicationUri`; null with `why` when the linear move is not there or the
+    /// robot is reserved by another.
     static asio::awaitable<std::unique_ptr<RobotMotion>> open(asio::any_io_executor executor,
                                                               std::string endpoint,
                                                               ua::ClientConfig config,
@@ -50,6 +57,7 @@ public:
                                         MoveLimits limits = {});
     /// Whether the robot offers force-limited moves.
     [[nodiscard]] bool sensesForce() const { return static_cast<bool>(forceLimited_); }
+    /// Releases the robot and closes the sessions.
     asio::awaitable<void> close();
     [[nodiscard]] const std::string& endpointUrl() const { return linear_->endpointUrl(); }
 
@@ -64,6 +72,7 @@ private:
     std::unique_ptr<skills::SkillConnection> linear_;
     std::unique_ptr<skills::SkillConnection> ptp_;           // may be null
     std::unique_ptr<skills::SkillConnection> forceLimited_;  // may be null
+    std::optional<std::uint64_t> token_;                     // none: the robot has no reservation
 };
 
 /// "Finished", or "Failed: <reason> (<status>)": how a sub-skill's run ended, for a reason.

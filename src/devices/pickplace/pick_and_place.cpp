@@ -6,6 +6,7 @@
 #include "devices/common/blocking_call.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/pickplace/fuse_planner.hpp"
+#include "skills/reservation_client.hpp"
 
 namespace skillcell::devices::pickplace {
 namespace {
@@ -115,6 +116,15 @@ asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request
     if (!skills.grasp) co_return why;
     skills.release = co_await open(skills.grasp->endpointUrl(), kReleaseType, why);
     if (!skills.release) co_return why;
+    // The tool is the composite's while it runs, as the robot is (RobotMotion).
+    std::vector<ua::Client*> sessions{&skills.grasp->client(), &skills.release->client()};
+    const skills::Hold held =
+        co_await skills::hold(std::move(sessions), options_.client.applicationUri);
+    if (!held.refusal.empty()) {
+        co_return "the tool at " + skills.grasp->endpointUrl() +
+            " cannot be driven: " + held.refusal;
+    }
+    skills.toolToken = held.token;
     co_return std::string();
 }
 
@@ -454,6 +464,7 @@ asio::awaitable<std::string> PickAndPlace::run(PickRequest request) {
     }
     if (why.empty()) why = co_await execute(script, request, skills, generation);
     if (skills.move) co_await skills.move->close();
+    if (skills.toolToken) (void)co_await skills::release(skills.grasp->client(), *skills.toolToken);
     for (Connection* c : {&skills.grasp, &skills.release}) {
         if (*c) co_await (*c)->close();
     }

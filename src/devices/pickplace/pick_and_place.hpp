@@ -10,7 +10,9 @@
 // from the top and inserted into its slot with the robot's force-limited move
 // (fuse_planner.hpp), and the world must show it seated. The move and tool
 // skills come by endpoint, or are the ones the SkillDetector finds. It publishes its current step;
-// a sub-skill that fails or is missing ends the run with the step and the reason.
+// a sub-skill that fails or is missing ends the run with the step and the reason. While it
+// runs it holds the robot and the tool (their reservations, for its application URI), so
+// that nothing else moves them under it.
 //
 // Threading: runs as coroutines on `executor` (the server's); the world model's blocking
 // calls run on its own I/O thread.
@@ -106,6 +108,7 @@ private:
     struct Skills {
         std::unique_ptr<RobotMotion> move;
         Connection grasp, release;
+        std::optional<std::uint64_t> toolToken;  // the tool's reservation, while held
     };
 
     asio::awaitable<std::string> openSkills(const PickRequest& request, Skills& skills);

@@ -10,6 +10,8 @@
 #include <random>
 #include <thread>
 
+#include "cell/cell_file.hpp"
+#include "cell/scene_graph.hpp"
 #include "http/http_client.hpp"
 #include "http/web_server.hpp"
 #include "kb/engine/konclude_reasoner.hpp"
@@ -18,6 +20,8 @@
 #include "kb/rdf/turtle.hpp"
 #include "kb/sparql_endpoint.hpp"
 #include "kb/store/http_sparql_store.hpp"
+#include "mes/process_description.hpp"
+#include "mes/skill_facts.hpp"
 
 namespace skillcell::kb::knowledge_base_test {
 namespace {
@@ -134,6 +138,37 @@ TEST_F(KnowledgeBaseTest, TheDemoProcessHasFiveOrderedStepsEachRequiringASkillTy
         "  ?s proc:requiresSkillType ?t ."
         "  ?t rdfs:subClassOf+ <http://skillcell.dev/UA/Skills/SkillType> }");
     EXPECT_NE(typed.find("\"5\""), std::string::npos) << typed;
+}
+
+TEST_F(KnowledgeBaseTest, TheProcessQueryGivesAProcesssObjectTheScenesMassSizeAndPose) {
+    // The paper cell's scene (boxB: 0.05 kg, 4 cm, at 0.45, -0.05, 0.02), as `skillcell kb
+    // --cell` loads it; the demo process names boxB by its id and gives its target only.
+    const auto cell =
+        cell::readCellFile(std::string(SKILLCELL_SOURCE_DIR) + "/examples/cells/paper.toml");
+    ASSERT_TRUE(cell.cell);
+    auto loaded = kb_->load({{cell::sceneGraphIri(*cell.cell), cell::sceneTriples(*cell.cell)}});
+    ASSERT_TRUE(loaded) << loaded.error();
+    auto p = mes::readProcess(*store_, "http://skillcell.dev/demo#pickAndPlaceTwoBoxes");
+    ASSERT_TRUE(p) << p.error();
+    ASSERT_EQ(p->steps.size(), 5U);
+    const mes::DerivationSource* box = nullptr;
+    for (const auto& q : p->steps[3].parameters) {
+        if (q.name == "ObjectId") box = std::get_if<mes::DerivationSource>(&q.value);
+    }
+    ASSERT_NE(box, nullptr);
+    EXPECT_EQ(box->objectId, "boxB");
+    EXPECT_EQ(box->mass, 0.05);
+    ASSERT_TRUE(box->size);
+    EXPECT_DOUBLE_EQ((*box->size)[2], 0.04);
+    ASSERT_TRUE(box->pose);
+    EXPECT_DOUBLE_EQ(box->pose->x, 0.45);
+    EXPECT_DOUBLE_EQ(box->pose->y, -0.05);
+    EXPECT_DOUBLE_EQ(box->pose->z, 0.02);
+    ASSERT_TRUE(box->targetPose);
+    EXPECT_DOUBLE_EQ(box->targetPose->y, -0.2);
+    // Where the robot must reach: boxB and its target.
+    const auto targets = mes::stepTargets(p->steps[3]);
+    EXPECT_EQ(targets.size(), 2U);
 }
 
 TEST_F(KnowledgeBaseTest, UpdatesApplyAndABadOneIsRefusedWithTheEnginesReason) {

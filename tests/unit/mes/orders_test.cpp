@@ -85,8 +85,8 @@ protected:
         };
         ExecutorOptions options;
         options.skillWait = 2s;
-        executor_ =
-            ProcessExecutor::create(detector_, *journal_, KnowledgeReaders{reader, {}}, options);
+        executor_ = ProcessExecutor::create(detector_, *journal_, KnowledgeReaders{reader, facts_},
+                                            options);
     }
     std::int64_t submit(const std::string& iri, int priority = 0) {
         return mes_.run([&]() -> asio::awaitable<std::int64_t> {
@@ -131,6 +131,7 @@ protected:
     std::vector<std::unique_ptr<NoOpComponent>> components_;
     std::vector<std::size_t> subscriptions_;
     std::map<std::string, ProcessDescription> processes_;
+    FactReader facts_;  // empty: no knowledge base of facts
     std::shared_ptr<ProcessExecutor> executor_;
 };
 
@@ -282,6 +283,56 @@ TEST_F(Orders, AComponentThatAnotherMesHoldsIsNotDrivenUntilItIsReleased) {
     EXPECT_TRUE(released.isGood());
     EXPECT_EQ(submit("urn:p"), refused);
     EXPECT_TRUE(outcome(refused).completed);
+}
+
+TEST_F(Orders, ReachPicksTheRobotThatReachesAndAStepNoneReachesStopsBeforeAnyMotion) {
+    plug({"urn:test:a-near-robot", "urn:test:b-far-robot"}, 50ms);
+    // What the KB says of them (their Reach and ReachCentre): two UR5s, 0.85 m from the
+    // shoulder, one at the cell's origin, one 1.2 m along x.
+    facts_ = [this](std::vector<std::string>) -> asio::awaitable<kb::Expected<SkillFacts>> {
+        SkillFacts f;
+        const std::string p(kProcessNs);
+        for (const auto& s : detector_->instances()) {
+            const bool far = s.componentUri == "urn:test:b-far-robot";
+            f.add(keyOf(s), p + "reach", "0.85");
+            f.add(keyOf(s), p + "reachCentreX", far ? "1.2" : "0");
+            f.add(keyOf(s), p + "reachCentreY", "0");
+            f.add(keyOf(s), p + "reachCentreZ", "0.089");
+        }
+        co_return f;
+    };
+    auto reachable = process("urn:far", 1);
+    reachable.steps[0].parameters.push_back({"TargetPosition", devices::Pose6{1.5, 0, 0.3}});
+    auto unreachable = process("urn:nowhere", 1);
+    unreachable.steps[0].parameters.push_back({"TargetPosition", devices::Pose6{0.6, 2.5, 0.3}});
+    start({reachable, unreachable});
+
+    // The first by URI does not reach 1.5 m along x; the second does, and runs it.
+    const auto o = submit("urn:far");
+    const auto out = outcome(o);
+    EXPECT_TRUE(out.completed) << out.reason;
+    const auto r = record(o);
+    ASSERT_EQ(r.steps.size(), 1U);
+    EXPECT_EQ(r.steps[0].componentUri, "urn:test:b-far-robot");
+    EXPECT_NE(r.steps[0].choice.find("passed over: Skills/Move of urn:test:a-near-robot: "
+                                     "TargetPosition at (1.5, 0, 0.3) is 1.515 m from its reach "
+                                     "centre, beyond its reach of 0.85 m"),
+              std::string::npos)
+        << r.steps[0].choice;
+
+    // Neither reaches: the order stops before any step begins, naming both and why.
+    const auto n = submit("urn:nowhere");
+    const auto stopped = outcome(n);
+    EXPECT_FALSE(stopped.completed);
+    for (const char* robot : {"urn:test:a-near-robot", "urn:test:b-far-robot"}) {
+        EXPECT_NE(stopped.reason.find(std::string("Skills/Move of ") + robot +
+                                      ": TargetPosition at (0.6, 2.5, 0.3) is"),
+                  std::string::npos)
+            << stopped.reason;
+    }
+    EXPECT_NE(stopped.reason.find("beyond its reach of 0.85 m"), std::string::npos)
+        << stopped.reason;
+    EXPECT_TRUE(record(n).steps.empty()) << "a step began on a robot that does not reach";
 }
 
 TEST_F(Orders, AComponentUnpluggedMidStepIsReplacedAndTheOrderCompletesOnTheOther) {

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "cell/cell_file.hpp"
 #include "cell/scene_graph.hpp"
 #include "kb/owl/embedded_ontologies.hpp"
@@ -67,29 +69,49 @@ TEST(ProcessDescription, ReadsThePapersDemoProcessInOrderWithItsParameters) {
     EXPECT_DOUBLE_EQ(dock->pose->x, 0.3);
     EXPECT_DOUBLE_EQ(dock->pose->y, -0.45);
     EXPECT_DOUBLE_EQ(dock->pose->a, 3.141592653589793);
-    // Step 4: box B gives ObjectId and PlacePosition (its target); the gripper that meets
-    // the step's requirement gives its endpoint.
+    // Step 4: box B gives ObjectId and PlacePosition (its target);
+    // the gripper and the robot that meet the step's requirements give their endpoints.
     const auto& pick = p->steps[3].parameters;
-    ASSERT_EQ(pick.size(), 3U);
-    EXPECT_EQ(pick[0].name, "ObjectId");
-    EXPECT_EQ(pick[1].name, "PlacePosition");
-    EXPECT_EQ(pick[2].name, "ToolSkillControllerEndpoint");
-    EXPECT_EQ(std::get<RequirementEndpoint>(pick[2].value).requirement, 0U);
-    const auto* box = std::get_if<DerivationSource>(&pick[0].value);
+    ASSERT_EQ(pick.size(), 4U);
+    auto named = [&](const char* name) -> const StepParameter* {
+        const auto it = std::find_if(pick.begin(), pick.end(),
+                                     [&](const StepParameter& q) { return q.name == name; });
+        return it == pick.end() ? nullptr : &*it;
+    };
+    for (const char* name : {"ObjectId", "PlacePosition", "ToolSkillControllerEndpoint",
+                             "MoveSkillControllerEndpoint"}) {
+        EXPECT_NE(named(name), nullptr) << name;
+    }
+    ASSERT_TRUE(named("ObjectId") && named("ToolSkillControllerEndpoint") &&
+                named("MoveSkillControllerEndpoint"));
+    const auto& reqs = p->steps[3].requirements;
+    ASSERT_EQ(reqs.size(), 2U);
+    const auto tool = std::get<RequirementEndpoint>(named("ToolSkillControllerEndpoint")->value);
+    const auto robot = std::get<RequirementEndpoint>(named("MoveSkillControllerEndpoint")->value);
+    EXPECT_EQ(shortName(reqs.at(tool.requirement).skillTypeIri), "GraspGripperSkillType");
+    EXPECT_EQ(reqs.at(robot.requirement).describe(), "an available CartesianLinearMoveSkillType");
+    const auto* box = std::get_if<DerivationSource>(&named("ObjectId")->value);
     ASSERT_NE(box, nullptr);
     EXPECT_EQ(box->objectId, "boxB");
     ASSERT_TRUE(box->targetPose);
     EXPECT_DOUBLE_EQ(box->targetPose->y, -0.2);
     EXPECT_DOUBLE_EQ(box->targetPose->z, 0.02);
+    // (Its pose in the cell comes with the KB's process query: KnowledgeBaseTest.)
     EXPECT_EQ(p->steps[4].dependsOn, std::vector<std::string>{"http://skillcell.dev/demo#step4"});
-    // Each pick and place requires a gripper of its grip type in the cell; nothing else does.
+    // Each pick and place requires a gripper of its grip type and a robot in the cell; nothing
+    // else requires anything.
     const std::string gripType = "http://skillcell.dev/ontology/process#gripType";
     const std::string grasp = "http://skillcell.dev/UA/GripperSkills/GraspGripperSkillType";
-    const std::vector<FactRequirement> parallel{{gripType, "parallel", grasp}};
-    const std::vector<FactRequirement> vacuum{{gripType, "vacuum", grasp}};
-    EXPECT_EQ(p->steps[1].requirements, parallel);
-    EXPECT_EQ(p->steps[3].requirements, vacuum);
-    EXPECT_EQ(p->steps[3].requirements[0].describe(),
+    const FactRequirement anyRobot{
+        "", "", "http://skillcell.dev/UA/RoboticSkills/CartesianLinearMoveSkillType"};
+    for (const auto& [step, wanted] : {std::pair{1U, FactRequirement{gripType, "parallel", grasp}},
+                                       std::pair{3U, FactRequirement{gripType, "vacuum", grasp}}}) {
+        const auto& r = p->steps[step].requirements;
+        EXPECT_EQ(r.size(), 2U);
+        EXPECT_NE(std::find(r.begin(), r.end(), wanted), r.end()) << step;
+        EXPECT_NE(std::find(r.begin(), r.end(), anyRobot), r.end()) << step;
+    }
+    EXPECT_EQ(FactRequirement({gripType, "vacuum", grasp}).describe(),
               "an available GraspGripperSkillType with gripType \"vacuum\"");
     for (const std::size_t i : {0U, 2U, 4U}) EXPECT_TRUE(p->steps[i].requirements.empty()) << i;
 }
@@ -207,7 +229,9 @@ TEST(ProcessDescription, RefusesBrokenDescriptionsNamingTheFault) {
         ":p proc:hasStep :a ; proc:firstStep :a .\n"
         ":a proc:requiresSkillType t:X ; proc:requiresFact [ proc:factValue 1 ] .");
     EXPECT_NE(noProperty.find("step 1 (X): the requirement _:"), std::string::npos) << noProperty;
-    EXPECT_NE(noProperty.find("has no proc:factProperty"), std::string::npos) << noProperty;
+    EXPECT_NE(noProperty.find("has neither a proc:factProperty nor a proc:ofSkillType"),
+              std::string::npos)
+        << noProperty;
     const std::string notACellRequirement = refusal(
         ":p proc:hasStep :a ; proc:firstStep :a .\n"
         ":a proc:requiresSkillType t:X ; proc:requiresFact :r ; proc:hasParameter [ "

@@ -196,6 +196,100 @@ TEST(SkillFacts, TheGripperChosenCanHoldTheObjectByItsRating) {
     EXPECT_TRUE(m.byRequirement[0]) << m.unmet;
 }
 
+// A robot's linear move, as the detector lists it.
+skills::SkillInstance linearMove(const char* component) {
+    constexpr const char* kRs = "http://skillcell.dev/UA/RoboticSkills/";
+    skills::SkillInstance s;
+    s.componentUri = component;
+    s.nodeId = ua::NodeId(1, ua::String("Skills/CartesianLinearMove"));
+    s.browsePath = {{kRs, "Skills"}, {kRs, "CartesianLinearMove"}};
+    s.types = {{skills::GlobalNodeId(kRs, 1010U), "CartesianLinearMoveSkillType"}};
+    return s;
+}
+
+// The reach facts of `robot` as the KB records them from Reach and ReachCentre.
+void addReach(SkillFacts& facts, const char* robot, double reach, std::array<double, 3> centre) {
+    const std::string p(kProcessNs);
+    const auto key = keyOf(linearMove(robot));
+    facts.add(key, p + "reach", std::to_string(reach));
+    facts.add(key, p + "reachCentreX", std::to_string(centre[0]));
+    facts.add(key, p + "reachCentreY", std::to_string(centre[1]));
+    facts.add(key, p + "reachCentreZ", std::to_string(centre[2]));
+}
+
+TEST(SkillFacts, ReachPicksTheRobotThatReachesAndSaysWhyTheOthersDoNot) {
+    const std::string robotType =
+        "http://skillcell.dev/UA/RoboticSkills/CartesianLinearMoveSkillType";
+    // A pick that needs a robot (by type alone), whose endpoint it takes: box from where the
+    // cell has it to its target.
+    auto pick = [&](devices::Pose6 at, devices::Pose6 to) {
+        ProcessStep step = pickStep({{"", "", robotType}});
+        DerivationSource box;
+        box.iri = "http://example.com/demo#box";
+        box.objectId = "box";
+        box.pose = at;
+        box.targetPose = to;
+        step.parameters.push_back({"ObjectId", box});
+        step.parameters.push_back({"PlacePosition", box});
+        step.parameters.push_back({"MoveSkillControllerEndpoint", RequirementEndpoint{0}});
+        return step;
+    };
+    SkillFacts facts;
+    // Two UR5s (0.85 m from the shoulder), one at the cell's origin, one 1.2 m along x.
+    addReach(facts, "urn:a-near", 0.85, {0, 0, 0.089});
+    addReach(facts, "urn:b-far", 0.85, {1.2, 0, 0.089});
+    const std::vector<skills::SkillInstance> robots{linearMove("urn:a-near"),
+                                                    linearMove("urn:b-far")};
+    // A type alone needs no fact; positions ask for the reach.
+    const auto wanted = requiredProperties(pick({0.4, 0, 0.02}, {0.3, 0.3, 0.02}));
+    EXPECT_NE(std::find(wanted.begin(), wanted.end(), std::string(kProcessNs) + "reach"),
+              wanted.end());
+    EXPECT_EQ(std::find(wanted.begin(), wanted.end(), std::string()), wanted.end());
+
+    // Within the first robot's reach: the first by URI.
+    auto m = matchCellRequirements(pick({0.4, 0, 0.02}, {0.3, 0.3, 0.02}), robots, facts);
+    ASSERT_TRUE(m.byRequirement[0]) << m.unmet;
+    EXPECT_EQ(m.byRequirement[0]->componentUri, "urn:a-near");
+
+    // Beyond it: the other robot, although it comes second; the reason says why.
+    m = matchCellRequirements(pick({1.5, 0, 0.02}, {1.2, 0.4, 0.02}), robots, facts);
+    ASSERT_TRUE(m.byRequirement[0]) << m.unmet;
+    EXPECT_EQ(m.byRequirement[0]->componentUri, "urn:b-far");
+    EXPECT_EQ(m.chosen,
+              "an available CartesianLinearMoveSkillType: Skills/CartesianLinearMove of urn:b-far "
+              "(passed over: Skills/CartesianLinearMove of urn:a-near: box at (1.5, 0, 0.02) is "
+              "1.502 m from its reach centre, beyond its reach of 0.85 m; box's target at (1.2, "
+              "0.4, 0.02) is 1.267 m from its reach centre, beyond its reach of 0.85 m)");
+
+    // From one's side to the other's: neither; each named, with the distance.
+    m = matchCellRequirements(pick({-0.5, 0, 0.02}, {1.9, 0, 0.02}), robots, facts);
+    EXPECT_FALSE(m.byRequirement[0]);
+    EXPECT_NE(m.unmet.find("the step requires an available CartesianLinearMoveSkillType"),
+              std::string::npos)
+        << m.unmet;
+    EXPECT_NE(m.unmet.find("Skills/CartesianLinearMove of urn:a-near: box's target at (1.9, 0, "
+                           "0.02) is 1.901 m from its reach centre, beyond its reach of 0.85 m"),
+              std::string::npos)
+        << m.unmet;
+    EXPECT_NE(m.unmet.find("Skills/CartesianLinearMove of urn:b-far: box at (-0.5, 0, 0.02) is "
+                           "1.701 m from its reach centre, beyond its reach of 0.85 m"),
+              std::string::npos)
+        << m.unmet;
+
+    // A Move step's own robot, by its literal target; a robot without a reach in the KB is
+    // not judged by one.
+    ProcessStep move;
+    move.index = 1;
+    move.skillTypeIri = robotType;
+    move.parameters.push_back({"TargetPosition", devices::Pose6{1.5, 0, 0.3}});
+    move.parameters.push_back({"ToolFrame", devices::Pose6{5, 5, 5}});  // relative: not a target
+    EXPECT_EQ(unmetSkillRequirements(move, linearMove("urn:b-far"), facts), "");
+    EXPECT_EQ(unmetSkillRequirements(move, linearMove("urn:a-near"), facts),
+              "TargetPosition at (1.5, 0, 0.3) is 1.515 m from its reach centre, beyond its "
+              "reach of 0.85 m");
+    EXPECT_EQ(unmetSkillRequirements(move, linearMove("urn:unrated"), facts), "");
+}
+
 TEST(SkillFacts, ASkillRequirementConcernsTheSkillThatRunsTheStep) {
     ProcessStep step = pickStep({{kGripType, "vacuum", ""}});
     step.skillTypeIri = kGrasp;
