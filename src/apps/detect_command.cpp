@@ -28,6 +28,7 @@ struct DetectOptions {
     bool json = false;
     double connectTimeoutSeconds = 2;
     double keepAliveSeconds = 5;
+    std::size_t maxConnects = skills::SkillDetectorConfig{}.maxConcurrentConnects;
     DiscoveryOptions discovery;
     ClientSecurityOptions security;
 };
@@ -50,6 +51,7 @@ int runDetect(const DetectOptions& o) {
         std::chrono::milliseconds(static_cast<long>(o.connectTimeoutSeconds * 1000));
     config.keepAlivePeriod =
         std::chrono::milliseconds(static_cast<long>(o.keepAliveSeconds * 1000));
+    config.maxConcurrentConnects = o.maxConnects;
     auto detector = skills::SkillDetector::create(io.get_executor(), config);
     if (o.watch) {
         detector->subscribe(
@@ -113,6 +115,10 @@ Command addDetectCommand(CLI::App& app) {
                     "a connected server must be heard from this often (1.5 times as long "
                     "without a word: its skills are removed)")
         ->check(CLI::Range(0.05, 600.0))
+        ->capture_default_str();
+    cmd->add_option("--max-connects", o->maxConnects,
+                    "servers connected to and browsed at once; the others wait their turn")
+        ->check(CLI::Range(1, 4096))
         ->capture_default_str();
     addListenerOptions(cmd, o->discovery);
     addClientSecurityOptions(cmd, o->security);

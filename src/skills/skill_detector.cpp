@@ -84,6 +84,7 @@ struct SkillDetector::Watch {
     };
 
     std::string componentId;
+    std::shared_ptr<TurnWaiter> turnWaiter;     // while it waits for a turn
     std::map<std::string, Sighting> sightings;  // source key -> what it said last
     std::uint64_t sightingSeq = 0;
     std::string urlKey;  // the sighting whose URL we use
@@ -221,6 +222,7 @@ void SkillDetector::dropSighting(const std::string& key, RemovalReason reason) {
 
 void SkillDetector::endWatch(Watch& w) {
     w.ended = true;
+    if (w.turnWaiter) w.turnWaiter->timer.cancel();  // its run() leaves the queue
     // A connection in the middle of something is cut; an idle one says goodbye (run()).
     if (w.busy && w.client) w.client->abort();
     w.signal();
@@ -260,6 +262,42 @@ asio::awaitable<void> SkillDetector::shutdown(std::chrono::milliseconds grace) {
     drained_.reset();
 }
 
+asio::awaitable<bool> SkillDetector::takeTurn(Watch& w) {
+    const std::size_t turns = std::max<std::size_t>(1, config_.maxConcurrentConnects);
+    if (turnsTaken_ < turns && turnQueue_.empty()) {
+        ++turnsTaken_;
+        co_return true;
+    }
+    setStatus(w.componentId, [](ComponentStatus& s) { s.state = ComponentStatus::State::Waiting; });
+    auto waiter = std::make_shared<TurnWaiter>(executor_);
+    waiter->timer.expires_at(asio::steady_timer::time_point::max());
+    turnQueue_.push_back(waiter);
+    w.turnWaiter = waiter;
+    co_await waiter->timer.async_wait(as_tuple(asio::use_awaitable));
+    w.turnWaiter.reset();
+    if (!waiter->granted) {  // ended while it waited: out of the queue
+        std::erase(turnQueue_, waiter);
+        co_return false;
+    }
+    if (w.ended) {
+        giveTurn();
+        co_return false;
+    }
+    co_return true;
+}
+
+void SkillDetector::giveTurn() {
+    // Handed straight to the oldest waiter: the count stays, so that nobody overtakes it.
+    if (turnQueue_.empty()) {
+        --turnsTaken_;
+        return;
+    }
+    auto next = std::move(turnQueue_.front());
+    turnQueue_.pop_front();
+    next->granted = true;
+    next->timer.cancel();
+}
+
 asio::awaitable<void> SkillDetector::run(std::shared_ptr<Watch> w) {
     auto self = shared_from_this();  // alive while this runs
     // Counted for shutdown(); the guard also counts a frame destroyed without finishing.
@@ -275,6 +313,10 @@ asio::awaitable<void> SkillDetector::run(std::shared_ptr<Watch> w) {
     auto delay = config_.retryDelay;
     std::set<std::string> tried;  // addresses that failed since the last back-off
     while (!w->ended) {
+        // One turn for the connect and the first browse (serve() gives it back then), or
+        // until this attempt fails.
+        if (!co_await takeTurn(*w)) break;
+        Turn turn(*this);
         w->moved = false;
         w->recheck = false;
         w->lost = status::Good;
@@ -299,7 +341,8 @@ asio::awaitable<void> SkillDetector::run(std::shared_ptr<Watch> w) {
         StatusCode s = co_await w->client->connect(url, cc);
         w->busy = false;
         const std::uint64_t browsesBefore = w->browses;
-        if (s.isGood() && !w->ended && !w->moved) s = co_await serve(w);
+        if (s.isGood() && !w->ended && !w->moved) s = co_await serve(w, turn);
+        turn.giveBack();
         w->connected = false;
         const bool browsed = w->browses != browsesBefore;
         if (w->ended) break;
@@ -351,7 +394,7 @@ asio::awaitable<void> SkillDetector::run(std::shared_ptr<Watch> w) {
     }
 }
 
-asio::awaitable<StatusCode> SkillDetector::serve(const std::shared_ptr<Watch>& w) {
+asio::awaitable<StatusCode> SkillDetector::serve(const std::shared_ptr<Watch>& w, Turn& turn) {
     ua::Client& client = *w->client;
     w->busy = true;
     auto start = co_await readStartTime(client);
@@ -427,6 +470,7 @@ asio::awaitable<StatusCode> SkillDetector::serve(const std::shared_ptr<Watch>& w
                       w->componentId);
     }
     w->connected = true;
+    turn.giveBack();  // browsed and watched: the next component's turn
     setStatus(w->componentId,
               [](ComponentStatus& st) { st.state = ComponentStatus::State::Connected; });
 

@@ -36,6 +36,7 @@
 #include <asio/awaitable.hpp>
 #include <asio/steady_timer.hpp>
 #include <chrono>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -94,7 +95,8 @@ struct SkillEvent {
 struct ComponentStatus {
     /// Connected: browsed, and its liveness watched (keep-alive subscription, or polling of
     /// StartTime where the server offers no subscriptions).
-    enum class State : std::uint8_t { Connecting, Connected, Unreachable };
+    /// Waiting: for a turn to connect (SkillDetectorConfig::maxConcurrentConnects).
+    enum class State : std::uint8_t { Waiting, Connecting, Connected, Unreachable };
     std::string id;  // application URI, or "key:<source key>" when none was given
     std::string endpointUrl;
     State state = State::Connecting;
@@ -131,6 +133,12 @@ struct SkillDetectorConfig {
     /// up to maxRetryDelay.
     std::chrono::milliseconds retryDelay{250};
     std::chrono::milliseconds maxRetryDelay{5000};
+    /// How many components are connected to and browsed at once; the others wait their turn,
+    /// oldest first. A detector that finds hundreds at once (a cold start) opens as many
+    /// secure channels as the cell's two cores can handshake, instead of all of them timing
+    /// out together. A component that never answers holds its turn only until its connect
+    /// times out.
+    std::size_t maxConcurrentConnects = 32;
     RemoteBrowseLimits limits;
     std::string applicationUri = "urn:skillcell:skill-detector";
     /// How the detector connects and whom it acts for (browsing and subscribing need no
@@ -191,10 +199,31 @@ private:
     asio::awaitable<void> run(std::shared_ptr<Watch> watch);
     /// One connection's life after connect(): browse, then watch it. Returns why it ended
     /// (Good when the watch was ended from outside).
-    asio::awaitable<ua::StatusCode> serve(const std::shared_ptr<Watch>& watch);
+    /// A turn taken (takeTurn), given back once: by giveBack(), or when it goes.
+    class Turn {
+    public:
+        explicit Turn(SkillDetector& detector) : detector_(detector) {}
+        ~Turn() { giveBack(); }
+        Turn(const Turn&) = delete;
+        Turn& operator=(const Turn&) = delete;
+        void giveBack() {
+            if (!held_) return;
+            held_ = false;
+            detector_.giveTurn();
+        }
+
+    private:
+        SkillDetector& detector_;
+        bool held_ = true;
+    };
+    asio::awaitable<ua::StatusCode> serve(const std::shared_ptr<Watch>& watch, Turn& turn);
     asio::awaitable<ua::StatusCode> browseInto(const std::shared_ptr<Watch>& watch,
                                                ua::DateTime startTime, RemovalReason reason);
     void endWatch(Watch& watch);
+    /// A turn to connect and browse: at once while fewer than maxConcurrentConnects are
+    /// taken, else when one is given back. False when the watch ended while it waited.
+    asio::awaitable<bool> takeTurn(Watch& watch);
+    void giveTurn();
     void dropSighting(const std::string& key, RemovalReason reason);
 
     /// Makes the component's instances `next` (executor only); notifies the difference.
@@ -211,6 +240,13 @@ private:
     // Executor only.
     std::size_t running_ = 0;                    // run() coroutines not yet ended
     std::optional<asio::steady_timer> drained_;  // cancelled when running_ drops to 0
+    struct TurnWaiter {
+        explicit TurnWaiter(const asio::any_io_executor& executor) : timer(executor) {}
+        asio::steady_timer timer;  // cancelled: the turn is given (granted) or the watch ended
+        bool granted = false;
+    };
+    std::size_t turnsTaken_ = 0;
+    std::deque<std::shared_ptr<TurnWaiter>> turnQueue_;         // oldest first
     std::map<std::string, std::shared_ptr<Watch>> components_;  // by component id
     std::map<std::string, std::string> keys_;                   // source key -> component id
     std::map<std::size_t, Listener> listeners_;

@@ -98,8 +98,8 @@ TEST(SkillClient, RunsASkillToTheEnd) {
     auto move = t.attach(cell.url(), Cell::id("Move"));
     ASSERT_TRUE(move);
     EXPECT_EQ(move->state(), SkillState::Ready);
-    EXPECT_EQ(move->parameters().size(), 5u);
-    for (int i = 0; i < 3; ++i) {  // back to back: each run finds its own end
+    EXPECT_EQ(move->parameters().size(), 7u);  // with Reach and ReachCentre, read-only
+    for (int i = 0; i < 3; ++i) {              // back to back: each run finds its own end
         const auto outcome = t.invoke(move, {{"MaxVelocity", 0.25}}, 5s);
         EXPECT_EQ(outcome.kind, Kind::Finished) << name(outcome.kind) << " " << outcome.reason;
     }

@@ -657,6 +657,46 @@ TEST(SkillDetector, AServerThatNeverAnswersTimesOut) {
     EXPECT_TRUE(h.detector().components().empty());
 }
 
+TEST(SkillDetector, ComponentsTakeTurnsToConnectAndOneThatNeverAnswersHoldsOnlyItsOwn) {
+    // Listens (the kernel accepts the TCP connection) but never answers Hello.
+    asio::io_context silentIo;
+    asio::ip::tcp::acceptor silent(silentIo, {asio::ip::make_address("127.0.0.1"), 0});
+    const std::string silentUrl =
+        "opc.tcp://127.0.0.1:" + std::to_string(silent.local_endpoint().port());
+    auto robot = skillServer("urn:test:robot", kRobotSkills);
+    auto config = fastConfig();
+    config.maxConcurrentConnects = 1;
+    config.connectTimeout = 30s;  // the silent one keeps the only turn until it goes
+    DetectorHarness h(config);
+    h.appeared("mdns:silent", "urn:test:silent", silentUrl);
+    ASSERT_TRUE(h.waitForState("urn:test:silent", ComponentStatus::State::Connecting));
+    h.appeared("mdns:robot", "urn:test:robot", robot->url());
+    ASSERT_TRUE(h.waitForState("urn:test:robot", ComponentStatus::State::Waiting));
+    EXPECT_TRUE(h.detector().instances().empty());
+    // Its source forgets the silent one: the turn passes on, and the robot is browsed.
+    h.gone("mdns:silent", GoneReason::Expired);
+    ASSERT_TRUE(h.waitForSkills(2));
+    ASSERT_TRUE(h.waitForState("urn:test:robot", ComponentStatus::State::Connected));
+
+    // Five more with two turns: each waits its turn, and all are found.
+    std::vector<std::unique_ptr<test::RunningServer>> more;
+    DetectorHarness two([] {
+        auto c = fastConfig();
+        c.maxConcurrentConnects = 2;
+        return c;
+    }());
+    for (int i = 0; i < 5; ++i) {
+        const std::string uri = "urn:test:gripper" + std::to_string(i);
+        more.push_back(skillServer(uri, kGripperSkills));
+        two.appeared("mdns:" + uri, uri, more.back()->url());
+    }
+    ASSERT_TRUE(two.waitForSkills(10)) << two.detector().instances().size();
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_TRUE(two.waitForState("urn:test:gripper" + std::to_string(i),
+                                     ComponentStatus::State::Connected));
+    }
+}
+
 TEST(SkillDetector, AComponentThatStopsAnsweringTimesOutAndComesBack) {
     auto robot = skillServer("urn:test:robot", kRobotSkills);
     DetectorHarness h;

@@ -691,8 +691,12 @@ asio::awaitable<StatusCode> handshake(std::shared_ptr<Connection> conn,
     auto [rec, endpoints] =
         co_await conn->resolver.async_resolve(address.host, std::to_string(address.port), kNoThrow);
     if (rec) co_return failed(rec);
+    // Closed (aborted) while the name was resolved, after the resolver had finished: the
+    // socket must not be opened again, with no watchdog left to bound it.
+    if (conn->closed) co_return conn->closeReason;
     auto [cec, ep] = co_await asio::async_connect(conn->socket, endpoints, kNoThrow);
     if (cec) co_return failed(cec);
+    if (conn->closed) co_return conn->closeReason;
     std::error_code ignored;
     conn->socket.set_option(tcp::no_delay(true), ignored);
     // send() writes synchronously first and must not block: what the kernel does not take
