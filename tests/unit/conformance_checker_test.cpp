@@ -52,7 +52,8 @@ struct SkillSpec {
                                          "Halt",
                                          "Reset",
                                          "ParameterSet/MaxVelocity/EURange",
-                                         "ParameterSet/MaxAcceleration/EURange"};
+                                         "ParameterSet/MaxAcceleration/EURange",
+                                         "ParameterSet/Reach/EURange"};
     bool eventNotifier = true;
 };
 

@@ -100,13 +100,16 @@ std::vector<Expected> expectedParameters() {
             out.push_back(p);
         }
     };
-    const Expected toolFrame{{}, {}, "ToolFrame", Kind::Frame};
+    // Every move: its tool frame, and where its manipulator reaches (read-only).
+    const std::vector<Expected> move = {{{}, {}, "ToolFrame", Kind::Frame},
+                                        {{}, {}, "Reach", Kind::Double, kMetre, false},
+                                        {{}, {}, "ReachCentre", Kind::Frame, 0, false}};
     const std::vector<Expected> linear = {
-        toolFrame,
+        move[0], move[1], move[2],
         {{}, {}, "MaxVelocity", Kind::Double, kMetrePerSecond},
         {{}, {}, "MaxAcceleration", Kind::Double, kMetrePerSecond2}};
     const std::vector<Expected> ptp = {
-        toolFrame,
+        move[0], move[1], move[2],
         {{}, {}, "MaxVelocity", Kind::Double, kRadianPerSecond},
         {{}, {}, "MaxAcceleration", Kind::Double, kRadianPerSecond2}};
     const std::vector<Expected> cartesian = {{{}, {}, "TargetPosition", Kind::Frame},
@@ -117,7 +120,7 @@ std::vector<Expected> expectedParameters() {
         a.insert(a.end(), b.begin(), b.end());
         return a;
     };
-    add(cm::kRoboticSkillsUri, "MoveSkillType", {toolFrame});
+    add(cm::kRoboticSkillsUri, "MoveSkillType", move);
     add(cm::kRoboticSkillsUri, "LinearMoveSkillType", linear);
     add(cm::kRoboticSkillsUri, "PtpMoveSkillType", ptp);
     add(cm::kRoboticSkillsUri, "CartesianLinearMoveSkillType", join(linear, cartesian));

@@ -15,13 +15,13 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 rc=0
 "$skillcell" process check "$src/models/owl/demo-process.ttl" >/dev/null 2>"$tmp/err" || rc=$?
 [ "$rc" = 1 ] || fail "the paper's process without its cell: exit $rc, expected 1"
-grep -q "demo-process.ttl:52: step step1, parameter ToolPosition: proc:derivedFrom dockP" \
+grep -q "demo-process.ttl:58: step step1, parameter ToolPosition: proc:derivedFrom dockP" \
   "$tmp/err" || fail "no problem for the cell's dock: $(cat "$tmp/err")"
 "$skillcell" process check --cell "$src/examples/cells/paper.toml" \
   "$src/models/owl/demo-process.ttl" >"$tmp/out" 2>"$tmp/err" ||
   fail "the paper's process: exit $?; $(cat "$tmp/err")"
 grep -q 'pickAndPlaceTwoBoxes>, 5 steps, clean' "$tmp/out" || fail "not clean: $(cat "$tmp/out")"
-grep -qE '^  2 PickAndPlaceSkillType ObjectId PlacePosition ToolSkillControllerEndpoint$' \
+grep -qE '^  2 PickAndPlaceSkillType MoveSkillControllerEndpoint ObjectId PlacePosition ToolSkillControllerEndpoint$' \
   "$tmp/out" || fail "step 2 not listed: $(cat "$tmp/out")"
 
 # The process that docs/processes.md teaches, its Turtle blocks put together, is clean.
