@@ -251,6 +251,18 @@ kb::Expected<std::size_t> ProcessExecutor::resumeOpenOrders() {
     auto open = journal_.openOrders();
     if (!open) return open.failure();
     standingBy_ = false;
+    // Each order takes back, before any of them runs, the components its steps used in the
+    // MES's earlier life: it holds them to its end, and another order taking one meanwhile
+    // (its first step, on the tool changer the first still needs) would deadlock both.
+    for (const auto& r : *open) {
+        if (orders_.contains(r.id)) continue;
+        auto done = journal_.run(r.id);
+        if (!done) return done.failure();
+        if (!*done) continue;
+        for (const auto& step : (*done)->steps) {
+            if (!step.componentUri.empty()) (void)claims_.take(r.id, step.componentUri);
+        }
+    }
     std::size_t begun = 0;
     for (const auto& r : *open) {
         if (orders_.contains(r.id)) continue;
