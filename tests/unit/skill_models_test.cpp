@@ -105,11 +105,15 @@ std::vector<Expected> expectedParameters() {
                                         {{}, {}, "Reach", Kind::Double, kMetre, false},
                                         {{}, {}, "ReachCentre", Kind::Frame, 0, false}};
     const std::vector<Expected> linear = {
-        move[0], move[1], move[2],
+        move[0],
+        move[1],
+        move[2],
         {{}, {}, "MaxVelocity", Kind::Double, kMetrePerSecond},
         {{}, {}, "MaxAcceleration", Kind::Double, kMetrePerSecond2}};
     const std::vector<Expected> ptp = {
-        move[0], move[1], move[2],
+        move[0],
+        move[1],
+        move[2],
         {{}, {}, "MaxVelocity", Kind::Double, kRadianPerSecond},
         {{}, {}, "MaxAcceleration", Kind::Double, kRadianPerSecond2}};
     const std::vector<Expected> cartesian = {{{}, {}, "TargetPosition", Kind::Frame},
