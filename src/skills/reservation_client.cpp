@@ -19,20 +19,26 @@ asio::awaitable<ua::Result<std::uint64_t>> reserve(ua::Client& client, std::stri
     co_return *token;
 }
 
-asio::awaitable<ua::StatusCode> use(ua::Client& client, std::uint64_t token) {
+namespace {
+
+/// Use(token) or Release(token): the reservation's methods that take the token alone.
+asio::awaitable<ua::StatusCode> callWithToken(ua::Client& client, const char* name,
+                                              std::uint64_t token) {
     std::vector<ua::Variant> in{ua::Variant(token)};
     const ua::NodeId object = reservationNode();
-    const ua::NodeId method = reservationNode("Use");
+    const ua::NodeId method = reservationNode(name);
     auto out = co_await client.call(object, method, std::move(in));
     co_return out ? ua::StatusCode(ua::status::Good) : out.status();
 }
 
+}  // namespace
+
+asio::awaitable<ua::StatusCode> use(ua::Client& client, std::uint64_t token) {
+    co_return co_await callWithToken(client, "Use", token);
+}
+
 asio::awaitable<ua::StatusCode> release(ua::Client& client, std::uint64_t token) {
-    std::vector<ua::Variant> in{ua::Variant(token)};
-    const ua::NodeId object = reservationNode();
-    const ua::NodeId method = reservationNode("Release");
-    auto out = co_await client.call(object, method, std::move(in));
-    co_return out ? ua::StatusCode(ua::status::Good) : out.status();
+    co_return co_await callWithToken(client, "Release", token);
 }
 
 asio::awaitable<std::string> reservationHolder(ua::Client& client) {
