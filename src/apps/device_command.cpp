@@ -343,6 +343,9 @@ CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* n
                              o.arm.contactForce = [r = content->reporter.get()] {
                                  return r->contactForce();
                              };
+                             o.arm.unmeasuredSamples = [r = content->reporter.get()] {
+                                 return r->unanswered();
+                             };
                          }
                      }
                      std::string error;

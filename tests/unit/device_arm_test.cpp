@@ -11,7 +11,9 @@
 #include <cmath>
 #include <condition_variable>
 #include <mutex>
+#include <optional>
 #include <random>
+#include <thread>
 
 #include "client_thread.hpp"
 #include "devices/arm/arm_component.hpp"
@@ -263,7 +265,8 @@ public:
     /// does); empty: none.
     explicit Ur5Cell(ManualClock* clock = nullptr, double speed = 20,
                      const ArmModel& model = ArmModel::ur5(),
-                     std::function<double(const KDL::Frame&)> forceAt = {})
+                     std::function<double(const KDL::Frame&)> forceAt = {},
+                     const std::function<void(ArmComponentOptions&)>& adjust = {})
         : kinematics_(model), server_(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
               ArmComponentOptions o;
               o.model = model;
@@ -277,6 +280,7 @@ public:
                   flange_ = f;  // on the server's thread, as the arm asks for the force
                   ticks_.tick();
               };
+              if (adjust) adjust(o);
               auto c = ArmComponent::create(s, o);
               ASSERT_TRUE(c.ok());
               component_ = std::move(*c);
@@ -749,6 +753,99 @@ TEST(DeviceIiwaSkills, AForceLimitedMoveStopsOnContactWithTheForceInItsReason) {
     Ur5Cell ur5;
     EXPECT_FALSE(ur5.has("Skills/CartesianForceLimitedLinearMove"));
     EXPECT_TRUE(ur5.has("Skills/CartesianLinearMove"));
+}
+
+/// A force sensor whose measurements come late, as the world model's answers do on a loaded
+/// machine: a thread of its own measures the newest reported pose every `period`.
+class SlowForceSensor {
+public:
+    SlowForceSensor(std::function<double(const KDL::Frame&)> forceAt,
+                    std::chrono::milliseconds period)
+        : forceAt_(std::move(forceAt)), thread_([this, period] { run(period); }) {}
+    ~SlowForceSensor() {
+        {
+            std::lock_guard lock(mutex_);
+            stopping_ = true;
+        }
+        cv_.notify_all();
+        thread_.join();
+    }
+    SlowForceSensor(const SlowForceSensor&) = delete;
+    SlowForceSensor& operator=(const SlowForceSensor&) = delete;
+
+    void report(const KDL::Frame& f) {
+        std::lock_guard lock(mutex_);
+        pending_ = f;
+        ++reported_;
+    }
+    double force() {
+        std::lock_guard lock(mutex_);
+        return force_;
+    }
+    std::uint64_t unmeasured() {
+        std::lock_guard lock(mutex_);
+        return reported_ - measured_;
+    }
+
+private:
+    void run(std::chrono::milliseconds period) {
+        std::unique_lock lock(mutex_);
+        while (!cv_.wait_for(lock, period, [this] { return stopping_; })) {
+            if (!pending_) continue;
+            force_ = forceAt_(*pending_);
+            measured_ = reported_;
+            pending_.reset();
+        }
+    }
+
+    std::function<double(const KDL::Frame&)> forceAt_;
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    std::optional<KDL::Frame> pending_;
+    std::uint64_t reported_ = 0;
+    std::uint64_t measured_ = 0;
+    double force_ = 0;
+    bool stopping_ = false;
+    std::thread thread_;  // last: it starts with the members above in place
+};
+
+// The simulated sensing's latency is a round trip, which a loaded machine stretches; the arm
+// waits for it instead of running deeper into the contact: with a measurement every 10 ms
+// (ten of the arm's ticks), it stops within a few samples of where the force passes the limit.
+TEST(DeviceIiwaSkills, ASlowForceMeasurementDoesNotLetTheMotionRunDeeperIntoContact) {
+    const ArmModel model = ArmModel::lbrIiwa7();
+    ArmKinematics k(model);
+    const double surface = k.forward(model.home).p.z() - 0.002;  // 2 mm below the flange
+    constexpr double kStiffness = 30'000;                        // N/m: 20 N at 0.67 mm
+    SlowForceSensor sensor(
+        [surface](const KDL::Frame& f) { return kStiffness * std::max(0.0, surface - f.p.z()); },
+        10ms);
+    Ur5Cell cell(nullptr, 20, model, {}, [&sensor](ArmComponentOptions& o) {
+        o.onFlange = [&sensor, forward = o.onFlange](const KDL::Frame& f) {
+            forward(f);
+            sensor.report(f);
+        };
+        o.arm.contactForce = [&sensor] { return sensor.force(); };
+        o.arm.unmeasuredSamples = [&sensor] { return sensor.unmeasured(); };
+    });
+    test::ClientThread t;
+    auto press = t.attach(cell.url(), Ur5Cell::skill("CartesianForceLimitedLinearMove"));
+    ASSERT_TRUE(press);
+    const KDL::Frame start = cell.forward(cell.joints());
+    const KDL::Frame down(start.M, start.p - KDL::Vector(0, 0, 0.01));
+    const auto outcome = t.invoke(press,
+                                  {{"TargetPosition", frameToVariant(down)},
+                                   {"ForceLimit", ua::Variant(20.0)},
+                                   {"MaxVelocity", ua::Variant(0.02)}},
+                                  20s);
+    ASSERT_EQ(outcome.kind, Kind::Failed) << outcome.reason;
+    EXPECT_NE(outcome.reason.find("exceeded the limit of 20.0 N"), std::string::npos)
+        << outcome.reason;
+    // A sample is at most 0.04 mm of motion at 20 mm/s; one may await its measurement while
+    // the next is taken. Unbounded, ten samples pass per measurement: 0.4 mm too deep.
+    const double depth = surface - cell.forward(cell.joints()).p.z();
+    EXPECT_GT(depth, 20 / kStiffness);
+    EXPECT_LT(depth, 20 / kStiffness + 0.00015) << "stopped " << depth * 1000 << " mm deep";
 }
 
 TEST(DeviceIiwaSkills, AForceLimitedMoveThatEndsPressedHarderThanItsLimitFails) {

@@ -49,11 +49,17 @@ void SimulatedArm::tick() {
     double dt = std::chrono::duration<double>(t - last_).count() * options_.speed;
     if (limit > 0) dt = std::min(dt, kForceSamplePeriod);
     last_ = t;
-    if (!paused_) {
+    // A force sensor's latency is fixed; the simulated one is a round trip to the world
+    // model, which a loaded machine stretches. So the motion waits, in simulated time,
+    // while more than the newest sample is unmeasured: it never runs deeper into contact
+    // than the sampling allows, however slow the round trip.
+    const bool waitForSensing = limit > 0 && options_.unmeasuredSamples &&
+                                options_.unmeasuredSamples() > kForceSamplesInFlight;
+    if (!paused_ && !waitForSensing) {
         elapsed_ += dt;
         joints_ = trajectory_->at(elapsed_);
     }
-    if (observer_) observer_(joints_);
+    if (observer_ && !waitForSensing) observer_(joints_);
     // A force-limited motion stops where its tool meets more than its limit (the measured
     // force lags the motion by the sensing's round trip, as a real arm's filter does).
     if (limit > 0) {
@@ -62,7 +68,7 @@ void SimulatedArm::tick() {
             return;
         }
     }
-    if (!paused_ && elapsed_ >= trajectory_->duration()) {
+    if (!paused_ && !waitForSensing && elapsed_ >= trajectory_->duration()) {
         joints_ = trajectory_->end();
         trajectory_.reset();
         elapsed_ = 0;
@@ -115,8 +121,11 @@ void SimulatedArm::resume() {
 void SimulatedArm::stop() {
     if (!trajectory_) return;
     if (!paused_) {
-        const auto t = now();
-        elapsed_ += std::chrono::duration<double>(t - last_).count() * options_.speed;
+        double dt = std::chrono::duration<double>(now() - last_).count() * options_.speed;
+        if (options_.contactForce && trajectory_->forceLimit() > 0) {
+            dt = std::min(dt, kForceSamplePeriod);  // as a tick would: one sample at most
+        }
+        elapsed_ += dt;
         joints_ = trajectory_->at(elapsed_);
     }
     ++generation_;

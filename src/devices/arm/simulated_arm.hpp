@@ -7,10 +7,12 @@
 // stopping ends it in place (the simulation stops at once; a real arm decelerates). A
 // force-limited motion is sampled finely, as a real arm's force control loop runs: its
 // simulated time advances at most kForceSamplePeriod per tick, ticks come every
-// kForceTick, and it ends only when the force at its last pose is within the limit.
+// kForceTick, it waits while more than kForceSamplesInFlight samples await their force,
+// and it ends only when the force at its last pose is within the limit.
 #include <asio/any_io_executor.hpp>
 #include <asio/steady_timer.hpp>
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -23,6 +25,8 @@ namespace skillcell::devices {
 /// A force-limited motion's sampling: at an insertion's 20 mm/s, 0.04 mm per sample.
 inline constexpr double kForceSamplePeriod = 0.002;  // s of simulated time
 inline constexpr std::chrono::milliseconds kForceTick{1};
+/// How many reported samples may await their force measurement while the motion goes on.
+inline constexpr std::uint64_t kForceSamplesInFlight = 1;
 
 struct SimulatedArmOptions {
     using Clock = std::function<std::chrono::steady_clock::time_point()>;
@@ -38,6 +42,9 @@ struct SimulatedArmOptions {
     /// The force the tool meets (N), as the arm's torque sensing measures it; empty: the arm
     /// senses none (a force-limited motion then never stops for force).
     std::function<double()> contactForce;
+    /// How many poses reported to the observer still await their force measurement; empty:
+    /// none ever do (the force is measured at once).
+    std::function<std::uint64_t()> unmeasuredSamples;
 };
 
 class SimulatedArm final : public ArmController {

@@ -28,6 +28,11 @@ void FlangeReporter::report(const KDL::Frame& flange) {
     cv_.notify_all();
 }
 
+std::uint64_t FlangeReporter::unanswered() {
+    std::lock_guard lock(mutex_);
+    return reported_ - sent_;
+}
+
 bool FlangeReporter::flush(std::chrono::milliseconds timeout) {
     std::unique_lock lock(mutex_);
     const std::uint64_t target = reported_;

@@ -37,6 +37,9 @@ public:
     void whenSent(std::function<void()> callback);
     /// The contact force at the last pose the world answered for (N); any thread.
     [[nodiscard]] double contactForce() const { return contactForce_.load(); }
+    /// How many reported poses the world has not answered yet (a failed send counts as
+    /// answered); any thread.
+    [[nodiscard]] std::uint64_t unanswered();
 
     struct Token {
     private:
