@@ -15,6 +15,12 @@ namespace {
 
 const std::string kRdfType = std::string(rdf::vocab::kRdf) + "type";
 
+// The blank node scope of the n-th graph of a load or a recording: "g<n>x", which no label
+// that Virtuoso writes begins with.
+std::string blankScope(std::size_t n) {
+    return "g" + std::to_string(n) + "x";
+}
+
 std::string registryMember() {
     return std::string(kKbVocabulary) + "Graph";
 }
@@ -116,10 +122,14 @@ Status KnowledgeBase::load(const std::vector<GraphData>& graphs) {
     }
     std::vector<std::string> names;
     std::vector<rdf::Triple> incoming;
-    for (const auto& g : graphs) {
-        if (auto ref = sparqlIri(g.iri); !ref) return ref.failure();
-        names.push_back(g.iri);
-        incoming.insert(incoming.end(), g.triples.begin(), g.triples.end());
+    for (std::size_t i = 0; i < graphs.size(); ++i) {
+        if (auto ref = sparqlIri(graphs[i].iri); !ref) return ref.failure();
+        names.push_back(graphs[i].iri);
+        // Each graph's blank nodes apart from the others' (and from the store's labels):
+        // merged, a parameter of one graph could become a class list of another.
+        auto scoped = rdf::scopeBlankNodes(graphs[i].triples, blankScope(i));
+        incoming.insert(incoming.end(), std::make_move_iterator(scoped.begin()),
+                        std::make_move_iterator(scoped.end()));
     }
     const std::lock_guard lock(writeMutex_);
     if (reasoner_ == nullptr) {
@@ -342,7 +352,10 @@ std::vector<Status> KnowledgeBase::record(const std::vector<GraphData>& instance
         std::vector<std::set<rdf::Triple>> inferred(instances.size());
         const auto realize = [&](const std::vector<std::size_t>& which) {
             std::string text = m.text;
-            for (auto i : which) text += rdf::writeNTriples(instances[i].triples);
+            for (auto i : which) {
+                text +=
+                    rdf::writeNTriples(rdf::scopeBlankNodes(instances[i].triples, blankScope(i)));
+            }
             return reasoner_->realize(text);
         };
         auto together = realize(pending);
@@ -426,14 +439,9 @@ std::string KnowledgeBase::insertText(const std::string& graphIri,
     // nodes are new nodes, as loaded).
     std::vector<rdf::Triple> ground;
     std::vector<rdf::Triple> withBlanks;
-    for (auto t : triples) {
-        bool blank = false;
-        for (auto* term : {&t.subject, &t.object}) {
-            if (term->kind == rdf::Term::Kind::Blank) {
-                term->value = "g" + std::to_string(number) + "x" + term->value;
-                blank = true;
-            }
-        }
+    for (auto& t : rdf::scopeBlankNodes(triples, blankScope(number))) {
+        const bool blank =
+            t.subject.kind == rdf::Term::Kind::Blank || t.object.kind == rdf::Term::Kind::Blank;
         (blank ? withBlanks : ground).push_back(std::move(t));
     }
     std::string u;

@@ -3,7 +3,9 @@
 // discovery) and hands them to a serializer or an engine; nothing here parses or prints.
 #include <compare>
 #include <string>
+#include <string_view>
 #include <utility>
+#include <vector>
 
 namespace skillcell::kb::rdf {
 
@@ -41,5 +43,18 @@ struct Triple {
     friend auto operator<=>(const Triple&, const Triple&) = default;
     friend bool operator==(const Triple&, const Triple&) = default;
 };
+
+/// The triples with every blank node label prefixed by `scope`. A label names a node within
+/// one document only: two documents put together (for the reasoner, in one request) keep
+/// their blank nodes apart only when each has a scope of its own.
+[[nodiscard]] inline std::vector<Triple> scopeBlankNodes(std::vector<Triple> triples,
+                                                         std::string_view scope) {
+    for (auto& t : triples) {
+        for (Term* term : {&t.subject, &t.object}) {
+            if (term->kind == Term::Kind::Blank) term->value.insert(0, scope);
+        }
+    }
+    return triples;
+}
 
 }  // namespace skillcell::kb::rdf

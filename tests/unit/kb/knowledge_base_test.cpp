@@ -247,6 +247,12 @@ TEST_F(KnowledgeBaseTest, PartsLoadTogetherAndWhenRefusedEachAloneNamingTheOneAt
     EXPECT_TRUE(mixed[2]) << mixed[2].error();
     EXPECT_TRUE(ask("GRAPH <urn:test:d> { ?s ?p ?o }"));
     EXPECT_FALSE(ask("GRAPH <urn:test:bad> { ?s ?p ?o }"));
+    // A blank node label names a node in its own document only: a step in one graph and a
+    // process in another, both labelled _:n, are two nodes, and the graphs load as one.
+    auto blanks = kb_->load(
+        {graph("urn:test:e", "_:n a proc:Step ."), graph("urn:test:f", "_:n a proc:Process .")});
+    EXPECT_TRUE(blanks) << blanks.error();
+    EXPECT_TRUE(ask("GRAPH <urn:test:f> { ?s a proc:Process }"));
 }
 
 TEST_F(KnowledgeBaseTest, ALoadReplacesItsGraph) {
@@ -373,6 +379,13 @@ TEST_F(KnowledgeBaseTest, ARecordingInconsistentWithTheModelsIsRefusedAndTheOthe
     EXPECT_TRUE(r[2]) << r[2].error();
     EXPECT_TRUE(ask("GRAPH <urn:test:rec-c> { ?s ?p ?o }"));
     EXPECT_FALSE(ask("GRAPH <urn:test:rec-bad> { ?s ?p ?o }"));
+
+    // Blank nodes of two graphs with one label are two nodes: neither graph is refused.
+    auto blanks = kb_->record({turtleGraph("urn:test:rec-e", "_:n a proc:Step ."),
+                               turtleGraph("urn:test:rec-f", "_:n a proc:Process .")});
+    ASSERT_EQ(blanks.size(), 2U);
+    EXPECT_TRUE(blanks[0]) << blanks[0].error();
+    EXPECT_TRUE(blanks[1]) << blanks[1].error();
 
     auto twice = kb_->record({turtleGraph("urn:test:rec-a", "<urn:test:rec-a#s> a proc:Step ."),
                               turtleGraph("urn:test:rec-a", "<urn:test:rec-a#s> a proc:Step .")});
