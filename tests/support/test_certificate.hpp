@@ -1,7 +1,8 @@
 #pragma once
 // Certificates made on the spot for tests: an RSA key and a self-signed X.509 certificate
 // with the application URI in its subjectAltName, valid from `validFrom` to `validTo`
-// (seconds relative to now). No files are committed; every run makes its own.
+// (seconds relative to now). No files are committed; the keys are kept in the build
+// directory for the test processes after the first (test_certificate.cpp says why).
 #include <string>
 
 #include "ua/crypto/primitives.hpp"

@@ -4,6 +4,9 @@
 add_library(skillcell_test_certificates STATIC ${PROJECT_SOURCE_DIR}/tests/support/test_certificate.cpp)
 target_include_directories(skillcell_test_certificates PUBLIC ${PROJECT_SOURCE_DIR}/tests/support)
 target_link_libraries(skillcell_test_certificates PUBLIC skillcell_ua_crypto)
+# Where the tests keep the RSA keys they made, for the test processes after them.
+target_compile_definitions(skillcell_test_certificates PRIVATE
+  SKILLCELL_TEST_KEY_DIR="${CMAKE_BINARY_DIR}/test-keys")
 
 add_library(skillcell_test_support STATIC
   ${PROJECT_SOURCE_DIR}/tests/support/running_server.cpp
