@@ -34,13 +34,13 @@ report() {
   [ -n "$phase_name" ] && phases+=("$phase_name (failed)") && seconds+=($((SECONDS - phase_start)))
   echo
   echo "== time per phase"
-  printf '%-28s %8s\n' phase seconds
+  printf '%-34s %8s\n' phase seconds
   local total=0
   for i in "${!phases[@]}"; do
-    printf '%-28s %8d\n' "${phases[$i]}" "${seconds[$i]}"
+    printf '%-34s %8d\n' "${phases[$i]}" "${seconds[$i]}"
     total=$((total + seconds[i]))
   done
-  printf '%-28s %8d\n' total "$total"
+  printf '%-34s %8d\n' total "$total"
   exit "$status"
 }
 trap report EXIT

@@ -30,8 +30,9 @@ ua::crypto::RsaKey testKey(int bits, const std::string& applicationUri) {
     const std::lock_guard lock(mutex);
     const int n = asked[{bits, applicationUri}]++;
     std::string name = std::to_string(bits) + "-" + std::to_string(n) + "-";
-    for (const char c : applicationUri)
-        name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+    for (const char c : applicationUri) {
+        name += std::isalnum(static_cast<unsigned char>(c)) != 0 ? c : '_';
+    }
     const std::filesystem::path dir(SKILLCELL_TEST_KEY_DIR);
     const std::filesystem::path file = dir / (name + ".pem");
     if (auto kept = ua::crypto::RsaKey::fromPrivateKeyFile(file); kept && kept->bits() == bits) {
