@@ -4,11 +4,16 @@
 // starting session, and two clients racing for one skill.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <asio/io_context.hpp>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
 
 #include "running_server.hpp"
+#include "skills/reservation_client.hpp"
 #include "skills/skill_server.hpp"
 #include "ua/client/blocking_client.hpp"
 #include "ua/nodeset/companion_models.hpp"
@@ -336,6 +341,64 @@ TEST_F(SkillTest, TheStartingSessionReservesTheSkill) {
     // No reservation outside a run: anyone may reset and write.
     EXPECT_EQ(call(other, SkillMethod::Reset), status::Good);
     EXPECT_EQ(other.writeValue(v, 1.0), status::Good);
+}
+
+// What a composite does before it drives a component: a hold, Reserve through its first
+// session and Use through the others. Refused, it says why and nothing stays reserved: held
+// by another (naming the holder), or Reserve itself refused (naming the status).
+TEST_F(SkillTest, AHoldReservesThroughOneSessionBindsTheOthersAndSaysWhyWhenRefused) {
+    struct Seen {
+        Hold refusedReserve, first, second, afterRelease;
+        std::string holderWhileRefused, holderAfterRefusal, holderAtEnd;
+        StatusCode released = status::BadInternalError;
+    } seen;
+    asio::io_context io(1);
+    ua::Client a(io.get_executor());
+    ua::Client b(io.get_executor());
+    ua::Client c(io.get_executor());
+    const std::array<ua::Client*, 3> clients{&a, &b, &c};
+    bool done = false;
+    asio::co_spawn(
+        io,
+        [&]() -> asio::awaitable<void> {
+            for (ua::Client* x : clients) {
+                if ((co_await x->connect(server_.url())).isBad()) co_return;
+            }
+            // Named arguments: GCC 12 miscompiles a string literal or a braced list passed
+            // to a coroutine inside a co_await expression.
+            const std::vector<ua::Client*> ab{&a, &b};
+            const std::vector<ua::Client*> justC{&c};
+            const std::string nobody;
+            const std::string composite = "urn:test:composite";
+            const std::string another = "urn:test:another";
+            // An empty holder names no one: Reserve refuses it, and the hold says so.
+            seen.refusedReserve = co_await hold(ab, nobody);
+            seen.holderAfterRefusal = co_await reservationHolder(c);
+            seen.first = co_await hold(ab, composite);
+            seen.second = co_await hold(justC, another);
+            seen.holderWhileRefused = co_await reservationHolder(c);
+            if (seen.first.token) seen.released = co_await release(a, *seen.first.token);
+            seen.afterRelease = co_await hold(justC, another);
+            seen.holderAtEnd = co_await reservationHolder(a);
+            for (ua::Client* x : clients) (void)co_await x->disconnect();
+            done = true;
+        },
+        asio::detached);
+    io.run_for(30s);
+    ASSERT_TRUE(done);
+
+    EXPECT_FALSE(seen.refusedReserve.token);
+    EXPECT_EQ(seen.refusedReserve.refusal, "its Reserve was refused (BadInvalidArgument)");
+    EXPECT_EQ(seen.holderAfterRefusal, "");
+    ASSERT_TRUE(seen.first.token);
+    EXPECT_EQ(seen.first.refusal, "");
+    EXPECT_FALSE(seen.second.token);
+    EXPECT_EQ(seen.second.refusal, "reserved by urn:test:composite (BadResourceUnavailable)");
+    EXPECT_EQ(seen.holderWhileRefused, "urn:test:composite");
+    EXPECT_EQ(seen.released, status::Good);
+    ASSERT_TRUE(seen.afterRelease.token);
+    EXPECT_GT(*seen.afterRelease.token, *seen.first.token);  // fencing: tokens only grow
+    EXPECT_EQ(seen.holderAtEnd, "urn:test:another");
 }
 
 TEST_F(SkillTest, TwoClientsRacingForOneSkillGetItOneAtATime) {
