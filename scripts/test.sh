@@ -2,9 +2,9 @@
 # The test command of the README and of CI: installs what is missing, builds, and runs
 # every test once, under AddressSanitizer + UndefinedBehaviorSanitizer, except the chaos
 # suite, whose trials are whole cells and run on the optimised `skillcell` (the binary that
-# `scripts/main.sh` builds and users run); then runs each fuzz target for a short time. At the end (also when a phase fails) it prints
-# how long each phase took, and after each test phase its slowest tests
-# (docs/development.md has the figures and how to read them).
+# `scripts/main.sh` builds and users run); then runs each fuzz target for a short time. At
+# the end (also when a phase fails) it prints how long each phase took, and after each test
+# phase its slowest tests (docs/development.md has the figures and how to read them).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

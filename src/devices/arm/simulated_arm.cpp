@@ -42,12 +42,21 @@ void SimulatedArm::arm() {
     });
 }
 
+double SimulatedArm::forceLimit() const {
+    return options_.contactForce && trajectory_ ? trajectory_->forceLimit() : 0;
+}
+
+double SimulatedArm::simulatedSince(std::chrono::steady_clock::time_point t) const {
+    const double dt = std::chrono::duration<double>(t - last_).count() * options_.speed;
+    // A force-limited motion advances one sample at most per step, as its control loop runs.
+    return forceLimit() > 0 ? std::min(dt, kForceSamplePeriod) : dt;
+}
+
 void SimulatedArm::tick() {
     if (!trajectory_) return;
     const auto t = now();
-    const double limit = options_.contactForce ? trajectory_->forceLimit() : 0;
-    double dt = std::chrono::duration<double>(t - last_).count() * options_.speed;
-    if (limit > 0) dt = std::min(dt, kForceSamplePeriod);
+    const double limit = forceLimit();
+    const double dt = simulatedSince(t);
     last_ = t;
     // A force sensor's latency is fixed; the simulated one is a round trip to the world
     // model, which a loaded machine stretches. So the motion waits, in simulated time,
@@ -121,11 +130,7 @@ void SimulatedArm::resume() {
 void SimulatedArm::stop() {
     if (!trajectory_) return;
     if (!paused_) {
-        double dt = std::chrono::duration<double>(now() - last_).count() * options_.speed;
-        if (options_.contactForce && trajectory_->forceLimit() > 0) {
-            dt = std::min(dt, kForceSamplePeriod);  // as a tick would: one sample at most
-        }
-        elapsed_ += dt;
+        elapsed_ += simulatedSince(now());
         joints_ = trajectory_->at(elapsed_);
     }
     ++generation_;

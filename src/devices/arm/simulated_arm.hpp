@@ -72,6 +72,10 @@ public:
 private:
     void arm();
     void tick();
+    /// The current motion's force limit (N); 0 when it has none or the arm senses no force.
+    [[nodiscard]] double forceLimit() const;
+    /// Simulated seconds from the last step to `t`: one sample at most in a force-limited motion.
+    [[nodiscard]] double simulatedSince(std::chrono::steady_clock::time_point t) const;
     [[nodiscard]] static std::string forceFault(double force, double limit);
     /// Ends the motion where it is (stop()), then tells its owner why.
     void abort(const std::string& fault);
