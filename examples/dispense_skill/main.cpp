@@ -43,7 +43,9 @@ int main(int argc, char** argv) {
         spdlog::critical("{}", error);
         return 1;
     }
-    auto skills = skills::SkillServer::create(*server, io.get_executor(), &error);
+    // The Skills model, which the new type's file requires, and nothing else: no skill type
+    // of the other companion models is offered here.
+    auto skills = skills::SkillServer::create(*server, io.get_executor(), {}, &error);
     if (!skills) {
         spdlog::critical("{}", error);
         return 1;

@@ -1,5 +1,7 @@
 #include "mes/mes_component.hpp"
 
+#include "ua/nodeset/companion_models.hpp"
+
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 
@@ -7,6 +9,11 @@
 #include "ua/address_space/ns0_ids.hpp"
 
 namespace skillcell::mes {
+
+namespace {
+// Its skill is of the MesSkills model's type.
+constexpr std::array<std::string_view, 1> kMesSkillModels{ua::companion::kMesSkillsUri};
+}  // namespace
 namespace {
 
 // ExecuteProcess: an order of ProcessIri, followed to its end; Halt stops that order
@@ -110,7 +117,8 @@ ua::Result<std::unique_ptr<MesComponent>> MesComponent::create(
         (void)as.setValue(progressVariable("Steps"), ua::Variant(std::int32_t{p.steps}));
     };
     component->executor_ = executor;
-    component->skills_ = skills::SkillServer::create(server, server.executor(), error);
+    component->skills_ =
+        skills::SkillServer::create(server, server.executor(), kMesSkillModels, error);
     if (!component->skills_) return ua::status::BadConfigurationError;
     const auto type = component->skills_->findSkillType("ExecuteProcessSkillType");
     if (!type) {

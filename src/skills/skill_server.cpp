@@ -6,8 +6,20 @@ namespace skillcell::skills {
 
 std::unique_ptr<SkillServer> SkillServer::create(ua::Server& server, asio::any_io_executor executor,
                                                  std::string* error) {
+    std::vector<std::string_view> every;
+    every.reserve(ua::kCompanionModels.size());
+    for (const auto& model : ua::kCompanionModels) every.push_back(model.uri);
+    return create(server, std::move(executor), every, error);
+}
+
+std::unique_ptr<SkillServer> SkillServer::create(ua::Server& server, asio::any_io_executor executor,
+                                                 std::span<const std::string_view> models,
+                                                 std::string* error) {
     ua::AddressSpace& as = server.addressSpace();
-    const auto loaded = ua::loadCompanionModels(as);
+    // Objects/Reservation is of a type of the Skills model, whatever the skills are.
+    std::vector<std::string_view> uris{ua::companion::kSkillsUri};
+    uris.insert(uris.end(), models.begin(), models.end());
+    const auto loaded = ua::loadCompanionModels(as, uris);
     if (!loaded.ok()) {
         if (error != nullptr) *error = "cannot load the skill models: " + loaded.error;
         return nullptr;

@@ -1,10 +1,11 @@
 #pragma once
 // SkillServer: the skills of one component, served by its ua::Server. It loads the
-// companion models the skill types come from, keeps a "Skills" folder under Objects, and
-// creates each skill there from a type and a behaviour, all under one Objects/Reservation.
-// A device adapter is a SkillServer plus one SkillBehaviour per skill.
+// companion models its skill types come from (all of them unless told which), keeps a "Skills"
+// folder under Objects, and creates each skill there from a type and a behaviour, all under one
+// Objects/Reservation. A device adapter is a SkillServer plus one SkillBehaviour per skill.
 #include <asio/any_io_executor.hpp>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,11 +17,17 @@ namespace skillcell::skills {
 
 class SkillServer {
 public:
-    /// Loads the companion models (if the address space lacks them) and adds the folder
+    /// Loads every companion model (if the address space lacks them) and adds the folder
     /// Objects/Skills. On failure `error` (if given) says why.
     [[nodiscard]] static std::unique_ptr<SkillServer> create(ua::Server& server,
                                                              asio::any_io_executor executor,
                                                              std::string* error = nullptr);
+    /// The same with only the companion models `models` (namespace URIs, see
+    /// ua::companion), the Skills model and what they require: the types a component's skills
+    /// are of, without the parse of models it does not use at each start.
+    [[nodiscard]] static std::unique_ptr<SkillServer> create(
+        ua::Server& server, asio::any_io_executor executor,
+        std::span<const std::string_view> models, std::string* error = nullptr);
 
     /// Adds a skill of `type` named `name` to the Skills folder.
     [[nodiscard]] ua::Result<std::shared_ptr<Skill>> add(

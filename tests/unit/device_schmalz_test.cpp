@@ -4,6 +4,7 @@
 // SkillClient: a grasp with no part under the cup halts with the reason.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <mutex>
 
 #include "client_thread.hpp"
@@ -11,6 +12,7 @@
 #include "devices/schmalz/ecbpi_component.hpp"
 #include "devices/schmalz/io_link_master.hpp"
 #include "running_server.hpp"
+#include "ua/nodeset/companion_models.hpp"
 
 namespace skillcell::devices::schmalz::device_schmalz_test {
 namespace {
@@ -141,6 +143,9 @@ public:
     }
     std::string url() const { return server_->url(); }
     SimulatedIoLinkMaster& master() { return *master_; }
+    std::vector<ua::String> namespaces() {
+        return server_->inServer([](ua::Server& s) { return s.addressSpace().namespaces(); });
+    }
     ua::Variant read(const ua::NodeId& id) {
         return server_->inServer([&](ua::Server& s) {
             const ua::Node* node = s.addressSpace().find(id);
@@ -156,6 +161,23 @@ private:
     std::unique_ptr<GripperComponent> component_;
     std::unique_ptr<test::RunningServer> server_;
 };
+
+TEST(DeviceSchmalzSkills, ItsServerLoadsTheGripperModelsAndNotTheRobotOnes) {
+    // Each start parses only the models its skills need: the gripper skills and what they
+    // require, not Robotics, IA or the other skill models.
+    VacuumCell cell;
+    const auto namespaces = cell.namespaces();
+    const auto has = [&](std::string_view uri) {
+        return std::find(namespaces.begin(), namespaces.end(), uri) != namespaces.end();
+    };
+    EXPECT_TRUE(has(ua::companion::kGripperSkillsUri));
+    EXPECT_TRUE(has(ua::companion::kSkillsUri));
+    EXPECT_TRUE(has(ua::companion::kDiUri));
+    EXPECT_FALSE(has(ua::companion::kRoboticsUri));
+    EXPECT_FALSE(has(ua::companion::kIaUri));
+    EXPECT_FALSE(has(ua::companion::kRoboticSkillsUri));
+    EXPECT_FALSE(has(ua::companion::kToolChangerSkillsUri));
+}
 
 TEST(DeviceSchmalzSkills, GraspAndReleaseAndAGraspWithNoPartFails) {
     VacuumCell cell;

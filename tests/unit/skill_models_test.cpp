@@ -240,6 +240,56 @@ TEST(SkillModels, MissingRequiredModelsAreRefused) {
         << st.error;
 }
 
+TEST(SkillModels, AComponentLoadsTheModelsItsSkillsNeedAndWhatTheyRequireInOrder) {
+    const auto uris = [](const std::vector<CompanionModel>& models) {
+        std::vector<std::string_view> out;
+        for (const auto& m : models) out.push_back(m.uri);
+        return out;
+    };
+    // A gripper adapter: its skill model requires Skills and DI (from the files'
+    // <RequiredModel>s), not IA, Robotics or the other skill models.
+    const std::vector<std::string_view> gripper{cm::kGripperSkillsUri};
+    const auto forGripper = companionModelsFor(gripper);
+    ASSERT_TRUE(forGripper.has_value());
+    EXPECT_EQ(uris(*forGripper),
+              (std::vector<std::string_view>{cm::kDiUri, cm::kSkillsUri, cm::kGripperSkillsUri}));
+    // A robot: Robotics brings IA; each model after the ones it requires, once.
+    const std::vector<std::string_view> robot{cm::kRoboticSkillsUri, cm::kRoboticsUri,
+                                              cm::kSkillsUri};
+    const auto forRobot = companionModelsFor(robot);
+    ASSERT_TRUE(forRobot.has_value());
+    EXPECT_EQ(uris(*forRobot),
+              (std::vector<std::string_view>{cm::kDiUri, cm::kIaUri, cm::kRoboticsUri,
+                                             cm::kSkillsUri, cm::kRoboticSkillsUri}));
+
+    AddressSpace as = baseSpace();
+    const auto before = as.size();
+    const auto st = loadCompanionModels(as, gripper);
+    ASSERT_TRUE(st.ok()) << st.error;
+    EXPECT_EQ(as.size(), before + st.nodes);
+    EXPECT_NE(as.findModel(cm::kGripperSkillsUri), nullptr);
+    EXPECT_NE(as.findModel(cm::kSkillsUri), nullptr);
+    EXPECT_EQ(as.findModel(cm::kRoboticsUri), nullptr);
+    EXPECT_FALSE(as.namespaceIndex(cm::kRoboticSkillsUri).has_value());
+    EXPECT_TRUE(findTypeByName(as, cm::kGripperSkillsUri, "GraspGripperSkillType").has_value());
+    // Then the robot's: only what is missing is loaded, and it loads.
+    const auto more = loadCompanionModels(as, robot);
+    ASSERT_TRUE(more.ok()) << more.error;
+    EXPECT_NE(as.findModel(cm::kRoboticsUri), nullptr);
+    EXPECT_TRUE(findTypeByName(as, cm::kRoboticSkillsUri, "CartesianLinearMoveSkillType"));
+
+    // An URI of no companion model: named, and nothing loaded.
+    AddressSpace other = baseSpace();
+    const auto size = other.size();
+    const std::vector<std::string_view> unknown{cm::kGripperSkillsUri, "http://example.com/UA/X/"};
+    std::string named;
+    EXPECT_FALSE(companionModelsFor(unknown, &named).has_value());
+    EXPECT_EQ(named, "http://example.com/UA/X/");
+    const auto refused = loadCompanionModels(other, unknown);
+    EXPECT_EQ(refused.error, "no companion model has the namespace URI http://example.com/UA/X/");
+    EXPECT_EQ(other.size(), size);
+}
+
 TEST(SkillModels, SkillTypesAreProgramStateMachines) {
     const AddressSpace as = fullSpace();
     const NodeId skillType = *skillsNodeId(as, cm::kSkillType);

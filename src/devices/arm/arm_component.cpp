@@ -1,10 +1,19 @@
 #include "devices/arm/arm_component.hpp"
 
+#include "ua/nodeset/companion_models.hpp"
+
 #include "devices/arm/move_behaviour.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/common/motion_device_system.hpp"
 
 namespace skillcell::devices {
+
+namespace {
+// Its skills are of the RoboticSkills model's types; the arm is also shown as the Robotics
+// model's MotionDeviceSystem.
+constexpr std::array<std::string_view, 2> kArmSkillModels{ua::companion::kRoboticSkillsUri,
+                                                          ua::companion::kRoboticsUri};
+}  // namespace
 
 ArmComponent::ArmComponent(Token, ua::Server& server, ArmComponentOptions options)
     : server_(server),
@@ -70,7 +79,7 @@ ua::StatusCode ArmComponent::build(std::string* error) {
 
     arm_ = std::make_unique<SimulatedArm>(server_.executor(), options_.arm,
                                           [this](const Joints& q) { publish(q); });
-    skills_ = skills::SkillServer::create(server_, server_.executor(), error);
+    skills_ = skills::SkillServer::create(server_, server_.executor(), kArmSkillModels, error);
     if (!skills_) return ua::status::BadConfigurationError;
     // The same arm as the Robotics model shows it, for clients that know that model (the
     // skill server has loaded the companion models).

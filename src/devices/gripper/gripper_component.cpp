@@ -1,6 +1,13 @@
 #include "devices/gripper/gripper_component.hpp"
 
+#include "ua/nodeset/companion_models.hpp"
+
 namespace skillcell::devices {
+
+namespace {
+// A gripper adapter's skills are of the GripperSkills model's types.
+constexpr std::array<std::string_view, 1> kGripperSkillModels{ua::companion::kGripperSkillsUri};
+}  // namespace
 
 GripperComponent::~GripperComponent() = default;
 
@@ -10,7 +17,8 @@ ua::Result<std::unique_ptr<GripperComponent>> GripperComponent::create(
     auto component = std::make_unique<GripperComponent>(Token{});
     ParallelGripper& parallel = *gripper;
     component->gripper_ = std::move(gripper);
-    component->skills_ = skills::SkillServer::create(server, server.executor(), error);
+    component->skills_ =
+        skills::SkillServer::create(server, server.executor(), kGripperSkillModels, error);
     if (!component->skills_) return ua::status::BadConfigurationError;
     const auto s =
         addGripperSkills(*component->skills_, parallel, offset, GripPointType::Parallel, error);
@@ -23,7 +31,8 @@ ua::Result<std::unique_ptr<GripperComponent>> GripperComponent::create(
     GripPointType type, std::string* error) {
     auto component = std::make_unique<GripperComponent>(Token{});
     component->gripper_ = std::move(gripper);
-    component->skills_ = skills::SkillServer::create(server, server.executor(), error);
+    component->skills_ =
+        skills::SkillServer::create(server, server.executor(), kGripperSkillModels, error);
     if (!component->skills_) return ua::status::BadConfigurationError;
     const auto s = addGripperSkills(*component->skills_, *component->gripper_, offset, type, error);
     if (s.isBad()) return s;

@@ -1,5 +1,7 @@
 #include "devices/pickplace/pick_and_place_component.hpp"
 
+#include "ua/nodeset/companion_models.hpp"
+
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <cmath>
@@ -9,6 +11,12 @@
 #include "skills/skill_behaviour.hpp"
 
 namespace skillcell::devices::pickplace {
+
+namespace {
+// Its skills are of the CompositeSkills model's types.
+constexpr std::array<std::string_view, 1> kPickAndPlaceSkillModels{
+    ua::companion::kCompositeSkillsUri};
+}  // namespace
 namespace {
 
 /// What a skill of the component places where.
@@ -116,7 +124,8 @@ ua::Result<std::unique_ptr<PickAndPlaceComponent>> PickAndPlaceComponent::create
     component->composite_->onStep = [&as, current](const std::string& step) {
         (void)as.setValue(current, ua::Variant(ua::String(step)));
     };
-    component->skills_ = skills::SkillServer::create(server, server.executor(), error);
+    component->skills_ =
+        skills::SkillServer::create(server, server.executor(), kPickAndPlaceSkillModels, error);
     if (!component->skills_) return ua::status::BadConfigurationError;
     for (const auto& [typeName, name, placement] :
          {std::tuple{"PickAndPlaceSkillType", "PickAndPlace", Placement::Pose},

@@ -1,5 +1,7 @@
 #include "devices/toolchanger/tool_changer_component.hpp"
 
+#include "ua/nodeset/companion_models.hpp"
+
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 
@@ -7,6 +9,12 @@
 #include "skills/skill_behaviour.hpp"
 
 namespace skillcell::devices::toolchanger {
+
+namespace {
+// Its skills are of the ToolChangerSkills model's types.
+constexpr std::array<std::string_view, 1> kToolChangerSkillModels{
+    ua::companion::kToolChangerSkillsUri};
+}  // namespace
 namespace {
 
 /// One of the three skills: reads its parameters and runs the operation on the changer.
@@ -92,7 +100,8 @@ ua::Result<std::unique_ptr<ToolChangerComponent>> ToolChangerComponent::create(
             if (auto c = changer.lock()) (void)co_await c->recover();
         },
         asio::detached);
-    component->skills_ = skills::SkillServer::create(server, server.executor(), error);
+    component->skills_ =
+        skills::SkillServer::create(server, server.executor(), kToolChangerSkillModels, error);
     if (!component->skills_) return ua::status::BadConfigurationError;
     struct Spec {
         const char* type;

@@ -1,12 +1,84 @@
 #include "ua/nodeset/companion_models.hpp"
 
+#include <pugixml.hpp>
+
+#include <algorithm>
+#include <set>
 #include <string>
 
 namespace skillcell::ua {
 
+namespace {
+
+const CompanionModel* companionModel(std::string_view uri) {
+    const auto* it = std::find_if(kCompanionModels.begin(), kCompanionModels.end(),
+                                  [&](const CompanionModel& m) { return m.uri == uri; });
+    return it == kCompanionModels.end() ? nullptr : it;
+}
+
+/// The <RequiredModel> URIs of an embedded model. Only its <Models> element is parsed: the
+/// rest of the file is what a load skips by not loading it.
+std::vector<std::string> requiredModelUris(std::string_view xml) {
+    const auto begin = xml.find("<Models>");
+    const auto end = xml.find("</Models>");
+    if (begin == std::string_view::npos || end == std::string_view::npos || end < begin) return {};
+    const auto element = xml.substr(begin, end + std::string_view("</Models>").size() - begin);
+    pugi::xml_document doc;
+    if (!doc.load_buffer(element.data(), element.size())) return {};
+    std::vector<std::string> uris;
+    for (const auto& model : doc.child("Models").children("Model")) {
+        for (const auto& required : model.children("RequiredModel")) {
+            uris.emplace_back(required.attribute("ModelUri").as_string());
+        }
+    }
+    return uris;
+}
+
+}  // namespace
+
 NodeSetStatus loadCompanionModels(AddressSpace& as) {
     NodeSetStatus total;
     for (const auto& model : kCompanionModels) {
+        if (as.findModel(model.uri) != nullptr) continue;
+        if (!loadEmbeddedModel(as, model.fileName, model.fileName, total)) break;
+    }
+    return total;
+}
+
+std::optional<std::vector<CompanionModel>> companionModelsFor(
+    std::span<const std::string_view> uris, std::string* unknown) {
+    std::set<std::string_view> wanted;
+    std::vector<std::string_view> pending(uris.begin(), uris.end());
+    while (!pending.empty()) {
+        const auto uri = pending.back();
+        pending.pop_back();
+        const CompanionModel* model = companionModel(uri);
+        if (model == nullptr) {
+            if (unknown != nullptr) *unknown = std::string(uri);
+            return std::nullopt;
+        }
+        if (!wanted.insert(model->uri).second) continue;
+        for (const auto& required : requiredModelUris(embeddedModel(model->fileName))) {
+            // Namespace 0 is the base load's; other requirements are companion models.
+            if (const CompanionModel* r = companionModel(required)) pending.push_back(r->uri);
+        }
+    }
+    std::vector<CompanionModel> ordered;
+    for (const auto& model : kCompanionModels) {
+        if (wanted.contains(model.uri)) ordered.push_back(model);
+    }
+    return ordered;
+}
+
+NodeSetStatus loadCompanionModels(AddressSpace& as, std::span<const std::string_view> uris) {
+    NodeSetStatus total;
+    std::string unknown;
+    const auto models = companionModelsFor(uris, &unknown);
+    if (!models) {
+        total.error = "no companion model has the namespace URI " + unknown;
+        return total;
+    }
+    for (const auto& model : *models) {
         if (as.findModel(model.uri) != nullptr) continue;
         if (!loadEmbeddedModel(as, model.fileName, model.fileName, total)) break;
     }

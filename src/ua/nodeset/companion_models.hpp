@@ -1,13 +1,17 @@
 #pragma once
-// The companion models every skillcell server loads: the OPC Foundation's DI (OPC 10000-100),
-// IA and Robotics (OPC 40010-1) NodeSets as published (models/opcfoundation/, MIT), and
+// The companion models skillcell servers load: the OPC Foundation's DI (OPC 10000-100), IA
+// and Robotics (OPC 40010-1) NodeSets as published (models/opcfoundation/, MIT), and
 // skillcell's skill specifications layered on DI (models/Skillcell.*.NodeSet2.xml,
 // docs/models/), as in the paper's figure 4. The XML is compiled into the library like
-// namespace 0 and parsed at run time, in dependency order, by loadCompanionModels.
+// namespace 0 and parsed at run time, in dependency order, by loadCompanionModels: all of
+// them (the knowledge base), or the ones a component's skills need with the models those
+// require (a gripper adapter has no use for Robotics, a third of the XML).
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string_view>
+#include <vector>
 
 #include "ua/address_space/address_space.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
@@ -57,6 +61,15 @@ inline constexpr std::array<CompanionModel, 9> kCompanionModels{{
 /// (namespace 0 must be loaded). Stops at the first error; the status sums the nodes and
 /// references added.
 [[nodiscard]] NodeSetStatus loadCompanionModels(AddressSpace& as);
+/// Loads the companion models `uris` and, before them, the companion models they require
+/// (their files' <RequiredModel>s, transitively); those loaded already are skipped. An URI
+/// that is no companion model's is an error that names it, and nothing is loaded.
+[[nodiscard]] NodeSetStatus loadCompanionModels(AddressSpace& as,
+                                                std::span<const std::string_view> uris);
+/// The companion models `uris` require, transitively, with `uris` themselves, in the load
+/// order of kCompanionModels; nullopt (and `unknown` set) for an URI of no companion model.
+[[nodiscard]] std::optional<std::vector<CompanionModel>> companionModelsFor(
+    std::span<const std::string_view> uris, std::string* unknown = nullptr);
 
 /// The type of the Skills model with numeric id `id` (e.g. companion::kSkillType), once
 /// that model is loaded.
