@@ -790,20 +790,28 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
     } waiting{*this, order->id};
     std::string shown;
     for (;;) {
-        const auto live = detector_->instances();
-        auto typed = candidates(step, live, excluded);
+        // Shared, not copied: each step of every order looks through all of them.
+        const auto live = detector_->snapshot();
+        const auto typed = candidates(step, *live, excluded);
         Choice c;
+        // The suitable instances: in `live` when the step takes any instance of its type, in
+        // c.skills when the KB was asked. Only the free ones are copied, below.
+        std::vector<const skills::SkillInstance*> suitable;
         bool askAgain = false;  // whether the KB may soon know what it does not know now
         // The KB is asked when the step has requirements or names positions (whose reach a
         // robot's facts tell); a step without either takes any instance of its type.
         if (typed.empty() || (step.requirements.empty() && stepTargets(step).empty())) {
-            c.skills = std::move(typed);
+            suitable = typed;
         } else {
-            c = co_await withRequirements(step, std::move(typed), live);
+            std::vector<skills::SkillInstance> copies;
+            copies.reserve(typed.size());
+            for (const auto* s : typed) copies.push_back(*s);
+            c = co_await withRequirements(step, std::move(copies), *live);
             askAgain = c.skills.empty() && static_cast<bool>(kb_.facts);
+            for (const auto& s : c.skills) suitable.push_back(&s);
         }
         if (order->halted) co_return Choice{};
-        if (!c.skills.empty()) {
+        if (!suitable.empty()) {
             // What the journal knows of how long each candidate takes (read before the
             // availability below, which must not be separated from the take by a wait).
             const Durations* durations = co_await expectedDurations(step.skillTypeIri);
@@ -815,10 +823,10 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             Choice free;
             std::set<std::string> wanted;
             std::string holders;
-            for (auto& s : c.skills) {
-                const auto components = componentsOf(&s, c.cellMatches);
+            for (const auto* s : suitable) {
+                const auto components = componentsOf(s, c.cellMatches);
                 if (available(*order, components)) {
-                    free.skills.push_back(std::move(s));
+                    free.skills.push_back(*s);
                     continue;
                 }
                 for (const auto& component : components) {

@@ -117,17 +117,21 @@ std::string unsuitability(const ProcessStep& step, const skills::SkillInstance& 
     return {};
 }
 
-std::vector<skills::SkillInstance> candidates(const ProcessStep& step,
-                                              const std::vector<skills::SkillInstance>& live,
-                                              const std::set<SkillKey>& excluded) {
-    std::vector<skills::SkillInstance> out;
+std::vector<const skills::SkillInstance*> candidates(const ProcessStep& step,
+                                                     const std::vector<skills::SkillInstance>& live,
+                                                     const std::set<SkillKey>& excluded) {
+    // Sorted by keys made once each, not once per comparison.
+    std::vector<std::pair<std::pair<std::string, std::string>, const skills::SkillInstance*>> keyed;
     for (const auto& s : live) {
-        if (!excluded.contains(keyOf(s)) && unsuitability(step, s).empty()) out.push_back(s);
+        if (!excluded.contains(keyOf(s)) && unsuitability(step, s).empty()) {
+            keyed.emplace_back(std::pair(s.componentUri, s.browsePathString()), &s);
+        }
     }
-    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
-        return std::pair(a.componentUri, a.browsePathString()) <
-               std::pair(b.componentUri, b.browsePathString());
-    });
+    std::sort(keyed.begin(), keyed.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<const skills::SkillInstance*> out;
+    out.reserve(keyed.size());
+    for (const auto& [key, s] : keyed) out.push_back(s);
     return out;
 }
 

@@ -35,8 +35,9 @@ using SkillKey = std::pair<std::string, std::string>;
                                         const skills::SkillInstance& skill);
 
 /// The instances among `live` that suit `step`, leaving out `excluded`; in a stable order
-/// (component URI, then browse path) so that runs are reproducible.
-[[nodiscard]] std::vector<skills::SkillInstance> candidates(
+/// (component URI, then browse path) so that runs are reproducible. Pointers into `live`:
+/// a MES with many orders looks through every instance at each step, and keeps one.
+[[nodiscard]] std::vector<const skills::SkillInstance*> candidates(
     const ProcessStep& step, const std::vector<skills::SkillInstance>& live,
     const std::set<SkillKey>& excluded);
 

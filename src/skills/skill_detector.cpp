@@ -238,6 +238,7 @@ void SkillDetector::stop() {
     componentListeners_.clear();
     std::lock_guard lock(mutex_);
     instances_.clear();
+    snapshot_.reset();
     byType_.clear();
     status_.clear();
 }
@@ -580,6 +581,7 @@ void SkillDetector::replaceSkills(const std::string& componentId, std::vector<Sk
             events.push_back({SkillEvent::Kind::Added, instance, reason});
             instances_.insert_or_assign(std::move(key), std::move(instance));
         }
+        if (!events.empty()) snapshot_.reset();
     }
     notify(events);
 }
@@ -662,11 +664,18 @@ std::vector<SkillInstance> SkillDetector::find(const GlobalNodeId& type) const {
 }
 
 std::vector<SkillInstance> SkillDetector::instances() const {
+    return *snapshot();
+}
+
+std::shared_ptr<const std::vector<SkillInstance>> SkillDetector::snapshot() const {
     std::lock_guard lock(mutex_);
-    std::vector<SkillInstance> out;
-    out.reserve(instances_.size());
-    for (const auto& [key, instance] : instances_) out.push_back(instance);
-    return out;
+    if (!snapshot_) {
+        std::vector<SkillInstance> all;
+        all.reserve(instances_.size());
+        for (const auto& [key, instance] : instances_) all.push_back(instance);
+        snapshot_ = std::make_shared<const std::vector<SkillInstance>>(std::move(all));
+    }
+    return snapshot_;
 }
 
 std::vector<ComponentStatus> SkillDetector::components() const {

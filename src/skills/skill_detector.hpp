@@ -188,6 +188,9 @@ public:
     /// The instances whose type is `type` or a subtype of it.
     [[nodiscard]] std::vector<SkillInstance> find(const GlobalNodeId& type) const;
     [[nodiscard]] std::vector<SkillInstance> instances() const;
+    /// The same list, shared and immutable: made once per change of the skills, not once per
+    /// call (a MES with many orders asks for it at every step of each).
+    [[nodiscard]] std::shared_ptr<const std::vector<SkillInstance>> snapshot() const;
     [[nodiscard]] std::vector<ComponentStatus> components() const;
 
 private:
@@ -256,6 +259,8 @@ private:
     // Guarded by mutex_: written on the executor, read from anywhere.
     mutable std::mutex mutex_;
     std::map<InstanceKey, SkillInstance> instances_;
+    /// instances_ as snapshot() gives it; reset by every change, made again when asked for.
+    mutable std::shared_ptr<const std::vector<SkillInstance>> snapshot_;
     std::map<GlobalNodeId, std::set<InstanceKey>> byType_;
     std::map<std::string, ComponentStatus> status_;
 };

@@ -496,8 +496,16 @@ TEST(SkillDetector, RemovesSkillsWhenTheirComponentIsGone) {
     h.appeared("mdns:robot", "urn:test:robot", robot->url());
     h.appeared("mdns:gripper", "urn:test:gripper", hand->url());
     ASSERT_TRUE(h.waitForSkills(4));
+    // The shared list is made once per change: the same one until the skills change.
+    const auto before = h.detector().snapshot();
+    EXPECT_EQ(before->size(), 4u);
+    EXPECT_EQ(h.detector().snapshot(), before);
 
     h.gone("mdns:robot", GoneReason::Goodbye);
+    const auto after = h.detector().snapshot();
+    EXPECT_NE(after, before);
+    EXPECT_EQ(after->size(), 2u);
+    EXPECT_EQ(before->size(), 4u) << "a snapshot taken earlier does not change";
     // At once, on the detector's thread: no waiting needed.
     EXPECT_EQ(
         namesOf(h.detector().instances()),

@@ -68,13 +68,13 @@ TEST(StepBinding, AnInstanceOfTheTypeOrASubtypeFitsIfItHasTheParameters) {
     const std::vector<skills::SkillInstance> live = {changer("urn:c2", false), changer("urn:c1")};
     auto found = candidates(withAppUri, live, {});
     ASSERT_EQ(found.size(), 1U);
-    EXPECT_EQ(found[0].componentUri, "urn:c1");
+    EXPECT_EQ(found[0]->componentUri, "urn:c1");
     found = candidates(exact, live, {});
     ASSERT_EQ(found.size(), 2U);
-    EXPECT_EQ(found[0].componentUri, "urn:c1") << "a stable order";
+    EXPECT_EQ(found[0]->componentUri, "urn:c1") << "a stable order";
     found = candidates(exact, live, {keyOf(live[1])});
     ASSERT_EQ(found.size(), 1U);
-    EXPECT_EQ(found[0].componentUri, "urn:c2") << "a tried instance is left out";
+    EXPECT_EQ(found[0]->componentUri, "urn:c2") << "a tried instance is left out";
 }
 
 TEST(StepBinding, DerivedValuesTakeTheFormTheParameterDeclares) {
