@@ -11,6 +11,7 @@
 #include "server_process.hpp"
 #include "skills/noop_behaviour.hpp"
 #include "skills/skill_server.hpp"
+#include "ua/nodeset/companion_models.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
 
 namespace skillcell::apps {
@@ -36,9 +37,19 @@ ua::Result<ComponentContent> populate(const ServerCommandOptions& options, ua::S
     if (const auto s = addDemoNodes(server.addressSpace(), fireDemoEvent); s.isBad()) return s;
     if (options.noopSkills.empty() && options.nodesets.empty()) return ComponentContent{};
 
+    // The models the --noop-skill types come from, and what they require; all of them when a
+    // --nodeset file may require any, or a type is not found in one (the error names it).
+    std::vector<std::string_view> models;
+    bool everyModel = !options.nodesets.empty();
+    for (const auto& spec : options.noopSkills) {
+        const auto model = ua::companionModelDeclaring(spec.substr(0, spec.find('=')));
+        everyModel = everyModel || !model;
+        if (model) models.push_back(*model);
+    }
     std::string error;
     std::shared_ptr<skills::SkillServer> skillServer =
-        skills::SkillServer::create(server, io.get_executor(), &error);
+        everyModel ? skills::SkillServer::create(server, io.get_executor(), &error)
+                   : skills::SkillServer::create(server, io.get_executor(), models, &error);
     if (!skillServer) {
         spdlog::critical("{}", error);
         return ua::status::BadConfigurationError;

@@ -278,6 +278,13 @@ TEST(SkillModels, AComponentLoadsTheModelsItsSkillsNeedAndWhatTheyRequireInOrder
     EXPECT_NE(as.findModel(cm::kRoboticsUri), nullptr);
     EXPECT_TRUE(findTypeByName(as, cm::kRoboticSkillsUri, "CartesianLinearMoveSkillType"));
 
+    // Which model a type comes from, for a command line that names the type.
+    EXPECT_EQ(companionModelDeclaring("GraspGripperSkillType"), cm::kGripperSkillsUri);
+    EXPECT_EQ(companionModelDeclaring("CartesianLinearMoveSkillType"), cm::kRoboticSkillsUri);
+    EXPECT_EQ(companionModelDeclaring("ExecuteProcessSkillType"), cm::kMesSkillsUri);
+    EXPECT_EQ(companionModelDeclaring("MotionDeviceSystemType"), cm::kRoboticsUri);
+    EXPECT_EQ(companionModelDeclaring("NoSuchSkillType"), std::nullopt);
+
     // An URI of no companion model: named, and nothing loaded.
     AddressSpace other = baseSpace();
     const auto size = other.size();

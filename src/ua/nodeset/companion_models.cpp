@@ -16,15 +16,24 @@ const CompanionModel* companionModel(std::string_view uri) {
     return it == kCompanionModels.end() ? nullptr : it;
 }
 
-/// The <RequiredModel> URIs of an embedded model. Only its <Models> element is parsed: the
-/// rest of the file is what a load skips by not loading it.
+/// One top-level element of an embedded model (`name`: "Models", "NamespaceUris"), parsed
+/// alone: the rest of the file is what a load skips by not loading it.
+bool parseElement(std::string_view xml, std::string_view name, pugi::xml_document& doc) {
+    const std::string open = "<" + std::string(name) + ">";
+    const std::string close = "</" + std::string(name) + ">";
+    const auto begin = xml.find(open);
+    const auto end = xml.find(close);
+    if (begin == std::string_view::npos || end == std::string_view::npos || end < begin) {
+        return false;
+    }
+    const auto element = xml.substr(begin, end + close.size() - begin);
+    return static_cast<bool>(doc.load_buffer(element.data(), element.size()));
+}
+
+/// The <RequiredModel> URIs of an embedded model.
 std::vector<std::string> requiredModelUris(std::string_view xml) {
-    const auto begin = xml.find("<Models>");
-    const auto end = xml.find("</Models>");
-    if (begin == std::string_view::npos || end == std::string_view::npos || end < begin) return {};
-    const auto element = xml.substr(begin, end + std::string_view("</Models>").size() - begin);
     pugi::xml_document doc;
-    if (!doc.load_buffer(element.data(), element.size())) return {};
+    if (!parseElement(xml, "Models", doc)) return {};
     std::vector<std::string> uris;
     for (const auto& model : doc.child("Models").children("Model")) {
         for (const auto& required : model.children("RequiredModel")) {
@@ -83,6 +92,26 @@ NodeSetStatus loadCompanionModels(AddressSpace& as, std::span<const std::string_
         if (!loadEmbeddedModel(as, model.fileName, model.fileName, total)) break;
     }
     return total;
+}
+
+std::optional<std::string_view> companionModelDeclaring(std::string_view name) {
+    for (const auto& model : kCompanionModels) {
+        const auto xml = embeddedModel(model.fileName);
+        // The file's index of its own namespace: its place among the file's NamespaceUris.
+        pugi::xml_document doc;
+        if (!parseElement(xml, "NamespaceUris", doc)) continue;
+        std::size_t index = 0;
+        std::size_t own = 0;
+        for (const auto& uri : doc.child("NamespaceUris").children("Uri")) {
+            ++index;
+            if (uri.text().as_string() == model.uri) own = index;
+        }
+        if (own == 0) continue;
+        const std::string attribute =
+            "BrowseName=\"" + std::to_string(own) + ":" + std::string(name) + "\"";
+        if (xml.find(attribute) != std::string_view::npos) return model.uri;
+    }
+    return std::nullopt;
 }
 
 std::optional<NodeId> skillsNodeId(const AddressSpace& as, std::uint32_t id) {

@@ -71,6 +71,12 @@ inline constexpr std::array<CompanionModel, 9> kCompanionModels{{
 [[nodiscard]] std::optional<std::vector<CompanionModel>> companionModelsFor(
     std::span<const std::string_view> uris, std::string* unknown = nullptr);
 
+/// The namespace URI of the companion model whose file declares a node with the browse name
+/// `name` in its own namespace (e.g. "GraspGripperSkillType": GripperSkills); nullopt if none
+/// does. Read from the embedded XML without loading it (its NamespaceUris, then a search):
+/// for a command line that names a type, to load only the model it comes from.
+[[nodiscard]] std::optional<std::string_view> companionModelDeclaring(std::string_view name);
+
 /// The type of the Skills model with numeric id `id` (e.g. companion::kSkillType), once
 /// that model is loaded.
 [[nodiscard]] std::optional<NodeId> skillsNodeId(const AddressSpace& as, std::uint32_t id);
