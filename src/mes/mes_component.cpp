@@ -1,20 +1,17 @@
 #include "mes/mes_component.hpp"
 
-#include "ua/nodeset/companion_models.hpp"
-
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 
 #include "skills/skill_behaviour.hpp"
 #include "ua/address_space/ns0_ids.hpp"
+#include "ua/nodeset/companion_models.hpp"
 
 namespace skillcell::mes {
 
 namespace {
 // Its skill is of the MesSkills model's type.
 constexpr std::array<std::string_view, 1> kMesSkillModels{ua::companion::kMesSkillsUri};
-}  // namespace
-namespace {
 
 // ExecuteProcess: an order of ProcessIri, followed to its end; Halt stops that order
 // (resumably), Suspend and Resume go to its skills.

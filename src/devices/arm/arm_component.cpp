@@ -1,10 +1,9 @@
 #include "devices/arm/arm_component.hpp"
 
-#include "ua/nodeset/companion_models.hpp"
-
 #include "devices/arm/move_behaviour.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/common/motion_device_system.hpp"
+#include "ua/nodeset/companion_models.hpp"
 
 namespace skillcell::devices {
 

@@ -1,7 +1,5 @@
 #include "devices/pickplace/pick_and_place_component.hpp"
 
-#include "ua/nodeset/companion_models.hpp"
-
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <cmath>
@@ -9,6 +7,7 @@
 
 #include "devices/common/frame.hpp"
 #include "skills/skill_behaviour.hpp"
+#include "ua/nodeset/companion_models.hpp"
 
 namespace skillcell::devices::pickplace {
 
@@ -16,8 +15,6 @@ namespace {
 // Its skills are of the CompositeSkills model's types.
 constexpr std::array<std::string_view, 1> kPickAndPlaceSkillModels{
     ua::companion::kCompositeSkillsUri};
-}  // namespace
-namespace {
 
 /// What a skill of the component places where.
 enum class Placement { Pose, Rail, FuseSlot };

@@ -1,12 +1,11 @@
 #include "devices/toolchanger/tool_changer_component.hpp"
 
-#include "ua/nodeset/companion_models.hpp"
-
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 
 #include "devices/common/frame.hpp"
 #include "skills/skill_behaviour.hpp"
+#include "ua/nodeset/companion_models.hpp"
 
 namespace skillcell::devices::toolchanger {
 
@@ -14,8 +13,6 @@ namespace {
 // Its skills are of the ToolChangerSkills model's types.
 constexpr std::array<std::string_view, 1> kToolChangerSkillModels{
     ua::companion::kToolChangerSkillsUri};
-}  // namespace
-namespace {
 
 /// One of the three skills: reads its parameters and runs the operation on the changer.
 class ToolChangerBehaviour final : public skills::SkillBehaviour {
