@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <unistd.h>
+
+#include <algorithm>
 #include <mutex>
 
 #include "ua/discovery/network_interfaces.hpp"
@@ -23,10 +25,10 @@ struct ApplicationIdentity::SharedValidator {
     }
 };
 
-ua::Result<ApplicationIdentity> ApplicationIdentity::load(std::filesystem::path pkiDir,
-                                                          const std::string& applicationUri,
-                                                          const std::string& applicationName,
-                                                          std::string* error) {
+ua::Result<ApplicationIdentity> ApplicationIdentity::load(
+    std::filesystem::path pkiDir, const std::string& applicationUri,
+    const std::string& applicationName, std::string* error,
+    const std::vector<std::string>& moreAddresses) {
     if (pkiDir.empty()) pkiDir = ua::pki::defaultPkiDirectory(applicationUri);
     ua::pki::CertificateSubject subject;
     subject.applicationUri = applicationUri;
@@ -38,6 +40,12 @@ ua::Result<ApplicationIdentity> ApplicationIdentity::load(std::filesystem::path 
     subject.dnsNames.emplace_back("localhost");
     for (const auto& nic : ua::mdns::listIpv4Interfaces()) {
         subject.ipAddresses.push_back(ua::mdns::toString(nic.address));
+    }
+    for (const auto& a : moreAddresses) {
+        if (std::find(subject.ipAddresses.begin(), subject.ipAddresses.end(), a) ==
+            subject.ipAddresses.end()) {
+            subject.ipAddresses.push_back(a);
+        }
     }
     std::string why;
     auto certificate = ua::pki::loadOrCreateOwnCertificate(pkiDir, subject, &why);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "ua/client/client.hpp"
 #include "ua/crypto/primitives.hpp"
@@ -18,11 +19,13 @@ namespace skillcell::apps {
 class ApplicationIdentity {
 public:
     /// Loads or creates the certificate in `pkiDir` (empty: ua::pki::defaultPkiDirectory of
-    /// the URI), naming the host's DNS names and IPv4 addresses. The error says what failed.
-    [[nodiscard]] static ua::Result<ApplicationIdentity> load(std::filesystem::path pkiDir,
-                                                              const std::string& applicationUri,
-                                                              const std::string& applicationName,
-                                                              std::string* error);
+    /// the URI), naming the host's DNS names and IPv4 addresses, and `moreAddresses` (where
+    /// it will serve on another host of ours: a cell's host, CellHosts). The error says what
+    /// failed.
+    [[nodiscard]] static ua::Result<ApplicationIdentity> load(
+        std::filesystem::path pkiDir, const std::string& applicationUri,
+        const std::string& applicationName, std::string* error,
+        const std::vector<std::string>& moreAddresses = {});
 
     [[nodiscard]] const std::filesystem::path& pkiDirectory() const { return pkiDir_; }
     [[nodiscard]] const ua::pki::OwnCertificate& certificate() const { return certificate_; }

@@ -83,22 +83,35 @@ struct UpOptions {
     std::string workDir;
     double speed = 0;
     std::string bootProfile = "none";
+    std::vector<std::string> hosts;  // COMPONENT=HOST
 };
 
 int cellUp(const UpOptions& o) {
-    const auto read = cell::readCellFile(o.file);
+    auto read = cell::readCellFile(o.file);
     if (!read.cell) {
         for (const auto& p : read.problems) std::cerr << p.describe() << "\n";
         std::cerr << "cell: " << read.problems.size() << " problem(s) in " << o.file
                   << "; nothing started\n";
         return 2;
     }
+    for (const auto& placement : o.hosts) {
+        const auto eq = placement.find('=');
+        const std::string why =
+            eq == std::string::npos
+                ? "expected COMPONENT=HOST"
+                : cell::placeOnHost(*read.cell, placement.substr(0, eq), placement.substr(eq + 1));
+        if (!why.empty()) {
+            std::cerr << "cell: --host " << placement << ": " << why << "; nothing started\n";
+            return 2;
+        }
+    }
     const cell::CellFile& c = *read.cell;
     // The network first, while this is the only thread: a namespace is per thread, and the
     // components inherit it.
     const bool privateNetwork = c.network.kind == cell::Network::Kind::PrivateNamespace;
-    if (const auto why = enterCellNetwork(c); !why.empty()) {
-        std::cerr << "cell: " << why << "\n";
+    auto hosts = enterCellNetwork(c);
+    if (!hosts) {
+        std::cerr << "cell: " << hosts.error() << "\n";
         return 2;
     }
     const std::string skillcell = skillcellProgram();
@@ -125,6 +138,7 @@ int cellUp(const UpOptions& o) {
     options.bootProfile = o.bootProfile;
     options.keepPorts = true;
     options.selfName = "cell-up";
+    options.hosts = &*hosts;
     CellRuntime runtime(c, *work, skillcell, options);
     if (!runtime.prepare(&error)) {
         std::cerr << "cell: the cell's security: " << error << "\n";
@@ -360,6 +374,10 @@ Command addCellCommand(CLI::App& app) {
                      "microcontroller boards, 8-10 s)")
         ->check(CLI::IsMember({"none", "tinyua"}))
         ->capture_default_str();
+    upCmd->add_option("--host", up->hosts,
+                      "COMPONENT=HOST: run a component on a host of its own, as its `host` key in "
+                      "the cell file would (a network namespace beside the cell's, linked to it "
+                      "by v-HOST; a private network only); repeatable");
 
     auto cellName = std::make_shared<std::string>();
     auto workDir = std::make_shared<std::string>();

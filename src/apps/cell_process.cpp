@@ -5,9 +5,10 @@ namespace skillcell::apps {
 kb::Expected<CellProcess> CellProcess::start(
     std::string name, const std::vector<std::string>& argv,
     const std::vector<std::pair<std::string, std::string>>& env, const std::filesystem::path& log,
-    std::chrono::milliseconds timeout) {
+    std::chrono::milliseconds timeout, const std::vector<int>& namespaces) {
     process::ProcessOptions options = process::reportingChild(log);
     options.envAdd = env;
+    options.namespaces = namespaces;
     auto child = process::ChildProcess::start(argv, options);
     if (!child) return kb::Error{name + ": " + child.error()};
     CellProcess p(std::move(name), std::move(*child));

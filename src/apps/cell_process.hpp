@@ -20,11 +20,13 @@ class CellProcess {
 public:
     /// Starts `argv` (argv[0] the skillcell program) with `env` added to its environment and
     /// its stderr appended to `log`, and reads its stdout until the READY line, at most
-    /// `timeout`. The error says why it did not come (and where the log is).
+    /// `timeout`. The error says why it did not come (and where the log is). It runs in the
+    /// `namespaces` given (open fds; a host of its own, CellHosts), else in ours.
     [[nodiscard]] static kb::Expected<CellProcess> start(
         std::string name, const std::vector<std::string>& argv,
         const std::vector<std::pair<std::string, std::string>>& env,
-        const std::filesystem::path& log, std::chrono::milliseconds timeout);
+        const std::filesystem::path& log, std::chrono::milliseconds timeout,
+        const std::vector<int>& namespaces = {});
 
     [[nodiscard]] const std::string& name() const { return name_; }
     /// The endpoint of its READY line.

@@ -67,14 +67,16 @@ bool actsAsCell(const std::string& name) {
 
 }  // namespace
 
-std::string enterCellNetwork(const cell::CellFile& cell) {
-    if (cell.network.kind != cell::Network::Kind::PrivateNamespace) return {};
+kb::Expected<CellHosts> enterCellNetwork(const cell::CellFile& cell) {
+    if (cell.network.kind != cell::Network::Kind::PrivateNamespace) return CellHosts{};
     const auto why = enterPrivateNetwork();
-    if (why.empty() || multicastOnlyOnLoopback()) return {};
-    return cell.path.string() +
-           " asks for a private network namespace (network.kind = \"private\"), so that the "
-           "cell's mDNS stays off your network, and " +
-           why + "; or use network.kind = \"host\"";
+    if (!why.empty() && !multicastOnlyOnLoopback()) {
+        return kb::Error{cell.path.string() +
+                         " asks for a private network namespace (network.kind = \"private\"), "
+                         "so that the cell's mDNS stays off your network, and " +
+                         why + "; or use network.kind = \"host\""};
+    }
+    return CellHosts::create(cell.hostNames());
 }
 
 std::string skillcellProgram() {
@@ -144,17 +146,7 @@ std::string CellRuntime::applicationUri(const std::string& name) const {
 }
 
 std::vector<std::string> CellRuntime::components() const {
-    std::vector<std::string> out;
-    if (cell_.lds) out.emplace_back("lds");
-    if (cell_.kb) out.emplace_back("kb");
-    const bool world = !cell_.docks.empty() || !cell_.objects.empty() || !cell_.robots.empty();
-    if (world) out.emplace_back("world");
-    if (cell_.toolChanger) out.push_back(cell_.toolChanger->name);
-    for (const auto& r : cell_.robots) out.push_back(r.name);
-    if (cell_.pickAndPlace) out.push_back(cell_.pickAndPlace->name);
-    if (cell_.mes) out.emplace_back("mes");
-    if (cell_.dashboard) out.emplace_back("dashboard");
-    return out;
+    return cell_.componentNames();
 }
 
 bool CellRuntime::prepare(std::string* error) {
@@ -300,7 +292,9 @@ std::optional<ApplicationIdentity> CellRuntime::commission(const std::string& na
         *error = "cannot link " + pki.string() + "/cell-ca: " + ec.message();
         return std::nullopt;
     }
-    auto identity = ApplicationIdentity::load(pki, uri, "skillcell " + name, error);
+    std::vector<std::string> addresses;
+    if (!hostOf(name).empty()) addresses.push_back(addressOf(name));
+    auto identity = ApplicationIdentity::load(pki, uri, "skillcell " + name, error, addresses);
     if (!identity) return std::nullopt;
     return std::move(*identity);
 }
@@ -312,11 +306,23 @@ std::uint16_t CellRuntime::port(const std::string& key) {
     return it->second;
 }
 
+std::string CellRuntime::hostOf(const std::string& name) const {
+    const auto names = cell_.componentNames();
+    if (cell_.toolChanger && std::find(names.begin(), names.end(), name) == names.end()) {
+        return cell_.hostOf(cell_.toolChanger->name);  // an adapter its changer powers
+    }
+    return cell_.hostOf(name);
+}
+
+std::string CellRuntime::addressOf(const std::string& name) const {
+    return options_.hosts != nullptr ? options_.hosts->address(hostOf(name)) : "127.0.0.1";
+}
+
 std::vector<std::string> CellRuntime::componentArgs(const std::string& name,
                                                     std::uint16_t tcpPort) const {
     const bool host = cell_.network.kind == cell::Network::Kind::Host;
     std::vector<std::string> a = {"--port", std::to_string(tcpPort)};
-    if (!host) a.insert(a.end(), {"--host", "127.0.0.1"});
+    if (!host) a.insert(a.end(), {"--host", addressOf(name)});
     for (const auto& i : cell_.network.interfaces) a.insert(a.end(), {"--mdns-interface", i});
     a.insert(a.end(), {"--mdns-ttl", std::to_string(cell_.network.mdnsTtlSeconds),
                        "--mdns-query-period", std::to_string(cell_.network.mdnsQueryPeriodSeconds),
@@ -394,6 +400,9 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
     } else if (name == "kb") {
         a = {"kb", "--data-dir", (dir() / "kb").string(), "--http-port",
              std::to_string(port("kb-http"))};
+        if (cell_.network.kind != cell::Network::Kind::Host) {
+            a.insert(a.end(), {"--http-host", addressOf(name)});
+        }
         if (!cell_.kb->sparqlUrl.empty()) a.insert(a.end(), {"--sparql-url", cell_.kb->sparqlUrl});
         // The scene first: the processes refer to its docks and tools.
         a.insert(a.end(), {"--cell", fs::absolute(cell_.path).string()});
@@ -415,6 +424,9 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
                                        ? static_cast<std::uint16_t>(cell_.dashboard->port)
                                        : port("dashboard-http");
         a = {"dashboard", "--http-port", std::to_string(page)};
+        if (cell_.network.kind != cell::Network::Kind::Host) {
+            a.insert(a.end(), {"--http-host", addressOf(name)});
+        }
         if (!endpoint("world").empty()) a.insert(a.end(), {"--world", endpoint("world")});
         if (cell_.mes) a.insert(a.end(), {"--journal", journal().string()});
         if (!sparqlUrl().empty()) a.insert(a.end(), {"--kb", sparqlUrl()});
@@ -463,8 +475,11 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
 kb::Expected<CellProcess> CellRuntime::start(const ComponentLaunch& launch) {
     std::vector<std::string> argv = launch.args;
     argv.insert(argv.begin(), skillcell_);
-    auto p =
-        CellProcess::start(launch.name, argv, environment(), log(launch.name), launch.readyTimeout);
+    const std::vector<int> namespaces = options_.hosts != nullptr
+                                            ? options_.hosts->namespaces(hostOf(launch.name))
+                                            : std::vector<int>{};
+    auto p = CellProcess::start(launch.name, argv, environment(), log(launch.name),
+                                launch.readyTimeout, namespaces);
     if (!p) return p;
     endpoints_[launch.name] = p->url();
     if (launch.name == "kb") kbSparql_ = p->reported("SPARQL");

@@ -18,6 +18,7 @@
 #include "application_identity.hpp"
 #include "cell/cell_file.hpp"
 #include "cell/device_arguments.hpp"
+#include "cell_hosts.hpp"
 #include "cell_process.hpp"
 #include "client_security_options.hpp"
 #include "kb/expected.hpp"
@@ -31,9 +32,10 @@ namespace skillcell::apps {
 
 /// The cell file's network, for this process and the components it will start: its own
 /// network namespace (network.kind = "private": needs root, or a network that is private
-/// already will do), or the host's. Call it before any thread starts: a namespace is per
-/// thread. Empty on success, else why not and what to do.
-[[nodiscard]] std::string enterCellNetwork(const cell::CellFile& cell);
+/// already will do), or the host's; and the hosts its components name (CellHosts). Call it
+/// before any thread starts: a namespace is per thread. The error says why not and what to
+/// do.
+[[nodiscard]] kb::Expected<CellHosts> enterCellNetwork(const cell::CellFile& cell);
 
 /// How one component of the cell starts.
 struct ComponentLaunch {
@@ -57,6 +59,10 @@ struct CellRuntimeOptions {
     std::optional<cell::CellFile> shelf;
     /// The runtime's own name and application URI, for its certificate.
     std::string selfName = "cell-up";
+    /// The cell's hosts (enterCellNetwork), where components run and what address they serve
+    /// on; none: every component in this process's network, on the loopback. Outlives the
+    /// runtime.
+    const CellHosts* hosts = nullptr;
 };
 
 /// A user the runtime made, with the file that holds its password.
@@ -141,6 +147,10 @@ private:
                                                                 const std::string& uri,
                                                                 std::string* error) const;
     [[nodiscard]] std::filesystem::path caDir() const;
+    /// The host `name` runs on (a gripper adapter: its tool changer's); empty: the cell's own.
+    [[nodiscard]] std::string hostOf(const std::string& name) const;
+    /// The address `name` serves on.
+    [[nodiscard]] std::string addressOf(const std::string& name) const;
 
     const cell::CellFile& cell_;
     const WorkDirectory& work_;

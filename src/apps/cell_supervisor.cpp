@@ -138,6 +138,9 @@ bool CellSupervisor::start(const Interruption& interruption) {
         std::printf("%s  %-14s %s", terminal ? "\r\033[K" : "", c.name.c_str(), c.endpoint.c_str());
         if (c.name == "kb") std::printf("  SPARQL %s", runtime_.sparqlUrl().c_str());
         if (c.name == "dashboard") std::printf("  PAGE %s", runtime_.dashboardUrl().c_str());
+        if (const auto host = runtime_.cell().hostOf(c.name); !host.empty()) {
+            std::printf("  on host %s (link %s)", host.c_str(), CellHosts::linkName(host).c_str());
+        }
         std::printf("\n");
         std::fflush(stdout);
     }

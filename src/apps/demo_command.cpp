@@ -125,12 +125,12 @@ double milliseconds(Clock::duration d) {
 
 class DemoCell {
 public:
-    DemoCell(const DemoOptions& o, const cell::CellFile& cell, WorkDirectory& work,
-             const std::string& skillcell)
+    DemoCell(const DemoOptions& o, const cell::CellFile& cell, const CellHosts& hosts,
+             WorkDirectory& work, const std::string& skillcell)
         : o_(o),
           cell_(cell),
           work_(work),
-          runtime_(cell, work, skillcell, runtimeOptions(o)),
+          runtime_(cell, work, skillcell, runtimeOptions(o, hosts)),
           skillcell_(skillcell) {}
     DemoCell(const DemoCell&) = delete;
     DemoCell& operator=(const DemoCell&) = delete;
@@ -140,8 +140,9 @@ public:
     int run(const Interruption& interruption);
 
 private:
-    static CellRuntimeOptions runtimeOptions(const DemoOptions& o) {
+    static CellRuntimeOptions runtimeOptions(const DemoOptions& o, const CellHosts& hosts) {
         CellRuntimeOptions r;
+        r.hosts = &hosts;
         r.speed = o.speed;
         r.bootProfile = o.bootProfile;
         r.selfName = "demo";
@@ -665,8 +666,9 @@ int runDemo(const DemoOptions& o) {
         return 2;
     }
     // The network next, while this is the only thread: a namespace is per thread.
-    if (const auto why = enterCellNetwork(*read.cell); !why.empty()) {
-        std::cerr << "demo: " << why << "\n";
+    const auto hosts = enterCellNetwork(*read.cell);
+    if (!hosts) {
+        std::cerr << "demo: " << hosts.error() << "\n";
         return 2;
     }
     // --swap takes the parallel gripper out of the paper's dockP (swapParallelGripper).
@@ -689,7 +691,7 @@ int runDemo(const DemoOptions& o) {
                 o.cellFile.c_str(), (work->path() / "logs").string().c_str());
     int rc = 0;
     {
-        DemoCell cell(o, *read.cell, *work, skillcell);
+        DemoCell cell(o, *read.cell, *hosts, *work, skillcell);
         rc = cell.run(interruption);
         if (rc != 0) std::printf("\n== stopping the cell\n");
     }

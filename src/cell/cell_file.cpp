@@ -157,9 +157,17 @@ public:
         return v;
     }
 
-    /// The component's optional `restart` key, into `cell.restart[component]`.
-    void restart(const toml::table& t, std::string_view where, const std::string& component,
-                 CellFile& cell) {
+    /// The keys every component has: `restart`, into `cell.restart[component]`, and `host`,
+    /// into `cell.hosts[component]` (both optional).
+    void componentKeys(const toml::table& t, std::string_view where, const std::string& component,
+                       CellFile& cell) {
+        if (auto host = string(t, "host", where, false)) {
+            if (auto why = hostProblem(cell, *host); !why.empty()) {
+                problem(t.get("host")->source(), std::string(where) + ": " + why);
+            } else {
+                cell.hosts[component] = *host;
+            }
+        }
         if (t.get("restart") == nullptr) return;
         static const std::vector<std::string_view> policies = {"on-failure", "always", "never"};
         auto v = oneOf(t, "restart", where, policies, "a restart policy");
@@ -376,8 +384,8 @@ void readKnowledgeBase(Reader& r, const toml::table& root, CellFile& cell) {
     if (t == nullptr) return;
     auto& out = cell.kb;
     out.emplace();
-    r.onlyKeys(*t, "[kb]", {"processes", "sparql-url", "restart"});
-    r.restart(*t, "[kb]", "kb", cell);
+    r.onlyKeys(*t, "[kb]", {"processes", "sparql-url", "restart", "host"});
+    r.componentKeys(*t, "[kb]", "kb", cell);
     if (const toml::node* n = t->get("processes")) {
         const toml::array* a = n->as_array();
         if (a == nullptr) {
@@ -404,8 +412,8 @@ void readMes(Reader& r, const toml::table& root, CellFile& cell) {
     if (t == nullptr) return;
     auto& out = cell.mes;
     out.emplace();
-    r.onlyKeys(*t, "[mes]", {"step-timeout-ms", "restart"});
-    r.restart(*t, "[mes]", "mes", cell);
+    r.onlyKeys(*t, "[mes]", {"step-timeout-ms", "restart", "host"});
+    r.componentKeys(*t, "[mes]", "mes", cell);
     if (auto v = r.integer(*t, "step-timeout-ms", "[mes]", 100, 86'400'000)) {
         out->stepTimeoutMs = static_cast<int>(*v);
     }
@@ -430,8 +438,8 @@ void readDashboard(Reader& r, const toml::table& root, CellFile& cell) {
     const toml::table* t = r.table(root, "dashboard", "[dashboard]");
     if (t == nullptr) return;
     cell.dashboard.emplace();
-    r.onlyKeys(*t, "[dashboard]", {"port", "restart"});
-    r.restart(*t, "[dashboard]", "dashboard", cell);
+    r.onlyKeys(*t, "[dashboard]", {"port", "restart", "host"});
+    r.componentKeys(*t, "[dashboard]", "dashboard", cell);
     if (auto v = r.integer(*t, "port", "[dashboard]", 0, 65535)) {
         cell.dashboard->port = static_cast<int>(*v);
     }
@@ -463,8 +471,8 @@ private:
 void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks) {
     const toml::table* t = r.table(root, "world", "[world]");
     if (t == nullptr) return;
-    r.onlyKeys(*t, "[world]", {"dock", "object", "rail", "fuse-slot", "restart"});
-    r.restart(*t, "[world]", "world", out);
+    r.onlyKeys(*t, "[world]", {"dock", "object", "rail", "fuse-slot", "restart", "host"});
+    r.componentKeys(*t, "[world]", "world", out);
     for (const toml::table* d : r.tables(*t, "dock", "world.dock")) {
         r.onlyKeys(*d, "[[world.dock]]", {"name", "pose"});
         auto name = r.name(*d, "[[world.dock]]");
@@ -603,9 +611,9 @@ void readTools(Reader& r, const toml::table& root, CellFile& out, const NameSet&
 
 void readDevices(Reader& r, const toml::table& root, CellFile& out, NameSet& components) {
     for (const toml::table* t : r.tables(root, "robot", "robot")) {
-        r.onlyKeys(*t, "[[robot]]", {"name", "model", "speed", "restart"});
+        r.onlyKeys(*t, "[[robot]]", {"name", "model", "speed", "restart", "host"});
         auto name = r.name(*t, "[[robot]]");
-        if (name) r.restart(*t, "robot '" + *name + "'", *name, out);
+        if (name) r.componentKeys(*t, "robot '" + *name + "'", *name, out);
         const std::string where = name ? "robot '" + *name + "'" : std::string("[[robot]]");
         auto model = r.oneOf(*t, "model", where, robotModels(), "a robot model");
         Robot robot;
@@ -617,12 +625,12 @@ void readDevices(Reader& r, const toml::table& root, CellFile& out, NameSet& com
         }
     }
     if (const toml::table* t = r.table(root, "toolchanger", "[toolchanger]")) {
-        r.onlyKeys(*t, "[toolchanger]", {"name", "model", "restart"});
+        r.onlyKeys(*t, "[toolchanger]", {"name", "model", "restart", "host"});
         ToolChanger changer;
         if (t->get("name") != nullptr) {
             if (auto name = r.name(*t, "[toolchanger]")) changer.name = *name;
         }
-        r.restart(*t, "[toolchanger]", changer.name, out);
+        r.componentKeys(*t, "[toolchanger]", changer.name, out);
         if (auto model = r.string(*t, "model", "[toolchanger]", false)) {
             if (*model != "kelvin") {
                 r.problem(t->get("model")->source(),
@@ -632,12 +640,12 @@ void readDevices(Reader& r, const toml::table& root, CellFile& out, NameSet& com
         if (components.add(r, *t, changer.name)) out.toolChanger = changer;
     }
     if (const toml::table* t = r.table(root, "pickplace", "[pickplace]")) {
-        r.onlyKeys(*t, "[pickplace]", {"name", "restart"});
+        r.onlyKeys(*t, "[pickplace]", {"name", "restart", "host"});
         PickAndPlace composite;
         if (t->get("name") != nullptr) {
             if (auto name = r.name(*t, "[pickplace]")) composite.name = *name;
         }
-        r.restart(*t, "[pickplace]", composite.name, out);
+        r.componentKeys(*t, "[pickplace]", composite.name, out);
         if (components.add(r, *t, composite.name)) out.pickAndPlace = composite;
     }
 }
@@ -684,6 +692,63 @@ RestartPolicy CellFile::restartPolicy(const std::string& component) const {
     return it == restart.end() ? RestartPolicy::OnFailure : it->second;
 }
 
+std::string CellFile::hostOf(const std::string& component) const {
+    const auto it = hosts.find(component);
+    return it == hosts.end() ? std::string() : it->second;
+}
+
+std::vector<std::string> CellFile::hostNames() const {
+    std::vector<std::string> out;
+    for (const auto& [component, host] : hosts) out.push_back(host);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+std::vector<std::string> CellFile::componentNames() const {
+    std::vector<std::string> out;
+    if (lds) out.emplace_back("lds");
+    if (kb) out.emplace_back("kb");
+    if (!docks.empty() || !objects.empty() || !robots.empty()) out.emplace_back("world");
+    if (toolChanger) out.push_back(toolChanger->name);
+    for (const auto& r : robots) out.push_back(r.name);
+    if (pickAndPlace) out.push_back(pickAndPlace->name);
+    if (mes) out.emplace_back("mes");
+    if (dashboard) out.emplace_back("dashboard");
+    return out;
+}
+
+std::string hostProblem(const CellFile& cell, std::string_view host) {
+    const bool named = !host.empty() && host.size() <= 12 &&
+                       std::islower(static_cast<unsigned char>(host.front())) != 0 &&
+                       std::all_of(host.begin(), host.end(), [](char c) {
+                           return std::islower(static_cast<unsigned char>(c)) != 0 ||
+                                  std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '-';
+                       });
+    if (!named) {
+        return "host '" + std::string(host) +
+               "': use 1 to 12 lower-case letters, digits or '-', beginning with a letter (it "
+               "names the host's link, v-" +
+               std::string(host) + ")";
+    }
+    if (cell.network.kind != Network::Kind::PrivateNamespace) {
+        return "host '" + std::string(host) +
+               "' needs network.kind = \"private\": a host is a network namespace beside the "
+               "cell's";
+    }
+    return {};
+}
+
+std::string placeOnHost(CellFile& cell, const std::string& component, const std::string& host) {
+    const auto names = cell.componentNames();
+    if (std::find(names.begin(), names.end(), component) == names.end()) {
+        return "the cell has no component '" + component + "'; it has: " + joined(names);
+    }
+    if (auto why = hostProblem(cell, host); !why.empty()) return why;
+    cell.hosts[component] = host;
+    return {};
+}
+
 std::string Problem::describe() const {
     if (line <= 0) return file + ": " + message;
     return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message;
@@ -724,8 +789,8 @@ ReadResult readCellText(std::string_view text, const std::string& sourceName,
     readNetwork(r, root, cell.network);
     readSecurity(r, root, cell.security);
     if (const toml::table* t = r.table(root, "lds", "[lds]")) {
-        r.onlyKeys(*t, "[lds]", {"restart"});
-        r.restart(*t, "[lds]", "lds", cell);
+        r.onlyKeys(*t, "[lds]", {"restart", "host"});
+        r.componentKeys(*t, "[lds]", "lds", cell);
         cell.lds = true;
     }
     readKnowledgeBase(r, root, cell);

@@ -144,7 +144,26 @@ struct CellFile {
     /// device's name); absent: RestartPolicy::OnFailure.
     std::map<std::string, RestartPolicy> restart;
     [[nodiscard]] RestartPolicy restartPolicy(const std::string& component) const;
+    /// Each component's `host` key, by component name: the components that run on a host of
+    /// their own, a network namespace joined to the cell's network by a link of its own (which
+    /// can go down, as a cable is pulled). Absent: the cell's network namespace itself.
+    std::map<std::string, std::string> hosts;
+    /// The host `component` runs on; empty for the cell's own network.
+    [[nodiscard]] std::string hostOf(const std::string& component) const;
+    /// Every host the components name, sorted, each once.
+    [[nodiscard]] std::vector<std::string> hostNames() const;
+    /// The cell's components in start order: lds, kb, world, the tool changer, the robots,
+    /// pick-and-place, mes, dashboard (those the file has).
+    [[nodiscard]] std::vector<std::string> componentNames() const;
 };
+
+/// Why `host` cannot name a host of `cell`, or empty: 1 to 12 lower-case letters, digits or
+/// '-', beginning with a letter (it names the host's link, v-HOST), and a cell in a private
+/// network namespace (hosts are namespaces beside it).
+[[nodiscard]] std::string hostProblem(const CellFile& cell, std::string_view host);
+/// Puts `component` on `host` (`cell up --host`), as its `host` key would; why not, or empty.
+[[nodiscard]] std::string placeOnHost(CellFile& cell, const std::string& component,
+                                      const std::string& host);
 
 /// One problem in a cell file, where it is.
 struct Problem {

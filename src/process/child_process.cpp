@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sched.h>
 #include <spdlog/spdlog.h>
 #include <sys/prctl.h>
 #include <sys/syscall.h>
@@ -103,12 +104,12 @@ struct ChildFailure {
     int step;
     int err;
 };
-enum ChildStep : int { kDeathSignal = 1, kRedirect, kChdir, kExec };
+enum ChildStep : int { kDeathSignal = 1, kRedirect, kChdir, kNamespace, kExec };
 
 /// In the child between fork and exec: only async-signal-safe calls.
-[[noreturn]] void execChild(pid_t parent, int deathSignal, int reportFd, int stdinFd, int stdoutFd,
-                            int stderrFd, const char* cwd, const char* path, char* const* argv,
-                            char* const* envp) {
+[[noreturn]] void execChild(pid_t parent, int deathSignal, const std::vector<int>& namespaces,
+                            int reportFd, int stdinFd, int stdoutFd, int stderrFd, const char* cwd,
+                            const char* path, char* const* argv, char* const* envp) {
     auto fail = [reportFd](int step) {
         const ChildFailure failure{step, errno};
         [[maybe_unused]] const auto n = ::write(reportFd, &failure, sizeof failure);
@@ -127,6 +128,9 @@ enum ChildStep : int { kDeathSignal = 1, kRedirect, kChdir, kExec };
     if (stdoutFd >= 0 && ::dup2(stdoutFd, STDOUT_FILENO) < 0) fail(kRedirect);
     if (stderrFd >= 0 && ::dup2(stderrFd, STDERR_FILENO) < 0) fail(kRedirect);
     if (cwd != nullptr && ::chdir(cwd) != 0) fail(kChdir);
+    for (const int ns : namespaces) {  // reads the vector only: no allocation
+        if (::setns(ns, 0) != 0) fail(kNamespace);
+    }
     ::execve(path, argv, envp);
     fail(kExec);
     ::_exit(127);  // not reached: fail() exits
@@ -211,7 +215,7 @@ Expected<ChildProcess> ChildProcess::start(const std::vector<std::string>& argv,
     const pid_t pid = ::fork();
     if (pid < 0) return failed("fork: " + errnoText(errno));
     if (pid == 0) {
-        execChild(parent, options.deathSignal, reportWrite.get(), devNull.get(),
+        execChild(parent, options.deathSignal, options.namespaces, reportWrite.get(), devNull.get(),
                   out->childEnd.get(), err->childEnd.get(), cwd.empty() ? nullptr : cwd.c_str(),
                   path.c_str(), argPtrs.data(), envPtrs.data());
     }
@@ -234,6 +238,8 @@ Expected<ChildProcess> ChildProcess::start(const std::vector<std::string>& argv,
                 return failed("exec " + path + ": " + errnoText(failure.err));
             case kChdir:
                 return failed("working directory " + cwd + ": " + errnoText(failure.err));
+            case kNamespace:
+                return failed("entering its host's namespaces: " + errnoText(failure.err));
             default:
                 return failed("child setup: " + errnoText(failure.err));
         }

@@ -60,6 +60,9 @@ struct ProcessOptions {
     /// What the kernel sends the child when the thread that started it ends: SIGKILL for an
     /// engine; SIGTERM for a child that must say goodbye on the network (a tool's adapter).
     int deathSignal = SIGKILL;
+    /// Namespaces (open /proc/.../ns/* files, borrowed) the child enters before it runs: a
+    /// component of a cell on a host of its own (apps/cell_hosts.hpp). Empty: ours.
+    std::vector<int> namespaces;
 };
 
 /// Options for a child that reports on its stdout while it runs (a component's or a peer's

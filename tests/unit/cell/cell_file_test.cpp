@@ -138,5 +138,27 @@ TEST(CellFile, DefaultsApplyWhereAFileIsSilent) {
     EXPECT_FALSE(result.cell->toolChanger);
 }
 
+TEST(CellFile, ComponentsOnHostsOfTheirOwnAreNamedByTheirHostKeyOrPlacedLater) {
+    const auto result = readCellText(
+        "name = \"two-pcs\"\n[kb]\nhost = \"server\"\n[mes]\nhost = \"mes-pc\"\n[lds]\n",
+        "two-pcs.toml", ".");
+    for (const auto& p : result.problems) ADD_FAILURE() << p.describe();
+    ASSERT_TRUE(result.cell);
+    CellFile c = *result.cell;
+    EXPECT_EQ(c.hostOf("kb"), "server");
+    EXPECT_EQ(c.hostOf("mes"), "mes-pc");
+    EXPECT_EQ(c.hostOf("lds"), "");  // the cell's own network
+    EXPECT_EQ(c.hostNames(), (std::vector<std::string>{"mes-pc", "server"}));
+    // `cell up --host`: the same checks as the key, and the component must be there.
+    EXPECT_EQ(placeOnHost(c, "lds", "server"), "");
+    EXPECT_EQ(c.hostOf("lds"), "server");
+    EXPECT_EQ(c.hostNames(), (std::vector<std::string>{"mes-pc", "server"}));
+    EXPECT_EQ(placeOnHost(c, "ur5", "robot-pc"),
+              "the cell has no component 'ur5'; it has: lds, kb, mes");
+    EXPECT_NE(placeOnHost(c, "mes", "MES").find("use 1 to 12 lower-case letters"),
+              std::string::npos);
+    EXPECT_EQ(c.hostOf("mes"), "mes-pc");  // a refused placement changes nothing
+}
+
 }  // namespace
 }  // namespace skillcell::cell::cell_file_test
