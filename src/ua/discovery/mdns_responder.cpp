@@ -316,6 +316,46 @@ void MdnsResponder::start() {
     if (socket_.is_open()) asio::co_spawn(executor_, receiveLoop(socket_), asio::detached);
     if (socket6_.is_open()) asio::co_spawn(executor_, receiveLoop(socket6_), asio::detached);
     asio::co_spawn(executor_, timerLoop(), asio::detached);
+    std::map<unsigned, bool> running;
+    for (const auto& nic : nics_) {
+        if (!nic.loopback && nic.index != 0) running[nic.index] = nic.up;
+    }
+    if (running.empty()) return;
+    std::string why;
+    std::weak_ptr<MdnsResponder> weak = shared_from_this();
+    links_ = LinkMonitor::create(
+        executor_, std::move(running),
+        [weak](unsigned index) {
+            if (auto self = weak.lock()) self->linkCameUp(index);
+        },
+        &why);
+    if (links_) {
+        links_->start();
+    } else {
+        spdlog::warn(
+            "mDNS: link changes go unnoticed ({}): after a link comes back, others are "
+            "found at the next query",
+            why);
+    }
+}
+
+void MdnsResponder::linkCameUp(unsigned index) {
+    if (closed_) return;
+    std::string name = std::to_string(index);
+    for (const auto& nic : nics_) {
+        if (nic.index == index) name = nic.name;
+    }
+    const bool announcing = !published_.empty();
+    spdlog::info("mDNS: link {} up again: {}{}{} (RFC 6762, 8.3)", name,
+                 announcing ? "announcing again" : "",
+                 announcing && browse_.active() ? " and " : "",
+                 browse_.active() ? "asking again" : "");
+    if (announcing) {
+        sendAnswers(planner_.own());
+        announceAgainAt_ = Clock::now() + std::chrono::seconds(1);
+    }
+    if (browse_.active()) browse_.restart(Clock::now());
+    wake();
 }
 
 std::size_t MdnsResponder::subscribe(Listener listener, BrowseScope scope) {
@@ -455,6 +495,8 @@ void MdnsResponder::shutdown() {
         }
     }
     closed_ = true;
+    if (links_) links_->stop();
+    announceAgainAt_.reset();
     published_.clear();
     hostRecords_.clear();
     planner_.setOwn({});
@@ -755,6 +797,10 @@ asio::awaitable<void> MdnsResponder::timerLoop() {
     while (!closed_) {
         const auto now = Clock::now();
         if (auto due = planner_.takeDue(now); !due.empty()) sendAnswers(std::move(due));
+        if (announceAgainAt_ && now >= *announceAgainAt_) {
+            announceAgainAt_.reset();
+            sendAnswers(planner_.own());
+        }
         flushOutput();
         std::vector<DnsQuestion> questions;
         if (browse_.active()) {
@@ -772,7 +818,8 @@ asio::awaitable<void> MdnsResponder::timerLoop() {
         if (!questions.empty()) sendQuestions(std::move(questions), now);
 
         auto wakeAt = now + std::chrono::minutes(1);
-        for (const auto& d : {browse_.next(), cache_.nextDeadline(), planner_.nextDeadline()}) {
+        for (const auto& d :
+             {browse_.next(), cache_.nextDeadline(), planner_.nextDeadline(), announceAgainAt_}) {
             if (d && *d < wakeAt) wakeAt = *d;
         }
         const auto sleep = std::chrono::microseconds(mdns_adapter_sleep_us(mdnsd_.get()));

@@ -22,6 +22,10 @@
 //   segment of 200 starting together, against 5 without it (skillcell_bench_cell_scale).
 // - What others announce goes into our ServiceCache (TTL-honouring, see service_cache.hpp),
 //   whose changes reach subscribers as "announced" / "gone" events.
+// - When a link we use comes back (carrier again, LinkMonitor), we announce our records again,
+//   twice, a second apart, and a browser asks again from its shortest interval (RFC 6762,
+//   8.3 and 13): a host cut off for longer than the TTL is found, and finds the others, at
+//   once rather than at the next refresh or query.
 // - Every datagram is checked by parseDnsMessage() first; a malformed one is counted and
 //   dropped, and never reaches libmdnsd.
 // - IPv4 (224.0.0.251) always, and IPv6 (ff02::fb) on the interfaces that have it: every
@@ -44,6 +48,7 @@
 
 #include "ua/discovery/browse_schedule.hpp"
 #include "ua/discovery/dns_message.hpp"
+#include "ua/discovery/link_monitor.hpp"
 #include "ua/discovery/network_interfaces.hpp"
 #include "ua/discovery/response_planner.hpp"
 #include "ua/discovery/service_cache.hpp"
@@ -180,6 +185,8 @@ private:
     void dispatch(const std::vector<ServiceEvent>& events);
     void ensureHostRecords();
     void withdrawRecords(Published& p);
+    /// A link of ours came up again: announce again, ask again.
+    void linkCameUp(unsigned index);
 
     asio::any_io_executor executor_;
     MdnsConfig config_;
@@ -203,6 +210,9 @@ private:
     std::size_t nextListener_ = 1;
     BrowseScope scope_ = BrowseScope::DiscoveryServers;  // the widest of the subscribers'
     Stats stats_;
+    std::shared_ptr<LinkMonitor> links_;
+    /// When our records go out once more after a link came up (the second announcement).
+    std::optional<Clock::time_point> announceAgainAt_;
     bool started_ = false;
     bool closed_ = false;
 };

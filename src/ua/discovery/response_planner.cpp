@@ -65,6 +65,13 @@ std::string recordIdentity(const DnsRecord& r) {
     return id;
 }
 
+std::vector<DnsRecord> ResponsePlanner::own() const {
+    std::vector<DnsRecord> out;
+    out.reserve(own_.size());
+    for (const auto& o : own_) out.push_back(o.record);
+    return out;
+}
+
 void ResponsePlanner::setOwn(std::vector<DnsRecord> own) {
     own_.clear();
     ownById_.clear();

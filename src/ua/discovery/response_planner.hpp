@@ -40,6 +40,8 @@ public:
     /// Our records (full TTL), whenever they change: what queries are answered from. What is
     /// no longer among them is neither pending nor remembered.
     void setOwn(std::vector<DnsRecord> own);
+    /// Our records, as setOwn() gave them.
+    [[nodiscard]] std::vector<DnsRecord> own() const;
     /// A multicast query arrived from `source`: schedules the records of ours it asks for that
     /// the querier does not know yet.
     void onQuery(const DnsMessage& query, const Ipv4& source, Clock::time_point now);
