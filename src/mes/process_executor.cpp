@@ -774,7 +774,10 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                                                                  const std::set<SkillKey>& excluded,
                                                                  Progress p) {
     auto self = shared_from_this();
-    const auto deadline = Clock::now() + order->skillWait;
+    // skillWait counts from the moment no suitable skill is there, not from the step's start:
+    // a step that waited for another order's component may see that component leave (a link
+    // down) long after it began, and then it still has the whole bound for it to come back.
+    std::optional<Clock::time_point> deadline;
     std::optional<Clock::time_point> claimDeadline;  // from the first wait for a component
     // Registered as waiting for components: no longer on any return, and the orders that
     // gave way to it look again.
@@ -812,6 +815,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
         }
         if (order->halted) co_return Choice{};
         if (!suitable.empty()) {
+            deadline.reset();
             // What the journal knows of how long each candidate takes (read before the
             // availability below, which must not be separated from the take by a wait).
             const Durations* durations = co_await expectedDurations(step.skillTypeIri);
@@ -874,7 +878,8 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             co_await sleep(*order, timer);
             continue;
         }
-        if (Clock::now() >= deadline) co_return c;
+        if (!deadline) deadline = Clock::now() + order->skillWait;
+        if (Clock::now() >= *deadline) co_return c;
         p.state = "waiting";
         p.component.clear();
         p.skill.clear();
@@ -885,7 +890,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             shown = p.message;
             report(*order, p);
         }
-        const auto wake = askAgain ? std::min(deadline, Clock::now() + kFactRetry) : deadline;
+        const auto wake = askAgain ? std::min(*deadline, Clock::now() + kFactRetry) : *deadline;
         auto timer = std::make_shared<asio::steady_timer>(detector_->executor(), wake);
         // A new instance of the step's type, or of a type a requirement names, may fit.
         const std::size_t id =

@@ -408,6 +408,31 @@ TEST_F(Orders, WhenTheOnlyComponentLeavesTheOrderWaitsAsLongAsItsProcessSays) {
     EXPECT_EQ(r.steps[1].state, StepState::Finished);
 }
 
+TEST_F(Orders, AnOrderWaitingForAComponentThatLeavesHasItsWholeSkillWaitFromThen) {
+    // The second order waits for the first's robot longer than the MES's skill wait (2 s,
+    // start()); then the robot leaves (a link down): the second still waits up to 2 s from
+    // that moment for one to appear, and does not stop at once for its earlier wait.
+    plug({"urn:test:robot1"}, 3000ms);
+    start({process("urn:p", 1)});
+    const auto first = submit("urn:p");
+    waitUntilBegun(first);
+    const auto second = submit("urn:p");
+    std::this_thread::sleep_for(2500ms);  // the scenario's delay, not a synchronisation
+    components_.clear();
+    mes_.run([&]() -> asio::awaitable<int> {
+        detector_->gone("urn:test:robot1", skills::GoneReason::Expired);
+        co_return 0;
+    });
+    std::this_thread::sleep_for(1000ms);  // the scenario's delay: within the 2 s
+    plug({"urn:test:robot2"}, 100ms);
+    const auto out = outcome(second);
+    EXPECT_TRUE(out.completed) << out.reason;
+    const auto r = record(second);
+    ASSERT_FALSE(r.steps.empty());
+    EXPECT_EQ(r.steps.back().componentUri, "urn:test:robot2");
+    EXPECT_TRUE(outcome(first).completed) << "replaced by robot2, as a departure mid-step is";
+}
+
 TEST(ResourceClaims, AWaitThatWouldCloseACycleIsRefusedWithTheChain) {
     ResourceClaims c;
     EXPECT_TRUE(c.take(1, "urn:a"));
