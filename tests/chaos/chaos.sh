@@ -5,8 +5,9 @@
 #
 # Kinds: ur5 toolchanger pickplace world lds kb virtuoso konclude mes dashboard robotiq
 # schmalz (the gripper adapters run while their tool is mounted: a trial finds the one
-# running), and link (the MES's host link down for 1-10 s, then up: a veth pair of its own is
-# not there yet, so this kind is refused for now).
+# running), and link: the MES runs on a host of its own (`cell up --host mes=mes-pc`, a
+# network namespace linked to the cell's by v-mes-pc), and that link goes down for 1-10 s,
+# then up again, as a pulled cable does.
 #
 # A trial runs one order of the process, or two orders of it submitted at once (the MES runs
 # them as their resources allow): CHAOS_ORDERS=1 or 2; by default the long run alternates,
@@ -34,7 +35,7 @@ trials=${3:-1}
 shift $(($# >= 3 ? 3 : $#))
 kinds=("$@")
 [ ${#kinds[@]} -gt 0 ] || kinds=(ur5 toolchanger pickplace world lds kb virtuoso konclude mes
-  dashboard robotiq schmalz)
+  dashboard robotiq schmalz link)
 # shellcheck source=../support/cell_up.sh
 source "$src/tests/support/cell_up.sh"
 cell=$src/examples/cells/paper.toml
@@ -90,13 +91,15 @@ world() {
 # One trial of kind $1 (number $2): prints "kind n: outcome (details)"; sets $outcome to
 # completed, stopped or violation.
 trial() {
-  local kind=$1 n=$2 why=""
+  local kind=$1 n=$2 why="" link_fault=""
   outcome=violation
   # Up (a second try when the first does not come up: the trial is about what follows).
-  local i attempt
+  local i attempt placement=()
+  [ "$kind" != link ] || placement=(--host mes=mes-pc)
   for attempt in 1 2; do
     rm -rf "$work"
-    "$skillcell" cell up "$cell" --work-dir "$work" >"$tmp/up.out" 2>"$tmp/up.err" &
+    "$skillcell" cell up "$cell" --work-dir "$work" "${placement[@]}" >"$tmp/up.out" \
+      2>"$tmp/up.err" &
     supervisor=$!
     for i in $(seq 480); do  # bounded: 2 minutes
       grep -q 'is up' "$tmp/up.out" && break
@@ -122,11 +125,29 @@ trial() {
   # per order), or to 8 s for two.
   local delay_ms=$((200 + RANDOM % (3800 + (orders - 1) * 4000)))
   sleep "$(printf '%d.%03d' $((delay_ms / 1000)) $((delay_ms % 1000)))"
-  local pid
-  pid=$(target_pid "$kind" || true)
-  local killed="no $kind running at +${delay_ms} ms"
-  if [ -n "$pid" ]; then
-    kill -KILL "$pid" 2>/dev/null && killed="killed $kind (pid $pid) at +${delay_ms} ms"
+  local pid killed
+  if [ "$kind" = link ]; then
+    # The fault lasts as long as the cable is out: 1 to 10 s.
+    local down_ms=$((1000 + RANDOM % 9001)) address
+    address=${mes#opc.tcp://}
+    address=${address%%/*}
+    local downAt=${EPOCHREALTIME/./}
+    inside ip link set v-mes-pc down
+    # The fault is real only if the MES's host is cut off: its endpoint, reached from the
+    # cell's namespace, must not answer (the connect is bounded by timeout).
+    if inside timeout 1 bash -c "exec 3<>/dev/tcp/${address%:*}/${address##*:}" 2>/dev/null; then
+      link_fault="the MES's endpoint $address still answered with its host's link down"
+    fi
+    local left_ms=$((down_ms - (${EPOCHREALTIME/./} - downAt) / 1000))
+    [ "$left_ms" -le 0 ] || sleep "$(printf '%d.%03d' $((left_ms / 1000)) $((left_ms % 1000)))"
+    inside ip link set v-mes-pc up
+    killed="the MES's host link down at +${delay_ms} ms for ${down_ms} ms"
+  else
+    pid=$(target_pid "$kind" || true)
+    killed="no $kind running at +${delay_ms} ms"
+    if [ -n "$pid" ]; then
+      kill -KILL "$pid" 2>/dev/null && killed="killed $kind (pid $pid) at +${delay_ms} ms"
+    fi
   fi
   # Follow each order to its end; a killed MES ends the following: follow it again once the
   # supervisor has restarted it (bounded: 12 tries, 4 minutes in all, per order). The trial's
@@ -153,7 +174,9 @@ trial() {
   mounted=$(value MountedTool)
   dockP=$(value Docks/dockP/Tool)
   dockV=$(value Docks/dockV/Tool)
-  if [ -n "$twice" ]; then
+  if [ -n "$link_fault" ]; then
+    why=$link_fault
+  elif [ -n "$twice" ]; then
     why="step(s) $twice (run.step) finished twice"
   elif [[ $result == "OUTCOME Finished"* ]]; then
     if [ "$kind" != world ] && {
