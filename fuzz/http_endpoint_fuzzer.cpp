@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -31,6 +32,7 @@
 #include "kb/knowledge_base.hpp"
 #include "kb/sparql_endpoint.hpp"
 #include "kb/sparql_form.hpp"
+#include "process/child_process.hpp"
 
 namespace {
 
@@ -139,6 +141,13 @@ void describeThreads() {
         std::fprintf(stderr, "  thread %s (%s): state %c, waiting in %s\n",
                      task.path().filename().c_str(), name.c_str(), state, channel.c_str());
     }
+    // Where each thread is, in our code and cpp-httplib's: a wait channel names only the
+    // kernel's side. gdb, where the machine has it (bounded: 60 s).
+    if (process::findInPath("gdb").empty()) return;
+    auto bt = process::runToCompletion(
+        {"gdb", "-p", std::to_string(::getpid()), "-batch", "-nx", "-ex", "thread apply all bt 40"},
+        std::chrono::seconds(60));
+    if (bt) std::fprintf(stderr, "%s\n", bt->out.c_str());
 }
 
 /// Sends `data` on a new connection, closes our side, and reads the answer to its end.
