@@ -233,8 +233,12 @@ int cellStatus(const std::string& cellName, const std::string& workDir, bool jso
     for (const auto& e : j["components"]) {
         const std::string state = e.value("state", "");
         allUp = allUp && (state == "up" || state == "detected");
-        std::printf("  %-34s %-10s %7d %8d  %s\n", e.value("name", "").c_str(), state.c_str(),
-                    e.value("pid", 0), e.value("restarts", 0), e.value("endpoint", "").c_str());
+        const std::string host = e.contains("host") ? "  on host " + e.value("host", "") +
+                                                          " (link " + e.value("link", "") + ")"
+                                                    : std::string();
+        std::printf("  %-34s %-10s %7d %8d  %s%s\n", e.value("name", "").c_str(), state.c_str(),
+                    e.value("pid", 0), e.value("restarts", 0), e.value("endpoint", "").c_str(),
+                    host.c_str());
         if (!e.value("lastEnd", "").empty() && state != "up") {
             std::printf("      last end: %s; see %s\n", e.value("lastEnd", "").c_str(),
                         e.value("log", "").c_str());

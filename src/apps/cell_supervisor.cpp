@@ -236,6 +236,10 @@ std::string CellSupervisor::statusJson() const {
         e["pid"] = c.process ? c.process->pid() : 0;
         e["applicationUri"] = c.applicationUri;
         e["endpoint"] = c.endpoint;
+        if (const auto host = runtime_.cell().hostOf(c.name); !host.empty()) {
+            e["host"] = host;
+            e["link"] = CellHosts::linkName(host);
+        }
         e["restart"] = std::string(cell::toString(c.policy));
         e["restarts"] = c.restarts;
         e["lastEnd"] = c.lastEnd;

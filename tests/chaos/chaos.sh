@@ -70,6 +70,11 @@ endpoint() {
 d=json.load(sys.stdin)
 print(next((c.get('endpoint','') for c in d['components'] if c['name']=='$1'), ''))"
 }
+link_of() {
+  "$skillcell" cell status --json --work-dir "$work" 2>/dev/null | python3 -c "import json,sys
+d=json.load(sys.stdin)
+print(next((c.get('link','') for c in d['components'] if c['name']=='$1'), ''))"
+}
 inside() { nsenter --net="/proc/$supervisor/ns/net" "$@"; }
 as_operator() {
   inside "$skillcell" "$@" --pki-dir "$work/pki-operator" --user operator \
@@ -128,11 +133,13 @@ trial() {
   local pid killed
   if [ "$kind" = link ]; then
     # The fault lasts as long as the cable is out: 1 to 10 s.
-    local down_ms=$((1000 + RANDOM % 9001)) address
+    local down_ms=$((1000 + RANDOM % 9001)) address link
     address=${mes#opc.tcp://}
     address=${address%%/*}
+    link=$(link_of mes)
+    [ -n "$link" ] || fail "trial $kind $n: cell status shows no host link for the MES"
     local downAt=${EPOCHREALTIME/./}
-    inside ip link set v-mes-pc down
+    inside ip link set "$link" down
     # The fault is real only if the MES's host is cut off: its endpoint, reached from the
     # cell's namespace, must not answer (the connect is bounded by timeout).
     if inside timeout 1 bash -c "exec 3<>/dev/tcp/${address%:*}/${address##*:}" 2>/dev/null; then
@@ -140,8 +147,8 @@ trial() {
     fi
     local left_ms=$((down_ms - (${EPOCHREALTIME/./} - downAt) / 1000))
     [ "$left_ms" -le 0 ] || sleep "$(printf '%d.%03d' $((left_ms / 1000)) $((left_ms % 1000)))"
-    inside ip link set v-mes-pc up
-    killed="the MES's host link down at +${delay_ms} ms for ${down_ms} ms"
+    inside ip link set "$link" up
+    killed="the MES's host link ($link) down at +${delay_ms} ms for ${down_ms} ms"
   else
     pid=$(target_pid "$kind" || true)
     killed="no $kind running at +${delay_ms} ms"
