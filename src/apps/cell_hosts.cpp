@@ -54,7 +54,9 @@ kb::Expected<CellHosts> CellHosts::create(const std::vector<std::string>& hosts)
     // The cell's namespace gets a bridge, which carries its multicast from now on: the
     // components here announce and answer on it, and the hosts' links join it.
     for (auto args : std::vector<std::vector<std::string>>{
-             {"link", "add", kBridge, "type", "bridge"},
+             // No IGMP/MLD snooping: with no querier on the segment it would hold back
+             // IPv6 mDNS (ff02::fb) from ports whose reports it missed.
+             {"link", "add", kBridge, "type", "bridge", "mcast_snooping", "0"},
              {"addr", "add", std::string(kSubnet) + "1/" + std::to_string(kPrefix), "dev", kBridge},
              {"link", "set", kBridge, "up"},
              {"route", "replace", "224.0.0.0/4", "dev", kBridge}}) {
