@@ -5,6 +5,7 @@
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <asio/experimental/as_tuple.hpp>
+#include <asio/post.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
 
@@ -139,6 +140,10 @@ ProcessExecutor::ProcessExecutor(Token, std::shared_ptr<skills::SkillDetector> d
       journalThread_(std::make_unique<asio::thread_pool>(1)) {}
 
 ProcessExecutor::~ProcessExecutor() {
+    if (departuresWatch_) {
+        asio::post(detector_->executor(),
+                   [detector = detector_, id = *departuresWatch_] { detector->unsubscribe(id); });
+    }
     // The kept sessions are closed on the executor, where they live (this may run elsewhere).
     asio::co_spawn(
         detector_->executor(),
@@ -220,8 +225,25 @@ void ProcessExecutor::componentsFreed() {
 
 // --- Orders ---------------------------------------------------------------------------
 
+void ProcessExecutor::watchDepartures() {
+    if (departuresWatch_) return;
+    std::weak_ptr<ProcessExecutor> weak = shared_from_this();
+    departuresWatch_ = detector_->subscribe([weak](const skills::SkillEvent& e) {
+        auto self = weak.lock();
+        if (!self || e.kind != skills::SkillEvent::Kind::Removed) return;
+        auto& d = self->departures_;
+        const auto same = [&e](const Departure& x) {
+            return keyOf(x.instance) == keyOf(e.instance);
+        };
+        d.erase(std::remove_if(d.begin(), d.end(), same), d.end());
+        if (d.size() == kDepartures) d.erase(d.begin());
+        d.push_back({e.instance, e.reason, Clock::now()});
+    });
+}
+
 kb::Expected<Submitted> ProcessExecutor::submit(const std::string& processIri, int priority) {
     if (processIri.empty()) return kb::badInput("which process? The process IRI is empty");
+    watchDepartures();
     if (standingBy_) {
         return kb::Error{"standing by: another MES runs this journal's orders",
                          kb::ErrorKind::Unavailable};
@@ -248,6 +270,7 @@ kb::Expected<Submitted> ProcessExecutor::submit(const std::string& processIri, i
 }
 
 kb::Expected<std::size_t> ProcessExecutor::resumeOpenOrders() {
+    watchDepartures();
     auto open = journal_.openOrders();
     if (!open) return open.failure();
     standingBy_ = false;
@@ -729,6 +752,13 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
             facts = std::move(*read);
         }
         auto lacking = infeasibility(process, detector_->instances(), facts ? &*facts : nullptr);
+        if (!lacking.empty() && !order->halted && Clock::now() >= deadline) {
+            for (const auto& step : process.steps) {
+                if (const auto gone = departed(step); !gone.empty()) {
+                    lacking.push_back(step.label() + " was offered by " + gone);
+                }
+            }
+        }
         if (lacking.empty() || order->halted || Clock::now() >= deadline) co_return lacking;
         p.state = "checking";
         p.message = "waiting up to " + std::to_string(order->skillWait.count()) +
@@ -999,7 +1029,30 @@ std::string ProcessExecutor::noSkillReason(const ProcessStep& step,
         }
     }
     if (!unfit.empty()) text += " (unsuitable: " + unfit + ")";
+    if (const auto gone = departed(step); !gone.empty()) {
+        text += " (it was offered by " + gone + ")";
+    }
     return text;
+}
+
+std::string ProcessExecutor::departed(const ProcessStep& step) const {
+    // Who offered it and left: the component a stop names, so that an operator knows what to
+    // bring back (a skill still listed is not a departure).
+    const auto live = detector_->snapshot();
+    std::string gone;
+    const auto now = Clock::now();
+    for (auto it = departures_.rbegin(); it != departures_.rend(); ++it) {
+        const auto& s = it->instance;
+        if (!unsuitability(step, s).empty() ||
+            std::any_of(live->begin(), live->end(),
+                        [&](const skills::SkillInstance& l) { return keyOf(l) == keyOf(s); })) {
+            continue;
+        }
+        const auto ago = std::chrono::duration_cast<std::chrono::seconds>(now - it->at).count();
+        gone += (gone.empty() ? "" : "; ") + where(s) + ", gone (" +
+                std::string(skills::toString(it->reason)) + ") " + std::to_string(ago) + " s ago";
+    }
+    return gone;
 }
 
 asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::shared_ptr<Order> order,

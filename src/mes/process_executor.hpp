@@ -268,6 +268,12 @@ private:
     asio::awaitable<bool> componentGone(std::shared_ptr<Order> order, std::string componentUri);
     [[nodiscard]] std::string noSkillReason(const ProcessStep& step,
                                             const std::set<SkillKey>& tried) const;
+    /// The components that offered a skill suiting `step` and left lately, with why and
+    /// when ("WHERE, gone (REASON) N s ago; ..."), not counting those listed again.
+    [[nodiscard]] std::string departed(const ProcessStep& step) const;
+    /// Remembers the skills that leave (from the detector's events, on its executor; once),
+    /// so that a step that finds none can name the component that offered it.
+    void watchDepartures();
     void report(Order& order, Progress p);
     /// Runs `write` (a call of the journal) on the journal's thread, and resumes on the
     /// executor with its result: an fsync'd write must not hold up the server's thread (its
@@ -306,6 +312,16 @@ private:
     std::map<std::string, Durations> durations_;
     /// Orders' waits for a component, cancelled when one is freed.
     std::vector<std::weak_ptr<asio::steady_timer>> claimWaits_;
+    /// The skills that left lately (the newest last, at most kDepartures), and the detector
+    /// subscription that hears them.
+    struct Departure {
+        skills::SkillInstance instance;
+        skills::RemovalReason reason = skills::RemovalReason::Disconnected;
+        std::chrono::steady_clock::time_point at;
+    };
+    static constexpr std::size_t kDepartures = 64;
+    std::vector<Departure> departures_;
+    std::optional<std::size_t> departuresWatch_;
     /// Where journal calls run (journaled()): one thread, so they stay in order. Last, so
     /// that it is joined before the rest goes.
     std::unique_ptr<asio::thread_pool> journalThread_;

@@ -433,6 +433,44 @@ TEST_F(Orders, AnOrderWaitingForAComponentThatLeavesHasItsWholeSkillWaitFromThen
     EXPECT_TRUE(outcome(first).completed) << "replaced by robot2, as a departure mid-step is";
 }
 
+TEST_F(Orders, AStepWhoseOnlyComponentLeftStopsNamingThatComponent) {
+    plug({"urn:test:robot1"}, 100ms);
+    start({process("urn:p", 1)});
+    ASSERT_TRUE(outcome(submit("urn:p")).completed);  // the MES has seen robot1 at work
+    components_.clear();
+    mes_.run([&]() -> asio::awaitable<int> {
+        detector_->gone("urn:test:robot1", skills::GoneReason::Expired);
+        co_return 0;
+    });
+    const auto out = outcome(submit("urn:p"));  // waits the MES's 2 s for one, in vain
+    EXPECT_FALSE(out.completed);
+    EXPECT_NE(out.reason.find("no component in the cell offers a CartesianLinearMoveSkillType"),
+              std::string::npos)
+        << out.reason;
+    EXPECT_NE(out.reason.find("step 1 (CartesianLinearMoveSkillType) was offered by "),
+              std::string::npos)
+        << out.reason;
+    EXPECT_NE(out.reason.find("urn:test:robot1"), std::string::npos) << out.reason;
+    EXPECT_NE(out.reason.find("gone ("), std::string::npos) << out.reason;
+}
+
+TEST_F(Orders, AStepWhoseComponentLeftMidStepAndDidNotComeBackStopsNamingIt) {
+    plug({"urn:test:robot1"}, 1500ms);
+    start({process("urn:p", 1)});
+    const auto o = submit("urn:p");
+    waitUntilBegun(o);
+    components_.clear();  // it leaves mid-step, and no other comes within the MES's 2 s
+    mes_.run([&]() -> asio::awaitable<int> {
+        detector_->gone("urn:test:robot1", skills::GoneReason::Expired);
+        co_return 0;
+    });
+    const auto out = outcome(o);
+    EXPECT_FALSE(out.completed);
+    EXPECT_NE(out.reason.find("(it was offered by Skills/Move of urn:test:robot1, gone ("),
+              std::string::npos)
+        << out.reason;
+}
+
 TEST(ResourceClaims, AWaitThatWouldCloseACycleIsRefusedWithTheChain) {
     ResourceClaims c;
     EXPECT_TRUE(c.take(1, "urn:a"));
