@@ -28,6 +28,11 @@ using skills::SkillState;
 constexpr int kMaxInstancesPerStep = 8;
 // How often to ask the KB again while the skills are there but their facts are not.
 constexpr std::chrono::milliseconds kFactRetry{250};
+// How often the time a failed knowledge-base request took is not counted against a step's
+// skill wait: a KB cut off (a link down) answers nothing for its whole request timeout, which
+// may be as long as the wait; once it answers again, the step asks again. Bounded, so that a
+// KB that stays away ends the wait.
+constexpr int kKbExtensions = 3;
 
 using Clock = std::chrono::steady_clock;
 
@@ -712,6 +717,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
     if (!facts) {
         c.unmet =
             "cannot ask the knowledge base whether its requirements are met: " + facts.error();
+        c.kbUnreachable = true;
         co_return c;
     }
     auto cell = matchCellRequirements(step, live, *facts);
@@ -739,20 +745,30 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
 asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
     std::shared_ptr<Order> order, const ProcessDescription& process, Progress p) {
     auto self = shared_from_this();
-    const auto deadline = Clock::now() + order->skillWait;
+    auto deadline = Clock::now() + order->skillWait;
+    int kbExtensions = 0;
     const auto properties = requiredProperties(process);
     std::string shown;
     for (;;) {
         std::optional<SkillFacts> facts;
+        std::string kbError;
         if (kb_.facts && !properties.empty()) {
+            const auto asked = Clock::now();
             auto read = co_await kb_.facts(properties);
-            if (!read)
-                co_return std::vector<std::string>{"cannot ask the knowledge base: " +
-                                                   read.error()};
-            facts = std::move(*read);
+            if (read) {
+                facts = std::move(*read);
+            } else {
+                kbError = "cannot ask the knowledge base: " + read.error();
+                if (kbExtensions < kKbExtensions) {
+                    deadline += Clock::now() - asked;
+                    ++kbExtensions;
+                }
+            }
         }
-        auto lacking = infeasibility(process, detector_->instances(), facts ? &*facts : nullptr);
-        if (!lacking.empty() && !order->halted && Clock::now() >= deadline) {
+        auto lacking = kbError.empty() ? infeasibility(process, detector_->instances(),
+                                                       facts ? &*facts : nullptr)
+                                       : std::vector<std::string>{kbError};
+        if (!lacking.empty() && kbError.empty() && !order->halted && Clock::now() >= deadline) {
             for (const auto& step : process.steps) {
                 if (const auto gone = departed(step); !gone.empty()) {
                     lacking.push_back(step.label() + " was offered by " + gone);
@@ -808,6 +824,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
     // a step that waited for another order's component may see that component leave (a link
     // down) long after it began, and then it still has the whole bound for it to come back.
     std::optional<Clock::time_point> deadline;
+    int kbExtensions = 0;
     std::optional<Clock::time_point> claimDeadline;  // from the first wait for a component
     // Registered as waiting for components: no longer on any return, and the orders that
     // gave way to it look again.
@@ -839,7 +856,12 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             std::vector<skills::SkillInstance> copies;
             copies.reserve(typed.size());
             for (const auto* s : typed) copies.push_back(*s);
+            const auto asked = Clock::now();
             c = co_await withRequirements(step, std::move(copies), *live);
+            if (c.kbUnreachable && deadline && kbExtensions < kKbExtensions) {
+                *deadline += Clock::now() - asked;
+                ++kbExtensions;
+            }
             askAgain = c.skills.empty() && static_cast<bool>(kb_.facts);
             for (const auto& s : c.skills) suitable.push_back(&s);
         }

@@ -213,6 +213,8 @@ private:
     struct Choice {
         std::vector<skills::SkillInstance> skills;  // suitable and available, best first
         std::string unmet;  // when there are none: the requirements not met, and why
+        /// The knowledge base could not be asked (no answer, an error): unmet says why.
+        bool kbUnreachable = false;
         /// The instances meeting the step's requirements on the cell (CellMatch).
         std::vector<std::optional<skills::SkillInstance>> cellMatches;
         /// Why the first of `skills` was chosen (journaled with the attempt).

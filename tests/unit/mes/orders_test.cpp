@@ -471,6 +471,38 @@ TEST_F(Orders, AStepWhoseComponentLeftMidStepAndDidNotComeBackStopsNamingIt) {
         << out.reason;
 }
 
+TEST_F(Orders, AKnowledgeBaseThatAnswersNothingForAWhileIsAskedAgainOnceItAnswers) {
+    // The KB's first two requests end in a timeout after 2.5 s (a KB cut off by a link down),
+    // longer than the MES's 2 s skill wait; the time they took does not use up the wait, and
+    // the order runs once the KB answers again.
+    plug({"urn:test:robot1"}, 50ms);
+    auto failures = std::make_shared<int>(2);
+    facts_ = [this,
+              failures](std::vector<std::string>) -> asio::awaitable<kb::Expected<SkillFacts>> {
+        if (*failures > 0) {
+            --*failures;
+            asio::steady_timer silence(detector_->executor(), 2500ms);
+            co_await silence.async_wait(asio::use_awaitable);
+            co_return kb::Error{"no (complete) answer within the timeout (waited 2500 ms)"};
+        }
+        SkillFacts f;
+        const std::string p(kProcessNs);
+        for (const auto& s : detector_->instances()) {
+            f.add(keyOf(s), p + "reach", "0.85");
+            f.add(keyOf(s), p + "reachCentreX", "0");
+            f.add(keyOf(s), p + "reachCentreY", "0");
+            f.add(keyOf(s), p + "reachCentreZ", "0.089");
+        }
+        co_return f;
+    };
+    auto near = process("urn:near", 1);
+    near.steps[0].parameters.push_back({"TargetPosition", devices::Pose6{0.4, 0, 0.3}});
+    start({near});
+    const auto out = outcome(submit("urn:near"));
+    EXPECT_TRUE(out.completed) << out.reason;
+    EXPECT_EQ(*failures, 0);
+}
+
 TEST(ResourceClaims, AWaitThatWouldCloseACycleIsRefusedWithTheChain) {
     ResourceClaims c;
     EXPECT_TRUE(c.take(1, "urn:a"));
