@@ -307,7 +307,7 @@ std::uint16_t CellRuntime::port(const std::string& key) {
 }
 
 std::string CellRuntime::hostOf(const std::string& name) const {
-    const auto names = cell_.componentNames();
+    const auto names = components();
     if (cell_.toolChanger && std::find(names.begin(), names.end(), name) == names.end()) {
         return cell_.hostOf(cell_.toolChanger->name);  // an adapter its changer powers
     }

@@ -36,6 +36,15 @@ constexpr int kKbExtensions = 3;
 
 using Clock = std::chrono::steady_clock;
 
+/// A knowledge-base request begun at `asked` has failed: the time it took is added to
+/// `deadline`, kKbExtensions times at most (`extensions` counts them).
+void discountFailedKbRequest(Clock::time_point& deadline, Clock::time_point asked,
+                             int& extensions) {
+    if (extensions >= kKbExtensions) return;
+    deadline += Clock::now() - asked;
+    ++extensions;
+}
+
 // The median of some durations (ms).
 std::int64_t median(std::vector<std::int64_t> v) {
     std::sort(v.begin(), v.end());
@@ -759,10 +768,7 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
                 facts = std::move(*read);
             } else {
                 kbError = "cannot ask the knowledge base: " + read.error();
-                if (kbExtensions < kKbExtensions) {
-                    deadline += Clock::now() - asked;
-                    ++kbExtensions;
-                }
+                discountFailedKbRequest(deadline, asked, kbExtensions);
             }
         }
         auto lacking = kbError.empty() ? infeasibility(process, detector_->instances(),
@@ -858,10 +864,8 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             for (const auto* s : typed) copies.push_back(*s);
             const auto asked = Clock::now();
             c = co_await withRequirements(step, std::move(copies), *live);
-            if (c.kbUnreachable && deadline && kbExtensions < kKbExtensions) {
-                *deadline += Clock::now() - asked;
-                ++kbExtensions;
-            }
+            if (c.kbUnreachable && deadline)
+                discountFailedKbRequest(*deadline, asked, kbExtensions);
             askAgain = c.skills.empty() && static_cast<bool>(kb_.facts);
             for (const auto& s : c.skills) suitable.push_back(&s);
         }
