@@ -53,6 +53,20 @@ grep -q "several_problems.toml:12:9: robot 'ur5': model 'ur6'" "$tmp/bad.err" ||
 grep -q 'nothing started' "$tmp/bad.err" || fail "does not say that nothing started"
 [ ! -e "$work" ] || fail "a wrong cell file made the work directory"
 
+# A wrong --host: exit 2, the reason, nothing started.
+for bad in "ur5:robot-pc|expected COMPONENT=HOST" \
+  "mes=mes-pc|the cell has no component 'mes'; it has: lds, world, ur5" \
+  "ur5=Robot_PC|host 'Robot_PC': use 1 to 12 lower-case letters"; do
+  rc=0
+  "$skillcell" cell up "$cell" --work-dir "$work" --host "${bad%%|*}" >"$tmp/bad.out" \
+    2>"$tmp/bad.err" || rc=$?
+  [ "$rc" = 2 ] || fail "--host ${bad%%|*}: exit $rc, expected 2"
+  grep -qF -- "--host ${bad%%|*}: ${bad#*|}" "$tmp/bad.err" ||
+    fail "--host ${bad%%|*}: not the reason '${bad#*|}': $(cat "$tmp/bad.err")"
+  grep -q 'nothing started' "$tmp/bad.err" || fail "--host ${bad%%|*}: does not say so"
+  [ ! -e "$work" ] || fail "a wrong --host made the work directory"
+done
+
 # Up.
 "$skillcell" cell up "$cell" --work-dir "$work" >"$tmp/up.out" 2>"$tmp/up.err" &
 supervisor=$!
