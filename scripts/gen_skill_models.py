@@ -477,7 +477,8 @@ def build() -> None:
                 "described by two read-only parameters: its offset from the tool mounting "
                 "plate (`GripPointOffset`, a 3D frame) and its type (`GripPointType`: "
                 "PARALLEL, VACUUM or MULTIFINGER); what it can hold by two more: "
-                "`MaxPayload` (kg) and `MaxGripWidth` (m, 0: not limited by width). A "
+                "`MaxPayload` (kg) and `MaxGripWidth` (m, 0: not limited by width); the "
+                "robot that carries it by `RobotUri`. A "
                 "gripper with several grip points offers one skill instance per grip point.")
     gs.enum_type("GripPointTypeEnumeration", "GripPointTypeEnumeration",
                  "How a gripper holds an object.", ["PARALLEL", "VACUUM", "MULTIFINGER"])
@@ -489,7 +490,10 @@ def build() -> None:
                      desc="The heaviest object it holds at this grip point."),
             gs.param("MaxGripWidth", "double", unit="m", range=(0, 10), readonly=True,
                      desc="The widest object it grips across (a parallel gripper's stroke); "
-                          "0 when width does not limit it (a vacuum gripper).")]
+                          "0 when width does not limit it (a vacuum gripper)."),
+            gs.param("RobotUri", "string", readonly=True,
+                     desc="Application URI of the robot whose flange carries the gripper (its "
+                          "tool changer knows it); empty when not known.")]
     gs.skill_type("GripperSkillType", "GripperSkillType", "SkillType", True,
                   "A skill of a gripper at one grip point.", grip)
     gs.skill_type("GraspGripperSkillType", "GraspGripperSkillType", "GripperSkillType", False,
@@ -511,7 +515,10 @@ def build() -> None:
     common = [ts.param("ToolPosition", "frame",
                        desc="Absolute pose where the tool is picked up or placed."),
               ts.param("MoveSkillControllerEndpoint", "string", readonly=True,
-                       desc="Endpoint URL of the move skill the tool changer is mounted on.")]
+                       desc="Endpoint URL of the move skill the tool changer is mounted on."),
+              ts.param("RobotUri", "string", readonly=True,
+                       desc="Application URI of the robot the tool changer is mounted on; "
+                            "empty when not known.")]
     ts.skill_type("ToolChangerSkillType", "ToolChangerSkillType", "SkillType", True,
                   "A skill of a tool changer mounted on a motion component.", common)
     app = [ts.param("ToolAppUri", "string",

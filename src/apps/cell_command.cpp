@@ -330,13 +330,15 @@ void printSummary(const cell::CellFile& c) {
         std::snprintf(speed, sizeof speed, "%g", r.speed);
         component(r.name, "robot " + r.model + ", speed " + speed);
     }
-    if (c.toolChanger)
-        component(c.toolChanger->name, "tool changer (" + c.toolChanger->model + ")");
-    for (const auto& t : c.tools) {
-        std::printf("    tool     %-12s in %s, adapter %s, pin %.2f-%.2f V\n", t.name.c_str(),
-                    t.dock.c_str(), t.adapter.c_str(), t.pinVoltage[0], t.pinVoltage[1]);
+    for (const auto& changer : c.toolChangers) {
+        component(changer.name, "tool changer (" + changer.model + ") on " + changer.robot);
+        for (const auto& t : c.tools) {
+            if (t.changer != changer.name) continue;
+            std::printf("    tool     %-12s in %s, adapter %s, pin %.2f-%.2f V\n", t.name.c_str(),
+                        t.dock.c_str(), t.adapter.c_str(), t.pinVoltage[0], t.pinVoltage[1]);
+        }
     }
-    if (c.pickAndPlace) component(c.pickAndPlace->name, "pick-and-place composite");
+    for (const auto& p : c.pickAndPlaces) component(p.name, "pick-and-place composite");
 }
 
 }  // namespace

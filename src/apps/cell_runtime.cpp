@@ -124,17 +124,27 @@ double CellRuntime::speed() const {
     return cell_.robots.empty() ? 1.0 : cell_.robots.front().speed;
 }
 
+std::string CellRuntime::changerRobot(const std::string& changer) const {
+    // A changer's robot is resolved when the cell file is read; the shelf's tools (the demo's
+    // --swap) name none: they are for the cell's one changer.
+    const cell::ToolChanger* c = cell_.toolChanger(changer);
+    if (c == nullptr && !cell_.toolChangers.empty()) c = &cell_.toolChangers.front();
+    return c == nullptr ? std::string() : c->robot;
+}
+
 std::string CellRuntime::applicationUri(const std::string& name) const {
     if (name == "lds" && cell_.lds) return std::string(cell::kLdsUri);
     if (name == "kb" && cell_.kb) return std::string(cell::kKbUri);
     if (name == "mes" && cell_.mes) return std::string(cell::kMesUri);
     if (name == "dashboard" && cell_.dashboard) return std::string(cell::kDashboardUri);
     if (name == "world") return std::string(cell::kWorldUri);
-    if (cell_.toolChanger && name == cell_.toolChanger->name) {
+    if (cell_.toolChanger(name) != nullptr) {
         return cell::componentUri(cell::kToolChangerUri, name, cell::ToolChanger{}.name);
     }
-    if (cell_.pickAndPlace && name == cell_.pickAndPlace->name) {
-        return cell::componentUri(cell::kPickAndPlaceUri, name, cell::PickAndPlace{}.name);
+    for (const auto& p : cell_.pickAndPlaces) {
+        if (p.name == name) {
+            return cell::componentUri(cell::kPickAndPlaceUri, name, cell::PickAndPlace{}.name);
+        }
     }
     for (const auto& r : cell_.robots) {
         if (r.name == name) {
@@ -168,8 +178,12 @@ bool CellRuntime::prepare(std::string* error) {
     // first start would make an RSA key and count that in its detection time.
     std::vector<std::pair<std::string, std::string>> all;
     for (const auto& name : components()) all.emplace_back(name, applicationUri(name));
-    for (const auto& m : cell::adapterModelTable()) {  // the demo's --swap powers any model
-        all.emplace_back(std::string(m.command), std::string(m.applicationUri));
+    // Each changer's adapters, of any model: the demo's --swap powers another one.
+    for (const auto& c : cell_.toolChangers) {
+        for (const auto& m : cell::adapterModelTable()) {
+            auto adapter = cell::adapterComponent(m, c.name);
+            all.emplace_back(std::move(adapter.name), std::move(adapter.applicationUri));
+        }
     }
     all.emplace_back("operator", "urn:skillcell:operator");
     std::vector<std::pair<std::string, ua::ByteString>> clients;  // name, certificate
@@ -307,9 +321,11 @@ std::uint16_t CellRuntime::port(const std::string& key) {
 }
 
 std::string CellRuntime::hostOf(const std::string& name) const {
-    const auto names = components();
-    if (cell_.toolChanger && std::find(names.begin(), names.end(), name) == names.end()) {
-        return cell_.hostOf(cell_.toolChanger->name);  // an adapter its changer powers
+    // An adapter runs where the changer that powers it runs.
+    for (const auto& c : cell_.toolChangers) {
+        for (const auto& m : cell::adapterModelTable()) {
+            if (cell::adapterComponent(m, c.name).name == name) return cell_.hostOf(c.name);
+        }
     }
     return cell_.hostOf(name);
 }
@@ -348,15 +364,36 @@ std::vector<std::string> CellRuntime::componentArgs(const std::string& name,
 std::string CellRuntime::adapterCommand(const cell::Tool& tool,
                                         const cell::AdapterModel& model) const {
     // The tool changer splits this at blanks and runs it when it powers the tool.
-    std::string cmd =
-        skillcell_ + " device " + std::string(model.command) + " --world " + endpoint("world");
-    // Powered adapters come and go: each start takes any free port.
-    for (const auto& a : componentArgs(std::string(model.command), 0)) cmd += " " + a;
+    std::string cmd;
+    for (const auto& a : adapterArgs(tool, model)) cmd += (cmd.empty() ? "" : " ") + a;
+    return skillcell_ + " " + cmd;
+}
+
+std::vector<std::string> CellRuntime::adapterArgs(const cell::Tool& tool,
+                                                  const cell::AdapterModel& model) const {
+    const auto adapter = cell::adapterComponent(model, tool.changer);
     char speed[32];
     std::snprintf(speed, sizeof speed, "%g", this->speed());
-    cmd += std::string(" --speed ") + speed + " --boot-profile " + options_.bootProfile +
-           " --grip-offset " + cell::vectorArgument(tool.gripOffset);
-    return cmd;
+    std::vector<std::string> a = {"device",
+                                  std::string(model.command),
+                                  "--world",
+                                  endpoint("world"),
+                                  "--robot",
+                                  changerRobot(tool.changer),
+                                  "--robot-uri",
+                                  applicationUri(changerRobot(tool.changer)),
+                                  "--application-uri",
+                                  adapter.applicationUri,
+                                  "--speed",
+                                  speed,
+                                  "--boot-profile",
+                                  options_.bootProfile,
+                                  "--grip-offset",
+                                  cell::vectorArgument(tool.gripOffset)};
+    // Powered adapters come and go: each start takes any free port.
+    const auto tail = componentArgs(adapter.name, 0);
+    a.insert(a.end(), tail.begin(), tail.end());
+    return a;
 }
 
 kb::Expected<ComponentLaunch> CellRuntime::adapterLaunch(const cell::Tool& tool) {
@@ -364,17 +401,10 @@ kb::Expected<ComponentLaunch> CellRuntime::adapterLaunch(const cell::Tool& tool)
     if (model == nullptr) return kb::Error{"tool " + tool.name + ": no adapter " + tool.adapter};
     if (endpoint("world").empty()) return kb::Error{"the adapters need the world model first"};
     ComponentLaunch l;
-    l.name = std::string(model->command);
-    l.applicationUri = std::string(model->applicationUri);
-    char speed[32];
-    std::snprintf(speed, sizeof speed, "%g", this->speed());
-    l.args = {"device",         l.name,
-              "--world",        endpoint("world"),
-              "--speed",        speed,
-              "--boot-profile", options_.bootProfile,
-              "--grip-offset",  cell::vectorArgument(tool.gripOffset)};
-    const auto tail = componentArgs(l.name, 0);
-    l.args.insert(l.args.end(), tail.begin(), tail.end());
+    const auto adapter = cell::adapterComponent(*model, tool.changer);
+    l.name = adapter.name;
+    l.applicationUri = adapter.applicationUri;
+    l.args = adapterArgs(tool, *model);
     l.readyTimeout = 120s;  // a tinyua boot takes 8-10 s, more under a sanitizer
     return l;
 }
@@ -438,22 +468,32 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
             const auto shelf = cell::worldArguments(*options_.shelf);
             a.insert(a.end(), shelf.begin(), shelf.end());
         }
-    } else if (cell_.toolChanger && name == cell_.toolChanger->name) {
+    } else if (cell_.toolChanger(name) != nullptr) {
         if (auto e = needs("world")) return *e;
-        a = {"device",        "toolchanger", "--world", endpoint("world"), "--detection-timeout-ms",
+        const std::string robot = changerRobot(name);
+        a = {"device",
+             "toolchanger",
+             "--world",
+             endpoint("world"),
+             "--robot",
+             robot,
+             "--robot-uri",
+             applicationUri(robot),
+             "--detection-timeout-ms",
              detectionTimeout};
         // Kept with the cell: a restarted changer puts the mounted tool back into its dock.
-        a.insert(a.end(), {"--dock-map", (dir() / "toolchanger-docks.json").string()});
+        a.insert(a.end(), {"--dock-map", (dir() / (name + "-docks.json")).string()});
         const auto power = [this](const cell::Tool& t, const cell::AdapterModel& m) {
             return adapterCommand(t, m);
         };
-        const auto table = cell::toolTableArguments(cell_, power);
+        const auto table = cell::toolTableArguments(cell_, power, name);
         a.insert(a.end(), table.begin(), table.end());
         if (options_.shelf) {
             const auto shelf = cell::toolTableArguments(*options_.shelf, power);
             a.insert(a.end(), shelf.begin(), shelf.end());
         }
-    } else if (cell_.pickAndPlace && name == cell_.pickAndPlace->name) {
+    } else if (std::any_of(cell_.pickAndPlaces.begin(), cell_.pickAndPlaces.end(),
+                           [&](const cell::PickAndPlace& p) { return p.name == name; })) {
         if (auto e = needs("world")) return *e;
         a = {"device",        "pickplace", "--world", endpoint("world"), "--detection-timeout-ms",
              detectionTimeout};
@@ -464,7 +504,9 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
         char speed[32];
         std::snprintf(speed, sizeof speed, "%g",
                       options_.speed > 0 ? options_.speed : robot->speed);
-        a = {"device", robot->model, "--world", endpoint("world"), "--speed", speed};
+        a = {"device",  robot->model, "--world", endpoint("world"),
+             "--robot", robot->name,  "--base",  cell::poseArgument(robot->base),
+             "--speed", speed};
     }
     a.insert(a.end(), {"--application-uri", l.applicationUri});
     const auto tail = componentArgs(name, port(name));

@@ -125,6 +125,9 @@ public:
     [[nodiscard]] bool secure() const { return cell_.security.enabled; }
     /// The speed of the robot and grippers: the option's, else the first robot's.
     [[nodiscard]] double speed() const;
+    /// The robot the tool changer `changer` is on (the world's id of it), which the grippers
+    /// of its adapters are mounted on too.
+    [[nodiscard]] std::string changerRobot(const std::string& changer) const;
     /// The application URI of a component of the cell (by name); empty for an unknown one.
     [[nodiscard]] std::string applicationUri(const std::string& name) const;
 
@@ -134,6 +137,10 @@ private:
     [[nodiscard]] std::vector<std::string> componentArgs(const std::string& name,
                                                          std::uint16_t tcpPort) const;
     [[nodiscard]] std::uint16_t port(const std::string& key);
+    /// `skillcell` arguments of the adapter of `model` for `tool` (its changer's robot, its
+    /// own application URI), and the command line its changer runs to power it.
+    [[nodiscard]] std::vector<std::string> adapterArgs(const cell::Tool& tool,
+                                                       const cell::AdapterModel& model) const;
     [[nodiscard]] std::string adapterCommand(const cell::Tool& tool,
                                              const cell::AdapterModel& model) const;
     bool prepareUsers(std::string* error);

@@ -346,13 +346,13 @@ void CellSupervisor::check() {
 }
 
 void CellSupervisor::stopAll() {
-    // The tool changer powers its tools off when it stops: it goes first; then the others,
-    // the last started first.
+    // The tool changers power their tools off when they stop: they go first; then the
+    // others, the last started first.
     std::vector<Component*> order;
     for (auto it = components_.rbegin(); it != components_.rend(); ++it) order.push_back(&*it);
-    const auto& changer = runtime_.cell().toolChanger;
-    std::stable_partition(order.begin(), order.end(),
-                          [&](const Component* c) { return changer && c->name == changer->name; });
+    std::stable_partition(order.begin(), order.end(), [&](const Component* c) {
+        return runtime_.cell().toolChanger(c->name) != nullptr;
+    });
     for (Component* c : order) {
         if (!c->process) continue;
         auto s = c->process->stop(10s);

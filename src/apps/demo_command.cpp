@@ -87,9 +87,9 @@ std::string whatTheDemoLacks(const cell::CellFile& c) {
     need(c.kb.has_value(), "[kb]");
     need(c.mes.has_value(), "[mes]");
     need(c.robots.size() == 1, "one [[robot]]");
-    need(c.toolChanger.has_value(), "[toolchanger]");
+    need(c.toolChangers.size() == 1, "one [toolchanger]");
     need(!c.tools.empty(), "[[tool]]");
-    need(c.pickAndPlace.has_value(), "[pickplace]");
+    need(c.pickAndPlaces.size() == 1, "one [pickplace]");
     need(c.security.enabled && c.security.ca.empty() && c.security.users.empty(),
          "[security] enabled, with the CA and users generated");
     return lacks;
@@ -105,7 +105,7 @@ cell::CellFile swapShelf() {
     cell::CellFile shelf;
     shelf.docks = {{"shelf1", {0.1, -0.6, 0.35, kPi, 0, 0}},
                    {"shelf2", {0.0, -0.6, 0.35, kPi, 0, 0}}};
-    shelf.tools = {{"ag95", "shelf1", "dh-ag95", {0, 0, 0.16}, {3.0, 3.5}}};
+    shelf.tools = {{"ag95", "shelf1", "dh-ag95", {0, 0, 0.16}, {3.0, 3.5}, {}}};
     return shelf;
 }
 
@@ -159,8 +159,10 @@ private:
     int runProcess(const Interruption& interruption,
                    const std::function<void(const std::string&)>& onProgress = {});
     /// A session with the world model as `user` (its password file in the work directory),
-    /// with the demo's certificate; nullptr after saying why on stderr.
-    std::unique_ptr<devices::WorldLink> connectWorld(const std::string& user);
+    /// with the demo's certificate, reading `robot`'s flange; nullptr after saying why on
+    /// stderr.
+    std::unique_ptr<devices::WorldLink> connectWorld(const std::string& user,
+                                                     const std::string& robot = {});
     /// --swap: an engineer takes the Robotiq gripper out of its dock and puts a DH AG-95 in.
     bool swapParallelGripper();
     void showWorld();
@@ -315,7 +317,8 @@ int DemoCell::runProcess(const Interruption& interruption,
     return status && status->success() ? 0 : 1;
 }
 
-std::unique_ptr<devices::WorldLink> DemoCell::connectWorld(const std::string& user) {
+std::unique_ptr<devices::WorldLink> DemoCell::connectWorld(const std::string& user,
+                                                           const std::string& robot) {
     std::string error;
     ClientUserOptions credentials;
     credentials.name = user;
@@ -329,7 +332,7 @@ std::unique_ptr<devices::WorldLink> DemoCell::connectWorld(const std::string& us
     config.applicationUri = "urn:skillcell:demo";
     config.sessionName = user;
     config.security = *security;
-    auto world = devices::WorldLink::connect(runtime_.endpoint("world"), std::move(config));
+    auto world = devices::WorldLink::connect(runtime_.endpoint("world"), std::move(config), robot);
     if (!world) {
         std::cerr << "demo: the " << user
                   << " cannot reach the world model: " << ua::statusName(world.status()) << "\n";
@@ -441,9 +444,13 @@ void DemoCell::showWorld() {
                         (*mount)->position * 1000);
         }
     }
-    const auto tool = world->mountedTool();
-    std::printf("  World/MountedTool = %s\n",
-                tool ? ("\"" + *tool + "\"").c_str() : ua::statusName(tool.status()).data());
+    for (const auto& robot : cell_.robots) {
+        auto flange = connectWorld("operator", robot.name);
+        if (!flange) return;
+        const auto tool = flange->mountedTool();
+        std::printf("  World/Robots/%s/MountedTool = %s\n", robot.name.c_str(),
+                    tool ? ("\"" + *tool + "\"").c_str() : ua::statusName(tool.status()).data());
+    }
 }
 
 void DemoCell::showJournal() {
@@ -562,8 +569,8 @@ int DemoCell::run(const Interruption& interruption) {
         }
     }
     // The paper's other parts, with its figures (cell/paper_figures.hpp).
-    for (const std::string& name :
-         {cell_.toolChanger->name, cell_.robots.front().name, cell_.pickAndPlace->name}) {
+    for (const std::string& name : {cell_.toolChangers.front().name, cell_.robots.front().name,
+                                    cell_.pickAndPlaces.front().name}) {
         const auto* paper = cell::paperDetection(runtime_.applicationUri(name));
         if (!add(runtime_.launch(name), paper != nullptr ? std::string(paper->label) : name,
                  paper != nullptr ? paper->ms : 0, true)) {

@@ -61,15 +61,34 @@ void addBootProfileOption(CLI::App* cmd, std::string& profile) {
         ->capture_default_str();
 }
 
+/// The robot a device moves or is mounted on when it is not told (--robot), and the one a
+/// world model given no --robot has: a cell file names each (`cell up` passes them).
+constexpr const char* kDefaultRobot = "robot";
+
+/// --robot: which of the world's robots a device moves, or acts at the flange of.
+void addRobotOption(CLI::App* cmd, std::string& robot, const char* what) {
+    cmd->add_option("--robot", robot, std::string("the world model's id of the robot ") + what)
+        ->capture_default_str();
+}
+
+/// --robot-uri of a gripper adapter: what its skills publish as RobotUri, for an MES to take
+/// the gripper on the robot it moves.
+void addRobotUriOption(CLI::App* cmd, std::string& uri) {
+    cmd->add_option("--robot-uri", uri,
+                    "the application URI of the robot that carries the gripper (its tool "
+                    "changer passes it), published as its skills' RobotUri");
+}
+
 /// The device's link to the world model (--world), as the component's own client: its
-/// certificate, and the user given by --client-user.
+/// certificate, and the user given by --client-user; acting for `robot` (empty: for none).
 ua::Result<std::unique_ptr<devices::WorldLink>> connectWorld(const std::string& url,
-                                                             const ComponentContext& c) {
+                                                             const ComponentContext& c,
+                                                             std::string robot = {}) {
     ua::ClientConfig config;
     config.applicationUri = c.applicationUri;
     config.sessionName = "world link";
     config.security = c.clientSecurity;
-    auto link = devices::WorldLink::connect(url, std::move(config));
+    auto link = devices::WorldLink::connect(url, std::move(config), std::move(robot));
     if (!link) spdlog::critical("--world {}: {}", url, ua::statusName(link.status()));
     return link;
 }
@@ -84,6 +103,7 @@ struct WorldOptions {
     std::vector<std::string> fuses;            // ID:SX,SY,SZ@POSE
     std::vector<std::string> fuseSlots;        // ID@POSE
     std::vector<std::string> misalignedSlots;  // ID:DX,DY,DZ
+    std::vector<std::string> robots;           // ID[@BASE]
 };
 
 /// Splits "HEAD@POSE" into HEAD and the pose.
@@ -123,6 +143,20 @@ ua::StatusCode seedObject(const std::string& option, const std::string& spec,
 
 ua::StatusCode seedWorld(const WorldOptions& options, devices::World& world) {
     std::string why;
+    for (const auto& spec :
+         options.robots.empty() ? std::vector<std::string>{kDefaultRobot} : options.robots) {
+        const bool placed = spec.find('@') != std::string::npos;
+        const auto hp = placed ? headAndPose(spec)
+                               : std::make_optional(std::pair(spec, KDL::Frame::Identity()));
+        if (!hp) {
+            spdlog::critical("--robot {}: expected ID[@X,Y,Z[,A,B,C]]", spec);
+            return ua::status::BadInvalidArgument;
+        }
+        if (const auto s = world.addRobot(hp->first, hp->second, &why); s.isBad()) {
+            spdlog::critical("--robot {}: {}", spec, why);
+            return s;
+        }
+    }
     // Rails first: a terminal block may be given already mounted on one.
     for (const auto& spec : options.rails) {
         const auto hp = headAndPose(spec);
@@ -232,8 +266,9 @@ CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
     options->process.applicationName = "skillcell world model";
     CLI::App* cmd = device->add_subcommand(
         "world",
-        "Serve the world model (Objects/World: boxes, tool docks, tools, the mounted tool, "
-        "the grasped object) that the simulated devices report to (docs/devices.md).");
+        "Serve the world model (Objects/World: boxes, tool docks, tools, and each robot's "
+        "flange, mounted tool and grasped object) that the simulated devices report to "
+        "(docs/devices.md).");
     addServerProcessOptions(cmd, options->process);
     addDiscoveryOptions(cmd, options->process.discovery, /*registers=*/true, /*isLds=*/false);
     cmd->add_option("--object", options->objects,
@@ -255,6 +290,11 @@ CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--fuse-slot", options->fuseSlots,
                     "a fuse box's slot for an ATO fuse: ID@X,Y,Z[,A,B,C] (the opening's centre, "
                     "z out of the box, x through the terminals; 8 mm deep)");
+    cmd->add_option("--robot", options->robots,
+                    std::string("a robot whose flange the devices report: ID[@X,Y,Z[,A,B,C]] "
+                                "(its base in the cell's frame; none: the origin); none given: "
+                                "one, ") +
+                        kDefaultRobot);
     cmd->add_option("--misaligned-slot", options->misalignedSlots,
                     "a fuse slot made out of tolerance: ID:DX,DY,DZ, its terminals that far (m, "
                     "in its frame) from where --fuse-slot draws it; only the physics knows it");
@@ -280,6 +320,8 @@ struct ArmOptions {
     double speed = 1;
     int tickMs = 10;
     std::string world;
+    std::string robot = kDefaultRobot;
+    std::string base = "0,0,0";
 };
 
 /// What `device ur5` or `device iiwa` keeps alive: the reporter outlives the component that
@@ -315,6 +357,12 @@ CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* n
     cmd->add_option("--world", options->world,
                     "the world model's endpoint (opc.tcp://...): the flange pose is reported "
                     "there");
+    addRobotOption(cmd, options->robot, "this arm is");
+    cmd->add_option("--base", options->base,
+                    "where the arm's base stands in the cell's frame, X,Y,Z[,A,B,C] (m, rad): "
+                    "the frame its skills' poses and its reports are in")
+        ->check(poseText())
+        ->capture_default_str();
     commands.push_back(
         {cmd, [options, model, name = std::string(name)] {
              return runServerProcess(
@@ -325,8 +373,9 @@ CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* n
                      o.model = model;
                      o.arm.speed = options->speed;
                      o.arm.tick = std::chrono::milliseconds(options->tickMs);
+                     o.base = toFrame(*parsePose6(options->base));  // checked by poseText()
                      if (!options->world.empty()) {
-                         auto link = connectWorld(options->world, c);
+                         auto link = connectWorld(options->world, c, options->robot);
                          if (!link) return link.status();
                          content->reporter = devices::FlangeReporter::start(std::move(*link));
                          o.onFlange = [r = content->reporter.get()](const KDL::Frame& f) {
@@ -368,6 +417,8 @@ struct ParallelGripperOptions {
     int slaveId = 1;
     double speed = 1;
     std::string world;
+    std::string robot = kDefaultRobot;
+    std::string robotUri;
     std::string gripOffset;
     double fingerSpeed = 0.1;
     double graspForce = 100;
@@ -397,7 +448,7 @@ struct ParallelGripperModel {
         double speed, FingerWiring wiring, std::string* why)>
         simulate;
     /// The adapter and its skills on the serial device `options.serial`.
-    std::function<ua::Result<std::shared_ptr<void>>(
+    std::function<ua::Result<std::shared_ptr<devices::GripperComponent>>(
         ua::Server& server, const ParallelGripperOptions& options, std::string* error)>
         adapter;
 };
@@ -408,7 +459,7 @@ struct ParallelGripperModel {
 struct ParallelGripperContent {
     std::unique_ptr<devices::WorldLink> world;
     std::shared_ptr<void> simulated;
-    std::shared_ptr<void> adapter;
+    std::shared_ptr<devices::GripperComponent> adapter;
 };
 
 /// The fingers close along the grip point's y axis: what they meet is the object's extent
@@ -438,7 +489,7 @@ ua::Result<ComponentContent> populateParallelGripper(const ParallelGripperModel&
     auto content = std::make_shared<ParallelGripperContent>();
     if (options.serial.empty()) {
         if (!options.world.empty()) {
-            auto link = connectWorld(options.world, c);
+            auto link = connectWorld(options.world, c, options.robot);
             if (!link) return link.status();
             content->world = std::move(*link);
         }
@@ -459,6 +510,7 @@ ua::Result<ComponentContent> populateParallelGripper(const ParallelGripperModel&
         return adapter.status();
     }
     content->adapter = std::move(*adapter);
+    content->adapter->setRobotUri(options.robotUri);
     return ComponentContent(content);
 }
 
@@ -483,6 +535,8 @@ CLI::App* addParallelGripper(CLI::App* device, std::vector<Command>& commands,
     cmd->add_option("--world", options->world,
                     "the world model's endpoint: the simulated gripper asks it what lies "
                     "between its fingers and reports grasps and releases");
+    addRobotOption(cmd, options->robot, "whose flange the gripper is mounted on");
+    addRobotUriOption(cmd, options->robotUri);
     cmd->add_option("--grip-offset", options->gripOffset,
                     "the grip point from the tool mounting plate: X,Y,Z[,A,B,C] (m, rad)")
         ->check(poseText())
@@ -537,7 +591,7 @@ ParallelGripperModel robotiq2f85() {
         return std::pair{port->devicePath(), std::shared_ptr<void>(port)};
     };
     m.adapter = [](ua::Server& server, const ParallelGripperOptions& options,
-                   std::string* error) -> ua::Result<std::shared_ptr<void>> {
+                   std::string* error) -> ua::Result<std::shared_ptr<devices::GripperComponent>> {
         rq::RobotiqComponentOptions o;
         o.device = options.serial;
         o.slaveId = options.slaveId;
@@ -546,7 +600,7 @@ ParallelGripperModel robotiq2f85() {
         o.gripper.graspForce = options.graspForce;
         auto component = rq::startRobotiqComponent(server, o, error);
         if (!component) return component.status();
-        return std::shared_ptr<void>(std::move(*component));
+        return std::shared_ptr<devices::GripperComponent>(std::move(*component));
     };
     return m;
 }
@@ -575,7 +629,7 @@ ParallelGripperModel dhAg95() {
         return std::pair{gripper->devicePath(), std::shared_ptr<void>(gripper)};
     };
     m.adapter = [](ua::Server& server, const ParallelGripperOptions& options,
-                   std::string* error) -> ua::Result<std::shared_ptr<void>> {
+                   std::string* error) -> ua::Result<std::shared_ptr<devices::GripperComponent>> {
         dh::Ag95ComponentOptions o;
         o.device = options.serial;
         o.slaveId = options.slaveId;
@@ -584,7 +638,7 @@ ParallelGripperModel dhAg95() {
         o.gripper.graspForce = options.graspForce;
         auto component = dh::startAg95Component(server, o, error);
         if (!component) return component.status();
-        return std::shared_ptr<void>(std::move(*component));
+        return std::shared_ptr<devices::GripperComponent>(std::move(*component));
     };
     return m;
 }
@@ -593,6 +647,8 @@ struct SchmalzOptions {
     ServerProcessOptions process;
     double speed = 1;
     std::string world;
+    std::string robot = kDefaultRobot;
+    std::string robotUri;
     std::string gripOffset = "0,0,0.12";
     int port = 1;
     std::string bootProfile = "none";
@@ -614,7 +670,7 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
     o.gripPointOffset = toFrame(*parsePose6(options.gripOffset));  // checked by poseText()
     o.gripper.port = options.port;
     if (!options.world.empty()) {
-        auto link = connectWorld(options.world, c);
+        auto link = connectWorld(options.world, c, options.robot);
         if (!link) return link.status();
         content->world = std::move(*link);
     }
@@ -644,6 +700,7 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
         return component.status();
     }
     content->component = std::move(*component);
+    content->component->setRobotUri(options.robotUri);
     return ComponentContent(content);
 }
 
@@ -665,6 +722,8 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--world", options->world,
                     "the world model's endpoint: the simulated ECBPi asks it what is under the "
                     "cup and reports grasps and releases");
+    addRobotOption(cmd, options->robot, "whose flange the gripper is mounted on");
+    addRobotUriOption(cmd, options->robotUri);
     cmd->add_option("--grip-offset", options->gripOffset,
                     "the grip point (the cup's face) from the tool mounting plate: "
                     "X,Y,Z[,A,B,C] (m, rad)")
@@ -720,6 +779,8 @@ struct ToolChangerOptions {
     std::vector<std::string> power;  // ID=PROGRAM ARG...
     int moveTimeoutMs = 60'000;
     std::string dockMap;  // empty: in memory only
+    std::string robot = kDefaultRobot;
+    std::string robotUri;  // empty: the robot discovery finds first
 };
 
 /// What `device toolchanger` keeps alive, destroyed in reverse: the component (it powers the
@@ -749,7 +810,7 @@ ua::Result<ComponentContent> populateToolChanger(const ToolChangerOptions& optio
         }
     }
     auto content = std::make_shared<ToolChangerContent>();
-    auto link = connectWorld(options.composite.world, c);
+    auto link = connectWorld(options.composite.world, c, options.robot);
     if (!link) return link.status();
     content->world = std::move(*link);
     // The simulated coupling keeps its own copy of the table: the tools' resistors.
@@ -758,6 +819,7 @@ ua::Result<ComponentContent> populateToolChanger(const ToolChangerOptions& optio
         std::make_unique<tc::SimulatedKelvinChanger>(*content->world, content->resistors);
     tc::ToolChangerOptions o;
     o.detectionTimeout = std::chrono::milliseconds(options.composite.detectionTimeoutMs);
+    o.robotUri = options.robotUri;
     o.moveTimeout = std::chrono::milliseconds(options.moveTimeoutMs);
     o.client = compositeClient(c, "tool changer");
     o.dockMapFile = options.dockMap;
@@ -786,6 +848,11 @@ CLI::App* addToolChanger(CLI::App* device, std::vector<Command>& commands) {
     addCompositeOptions(cmd, options->composite,
                         "the world model's endpoint: the simulated coupling locks and opens "
                         "there");
+    addRobotOption(cmd, options->robot, "whose flange the changer is on");
+    cmd->add_option("--robot-uri", options->robotUri,
+                    "the application URI of that robot, whose move skill the changer uses when "
+                    "a request names none; empty: the first one discovery finds (a cell with "
+                    "one robot)");
     cmd->add_option("--tool", options->tools,
                     "a tool: ID:MIN-MAX:APPLICATION-URI (its world model id, its voltage band "
                     "on the identification pin, the application URI of its adapter)")

@@ -95,6 +95,13 @@ public:
         return n->as_table();
     }
 
+    /// One table ([key]) or an array of them ([[key]]), empty when absent.
+    std::vector<const toml::table*> tableOrTables(const toml::table& parent, std::string_view key) {
+        const toml::node* n = parent.get(key);
+        if (n != nullptr && n->is_table()) return {n->as_table()};
+        return tables(parent, key, key);
+    }
+
     /// An array of tables ([[key]]), empty when absent.
     std::vector<const toml::table*> tables(const toml::table& parent, std::string_view key,
                                            std::string_view where) {
@@ -543,18 +550,30 @@ void readWorld(Reader& r, const toml::table& root, CellFile& out, NameSet& docks
     }
 }
 
-void readTools(Reader& r, const toml::table& root, CellFile& out, const NameSet& docks) {
+/// Where the keys that are checked only after the whole file is read are (or the table that
+/// lacks them), by the name of what they belong to.
+struct KeySources {
+    std::map<std::string, toml::source_region> changerRobot;  // tool changer -> its 'robot'
+    std::map<std::string, toml::source_region> toolChanger;   // tool -> its 'changer'
+};
+
+void readTools(Reader& r, const toml::table& root, CellFile& out, const NameSet& docks,
+               KeySources& sources) {
     NameSet names("tool");
     std::map<std::string, const toml::node*> dockUsers;  // one tool per dock
     struct Band {
         std::string tool;
+        std::string changer;  // the tool's 'changer' key: one changer's tools must differ
         double lo, hi;
     };
     std::vector<Band> bands;
     for (const toml::table* t : r.tables(root, "tool", "tool")) {
-        r.onlyKeys(*t, "[[tool]]", {"name", "dock", "adapter", "grip-offset", "pin-voltage"});
+        r.onlyKeys(*t, "[[tool]]",
+                   {"name", "dock", "adapter", "grip-offset", "pin-voltage", "changer"});
         auto name = r.name(*t, "[[tool]]");
         const std::string where = name ? "tool '" + *name + "'" : std::string("[[tool]]");
+        // Checked against the changers once they are read (checkToolChangers).
+        const auto changer = r.string(*t, "changer", where, false).value_or("");
         auto dock = r.string(*t, "dock", where, true);
         if (dock && !docks.has(*dock)) {
             r.problem(t->get("dock")->source(),
@@ -588,7 +607,7 @@ void readTools(Reader& r, const toml::table& root, CellFile& out, const NameSet&
                 band.reset();
             } else {
                 for (const auto& b : bands) {
-                    if (lo <= b.hi && b.lo <= hi) {
+                    if (b.changer == changer && lo <= b.hi && b.lo <= hi) {
                         r.problem(n->source(), where + ": 'pin-voltage' overlaps that of tool '" +
                                                    b.tool +
                                                    "': the changer could not tell them apart");
@@ -596,57 +615,116 @@ void readTools(Reader& r, const toml::table& root, CellFile& out, const NameSet&
                         break;
                     }
                 }
-                if (band && name) bands.push_back({*name, lo, hi});
+                if (band && name) bands.push_back({*name, changer, lo, hi});
             }
         }
         if (name && names.add(r, *t, *name) && dock && adapter && offset && band) {
+            sources.toolChanger.emplace(
+                *name, t->get("changer") != nullptr ? t->get("changer")->source() : t->source());
             out.tools.push_back({*name,
                                  *dock,
                                  *adapter,
                                  {(*offset)[0], (*offset)[1], (*offset)[2]},
-                                 {(*band)[0], (*band)[1]}});
+                                 {(*band)[0], (*band)[1]},
+                                 changer});
         }
     }
 }
 
-void readDevices(Reader& r, const toml::table& root, CellFile& out, NameSet& components) {
+void readDevices(Reader& r, const toml::table& root, CellFile& out, NameSet& components,
+                 KeySources& sources) {
     for (const toml::table* t : r.tables(root, "robot", "robot")) {
-        r.onlyKeys(*t, "[[robot]]", {"name", "model", "speed", "restart", "host"});
+        r.onlyKeys(*t, "[[robot]]", {"name", "model", "speed", "base", "restart", "host"});
         auto name = r.name(*t, "[[robot]]");
         if (name) r.componentKeys(*t, "robot '" + *name + "'", *name, out);
         const std::string where = name ? "robot '" + *name + "'" : std::string("[[robot]]");
         auto model = r.oneOf(*t, "model", where, robotModels(), "a robot model");
         Robot robot;
         if (auto s = r.number(*t, "speed", where, 0.01, 1000)) robot.speed = *s;
+        if (auto base = r.pose(*t, "base", where, false)) robot.base = *base;
         if (name && components.add(r, *t, *name) && model) {
             robot.name = *name;
             robot.model = *model;
             out.robots.push_back(std::move(robot));
         }
     }
-    if (const toml::table* t = r.table(root, "toolchanger", "[toolchanger]")) {
-        r.onlyKeys(*t, "[toolchanger]", {"name", "model", "restart", "host"});
+    // A tool changer per robot, a pick-and-place composite per robot that should work at
+    // once: [toolchanger] for one, [[toolchanger]] for several, and the same for [pickplace].
+    for (const toml::table* t : r.tableOrTables(root, "toolchanger")) {
+        r.onlyKeys(*t, "[toolchanger]", {"name", "model", "robot", "restart", "host"});
         ToolChanger changer;
         if (t->get("name") != nullptr) {
             if (auto name = r.name(*t, "[toolchanger]")) changer.name = *name;
         }
-        r.componentKeys(*t, "[toolchanger]", changer.name, out);
-        if (auto model = r.string(*t, "model", "[toolchanger]", false)) {
+        const std::string where = "tool changer '" + changer.name + "'";
+        r.componentKeys(*t, where, changer.name, out);
+        if (auto model = r.string(*t, "model", where, false)) {
             if (*model != "kelvin") {
                 r.problem(t->get("model")->source(),
-                          "'model' in [toolchanger] must be \"kelvin\", not \"" + *model + "\"");
+                          "'model' in " + where + " must be \"kelvin\", not \"" + *model + "\"");
             }
         }
-        if (components.add(r, *t, changer.name)) out.toolChanger = changer;
+        changer.robot = r.string(*t, "robot", where, false).value_or("");
+        if (components.add(r, *t, changer.name)) {
+            sources.changerRobot.emplace(
+                changer.name, t->get("robot") != nullptr ? t->get("robot")->source() : t->source());
+            out.toolChangers.push_back(changer);
+        }
     }
-    if (const toml::table* t = r.table(root, "pickplace", "[pickplace]")) {
+    for (const toml::table* t : r.tableOrTables(root, "pickplace")) {
         r.onlyKeys(*t, "[pickplace]", {"name", "restart", "host"});
         PickAndPlace composite;
         if (t->get("name") != nullptr) {
             if (auto name = r.name(*t, "[pickplace]")) composite.name = *name;
         }
-        r.componentKeys(*t, "[pickplace]", composite.name, out);
-        if (components.add(r, *t, composite.name)) out.pickAndPlace = composite;
+        r.componentKeys(*t, "pick-and-place '" + composite.name + "'", composite.name, out);
+        if (components.add(r, *t, composite.name)) out.pickAndPlaces.push_back(composite);
+    }
+}
+
+/// Which robot each tool changer is on, and which changer each tool is for: said by their
+/// 'robot' and 'changer' keys, which may be left out where there is only one to name.
+/// `where`: the key (or the table without it) of each changer and tool, by name.
+void checkToolChangers(Reader& r, CellFile& cell, const KeySources& where) {
+    std::map<std::string, std::string> changerOn;  // robot -> the changer on it
+    for (ToolChanger& c : cell.toolChangers) {
+        const std::string what = "tool changer '" + c.name + "'";
+        const toml::source_region at = where.changerRobot.at(c.name);
+        if (c.robot.empty()) {
+            if (cell.robots.size() == 1) {
+                c.robot = cell.robots.front().name;
+            } else if (cell.robots.size() > 1) {
+                r.problem(at, what + ": say which [[robot]] it is on ('robot'): the cell has " +
+                                  std::to_string(cell.robots.size()));
+            }
+            if (c.robot.empty()) continue;  // none at all: checkDependencies says so
+        } else if (std::none_of(cell.robots.begin(), cell.robots.end(),
+                                [&](const Robot& robot) { return robot.name == c.robot; })) {
+            r.problem(at, what + ": 'robot' " + c.robot + " is not a [[robot]] of this cell");
+            continue;
+        }
+        const auto [other, first] = changerOn.emplace(c.robot, c.name);
+        if (!first) {
+            r.problem(at, what + ": robot " + c.robot + " has tool changer '" + other->second +
+                              "' already");
+        }
+    }
+    for (Tool& tool : cell.tools) {
+        const std::string what = "tool '" + tool.name + "'";
+        const toml::source_region at = where.toolChanger.at(tool.name);
+        if (tool.changer.empty()) {
+            if (cell.toolChangers.size() == 1) {
+                tool.changer = cell.toolChangers.front().name;
+            } else if (cell.toolChangers.size() > 1) {
+                r.problem(at, what +
+                                  ": say which tool changer it is for ('changer'): the cell "
+                                  "has " +
+                                  std::to_string(cell.toolChangers.size()));
+            }
+        } else if (cell.toolChanger(tool.changer) == nullptr) {
+            r.problem(at,
+                      what + ": 'changer' " + tool.changer + " is not a tool changer of this cell");
+        }
     }
 }
 
@@ -657,14 +735,14 @@ void checkDependencies(Reader& r, const toml::table& root, const CellFile& cell)
     if (cell.mes && !cell.kb) {
         r.problem(at("mes"), "[mes] needs a [kb]: it reads the processes and skills there");
     }
-    if (root.get("tool") != nullptr && !cell.toolChanger) {
+    if (root.get("tool") != nullptr && cell.toolChangers.empty()) {
         r.problem(at("tool"), "[[tool]] needs a [toolchanger] to mount the tools");
     }
-    if (cell.toolChanger && (cell.robots.empty() || !world)) {
+    if (!cell.toolChangers.empty() && (cell.robots.empty() || !world)) {
         r.problem(at("toolchanger"),
                   "[toolchanger] needs a [[robot]] to move and a [world] with its docks");
     }
-    if (cell.pickAndPlace && (cell.robots.empty() || !cell.toolChanger)) {
+    if (!cell.pickAndPlaces.empty() && (cell.robots.empty() || cell.toolChangers.empty())) {
         r.problem(at("pickplace"),
                   "[pickplace] needs a [[robot]] and a [toolchanger]: it composes their skills");
     }
@@ -705,14 +783,21 @@ std::vector<std::string> CellFile::hostNames() const {
     return out;
 }
 
+const ToolChanger* CellFile::toolChanger(const std::string& changer) const {
+    for (const auto& c : toolChangers) {
+        if (c.name == changer) return &c;
+    }
+    return nullptr;
+}
+
 std::vector<std::string> CellFile::componentNames() const {
     std::vector<std::string> out;
     if (lds) out.emplace_back("lds");
     if (kb) out.emplace_back("kb");
     if (!docks.empty() || !objects.empty() || !robots.empty()) out.emplace_back("world");
-    if (toolChanger) out.push_back(toolChanger->name);
+    for (const auto& c : toolChangers) out.push_back(c.name);
     for (const auto& r : robots) out.push_back(r.name);
-    if (pickAndPlace) out.push_back(pickAndPlace->name);
+    for (const auto& p : pickAndPlaces) out.push_back(p.name);
     if (mes) out.emplace_back("mes");
     if (dashboard) out.emplace_back("dashboard");
     return out;
@@ -799,9 +884,11 @@ ReadResult readCellText(std::string_view text, const std::string& sourceName,
     readDashboard(r, root, cell);
     NameSet docks("dock");
     readWorld(r, root, cell, docks);
-    readTools(r, root, cell, docks);
+    KeySources sources;
+    readTools(r, root, cell, docks, sources);
     NameSet components("component");
-    readDevices(r, root, cell, components);
+    readDevices(r, root, cell, components, sources);
+    checkToolChangers(r, cell, sources);
     checkDependencies(r, root, cell);
     result.problems = r.takeProblems();
     std::stable_sort(result.problems.begin(), result.problems.end(),

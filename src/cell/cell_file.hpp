@@ -96,17 +96,20 @@ struct Tool {
     std::string adapter;                 // a gripper model: robotiq-2f85, dh-ag95, schmalz-ecbpi
     std::array<double, 3> gripOffset{};  // its grip point from the mounting plate, m
     std::array<double, 2> pinVoltage{};  // the band on the changer's identification pin, V
+    std::string changer;  // the tool changer it is for (the only one when the file says none)
 };
 
 struct Robot {
     std::string name;
     std::string model;  // ur5
     double speed = 1;   // simulated seconds per real second
+    Pose base;          // its base frame in the cell's; the cell's origin when not given
 };
 
 struct ToolChanger {
     std::string name = "toolchanger";
     std::string model = "kelvin";
+    std::string robot;  // the robot it is on (the only one when the file says none)
 };
 
 struct PickAndPlace {
@@ -137,8 +140,12 @@ struct CellFile {
     std::vector<FuseSlot> fuseSlots;
     std::vector<Tool> tools;
     std::vector<Robot> robots;
-    std::optional<ToolChanger> toolChanger;
-    std::optional<PickAndPlace> pickAndPlace;
+    std::vector<ToolChanger> toolChangers;  // one per robot at most
+    /// Pick-and-place composites: each runs one pick at a time, on whichever robot a step
+    /// gives it, so a cell that picks with several robots at once has several.
+    std::vector<PickAndPlace> pickAndPlaces;
+    /// The tool changer named `changer`, or nullptr.
+    [[nodiscard]] const ToolChanger* toolChanger(const std::string& changer) const;
     /// Each component's `restart` key, by component name ("lds", "kb", "mes", "dashboard",
     /// "world", or a
     /// device's name); absent: RestartPolicy::OnFailure.

@@ -31,6 +31,15 @@ const AdapterModel* findAdapterModel(std::string_view name) {
     return nullptr;
 }
 
+AdapterComponent adapterComponent(const AdapterModel& model, std::string_view changer) {
+    AdapterComponent c{std::string(model.command), std::string(model.applicationUri)};
+    if (!changer.empty() && changer != ToolChanger{}.name) {
+        c.name += "-" + std::string(changer);
+        c.applicationUri += ":" + std::string(changer);
+    }
+    return c;
+}
+
 std::string vectorArgument(const std::array<double, 3>& v) {
     return number(v[0]) + "," + number(v[1]) + "," + number(v[2]);
 }
@@ -49,6 +58,9 @@ std::string objectArgument(const WorldObject& object) {
 
 std::vector<std::string> worldArguments(const CellFile& cell) {
     std::vector<std::string> args;
+    for (const auto& r : cell.robots) {
+        args.insert(args.end(), {"--robot", r.name + "@" + poseArgument(r.base)});
+    }
     for (const auto& d : cell.docks) {
         args.insert(args.end(), {"--dock", d.name + "@" + poseArgument(d.pose)});
     }
@@ -76,14 +88,16 @@ std::vector<std::string> worldArguments(const CellFile& cell) {
     return args;
 }
 
-std::vector<std::string> toolTableArguments(const CellFile& cell, const PowerCommand& power) {
+std::vector<std::string> toolTableArguments(const CellFile& cell, const PowerCommand& power,
+                                            const std::string& changer) {
     std::vector<std::string> args;
     for (const auto& t : cell.tools) {
+        if (!changer.empty() && t.changer != changer) continue;
         const AdapterModel* model = findAdapterModel(t.adapter);
         if (model == nullptr) continue;  // readCellFile refuses such a file
         args.insert(args.end(), {"--tool", t.name + ":" + number(t.pinVoltage[0]) + "-" +
                                                number(t.pinVoltage[1]) + ":" +
-                                               std::string(model->applicationUri)});
+                                               adapterComponent(*model, t.changer).applicationUri});
         args.insert(args.end(), {"--power", t.name + "=" + power(t, *model)});
     }
     return args;

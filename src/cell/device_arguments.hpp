@@ -24,6 +24,18 @@ struct AdapterModel {
 /// The model of that name, or nullptr.
 [[nodiscard]] const AdapterModel* findAdapterModel(std::string_view name);
 
+/// The component a tool's adapter is when tool changer `changer` powers it: its name (its
+/// PKI directory and log) and application URI. The adapters of the changer with the default
+/// name ("toolchanger") are the models' own (robotiq, urn:skillcell:device:robotiq-2f85);
+/// another changer's have its name added (robotiq-left, ...:robotiq-2f85:left), so that two
+/// changers may power grippers of one model.
+struct AdapterComponent {
+    std::string name;
+    std::string applicationUri;
+};
+[[nodiscard]] AdapterComponent adapterComponent(const AdapterModel& model,
+                                                std::string_view changer);
+
 /// "x,y,z" when the orientation is zero, else "x,y,z,a,b,c": the devices' pose syntax, with
 /// every digit a double needs to read back the same.
 [[nodiscard]] std::string poseArgument(const Pose& pose);
@@ -33,7 +45,8 @@ struct AdapterModel {
 /// A box in `device world --object` syntax: ID:SX,SY,SZ@POSE.
 [[nodiscard]] std::string objectArgument(const WorldObject& object);
 
-/// `device world` options for the cell's scene: --dock ID@POSE for each dock, --tool
+/// `device world` options for the cell's scene: --robot ID@BASE for each robot, --dock ID@POSE
+/// for each dock, --tool
 /// ID:DOCK@GRIP-OFFSET for each tool, --object ID:SX,SY,SZ@POSE for each object.
 [[nodiscard]] std::vector<std::string> worldArguments(const CellFile& cell);
 
@@ -42,9 +55,10 @@ struct AdapterModel {
 /// the security options.
 using PowerCommand = std::function<std::string(const Tool&, const AdapterModel&)>;
 
-/// `device toolchanger` options for the cell's tools: --tool ID:MIN-MAX:APPLICATION-URI and
-/// --power ID=COMMAND for each.
+/// `device toolchanger` options for the tools of the changer `changer` (empty: every tool of
+/// the cell): --tool ID:MIN-MAX:APPLICATION-URI and --power ID=COMMAND for each.
 [[nodiscard]] std::vector<std::string> toolTableArguments(const CellFile& cell,
-                                                          const PowerCommand& power);
+                                                          const PowerCommand& power,
+                                                          const std::string& changer = {});
 
 }  // namespace skillcell::cell

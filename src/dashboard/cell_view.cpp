@@ -53,9 +53,15 @@ Json toJson(const SceneView& s) {
     for (const auto& f : s.fuseSlots) {
         fuseSlots.push_back({{"id", f.id}, {"position", f.position}, {"fuse", f.fuse}});
     }
-    return {{"flange", s.flange},
-            {"mountedTool", s.mountedTool},
-            {"graspedObject", s.graspedObject},
+    Json robots = Json::array();
+    for (const auto& r : s.robots) {
+        robots.push_back({{"id", r.id},
+                          {"base", r.base},
+                          {"flange", r.flange},
+                          {"mountedTool", r.mountedTool},
+                          {"graspedObject", r.graspedObject}});
+    }
+    return {{"robots", std::move(robots)},
             {"objects", std::move(objects)},
             {"docks", std::move(docks)},
             {"rails", std::move(rails)},

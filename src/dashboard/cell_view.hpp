@@ -83,9 +83,16 @@ struct SceneView {
         std::string fuse;  // empty when none
         friend bool operator==(const FuseSlot&, const FuseSlot&) = default;
     };
-    std::array<double, 3> flange{};
-    std::string mountedTool;
-    std::string graspedObject;
+    /// A robot: where its base stands, where its flange is, the tool on it and what it holds.
+    struct Robot {
+        std::string id;
+        std::array<double, 3> base{};
+        std::array<double, 3> flange{};
+        std::string mountedTool;
+        std::string graspedObject;
+        friend bool operator==(const Robot&, const Robot&) = default;
+    };
+    std::vector<Robot> robots;
     std::vector<Box> objects;
     std::vector<Dock> docks;
     std::vector<Rail> rails;

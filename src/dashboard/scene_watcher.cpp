@@ -167,15 +167,30 @@ asio::awaitable<ua::StatusCode> SceneWatcher::watch(ua::Client& client) {
         if (!pose) co_return pose.status();
         scene.docks.push_back({d, position(*pose), {}});
     }
+    auto robots = co_await children(client, id("World/Robots"));
+    if (!robots) co_return robots.status();
+    for (const auto& r : *robots) {
+        auto base = co_await client.readValue(id("World/Robots/" + r + "/Base"));
+        if (!base) co_return base.status();
+        scene.robots.push_back({r, position(*base), {}, {}, {}});
+    }
 
     // Everything that moves: read once, so that the first scene is whole, then watched; each
     // callback updates its part of scene_.
     using Update = std::function<void(SceneView&, const ua::Variant&)>;
-    std::vector<std::pair<std::string, Update>> watched{
-        {"World/FlangePose", [](SceneView& s, const ua::Variant& v) { s.flange = position(v); }},
-        {"World/MountedTool", [](SceneView& s, const ua::Variant& v) { s.mountedTool = text(v); }},
-        {"World/GraspedObject",
-         [](SceneView& s, const ua::Variant& v) { s.graspedObject = text(v); }}};
+    std::vector<std::pair<std::string, Update>> watched;
+    for (std::size_t i = 0; i < scene.robots.size(); ++i) {
+        const std::string path = "World/Robots/" + scene.robots[i].id;
+        watched.emplace_back(path + "/FlangePose", [i](SceneView& s, const ua::Variant& v) {
+            if (i < s.robots.size()) s.robots[i].flange = position(v);
+        });
+        watched.emplace_back(path + "/MountedTool", [i](SceneView& s, const ua::Variant& v) {
+            if (i < s.robots.size()) s.robots[i].mountedTool = text(v);
+        });
+        watched.emplace_back(path + "/GraspedObject", [i](SceneView& s, const ua::Variant& v) {
+            if (i < s.robots.size()) s.robots[i].graspedObject = text(v);
+        });
+    }
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         watched.emplace_back("World/Objects/" + scene.objects[i].id + "/Pose",
                              [i](SceneView& s, const ua::Variant& v) {

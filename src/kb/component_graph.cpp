@@ -118,6 +118,11 @@ GraphData ComponentGraphs::update(const std::string& applicationUri,
                 if (p.dataType == gripPointTypeEnumeration()) {
                     add(skill, proc("gripType"), rdf::literal(lowerCase(*text)));
                 }
+                // The robot a gripper or a tool changer is on: the MES takes the reach of that
+                // robot for it, and one robot for all a step uses.
+                if (p.name == "RobotUri" && !text->empty()) {
+                    add(skill, proc("onRobot"), rdf::literal(*text));
+                }
             } else if (const auto* number = std::get_if<double>(&p.value)) {
                 if (!std::isfinite(*number)) continue;
                 add(parameter, proc("numberValue"), decimal(*number));
@@ -165,7 +170,7 @@ const std::vector<std::string>& recordedSkillProperties() {
     static const std::vector<std::string> properties = {
         proc("available"), proc("gripType"),     proc("maxGripWidth"), proc("maxPayload"),
         proc("reach"),     proc("reachCentreX"), proc("reachCentreY"), proc("reachCentreZ"),
-        proc("skillName"), proc("skillNodeId")};
+        proc("onRobot"),   proc("skillName"),    proc("skillNodeId")};
     return properties;
 }
 

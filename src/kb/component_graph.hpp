@@ -7,7 +7,8 @@
 //
 // Each skill also carries the values its parameters had when the component was last read
 // (proc:hasParameterValue), and a gripper skill its proc:gripType, proc:maxPayload (kg) and
-// proc:maxGripWidth (m, 0: not limited by width). The values are plain data
+// proc:maxGripWidth (m, 0: not limited by width), and a gripper's or tool changer's skill the
+// robot it is on (proc:onRobot, its RobotUri). The values are plain data
 // (ParameterValue): reading them from the component is kb/component_reader.hpp's job.
 //
 // Not thread-safe: feed it from one thread (the KB's discovery worker).
@@ -26,7 +27,8 @@ inline constexpr const char* kProcessVocabulary = "http://skillcell.dev/ontology
 
 /// The properties recorded here for each skill instance (beyond its type and parameter
 /// values), which a process's proc:FactRequirement may ask about: proc:available,
-/// proc:gripType, proc:maxGripWidth, proc:maxPayload, proc:skillName, proc:skillNodeId.
+/// proc:gripType, proc:maxGripWidth, proc:maxPayload, proc:onRobot, proc:skillName,
+/// proc:skillNodeId.
 [[nodiscard]] const std::vector<std::string>& recordedSkillProperties();
 
 /// "urn:skillcell:component:<application URI, percent-encoded>".

@@ -736,8 +736,11 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
     c.chosen = std::move(cell.chosen);
     std::string unfit;
     for (auto& s : typed) {
-        const std::string why = unmetSkillRequirements(step, s, *facts);
+        const std::string why = unmetSkillRequirements(step, s, *facts, cell.robot);
         if (why.empty()) {
+            if (auto robot = robotOf(s, *facts); !robot.empty() && robot != s.componentUri) {
+                c.robots.emplace(keyOf(s), std::move(robot));
+            }
             c.skills.push_back(std::move(s));
         } else {
             unfit += (unfit.empty() ? "" : "; ") + where(s) + ": " + why;
@@ -802,9 +805,13 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
 
 std::set<std::string> ProcessExecutor::componentsOf(
     const skills::SkillInstance* skill,
-    const std::vector<std::optional<skills::SkillInstance>>& cellMatches) {
+    const std::vector<std::optional<skills::SkillInstance>>& cellMatches,
+    const std::map<SkillKey, std::string>& robots) {
     std::set<std::string> out;
-    if (skill != nullptr) out.insert(skill->componentUri);
+    if (skill != nullptr) {
+        out.insert(skill->componentUri);
+        if (const auto r = robots.find(keyOf(*skill)); r != robots.end()) out.insert(r->second);
+    }
     for (const auto& m : cellMatches) {
         if (m) out.insert(m->componentUri);
     }
@@ -812,7 +819,7 @@ std::set<std::string> ProcessExecutor::componentsOf(
 }
 
 std::set<std::string> ProcessExecutor::componentsOf(const Choice& c) {
-    return componentsOf(c.skills.empty() ? nullptr : &c.skills.front(), c.cellMatches);
+    return componentsOf(c.skills.empty() ? nullptr : &c.skills.front(), c.cellMatches, c.robots);
 }
 
 bool ProcessExecutor::available(const Order& order, const std::set<std::string>& components) const {
@@ -884,7 +891,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             std::set<std::string> wanted;
             std::string holders;
             for (const auto* s : suitable) {
-                const auto components = componentsOf(s, c.cellMatches);
+                const auto components = componentsOf(s, c.cellMatches, c.robots);
                 if (available(*order, components)) {
                     free.skills.push_back(*s);
                     continue;
@@ -902,6 +909,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             }
             if (!free.skills.empty()) {
                 free.cellMatches = std::move(c.cellMatches);
+                free.robots = std::move(c.robots);
                 free.why = rankByExpectedDuration(free.skills, durations);
                 if (!c.chosen.empty()) free.why += "; " + c.chosen;
                 if (!holders.empty()) free.why += "; not free: " + holders;

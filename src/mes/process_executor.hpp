@@ -221,6 +221,9 @@ private:
         std::string why;
         /// What met the requirements on the cell, and why (CellMatch::chosen).
         std::string chosen;
+        /// The robot each of `skills` acts through, where it is on one (robotOf: a tool
+        /// changer's): the step holds that robot too, as it drives it.
+        std::map<SkillKey, std::string> robots;
     };
     /// Why the cell cannot run `process` (empty: it can), after waiting up to skillWait for
     /// the skills it lacks to appear (or for the KB to record their facts).
@@ -236,12 +239,15 @@ private:
     asio::awaitable<Choice> withRequirements(const ProcessStep& step,
                                              std::vector<skills::SkillInstance> typed,
                                              const std::vector<skills::SkillInstance>& live);
-    /// The components a choice uses: its first skill's, and those of its cell matches.
+    /// The components a choice uses: its first skill's, the robot that skill is on, and those
+    /// of its cell matches.
     [[nodiscard]] static std::set<std::string> componentsOf(const Choice& c);
-    /// The components that running `skill` (none: only the matches) with `cellMatches` uses.
+    /// The components that running `skill` (none: only the matches) with `cellMatches` uses;
+    /// `robots`: the robot each skill is on (Choice::robots).
     [[nodiscard]] static std::set<std::string> componentsOf(
         const skills::SkillInstance* skill,
-        const std::vector<std::optional<skills::SkillInstance>>& cellMatches);
+        const std::vector<std::optional<skills::SkillInstance>>& cellMatches,
+        const std::map<SkillKey, std::string>& robots = {});
     /// Whether `order` may use every component of `components` now (held by no other order,
     /// used by none of its own running steps, wanted by no better-ranked waiting order).
     [[nodiscard]] bool available(const Order& order, const std::set<std::string>& components) const;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 
 #include "kb/component_graph.hpp"
@@ -96,9 +97,35 @@ std::vector<StepTarget> stepTargets(const ProcessStep& step) {
     return out;
 }
 
+std::string robotOf(const skills::SkillInstance& skill, const SkillFacts& facts) {
+    const SkillKey key = keyOf(skill);
+    if (!facts.values(key, proc("reach")).empty()) return skill.componentUri;
+    const auto on = facts.values(key, proc("onRobot"));
+    return on.empty() ? std::string() : on.front();
+}
+
 std::string cannotReach(const ProcessStep& step, const skills::SkillInstance& skill,
                         const SkillFacts& facts) {
-    const SkillKey key = keyOf(skill);
+    if (stepTargets(step).empty()) return {};
+    SkillKey key = keyOf(skill);
+    if (!facts.recorded(key)) {
+        return "the knowledge base has not recorded it yet, so its reach is not known";
+    }
+    std::string whose = "its";
+    if (facts.values(key, proc("reach")).empty()) {
+        // A skill on a robot reaches where that robot does.
+        const auto on = facts.values(key, proc("onRobot"));
+        if (on.empty()) return {};
+        const auto robot = facts.skillWith(on.front(), proc("reach"));
+        if (!robot) {
+            return facts.skillWith(on.front(), proc("available"))
+                       ? std::string()  // a robot that does not publish its reach
+                       : "the knowledge base has not recorded its robot " + on.front() +
+                             " yet, so its reach is not known";
+        }
+        key = *robot;
+        whose = "its robot " + on.front() + "'s";
+    }
     const auto reach = leastNumber(facts.values(key, proc("reach")));
     if (!reach || *reach <= 0) return {};
     const auto cx = leastNumber(facts.values(key, proc("reachCentreX")));
@@ -111,9 +138,9 @@ std::string cannotReach(const ProcessStep& step, const skills::SkillInstance& sk
         if (d <= *reach) continue;
         why += (why.empty() ? "" : "; ") +
                fmt::format(
-                   "{} at ({:g}, {:g}, {:g}) is {:.3f} m from its reach centre, beyond "
+                   "{} at ({:g}, {:g}, {:g}) is {:.3f} m from {} reach centre, beyond "
                    "its reach of {:g} m",
-                   t.what, t.x, t.y, t.z, d, *reach);
+                   t.what, t.x, t.y, t.z, d, whose, *reach);
     }
     return why;
 }
@@ -133,6 +160,19 @@ std::vector<std::string> SkillFacts::values(const SkillKey& skill,
     return p == s->second.end() ? std::vector<std::string>{} : p->second;
 }
 
+bool SkillFacts::recorded(const SkillKey& skill) const {
+    return !values(skill, std::string(kProcessNs) + "available").empty();
+}
+
+std::optional<SkillKey> SkillFacts::skillWith(const std::string& componentUri,
+                                              const std::string& propertyIri) const {
+    for (auto it = values_.lower_bound(SkillKey{componentUri, {}});
+         it != values_.end() && it->first.first == componentUri; ++it) {
+        if (it->second.contains(propertyIri)) return it->first;
+    }
+    return std::nullopt;
+}
+
 bool SkillFacts::has(const SkillKey& skill, const FactRequirement& requirement) const {
     if (requirement.propertyIri.empty()) return true;  // any instance of the type
     const auto all = values(skill, requirement.propertyIri);
@@ -141,7 +181,7 @@ bool SkillFacts::has(const SkillKey& skill, const FactRequirement& requirement) 
 }
 
 std::vector<std::string> requiredProperties(const ProcessStep& step) {
-    std::set<std::string> out;
+    std::set<std::string> out{proc("available")};
     for (const auto& r : step.requirements) {
         if (!r.propertyIri.empty()) out.insert(r.propertyIri);
     }
@@ -150,11 +190,16 @@ std::vector<std::string> requiredProperties(const ProcessStep& step) {
         out.insert(proc("maxPayload"));
         out.insert(proc("maxGripWidth"));
     }
-    // One that names positions checks the manipulator's reach.
+    // One that names positions checks the manipulator's reach, and of a skill on a robot
+    // (a tool changer's) that robot's; one with requirements takes them on one robot.
     if (!stepTargets(step).empty()) {
         for (const char* p : {"reach", "reachCentreX", "reachCentreY", "reachCentreZ"}) {
             out.insert(proc(p));
         }
+    }
+    if (!stepTargets(step).empty() || !step.requirements.empty()) {
+        out.insert(proc("reach"));
+        out.insert(proc("onRobot"));
     }
     return {out.begin(), out.end()};
 }
@@ -220,7 +265,7 @@ kb::Expected<SkillFacts> readFacts(kb::SparqlStore& store,
 }
 
 std::string unmetSkillRequirements(const ProcessStep& step, const skills::SkillInstance& skill,
-                                   const SkillFacts& facts) {
+                                   const SkillFacts& facts, const std::string& robot) {
     std::string out = cannotReach(step, skill, facts);
     for (const auto& r : step.requirements) {
         if (!r.skillTypeIri.empty() || facts.has(keyOf(skill), r)) continue;
@@ -228,6 +273,11 @@ std::string unmetSkillRequirements(const ProcessStep& step, const skills::SkillI
         std::string what = "the knowledge base does not give it " + r.describe();
         if (!has.empty()) what += " (it has " + has + ")";
         out += (out.empty() ? "" : "; ") + what;
+    }
+    const std::string mine = robotOf(skill, facts);
+    if (!robot.empty() && !mine.empty() && mine != robot) {
+        out += std::string(out.empty() ? "" : "; ") + "it is on robot " + mine +
+               ", and the step's other skills on " + robot;
     }
     return out;
 }
@@ -246,10 +296,13 @@ CellMatch matchCellRequirements(const ProcessStep& step,
     CellMatch out;
     out.byRequirement.resize(step.requirements.size());
     const DerivationSource* object = movedObject(step);
+    // Each requirement's fitting instances, in order, and why the others do not fit.
+    std::vector<std::vector<const skills::SkillInstance*>> fits(step.requirements.size());
+    std::vector<std::string> passedOver(step.requirements.size());
     for (std::size_t i = 0; i < step.requirements.size(); ++i) {
         const auto& r = step.requirements[i];
         if (r.skillTypeIri.empty()) continue;
-        std::string offered;
+        std::string& offered = passedOver[i];
         for (const auto* s : ordered) {
             if (!isOfType(*s, r.skillTypeIri)) continue;
             if (facts.has(keyOf(*s), r)) {
@@ -261,10 +314,8 @@ CellMatch matchCellRequirements(const ProcessStep& step,
                     offered += (offered.empty() ? "" : "; ") + where(*s) + ": " + why;
                     continue;
                 }
-                out.byRequirement[i] = *s;
-                out.chosen += (out.chosen.empty() ? "" : "; ") + r.describe() + ": " + where(*s) +
-                              (offered.empty() ? "" : " (passed over: " + offered + ")");
-                break;
+                fits[i].push_back(s);
+                continue;
             }
             const std::string has = quoted(facts.values(keyOf(*s), r.propertyIri));
             offered += (offered.empty() ? "" : "; ") + where(*s) + " has " +
@@ -272,11 +323,56 @@ CellMatch matchCellRequirements(const ProcessStep& step,
                                           " in the knowledge base (not recorded yet?)"
                                     : shortName(r.propertyIri) + " " + has);
         }
-        if (out.byRequirement[i]) continue;
+        if (!fits[i].empty()) continue;
         std::string what = "the step requires " + r.describe() + ", and ";
         what += offered.empty() ? "none of that type is available"
                                 : "the available ones do not fit: " + offered;
         out.unmet += (out.unmet.empty() ? "" : "; ") + what;
+    }
+    if (!out.unmet.empty()) return out;
+    // The first choice in that order that puts them all on one robot (a gripper on the robot
+    // that moves it): a search over a few instances per requirement.
+    std::vector<const skills::SkillInstance*> pick(step.requirements.size(), nullptr);
+    const std::function<bool(std::size_t, const std::string&)> choose =
+        [&](std::size_t i, const std::string& robot) -> bool {
+        if (i == step.requirements.size()) {
+            out.robot = robot;
+            return true;
+        }
+        if (step.requirements[i].skillTypeIri.empty()) return choose(i + 1, robot);
+        for (const auto* s : fits[i]) {
+            const std::string on = robotOf(*s, facts);
+            if (!robot.empty() && !on.empty() && on != robot) continue;
+            pick[i] = s;
+            if (choose(i + 1, robot.empty() ? on : robot)) return true;
+        }
+        return false;
+    };
+    if (!choose(0, {})) {
+        std::string each;
+        for (std::size_t i = 0; i < step.requirements.size(); ++i) {
+            if (step.requirements[i].skillTypeIri.empty()) continue;
+            std::string on;
+            for (const auto* s : fits[i]) {
+                on += (on.empty() ? "" : ", ") + where(*s) + " on " +
+                      (robotOf(*s, facts).empty() ? std::string("any robot") : robotOf(*s, facts));
+            }
+            each += (each.empty() ? "" : "; ") + step.requirements[i].describe() + ": " + on;
+        }
+        out.unmet = "no robot has all the step requires: " + each;
+        return out;
+    }
+    for (std::size_t i = 0; i < step.requirements.size(); ++i) {
+        if (pick[i] == nullptr) continue;
+        out.byRequirement[i] = *pick[i];
+        std::string skipped = passedOver[i];
+        for (const auto* s : fits[i]) {
+            if (s == pick[i]) break;
+            skipped += (skipped.empty() ? "" : "; ") + where(*s) + ": it is on robot " +
+                       robotOf(*s, facts) + ", the step's other skills on " + out.robot;
+        }
+        out.chosen += (out.chosen.empty() ? "" : "; ") + step.requirements[i].describe() + ": " +
+                      where(*pick[i]) + (skipped.empty() ? "" : " (passed over: " + skipped + ")");
     }
     return out;
 }

@@ -125,14 +125,16 @@ asio::awaitable<void> SkillConnection::close() {
 
 namespace {
 
-bool isA(const SkillInstance& s, const std::string& typeName) {
-    return std::any_of(s.types.begin(), s.types.end(),
+bool isA(const SkillInstance& s, const std::string& typeName, const std::string& componentUri) {
+    return (componentUri.empty() || s.componentUri == componentUri) &&
+           std::any_of(s.types.begin(), s.types.end(),
                        [&](const SkillTypeRef& t) { return t.browseName == typeName; });
 }
 
-std::string endpointOf(const SkillDetector& detector, const std::string& typeName) {
+std::string endpointOf(const SkillDetector& detector, const std::string& typeName,
+                       const std::string& componentUri) {
     for (const auto& s : detector.instances()) {
-        if (isA(s, typeName)) return s.endpointUrl;
+        if (isA(s, typeName, componentUri)) return s.endpointUrl;
     }
     return {};
 }
@@ -140,16 +142,19 @@ std::string endpointOf(const SkillDetector& detector, const std::string& typeNam
 }  // namespace
 
 asio::awaitable<std::string> detectedSkillEndpoint(SkillDetector& detector, std::string typeName,
-                                                   std::chrono::milliseconds timeout) {
-    std::string url = endpointOf(detector, typeName);
+                                                   std::chrono::milliseconds timeout,
+                                                   std::string componentUri) {
+    std::string url = endpointOf(detector, typeName, componentUri);
     if (!url.empty()) co_return url;
     auto timer = std::make_shared<asio::steady_timer>(detector.executor(), timeout);
-    const std::size_t id = detector.subscribe([timer, typeName](const SkillEvent& e) {
-        if (e.kind == SkillEvent::Kind::Added && isA(e.instance, typeName)) timer->cancel();
+    const std::size_t id = detector.subscribe([timer, typeName, componentUri](const SkillEvent& e) {
+        if (e.kind == SkillEvent::Kind::Added && isA(e.instance, typeName, componentUri)) {
+            timer->cancel();
+        }
     });
     co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
     detector.unsubscribe(id);
-    co_return endpointOf(detector, typeName);
+    co_return endpointOf(detector, typeName, componentUri);
 }
 
 }  // namespace skillcell::skills

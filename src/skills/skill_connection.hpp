@@ -64,10 +64,12 @@ private:
     RemoteSkill remote_;
 };
 
-/// The endpoint of a live skill whose type chain names `typeName`, as `detector` knows it;
-/// waits up to `timeout` for one to be detected (a component may still be starting). Empty
-/// when none came. On the detector's executor.
+/// The endpoint of a live skill whose type chain names `typeName`, as `detector` knows it,
+/// of the component `componentUri` (empty: of any); waits up to `timeout` for one to be
+/// detected (a component may still be starting). Empty when none came. On the detector's
+/// executor.
 asio::awaitable<std::string> detectedSkillEndpoint(SkillDetector& detector, std::string typeName,
-                                                   std::chrono::milliseconds timeout);
+                                                   std::chrono::milliseconds timeout,
+                                                   std::string componentUri = {});
 
 }  // namespace skillcell::skills

@@ -88,7 +88,7 @@ world() {
     out=$(inside "$skillcell" browse "$(endpoint world)" --start i=85 --values \
       --pki-dir "$work/pki-operator" --user observer --password-file "$work/observer.pw" \
       2>/dev/null || true)
-    grep -q 'World/MountedTool' <<<"$out" && { echo "$out"; return 0; }
+    grep -q 'World/Robots/ur5/MountedTool' <<<"$out" && { echo "$out"; return 0; }
     sleep 0.5  # the world is restarting
   done
 }
@@ -178,7 +178,7 @@ trial() {
   snapshot=$(world)
   value() { grep -F "[Variable ns=2;s=World/$1]" <<<"$snapshot" | sed 's/.*\] = //' || true; }
   local mounted dockP dockV
-  mounted=$(value MountedTool)
+  mounted=$(value Robots/ur5/MountedTool)
   dockP=$(value Docks/dockP/Tool)
   dockV=$(value Docks/dockV/Tool)
   if [ -n "$link_fault" ]; then

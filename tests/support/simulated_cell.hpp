@@ -108,7 +108,8 @@ struct SimulatedCell {
                   bool vacuumPowered = true, const std::string& robotSpeed = "50",
                   const std::vector<std::string>& moreWorld = {},
                   const std::string& robotModel = "ur5")
-        : parallelUri(parallel.adapter().applicationUri) {
+        : parallelUri(parallel.adapter().applicationUri),
+          robotName(paperCell().robots.front().name) {
         // The paper's cell with this test's parallel gripper in its dock, and its own boxes.
         cell::CellFile c = paperCell();
         for (auto& tool : c.tools) {
@@ -129,13 +130,15 @@ struct SimulatedCell {
         if (world->url().empty()) return;
         tools = world->pkiDir().string() + "-tools";
         const std::string common = " --port 0 --host 127.0.0.1 --insecure --speed 20 --world " +
-                                   world->url() + " --mdns-ttl 5 --mdns-query-period 1";
+                                   world->url() + " --robot " + robotName +
+                                   " --mdns-ttl 5 --mdns-query-period 1";
         const auto power = [&](const cell::Tool& tool, const cell::AdapterModel& model) {
             return binary + " device " + std::string(model.command) + " --pki-dir " + tools + "-" +
                    tool.name + " --grip-offset " + cell::vectorArgument(tool.gripOffset) + common;
         };
         std::vector<std::string> changerArgs = {
-            "toolchanger", "--world",    world->url(),         "--detection-timeout-ms",
+            "toolchanger", "--world",    world->url(),
+            "--robot",     robotName,    "--detection-timeout-ms",
             "20000",       "--dock-map", tools + "-docks.json"};
         const auto table = cell::toolTableArguments(c, power);
         for (std::size_t i = 0; i + 1 < table.size(); i += 2) {
@@ -152,7 +155,8 @@ struct SimulatedCell {
             pickplace = start(
                 binary, {"pickplace", "--world", world->url(), "--detection-timeout-ms", "5000"});
         }
-        robot = start(binary, {robotModel, "--speed", robotSpeed, "--world", world->url()});
+        robot = start(binary, {robotModel, "--speed", robotSpeed, "--world", world->url(),
+                               "--robot", robotName});
     }
     ~SimulatedCell() {
         // The changer powers the tools off when it stops; then their PKI directories go.
@@ -183,6 +187,7 @@ struct SimulatedCell {
     std::unique_ptr<DeviceProcess> world, changer, pickplace, robot;
     std::string tools;        // PKI directories of the powered tools: <tools>-<tool name>
     std::string parallelUri;  // the parallel gripper's application URI
+    std::string robotName;    // the world's id of the robot (the paper cell's name for it)
 
 private:
     std::string binary_;

@@ -9,3 +9,7 @@ add_test(NAME cli.cell_check COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cell/cell_check
 add_test(NAME cli.cell_up COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cell/cell_up_cli.sh
                                   $<TARGET_FILE:skillcell> ${PROJECT_SOURCE_DIR})
 set_tests_properties(cli.cell_up PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600)
+# The cell with two robots runs two branches of one process at once, each on its own robot.
+add_test(NAME cli.two_robots COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/cell/two_robots_cell.sh
+                                     $<TARGET_FILE:skillcell> ${PROJECT_SOURCE_DIR})
+set_tests_properties(cli.two_robots PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600)

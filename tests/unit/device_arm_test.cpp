@@ -55,6 +55,30 @@ TEST(DeviceArmKinematics, ForwardKinematicsMatchesThePublishedZeroPose) {
     EXPECT_NEAR(f.p.z(), -0.005491, 1e-9);
 }
 
+// A robot whose base stands elsewhere in the cell (a cell with two robots): its poses are in
+// the cell's frame, the same joints put its flange where the base carries it, and its reach is
+// measured from its own shoulder.
+TEST(DeviceArmKinematics, ABaseElsewhereInTheCellCarriesItsPosesAndItsReach) {
+    const KDL::Frame base(KDL::Rotation::RotZ(M_PI / 2), KDL::Vector(0.2, -0.75, 0.1));
+    ArmKinematics atOrigin(ArmModel::ur5());
+    ArmKinematics placed(ArmModel::ur5(), base);
+    const Joints q{0.3, -1.2, 1.4, -1.8, -1.57, 0.2};
+    EXPECT_TRUE(near(placed.forward(q), base * atOrigin.forward(q), 1e-12, 1e-12));
+    EXPECT_NEAR((placed.shoulder() - base * ArmModel::ur5().shoulder).Norm(), 0, 1e-12);
+    // The pose it reaches with those joints, in the cell's frame, gives them back.
+    const KDL::Frame target = placed.forward(q);
+    std::string why;
+    const auto solution = placed.inverse(target, q, ArmModel::ur5().bounds, &why);
+    ASSERT_TRUE(solution) << why;
+    EXPECT_TRUE(near(placed.forward(*solution), target, 1e-6, 1e-6));
+    // A pose near the cell's origin but beyond its reach from where it stands: refused, as
+    // out of reach, while the arm at the origin reaches it.
+    const KDL::Frame nearOrigin(KDL::Rotation::RPY(M_PI, 0, 0), KDL::Vector(0.3, 0.6, 0.3));
+    EXPECT_TRUE(atOrigin.inverse(nearOrigin, {}, ArmModel::ur5().bounds));
+    EXPECT_FALSE(placed.inverse(nearOrigin, {}, ArmModel::ur5().bounds, &why));
+    EXPECT_NE(why.find("out of the"), std::string::npos) << why;
+}
+
 TEST(DeviceArmKinematics, InverseMatchesForwardOnRandomReachablePoses) {
     ArmKinematics k(ArmModel::ur5());
     std::mt19937 random(20261122);

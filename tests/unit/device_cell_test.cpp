@@ -17,6 +17,9 @@
 namespace skillcell::devices::device_cell_test {
 namespace {
 
+// The robot whose flange the tests move (the world has it by this id).
+const std::string kArm = "arm";
+
 using namespace std::chrono_literals;
 using Kind = skills::SkillOutcome::Kind;
 namespace rq = robotiq;
@@ -38,6 +41,7 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     std::unique_ptr<WorldNodes> worldNodes;
     test::RunningServer worldServer(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
         World w;
+        EXPECT_EQ(w.addRobot(kArm), ua::status::Good);
         ASSERT_EQ(w.addObject({"box1", {0.04, 0.04, 0.04}, at(0.45, 0.15, 0.02)}),
                   ua::status::Good);
         ASSERT_EQ(w.addDock({"dock1", dockPose, {}}), ua::status::Good);
@@ -51,7 +55,7 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     };
 
     // The robot, reporting its flange to the world.
-    auto robotLink = WorldLink::connect(worldServer.url());
+    auto robotLink = WorldLink::connect(worldServer.url(), {}, kArm);
     ASSERT_TRUE(robotLink.ok());
     auto reporter = FlangeReporter::start(std::move(*robotLink));
     std::unique_ptr<ArmComponent> robot;
@@ -70,7 +74,7 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     });
 
     // The gripper: the simulated 2F-85 knows the world, the adapter only a device path.
-    auto gripperLink = WorldLink::connect(worldServer.url());
+    auto gripperLink = WorldLink::connect(worldServer.url(), {}, kArm);
     ASSERT_TRUE(gripperLink.ok());
     WorldLink* gl = gripperLink->get();
     rq::SimulatedGripperOptions sim;
@@ -126,12 +130,12 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     moveFlange(linear, dockPose);
     ASSERT_EQ(gl->mountTool("dock1"), ua::status::Good);
     moveFlange(linear, down(0.3, -0.45, 0.45));
-    EXPECT_EQ(worldOf().mountedTool(), "2f85");
+    EXPECT_EQ(worldOf().flange(kArm).tool, "2f85");
 
     // Grasping thin air fails, and the world holds nothing.
     auto outcome = gripperClient.invoke(grasp, {}, 20s);
     EXPECT_EQ(outcome.kind, Kind::Failed);
-    EXPECT_TRUE(worldOf().graspedObject().empty());
+    EXPECT_TRUE(worldOf().flange(kArm).held.empty());
     gripperClient.run([&]() -> asio::awaitable<ua::StatusCode> {
         co_return co_await grasp->call(skills::SkillMethod::Reset);
     });
@@ -141,7 +145,7 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     moveTcp(down(0.45, 0.15, 0.02));
     outcome = gripperClient.invoke(grasp, {}, 20s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-    EXPECT_EQ(worldOf().graspedObject(), "box1");
+    EXPECT_EQ(worldOf().flange(kArm).held, "box1");
     EXPECT_NEAR(rq::widthOf(static_cast<std::uint8_t>(port->fingerPosition())), 0.04, 0.0005);
 
     // Carry it: up, across, down. It travels with the flange.
@@ -151,7 +155,7 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     moveTcp(down(0.30, -0.20, 0.021));
     outcome = gripperClient.invoke(release, {}, 20s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-    EXPECT_TRUE(worldOf().graspedObject().empty());
+    EXPECT_TRUE(worldOf().flange(kArm).held.empty());
 
     // The robot leaves; the box stays where it was put.
     moveTcp(down(0.30, -0.20, 0.10));
@@ -160,7 +164,7 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
     EXPECT_NEAR(box.p.x(), 0.30, 1e-6);
     EXPECT_NEAR(box.p.y(), -0.20, 1e-6);
     EXPECT_NEAR(box.p.z(), 0.021, 1e-6);
-    EXPECT_NEAR(w.gripPoint().p.z(), 0.10, 1e-6);
+    EXPECT_NEAR(w.gripPoint(kArm).p.z(), 0.10, 1e-6);
 
     robotServer.inServer([&](ua::Server&) {
         robot.reset();

@@ -32,7 +32,7 @@ TEST(DinRailCell, PlacesBlocksSideBySideAndRefusesOneOverAnother) {
                              railScene(din));
     ASSERT_TRUE(cell.ready());
 
-    auto link = WorldLink::connect(cell.world->url());
+    auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
     ASSERT_TRUE(link.ok());
     WorldLink& w = **link;
     test::ClientThread client, placeClient;

@@ -13,6 +13,9 @@
 namespace skillcell::devices::device_din_rail_test {
 namespace {
 
+// The robot whose flange the tests move (the world has it by this id).
+const std::string kArm = "arm";
+
 using ua::status::BadInvalidArgument;
 using ua::status::BadNodeIdExists;
 using ua::status::Good;
@@ -28,11 +31,12 @@ DinRail rail() {
 // flange may grasp), and blocks in a tray.
 World cell(int blocks = 2) {
     World w;
+    EXPECT_EQ(w.addRobot(kArm), ua::status::Good);
     EXPECT_EQ(w.addRail(rail()), Good);
     EXPECT_EQ(w.addDock({"dock", toFrame(Pose6{0.0, -0.4, 0.3, M_PI, 0, 0}), {}}), Good);
     EXPECT_EQ(w.addTool({"gripper", toFrame(Pose6{0, 0, 0.15})}, "dock"), Good);
-    w.setFlangePose(toFrame(Pose6{0.0, -0.4, 0.3, M_PI, 0, 0}));
-    EXPECT_EQ(w.mountTool("dock"), Good);
+    w.setFlangePose(kArm, toFrame(Pose6{0.0, -0.4, 0.3, M_PI, 0, 0}));
+    EXPECT_EQ(w.mountTool(kArm, "dock"), Good);
     for (int i = 0; i < blocks; ++i) {
         const std::string id = "tb" + std::to_string(i + 1);
         EXPECT_EQ(w.addObject({id, kBlock, toFrame(Pose6{0.3 + 0.02 * i, -0.1, kBlock.z / 2}),
@@ -50,8 +54,8 @@ KDL::Frame flangeFor(const World& w, const KDL::Frame& blockPose) {
 
 // Grasps `id` where it stands.
 void pick(World& w, const std::string& id) {
-    w.setFlangePose(flangeFor(w, w.object(id)->pose));
-    ASSERT_EQ(w.grasp(id), Good);
+    w.setFlangePose(kArm, flangeFor(w, w.object(id)->pose));
+    ASSERT_EQ(w.grasp(kArm, id), Good);
 }
 
 // Hooks the held block at `position`, then rotates it down in `steps` steps.
@@ -59,9 +63,9 @@ void hookAndRotateDown(World& w, const std::string& id, double position, int ste
     const DinRail r = rail();
     for (int i = 0; i <= steps; ++i) {
         const double tilt = kHookTilt * (steps - i) / steps;
-        w.setFlangePose(flangeFor(w, hookedPose(r, position, kBlock, tilt)));
-        ASSERT_TRUE(w.heldBlockOnRail().has_value()) << id << " left the rail at step " << i;
-        EXPECT_NEAR(w.heldBlockOnRail()->position, position, 1e-9);
+        w.setFlangePose(kArm, flangeFor(w, hookedPose(r, position, kBlock, tilt)));
+        ASSERT_TRUE(w.flange(kArm).hooked.has_value()) << id << " left the rail at step " << i;
+        EXPECT_NEAR(w.flange(kArm).hooked->position, position, 1e-9);
     }
     (void)id;
 }
@@ -94,6 +98,7 @@ TEST(DinRail, TheHookedPoseRestsTheUpperFootOnTheEdgeAndTheMountedOneLiesFlat) {
 
 TEST(DinRail, ARailNeedsAnIdAndALengthOfItsOwn) {
     World w;
+    EXPECT_EQ(w.addRobot(kArm), ua::status::Good);
     EXPECT_EQ(w.addRail({"", {}, 0.2}), BadInvalidArgument);
     EXPECT_EQ(w.addRail({"r", {}, 0}), BadInvalidArgument);
     EXPECT_EQ(w.addRail({"r", {}, std::nan("")}), BadInvalidArgument);
@@ -107,8 +112,8 @@ TEST(DinRail, ABlockHookedAndRotatedDownSnapsAndStaysMountedWhenReleased) {
     World w = cell();
     pick(w, "tb1");
     hookAndRotateDown(w, "tb1", 0.0026);
-    EXPECT_TRUE(w.heldBlockSnapped()) << w.railRefusal();
-    ASSERT_EQ(w.release(), Good);
+    EXPECT_TRUE(w.flange(kArm).snapped) << w.flange(kArm).railRefusal;
+    ASSERT_EQ(w.release(kArm), Good);
     ASSERT_TRUE(w.railMounts().contains("tb1"));
     EXPECT_EQ(w.railMounts().at("tb1").rail, "rail1");
     EXPECT_NEAR(w.railMounts().at("tb1").position, 0.0026, 1e-9);
@@ -117,8 +122,8 @@ TEST(DinRail, ABlockHookedAndRotatedDownSnapsAndStaysMountedWhenReleased) {
     // The next block side by side, at the first one's width.
     pick(w, "tb2");
     hookAndRotateDown(w, "tb2", 0.0026 + kBlock.x);
-    EXPECT_TRUE(w.heldBlockSnapped()) << w.railRefusal();
-    ASSERT_EQ(w.release(), Good);
+    EXPECT_TRUE(w.flange(kArm).snapped) << w.flange(kArm).railRefusal;
+    ASSERT_EQ(w.release(kArm), Good);
     EXPECT_EQ(w.railMounts().size(), 2u);
 
     // Grasped again, a block comes off the rail.
@@ -130,15 +135,15 @@ TEST(DinRail, ABlockRotatedDownOverAnotherDoesNotSnap) {
     World w = cell();
     pick(w, "tb1");
     hookAndRotateDown(w, "tb1", 0.01);
-    ASSERT_EQ(w.release(), Good);
+    ASSERT_EQ(w.release(kArm), Good);
 
     pick(w, "tb2");
     hookAndRotateDown(w, "tb2", 0.012);  // 2 mm into tb1's span
-    EXPECT_FALSE(w.heldBlockSnapped());
-    EXPECT_NE(w.railRefusal().find("would sit over terminal block tb1 at 10.0 mm"),
+    EXPECT_FALSE(w.flange(kArm).snapped);
+    EXPECT_NE(w.flange(kArm).railRefusal.find("would sit over terminal block tb1 at 10.0 mm"),
               std::string::npos)
-        << w.railRefusal();
-    ASSERT_EQ(w.release(), Good);
+        << w.flange(kArm).railRefusal;
+    ASSERT_EQ(w.release(kArm), Good);
     EXPECT_FALSE(w.railMounts().contains("tb2"));
     EXPECT_EQ(w.railMounts().size(), 1u);
 }
@@ -147,17 +152,18 @@ TEST(DinRail, ABlockPressedDownFlatWithoutHookingDoesNotSnap) {
     World w = cell();
     pick(w, "tb1");
     const KDL::Frame flat = mountedPose(rail(), 0.05, kBlock);
-    w.setFlangePose(flangeFor(w, KDL::Frame(KDL::Vector(0, 0, 0.03)) * flat));  // above
-    EXPECT_FALSE(w.heldBlockOnRail().has_value());
-    w.setFlangePose(flangeFor(w, flat));
-    EXPECT_FALSE(w.heldBlockSnapped());
-    EXPECT_NE(w.railRefusal().find("without hooking"), std::string::npos) << w.railRefusal();
+    w.setFlangePose(kArm, flangeFor(w, KDL::Frame(KDL::Vector(0, 0, 0.03)) * flat));  // above
+    EXPECT_FALSE(w.flange(kArm).hooked.has_value());
+    w.setFlangePose(kArm, flangeFor(w, flat));
+    EXPECT_FALSE(w.flange(kArm).snapped);
+    EXPECT_NE(w.flange(kArm).railRefusal.find("without hooking"), std::string::npos)
+        << w.flange(kArm).railRefusal;
     // Reported again there, and pressed 1 mm further: still not.
-    w.setFlangePose(flangeFor(w, flat));
-    EXPECT_FALSE(w.heldBlockSnapped());
-    w.setFlangePose(flangeFor(w, KDL::Frame(KDL::Vector(0, 0, -0.001)) * flat));
-    EXPECT_FALSE(w.heldBlockSnapped());
-    ASSERT_EQ(w.release(), Good);
+    w.setFlangePose(kArm, flangeFor(w, flat));
+    EXPECT_FALSE(w.flange(kArm).snapped);
+    w.setFlangePose(kArm, flangeFor(w, KDL::Frame(KDL::Vector(0, 0, -0.001)) * flat));
+    EXPECT_FALSE(w.flange(kArm).snapped);
+    ASSERT_EQ(w.release(kArm), Good);
     EXPECT_TRUE(w.railMounts().empty());
 }
 
@@ -166,10 +172,10 @@ TEST(DinRail, ABoxIsNoTerminalBlock) {
     ASSERT_EQ(w.addObject({"box", kBlock, toFrame(Pose6{0.3, -0.1, kBlock.z / 2})}), Good);
     pick(w, "box");
     const DinRail r = rail();
-    w.setFlangePose(flangeFor(w, hookedPose(r, 0.05, kBlock, kHookTilt)));
-    EXPECT_FALSE(w.heldBlockOnRail().has_value());
-    w.setFlangePose(flangeFor(w, mountedPose(r, 0.05, kBlock)));
-    ASSERT_EQ(w.release(), Good);
+    w.setFlangePose(kArm, flangeFor(w, hookedPose(r, 0.05, kBlock, kHookTilt)));
+    EXPECT_FALSE(w.flange(kArm).hooked.has_value());
+    w.setFlangePose(kArm, flangeFor(w, mountedPose(r, 0.05, kBlock)));
+    ASSERT_EQ(w.release(kArm), Good);
     EXPECT_TRUE(w.railMounts().empty());
 }
 

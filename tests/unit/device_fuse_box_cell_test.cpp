@@ -71,7 +71,7 @@ struct MountedCell {
 TEST(FuseBoxCell, TheIiwaInsertsAFuseAndWhatCannotBeInsertedIsRefusedBeforeItMoves) {
     MountedCell c("iiwa");
     ASSERT_TRUE(c.mounted) << c.problem;
-    auto link = WorldLink::connect(c.cell.world->url());
+    auto link = WorldLink::connect(c.cell.world->url(), {}, c.cell.robotName);
     ASSERT_TRUE(link.ok());
     WorldLink& w = **link;
 
@@ -102,7 +102,7 @@ TEST(FuseBoxCell, TheIiwaInsertsAFuseAndWhatCannotBeInsertedIsRefusedBeforeItMov
 TEST(FuseBoxCell, ARobotThatSensesNoForceIsRefusedBeforeItMoves) {
     MountedCell c("ur5");
     ASSERT_TRUE(c.mounted) << c.problem;
-    auto link = WorldLink::connect(c.cell.world->url());
+    auto link = WorldLink::connect(c.cell.world->url(), {}, c.cell.robotName);
     ASSERT_TRUE(link.ok());
     const auto flange = (*link)->flangePose();
     ASSERT_TRUE(flange.ok());

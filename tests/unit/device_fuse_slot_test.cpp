@@ -13,6 +13,9 @@
 namespace skillcell::devices::device_fuse_slot_test {
 namespace {
 
+// The robot whose flange the tests move (the world has it by this id).
+const std::string kArm = "arm";
+
 using ua::status::BadInvalidArgument;
 using ua::status::BadNodeIdExists;
 using ua::status::Good;
@@ -93,11 +96,12 @@ TEST(FuseSlot, ASlotOutOfToleranceIsMetWhereItReallyIs) {
 // A world with the slot, a tool 0.15 m below the flange, mounted, and a fuse in a tray.
 World cell() {
     World w;
+    EXPECT_EQ(w.addRobot(kArm), ua::status::Good);
     EXPECT_EQ(w.addFuseSlot(slot()), Good);
     EXPECT_EQ(w.addDock({"dock", toFrame(Pose6{0.0, -0.4, 0.3, M_PI, 0, 0}), {}}), Good);
     EXPECT_EQ(w.addTool({"gripper", toFrame(Pose6{0, 0, 0.15})}, "dock"), Good);
-    w.setFlangePose(toFrame(Pose6{0.0, -0.4, 0.3, M_PI, 0, 0}));
-    EXPECT_EQ(w.mountTool("dock"), Good);
+    w.setFlangePose(kArm, toFrame(Pose6{0.0, -0.4, 0.3, M_PI, 0, 0}));
+    EXPECT_EQ(w.mountTool(kArm, "dock"), Good);
     EXPECT_EQ(w.addObject({"fuse1", kAto, toFrame(Pose6{0.3, 0.1, kAto.z / 2}), ObjectKind::Fuse}),
               Good);
     return w;
@@ -111,42 +115,43 @@ KDL::Frame flangeFor(const World& w, const KDL::Frame& fusePose) {
 
 TEST(FuseSlot, TheWorldSeatsAFuseReleasedAtTheSlotsDepth) {
     World w = cell();
-    w.setFlangePose(flangeFor(w, w.object("fuse1")->pose));
-    ASSERT_EQ(w.grasp("fuse1"), Good);
+    w.setFlangePose(kArm, flangeFor(w, w.object("fuse1")->pose));
+    ASSERT_EQ(w.grasp(kArm, "fuse1"), Good);
     const FuseSlot s = slot();
-    w.setFlangePose(flangeFor(w, fuseAt(s, -0.01)));
-    EXPECT_EQ(w.contactForce(), 0);
+    w.setFlangePose(kArm, flangeFor(w, fuseAt(s, -0.01)));
+    EXPECT_EQ(w.contactForce(kArm), 0);
     for (double depth : {0.001, 0.004, 0.008}) {
-        w.setFlangePose(flangeFor(w, fuseAt(s, depth)));
-        ASSERT_TRUE(w.heldFuseContact()) << depth;
-        EXPECT_EQ(w.heldFuseContact()->first, "F1");
-        EXPECT_NEAR(w.contactForce(), kTerminalFriction, 1e-6) << depth;
+        w.setFlangePose(kArm, flangeFor(w, fuseAt(s, depth)));
+        ASSERT_TRUE(w.flange(kArm).fuseContact) << depth;
+        EXPECT_EQ(w.flange(kArm).fuseContact->first, "F1");
+        EXPECT_NEAR(w.contactForce(kArm), kTerminalFriction, 1e-6) << depth;
     }
-    ASSERT_EQ(w.release(), Good);
+    ASSERT_EQ(w.release(kArm), Good);
     EXPECT_EQ(w.seatedFuses().at("fuse1"), "F1");
     EXPECT_TRUE(near(w.object("fuse1")->pose, seatedPose(s, kAto), 1e-9, 1e-9));
-    EXPECT_EQ(w.contactForce(), 0);
+    EXPECT_EQ(w.contactForce(kArm), 0);
 
     // Taken again, it comes out of the slot.
-    ASSERT_EQ(w.grasp("fuse1"), Good);
+    ASSERT_EQ(w.grasp(kArm, "fuse1"), Good);
     EXPECT_TRUE(w.seatedFuses().empty());
 }
 
 TEST(FuseSlot, AFuseStoppedOnTheFaceIsNotSeated) {
     World w = cell();
-    w.setFlangePose(flangeFor(w, w.object("fuse1")->pose));
-    ASSERT_EQ(w.grasp("fuse1"), Good);
+    w.setFlangePose(kArm, flangeFor(w, w.object("fuse1")->pose));
+    ASSERT_EQ(w.grasp(kArm, "fuse1"), Good);
     const FuseSlot s = slot();
-    w.setFlangePose(flangeFor(w, fuseAt(s, 0.0007, 0.0015)));  // 1.5 mm beside the terminals
-    ASSERT_TRUE(w.heldFuseContact());
-    EXPECT_FALSE(w.heldFuseContact()->second.aligned);
-    EXPECT_NEAR(w.contactForce(), kFaceStiffness * 0.0007, 1e-6);
-    ASSERT_EQ(w.release(), Good);
+    w.setFlangePose(kArm, flangeFor(w, fuseAt(s, 0.0007, 0.0015)));  // 1.5 mm beside the terminals
+    ASSERT_TRUE(w.flange(kArm).fuseContact);
+    EXPECT_FALSE(w.flange(kArm).fuseContact->second.aligned);
+    EXPECT_NEAR(w.contactForce(kArm), kFaceStiffness * 0.0007, 1e-6);
+    ASSERT_EQ(w.release(kArm), Good);
     EXPECT_TRUE(w.seatedFuses().empty());
 }
 
 TEST(FuseSlot, ASlotNeedsAnIdADepthAndAClearanceOfItsOwn) {
     World w;
+    EXPECT_EQ(w.addRobot(kArm), ua::status::Good);
     FuseSlot s = slot();
     s.id.clear();
     EXPECT_EQ(w.addFuseSlot(s), BadInvalidArgument);

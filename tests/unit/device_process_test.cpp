@@ -39,7 +39,7 @@ TEST(DeviceProcesses, TheRobotPicksAndPlacesABoxWithTheVacuumGripper) {
     ASSERT_FALSE(robot.url().empty());
     ASSERT_FALSE(gripper.url().empty());
 
-    auto link = WorldLink::connect(world.url());
+    auto link = WorldLink::connect(world.url(), {}, "robot");
     ASSERT_TRUE(link.ok());
     WorldLink& w = **link;
     test::ClientThread robotClient, gripperClient;

@@ -114,7 +114,7 @@ TEST(ToolChangerProcess, ChangesToolsFoundByTheirPinAndPowersTheirAdapters) {
     const std::string& worldUrl = cell.world->url();
     const std::string& changerUrl = cell.changer->url();
 
-    auto link = WorldLink::connect(worldUrl);
+    auto link = WorldLink::connect(worldUrl, {}, cell.robotName);
     ASSERT_TRUE(link.ok());
     WorldLink& w = **link;
     test::ClientThread client;
@@ -269,7 +269,7 @@ TEST(ToolChangerProcess, ARestartedChangerReadsTheMountedToolFromItsPinAndItsDoc
         change,
         {{"ToolPosition", pose(vacuumDock())}, {"ToolAppUri", test::textValue(schmalzUri())}}, 60s);
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-    auto link = WorldLink::connect(cell.world->url());
+    auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
     ASSERT_TRUE(link.ok());
     EXPECT_EQ(*(*link)->mountedTool(), "vacuum");
     EXPECT_EQ(*(*link)->dockTool("dockP"), "parallel");

@@ -42,7 +42,7 @@ TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
     test::SimulatedCell cell(SKILLCELL_BINARY, boxes, true, GetParam());
     ASSERT_TRUE(cell.ready());
 
-    auto link = WorldLink::connect(cell.world->url());
+    auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
     ASSERT_TRUE(link.ok());
     WorldLink& w = **link;
     test::ClientThread client, pickClient;  // one connection each

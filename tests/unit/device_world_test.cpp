@@ -16,6 +16,9 @@
 namespace skillcell::devices::device_world_test {
 namespace {
 
+// The robot whose flange the tests move (the world has it by this id).
+const std::string kArm = "arm";
+
 using ua::status::BadInvalidArgument;
 using ua::status::BadInvalidState;
 using ua::status::BadNodeIdExists;
@@ -30,6 +33,7 @@ KDL::Frame at(double x, double y, double z, double a = 0, double b = 0, double c
 // of the flange.
 World cell() {
     World w;
+    EXPECT_EQ(w.addRobot(kArm), ua::status::Good);
     EXPECT_EQ(w.addObject({"box1", {0.04, 0.04, 0.04}, at(0.5, 0.1, 0.02)}), Good);
     EXPECT_EQ(w.addDock({"dock1", at(0.3, -0.4, 0.3, M_PI, 0, 0), {}}), Good);
     EXPECT_EQ(w.addTool({"gripper", at(0, 0, 0.15)}, "dock1"), Good);
@@ -88,24 +92,24 @@ TEST(DeviceWorld, SceneIdsAreUniqueAndBoxesReal) {
 TEST(DeviceWorld, ToolsAreTakenAndLeftOnlyAtTheirDock) {
     World w = cell();
     std::string why;
-    EXPECT_EQ(w.mountTool("dock1", &why), BadInvalidState);  // the flange is elsewhere
+    EXPECT_EQ(w.mountTool(kArm, "dock1", &why), BadInvalidState);  // the flange is elsewhere
     EXPECT_NE(why.find("not at dock"), std::string::npos) << why;
-    w.setFlangePose(at(0.3, -0.4, 0.302, M_PI, 0, 0));  // within the 5 mm tolerance
-    EXPECT_EQ(w.mountTool("dock1"), Good);
-    EXPECT_EQ(w.mountedTool(), "gripper");
+    w.setFlangePose(kArm, at(0.3, -0.4, 0.302, M_PI, 0, 0));  // within the 5 mm tolerance
+    EXPECT_EQ(w.mountTool(kArm, "dock1"), Good);
+    EXPECT_EQ(w.flange(kArm).tool, "gripper");
     EXPECT_TRUE(w.docks().at("dock1").tool.empty());
-    EXPECT_EQ(w.mountTool("dock1"), BadInvalidState);  // one tool at a time
+    EXPECT_EQ(w.mountTool(kArm, "dock1"), BadInvalidState);  // one tool at a time
     // The grip point follows the tool's offset: 0.15 m along the flange's z (pointing down).
-    EXPECT_NEAR(w.gripPoint().p.z(), 0.302 - 0.15, 1e-9);
+    EXPECT_NEAR(w.gripPoint(kArm).p.z(), 0.302 - 0.15, 1e-9);
 
-    w.setFlangePose(at(0, 0, 0.5));
-    EXPECT_EQ(w.unmountTool("dock1"), BadInvalidState);  // not at the dock
-    w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0));
-    EXPECT_EQ(w.unmountTool("nowhere"), BadNotFound);
-    EXPECT_EQ(w.unmountTool("dock1"), Good);
-    EXPECT_TRUE(w.mountedTool().empty());
+    w.setFlangePose(kArm, at(0, 0, 0.5));
+    EXPECT_EQ(w.unmountTool(kArm, "dock1"), BadInvalidState);  // not at the dock
+    w.setFlangePose(kArm, at(0.3, -0.4, 0.3, M_PI, 0, 0));
+    EXPECT_EQ(w.unmountTool(kArm, "nowhere"), BadNotFound);
+    EXPECT_EQ(w.unmountTool(kArm, "dock1"), Good);
+    EXPECT_TRUE(w.flange(kArm).tool.empty());
     EXPECT_EQ(w.docks().at("dock1").tool, "gripper");
-    EXPECT_EQ(w.unmountTool("dock1"), BadInvalidState);  // nothing mounted
+    EXPECT_EQ(w.unmountTool(kArm, "dock1"), BadInvalidState);  // nothing mounted
 }
 
 TEST(DeviceWorld, APersonMovesAStoredToolToAFreeDockButNotAMountedOne) {
@@ -127,10 +131,10 @@ TEST(DeviceWorld, APersonMovesAStoredToolToAFreeDockButNotAMountedOne) {
     EXPECT_EQ(w.docks().at("shelf2").tool, "gripper");
     EXPECT_TRUE(w.docks().at("shelf").tool.empty());
     // The changer now takes the other model from dock1, with its own grip point.
-    w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0));
-    ASSERT_EQ(w.mountTool("dock1"), Good);
-    EXPECT_EQ(w.mountedTool(), "other");
-    EXPECT_NEAR(w.gripPoint().p.z(), 0.3 - 0.16, 1e-9);
+    w.setFlangePose(kArm, at(0.3, -0.4, 0.3, M_PI, 0, 0));
+    ASSERT_EQ(w.mountTool(kArm, "dock1"), Good);
+    EXPECT_EQ(w.flange(kArm).tool, "other");
+    EXPECT_NEAR(w.gripPoint(kArm).p.z(), 0.3 - 0.16, 1e-9);
     EXPECT_EQ(w.moveTool("other", "shelf", &why), BadInvalidState);  // mounted
     EXPECT_NE(why.find("mounted"), std::string::npos) << why;
 }
@@ -138,37 +142,38 @@ TEST(DeviceWorld, APersonMovesAStoredToolToAFreeDockButNotAMountedOne) {
 TEST(DeviceWorld, AGraspedObjectMovesWithTheFlangeAndAReleasedOneStays) {
     World w = cell();
     std::string why;
-    EXPECT_EQ(w.grasp("box1", &why), BadInvalidState);  // no tool
-    w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0));
-    ASSERT_EQ(w.mountTool("dock1"), Good);
-    EXPECT_EQ(w.grasp("box1", &why), BadInvalidState);  // not at the grip point
+    EXPECT_EQ(w.grasp(kArm, "box1", &why), BadInvalidState);  // no tool
+    w.setFlangePose(kArm, at(0.3, -0.4, 0.3, M_PI, 0, 0));
+    ASSERT_EQ(w.mountTool(kArm, "dock1"), Good);
+    EXPECT_EQ(w.grasp(kArm, "box1", &why), BadInvalidState);  // not at the grip point
     EXPECT_NE(why.find("grip point"), std::string::npos) << why;
-    EXPECT_EQ(w.grasp("nothing"), BadNotFound);
+    EXPECT_EQ(w.grasp(kArm, "nothing"), BadNotFound);
 
     // Flange pointing down, 0.15 m above the box centre: the grip point is in the box.
-    w.setFlangePose(at(0.5, 0.1, 0.17, M_PI, 0, 0));
-    EXPECT_EQ(w.objectAt(w.gripPoint().p), std::optional<std::string>("box1"));
-    ASSERT_EQ(w.grasp("box1"), Good);
-    EXPECT_EQ(w.graspedObject(), "box1");
-    EXPECT_EQ(w.grasp("box1"), BadInvalidState);
-    EXPECT_FALSE(w.objectAt(w.gripPoint().p));  // a held object is not "on the table"
+    w.setFlangePose(kArm, at(0.5, 0.1, 0.17, M_PI, 0, 0));
+    EXPECT_EQ(w.objectAt(w.gripPoint(kArm).p), std::optional<std::string>("box1"));
+    ASSERT_EQ(w.grasp(kArm, "box1"), Good);
+    EXPECT_EQ(w.flange(kArm).held, "box1");
+    EXPECT_EQ(w.grasp(kArm, "box1"), BadInvalidState);
+    EXPECT_FALSE(w.objectAt(w.gripPoint(kArm).p));  // a held object is not "on the table"
 
     // Move and turn: the box keeps its pose relative to the flange.
-    w.setFlangePose(at(0.2, 0.3, 0.4, M_PI, 0, M_PI / 2));
+    w.setFlangePose(kArm, at(0.2, 0.3, 0.4, M_PI, 0, M_PI / 2));
     const KDL::Frame moved = w.object("box1")->pose;
     EXPECT_NEAR(moved.p.x(), 0.2, 1e-9);
     EXPECT_NEAR(moved.p.y(), 0.3, 1e-9);
     EXPECT_NEAR(moved.p.z(), 0.25, 1e-9);
-    EXPECT_EQ(w.unmountTool("dock1"), BadInvalidState);  // still holding the box
+    EXPECT_EQ(w.unmountTool(kArm, "dock1"), BadInvalidState);  // still holding the box
 
-    ASSERT_EQ(w.release(), Good);
-    EXPECT_EQ(w.release(), BadInvalidState);
-    w.setFlangePose(at(0.6, 0.6, 0.6));
+    ASSERT_EQ(w.release(kArm), Good);
+    EXPECT_EQ(w.release(kArm), BadInvalidState);
+    w.setFlangePose(kArm, at(0.6, 0.6, 0.6));
     EXPECT_TRUE(near(w.object("box1")->pose, moved, 1e-12, 1e-12));
 }
 
 TEST(DeviceWorld, ExtentAlongADirectionFollowsTheBoxOrientation) {
     World w;
+    EXPECT_EQ(w.addRobot(kArm), ua::status::Good);
     ASSERT_EQ(w.addObject({"bar", {0.10, 0.02, 0.04}, at(0, 0, 0, 0, 0, M_PI / 2)}), Good);
     // Turned by 90 degrees about z: its 0.10 m edge lies along the base y axis.
     EXPECT_NEAR(*w.extentAlong("bar", KDL::Vector(0, 1, 0)), 0.10, 1e-9);
@@ -193,7 +198,7 @@ TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
     WorldServer fixture;
     test::RunningServer& server = fixture.server;
     const std::unique_ptr<WorldNodes>& nodes = fixture.nodes;
-    auto link = WorldLink::connect(server.url());
+    auto link = WorldLink::connect(server.url(), {}, kArm);
     ASSERT_TRUE(link.ok()) << ua::statusName(link.status());
     WorldLink& w = **link;
 
@@ -207,6 +212,10 @@ TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
     EXPECT_EQ(w.moveTool("gripper", "nowhere"), ua::status::BadNotFound);
     EXPECT_EQ(w.moveTool("gripper", "dock1"), Good);
 
+    // The robot this link acts for: none yet, then placed.
+    EXPECT_EQ(w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0)), BadNotFound);
+    EXPECT_EQ(w.addRobot(kArm, at(0, 0, 0)), Good);
+    EXPECT_EQ(w.addRobot(kArm, at(1, 0, 0)), BadNodeIdExists);
     EXPECT_EQ(w.mountTool("dock1"), BadInvalidState);
     EXPECT_EQ(w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0)), Good);
     EXPECT_EQ(w.mountTool("dock1"), Good);
@@ -237,7 +246,7 @@ TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
     EXPECT_EQ(*w.mountedTool(), "");
     const bool consistent = server.inServer([&](ua::Server&) {
         const World& world = nodes->world();
-        return world.graspedObject().empty() && world.mountedTool().empty() &&
+        return world.flange(kArm).held.empty() && world.flange(kArm).tool.empty() &&
                world.docks().at("dock1").tool == "gripper" &&
                near(world.object("box1")->pose, at(0.2, 0.3, 0.25), 1e-9, 1e-9);
     });
@@ -249,7 +258,7 @@ TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
 TEST(DeviceWorldNodes, AFuseInsertedThroughTheMethodsShowsItsForceAndItsSlot) {
     WorldServer fixture;
     test::RunningServer& server = fixture.server;
-    auto link = WorldLink::connect(server.url());
+    auto link = WorldLink::connect(server.url(), {}, kArm);
     ASSERT_TRUE(link.ok()) << ua::statusName(link.status());
     WorldLink& w = **link;
     const std::array<double, 3> ato{0.0191, 0.0051, 0.0185};
@@ -259,6 +268,7 @@ TEST(DeviceWorldNodes, AFuseInsertedThroughTheMethodsShowsItsForceAndItsSlot) {
     EXPECT_EQ(w.addFuse("fuse1", ato, at(0.3, 0.1, ato[2] / 2)), Good);
     EXPECT_EQ(w.addDock("dock1", at(0.3, -0.4, 0.3, M_PI, 0, 0)), Good);
     EXPECT_EQ(w.addTool("gripper", "dock1", at(0, 0, 0.15)), Good);
+    EXPECT_EQ(w.addRobot(kArm, at(0, 0, 0)), Good);
     EXPECT_EQ(w.setFlangePose(at(0.3, -0.4, 0.3, M_PI, 0, 0)), Good);
     EXPECT_EQ(w.mountTool("dock1"), Good);
     // Gripped from the top at its centre; the flange 0.15 m above the grip point.
@@ -294,8 +304,16 @@ TEST(DeviceWorldNodes, MalformedCallsGetPreciseStatusCodesAndChangeNothing) {
     };
     auto status = [](const ua::Result<std::vector<ua::Variant>>& r) { return r.status(); };
 
+    const ua::Variant arm{ua::String(kArm)};
+    ASSERT_EQ(status(c.call(world, method("AddRobot"), {arm, frameToVariant(at(0, 0, 0))})), Good);
     // A number where a 3DFrame belongs: refused by the argument check.
-    EXPECT_TRUE(status(c.call(world, method("SetFlangePose"), {ua::Variant(1.0)})).isBad());
+    EXPECT_TRUE(status(c.call(world, method("SetFlangePose"), {arm, ua::Variant(1.0)})).isBad());
+    // A robot the world lacks.
+    EXPECT_EQ(status(c.call(world, method("SetFlangePose"),
+                            {ua::Variant(ua::String("other")), frameToVariant(at(1, 0, 0))})),
+              BadNotFound);
+    EXPECT_EQ(status(c.call(world, method("AddRobot"), {arm, frameToVariant(at(1, 0, 0))})),
+              BadNodeIdExists);
     // Two box edges, or a NaN edge: the world refuses them.
     EXPECT_EQ(status(c.call(
                   world, method("AddObject"),
@@ -307,16 +325,19 @@ TEST(DeviceWorldNodes, MalformedCallsGetPreciseStatusCodesAndChangeNothing) {
                              ua::Variant::array(std::vector<double>{0.1, std::nan(""), 0.1}),
                              frameToVariant(at(0, 0, 0))})),
               BadInvalidArgument);
-    EXPECT_EQ(status(c.call(world, method("Grasp"), {ua::Variant(ua::String(""))})), BadNotFound);
-    EXPECT_EQ(status(c.call(world, method("MountTool"), {ua::Variant(ua::String("x"))})),
+    EXPECT_EQ(status(c.call(world, method("Grasp"), {arm, ua::Variant(ua::String(""))})),
               BadNotFound);
-    EXPECT_EQ(status(c.call(world, method("Release"), {})), BadInvalidState);
+    EXPECT_EQ(status(c.call(world, method("MountTool"), {arm, ua::Variant(ua::String("x"))})),
+              BadNotFound);
+    EXPECT_EQ(status(c.call(world, method("Release"), {arm})), BadInvalidState);
+    // Without the robot's id.
+    EXPECT_TRUE(status(c.call(world, method("Release"), {})).isBad());
     // Too few arguments.
     EXPECT_TRUE(status(c.call(world, method("AddDock"), {ua::Variant(ua::String("d"))})).isBad());
     const bool untouched = server.inServer([&](ua::Server&) {
         const World& w = nodes->world();
         return w.objects().empty() && w.docks().empty() && w.tools().empty() &&
-               near(w.flangePose(), KDL::Frame::Identity(), 0, 0);
+               near(w.flange(kArm).pose, KDL::Frame::Identity(), 0, 0);
     });
     EXPECT_TRUE(untouched);
 }

@@ -425,8 +425,8 @@ TEST(SkillDetector, ResolvesTypesThroughTheServersOwnHierarchyAndNamespaces) {
     EXPECT_EQ(chain, (std::vector<std::string>{"Widget", "GraspGripperSkillType",
                                                "GripperSkillType", "SkillType"}));
     EXPECT_EQ(hands[0].types[0].id.toString(), "nsu=urn:test:own-types;i=1");
-    // GripPointOffset, GripPointType, MaxPayload, MaxGripWidth
-    EXPECT_EQ(hands[0].parameters.size(), 4u);
+    // GripPointOffset, GripPointType, MaxPayload, MaxGripWidth, RobotUri
+    EXPECT_EQ(hands[0].parameters.size(), 5u);
 }
 
 TEST(SkillDetector, ServerWithoutSkillsIsConnectedWithNone) {
@@ -868,7 +868,7 @@ TEST(RemoteSkillBrowser, WalksEverythingThroughContinuationPoints) {
     ASSERT_TRUE(found.ok()) << ua::statusName(found.status());
     EXPECT_EQ(found->size(), 21u);
     for (const auto& skill : *found)
-        EXPECT_EQ(skill.parameters.size(), 4u) << skill.browsePathString();  // the grip's
+        EXPECT_EQ(skill.parameters.size(), 5u) << skill.browsePathString();  // the grip's
     EXPECT_GT(cachedAfterFirst, 0u);
 }
 

@@ -135,7 +135,8 @@ std::vector<Expected> expectedParameters() {
     const std::vector<Expected> grip = {{{}, {}, "GripPointOffset", Kind::Frame, 0, false},
                                         {{}, {}, "GripPointType", Kind::GripPointType, 0, false},
                                         {{}, {}, "MaxPayload", Kind::Double, kKilogram, false},
-                                        {{}, {}, "MaxGripWidth", Kind::Double, kMetre, false}};
+                                        {{}, {}, "MaxGripWidth", Kind::Double, kMetre, false},
+                                        {{}, {}, "RobotUri", Kind::String, 0, false}};
     add(cm::kGripperSkillsUri, "GripperSkillType", grip);
     add(cm::kGripperSkillsUri, "GraspGripperSkillType", grip);
     add(cm::kGripperSkillsUri, "ReleaseGripperSkillType", grip);
@@ -145,7 +146,8 @@ std::vector<Expected> expectedParameters() {
 
     const std::vector<Expected> tool = {
         {{}, {}, "ToolPosition", Kind::Frame},
-        {{}, {}, "MoveSkillControllerEndpoint", Kind::String, 0, false}};
+        {{}, {}, "MoveSkillControllerEndpoint", Kind::String, 0, false},
+        {{}, {}, "RobotUri", Kind::String, 0, false}};
     const std::vector<Expected> app = {{{}, {}, "ToolAppUri", Kind::String}};
     add(cm::kToolChangerSkillsUri, "ToolChangerSkillType", tool);
     add(cm::kToolChangerSkillsUri, "AttachToolSkillType", join(tool, app));

@@ -222,7 +222,9 @@ function renderScene() {
   const W = 640, H = 420, margin = 0.15;
   const rails = scene.rails || [];
   const fuseSlots = scene.fuseSlots || [];
-  const points = [[0, 0], scene.flange, ...scene.objects.map((o) => o.position),
+  const robots = scene.robots || [];
+  const points = [[0, 0], ...robots.flatMap((r) => [r.base, r.flange]),
+                  ...scene.objects.map((o) => o.position),
                   ...scene.docks.map((d) => d.position),
                   ...rails.flatMap((r) => [r.start, r.end]),
                   ...fuseSlots.map((f) => f.position)];
@@ -233,9 +235,12 @@ function renderScene() {
   const px = (x) => (x - minX) * scale;
   const py = (y) => H - (y - minY) * scale;
   picture.append(svg("rect", { x: 0, y: 0, width: W, height: H, class: "floor" }));
-  const base = svg("g", { class: "base" });
-  base.append(svg("circle", { cx: px(0), cy: py(0), r: 14 }), svg("text", { x: px(0) + 18, y: py(0) + 4 }, "robot base"));
-  picture.append(base);
+  for (const r of robots) {
+    const base = svg("g", { class: "base", "data-robot": r.id });
+    base.append(svg("circle", { cx: px(r.base[0]), cy: py(r.base[1]), r: 14 }),
+                svg("text", { x: px(r.base[0]) + 18, y: py(r.base[1]) + 4 }, r.id));
+    picture.append(base);
+  }
   for (const d of scene.docks) {
     const g = svg("g", { class: "dock" + (d.tool ? " full" : ""), "data-dock": d.id, "data-tool": d.tool });
     g.append(svg("rect", { x: px(d.position[0]) - 16, y: py(d.position[1]) - 16, width: 32, height: 32 }),
@@ -276,22 +281,24 @@ function renderScene() {
     // A fuse seated in its slot is drawn as the slot, filled.
     if (fuseSlots.some((f) => f.fuse === o.id)) continue;
     const w = Math.max(3, o.size[0] * scale), h = Math.max(4, o.size[1] * scale);
-    const held = o.id === scene.graspedObject;
+    const held = robots.some((r) => r.graspedObject === o.id);
     const g = svg("g", { class: "object" + (held ? " held" : ""), "data-object": o.id,
                          "data-x": o.position[0].toFixed(3), "data-y": o.position[1].toFixed(3) });
     g.append(svg("rect", { x: px(o.position[0]) - w / 2, y: py(o.position[1]) - h / 2, width: w, height: h }));
     if (!o.rail) g.append(svg("text", { x: px(o.position[0]) + w / 2 + 4, y: py(o.position[1]) + 4 }, o.id));
     picture.append(g);
   }
-  const f = scene.flange;
-  const flange = svg("g", { class: "flange", "data-tool": scene.mountedTool });
-  flange.append(svg("circle", { cx: px(f[0]), cy: py(f[1]), r: 9 }),
-                svg("line", { x1: px(f[0]) - 13, y1: py(f[1]), x2: px(f[0]) + 13, y2: py(f[1]) }),
-                svg("line", { x1: px(f[0]), y1: py(f[1]) - 13, x2: px(f[0]), y2: py(f[1]) + 13 }),
-                svg("text", { x: px(f[0]) + 14, y: py(f[1]) - 12 },
-                    "flange" + (scene.mountedTool ? " with " + scene.mountedTool : "") +
-                    (scene.graspedObject ? ", holding " + scene.graspedObject : "")));
-  picture.append(flange);
+  for (const r of robots) {
+    const f = r.flange;
+    const flange = svg("g", { class: "flange", "data-robot": r.id, "data-tool": r.mountedTool });
+    flange.append(svg("circle", { cx: px(f[0]), cy: py(f[1]), r: 9 }),
+                  svg("line", { x1: px(f[0]) - 13, y1: py(f[1]), x2: px(f[0]) + 13, y2: py(f[1]) }),
+                  svg("line", { x1: px(f[0]), y1: py(f[1]) - 13, x2: px(f[0]), y2: py(f[1]) + 13 }),
+                  svg("text", { x: px(f[0]) + 14, y: py(f[1]) - 12 },
+                      r.id + "'s flange" + (r.mountedTool ? " with " + r.mountedTool : "") +
+                      (r.graspedObject ? ", holding " + r.graspedObject : "")));
+    picture.append(flange);
+  }
 }
 
 function localName(iri) {

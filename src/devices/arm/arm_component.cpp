@@ -17,7 +17,7 @@ constexpr std::array<std::string_view, 2> kArmSkillModels{ua::companion::kRoboti
 ArmComponent::ArmComponent(Token, ua::Server& server, ArmComponentOptions options)
     : server_(server),
       options_(std::move(options)),
-      kinematics_(options_.model),
+      kinematics_(options_.model, options_.base),
       planner_(kinematics_, options_.model.defaults) {
     if (options_.arm.initial.empty()) options_.arm.initial = options_.model.home;
 }
@@ -143,10 +143,10 @@ ua::StatusCode ArmComponent::build(std::string* error) {
                 value = ua::Variant::array(ua::BuiltinType::ExtensionObject, {});
             }
             // Where it reaches, for an MES to choose a robot that reaches its targets before
-            // any motion (the base stands at the cell's origin).
+            // any motion: the shoulder, where the base stands in the cell.
             if (p.name == "Reach") value = ua::Variant(options_.model.reach);
             if (p.name == "ReachCentre") {
-                value = frameToVariant(KDL::Frame(options_.model.shoulder));
+                value = frameToVariant(KDL::Frame(kinematics_.shoulder()));
             }
             if (!value.isEmpty()) (void)as.setValue(p.nodeId, std::move(value));
         }

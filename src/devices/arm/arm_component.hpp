@@ -24,6 +24,8 @@ struct ArmComponentOptions {
     ArmComponentOptions() = default;
     ArmModel model = ArmModel::ur5();
     SimulatedArmOptions arm;  // an empty `initial`: the model's home
+    /// Where the arm's base stands in the cell's frame, in which its poses are given.
+    KDL::Frame base = KDL::Frame::Identity();
     /// Hears every new flange pose (e.g. to report it to the world model). Must not block.
     std::function<void(const KDL::Frame&)> onFlange;
 };

@@ -26,7 +26,8 @@ KDL::JntArray toJnt(const Joints& q) {
 
 }  // namespace
 
-ArmKinematics::ArmKinematics(ArmModel model) : model_(std::move(model)) {
+ArmKinematics::ArmKinematics(ArmModel model, const KDL::Frame& base)
+    : model_(std::move(model)), base_(base), fromCell_(base.Inverse()) {
     fk_ = std::make_unique<KDL::ChainFkSolverPos_recursive>(model_.chain);
     ik_ = std::make_unique<KDL::ChainIkSolverPos_LMA>(model_.chain, 1e-12, 500, 1e-15);
     // Starting points spread over the joint bounds (within +-pi), fixed so results are
@@ -49,7 +50,7 @@ KDL::Frame ArmKinematics::forward(const Joints& q) const {
     KDL::Frame f;
     if (q.size() != joints()) return f;  // no pose for the wrong number of joints
     fk_->JntToCart(toJnt(q), f);
-    return f;
+    return base_ * f;
 }
 
 std::optional<Joints> ArmKinematics::solveFrom(const KDL::Frame& flange, const Joints& start,
@@ -59,7 +60,7 @@ std::optional<Joints> ArmKinematics::solveFrom(const KDL::Frame& flange, const J
         return std::nullopt;
     }
     KDL::JntArray out(static_cast<unsigned>(joints()));
-    (void)ik_->CartToJnt(toJnt(start), flange, out);
+    (void)ik_->CartToJnt(toJnt(start), fromCell_ * flange, out);
     Joints q(joints());
     for (std::size_t i = 0; i < q.size(); ++i) q[i] = out(static_cast<unsigned>(i));
     if (!near(forward(q), flange, kPositionTolerance, kAngleTolerance)) return std::nullopt;
@@ -84,7 +85,7 @@ std::optional<Joints> ArmKinematics::inverseNear(const KDL::Frame& flange, const
 
 std::optional<Joints> ArmKinematics::inverse(const KDL::Frame& flange, const Joints& seed,
                                              const JointBounds& bounds, std::string* why) const {
-    if ((flange.p - model_.shoulder).Norm() > model_.reach) {
+    if ((flange.p - shoulder()).Norm() > model_.reach) {
         if (why != nullptr) {
             *why = "the flange pose " + describe(flange) + " is out of the " + model_.name +
                    "'s reach";

@@ -1,7 +1,8 @@
 #pragma once
 // ArmKinematics: forward and inverse kinematics of a serial robot arm (arm_model.hpp: the
 // UR5, the KUKA LBR iiwa 7 R800) on Orocos KDL, from the arm's chain. Poses are the flange
-// (tool mounting plate) in the robot's base frame.
+// (tool mounting plate) in the cell's frame, in which the robot's base stands at `base` (a
+// cell with several robots has one frame for all of them).
 //
 // Inverse kinematics: KDL's Levenberg-Marquardt solver from several starting points (the
 // caller's seed first, then a fixed set spread over the joint bounds), each solution
@@ -29,7 +30,7 @@ namespace skillcell::devices {
 
 class ArmKinematics {
 public:
-    explicit ArmKinematics(ArmModel model);
+    explicit ArmKinematics(ArmModel model, const KDL::Frame& base = KDL::Frame::Identity());
     ~ArmKinematics();
     ArmKinematics(const ArmKinematics&) = delete;
     ArmKinematics& operator=(const ArmKinematics&) = delete;
@@ -49,6 +50,10 @@ public:
                                                     const JointBounds& bounds) const;
 
     [[nodiscard]] const ArmModel& model() const { return model_; }
+    /// Where the base stands in the cell's frame.
+    [[nodiscard]] const KDL::Frame& base() const { return base_; }
+    /// The centre of the arm's reach (its shoulder) in the cell's frame.
+    [[nodiscard]] KDL::Vector shoulder() const { return base_ * model_.shoulder; }
     [[nodiscard]] std::size_t joints() const { return model_.joints(); }
 
 private:
@@ -58,6 +63,8 @@ private:
                                                   const JointBounds& bounds, bool* converged) const;
 
     ArmModel model_;
+    KDL::Frame base_;
+    KDL::Frame fromCell_;  // the cell's frame to the base's: base_.Inverse()
     std::unique_ptr<KDL::ChainFkSolverPos_recursive> fk_;
     std::unique_ptr<KDL::ChainIkSolverPos_LMA> ik_;
     std::vector<Joints> starts_;  // the fixed starting points after the seed

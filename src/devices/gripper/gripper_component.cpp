@@ -39,4 +39,13 @@ ua::Result<std::unique_ptr<GripperComponent>> GripperComponent::create(
     return component;
 }
 
+void GripperComponent::setRobotUri(const std::string& uri) {
+    ua::AddressSpace& as = skills_->server().addressSpace();
+    for (const auto& skill : skills_->skills()) {
+        for (const auto& p : skill->parameters()) {
+            if (p.name == "RobotUri") (void)as.setValue(p.nodeId, ua::Variant(ua::String(uri)));
+        }
+    }
+}
+
 }  // namespace skillcell::devices

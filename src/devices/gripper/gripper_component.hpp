@@ -27,6 +27,9 @@ public:
     GripperComponent& operator=(const GripperComponent&) = delete;
 
     [[nodiscard]] skills::SkillServer& skills() { return *skills_; }
+    /// The robot that carries the gripper, as whoever mounted it says (its tool changer):
+    /// every skill's RobotUri.
+    void setRobotUri(const std::string& uri);
 
     struct Token {
     private:

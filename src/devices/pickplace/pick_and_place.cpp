@@ -415,7 +415,7 @@ asio::awaitable<std::string> PickAndPlace::execute(const Script& script, const P
                 // The world says whether the spring foot caught; a block that did not is
                 // still held, on the rail but loose: the run stops there, with the reason.
                 publish(a.name);
-                auto readRefusal = [this] { return world_.railRefusal(); };
+                auto readRefusal = [this, id = request.objectId] { return world_.railRefusal(id); };
                 const auto refusal = co_await blockingCall(ioThread_, std::move(readRefusal));
                 if (!refusal) {
                     why = "step snap: cannot read the world model's RailRefusal (" +

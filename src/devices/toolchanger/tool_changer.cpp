@@ -209,10 +209,13 @@ asio::awaitable<ToolChanger::Motion> ToolChanger::openMove(const std::string& en
         }
         // The robot may still be starting: wait for its move skill to be detected.
         std::string type = kMoveType;
-        url = co_await skills::detectedSkillEndpoint(*detector_, type, options_.detectionTimeout);
+        url = co_await skills::detectedSkillEndpoint(*detector_, type, options_.detectionTimeout,
+                                                     options_.robotUri);
         if (url.empty()) {
-            why = std::string("no ") + kMoveType + " was detected within " +
-                  std::to_string(options_.detectionTimeout.count()) + " ms";
+            why = std::string("no ") + kMoveType +
+                  (options_.robotUri.empty() ? "" : " of " + options_.robotUri) +
+                  " was detected within " + std::to_string(options_.detectionTimeout.count()) +
+                  " ms";
             co_return nullptr;
         }
     }

@@ -43,6 +43,9 @@ struct ToolChangerOptions {
     std::chrono::milliseconds detectionTimeout{30'000};
     /// How the changer connects to the robot (its certificate and user).
     ua::ClientConfig client;
+    /// The application URI of the robot the changer is on, whose move skill it uses when a
+    /// request names none; empty: the first robot detected (a cell with one robot).
+    std::string robotUri;
     /// Where the changer keeps the dock of each tool it took (dock_map_file.hpp), so that a
     /// restarted changer can put the mounted tool back; empty: in memory only.
     std::filesystem::path dockMapFile;

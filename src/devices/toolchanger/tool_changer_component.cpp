@@ -85,6 +85,7 @@ ua::Result<std::unique_ptr<ToolChangerComponent>> ToolChangerComponent::create(
         !r) {
         return r.status();
     }
+    const std::string robotUri = options.robotUri;
     component->changer_ = ToolChanger::create(server.executor(), io, std::move(tools),
                                               std::move(detector), std::move(options));
     component->changer_->onMountedTool = [&as, mounted](const std::string& id) {
@@ -127,6 +128,10 @@ ua::Result<std::unique_ptr<ToolChangerComponent>> ToolChangerComponent::create(
         for (const auto& p : (*skill)->parameters()) {
             if (p.name == "MoveSkillControllerEndpoint" || p.name == "ToolAppUri") {
                 (void)as.setValue(p.nodeId, ua::Variant(ua::String()));
+            }
+            // Which robot it is on: an MES takes the changer of the robot that reaches.
+            if (p.name == "RobotUri") {
+                (void)as.setValue(p.nodeId, ua::Variant(ua::String(robotUri)));
             }
         }
     }

@@ -23,11 +23,42 @@ bool positive(const BoxSize& s) {
 
 bool World::idTaken(const std::string& id) const {
     return objects_.contains(id) || tools_.contains(id) || docks_.contains(id) ||
-           rails_.contains(id) || fuseSlots_.contains(id);
+           rails_.contains(id) || fuseSlots_.contains(id) || robots_.contains(id);
 }
 
-bool World::flangeAt(const ToolDock& dock) const {
-    return near(flange_, dock.pose, tolerances_.dockPosition, tolerances_.dockAngle);
+bool World::flangeAt(const Flange& flange, const ToolDock& dock) const {
+    return near(flange.pose, dock.pose, tolerances_.dockPosition, tolerances_.dockAngle);
+}
+
+Flange* World::findRobot(const std::string& robot, ua::StatusCode& status, std::string* why) {
+    const auto it = robots_.find(robot);
+    if (it != robots_.end()) return &it->second;
+    status = fail(ua::status::BadNotFound, why, "no robot " + robot + " in the world");
+    return nullptr;
+}
+
+const Flange& World::flange(const std::string& robot) const {
+    static const Flange none;
+    const auto it = robots_.find(robot);
+    return it == robots_.end() ? none : it->second;
+}
+
+std::optional<std::string> World::holderOf(const std::string& objectId) const {
+    for (const auto& [id, f] : robots_) {
+        if (!f.held.empty() && f.held == objectId) return id;
+    }
+    return std::nullopt;
+}
+
+ua::StatusCode World::addRobot(const std::string& id, const KDL::Frame& base, std::string* why) {
+    if (id.empty()) return fail(ua::status::BadInvalidArgument, why, "empty robot id");
+    if (idTaken(id)) return fail(ua::status::BadNodeIdExists, why, "id " + id + " is taken");
+    Flange flange;
+    flange.base = base;
+    flange.pose = base;
+    robots_.emplace(id, std::move(flange));
+    ++revision_;
+    return ua::status::Good;
 }
 
 ua::StatusCode World::addObject(WorldObject object, std::string* why) {
@@ -85,8 +116,11 @@ ua::StatusCode World::moveTool(const std::string& toolId, const std::string& doc
     if (!tools_.contains(toolId)) return fail(ua::status::BadNotFound, why, "no tool " + toolId);
     const auto to = docks_.find(dockId);
     if (to == docks_.end()) return fail(ua::status::BadNotFound, why, "no dock " + dockId);
-    if (mounted_ == toolId) {
-        return fail(ua::status::BadInvalidState, why, "tool " + toolId + " is mounted");
+    for (const auto& [robot, flange] : robots_) {
+        if (flange.tool == toolId) {
+            return fail(ua::status::BadInvalidState, why,
+                        "tool " + toolId + " is mounted on robot " + robot);
+        }
     }
     if (to->second.tool == toolId) return ua::status::Good;  // there already
     if (!to->second.tool.empty()) {
@@ -135,8 +169,9 @@ ua::StatusCode World::addFuseSlot(FuseSlot slot, std::string* why) {
 
 ua::StatusCode World::removeObject(const std::string& id, std::string* why) {
     if (!objects_.contains(id)) return fail(ua::status::BadNotFound, why, "no object " + id);
-    if (grasped_ == id) {
-        return fail(ua::status::BadInvalidState, why, "object " + id + " is grasped");
+    if (const auto holder = holderOf(id)) {
+        return fail(ua::status::BadInvalidState, why,
+                    "object " + id + " is held by robot " + *holder);
     }
     objects_.erase(id);
     railMounts_.erase(id);
@@ -145,14 +180,19 @@ ua::StatusCode World::removeObject(const std::string& id, std::string* why) {
     return ua::status::Good;
 }
 
-void World::setFlangePose(const KDL::Frame& flange) {
-    flange_ = flange;
-    if (!grasped_.empty()) {
-        objects_.at(grasped_).pose = flange_ * flangeToGrasped_;
-        trackHeldBlock();
-        trackHeldFuse();
+ua::StatusCode World::setFlangePose(const std::string& robot, const KDL::Frame& pose,
+                                    std::string* why) {
+    ua::StatusCode status;
+    Flange* f = findRobot(robot, status, why);
+    if (f == nullptr) return status;
+    f->pose = pose;
+    if (!f->held.empty()) {
+        objects_.at(f->held).pose = f->pose * f->toHeld;
+        trackHeldBlock(*f);
+        trackHeldFuse(*f);
     }
     ++revision_;
+    return ua::status::Good;
 }
 
 std::optional<std::string> World::blockInTheWay(const std::string& rail, double position,
@@ -167,22 +207,22 @@ std::optional<std::string> World::blockInTheWay(const std::string& rail, double 
     return std::nullopt;
 }
 
-void World::trackHeldBlock() {
-    const WorldObject& block = objects_.at(grasped_);
-    const std::optional<RailMount> before = hooked_;
-    const bool wasTilted = tilted_;
-    const bool wasSnapped = snapped_;
-    hooked_.reset();
-    tilted_ = false;
-    snapped_ = false;
-    railRefusal_.clear();
+void World::trackHeldBlock(Flange& f) {
+    const WorldObject& block = objects_.at(f.held);
+    const std::optional<RailMount> before = f.hooked;
+    const bool wasTilted = f.tilted;
+    const bool wasSnapped = f.snapped;
+    f.hooked.reset();
+    f.tilted = false;
+    f.snapped = false;
+    f.railRefusal.clear();
     if (block.kind != ObjectKind::TerminalBlock) return;
     for (const auto& [id, rail] : rails_) {
         const auto contact = railContact(rail, block.pose, block.size, tolerances_.railContact);
         if (!contact) continue;
-        hooked_ = RailMount{id, contact->position};
+        f.hooked = RailMount{id, contact->position};
         if (contact->tilt > kSnapTilt) {
-            tilted_ = true;  // hooked, not yet rotated down
+            f.tilted = true;  // hooked, not yet rotated down
             return;
         }
         // Lying flat on the rail. It snaps only when it was rotated down about the upper
@@ -193,90 +233,101 @@ void World::trackHeldBlock() {
             before && before->rail == id && (wasTilted || wasSnapped) &&
             std::abs(before->position - contact->position) <= tolerances_.railContact;
         if (!rotatedDown) {
-            railRefusal_ = "terminal block " + block.id + " came down flat on rail " + id +
-                           " without hooking over its upper edge first";
+            f.railRefusal = "terminal block " + block.id + " came down flat on rail " + id +
+                            " without hooking over its upper edge first";
             return;
         }
         // The spring foot snaps over the lower edge, unless another block stands where this
         // one would sit (it rests on that block instead).
         if (const auto other = blockInTheWay(id, contact->position, block.size.x)) {
-            railRefusal_ = fmt::format(
+            f.railRefusal = fmt::format(
                 "terminal block {} at {:.1f} mm on rail {} would sit over terminal block {} "
                 "at {:.1f} mm",
                 block.id, contact->position * 1000, id, *other,
                 railMounts_.at(*other).position * 1000);
             return;
         }
-        snapped_ = true;
+        f.snapped = true;
         return;
     }
 }
 
-void World::trackHeldFuse() {
-    fuseContact_.reset();
-    const WorldObject& fuse = objects_.at(grasped_);
+void World::trackHeldFuse(Flange& f) {
+    f.fuseContact.reset();
+    const WorldObject& fuse = objects_.at(f.held);
     if (fuse.kind != ObjectKind::Fuse) return;
     for (const auto& [id, slot] : fuseSlots_) {
         if (const auto contact = slotContact(slot, fuse.pose, fuse.size)) {
-            fuseContact_.emplace(id, *contact);
+            f.fuseContact.emplace(id, *contact);
             return;
         }
     }
 }
 
-ua::StatusCode World::mountTool(const std::string& dockId, std::string* why) {
+ua::StatusCode World::mountTool(const std::string& robot, const std::string& dockId,
+                                std::string* why) {
+    ua::StatusCode status;
+    Flange* f = findRobot(robot, status, why);
+    if (f == nullptr) return status;
     const auto dock = docks_.find(dockId);
     if (dock == docks_.end()) return fail(ua::status::BadNotFound, why, "no dock " + dockId);
-    if (!mounted_.empty()) {
-        return fail(ua::status::BadInvalidState, why, "tool " + mounted_ + " is mounted already");
+    if (!f->tool.empty()) {
+        return fail(ua::status::BadInvalidState, why, "tool " + f->tool + " is mounted already");
     }
     if (dock->second.tool.empty()) {
         return fail(ua::status::BadInvalidState, why, "dock " + dockId + " is empty");
     }
-    if (!flangeAt(dock->second)) {
+    if (!flangeAt(*f, dock->second)) {
         return fail(ua::status::BadInvalidState, why,
-                    "the flange " + describe(flange_) + " is not at dock " + dockId + " " +
+                    "the flange " + describe(f->pose) + " is not at dock " + dockId + " " +
                         describe(dock->second.pose));
     }
-    mounted_ = dock->second.tool;
+    f->tool = dock->second.tool;
     dock->second.tool.clear();
     ++revision_;
     return ua::status::Good;
 }
 
-ua::StatusCode World::unmountTool(const std::string& dockId, std::string* why) {
+ua::StatusCode World::unmountTool(const std::string& robot, const std::string& dockId,
+                                  std::string* why) {
+    ua::StatusCode status;
+    Flange* f = findRobot(robot, status, why);
+    if (f == nullptr) return status;
     const auto dock = docks_.find(dockId);
     if (dock == docks_.end()) return fail(ua::status::BadNotFound, why, "no dock " + dockId);
-    if (mounted_.empty()) return fail(ua::status::BadInvalidState, why, "no tool is mounted");
-    if (!grasped_.empty()) {
+    if (f->tool.empty()) return fail(ua::status::BadInvalidState, why, "no tool is mounted");
+    if (!f->held.empty()) {
         return fail(ua::status::BadInvalidState, why,
-                    "tool " + mounted_ + " still holds object " + grasped_);
+                    "tool " + f->tool + " still holds object " + f->held);
     }
     if (!dock->second.tool.empty()) {
         return fail(ua::status::BadInvalidState, why,
                     "dock " + dockId + " holds tool " + dock->second.tool);
     }
-    if (!flangeAt(dock->second)) {
+    if (!flangeAt(*f, dock->second)) {
         return fail(ua::status::BadInvalidState, why,
-                    "the flange " + describe(flange_) + " is not at dock " + dockId + " " +
+                    "the flange " + describe(f->pose) + " is not at dock " + dockId + " " +
                         describe(dock->second.pose));
     }
-    dock->second.tool = mounted_;
-    mounted_.clear();
+    dock->second.tool = f->tool;
+    f->tool.clear();
     ++revision_;
     return ua::status::Good;
 }
 
-std::optional<std::string> World::dockAtFlange() const {
+std::optional<std::string> World::dockAtFlange(const std::string& robot) const {
+    const auto r = robots_.find(robot);
+    if (r == robots_.end()) return std::nullopt;
     for (const auto& [id, dock] : docks_) {
-        if (flangeAt(dock)) return id;
+        if (flangeAt(r->second, dock)) return id;
     }
     return std::nullopt;
 }
 
-KDL::Frame World::gripPoint() const {
-    if (mounted_.empty()) return flange_;
-    return flange_ * tools_.at(mounted_).gripPoint;
+KDL::Frame World::gripPoint(const std::string& robot) const {
+    const Flange& f = flange(robot);
+    if (f.tool.empty()) return f.pose;
+    return f.pose * tools_.at(f.tool).gripPoint;
 }
 
 std::optional<std::string> World::objectAt(const KDL::Vector& point) const {
@@ -285,7 +336,7 @@ std::optional<std::string> World::objectAt(const KDL::Vector& point) const {
     std::optional<std::string> nearest;
     double nearestDistance = 0;
     for (const auto& [id, object] : objects_) {
-        if (id == grasped_) continue;
+        if (holderOf(id)) continue;
         const KDL::Vector local = object.pose.Inverse(point);
         const double t = tolerances_.grasp;
         if (std::abs(local.x()) <= object.size.x / 2 + t &&
@@ -309,54 +360,65 @@ std::optional<double> World::extentAlong(const std::string& objectId,
            std::abs(local.z()) * o->size.z;
 }
 
-ua::StatusCode World::grasp(const std::string& objectId, std::string* why) {
+ua::StatusCode World::grasp(const std::string& robot, const std::string& objectId,
+                            std::string* why) {
+    ua::StatusCode status;
+    Flange* f = findRobot(robot, status, why);
+    if (f == nullptr) return status;
     const auto object = objects_.find(objectId);
     if (object == objects_.end()) {
         return fail(ua::status::BadNotFound, why, "no object " + objectId);
     }
-    if (mounted_.empty()) return fail(ua::status::BadInvalidState, why, "no tool is mounted");
-    if (!grasped_.empty()) {
-        return fail(ua::status::BadInvalidState, why, "object " + grasped_ + " is held already");
+    if (f->tool.empty()) return fail(ua::status::BadInvalidState, why, "no tool is mounted");
+    if (!f->held.empty()) {
+        return fail(ua::status::BadInvalidState, why, "object " + f->held + " is held already");
     }
-    const KDL::Frame grip = gripPoint();
+    if (const auto holder = holderOf(objectId)) {
+        return fail(ua::status::BadInvalidState, why,
+                    "object " + objectId + " is held by robot " + *holder);
+    }
+    const KDL::Frame grip = gripPoint(robot);
     if (objectAt(grip.p) != objectId) {
         return fail(ua::status::BadInvalidState, why,
                     "object " + objectId + " is not at the grip point " + describe(grip));
     }
-    grasped_ = objectId;
-    flangeToGrasped_ = flange_.Inverse() * object->second.pose;
+    f->held = objectId;
+    f->toHeld = f->pose.Inverse() * object->second.pose;
     // Taken off a rail, if it was on one (the gripper pulls it off as it moves away; until
     // then it is held where it snapped).
     if (const auto mount = railMounts_.find(objectId); mount != railMounts_.end()) {
         railMounts_.erase(mount);
     }
     seatedFuses_.erase(objectId);  // pulled out of its slot as it is taken
-    trackHeldBlock();
-    trackHeldFuse();
+    trackHeldBlock(*f);
+    trackHeldFuse(*f);
     ++revision_;
     return ua::status::Good;
 }
 
-ua::StatusCode World::release(std::string* why) {
-    if (grasped_.empty()) return fail(ua::status::BadInvalidState, why, "no object is held");
-    if (snapped_ && hooked_) {
+ua::StatusCode World::release(const std::string& robot, std::string* why) {
+    ua::StatusCode status;
+    Flange* f = findRobot(robot, status, why);
+    if (f == nullptr) return status;
+    if (f->held.empty()) return fail(ua::status::BadInvalidState, why, "no object is held");
+    if (f->snapped && f->hooked) {
         // The latch holds the block square on the rail, at the position it snapped at.
-        WorldObject& block = objects_.at(grasped_);
-        block.pose = mountedPose(rails_.at(hooked_->rail), hooked_->position, block.size);
-        railMounts_[grasped_] = *hooked_;
+        WorldObject& block = objects_.at(f->held);
+        block.pose = mountedPose(rails_.at(f->hooked->rail), f->hooked->position, block.size);
+        railMounts_[f->held] = *f->hooked;
     }
-    if (fuseContact_ && fuseContact_->second.seated(fuseSlots_.at(fuseContact_->first))) {
+    if (f->fuseContact && f->fuseContact->second.seated(fuseSlots_.at(f->fuseContact->first))) {
         // The terminals hold a seated fuse square in its slot.
-        WorldObject& fuse = objects_.at(grasped_);
-        fuse.pose = seatedPose(fuseSlots_.at(fuseContact_->first), fuse.size);
-        seatedFuses_[grasped_] = fuseContact_->first;
+        WorldObject& fuse = objects_.at(f->held);
+        fuse.pose = seatedPose(fuseSlots_.at(f->fuseContact->first), fuse.size);
+        seatedFuses_[f->held] = f->fuseContact->first;
     }
-    fuseContact_.reset();
-    grasped_.clear();
-    hooked_.reset();
-    tilted_ = false;
-    snapped_ = false;
-    railRefusal_.clear();
+    f->fuseContact.reset();
+    f->held.clear();
+    f->hooked.reset();
+    f->tilted = false;
+    f->snapped = false;
+    f->railRefusal.clear();
     ++revision_;
     return ua::status::Good;
 }

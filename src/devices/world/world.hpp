@@ -1,15 +1,16 @@
 #pragma once
 // World: the simulated work cell as one plain value (no threads, no I/O): boxes with their
-// poses, tool docks, tools, the robot's flange pose, the mounted tool and the grasped
-// object. A grasped object keeps its pose relative to the flange, so it moves with the
-// robot; a released one stays where it was put. Every change is checked against the
-// state of the cell (a tool is taken from a dock only by a flange at that dock, an object
-// is grasped only at the mounted tool's grip point, ...), so the world stays consistent
-// whatever its clients report. Terminal blocks mount on DIN rails as they do on real ones
-// (din_rail.hpp): hooked over the upper edge, rotated down until they snap, and never over
-// another block. Blade fuses meet a force as they enter a fuse box's slot (fuse_slot.hpp),
-// small when they are aligned with its terminals, steep when they are not, and stay seated
-// when released at its depth. The OPC UA face is world_nodes.hpp.
+// poses, tool docks, tools, and each robot's flange: its pose, the tool mounted on it and the
+// object that tool holds. A grasped object keeps its pose relative to its flange, so it moves
+// with that robot; a released one stays where it was put. A cell may have several robots;
+// each device that moves a flange or acts at it names its robot. Every change is checked against
+// the state of the cell (a tool is taken from a dock only by a flange at that dock, an object is
+// grasped only at the mounted tool's grip point, ...), so the world stays consistent whatever its
+// clients report. Terminal blocks mount on DIN rails as they do on real ones (din_rail.hpp): hooked
+// over the upper edge, rotated down until they snap, and never over another block. Blade fuses meet
+// a force as they enter a fuse box's slot (fuse_slot.hpp), small when they are aligned with its
+// terminals, steep when they are not, and stay seated when released at its depth. The OPC UA face
+// is world_nodes.hpp.
 #include <kdl/frames.hpp>
 #include <map>
 #include <optional>
@@ -55,6 +56,21 @@ struct ToolDock {
     std::string tool;  // the tool in the dock; empty when the dock is free
 };
 
+/// One robot as the world sees it: where its base stands, where its flange is, the tool locked
+/// to the flange and the object that tool holds, and what a held block or fuse touches.
+struct Flange {
+    KDL::Frame base = KDL::Frame::Identity();    // the robot's base frame, in the cell's
+    KDL::Frame pose = KDL::Frame::Identity();    // the flange, in the cell's base frame
+    std::string tool;                            // mounted; empty when none
+    std::string held;                            // the grasped object; empty when none
+    KDL::Frame toHeld = KDL::Frame::Identity();  // the held object's pose from the flange
+    std::optional<RailMount> hooked;             // the held block's contact with a rail
+    bool tilted = false;                         // ... tilted back over the upper edge
+    bool snapped = false;                        // ... or it has snapped there
+    std::string railRefusal;  // why the held block, rotated down on a rail, did not snap
+    std::optional<std::pair<std::string, SlotContact>> fuseContact;  // the held fuse's
+};
+
 /// How close the flange must be to a dock to take or leave a tool, and how far outside
 /// a box the grip point may be for a grasp (sensor and placement tolerances).
 struct WorldTolerances {
@@ -87,25 +103,33 @@ public:
     /// A fuse box's slot (BadInvalidArgument for an empty id or a depth or clearance that is
     /// not positive, BadNodeIdExists for an id taken).
     ua::StatusCode addFuseSlot(FuseSlot slot, std::string* why = nullptr);
+    /// A robot whose base stands at `base` (BadInvalidArgument for an empty id,
+    /// BadNodeIdExists for one taken); its flange starts at the base.
+    ua::StatusCode addRobot(const std::string& id, const KDL::Frame& base = KDL::Frame::Identity(),
+                            std::string* why = nullptr);
     /// Removes an object that is not grasped (BadNotFound, BadInvalidState).
     ua::StatusCode removeObject(const std::string& id, std::string* why = nullptr);
 
-    // What the devices report.
-    /// The robot's flange moved; a grasped object moves with it.
-    void setFlangePose(const KDL::Frame& flange);
-    /// The tool changer locked the tool in `dockId` to the flange: the flange must be at
-    /// the dock, the dock must hold a tool and no tool may be mounted (BadNotFound,
+    // What the devices report, each for one robot (BadNotFound for a robot the world lacks).
+    /// The robot's flange moved; an object it holds moves with it.
+    ua::StatusCode setFlangePose(const std::string& robot, const KDL::Frame& flange,
+                                 std::string* why = nullptr);
+    /// The robot's tool changer locked the tool in `dockId` to the flange: the flange must be
+    /// at the dock, the dock must hold a tool and no tool may be mounted (BadNotFound,
     /// BadInvalidState otherwise).
-    ua::StatusCode mountTool(const std::string& dockId, std::string* why = nullptr);
+    ua::StatusCode mountTool(const std::string& robot, const std::string& dockId,
+                             std::string* why = nullptr);
     /// The tool changer left the mounted tool in the free dock `dockId` (the flange must be
     /// there); refused while the tool holds an object.
-    ua::StatusCode unmountTool(const std::string& dockId, std::string* why = nullptr);
-    /// The mounted gripper holds `objectId`: the object must contain the grip point
-    /// (within the grasp tolerance) and nothing may be held already.
-    ua::StatusCode grasp(const std::string& objectId, std::string* why = nullptr);
+    ua::StatusCode unmountTool(const std::string& robot, const std::string& dockId,
+                               std::string* why = nullptr);
+    /// The gripper mounted on the robot holds `objectId`: the object must contain the grip
+    /// point (within the grasp tolerance), be held by no robot, and this one may hold nothing.
+    ua::StatusCode grasp(const std::string& robot, const std::string& objectId,
+                         std::string* why = nullptr);
     /// The gripper let go: the object stays where it is, or, a terminal block that has
     /// snapped onto a rail, mounted there. BadInvalidState if none is held.
-    ua::StatusCode release(std::string* why = nullptr);
+    ua::StatusCode release(const std::string& robot, std::string* why = nullptr);
 
     // Queries.
     [[nodiscard]] const std::map<std::string, WorldObject>& objects() const { return objects_; }
@@ -114,42 +138,31 @@ public:
     [[nodiscard]] const std::map<std::string, DinRail>& rails() const { return rails_; }
     /// The terminal blocks mounted on rails, by object id.
     [[nodiscard]] const std::map<std::string, RailMount>& railMounts() const { return railMounts_; }
-    /// The held block's contact with a rail: hooked over its upper edge (not yet snapped),
-    /// or snapped and still held; nullopt when it touches no rail.
-    [[nodiscard]] const std::optional<RailMount>& heldBlockOnRail() const { return hooked_; }
-    [[nodiscard]] bool heldBlockSnapped() const { return snapped_; }
-    /// Why the held block, rotated down on a rail, did not snap (it would sit over another
-    /// block); empty when nothing stopped it.
-    [[nodiscard]] const std::string& railRefusal() const { return railRefusal_; }
+    /// The robots, by id.
+    [[nodiscard]] const std::map<std::string, Flange>& robots() const { return robots_; }
+    /// A robot's flange; an empty one (at the origin, holding nothing) for an unknown robot.
+    [[nodiscard]] const Flange& flange(const std::string& robot) const;
+    /// The robot holding `objectId`, if any.
+    [[nodiscard]] std::optional<std::string> holderOf(const std::string& objectId) const;
     [[nodiscard]] const std::map<std::string, FuseSlot>& fuseSlots() const { return fuseSlots_; }
     /// The fuses seated in slots: fuse id to slot id.
     [[nodiscard]] const std::map<std::string, std::string>& seatedFuses() const {
         return seatedFuses_;
     }
-    /// The held fuse's contact with a slot (the slot's id and the contact); nullopt when it
-    /// touches none.
-    [[nodiscard]] const std::optional<std::pair<std::string, SlotContact>>& heldFuseContact()
-        const {
-        return fuseContact_;
-    }
-    /// The force the held object meets (N, pushing it back along its way in): a fuse in a
-    /// slot; 0 otherwise.
-    [[nodiscard]] double contactForce() const {
-        return fuseContact_ ? fuseContact_->second.force : 0;
+    /// The force the object held by `robot` meets (N, pushing it back along its way in): a
+    /// fuse in a slot; 0 otherwise.
+    [[nodiscard]] double contactForce(const std::string& robot) const {
+        const auto& f = flange(robot);
+        return f.fuseContact ? f.fuseContact->second.force : 0;
     }
     [[nodiscard]] const WorldObject* object(const std::string& id) const;
-    [[nodiscard]] const KDL::Frame& flangePose() const { return flange_; }
-    /// The mounted tool's id, empty when none.
-    [[nodiscard]] const std::string& mountedTool() const { return mounted_; }
-    /// The grasped object's id, empty when none.
-    [[nodiscard]] const std::string& graspedObject() const { return grasped_; }
-    /// The grip point in the base frame (the flange itself when no tool is mounted).
-    [[nodiscard]] KDL::Frame gripPoint() const;
-    /// The dock the flange is at (within the dock tolerances), if any: what a tool changer's
-    /// coupling meets when it locks or unlocks.
-    [[nodiscard]] std::optional<std::string> dockAtFlange() const;
-    /// The free object whose box contains `point` (within the grasp tolerance) and whose
-    /// centre is nearest to it, if any.
+    /// The robot's grip point in the base frame (its flange itself when no tool is mounted).
+    [[nodiscard]] KDL::Frame gripPoint(const std::string& robot) const;
+    /// The dock the robot's flange is at (within the dock tolerances), if any: what a tool
+    /// changer's coupling meets when it locks or unlocks.
+    [[nodiscard]] std::optional<std::string> dockAtFlange(const std::string& robot) const;
+    /// The free (held by no robot) object whose box contains `point` (within the grasp tolerance)
+    /// and whose centre is nearest to it, if any.
     [[nodiscard]] std::optional<std::string> objectAt(const KDL::Vector& point) const;
     /// The object's extent along `direction` (base frame; normalised here): what a
     /// parallel gripper closing along that direction meets.
@@ -160,11 +173,13 @@ public:
 
 private:
     [[nodiscard]] bool idTaken(const std::string& id) const;
-    [[nodiscard]] bool flangeAt(const ToolDock& dock) const;
+    [[nodiscard]] bool flangeAt(const Flange& flange, const ToolDock& dock) const;
+    /// The robot's flange, or a BadNotFound with the reason.
+    Flange* findRobot(const std::string& robot, ua::StatusCode& status, std::string* why);
     /// Follows a held terminal block onto and off the rails after the flange moved.
-    void trackHeldBlock();
+    void trackHeldBlock(Flange& flange);
     /// Follows a held fuse into and out of the slots after the flange moved.
-    void trackHeldFuse();
+    void trackHeldFuse(Flange& flange);
     /// The mounted block whose span on `rail` overlaps [position +- width / 2], if any.
     [[nodiscard]] std::optional<std::string> blockInTheWay(const std::string& rail, double position,
                                                            double width) const;
@@ -175,17 +190,9 @@ private:
     std::map<std::string, ToolDock> docks_;
     std::map<std::string, DinRail> rails_;
     std::map<std::string, RailMount> railMounts_;
-    KDL::Frame flange_ = KDL::Frame::Identity();
-    std::string mounted_;
-    std::string grasped_;
-    KDL::Frame flangeToGrasped_ = KDL::Frame::Identity();
-    std::optional<RailMount> hooked_;  // the held block's contact with a rail
-    bool tilted_ = false;              // ... tilted back over the upper edge
-    bool snapped_ = false;             // ... or it has snapped there
-    std::string railRefusal_;
+    std::map<std::string, Flange> robots_;
     std::map<std::string, FuseSlot> fuseSlots_;
-    std::map<std::string, std::string> seatedFuses_;                  // fuse -> slot
-    std::optional<std::pair<std::string, SlotContact>> fuseContact_;  // the held fuse's
+    std::map<std::string, std::string> seatedFuses_;  // fuse -> slot
     std::uint64_t revision_ = 0;
 };
 

@@ -7,8 +7,9 @@
 namespace skillcell::devices {
 
 ua::Result<std::unique_ptr<WorldLink>> WorldLink::connect(const std::string& url,
-                                                          ua::ClientConfig config) {
-    auto link = std::make_unique<WorldLink>(Token{});
+                                                          ua::ClientConfig config,
+                                                          std::string robot) {
+    auto link = std::make_unique<WorldLink>(Token{}, std::move(robot));
     if (const auto s = link->client_.connect(url, std::move(config)); s.isBad()) return s;
     const auto namespaces = link->client_.readValue(ua::NodeId(ua::ns0::Server_NamespaceArray));
     if (!namespaces) return namespaces.status();
@@ -28,6 +29,18 @@ ua::Result<std::vector<ua::Variant>> WorldLink::call(const char* method,
     return client_.call(id("World"), id(std::string("World.") + method), std::move(in));
 }
 
+ua::Result<std::vector<ua::Variant>> WorldLink::robotCall(const char* method,
+                                                          std::vector<ua::Variant> in) {
+    // A device started without its robot's id cannot act for one.
+    if (robot_.empty()) return ua::status::BadInvalidState;
+    in.insert(in.begin(), ua::Variant(ua::String(robot_)));
+    return call(method, std::move(in));
+}
+
+std::string WorldLink::robotPath(const char* name) const {
+    return "World/Robots/" + robot_ + "/" + name;
+}
+
 namespace {
 ua::StatusCode statusOf(const ua::Result<std::vector<ua::Variant>>& r) {
     return r.status();
@@ -35,7 +48,7 @@ ua::StatusCode statusOf(const ua::Result<std::vector<ua::Variant>>& r) {
 }  // namespace
 
 ua::StatusCode WorldLink::setFlangePose(const KDL::Frame& flange, double* contactForce) {
-    const auto out = call("SetFlangePose", {frameToVariant(flange)});
+    const auto out = robotCall("SetFlangePose", {frameToVariant(flange)});
     if (!out) return out.status();
     if (contactForce != nullptr) {
         const double* force = out->size() == 1 ? (*out)[0].get<double>() : nullptr;
@@ -45,16 +58,16 @@ ua::StatusCode WorldLink::setFlangePose(const KDL::Frame& flange, double* contac
     return ua::status::Good;
 }
 ua::StatusCode WorldLink::mountTool(const std::string& dockId) {
-    return statusOf(call("MountTool", {ua::Variant(ua::String(dockId))}));
+    return statusOf(robotCall("MountTool", {ua::Variant(ua::String(dockId))}));
 }
 ua::StatusCode WorldLink::unmountTool(const std::string& dockId) {
-    return statusOf(call("UnmountTool", {ua::Variant(ua::String(dockId))}));
+    return statusOf(robotCall("UnmountTool", {ua::Variant(ua::String(dockId))}));
 }
 ua::StatusCode WorldLink::grasp(const std::string& objectId) {
-    return statusOf(call("Grasp", {ua::Variant(ua::String(objectId))}));
+    return statusOf(robotCall("Grasp", {ua::Variant(ua::String(objectId))}));
 }
 ua::StatusCode WorldLink::release() {
-    return statusOf(call("Release", {}));
+    return statusOf(robotCall("Release"));
 }
 
 ua::StatusCode WorldLink::addObject(const std::string& objectId, const std::array<double, 3>& size,
@@ -98,13 +111,17 @@ ua::StatusCode WorldLink::addTool(const std::string& toolId, const std::string& 
                                      ua::Variant(ua::String(dockId)), frameToVariant(gripPoint)}));
 }
 
+ua::StatusCode WorldLink::addRobot(const std::string& robotId, const KDL::Frame& base) {
+    return statusOf(call("AddRobot", {ua::Variant(ua::String(robotId)), frameToVariant(base)}));
+}
+
 ua::StatusCode WorldLink::moveTool(const std::string& toolId, const std::string& dockId) {
     return statusOf(
         call("MoveTool", {ua::Variant(ua::String(toolId)), ua::Variant(ua::String(dockId))}));
 }
 
 ua::Result<std::optional<WorldLink::Found>> WorldLink::objectAtGripPoint() {
-    const auto out = call("ObjectAtGripPoint", {});
+    const auto out = robotCall("ObjectAtGripPoint");
     if (!out) return out.status();
     if (out->size() != 2) return ua::status::BadTypeMismatch;
     const auto* objectId = (*out)[0].get<ua::String>();
@@ -123,7 +140,7 @@ ua::Result<std::optional<WorldLink::Found>> WorldLink::objectAtGripPoint() {
 }
 
 ua::Result<std::string> WorldLink::dockAtFlange() {
-    const auto out = call("DockAtFlange", {});
+    const auto out = robotCall("DockAtFlange");
     if (!out) return out.status();
     const auto* dockId = out->size() == 1 ? (*out)[0].get<ua::String>() : nullptr;
     if (dockId == nullptr) return ua::status::BadTypeMismatch;
@@ -141,7 +158,7 @@ ua::Result<KDL::Frame> WorldLink::objectPose(const std::string& objectId) {
 }
 
 ua::Result<KDL::Frame> WorldLink::flangePose() {
-    return readFrame("World/FlangePose");
+    return readFrame(robotPath("FlangePose"));
 }
 
 ua::Result<KDL::Frame> WorldLink::dockPose(const std::string& dockId) {
@@ -226,8 +243,8 @@ ua::Result<std::optional<WorldLink::Mount>> WorldLink::railMount(const std::stri
     return std::optional<Mount>(Mount{*railId, *position});
 }
 
-ua::Result<std::string> WorldLink::railRefusal() {
-    return readString("World/RailRefusal");
+ua::Result<std::string> WorldLink::railRefusal(const std::string& blockId) {
+    return readString("World/Objects/" + blockId + "/RailRefusal");
 }
 
 ua::Result<WorldLink::Slot> WorldLink::fuseSlot(const std::string& slotId) {
@@ -246,14 +263,14 @@ ua::Result<std::string> WorldLink::fuseSeat(const std::string& fuseId) {
 }
 
 ua::Result<double> WorldLink::contactForce() {
-    return readDouble("World/ContactForce");
+    return readDouble(robotPath("ContactForce"));
 }
 
 ua::Result<std::string> WorldLink::mountedTool() {
-    return readString("World/MountedTool");
+    return readString(robotPath("MountedTool"));
 }
 ua::Result<std::string> WorldLink::graspedObject() {
-    return readString("World/GraspedObject");
+    return readString(robotPath("GraspedObject"));
 }
 
 }  // namespace skillcell::devices

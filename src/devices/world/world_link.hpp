@@ -18,9 +18,11 @@ namespace skillcell::devices {
 class WorldLink {
 public:
     /// Connects to the world model at `url` and finds its namespace (BadNotFound when the
-    /// server serves no world). Changing the world needs the Operator role.
+    /// server serves no world). Changing the world needs the Operator role. `robot` is the
+    /// world's id of the robot whose flange this device moves or acts at (the flange, tool
+    /// and grasp calls are its); empty for a device that only reads the scene.
     [[nodiscard]] static ua::Result<std::unique_ptr<WorldLink>> connect(
-        const std::string& url, ua::ClientConfig config = {});
+        const std::string& url, ua::ClientConfig config = {}, std::string robot = {});
     WorldLink(const WorldLink&) = delete;
     WorldLink& operator=(const WorldLink&) = delete;
     ~WorldLink() = default;
@@ -44,6 +46,7 @@ public:
     ua::StatusCode addDock(const std::string& id, const KDL::Frame& pose);
     ua::StatusCode addTool(const std::string& id, const std::string& dockId,
                            const KDL::Frame& gripPoint);
+    ua::StatusCode addRobot(const std::string& id, const KDL::Frame& base);
     /// A person moves a stored tool to a free dock (World::moveTool).
     ua::StatusCode moveTool(const std::string& id, const std::string& dockId);
 
@@ -82,8 +85,8 @@ public:
     /// Where a terminal block is mounted; nullopt when it is on no rail. BadNodeIdUnknown
     /// for an object that is no terminal block.
     [[nodiscard]] ua::Result<std::optional<Mount>> railMount(const std::string& objectId);
-    /// Why the held terminal block lying on a rail has not snapped; empty when it has.
-    [[nodiscard]] ua::Result<std::string> railRefusal();
+    /// Why the terminal block, held lying on a rail, has not snapped; empty when it has.
+    [[nodiscard]] ua::Result<std::string> railRefusal(const std::string& blockId);
 
     struct Slot {
         KDL::Frame pose;  // the opening's centre, z out of the box
@@ -103,10 +106,16 @@ public:
         friend class WorldLink;
         Token() = default;
     };
-    explicit WorldLink(Token) {}
+    WorldLink(Token, std::string robot) : robot_(std::move(robot)) {}
+    [[nodiscard]] const std::string& robot() const { return robot_; }
 
 private:
     ua::Result<std::vector<ua::Variant>> call(const char* method, std::vector<ua::Variant> in);
+    /// A call about this link's robot: its id goes first.
+    ua::Result<std::vector<ua::Variant>> robotCall(const char* method,
+                                                   std::vector<ua::Variant> in = {});
+    /// "World/Robots/<robot>/" + name.
+    [[nodiscard]] std::string robotPath(const char* name) const;
     ua::Result<std::string> readString(const std::string& path);
     ua::Result<KDL::Frame> readFrame(const std::string& path);
     ua::Result<double> readDouble(const std::string& path);
@@ -117,6 +126,7 @@ private:
 
     ua::BlockingClient client_;
     std::uint16_t ns_ = 0;
+    std::string robot_;
 };
 
 }  // namespace skillcell::devices

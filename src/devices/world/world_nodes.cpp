@@ -68,34 +68,10 @@ StatusCode WorldNodes::build() {
     if (auto r = as.addObject(NodeId(ua::ns0::ObjectsFolder), world, "World"); !r) {
         return r.status();
     }
-    for (const char* folder : {"Objects", "Tools", "Docks", "Rails", "FuseSlots"}) {
+    for (const char* folder : {"Objects", "Tools", "Docks", "Rails", "FuseSlots", "Robots"}) {
         if (auto r = as.addFolder(world, id(std::string("World/") + folder), folder); !r) {
             return r.status();
         }
-    }
-    const NodeId frame(ua::ns0::ThreeDFrame);
-    const Variant identity = frameToVariant(KDL::Frame::Identity());
-    for (const char* name : {"FlangePose", "GripPoint"}) {
-        if (auto r = as.addVariable(world, id(std::string("World/") + name), name, frame, identity);
-            !r) {
-            return r.status();
-        }
-    }
-    // RailRefusal: why the held terminal block, lying on a rail, has not snapped (empty when
-    // it has, or holds none): what a placing skill reports when its block stays loose.
-    for (const char* name : {"MountedTool", "GraspedObject", "RailRefusal"}) {
-        if (auto r = as.addVariable(world, id(std::string("World/") + name), name,
-                                    NodeId(ua::ns0::String), Variant(ua::String()));
-            !r) {
-            return r.status();
-        }
-    }
-    // ContactForce: what the held object meets (N, pushing it back along its way in; a fuse
-    // entering a slot): what a force-sensing arm measures at its flange.
-    if (auto r = as.addVariable(world, id("World/ContactForce"), "ContactForce",
-                                NodeId(ua::ns0::Double), Variant(0.0));
-        !r) {
-        return r.status();
     }
 
     // The methods. The Call service has checked the argument count and types against the
@@ -218,64 +194,94 @@ StatusCode WorldNodes::build() {
     // The answer is the physics' to the robot's motion: the force the held object meets
     // there, which an arm with force sensing measures.
     methods.push_back(
+        {"AddRobot",
+         ua::Role::Engineer,
+         {arg("Id", kString, "robot id"),
+          arg("Base", kFrame, "the robot's base frame in the cell's base frame")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             const auto base = frameFromVariant(in[1]);
+             if (!base) return base.status();
+             return world_.addRobot(stringArg(in[0]), *base, &why);
+         }});
+    // What the devices report: each names the robot whose flange it moves or acts at.
+    const Argument robot = arg("Robot", kString, "the robot's id (World/Robots)");
+    // The answer is the physics' to the robot's motion: the force the held object meets
+    // there, which an arm with force sensing measures.
+    methods.push_back(
         {"SetFlangePose",
          ua::Role::Operator,
-         {arg("Pose", kFrame, "the robot flange in the base frame")},
+         {robot, arg("Pose", kFrame, "the robot flange in the base frame")},
          {arg("ContactForce", kDouble,
               "N the held object meets at this pose, pushing it back (a fuse in a slot)")},
-         [this](std::span<const Variant> in, std::vector<Variant>& out, std::string&) {
-             const auto pose = frameFromVariant(in[0]);
+         [this](std::span<const Variant> in, std::vector<Variant>& out, std::string& why) {
+             const auto pose = frameFromVariant(in[1]);
              if (!pose) return pose.status();
-             world_.setFlangePose(*pose);
-             out.emplace_back(world_.contactForce());
+             const std::string r = stringArg(in[0]);
+             if (const auto s = world_.setFlangePose(r, *pose, &why); s.isBad()) return s;
+             out.emplace_back(world_.contactForce(r));
              return StatusCode(ua::status::Good);
          }});
     methods.push_back(
         {"MountTool",
          ua::Role::Operator,
-         {arg("DockId", kString, "the dock whose tool the flange takes")},
+         {robot, arg("DockId", kString, "the dock whose tool the flange takes")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             return world_.mountTool(stringArg(in[0]), &why);
+             return world_.mountTool(stringArg(in[0]), stringArg(in[1]), &why);
          }});
-    methods.push_back({"DockAtFlange",
-                       ua::Role::Observer,  // a question, not a change
-                       {},
-                       {arg("DockId", kString, "the dock the flange is at; empty when none")},
-                       [this](std::span<const Variant>, std::vector<Variant>& out, std::string&) {
-                           out.emplace_back(ua::String(world_.dockAtFlange().value_or("")));
-                           return StatusCode(ua::status::Good);
-                       }});
+    methods.push_back(
+        {"DockAtFlange",
+         ua::Role::Observer,  // a question, not a change
+         {robot},
+         {arg("DockId", kString, "the dock the flange is at; empty when none")},
+         [this](std::span<const Variant> in, std::vector<Variant>& out, std::string& why) {
+             const std::string r = stringArg(in[0]);
+             if (!world_.robots().contains(r)) {
+                 why = "no robot " + r + " in the world";
+                 return StatusCode(ua::status::BadNotFound);
+             }
+             out.emplace_back(ua::String(world_.dockAtFlange(r).value_or("")));
+             return StatusCode(ua::status::Good);
+         }});
     methods.push_back(
         {"UnmountTool",
          ua::Role::Operator,
-         {arg("DockId", kString, "the free dock the mounted tool is left in")},
+         {robot, arg("DockId", kString, "the free dock the mounted tool is left in")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             return world_.unmountTool(stringArg(in[0]), &why);
+             return world_.unmountTool(stringArg(in[0]), stringArg(in[1]), &why);
          }});
-    methods.push_back({"Grasp",
-                       ua::Role::Operator,
-                       {arg("ObjectId", kString, "the object at the grip point")},
-                       {},
-                       [this](std::span<const Variant> in, std::vector<Variant>&,
-                              std::string& why) { return world_.grasp(stringArg(in[0]), &why); }});
-    methods.push_back({"Release",
-                       ua::Role::Operator,
-                       {},
-                       {},
-                       [this](std::span<const Variant>, std::vector<Variant>&, std::string& why) {
-                           return world_.release(&why);
-                       }});
+    methods.push_back(
+        {"Grasp",
+         ua::Role::Operator,
+         {robot, arg("ObjectId", kString, "the object at the grip point")},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             return world_.grasp(stringArg(in[0]), stringArg(in[1]), &why);
+         }});
+    methods.push_back(
+        {"Release",
+         ua::Role::Operator,
+         {robot},
+         {},
+         [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
+             return world_.release(stringArg(in[0]), &why);
+         }});
     methods.push_back(
         {"ObjectAtGripPoint",
          ua::Role::Observer,  // a question, not a change
-         {},
+         {robot},
          {arg("ObjectId", kString, "the free object at the grip point; empty when none"),
           arg("Extent", kDouble, "its extent along the grip point's x, y and z axes (m)",
               ua::value_rank::kOneDimension)},
-         [this](std::span<const Variant>, std::vector<Variant>& out, std::string&) {
-             const KDL::Frame grip = world_.gripPoint();
+         [this](std::span<const Variant> in, std::vector<Variant>& out, std::string& why) {
+             const std::string r = stringArg(in[0]);
+             if (!world_.robots().contains(r)) {
+                 why = "no robot " + r + " in the world";
+                 return StatusCode(ua::status::BadNotFound);
+             }
+             const KDL::Frame grip = world_.gripPoint(r);
              const auto found = world_.objectAt(grip.p);
              std::vector<double> extent{0, 0, 0};
              if (found) {
@@ -348,6 +354,12 @@ void WorldNodes::sync() {
                 ua::value_rank::kScalar);
             put(path + "/RailPosition", path, "RailPosition", NodeId(ua::ns0::Double),
                 Variant(on ? mount->second.position : std::nan("")), ua::value_rank::kScalar);
+            // Why it lies loose on a rail, held, instead of having snapped (empty when it has,
+            // or when it is not held there): what a placing skill reports.
+            const auto holder = world_.holderOf(oid);
+            put(path + "/RailRefusal", path, "RailRefusal", NodeId(ua::ns0::String),
+                Variant(ua::String(holder ? world_.flange(*holder).railRefusal : std::string())),
+                ua::value_rank::kScalar);
         }
         if (object.kind == ObjectKind::Fuse) {
             // The slot it is seated in; empty when none.
@@ -396,12 +408,23 @@ void WorldNodes::sync() {
         put(path + "/Tool", path, "Tool", NodeId(ua::ns0::String), Variant(ua::String(dock.tool)),
             ua::value_rank::kScalar);
     }
-    (void)as.setValue(id("World/FlangePose"), frameToVariant(world_.flangePose()));
-    (void)as.setValue(id("World/GripPoint"), frameToVariant(world_.gripPoint()));
-    (void)as.setValue(id("World/MountedTool"), Variant(ua::String(world_.mountedTool())));
-    (void)as.setValue(id("World/GraspedObject"), Variant(ua::String(world_.graspedObject())));
-    (void)as.setValue(id("World/RailRefusal"), Variant(ua::String(world_.railRefusal())));
-    (void)as.setValue(id("World/ContactForce"), Variant(world_.contactForce()));
+    for (const auto& [rid, f] : world_.robots()) {
+        const std::string path = "World/Robots/" + rid;
+        ensureObject(path, "World/Robots", rid);
+        put(path + "/Base", path, "Base", frame, frameToVariant(f.base), ua::value_rank::kScalar);
+        put(path + "/FlangePose", path, "FlangePose", frame, frameToVariant(f.pose),
+            ua::value_rank::kScalar);
+        put(path + "/GripPoint", path, "GripPoint", frame, frameToVariant(world_.gripPoint(rid)),
+            ua::value_rank::kScalar);
+        put(path + "/MountedTool", path, "MountedTool", NodeId(ua::ns0::String),
+            Variant(ua::String(f.tool)), ua::value_rank::kScalar);
+        put(path + "/GraspedObject", path, "GraspedObject", NodeId(ua::ns0::String),
+            Variant(ua::String(f.held)), ua::value_rank::kScalar);
+        // What the held object meets (N, pushing it back along its way in; a fuse entering a
+        // slot): what a force-sensing arm measures at its flange.
+        put(path + "/ContactForce", path, "ContactForce", NodeId(ua::ns0::Double),
+            Variant(world_.contactForce(rid)), ua::value_rank::kScalar);
+    }
 }
 
 }  // namespace skillcell::devices

@@ -2,14 +2,17 @@
 // WorldNodes: the OPC UA face of a World (docs/devices.md, "The world model"). It owns the
 // World and serves it under Objects/World in the namespace kWorldNamespaceUri:
 //
-//   World/FlangePose, GripPoint (3DFrame), MountedTool, GraspedObject (String)
+//   World/Robots/<id>/Base, FlangePose, GripPoint (3DFrame), MountedTool, GraspedObject
+//       (String), ContactForce (Double, N)
 //   World/Objects/<id>/Pose (3DFrame), Size (Double[3])
 //   World/Tools/<id>/GripPoint (3DFrame)
-//   World/Objects/<id>/Rail (String), RailPosition (Double, m): a terminal block's mount
+//   World/Objects/<id>/Rail (String), RailPosition (Double, m): a terminal block's mount,
+//       RailRefusal (String): why it lies loose on a rail, held
 //   World/Docks/<id>/Pose (3DFrame), Tool (String)
 //   World/Rails/<id>/Pose (3DFrame), Length, Width (Double, m)
-//   methods on World: AddObject, AddTerminalBlock, AddRail, AddDock, AddTool, MoveTool,
-//   SetFlangePose, MountTool, UnmountTool, Grasp, Release, ObjectAtGripPoint
+//   methods on World: AddObject, AddTerminalBlock, AddRail, AddDock, AddTool, AddRobot,
+//   MoveTool; and, each with the robot's id first, SetFlangePose, MountTool, UnmountTool,
+//   DockAtFlange, Grasp, Release, ObjectAtGripPoint
 //
 // Every change goes through a method, so the World's consistency checks decide it; a
 // refused change answers the World's status code (BadNotFound, BadInvalidState, ...) and

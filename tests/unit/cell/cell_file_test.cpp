@@ -52,10 +52,12 @@ TEST(CellFile, ThePapersCellReadsAsTheDemoRunsIt) {
     ASSERT_EQ(c.robots.size(), 1U);
     EXPECT_EQ(c.robots[0].model, "ur5");
     EXPECT_EQ(c.robots[0].speed, 10);
-    ASSERT_TRUE(c.toolChanger);
-    EXPECT_EQ(c.toolChanger->name, "toolchanger");
-    ASSERT_TRUE(c.pickAndPlace);
-    EXPECT_EQ(c.pickAndPlace->name, "pickplace");
+    ASSERT_EQ(c.toolChangers.size(), 1U);
+    EXPECT_EQ(c.toolChangers[0].name, "toolchanger");
+    EXPECT_EQ(c.toolChangers[0].robot, "ur5");  // the only robot
+    for (const auto& t : c.tools) EXPECT_EQ(t.changer, "toolchanger") << t.name;
+    ASSERT_EQ(c.pickAndPlaces.size(), 1U);
+    EXPECT_EQ(c.pickAndPlaces[0].name, "pickplace");
 }
 
 /// The "# expect: LINE:COLUMN: TEXT" lines at the top of a file.
@@ -135,7 +137,7 @@ TEST(CellFile, DefaultsApplyWhereAFileIsSilent) {
     EXPECT_TRUE(result.cell->security.enabled);
     EXPECT_FALSE(result.cell->lds);
     EXPECT_FALSE(result.cell->kb);
-    EXPECT_FALSE(result.cell->toolChanger);
+    EXPECT_TRUE(result.cell->toolChangers.empty());
 }
 
 TEST(CellFile, ComponentsOnHostsOfTheirOwnAreNamedByTheirHostKeyOrPlacedLater) {

@@ -23,12 +23,12 @@ CellFile paperCell() {
 }
 
 TEST(DeviceArguments, TheWorldGetsThePapersDocksToolsAndBoxes) {
-    EXPECT_EQ(
-        worldArguments(paperCell()),
-        (Args{"--dock", "dockP@0.3,-0.45,0.35,3.141592653589793,0,0", "--dock",
-              "dockV@0.45,-0.3,0.35,3.141592653589793,0,0", "--tool", "parallel:dockP@0,0,0.15",
-              "--tool", "vacuum:dockV@0,0,0.12", "--object", "boxA:0.04,0.1,0.05@0.45,0.15,0.025",
-              "--object", "boxB:0.04,0.04,0.04@0.45,-0.05,0.02"}));
+    EXPECT_EQ(worldArguments(paperCell()),
+              (Args{"--robot", "ur5@0,0,0", "--dock", "dockP@0.3,-0.45,0.35,3.141592653589793,0,0",
+                    "--dock", "dockV@0.45,-0.3,0.35,3.141592653589793,0,0", "--tool",
+                    "parallel:dockP@0,0,0.15", "--tool", "vacuum:dockV@0,0,0.12", "--object",
+                    "boxA:0.04,0.1,0.05@0.45,0.15,0.025", "--object",
+                    "boxB:0.04,0.04,0.04@0.45,-0.05,0.02"}));
 }
 
 TEST(DeviceArguments, TheFuseBoxCellGivesItsSlotsAndFusesAndAMisalignmentOnlyWhereSaid) {
@@ -38,7 +38,9 @@ TEST(DeviceArguments, TheFuseBoxCellGivesItsSlotsAndFusesAndAMisalignmentOnlyWhe
     ASSERT_EQ(cell.fuseSlots.size(), 3U);
     cell.fuseSlots[1].misalignment = {0.0015, 0, 0};
     const Args args = worldArguments(cell);
-    const Args expected = {"--dock",
+    const Args expected = {"--robot",
+                           "iiwa@0,0,0",
+                           "--dock",
                            "dockP@0.35,-0.4,0.35,3.141592653589793,0,0",
                            "--tool",
                            "parallel:dockP@0,0,0.15",

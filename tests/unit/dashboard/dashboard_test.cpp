@@ -164,15 +164,15 @@ TEST(CellView, TheSceneIsPushedWhenItChangesAndOnlyThen) {
     auto [before, listener] = view.open();
     EXPECT_FALSE(json::parse(before).contains("scene"));  // no world: no picture
     SceneView scene;
-    scene.flange = {0.3, -0.45, 0.35};
-    scene.mountedTool = "parallel";
+    scene.robots = {{"ur5", {0, 0, 0}, {0.3, -0.45, 0.35}, "parallel", ""}};
     scene.objects = {{"boxA", {0.45, 0.15, 0.025}, {0.04, 0.1, 0.05}, false, "", 0}};
     scene.docks = {{"dockP", {0.3, -0.45, 0.35}, ""}};
     view.scene(scene);
     view.scene(scene);  // the same again: nothing to say
     auto e = json::parse(*listener->next(1s));
     EXPECT_EQ(e["type"], "scene");
-    EXPECT_EQ(e["scene"]["mountedTool"], "parallel");
+    EXPECT_EQ(e["scene"]["robots"][0]["mountedTool"], "parallel");
+    EXPECT_EQ(e["scene"]["robots"][0]["id"], "ur5");
     EXPECT_EQ(e["scene"]["objects"][0]["id"], "boxA");
     EXPECT_DOUBLE_EQ(e["scene"]["objects"][0]["position"][0].get<double>(), 0.45);
     EXPECT_EQ(e["scene"]["docks"][0]["tool"], "");

@@ -22,6 +22,9 @@
 namespace skillcell::dashboard {
 namespace {
 
+// The robot whose flange the tests move (the world has it by this id).
+const std::string kArm = "arm";
+
 using namespace std::chrono_literals;
 
 KDL::Frame at(double x, double y, double z, double a = 0) {
@@ -89,6 +92,7 @@ private:
 
 TEST(SceneWatcher, TheFirstSceneIsWholeAndChangesComeBySubscription) {
     devices::World w;
+    ASSERT_EQ(w.addRobot(kArm, at(-0.1, 0.2, 0)), ua::status::Good);
     ASSERT_EQ(w.addObject({"box1", {0.04, 0.1, 0.05}, at(0.45, 0.15, 0.025)}), ua::status::Good);
     ASSERT_EQ(w.addDock({"dock1", at(0.3, -0.45, 0.35, M_PI), {}}), ua::status::Good);
     ASSERT_EQ(w.addTool({"parallel", at(0, 0, 0.15)}, "dock1"), ua::status::Good);
@@ -106,32 +110,36 @@ TEST(SceneWatcher, TheFirstSceneIsWholeAndChangesComeBySubscription) {
     ASSERT_EQ(first->docks.size(), 1U);
     EXPECT_EQ(first->docks[0].tool, "parallel");
     EXPECT_NEAR(first->docks[0].position[0], 0.3, 1e-9);
-    EXPECT_EQ(first->mountedTool, "");
+    ASSERT_EQ(first->robots.size(), 1U);
+    EXPECT_EQ(first->robots[0].id, kArm);
+    EXPECT_NEAR(first->robots[0].base[1], 0.2, 1e-9);
+    EXPECT_EQ(first->robots[0].mountedTool, "");
 
     // A robot takes the tool from the dock, as the tool changer's skill would.
-    auto link = devices::WorldLink::connect(world.url());
+    auto link = devices::WorldLink::connect(world.url(), {}, kArm);
     ASSERT_TRUE(link.ok());
     ASSERT_EQ((*link)->setFlangePose(at(0.3, -0.45, 0.35, M_PI)), ua::status::Good);
     ASSERT_EQ((*link)->mountTool("dock1"), ua::status::Good);
     auto mounted = scenes.waitFor([](const SceneView& s) {
-        return s.mountedTool == "parallel" && s.docks.size() == 1 && s.docks[0].tool.empty();
+        return s.robots.size() == 1 && s.robots[0].mountedTool == "parallel" &&
+               s.docks.size() == 1 && s.docks[0].tool.empty();
     });
     ASSERT_TRUE(mounted);
-    EXPECT_EQ(mounted->mountedTool, "parallel");
     EXPECT_EQ(mounted->docks[0].tool, "");
-    EXPECT_NEAR(mounted->flange[1], -0.45, 1e-9);
+    EXPECT_NEAR(mounted->robots[0].flange[1], -0.45, 1e-9);
 
     ASSERT_EQ((*link)->setFlangePose(at(0.2, 0.1, 0.4, M_PI)), ua::status::Good);
-    auto moved =
-        scenes.waitFor([](const SceneView& s) { return std::abs(s.flange[0] - 0.2) < 1e-9; });
+    auto moved = scenes.waitFor(
+        [](const SceneView& s) { return std::abs(s.robots[0].flange[0] - 0.2) < 1e-9; });
     ASSERT_TRUE(moved);
-    EXPECT_NEAR(moved->flange[1], 0.1, 1e-9);
+    EXPECT_NEAR(moved->robots[0].flange[1], 0.1, 1e-9);
 }
 
 TEST(SceneWatcher, ARailAndATerminalBlockSnappedOntoIt) {
     const devices::BoxSize block{0.0052, 0.045, 0.035};
     const devices::DinRail rail{"rail1", at(0.3, 0.3, 0.0075), 0.2};
     devices::World w;
+    ASSERT_EQ(w.addRobot(kArm), ua::status::Good);
     ASSERT_EQ(w.addRail(rail), ua::status::Good);
     ASSERT_EQ(w.addObject({"tb1", block, at(0.45, 0, 0.0175), devices::ObjectKind::TerminalBlock}),
               ua::status::Good);
@@ -155,7 +163,7 @@ TEST(SceneWatcher, ARailAndATerminalBlockSnappedOntoIt) {
     }
 
     // A robot picks tb1 from the top, hooks it over the rail's upper edge and rotates it down.
-    auto link = devices::WorldLink::connect(world.url());
+    auto link = devices::WorldLink::connect(world.url(), {}, kArm);
     ASSERT_TRUE(link.ok());
     devices::WorldLink& robot = **link;
     const KDL::Frame gripPoint = at(0, 0, 0.15);
@@ -193,6 +201,7 @@ TEST(SceneWatcher, AFuseSlotAndTheFuseSeatedInIt) {
     slot.id = "F1";
     slot.pose = at(0.45, 0.25, 0.06);
     devices::World w;
+    ASSERT_EQ(w.addRobot(kArm), ua::status::Good);
     ASSERT_EQ(w.addFuseSlot(slot), ua::status::Good);
     ASSERT_EQ(w.addObject({"fuse1", ato, at(0.45, -0.05, ato.z / 2), devices::ObjectKind::Fuse}),
               ua::status::Good);
@@ -209,7 +218,7 @@ TEST(SceneWatcher, AFuseSlotAndTheFuseSeatedInIt) {
     EXPECT_EQ(first->fuseSlots[0].fuse, "");
 
     // A robot picks the fuse from the top and pushes it into the slot to its depth.
-    auto link = devices::WorldLink::connect(world.url());
+    auto link = devices::WorldLink::connect(world.url(), {}, kArm);
     ASSERT_TRUE(link.ok());
     devices::WorldLink& robot = **link;
     const KDL::Frame gripPoint = at(0, 0, 0.15);

@@ -49,7 +49,7 @@ if [ "$mode" = aligned ]; then
     set -- $f
     seat "$1" | grep -q "seated in slot $2" || fail "$1 is not seated in $2"
   done
-  grep -E 'World/MountedTool' "$tmp/out" | grep -q '""' || fail "a tool is still mounted"
+  grep -E 'World/Robots/[^/]+/MountedTool' "$tmp/out" | grep -q '""' || fail "a tool is still mounted"
   [ "$runs" = "completed" ] || fail "journal runs: $runs"
   [ "$steps" = "1:1:finished 2:1:finished 3:1:finished 4:1:finished 5:1:finished" ] ||
     fail "journal steps: $steps"

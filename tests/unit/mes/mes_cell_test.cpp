@@ -98,7 +98,7 @@ void expectAt(devices::WorldLink& w, const std::string& id, double x, double y, 
 
 // The demo process's work done: both boxes at their targets, no tool mounted.
 void expectTheProcessDone(const test::SimulatedCell& cell) {
-    auto link = devices::WorldLink::connect(cell.world->url());
+    auto link = devices::WorldLink::connect(cell.world->url(), {}, cell.robotName);
     ASSERT_TRUE(link.ok());
     expectAt(**link, "boxA", 0.25, 0.35, 0.025);
     expectAt(**link, "boxB", 0.25, -0.2, 0.02);
@@ -318,9 +318,10 @@ TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
     EXPECT_NE(run->reason.find("GraspGripperSkillType"), std::string::npos) << run->reason;
 
     // Plug the vacuum gripper's adapter in; the same process, run again, resumes at step 4.
-    test::DeviceProcess vacuum(
-        SKILLCELL_BINARY, withFastMdns({"schmalz", "--speed", "20", "--world", cell.world->url()}),
-        true);
+    test::DeviceProcess vacuum(SKILLCELL_BINARY,
+                               withFastMdns({"schmalz", "--speed", "20", "--world",
+                                             cell.world->url(), "--robot", cell.robotName}),
+                               true);
     ASSERT_FALSE(vacuum.url().empty());
     result = runProcess(mes_->url());
     EXPECT_EQ(result.exitCode, 0) << result.output;
@@ -451,7 +452,7 @@ TEST_F(MesCell, AWrongGripperInTheDockStopsTheProcessBeforeThePickNamingTheGripT
     ASSERT_TRUE(cell.ready());
     // Someone swapped the grippers' docks: the tool change of step 1 mounts the vacuum one.
     {
-        auto link = devices::WorldLink::connect(cell.world->url());
+        auto link = devices::WorldLink::connect(cell.world->url(), {}, cell.robotName);
         ASSERT_TRUE(link.ok());
         for (const auto& [tool, dock] :
              {std::pair{"vacuum", "shelf"}, std::pair{"parallel", "dockV"},
@@ -479,7 +480,7 @@ TEST_F(MesCell, AWrongGripperInTheDockStopsTheProcessBeforeThePickNamingTheGripT
     }
     EXPECT_EQ(runsOf(*run, 1), 1);
     EXPECT_EQ(run->lastAttempt(2), nullptr) << "the pick never started";
-    auto link = devices::WorldLink::connect(cell.world->url());
+    auto link = devices::WorldLink::connect(cell.world->url(), {}, cell.robotName);
     ASSERT_TRUE(link.ok());
     expectAt(**link, "boxA", 0.45, 0.15, 0.025);  // where it was
 }
@@ -506,7 +507,7 @@ TEST_F(MesCell, RefusesAProcessWithAMistakeOrANeedTheCellCannotMeetBeforeAnyMoti
               std::string::npos)
         << result.output;
     // Nothing moved, and neither order began a step.
-    auto link = devices::WorldLink::connect(cell.world->url());
+    auto link = devices::WorldLink::connect(cell.world->url(), {}, cell.robotName);
     ASSERT_TRUE(link.ok());
     expectAt(**link, "boxA", 0.45, 0.15, 0.025);
     const auto tool = (*link)->mountedTool();

@@ -294,6 +294,7 @@ TEST_F(Orders, ReachPicksTheRobotThatReachesAndAStepNoneReachesStopsBeforeAnyMot
         const std::string p(kProcessNs);
         for (const auto& s : detector_->instances()) {
             const bool far = s.componentUri == "urn:test:b-far-robot";
+            f.add(keyOf(s), p + "available", "true");  // recorded
             f.add(keyOf(s), p + "reach", "0.85");
             f.add(keyOf(s), p + "reachCentreX", far ? "1.2" : "0");
             f.add(keyOf(s), p + "reachCentreY", "0");
@@ -488,6 +489,7 @@ TEST_F(Orders, AKnowledgeBaseThatAnswersNothingForAWhileIsAskedAgainOnceItAnswer
         SkillFacts f;
         const std::string p(kProcessNs);
         for (const auto& s : detector_->instances()) {
+            f.add(keyOf(s), p + "available", "true");  // recorded
             f.add(keyOf(s), p + "reach", "0.85");
             f.add(keyOf(s), p + "reachCentreX", "0");
             f.add(keyOf(s), p + "reachCentreY", "0");

@@ -21,23 +21,26 @@ constexpr const char* kCs = "http://skillcell.dev/UA/CompositeSkills/";
 const std::string kGripType = std::string(kProcessNs) + "gripType";
 const std::string kGrasp = std::string(kGs) + "GraspGripperSkillType";
 
-skills::SkillInstance grasp(const char* component) {
+// A skill Skills/NAME of `component`, of the type `typeName` (i=`typeId` in `ns`), as the
+// detector lists it.
+skills::SkillInstance skillOf(const char* component, const char* ns, const char* name,
+                              std::uint32_t typeId, const char* typeName) {
     skills::SkillInstance s;
     s.componentUri = component;
-    s.nodeId = ua::NodeId(1, ua::String("Skills/Grasp"));
-    s.browsePath = {{kGs, "Skills"}, {kGs, "Grasp"}};
-    s.types = {{skills::GlobalNodeId(kGs, 1002U), "GraspGripperSkillType"},
-               {skills::GlobalNodeId(kGs, 1001U), "GripperSkillType"}};
+    s.nodeId = ua::NodeId(1, ua::String(std::string("Skills/") + name));
+    s.browsePath = {{ns, "Skills"}, {ns, name}};
+    s.types = {{skills::GlobalNodeId(ns, typeId), typeName}};
+    return s;
+}
+
+skills::SkillInstance grasp(const char* component) {
+    skills::SkillInstance s = skillOf(component, kGs, "Grasp", 1002U, "GraspGripperSkillType");
+    s.types.push_back({skills::GlobalNodeId(kGs, 1001U), "GripperSkillType"});
     return s;
 }
 
 skills::SkillInstance pickAndPlace() {
-    skills::SkillInstance s;
-    s.componentUri = "urn:pnp";
-    s.nodeId = ua::NodeId(1, ua::String("Skills/PickAndPlace"));
-    s.browsePath = {{kCs, "Skills"}, {kCs, "PickAndPlace"}};
-    s.types = {{skills::GlobalNodeId(kCs, 1002U), "PickAndPlaceSkillType"}};
-    return s;
+    return skillOf("urn:pnp", kCs, "PickAndPlace", 1002U, "PickAndPlaceSkillType");
 }
 
 ProcessStep pickStep(std::vector<FactRequirement> requirements) {
@@ -157,11 +160,15 @@ TEST(SkillFacts, TheGripperChosenCanHoldTheObjectByItsRating) {
     facts.add(keyOf(grasp("urn:robotiq")), width, "0.085");
     const std::vector<skills::SkillInstance> both{grasp("urn:robotiq"), grasp("urn:ag95")};
 
-    // The step asks for the rating only when it moves an object of known mass or size.
+    // The step asks for the rating only when it moves an object of known mass or size; always
+    // whether a skill is recorded, and, as it has requirements, the robots they are on.
+    const std::string available = std::string(kProcessNs) + "available";
+    const std::string onRobot = std::string(kProcessNs) + "onRobot";
+    const std::string reach = std::string(kProcessNs) + "reach";
     EXPECT_EQ(requiredProperties(pickOf(4.0, std::nullopt)),
-              (std::vector<std::string>{kGripType, width, payload}));
+              (std::vector<std::string>{available, kGripType, width, payload, onRobot, reach}));
     EXPECT_EQ(requiredProperties(pickStep({{kGripType, "parallel", kGrasp}})),
-              (std::vector<std::string>{kGripType}));
+              (std::vector<std::string>{available, kGripType, onRobot, reach}));
 
     // Light and narrow: both can; the first by URI (the AG-95).
     auto m = matchCellRequirements(pickOf(1.0, std::array{0.04, 0.1, 0.05}), both, facts);
@@ -198,19 +205,15 @@ TEST(SkillFacts, TheGripperChosenCanHoldTheObjectByItsRating) {
 
 // A robot's linear move, as the detector lists it.
 skills::SkillInstance linearMove(const char* component) {
-    constexpr const char* kRs = "http://skillcell.dev/UA/RoboticSkills/";
-    skills::SkillInstance s;
-    s.componentUri = component;
-    s.nodeId = ua::NodeId(1, ua::String("Skills/CartesianLinearMove"));
-    s.browsePath = {{kRs, "Skills"}, {kRs, "CartesianLinearMove"}};
-    s.types = {{skills::GlobalNodeId(kRs, 1010U), "CartesianLinearMoveSkillType"}};
-    return s;
+    return skillOf(component, "http://skillcell.dev/UA/RoboticSkills/", "CartesianLinearMove",
+                   1010U, "CartesianLinearMoveSkillType");
 }
 
 // The reach facts of `robot` as the KB records them from Reach and ReachCentre.
 void addReach(SkillFacts& facts, const char* robot, double reach, std::array<double, 3> centre) {
     const std::string p(kProcessNs);
     const auto key = keyOf(linearMove(robot));
+    facts.add(key, p + "available", "true");  // recorded
     facts.add(key, p + "reach", std::to_string(reach));
     facts.add(key, p + "reachCentreX", std::to_string(centre[0]));
     facts.add(key, p + "reachCentreY", std::to_string(centre[1]));
@@ -276,8 +279,8 @@ TEST(SkillFacts, ReachPicksTheRobotThatReachesAndSaysWhyTheOthersDoNot) {
               std::string::npos)
         << m.unmet;
 
-    // A Move step's own robot, by its literal target; a robot without a reach in the KB is
-    // not judged by one.
+    // A Move step's own robot, by its literal target; a robot the KB has recorded without a
+    // reach is not judged by one; one it has not recorded yet cannot be told to reach.
     ProcessStep move;
     move.index = 1;
     move.skillTypeIri = robotType;
@@ -287,7 +290,124 @@ TEST(SkillFacts, ReachPicksTheRobotThatReachesAndSaysWhyTheOthersDoNot) {
     EXPECT_EQ(unmetSkillRequirements(move, linearMove("urn:a-near"), facts),
               "TargetPosition at (1.5, 0, 0.3) is 1.515 m from its reach centre, beyond its "
               "reach of 0.85 m");
+    EXPECT_EQ(unmetSkillRequirements(move, linearMove("urn:unrated"), facts),
+              "the knowledge base has not recorded it yet, so its reach is not known");
+    facts.add(keyOf(linearMove("urn:unrated")), std::string(kProcessNs) + "available", "true");
     EXPECT_EQ(unmetSkillRequirements(move, linearMove("urn:unrated"), facts), "");
+}
+
+skills::SkillInstance changeTool(const char* component) {
+    return skillOf(component, "http://skillcell.dev/UA/ToolChangerSkills/", "ChangeTool", 1004U,
+                   "ChangeToolSkillType");
+}
+
+// Two robots 1.5 m apart, each with a tool changer and a gripper on it (the skills' RobotUri,
+// proc:onRobot in the KB).
+struct TwoRobots {
+    SkillFacts facts;
+    TwoRobots() {
+        const std::string p(kProcessNs);
+        addReach(facts, "urn:left", 1.1, {0, 0.75, 0.089});
+        addReach(facts, "urn:right", 1.1, {0, -0.75, 0.089});
+        for (const auto& [changer, robot] :
+             {std::pair{"urn:changer-l", "urn:left"}, std::pair{"urn:changer-r", "urn:right"}}) {
+            facts.add(keyOf(changeTool(changer)), p + "available", "true");
+            facts.add(keyOf(changeTool(changer)), p + "onRobot", robot);
+        }
+        for (const auto& [gripper, robot] :
+             {std::pair{"urn:gripper-l", "urn:left"}, std::pair{"urn:gripper-r", "urn:right"}}) {
+            facts.add(keyOf(grasp(gripper)), p + "available", "true");
+            facts.add(keyOf(grasp(gripper)), kGripType, "parallel");
+            facts.add(keyOf(grasp(gripper)), p + "onRobot", robot);
+        }
+    }
+};
+
+TEST(SkillFacts, AToolChangerReachesWhereTheRobotItIsOnReaches) {
+    TwoRobots cell;
+    ProcessStep change;
+    change.index = 1;
+    change.skillTypeIri = "http://skillcell.dev/UA/ToolChangerSkills/ChangeToolSkillType";
+    DerivationSource dock;
+    dock.iri = "http://example.com/cell#dockR";
+    dock.pose = devices::Pose6{0.45, -0.45, 0.35};
+    change.parameters.push_back({"ToolPosition", dock});
+    const auto wanted = requiredProperties(change);
+    EXPECT_NE(std::find(wanted.begin(), wanted.end(), std::string(kProcessNs) + "onRobot"),
+              wanted.end());
+    EXPECT_EQ(robotOf(changeTool("urn:changer-r"), cell.facts), "urn:right");
+    EXPECT_EQ(robotOf(linearMove("urn:left"), cell.facts), "urn:left");
+    EXPECT_EQ(unmetSkillRequirements(change, changeTool("urn:changer-r"), cell.facts), "");
+    EXPECT_EQ(unmetSkillRequirements(change, changeTool("urn:changer-l"), cell.facts),
+              "dockR at (0.45, -0.45, 0.35) is 1.308 m from its robot urn:left's reach centre, "
+              "beyond its reach of 1.1 m");
+    // A changer on a robot the KB has not recorded yet: not known to reach.
+    cell.facts.add(keyOf(changeTool("urn:changer-x")), std::string(kProcessNs) + "available",
+                   "true");
+    cell.facts.add(keyOf(changeTool("urn:changer-x")), std::string(kProcessNs) + "onRobot",
+                   "urn:third");
+    EXPECT_EQ(unmetSkillRequirements(change, changeTool("urn:changer-x"), cell.facts),
+              "the knowledge base has not recorded its robot urn:third yet, so its reach is not "
+              "known");
+}
+
+TEST(SkillFacts, APicksGripperIsTheOneOnTheRobotThatReachesTheBox) {
+    TwoRobots cell;
+    const std::string robotType =
+        "http://skillcell.dev/UA/RoboticSkills/CartesianLinearMoveSkillType";
+    auto pick = [&](devices::Pose6 at, devices::Pose6 to) {
+        ProcessStep step = pickStep({{kGripType, "parallel", kGrasp}, {"", "", robotType}});
+        DerivationSource box;
+        box.iri = "http://example.com/demo#box";
+        box.objectId = "box";
+        box.pose = at;
+        box.targetPose = to;
+        step.parameters.push_back({"ObjectId", box});
+        return step;
+    };
+    // On the right: the gripper on the left comes first by URI, but it is carried by a robot
+    // that does not reach the box, so the one on the right is taken, with the right robot.
+    const ProcessStep right = pick({0.45, -0.8, 0.02}, {0.25, -0.8, 0.02});
+    const std::vector<skills::SkillInstance> live{grasp("urn:gripper-l"), grasp("urn:gripper-r"),
+                                                  linearMove("urn:left"), linearMove("urn:right")};
+    auto m = matchCellRequirements(right, live, cell.facts);
+    ASSERT_TRUE(m.byRequirement[0] && m.byRequirement[1]) << m.unmet;
+    EXPECT_EQ(m.byRequirement[0]->componentUri, "urn:gripper-r");
+    EXPECT_EQ(m.byRequirement[1]->componentUri, "urn:right");
+    EXPECT_EQ(m.robot, "urn:right");
+    EXPECT_NE(m.chosen.find("Skills/Grasp of urn:gripper-r (passed over: Skills/Grasp of "
+                            "urn:gripper-l: box at (0.45, -0.8, 0.02) is 1.615 m from its robot "
+                            "urn:left's reach centre"),
+              std::string::npos)
+        << m.chosen;
+
+    // Between them both reach: the first gripper by URI, and the robot that carries it, not
+    // the first robot by URI.
+    const ProcessStep middle = pick({0.45, 0, 0.02}, {0.5, 0, 0.02});
+    const std::vector<skills::SkillInstance> rightFirst{
+        grasp("urn:gripper-r"), linearMove("urn:left"), linearMove("urn:right")};
+    m = matchCellRequirements(middle, rightFirst, cell.facts);
+    ASSERT_TRUE(m.byRequirement[0] && m.byRequirement[1]) << m.unmet;
+    EXPECT_EQ(m.byRequirement[1]->componentUri, "urn:right");
+    EXPECT_NE(m.chosen.find("Skills/CartesianLinearMove of urn:right (passed over: "
+                            "Skills/CartesianLinearMove of urn:left: it is on robot urn:left, the "
+                            "step's other skills on urn:right)"),
+              std::string::npos)
+        << m.chosen;
+    // A skill of the step on the other robot is refused, both robots named.
+    EXPECT_EQ(unmetSkillRequirements(middle, changeTool("urn:changer-l"), cell.facts, m.robot),
+              "it is on robot urn:left, and the step's other skills on urn:right");
+
+    // The left gripper, and only the right robot live: no robot has all the step needs, said
+    // with each requirement's candidates and their robots.
+    const std::vector<skills::SkillInstance> apart{grasp("urn:gripper-l"), linearMove("urn:right")};
+    m = matchCellRequirements(middle, apart, cell.facts);
+    EXPECT_FALSE(m.byRequirement[0]);
+    EXPECT_EQ(m.unmet,
+              "no robot has all the step requires: an available GraspGripperSkillType with "
+              "gripType \"parallel\": Skills/Grasp of urn:gripper-l on urn:left; an available "
+              "CartesianLinearMoveSkillType: Skills/CartesianLinearMove of urn:right on "
+              "urn:right");
 }
 
 TEST(SkillFacts, ASkillRequirementConcernsTheSkillThatRunsTheStep) {
@@ -310,7 +430,9 @@ TEST(SkillFacts, ASkillRequirementConcernsTheSkillThatRunsTheStep) {
 TEST(SkillFacts, TheQueryAsksForEachPropertyAndRefusesABrokenIri) {
     EXPECT_EQ(requiredProperties(pickStep(
                   {{kGripType, "a", kGrasp}, {"urn:reach", "1", ""}, {kGripType, "b", ""}})),
-              (std::vector<std::string>{kGripType, "urn:reach"}));
+              (std::vector<std::string>{std::string(kProcessNs) + "available", kGripType,
+                                        std::string(kProcessNs) + "onRobot",
+                                        std::string(kProcessNs) + "reach", "urn:reach"}));
     auto q = factQuery({kGripType, "urn:reach"});
     ASSERT_TRUE(q) << q.error();
     EXPECT_NE(q->find("<" + kGripType + ">"), std::string::npos) << *q;

@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# The cell with two robots (examples/cells/two-robots.toml) runs its process of two branches
+# (examples/processes/two-robots.ttl), brought up by `cell up` in a network namespace of its own:
+#  - the order completes;
+#  - the journal shows the branches at the same time: each branch's tool change overlaps the
+#    other's, and so do the two picks;
+#  - each step ran on the robot that reaches its dock or box: the left tool changer and the
+#    left UR5 for boxL, the right ones for boxR (from the choice the journal keeps);
+#  - the world has each box where the process puts it, each gripper back in its dock and no
+#    tool on either flange.
+# Needs root (network namespaces); skips (77) without, unless SKILLCELL_REQUIRE_NETNS=1.
+# Usage: two_robots_cell.sh PATH/TO/skillcell SOURCE_DIR
+set -euo pipefail
+skillcell=$1
+src=$2
+# shellcheck source=../../support/cell_up.sh
+source "$src/tests/support/cell_up.sh"
+command -v sqlite3 >/dev/null || fail "sqlite3 is needed to read the journal"
+
+"$skillcell" cell up "$src/examples/cells/two-robots.toml" --work-dir "$work" >"$tmp/up.out" \
+  2>"$tmp/up.err" &
+supervisor=$!
+for _ in $(seq 480); do  # bounded: 4 minutes
+  grep -q 'is up' "$tmp/up.out" && break
+  kill -0 "$supervisor" 2>/dev/null || break
+  sleep 0.5  # a bounded poll of the output a child process writes
+done
+grep -q 'is up' "$tmp/up.out" || fail "the cell did not come up"
+netns=$(grep -o '/proc/[0-9]*/ns/net' "$tmp/up.out" | head -1)
+endpoint() { grep -E "^  $1 " "$tmp/up.out" | awk '{print $2}'; }
+as() {  # as USER: a command inside the cell's network, with that user's credentials
+  local user=$1
+  shift
+  nsenter --net="$netns" "$skillcell" "$@" --pki-dir "$work/pki-operator" --user "$user" \
+    --password-file "$work/$user.pw"
+}
+
+as operator run http://skillcell.dev/demo/two-robots#twoBoxesWithTwoRobots --mes "$(endpoint mes)" \
+  >"$tmp/run.out" 2>"$tmp/run.err" || true
+grep -q '^OUTCOME Finished' "$tmp/run.out" || {
+  cat "$tmp/run.out" >&2
+  fail "the order did not complete"
+}
+
+journal=$work/journal.sqlite
+# "START END" of the finished step IDX of the run.
+span() {
+  sqlite3 "$journal" "SELECT started_ms || ' ' || ended_ms FROM steps WHERE run = 1 AND \
+    idx = $1 AND state = 'finished'"
+}
+overlap() {  # overlap A B: the finished steps A and B ran at the same time
+  local a b
+  read -r -a a <<<"$(span "$1")"
+  read -r -a b <<<"$(span "$2")"
+  [ "${#a[@]}" = 2 ] && [ "${#b[@]}" = 2 ] || fail "steps $1 and $2 are not both finished"
+  [ "${a[0]}" -lt "${b[1]}" ] && [ "${b[0]}" -lt "${a[1]}" ] ||
+    fail "steps $1 (${a[*]}) and $2 (${b[*]}) did not overlap"
+}
+overlap 1 2  # the two tool changes
+overlap 3 4  # the two picks
+component() { sqlite3 "$journal" "SELECT component FROM steps WHERE run = 1 AND idx = $1 AND \
+  state = 'finished'"; }
+[[ $(component 1) == *changer-left ]] || fail "step 1 (dockL) ran on $(component 1)"
+[[ $(component 2) == *changer-right ]] || fail "step 2 (dockR) ran on $(component 2)"
+[[ $(component 5) == *changer-left ]] || fail "step 5 (dockL) ran on $(component 5)"
+choice() { sqlite3 "$journal" "SELECT choice FROM steps WHERE run = 1 AND idx = $1 AND \
+  state = 'finished'"; }
+grep -q 'CartesianLinearMoveSkillType: Skills/CartesianLinearMove of urn:skillcell:device:ur5:left' \
+  <<<"$(choice 3)" || fail "boxL was not moved by the left UR5: $(choice 3)"
+grep -q 'CartesianLinearMoveSkillType: Skills/CartesianLinearMove of urn:skillcell:device:ur5:right' \
+  <<<"$(choice 4)" || fail "boxR was not moved by the right UR5: $(choice 4)"
+grep -q 'gripType "vacuum": Skills/Grasp of urn:skillcell:device:schmalz-ecbpi:changer-right' \
+  <<<"$(choice 4)" || fail "boxR was not gripped by the right robot's vacuum gripper: $(choice 4)"
+
+world=$(as observer browse "$(endpoint world)" --start i=85 --values 2>/dev/null)
+value() { grep -F "[Variable ns=2;s=World/$1]" <<<"$world" | sed 's/.*\] = //'; }
+[[ $(value Objects/boxL/Pose) == "3DFrame(0.250, 0.900, 0.025"* ]] ||
+  fail "boxL is at $(value Objects/boxL/Pose)"
+[[ $(value Objects/boxR/Pose) == "3DFrame(0.250, -0.800, 0.020"* ]] ||
+  fail "boxR is at $(value Objects/boxR/Pose)"
+[ "$(value Docks/dockL/Tool)" = '"parallel"' ] && [ "$(value Docks/dockR/Tool)" = '"vacuum"' ] ||
+  fail "the docks hold $(value Docks/dockL/Tool) and $(value Docks/dockR/Tool)"
+[ "$(value Robots/left/MountedTool)" = '""' ] && [ "$(value Robots/right/MountedTool)" = '""' ] ||
+  fail "a tool is still mounted: $(value Robots/left/MountedTool) $(value Robots/right/MountedTool)"
+
+"$skillcell" cell down --work-dir "$work" >/dev/null || fail "cell down"
+wait "$supervisor" || fail "cell up did not end with 0"
+supervisor=
+echo "two robots: both branches at once, each on its own robot; the world agrees"
