@@ -119,7 +119,7 @@ ua::StatusCode World::moveTool(const std::string& toolId, const std::string& doc
     for (const auto& [robot, flange] : robots_) {
         if (flange.tool == toolId) {
             return fail(ua::status::BadInvalidState, why,
-                        "tool " + toolId + " is mounted on robot " + robot);
+                        fmt::format("tool {} is mounted on robot {}", toolId, robot));
         }
     }
     if (to->second.tool == toolId) return ua::status::Good;  // there already
