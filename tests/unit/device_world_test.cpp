@@ -171,6 +171,44 @@ TEST(DeviceWorld, AGraspedObjectMovesWithTheFlangeAndAReleasedOneStays) {
     EXPECT_TRUE(near(w.object("box1")->pose, moved, 1e-12, 1e-12));
 }
 
+// Two robots in one cell: each has its own flange, tool and held object; what one holds the
+// other cannot take, and a tool mounted on either stays where it is.
+TEST(DeviceWorld, TwoRobotsEachHaveTheirOwnFlangeToolAndObject) {
+    World w = cell();  // kArm at the origin, the dock and the box
+    std::string why;
+    const std::string other = "other";
+    ASSERT_EQ(w.addRobot(other, at(1.0, 0, 0), &why), Good) << why;
+    EXPECT_EQ(w.addRobot(other, at(2.0, 0, 0)), BadNodeIdExists);
+    EXPECT_EQ(w.addRobot("box1"), BadNodeIdExists);  // one set of names
+    EXPECT_EQ(w.addRobot(""), BadInvalidArgument);
+    EXPECT_TRUE(near(w.flange(other).pose, at(1.0, 0, 0), 1e-12, 1e-12));  // starts at its base
+    EXPECT_EQ(w.setFlangePose("nobody", at(0, 0, 0), &why), BadNotFound);
+    EXPECT_NE(why.find("no robot nobody"), std::string::npos) << why;
+
+    // kArm takes the gripper and the box; the other robot, at the same grip point with no
+    // tool, holds nothing and cannot take it.
+    w.setFlangePose(kArm, at(0.3, -0.4, 0.3, M_PI, 0, 0));
+    ASSERT_EQ(w.mountTool(kArm, "dock1"), Good);
+    EXPECT_EQ(w.dockAtFlange(other), std::nullopt);
+    w.setFlangePose(kArm, at(0.5, 0.1, 0.17, M_PI, 0, 0));
+    ASSERT_EQ(w.grasp(kArm, "box1"), Good);
+    EXPECT_EQ(w.holderOf("box1"), std::optional<std::string>(kArm));
+    EXPECT_EQ(w.grasp(other, "box1"), BadInvalidState);  // no tool
+    EXPECT_EQ(w.flange(other).tool, "");
+    EXPECT_EQ(w.moveTool("gripper", "dock1", &why), BadInvalidState);  // mounted on kArm
+    EXPECT_NE(why.find("mounted on robot " + kArm), std::string::npos) << why;
+    EXPECT_EQ(w.removeObject("box1", &why), BadInvalidState);
+    EXPECT_NE(why.find("held by robot " + kArm), std::string::npos) << why;
+
+    // The other robot's flange moves without moving what kArm holds.
+    const KDL::Frame held = w.object("box1")->pose;
+    ASSERT_EQ(w.setFlangePose(other, at(0.8, 0.2, 0.3)), Good);
+    EXPECT_TRUE(near(w.object("box1")->pose, held, 1e-12, 1e-12));
+    EXPECT_EQ(w.release(other), BadInvalidState);  // it holds nothing
+    ASSERT_EQ(w.release(kArm), Good);
+    EXPECT_EQ(w.holderOf("box1"), std::nullopt);
+}
+
 TEST(DeviceWorld, ExtentAlongADirectionFollowsTheBoxOrientation) {
     World w;
     EXPECT_EQ(w.addRobot(kArm), ua::status::Good);
