@@ -734,6 +734,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
     if (!c.unmet.empty()) co_return c;
     c.cellMatches = std::move(cell.byRequirement);
     c.chosen = std::move(cell.chosen);
+    c.matchedRobot = cell.robot;
     std::string unfit;
     for (auto& s : typed) {
         const std::string why = unmetSkillRequirements(step, s, *facts, cell.robot);
@@ -806,8 +807,9 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
 std::set<std::string> ProcessExecutor::componentsOf(
     const skills::SkillInstance* skill,
     const std::vector<std::optional<skills::SkillInstance>>& cellMatches,
-    const std::map<SkillKey, std::string>& robots) {
+    const std::map<SkillKey, std::string>& robots, const std::string& matchedRobot) {
     std::set<std::string> out;
+    if (!matchedRobot.empty()) out.insert(matchedRobot);
     if (skill != nullptr) {
         out.insert(skill->componentUri);
         if (const auto r = robots.find(keyOf(*skill)); r != robots.end()) out.insert(r->second);
@@ -819,7 +821,8 @@ std::set<std::string> ProcessExecutor::componentsOf(
 }
 
 std::set<std::string> ProcessExecutor::componentsOf(const Choice& c) {
-    return componentsOf(c.skills.empty() ? nullptr : &c.skills.front(), c.cellMatches, c.robots);
+    return componentsOf(c.skills.empty() ? nullptr : &c.skills.front(), c.cellMatches, c.robots,
+                        c.matchedRobot);
 }
 
 bool ProcessExecutor::available(const Order& order, const std::set<std::string>& components) const {
@@ -891,7 +894,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             std::set<std::string> wanted;
             std::string holders;
             for (const auto* s : suitable) {
-                const auto components = componentsOf(s, c.cellMatches, c.robots);
+                const auto components = componentsOf(s, c.cellMatches, c.robots, c.matchedRobot);
                 if (available(*order, components)) {
                     free.skills.push_back(*s);
                     continue;
@@ -910,6 +913,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             if (!free.skills.empty()) {
                 free.cellMatches = std::move(c.cellMatches);
                 free.robots = std::move(c.robots);
+                free.matchedRobot = std::move(c.matchedRobot);
                 free.why = rankByExpectedDuration(free.skills, durations);
                 if (!c.chosen.empty()) free.why += "; " + c.chosen;
                 if (!holders.empty()) free.why += "; not free: " + holders;

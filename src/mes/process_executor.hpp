@@ -222,8 +222,10 @@ private:
         /// What met the requirements on the cell, and why (CellMatch::chosen).
         std::string chosen;
         /// The robot each of `skills` acts through, where it is on one (robotOf: a tool
-        /// changer's): the step holds that robot too, as it drives it.
+        /// changer's), and the one the cell matches act through (a pick's gripper's, which a
+        /// composite moves when the process names no robot): the step holds it too.
         std::map<SkillKey, std::string> robots;
+        std::string matchedRobot;
     };
     /// Why the cell cannot run `process` (empty: it can), after waiting up to skillWait for
     /// the skills it lacks to appear (or for the KB to record their facts).
@@ -243,11 +245,11 @@ private:
     /// of its cell matches.
     [[nodiscard]] static std::set<std::string> componentsOf(const Choice& c);
     /// The components that running `skill` (none: only the matches) with `cellMatches` uses;
-    /// `robots`: the robot each skill is on (Choice::robots).
+    /// `robots`, `matchedRobot`: the robots they act through (Choice).
     [[nodiscard]] static std::set<std::string> componentsOf(
         const skills::SkillInstance* skill,
         const std::vector<std::optional<skills::SkillInstance>>& cellMatches,
-        const std::map<SkillKey, std::string>& robots = {});
+        const std::map<SkillKey, std::string>& robots = {}, const std::string& matchedRobot = {});
     /// Whether `order` may use every component of `components` now (held by no other order,
     /// used by none of its own running steps, wanted by no better-ranked waiting order).
     [[nodiscard]] bool available(const Order& order, const std::set<std::string>& components) const;

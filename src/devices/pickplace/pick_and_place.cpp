@@ -73,18 +73,19 @@ void PickAndPlace::publish(const std::string& name) {
 }
 
 asio::awaitable<PickAndPlace::Connection> PickAndPlace::open(std::string endpoint,
-                                                             std::string typeName,
-                                                             std::string& why) {
+                                                             std::string typeName, std::string& why,
+                                                             std::string componentUri) {
     if (endpoint.empty()) {
         if (!detector_) {
             why = "no endpoint for " + typeName + ", and this component detects no skills";
             co_return nullptr;
         }
-        endpoint =
-            co_await skills::detectedSkillEndpoint(*detector_, typeName, options_.detectionTimeout);
+        endpoint = co_await skills::detectedSkillEndpoint(*detector_, typeName,
+                                                          options_.detectionTimeout, componentUri);
         if (endpoint.empty()) {
-            why = "no " + typeName + " was detected within " +
-                  std::to_string(options_.detectionTimeout.count()) + " ms";
+            why = "no " + typeName + (componentUri.empty() ? "" : " of " + componentUri) +
+                  " was detected within " + std::to_string(options_.detectionTimeout.count()) +
+                  " ms";
             co_return nullptr;
         }
     }
@@ -96,10 +97,21 @@ asio::awaitable<PickAndPlace::Connection> PickAndPlace::open(std::string endpoin
 
 asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request, Skills& skills) {
     std::string why;
+    // The tool first: the robot that carries it is the one to move (its RobotUri, which its
+    // tool changer gave it), where the request names no robot.
+    skills.grasp = co_await open(request.toolEndpoint, kGraspType, why);
+    if (!skills.grasp) co_return why;
+    skills.release = co_await open(skills.grasp->endpointUrl(), kReleaseType, why);
+    if (!skills.release) co_return why;
     std::string moveEndpoint = request.moveEndpoint;
     if (moveEndpoint.empty()) {
-        // Which robot: the one whose linear move is detected.
-        Connection probe = co_await open(moveEndpoint, kMoveType, why);
+        std::string carrier;
+        if (auto uri = co_await skills.grasp->readParameter("RobotUri")) {
+            if (const auto* text = uri->get<ua::String>()) carrier = *text;
+        }
+        // Which robot: the carrier's linear move, else (a tool that does not say) the one
+        // detected.
+        Connection probe = co_await open(moveEndpoint, kMoveType, why, carrier);
         if (!probe) co_return why;
         moveEndpoint = probe->endpointUrl();
         co_await probe->close();
@@ -111,11 +123,6 @@ asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request
         co_return "the robot at " + moveEndpoint +
             " offers no CartesianForceLimitedLinearMove: a fuse is inserted under a force limit";
     }
-    // The tool is what the robot carries now: Grasp and Release on one component.
-    skills.grasp = co_await open(request.toolEndpoint, kGraspType, why);
-    if (!skills.grasp) co_return why;
-    skills.release = co_await open(skills.grasp->endpointUrl(), kReleaseType, why);
-    if (!skills.release) co_return why;
     // The tool is the composite's while it runs, as the robot is (RobotMotion).
     std::vector<ua::Client*> sessions{&skills.grasp->client(), &skills.release->client()};
     const skills::Hold held =

@@ -9,7 +9,9 @@
 // put down (rail_planner.hpp), and the world must show it snapped. A blade fuse is gripped
 // from the top and inserted into its slot with the robot's force-limited move
 // (fuse_planner.hpp), and the world must show it seated. The move and tool
-// skills come by endpoint, or are the ones the SkillDetector finds. It publishes its current step;
+// skills come by endpoint, or are the ones the SkillDetector finds: the robot, where none is
+// named, the one that carries the tool (the tool's RobotUri), so that in a cell of several
+// robots a pick moves the gripper it uses. It publishes its current step;
 // a sub-skill that fails or is missing ends the run with the step and the reason. While it
 // runs it holds the robot and the tool (their reservations, for its application URI), so
 // that nothing else moves them under it.
@@ -62,7 +64,7 @@ struct FuseTarget {
 struct PickRequest {
     std::string objectId;
     std::string toolEndpoint;  // empty: the detected Grasp skill's component
-    std::string moveEndpoint;  // empty: the detected CartesianLinearMove's component
+    std::string moveEndpoint;  // empty: the CartesianLinearMove of the robot carrying the tool
     KDL::Frame placePosition;  // where the object's centre and orientation end up
     /// Set: the object is a terminal block hooked onto this rail (placePosition unused).
     std::optional<RailTarget> rail;
@@ -112,7 +114,10 @@ private:
     };
 
     asio::awaitable<std::string> openSkills(const PickRequest& request, Skills& skills);
-    asio::awaitable<Connection> open(std::string endpoint, std::string typeName, std::string& why);
+    /// The skill at `endpoint`, or (empty) the detected one of `typeName`, of the component
+    /// `componentUri` if one is named.
+    asio::awaitable<Connection> open(std::string endpoint, std::string typeName, std::string& why,
+                                     std::string componentUri = {});
     /// One thing the composite does, in order: a move, a tool skill, or a check of the world.
     struct Action {
         enum class Kind {

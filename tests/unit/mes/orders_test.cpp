@@ -185,6 +185,44 @@ TEST_F(Orders, OrdersOnDifferentComponentsRunAtTheSameTime) {
     EXPECT_LT(span(ra).first, span(rb).second) << "they did not overlap";
 }
 
+// A step whose skill is on a robot (a tool changer's, proc:onRobot) holds that robot while it
+// runs: another order's step on the robot itself waits for it, as it would for the changer.
+TEST_F(Orders, AStepOnARobotHoldsTheRobotItDrives) {
+    plug({"urn:test:changer", "urn:test:robot"}, 400ms);
+    const std::string kind = "urn:test:kind";
+    facts_ = [this, kind](std::vector<std::string>) -> asio::awaitable<kb::Expected<SkillFacts>> {
+        SkillFacts f;
+        const std::string p(kProcessNs);
+        for (const auto& s : detector_->instances()) {
+            const bool changer = s.componentUri == "urn:test:changer";
+            f.add(keyOf(s), p + "available", "true");
+            f.add(keyOf(s), kind, changer ? "changer" : "robot");
+            if (changer) f.add(keyOf(s), p + "onRobot", "urn:test:robot");
+        }
+        co_return f;
+    };
+    // One step each: on the changer, and on the robot (a requirement on the step's own skill).
+    auto on = [&](const std::string& iri, const std::string& what) {
+        ProcessDescription p = process(iri, 1);
+        p.steps[0].requirements.push_back({kind, what, ""});
+        return p;
+    };
+    start({on("urn:change", "changer"), on("urn:move", "robot")});
+    const auto a = submit("urn:change");
+    waitUntilBegun(a);
+    const auto b = submit("urn:move");
+    ASSERT_TRUE(outcome(a).completed);
+    ASSERT_TRUE(outcome(b).completed);
+    const auto ra = record(a);
+    const auto rb = record(b);
+    ASSERT_EQ(ra.steps.size(), 1U);
+    ASSERT_EQ(rb.steps.size(), 1U);
+    EXPECT_EQ(ra.steps[0].componentUri, "urn:test:changer");
+    EXPECT_EQ(rb.steps[0].componentUri, "urn:test:robot");
+    EXPECT_LE(span(ra).second, span(rb).first)
+        << "the robot moved for order " << b << " while order " << a << "'s changer drove it";
+}
+
 TEST_F(Orders, ADagRunsItsIndependentBranchesInParallelAndJoinsThem) {
     // 1 -> (2, 3) -> 4
     plug({"urn:test:robot1", "urn:test:robot2"}, 400ms);
