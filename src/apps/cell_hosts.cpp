@@ -4,6 +4,7 @@
 #include <sched.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -104,19 +105,21 @@ kb::Expected<CellHosts> CellHosts::create(const std::vector<std::string>& hosts)
     return out;
 }
 
+const CellHosts::Host* CellHosts::find(const std::string& host) const {
+    const auto it =
+        std::find_if(hosts_.begin(), hosts_.end(), [&](const Host& h) { return h.name == host; });
+    return it == hosts_.end() ? nullptr : &*it;
+}
+
 std::string CellHosts::address(const std::string& host) const {
     if (hosts_.empty()) return "127.0.0.1";
-    for (const auto& h : hosts_) {
-        if (h.name == host) return h.address;
-    }
-    return std::string(kSubnet) + "1";
+    const Host* h = find(host);
+    return h != nullptr ? h->address : std::string(kSubnet) + "1";
 }
 
 std::vector<int> CellHosts::namespaces(const std::string& host) const {
-    for (const auto& h : hosts_) {
-        if (h.name == host) return {h.network.get(), h.uts.get()};
-    }
-    return {};
+    const Host* h = find(host);
+    return h != nullptr ? std::vector<int>{h->network.get(), h->uts.get()} : std::vector<int>{};
 }
 
 }  // namespace skillcell::apps

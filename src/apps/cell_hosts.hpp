@@ -46,6 +46,8 @@ private:
         process::UniqueFd network;
         process::UniqueFd uts;
     };
+    /// The host named `host`, or nullptr (the cell's own namespace).
+    [[nodiscard]] const Host* find(const std::string& host) const;
     std::vector<Host> hosts_;
 };
 

@@ -334,11 +334,17 @@ std::string CellRuntime::addressOf(const std::string& name) const {
     return options_.hosts != nullptr ? options_.hosts->address(hostOf(name)) : "127.0.0.1";
 }
 
+std::vector<std::string> CellRuntime::bindArgs(const char* option, const std::string& name) const {
+    // On the host's own network a component serves on all its interfaces.
+    if (cell_.network.kind == cell::Network::Kind::Host) return {};
+    return {option, addressOf(name)};
+}
+
 std::vector<std::string> CellRuntime::componentArgs(const std::string& name,
                                                     std::uint16_t tcpPort) const {
-    const bool host = cell_.network.kind == cell::Network::Kind::Host;
     std::vector<std::string> a = {"--port", std::to_string(tcpPort)};
-    if (!host) a.insert(a.end(), {"--host", addressOf(name)});
+    const auto bind = bindArgs("--host", name);
+    a.insert(a.end(), bind.begin(), bind.end());
     for (const auto& i : cell_.network.interfaces) a.insert(a.end(), {"--mdns-interface", i});
     a.insert(a.end(), {"--mdns-ttl", std::to_string(cell_.network.mdnsTtlSeconds),
                        "--mdns-query-period", std::to_string(cell_.network.mdnsQueryPeriodSeconds),
@@ -430,9 +436,8 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
     } else if (name == "kb") {
         a = {"kb", "--data-dir", (dir() / "kb").string(), "--http-port",
              std::to_string(port("kb-http"))};
-        if (cell_.network.kind != cell::Network::Kind::Host) {
-            a.insert(a.end(), {"--http-host", addressOf(name)});
-        }
+        const auto bind = bindArgs("--http-host", name);
+        a.insert(a.end(), bind.begin(), bind.end());
         if (!cell_.kb->sparqlUrl.empty()) a.insert(a.end(), {"--sparql-url", cell_.kb->sparqlUrl});
         // The scene first: the processes refer to its docks and tools.
         a.insert(a.end(), {"--cell", fs::absolute(cell_.path).string()});
@@ -454,9 +459,8 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
                                        ? static_cast<std::uint16_t>(cell_.dashboard->port)
                                        : port("dashboard-http");
         a = {"dashboard", "--http-port", std::to_string(page)};
-        if (cell_.network.kind != cell::Network::Kind::Host) {
-            a.insert(a.end(), {"--http-host", addressOf(name)});
-        }
+        const auto bind = bindArgs("--http-host", name);
+        a.insert(a.end(), bind.begin(), bind.end());
         if (!endpoint("world").empty()) a.insert(a.end(), {"--world", endpoint("world")});
         if (cell_.mes) a.insert(a.end(), {"--journal", journal().string()});
         if (!sparqlUrl().empty()) a.insert(a.end(), {"--kb", sparqlUrl()});

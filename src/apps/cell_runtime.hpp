@@ -136,6 +136,10 @@ private:
     /// for those that are clients of others, the user it acts as ("cell").
     [[nodiscard]] std::vector<std::string> componentArgs(const std::string& name,
                                                          std::uint16_t tcpPort) const;
+    /// `option` and the address the component `name` serves on, where the cell has a network
+    /// of its own; nothing on the host's network (all interfaces).
+    [[nodiscard]] std::vector<std::string> bindArgs(const char* option,
+                                                    const std::string& name) const;
     [[nodiscard]] std::uint16_t port(const std::string& key);
     /// `skillcell` arguments of the adapter of `model` for `tool` (its changer's robot, its
     /// own application URI), and the command line its changer runs to power it.
