@@ -25,6 +25,7 @@
 #include "commands.hpp"
 #include "devices/arm/arm_component.hpp"
 #include "devices/common/frame.hpp"
+#include "devices/common/robot_motion.hpp"
 #include "devices/dh/ag95_component.hpp"
 #include "devices/dh/simulated_ag95.hpp"
 #include "devices/pickplace/pick_and_place_component.hpp"
@@ -764,12 +765,14 @@ void addCompositeOptions(CLI::App* cmd, CompositeOptions& options, const char* w
         ->capture_default_str();
 }
 
-/// How a composite connects to the robot and the tools: as the component itself.
+/// How a composite connects to the robot and the tools: as the component itself, with sessions
+/// that are its short lease on them (devices::kCompositeSessionTimeout).
 ua::ClientConfig compositeClient(const ComponentContext& c, const char* sessionName) {
     ua::ClientConfig config;
     config.applicationUri = c.applicationUri;
     config.sessionName = sessionName;
     config.security = c.clientSecurity;
+    config.sessionTimeoutMs = static_cast<double>(devices::kCompositeSessionTimeout.count());
     return config;
 }
 

@@ -1,5 +1,8 @@
 #include "skills/reservation_client.hpp"
 
+#include <asio/redirect_error.hpp>
+#include <asio/steady_timer.hpp>
+#include <asio/use_awaitable.hpp>
 #include <vector>
 
 #include "skills/reservation.hpp"
@@ -52,11 +55,23 @@ bool noReservation(ua::StatusCode status) {
     return status == ua::status::BadNodeIdUnknown || status == ua::status::BadMethodInvalid;
 }
 
-asio::awaitable<Hold> hold(std::vector<ua::Client*> sessions, std::string holder) {
+asio::awaitable<Hold> hold(std::vector<ua::Client*> sessions, std::string holder,
+                           std::chrono::milliseconds patience) {
     Hold out;
     if (sessions.empty()) co_return out;
     ua::Client& first = *sessions.front();
     auto token = co_await reserve(first, holder, /*takeover=*/false);
+    // Held by another: asked again every 250 ms until `patience` is used up. Nothing tells
+    // this client when a dead holder's sessions time out, so a bounded poll it is.
+    const auto deadline = std::chrono::steady_clock::now() + patience;
+    asio::steady_timer pause(first.executor());
+    while (!token && token.status() == ua::status::BadResourceUnavailable &&
+           std::chrono::steady_clock::now() + std::chrono::milliseconds(250) <= deadline) {
+        pause.expires_after(std::chrono::milliseconds(250));
+        std::error_code ec;
+        co_await pause.async_wait(asio::redirect_error(asio::use_awaitable, ec));
+        token = co_await reserve(first, holder, /*takeover=*/false);
+    }
     if (!token) {
         if (noReservation(token.status())) co_return out;
         const std::string status(ua::statusName(token.status()));

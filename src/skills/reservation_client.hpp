@@ -2,6 +2,7 @@
 // The client side of a component's reservation (reservation.hpp): what the MES calls on the
 // component a step runs on, through the session it drives the skill with.
 #include <asio/awaitable.hpp>
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -37,7 +38,9 @@ struct Hold {
     std::string refusal;
 };
 /// Reserves the component for `holder` through `sessions.front()` and binds every other
-/// session to the token (Use). Refused: nothing stays reserved.
-asio::awaitable<Hold> hold(std::vector<ua::Client*> sessions, std::string holder);
+/// session to the token (Use). Refused: nothing stays reserved. While another holder has it,
+/// asks again for up to `patience`: a holder that died keeps it until its sessions time out.
+asio::awaitable<Hold> hold(std::vector<ua::Client*> sessions, std::string holder,
+                           std::chrono::milliseconds patience = std::chrono::milliseconds(0));
 
 }  // namespace skillcell::skills

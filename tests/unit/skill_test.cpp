@@ -401,6 +401,49 @@ TEST_F(SkillTest, AHoldReservesThroughOneSessionBindsTheOthersAndSaysWhyWhenRefu
     EXPECT_EQ(seen.holderAtEnd, "urn:test:another");
 }
 
+// A holder that dies keeps the component until its sessions time out: a hold with patience
+// waits for that, one without is refused at once.
+TEST_F(SkillTest, AHoldWithPatienceWaitsForAHolderWhoseSessionEnds) {
+    struct Seen {
+        Hold impatient, patient;
+        std::chrono::milliseconds waited{0};
+    } seen;
+    asio::io_context io(1);
+    ua::Client dying(io.get_executor());
+    ua::Client next(io.get_executor());
+    ua::ClientConfig shortLease;
+    shortLease.sessionTimeoutMs = 1'000;  // the server's least
+    bool done = false;
+    asio::co_spawn(
+        io,
+        [&]() -> asio::awaitable<void> {
+            if ((co_await dying.connect(server_.url(), shortLease)).isBad()) co_return;
+            if ((co_await next.connect(server_.url())).isBad()) co_return;
+            const std::vector<ua::Client*> first{&dying};
+            const std::vector<ua::Client*> second{&next};
+            const std::string gone = "urn:test:gone";
+            const std::string heir = "urn:test:heir";
+            if (!(co_await hold(first, gone)).token) co_return;
+            // The holder's process dies: its connection drops, its session lives on until it
+            // times out (1 s).
+            dying.abort();
+            seen.impatient = co_await hold(second, heir);
+            const auto start = std::chrono::steady_clock::now();
+            seen.patient = co_await hold(second, heir, 10s);
+            seen.waited = std::chrono::duration_cast<std::chrono::milliseconds>(
+                std::chrono::steady_clock::now() - start);
+            (void)co_await next.disconnect();
+            done = true;
+        },
+        asio::detached);
+    io.run_for(30s);
+    ASSERT_TRUE(done);
+    EXPECT_FALSE(seen.impatient.token);
+    EXPECT_EQ(seen.impatient.refusal, "reserved by urn:test:gone (BadResourceUnavailable)");
+    ASSERT_TRUE(seen.patient.token) << seen.patient.refusal;
+    EXPECT_LT(seen.waited, 10s);
+}
+
 TEST_F(SkillTest, TwoClientsRacingForOneSkillGetItOneAtATime) {
     BlockingClient a, b;
     ASSERT_EQ(a.connect(server_.url()), status::Good);

@@ -7,11 +7,9 @@ namespace skillcell::devices {
 
 RobotMotion::~RobotMotion() = default;
 
-asio::awaitable<std::unique_ptr<RobotMotion>> RobotMotion::open(asio::any_io_executor executor,
-                                                                std::string endpoint,
-                                                                ua::ClientConfig config,
-                                                                std::string& why,
-                                                                bool forceLimited) {
+asio::awaitable<std::unique_ptr<RobotMotion>> RobotMotion::open(
+    asio::any_io_executor executor, std::string endpoint, ua::ClientConfig config, std::string& why,
+    bool forceLimited, std::chrono::milliseconds patience) {
     auto motion = std::make_unique<RobotMotion>(Token{});
     std::string linearType = "CartesianLinearMoveSkillType";
     auto linear =
@@ -33,7 +31,8 @@ asio::awaitable<std::unique_ptr<RobotMotion>> RobotMotion::open(asio::any_io_exe
     for (auto* c : {motion->ptp_.get(), motion->forceLimited_.get()}) {
         if (c != nullptr) sessions.push_back(&c->client());
     }
-    const skills::Hold held = co_await skills::hold(std::move(sessions), config.applicationUri);
+    const skills::Hold held =
+        co_await skills::hold(std::move(sessions), config.applicationUri, patience);
     if (!held.refusal.empty()) {
         why = "the robot at " + endpoint + " cannot be driven: " + held.refusal;
         co_await motion->close();

@@ -27,6 +27,13 @@
 
 namespace skillcell::devices {
 
+/// A composite's sessions to the devices it drives are its lease on them (skills/reservation
+/// .hpp): it asks for sessions that time out this soon, so that one killed while holding a
+/// robot or a tool frees it within that, and another composite waits a little longer than that
+/// for a device another holder has reserved.
+inline constexpr std::chrono::milliseconds kCompositeSessionTimeout{10'000};
+inline constexpr std::chrono::milliseconds kDeadHolderLease{12'000};
+
 /// What a linear move may not exceed; 0: the robot's own limits.
 struct MoveLimits {
     double force = 0;     // N, RobotMotion::Path::ForceLimited: where it stops
@@ -42,11 +49,11 @@ public:
     /// connection of its own, so only for who inserts), and reserves the robot for
     /// `config.applicationUri`; null with `why` when the linear move is not there or the
     /// robot is reserved by another.
-    static asio::awaitable<std::unique_ptr<RobotMotion>> open(asio::any_io_executor executor,
-                                                              std::string endpoint,
-                                                              ua::ClientConfig config,
-                                                              std::string& why,
-                                                              bool forceLimited = false);
+    /// `patience`: how long to wait for a robot another holder has reserved (skills::hold).
+    static asio::awaitable<std::unique_ptr<RobotMotion>> open(
+        asio::any_io_executor executor, std::string endpoint, ua::ClientConfig config,
+        std::string& why, bool forceLimited = false,
+        std::chrono::milliseconds patience = kDeadHolderLease);
     ~RobotMotion();
     RobotMotion(const RobotMotion&) = delete;
     RobotMotion& operator=(const RobotMotion&) = delete;

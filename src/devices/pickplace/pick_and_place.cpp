@@ -125,8 +125,8 @@ asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request
     }
     // The tool is the composite's while it runs, as the robot is (RobotMotion).
     std::vector<ua::Client*> sessions{&skills.grasp->client(), &skills.release->client()};
-    const skills::Hold held =
-        co_await skills::hold(std::move(sessions), options_.client.applicationUri);
+    const skills::Hold held = co_await skills::hold(
+        std::move(sessions), options_.client.applicationUri, kDeadHolderLease);
     if (!held.refusal.empty()) {
         co_return "the tool at " + skills.grasp->endpointUrl() +
             " cannot be driven: " + held.refusal;
