@@ -135,12 +135,18 @@ TEST(SkillFacts, ACellRequirementIsMetBySomeLiveSkillOfTheTypeWithTheFact) {
     EXPECT_FALSE(own.byRequirement[0]);
 }
 
-// A pick of `object` (its mass and size as the KB gives them) with a parallel gripper.
-ProcessStep pickOf(std::optional<double> mass, std::optional<std::array<double, 3>> size) {
-    auto step = pickStep({{kGripType, "parallel", kGrasp}});
+// The process's object "box", which a step's parameters derive from.
+DerivationSource boxSource() {
     DerivationSource box;
     box.iri = "http://example.com/demo#box";
     box.objectId = "box";
+    return box;
+}
+
+// A pick of `object` (its mass and size as the KB gives them) with a parallel gripper.
+ProcessStep pickOf(std::optional<double> mass, std::optional<std::array<double, 3>> size) {
+    auto step = pickStep({{kGripType, "parallel", kGrasp}});
+    DerivationSource box = boxSource();
     box.mass = mass;
     box.size = size;
     step.parameters.push_back({"ObjectId", box});
@@ -227,9 +233,7 @@ TEST(SkillFacts, ReachPicksTheRobotThatReachesAndSaysWhyTheOthersDoNot) {
     // cell has it to its target.
     auto pick = [&](devices::Pose6 at, devices::Pose6 to) {
         ProcessStep step = pickStep({{"", "", robotType}});
-        DerivationSource box;
-        box.iri = "http://example.com/demo#box";
-        box.objectId = "box";
+        DerivationSource box = boxSource();
         box.pose = at;
         box.targetPose = to;
         step.parameters.push_back({"ObjectId", box});
@@ -357,9 +361,7 @@ TEST(SkillFacts, APicksGripperIsTheOneOnTheRobotThatReachesTheBox) {
         "http://skillcell.dev/UA/RoboticSkills/CartesianLinearMoveSkillType";
     auto pick = [&](devices::Pose6 at, devices::Pose6 to) {
         ProcessStep step = pickStep({{kGripType, "parallel", kGrasp}, {"", "", robotType}});
-        DerivationSource box;
-        box.iri = "http://example.com/demo#box";
-        box.objectId = "box";
+        DerivationSource box = boxSource();
         box.pose = at;
         box.targetPose = to;
         step.parameters.push_back({"ObjectId", box});
