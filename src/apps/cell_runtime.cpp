@@ -141,10 +141,8 @@ std::string CellRuntime::applicationUri(const std::string& name) const {
     if (cell_.toolChanger(name) != nullptr) {
         return cell::componentUri(cell::kToolChangerUri, name, cell::ToolChanger{}.name);
     }
-    for (const auto& p : cell_.pickAndPlaces) {
-        if (p.name == name) {
-            return cell::componentUri(cell::kPickAndPlaceUri, name, cell::PickAndPlace{}.name);
-        }
+    if (cell_.pickAndPlace(name) != nullptr) {
+        return cell::componentUri(cell::kPickAndPlaceUri, name, cell::PickAndPlace{}.name);
     }
     for (const auto& r : cell_.robots) {
         if (r.name == name) {
@@ -496,8 +494,7 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
             const auto shelf = cell::toolTableArguments(*options_.shelf, power);
             a.insert(a.end(), shelf.begin(), shelf.end());
         }
-    } else if (std::any_of(cell_.pickAndPlaces.begin(), cell_.pickAndPlaces.end(),
-                           [&](const cell::PickAndPlace& p) { return p.name == name; })) {
+    } else if (cell_.pickAndPlace(name) != nullptr) {
         if (auto e = needs("world")) return *e;
         a = {"device",        "pickplace", "--world", endpoint("world"), "--detection-timeout-ms",
              detectionTimeout};

@@ -790,6 +790,13 @@ const ToolChanger* CellFile::toolChanger(const std::string& changer) const {
     return nullptr;
 }
 
+const PickAndPlace* CellFile::pickAndPlace(const std::string& composite) const {
+    for (const auto& p : pickAndPlaces) {
+        if (p.name == composite) return &p;
+    }
+    return nullptr;
+}
+
 std::vector<std::string> CellFile::componentNames() const {
     std::vector<std::string> out;
     if (lds) out.emplace_back("lds");

@@ -146,6 +146,8 @@ struct CellFile {
     std::vector<PickAndPlace> pickAndPlaces;
     /// The tool changer named `changer`, or nullptr.
     [[nodiscard]] const ToolChanger* toolChanger(const std::string& changer) const;
+    /// The pick-and-place composite named `composite`, or nullptr.
+    [[nodiscard]] const PickAndPlace* pickAndPlace(const std::string& composite) const;
     /// Each component's `restart` key, by component name ("lds", "kb", "mes", "dashboard",
     /// "world", or a
     /// device's name); absent: RestartPolicy::OnFailure.

@@ -161,7 +161,7 @@ std::vector<std::string> SkillFacts::values(const SkillKey& skill,
 }
 
 bool SkillFacts::recorded(const SkillKey& skill) const {
-    return !values(skill, std::string(kProcessNs) + "available").empty();
+    return !values(skill, proc("available")).empty();
 }
 
 std::optional<SkillKey> SkillFacts::skillWith(const std::string& componentUri,

@@ -40,6 +40,14 @@ std::string stringArg(const Variant& v) {
     return s == nullptr ? std::string() : std::string(*s);
 }
 
+/// BadNotFound, with the reason, for a robot `world` lacks: the questions about a robot's
+/// flange (the changes get the same from the World itself).
+StatusCode knownRobot(const World& world, const std::string& robot, std::string& why) {
+    if (world.robots().contains(robot)) return ua::status::Good;
+    why = "no robot " + robot + " in the world";
+    return ua::status::BadNotFound;
+}
+
 /// A refused change: its reason goes to the log, its status to the caller.
 StatusCode refused(const char* method, StatusCode status, const std::string& why) {
     spdlog::warn("world: {} refused ({}): {}", method, ua::statusName(status), why);
@@ -237,10 +245,7 @@ StatusCode WorldNodes::build() {
          {arg("DockId", kString, "the dock the flange is at; empty when none")},
          [this](std::span<const Variant> in, std::vector<Variant>& out, std::string& why) {
              const std::string r = stringArg(in[0]);
-             if (!world_.robots().contains(r)) {
-                 why = "no robot " + r + " in the world";
-                 return StatusCode(ua::status::BadNotFound);
-             }
+             if (const StatusCode s = knownRobot(world_, r, why); s.isBad()) return s;
              out.emplace_back(ua::String(world_.dockAtFlange(r).value_or("")));
              return StatusCode(ua::status::Good);
          }});
@@ -277,10 +282,7 @@ StatusCode WorldNodes::build() {
               ua::value_rank::kOneDimension)},
          [this](std::span<const Variant> in, std::vector<Variant>& out, std::string& why) {
              const std::string r = stringArg(in[0]);
-             if (!world_.robots().contains(r)) {
-                 why = "no robot " + r + " in the world";
-                 return StatusCode(ua::status::BadNotFound);
-             }
+             if (const StatusCode s = knownRobot(world_, r, why); s.isBad()) return s;
              const KDL::Frame grip = world_.gripPoint(r);
              const auto found = world_.objectAt(grip.p);
              std::vector<double> extent{0, 0, 0};
