@@ -1,12 +1,18 @@
 #!/usr/bin/env bash
-# Interop: node-opcua's client calls the world model's MoveTool (`skillcell device world`) with
-# the server's default security, and its role check (MoveTool needs Engineer).
+# Interop: node-opcua's client calls the world model's methods (`skillcell device world`) with
+# the server's default security: MoveTool and AddRobot (Engineer's), and the per-robot ones
+# naming their robot (SetFlangePose, DockAtFlange, MountTool, UnmountTool, ObjectAtGripPoint,
+# Grasp, Release), and the role check.
 # Usage: node_world_move_tool.sh PATH/TO/skillcell
-#   1. an Operator and an Engineer (`skillcell user add`); the world with docks d1, d2, d3 and
-#      the tools parallel (in d1) and suction (in d2), on loopback;
+#   1. an Operator and an Engineer (`skillcell user add`); the world with its default robot
+#      `robot`, docks d1, d2, d3, the tools parallel (in d1) and suction (in d2), and a box,
+#      on loopback;
 #   2. node's first connection is refused, its certificate trusted with `skillcell pki trust`;
-#   3. world_move_tool.js as the operator (refused, nothing moved), then as the engineer (the
-#      move, then bad input with its exact status codes);
+#   3. world_move_tool.js as the operator (MoveTool and AddRobot refused, SetFlangePose for an
+#      unknown robot BadNotFound, nothing changed), then as the engineer (the move; AddRobot of
+#      robot2, browsed and read back; robot2 moved to d2, mounting suction, grasping and
+#      releasing the box while `robot` stays put; bad input, taken ids and an unknown robot
+#      with their exact status codes; a new session reads the result);
 #   4. the refusals are in the world's log, and the world is still running and stops cleanly.
 # Everything lives in a temporary directory. Skips (77) without node-opcua unless
 # SKILLCELL_REQUIRE_NODE=1.
@@ -23,7 +29,7 @@ printf '%s\n' 'eng-secret-2' | "$skillcell" user add engineer --role Engineer --
 
 interop_start world 20 "$skillcell" device world --port 0 --host 127.0.0.1 --no-discovery \
   --pki-dir "$pki" --dock 'd1@0.4,-0.3,0.1' --dock 'd2@0.5,-0.3,0.1' --dock 'd3@0.6,-0.3,0.1' \
-  --tool 'parallel:d1@0,0,0.15' --tool 'suction:d2@0,0,0.12'
+  --tool 'parallel:d1@0,0,0.15' --tool 'suction:d2@0,0,0.12' --object 'box:0.04,0.04,0.04@0.2,0.2,0.42'
 pid=$last_pid
 echo "world ready at $url"
 fail() { echo "FAIL: $*" >&2; echo "world log:" >&2; tail -n 60 "$tmp/world.log" >&2; exit 1; }
@@ -46,11 +52,23 @@ rejected=("$pki"/rejected/certs/*.der)
 node_as operator:op-secret-1 --as operator || fail "world_move_tool.js as the operator"
 node_as engineer:eng-secret-2 --as engineer || fail "world_move_tool.js as the engineer"
 
-# The server's side of the refusals: the role check, then World::moveTool's own.
-grep -q "Call of .*World.MoveTool refused (BadUserAccessDenied)" "$tmp/world.log" ||
-  fail "the operator's refusal was not logged"
+# The server's side of the refusals: the role check, then the World's own.
+for method in MoveTool AddRobot; do
+  grep -q "Call of .*World.$method refused (BadUserAccessDenied)" "$tmp/world.log" ||
+    fail "the operator's $method refusal was not logged"
+done
+! grep -q "Call of .*World.SetFlangePose refused (BadUserAccessDenied)" "$tmp/world.log" ||
+  fail "SetFlangePose (an Operator's method) refused to the operator"
 for status in BadNotFound BadInvalidState; do
   grep -q "world: MoveTool refused ($status)" "$tmp/world.log" || fail "no MoveTool refusal with $status logged"
+done
+grep -q "world: AddRobot refused (BadNodeIdExists): id robot2 is taken" "$tmp/world.log" ||
+  fail "the second AddRobot of robot2 was not logged"
+grep -q "world: AddRobot refused (BadInvalidArgument): empty robot id" "$tmp/world.log" ||
+  fail "AddRobot's refusal of an empty id was not logged"
+for method in SetFlangePose MountTool UnmountTool Grasp Release DockAtFlange ObjectAtGripPoint; do
+  grep -q "world: $method refused (BadNotFound): no robot nosuchrobot in the world" "$tmp/world.log" ||
+    fail "no $method refusal for the unknown robot logged"
 done
 kill -0 "$pid" 2>/dev/null || fail "the world died during the test"
 kill -TERM "$pid"
