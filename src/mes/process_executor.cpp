@@ -833,7 +833,7 @@ bool ProcessExecutor::available(const Order& order, const std::set<std::string>&
 
 asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr<Order> order,
                                                                  const ProcessStep& step,
-                                                                 const std::set<SkillKey>& excluded,
+                                                                 const std::set<TriedKey>& excluded,
                                                                  Progress p) {
     auto self = shared_from_this();
     // skillWait counts from the moment no suitable skill is there, not from the step's start:
@@ -964,7 +964,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
         const std::size_t id =
             detector_->subscribe([timer, step, excluded](const skills::SkillEvent& e) {
                 if (e.kind != skills::SkillEvent::Kind::Added) return;
-                const bool wanted = (!excluded.contains(keyOf(e.instance)) &&
+                const bool wanted = (!excluded.contains(triedKeyOf(e.instance)) &&
                                      unsuitability(step, e.instance).empty()) ||
                                     std::any_of(step.requirements.begin(), step.requirements.end(),
                                                 [&](const FactRequirement& r) {
@@ -1032,12 +1032,16 @@ asio::awaitable<kb::Expected<std::optional<std::uint64_t>>> ProcessExecutor::res
 }
 
 asio::awaitable<bool> ProcessExecutor::componentGone(std::shared_ptr<Order> order,
-                                                     std::string componentUri) {
+                                                     skills::SkillInstance skill) {
     auto self = shared_from_this();
-    auto listed = [this, &componentUri] {
+    const std::string componentUri = skill.componentUri;
+    const std::int64_t life = skill.componentStartTime.ticks;
+    // Listed as it was: a restarted component (a new StartTime) is not its former life.
+    auto listed = [this, &componentUri, life] {
         const auto all = detector_->instances();
-        return std::any_of(all.begin(), all.end(),
-                           [&](const auto& s) { return s.componentUri == componentUri; });
+        return std::any_of(all.begin(), all.end(), [&](const auto& s) {
+            return s.componentUri == componentUri && s.componentStartTime.ticks == life;
+        });
     };
     if (!listed()) co_return true;
     auto timer =
@@ -1054,7 +1058,7 @@ asio::awaitable<bool> ProcessExecutor::componentGone(std::shared_ptr<Order> orde
 }
 
 std::string ProcessExecutor::noSkillReason(const ProcessStep& step,
-                                           const std::set<SkillKey>& tried) const {
+                                           const std::set<TriedKey>& tried) const {
     const std::string type = shortName(step.skillTypeIri);
     std::string text = step.label() + ": no " + (tried.empty() ? "" : "other ") +
                        "available skill of type " + type + " can run it";
@@ -1098,7 +1102,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
                                                                       int attempt, Progress p) {
     auto self = shared_from_this();
     const std::int64_t run = order->id;
-    std::set<SkillKey> tried;
+    std::set<TriedKey> tried;
     std::string lastFailure;
     std::string note;  // why the next attempt is made, and what was done first: journaled
     int retried = 0;
@@ -1145,7 +1149,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         std::string why;
         auto conn = co_await connections_->take(skill, &why);
         if (!conn) {
-            tried.insert(keyOf(skill));
+            tried.insert(triedKeyOf(skill));
             lastFailure = where(skill) + ": " + why;
             p.state = "unreachable";
             p.message = why;
@@ -1156,7 +1160,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         // stale self after a failover, cannot drive it (docs/skills.md, "Reservation").
         auto reserved = co_await reserve(**conn, *order);
         if (!reserved) {
-            tried.insert(keyOf(skill));
+            tried.insert(triedKeyOf(skill));
             lastFailure = where(skill) + ": " + reserved.error();
             p.state = "reserved";
             p.message = reserved.error();
@@ -1171,7 +1175,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         if (client.state() == SkillState::Halted) {
             const ua::StatusCode reset = co_await client.call(skills::SkillMethod::Reset);
             if (reset.isBad()) {
-                tried.insert(keyOf(skill));
+                tried.insert(triedKeyOf(skill));
                 lastFailure = where(skill) + ": Halted, and its Reset was refused (" +
                               std::string(ua::statusName(reset)) + ")";
                 co_await hangUp(skill, std::move(*conn), token);
@@ -1186,7 +1190,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         }
         auto before = co_await (*conn)->lastTransitionTime();
         if (!before) {
-            tried.insert(keyOf(skill));
+            tried.insert(triedKeyOf(skill));
             lastFailure = where(skill) + ": cannot read its LastTransition: " +
                           std::string(ua::statusName(before.status()));
             co_await hangUp(skill, std::move(*conn), token);
@@ -1251,8 +1255,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         }
         // Lost contact: another instance may take the step only once the component is
         // gone; one still there may still be running the skill.
-        if (outcome.kind == SkillOutcome::Kind::Lost &&
-            !co_await componentGone(order, skill.componentUri)) {
+        if (outcome.kind == SkillOutcome::Kind::Lost && !co_await componentGone(order, skill)) {
             co_return StepResult{false, step.label() + ": lost contact with " + where(skill) +
                                             " mid-step (" + r.reason +
                                             "), but the component is still there: it may still "
@@ -1264,9 +1267,15 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
             co_return StepResult{false,
                                  step.label() + " failed on " + where(skill) + ": " + r.reason};
         }
-        tried.insert(keyOf(skill));
+        tried.insert(triedKeyOf(skill));
         lastFailure = where(skill) + ": " + r.reason;
-        note = "another instance, after " + lastFailure;
+        // What the lost run did, the next one settles: it starts from the cell as it is
+        // (a composite plans from what it perceives), on another instance or on the same
+        // component's next life (docs/mes.md, "Settling").
+        note = outcome.kind == SkillOutcome::Kind::Lost
+                   ? "another instance, after " + lastFailure +
+                         "; the run lost with its component is settled from the cell's state"
+                   : "another instance, after " + lastFailure;
         ++attempt;
     }
     co_return StepResult{false, step.label() + ": gave up after " +

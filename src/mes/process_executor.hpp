@@ -236,7 +236,7 @@ private:
     /// to appear (or for the KB to record the facts that make one suitable), or as long as
     /// claimWait for another order, or another step of this one, to free one.
     asio::awaitable<Choice> choose(std::shared_ptr<Order> order, const ProcessStep& step,
-                                   const std::set<SkillKey>& excluded, Progress p);
+                                   const std::set<TriedKey>& excluded, Progress p);
     /// Which of `typed` (suitable by type) meet the step's requirements, by the KB's facts.
     asio::awaitable<Choice> withRequirements(const ProcessStep& step,
                                              std::vector<skills::SkillInstance> typed,
@@ -274,10 +274,11 @@ private:
     /// component has no reservation, or why it cannot be had (another holder has it).
     asio::awaitable<kb::Expected<std::optional<std::uint64_t>>> reserve(
         skills::SkillConnection& connection, const Order& order);
-    /// Whether the detector no longer lists `componentUri`, waiting up to goneConfirmation.
-    asio::awaitable<bool> componentGone(std::shared_ptr<Order> order, std::string componentUri);
+    /// Whether the life of `skill`'s component has ended: the detector no longer lists it with
+    /// the StartTime it had (it left, or restarted), waiting up to goneConfirmation.
+    asio::awaitable<bool> componentGone(std::shared_ptr<Order> order, skills::SkillInstance skill);
     [[nodiscard]] std::string noSkillReason(const ProcessStep& step,
-                                            const std::set<SkillKey>& tried) const;
+                                            const std::set<TriedKey>& tried) const;
     /// The components that offered a skill suiting `step` and left lately, with why and
     /// when ("WHERE, gone (REASON) N s ago; ..."), not counting those listed again.
     [[nodiscard]] std::string departed(const ProcessStep& step) const;

@@ -100,6 +100,10 @@ SkillKey keyOf(const skills::SkillInstance& skill) {
     return {skill.componentUri, skill.nodeId.toString()};
 }
 
+TriedKey triedKeyOf(const skills::SkillInstance& skill) {
+    return {keyOf(skill), skill.componentStartTime.ticks};
+}
+
 std::string where(const skills::SkillInstance& skill) {
     return skill.browsePathString() + " of " + skill.componentUri;
 }
@@ -119,11 +123,11 @@ std::string unsuitability(const ProcessStep& step, const skills::SkillInstance& 
 
 std::vector<const skills::SkillInstance*> candidates(const ProcessStep& step,
                                                      const std::vector<skills::SkillInstance>& live,
-                                                     const std::set<SkillKey>& excluded) {
+                                                     const std::set<TriedKey>& excluded) {
     // Sorted by keys made once each, not once per comparison.
     std::vector<std::pair<std::pair<std::string, std::string>, const skills::SkillInstance*>> keyed;
     for (const auto& s : live) {
-        if (!excluded.contains(keyOf(s)) && unsuitability(step, s).empty()) {
+        if (!excluded.contains(triedKeyOf(s)) && unsuitability(step, s).empty()) {
             keyed.emplace_back(std::pair(s.componentUri, s.browsePathString()), &s);
         }
     }

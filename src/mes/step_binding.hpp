@@ -20,9 +20,19 @@
 
 namespace skillcell::mes {
 
-/// A skill instance, as (component URI, node id text): what the MES remembers it tried.
+/// A skill instance, as (component URI, node id text).
 using SkillKey = std::pair<std::string, std::string>;
 [[nodiscard]] SkillKey keyOf(const skills::SkillInstance& skill);
+
+/// A skill instance in one life of its component (its StartTime): what the MES remembers it
+/// tried for a step. A component that restarted is a new life and may take the step again;
+/// what its former life left, the next run settles (docs/mes.md, "Settling").
+struct TriedKey {
+    SkillKey skill;
+    std::int64_t life = 0;  // the component's StartTime, ticks
+    friend auto operator<=>(const TriedKey&, const TriedKey&) = default;
+};
+[[nodiscard]] TriedKey triedKeyOf(const skills::SkillInstance& skill);
 
 /// "Skills/Grasp of urn:...": how messages name a skill instance.
 [[nodiscard]] std::string where(const skills::SkillInstance& skill);
@@ -39,7 +49,7 @@ using SkillKey = std::pair<std::string, std::string>;
 /// a MES with many orders looks through every instance at each step, and keeps one.
 [[nodiscard]] std::vector<const skills::SkillInstance*> candidates(
     const ProcessStep& step, const std::vector<skills::SkillInstance>& live,
-    const std::set<SkillKey>& excluded);
+    const std::set<TriedKey>& excluded);
 
 /// The values to write before `skill` runs `step`. `cellMatches`: for each of the step's
 /// requirements on the cell, the instance that meets it (skill_facts.hpp), whose endpoint a

@@ -152,8 +152,7 @@ struct SimulatedCell {
         changerArgs_ = changerArgs;
         changer = start(binary, std::move(changerArgs));
         if (withPickAndPlace) {
-            pickplace = start(
-                binary, {"pickplace", "--world", world->url(), "--detection-timeout-ms", "5000"});
+            pickplace = start(binary, pickAndPlaceArgs());
         }
         robot = start(binary, {robotModel, "--speed", robotSpeed, "--world", world->url(),
                                "--robot", robotName});
@@ -179,6 +178,12 @@ struct SimulatedCell {
         changer = start(binary_, changerArgs_);
     }
 
+    /// Starts the pick-and-place composite again (after a test killed it).
+    void restartPickAndPlace() {
+        pickplace.reset();
+        pickplace = start(binary_, pickAndPlaceArgs());
+    }
+
     [[nodiscard]] bool ready() const {
         return !world->url().empty() && changer && !changer->url().empty() && robot &&
                !robot->url().empty() && (!pickplace || !pickplace->url().empty());
@@ -193,7 +198,10 @@ private:
     std::string binary_;
     std::vector<std::string> changerArgs_;
 
-private:
+    [[nodiscard]] std::vector<std::string> pickAndPlaceArgs() const {
+        return {"pickplace", "--world", world->url(), "--detection-timeout-ms", "5000"};
+    }
+
     static std::unique_ptr<DeviceProcess> start(const std::string& binary,
                                                 std::vector<std::string> args) {
         for (const char* a : {"--mdns-ttl", "5", "--mdns-query-period", "1"}) args.emplace_back(a);

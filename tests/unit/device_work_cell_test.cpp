@@ -7,6 +7,9 @@
 // runs with the DH-Robotics AG-95 as the parallel gripper: nothing above its adapter changes.
 #include <gtest/gtest.h>
 
+#include <csignal>
+#include <thread>
+
 #include "client_thread.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/world/world_link.hpp"
@@ -139,6 +142,69 @@ TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
         120s);
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("GraspGripperSkillType"), std::string::npos) << outcome.reason;
+}
+
+// A composite killed mid-pick, the box in its gripper: the composite started again carries the
+// box on to its place from where it is, without letting go of it or taking it again; asked once
+// more, it finds the box at its place and does nothing.
+TEST(WorkCellSettling, APickCutShortIsCarriedOnFromWhereTheBoxIsNotPickedAgain) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
+    ASSERT_TRUE(cell.ready());
+    auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
+    ASSERT_TRUE(link.ok());
+    WorldLink& w = **link;
+    test::ClientThread client;
+    auto change =
+        client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    ASSERT_TRUE(change);
+    auto outcome = client.invoke(change,
+                                 {{"ToolPosition", poseValue(parallelDock())},
+                                  {"ToolAppUri", textValue(cell.parallelUri.c_str())}},
+                                 60s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+
+    const std::map<std::string, ua::Variant> request = {
+        {"ObjectId", textValue("boxA")}, {"PlacePosition", poseValue("0.25,0.35,0.025,0,0,0")}};
+    {
+        test::ClientThread first;
+        auto pick =
+            first.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
+        ASSERT_TRUE(pick);
+        std::thread running([&] { outcome = first.invoke(pick, request, 120s); });
+        // Killed once the box is in its gripper (a bounded poll of the world model).
+        bool grasped = false;
+        for (int i = 0; i < 1500 && !grasped; ++i) {
+            grasped = *w.graspedObject() == "boxA";
+            if (!grasped) std::this_thread::sleep_for(20ms);
+        }
+        if (grasped) cell.pickplace->kill(SIGKILL);
+        running.join();
+        ASSERT_TRUE(grasped) << "the first run never grasped boxA: " << outcome.reason;
+        EXPECT_EQ(outcome.kind, Kind::Lost) << outcome.reason;
+    }
+    EXPECT_EQ(*w.graspedObject(), "boxA");
+    EXPECT_EQ(*w.objectGrasps("boxA"), 1U);
+    EXPECT_FALSE(near(*w.objectPose("boxA"), KDL::Frame(KDL::Vector(0.25, 0.35, 0.025)), 0.01, 1))
+        << "the first run got further than its grasp";
+
+    cell.restartPickAndPlace();
+    ASSERT_FALSE(cell.pickplace->url().empty());
+    test::ClientThread again;
+    auto pick =
+        again.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
+    ASSERT_TRUE(pick);
+    outcome = again.invoke(pick, request, 120s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    expectAt(w, "boxA", 0.25, 0.35, 0.025);
+    EXPECT_EQ(*w.graspedObject(), "");
+    EXPECT_EQ(*w.objectGrasps("boxA"), 1U) << "boxA was let go of and taken again";
+
+    // At its place, the box needs nothing more: the robot stays where it is.
+    const auto flange = *w.flangePose();
+    outcome = again.invoke(pick, request, 120s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(*w.objectGrasps("boxA"), 1U);
+    EXPECT_TRUE(near(*w.flangePose(), flange, 1e-6, 1e-6));
 }
 
 INSTANTIATE_TEST_SUITE_P(ParallelGrippers, WorkCell,

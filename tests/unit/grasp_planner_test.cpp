@@ -309,6 +309,36 @@ TEST(GraspPlanner, PlaceCarriesTheObjectToThePlacePosition) {
     }
 }
 
+// A run cut short left the object held, a little askew and lifted (not as planGrasp would take
+// it): the rest of the run keeps it as it is held, lifts it straight up and puts it at its place.
+TEST(GraspPlanner, CarryingOnKeepsTheObjectAsItIsHeldAndPutsItAtItsPlace) {
+    const KDL::Frame place = at(0.1, -0.4, 0.125, 0, 0, -60 * kDeg);
+    for (const auto type : {GripPointType::Parallel, GripPointType::Vacuum}) {
+        SCOPED_TRACE(type == GripPointType::Parallel ? "parallel" : "vacuum");
+        // Taken from its start by the plan, held a little askew, and lifted a little askew.
+        const KDL::Frame start = at(0.5, 0.1, 0.025, 0, 0, 30 * kDeg);
+        const auto first = planGrasp(request(type, {0.04, 0.10, 0.05}, start, place));
+        ASSERT_TRUE(first);
+        const KDL::Frame inFlange =
+            first->grasp.Inverse() * start * at(0.003, -0.002, 0.001, 0, 0, 0.05);
+        const KDL::Frame flange = first->retreat * at(0.01, 0.02, 0.03, 0.01, -0.02, 0.03);
+        const KDL::Frame held = flange * inFlange;
+        auto req = request(type, {0.04, 0.10, 0.05}, held, place);
+        const GraspPlan plan = planCarryOn(flange, req);
+        expectProper(plan);
+        EXPECT_TRUE(sameVector(plan.grasp.p, flange.p));
+        EXPECT_TRUE(sameVector(plan.retreat.p, flange.p + KDL::Vector(0, 0, 0.05)));
+        EXPECT_TRUE(sameVector(plan.retreat.M.UnitX(), flange.M.UnitX()));
+        // The object, carried as it is held, ends at its place.
+        const KDL::Frame placed = plan.place * (flange.Inverse() * held);
+        EXPECT_TRUE(sameVector(placed.p, place.p));
+        EXPECT_TRUE(sameVector(placed.M.UnitX(), place.M.UnitX()));
+        EXPECT_TRUE(sameVector(placed.M.UnitZ(), place.M.UnitZ()));
+        EXPECT_GT(plan.placeApproach.p.z(), plan.place.p.z() - kTol);
+        EXPECT_EQ(plan.placeRetreat, plan.placeApproach);
+    }
+}
+
 TEST(GraspPlanner, FlangePosesApplyTheGripPointOffset) {
     for (GripPointType type : {GripPointType::Vacuum, GripPointType::Parallel}) {
         auto req = request(type, {0.05, 0.08, 0.04}, at(0.4, 0.3, 0.02, 0, 0, -50 * kDeg));

@@ -66,6 +66,12 @@ asio::awaitable<std::string> RobotMotion::moveTo(skills::SubSkillRunner& runner,
         " at " + move.endpointUrl() + ") ended " + describeOutcome(outcome);
 }
 
+asio::awaitable<ua::Result<KDL::Frame>> RobotMotion::reachCentre() {
+    const auto value = co_await linear_->readParameter("ReachCentre");
+    if (!value) co_return value.status();
+    co_return frameFromVariant(*value);
+}
+
 asio::awaitable<void> RobotMotion::close() {
     if (token_) {
         const std::uint64_t token = *token_;

@@ -62,6 +62,9 @@ public:
     asio::awaitable<std::string> moveTo(skills::SubSkillRunner& runner, KDL::Frame flange,
                                         Path path, std::chrono::milliseconds timeout,
                                         MoveLimits limits = {});
+    /// Where the robot stands: its ReachCentre (the shoulder, in the cell's frame), as its
+    /// linear move publishes it.
+    asio::awaitable<ua::Result<KDL::Frame>> reachCentre();
     /// Whether the robot offers force-limited moves.
     [[nodiscard]] bool sensesForce() const { return static_cast<bool>(forceLimited_); }
     /// Releases the robot and closes the sessions.

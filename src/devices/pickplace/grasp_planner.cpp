@@ -146,6 +146,26 @@ std::optional<GraspPlan> planGrasp(const GraspRequest& request, std::string* why
     return plan;
 }
 
+GraspPlan planCarryOn(const KDL::Frame& flange, const GraspRequest& request) {
+    const double d = request.approachDistance;
+    const KDL::Vector baseUp(0, 0, 1);
+    const KDL::Frame grip = flange * request.gripPointOffset;
+    const KDL::Frame objectInGrip = grip.Inverse() * request.objectPose;
+    const KDL::Frame placeGrip = request.placePosition * objectInGrip.Inverse();
+    const KDL::Frame placeApproach = request.type == GripPointType::Vacuum
+                                         ? shifted(placeGrip, -d * placeGrip.M.UnitZ())
+                                         : shifted(placeGrip, d * baseUp);
+    const KDL::Frame toFlange = request.gripPointOffset.Inverse();
+    GraspPlan plan;
+    plan.approach = flange;
+    plan.grasp = flange;
+    plan.retreat = shifted(grip, d * baseUp) * toFlange;
+    plan.placeApproach = placeApproach * toFlange;
+    plan.place = placeGrip * toFlange;
+    plan.placeRetreat = plan.placeApproach;
+    return plan;
+}
+
 std::vector<std::pair<std::string, KDL::Frame>> steps(const GraspPlan& plan) {
     return {{"approach", plan.approach}, {"grasp", plan.grasp},
             {"retreat", plan.retreat},   {"place-approach", plan.placeApproach},

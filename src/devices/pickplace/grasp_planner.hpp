@@ -70,6 +70,12 @@ struct GraspPlan {
 [[nodiscard]] std::optional<GraspPlan> planGrasp(const GraspRequest& request,
                                                  std::string* why = nullptr);
 
+/// The rest of a pick and place whose object is held already (its run was cut short): the
+/// object stays as it is held, wherever the grasp put it. `grasp` is the flange where it is,
+/// `retreat` lifts it by the approach distance along base +z; the place poses are planGrasp's,
+/// for the held object. (approach = grasp: there is nothing to approach.)
+[[nodiscard]] GraspPlan planCarryOn(const KDL::Frame& flange, const GraspRequest& request);
+
 /// The plan's poses named "approach", "grasp", "retreat", "place-approach", "place",
 /// "place-retreat", in that order, for publishing the current step.
 [[nodiscard]] std::vector<std::pair<std::string, KDL::Frame>> steps(const GraspPlan& plan);

@@ -20,6 +20,14 @@ constexpr double kInsertionSpeed = 0.02;  // m/s
 /// Blocks side by side may touch by as much as the world allows.
 constexpr double kRailOverlapTolerance = WorldTolerances{}.railOverlap;
 
+/// How near a pose must be to count as the one planned: the arm's accuracy and the world's
+/// contact tolerances are far finer.
+constexpr double kSamePosition = 0.002;  // m
+constexpr double kSameAngle = 0.02;      // rad
+/// The robot whose base is within this of the move skill's ReachCentre is the one it moves
+/// (a shoulder stands a few decimetres above its base at most; robots stand apart).
+constexpr double kShoulderAboveBase = 0.5;  // m
+
 /// The object as the world model has it.
 struct ObjectFacts {
     ua::StatusCode status;
@@ -135,6 +143,32 @@ asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request
     co_return std::string();
 }
 
+asio::awaitable<std::string> PickAndPlace::perceive(const PickRequest& request, Skills& skills,
+                                                    Perceived& seen) {
+    const auto centre = co_await skills.move->reachCentre();
+    if (!centre) {
+        co_return "the robot at " + skills.move->endpointUrl() + " publishes no ReachCentre (" +
+            std::string(ua::statusName(centre.status())) + ")";
+    }
+    auto read = [this] { return world_.robots(); };
+    const auto robots = co_await blockingCall(ioThread_, std::move(read));
+    if (!robots) {
+        co_return "cannot read the world model's robots (" +
+            std::string(ua::statusName(robots.status())) + ")";
+    }
+    double nearest = kShoulderAboveBase;
+    for (const auto& r : *robots) {
+        const double d = (r.base.p - centre->p).Norm();
+        if (d < nearest) {
+            nearest = d;
+            seen.robot = r.id;
+            seen.flange = r.flange;
+        }
+        if (r.held == request.objectId) seen.holder = r.id;
+    }
+    co_return std::string();
+}
+
 asio::awaitable<std::string> PickAndPlace::plan(const PickRequest& request, Skills& skills,
                                                 Script& script) {
     auto read = [this, id = request.objectId] {
@@ -165,6 +199,19 @@ asio::awaitable<std::string> PickAndPlace::plan(const PickRequest& request, Skil
             " publishes no usable GripPointOffset and GripPointType";
     }
     const auto type = static_cast<GripPointType>(*typeNumber);
+    Perceived seen;
+    if (auto why = co_await perceive(request, skills, seen); !why.empty()) co_return why;
+    if (!seen.holder.empty() && seen.holder != seen.robot) {
+        co_return "object " + request.objectId + " is held by robot " + seen.holder +
+            ", not by the one this composite moves (" +
+            (seen.robot.empty() ? "none of the world's stands at its ReachCentre" : seen.robot) +
+            ")";
+    }
+    if (!seen.holder.empty() && (request.rail || request.fuse)) {
+        co_return "object " + request.objectId + " is held already (a run cut short left it " +
+            "so); only a plain pick and place continues from there, not a " +
+            (request.rail ? "rail mount" : "fuse insertion");
+    }
     if (request.rail) {
         co_return co_await planRail(request, object.size, object.pose, *offset, type, script);
     }
@@ -179,11 +226,46 @@ asio::awaitable<std::string> PickAndPlace::plan(const PickRequest& request, Skil
     g.placePosition = request.placePosition;
     g.approachDistance = options_.approachDistance;
     std::string why;
+    using K = Action::Kind;
+    // A run cut short (docs/mes.md, "Settling") continues from where the object is: held by
+    // this robot, it is carried on as it is held; at its place, free, with the gripper still
+    // at it, the gripper lets go and lifts off; at its place otherwise, nothing is left to do.
+    const bool placed = near(object.pose, request.placePosition, kSamePosition, kSameAngle);
+    if (!seen.holder.empty()) {
+        const GraspPlan carry = planCarryOn(seen.flange, g);
+        spdlog::info("pickplace: {} is held by robot {} (a run cut short): {}", request.objectId,
+                     seen.holder, placed ? "letting go of it at its place" : "carrying it on");
+        if (!placed) {
+            script.insert(script.end(), {{K::Linear, "retreat", carry.retreat},
+                                         {K::Transfer, "place-approach", carry.placeApproach},
+                                         {K::Linear, "place", carry.place}});
+        }
+        script.insert(script.end(), {{K::Release, "Release", {}},
+                                     {K::Linear, "place-retreat", carry.placeRetreat}});
+        co_return std::string();
+    }
+    if (placed) {
+        // The gripper at it: its grip point within the box (vacuum: on its top face).
+        const KDL::Vector grip = (seen.flange * *offset).p;
+        const KDL::Vector inBox = object.pose.Inverse() * grip;
+        const bool at = !seen.robot.empty() &&
+                        std::abs(inBox.x()) <= object.size.x / 2 + kSamePosition &&
+                        std::abs(inBox.y()) <= object.size.y / 2 + kSamePosition &&
+                        std::abs(inBox.z()) <= object.size.z / 2 + kSamePosition;
+        spdlog::info("pickplace: {} is at its place already: {}", request.objectId,
+                     at ? "the gripper lets go and lifts off" : "nothing to do");
+        if (at) {
+            KDL::Frame lifted = seen.flange;
+            lifted.p += KDL::Vector(0, 0, g.approachDistance);
+            script.insert(script.end(),
+                          {{K::Release, "Release", {}}, {K::Linear, "place-retreat", lifted}});
+        }
+        co_return std::string();
+    }
     const auto planned = planGrasp(g, &why);
     if (!planned) co_return "cannot plan the grasp of " + request.objectId + ": " + why;
     // Parallel fingers must be open before they go round the object. To each approach point
     // to point (free space), everything near the object in a straight line.
-    using K = Action::Kind;
     if (type == GripPointType::Parallel) script.push_back({K::Open, "open", {}});
     script.insert(script.end(), {{K::Transfer, "approach", planned->approach},
                                  {K::Linear, "grasp", planned->grasp},

@@ -137,6 +137,16 @@ private:
     };
     using Script = std::vector<Action>;
 
+    /// What the scene shows of the object and the robot this composite drives: a run cut
+    /// short (its composite killed) may have left the object in that robot's gripper, or at
+    /// its place already.
+    struct Perceived {
+        std::string robot;   // the world's id of the robot this composite drives; may be empty
+        KDL::Frame flange;   // that robot's flange
+        std::string holder;  // the robot that holds the object; empty: none
+    };
+    asio::awaitable<std::string> perceive(const PickRequest& request, Skills& skills,
+                                          Perceived& seen);
     asio::awaitable<std::string> plan(const PickRequest& request, Skills& skills, Script& script);
     asio::awaitable<std::string> planRail(const PickRequest& request, const BoxSize& size,
                                           const KDL::Frame& pose, const KDL::Frame& gripOffset,

@@ -384,6 +384,7 @@ ua::StatusCode World::grasp(const std::string& robot, const std::string& objectI
     }
     f->held = objectId;
     f->toHeld = f->pose.Inverse() * object->second.pose;
+    ++object->second.grasps;
     // Taken off a rail, if it was on one (the gripper pulls it off as it moves away; until
     // then it is held where it snapped).
     if (const auto mount = railMounts_.find(objectId); mount != railMounts_.end()) {

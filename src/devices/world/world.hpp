@@ -35,6 +35,7 @@ struct WorldObject {
     BoxSize size;
     KDL::Frame pose;  // the box's centre and orientation, in the cell's base frame
     ObjectKind kind = ObjectKind::Box;
+    std::uint32_t grasps = 0;  // how often a gripper took hold of it: what tests count
 };
 
 /// Where a terminal block is mounted.

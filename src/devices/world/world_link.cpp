@@ -186,6 +186,36 @@ ua::Result<std::vector<std::string>> WorldLink::objectIds() {
     return children("World/Objects");
 }
 
+ua::Result<std::uint32_t> WorldLink::objectGrasps(const std::string& objectId) {
+    const auto value = client_.readValue(id("World/Objects/" + objectId + "/Grasps"));
+    if (!value) return value.status();
+    const std::uint32_t* n = value->get<std::uint32_t>();
+    if (n == nullptr) return ua::status::BadTypeMismatch;
+    return *n;
+}
+
+ua::Result<std::vector<WorldLink::RobotView>> WorldLink::robots() {
+    const auto ids = children("World/Robots");
+    if (!ids) return ids.status();
+    std::vector<RobotView> views;
+    for (const auto& robot : *ids) {
+        const std::string path = "World/Robots/" + robot + "/";
+        RobotView v;
+        v.id = robot;
+        auto base = readFrame(path + "Base");
+        if (!base) return base.status();
+        auto flange = readFrame(path + "FlangePose");
+        if (!flange) return flange.status();
+        auto held = readString(path + "GraspedObject");
+        if (!held) return held.status();
+        v.base = *base;
+        v.flange = *flange;
+        v.held = std::move(*held);
+        views.push_back(std::move(v));
+    }
+    return views;
+}
+
 ua::Result<std::vector<std::string>> WorldLink::dockIds() {
     return children("World/Docks");
 }

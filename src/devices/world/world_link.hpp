@@ -66,6 +66,17 @@ public:
     [[nodiscard]] ua::Result<KDL::Frame> flangePose();
     /// The ids of the objects (World/Objects) and the docks (World/Docks), as browsed.
     [[nodiscard]] ua::Result<std::vector<std::string>> objectIds();
+    /// How often a gripper took hold of the object.
+    [[nodiscard]] ua::Result<std::uint32_t> objectGrasps(const std::string& objectId);
+    /// A robot as the scene shows it: where it stands, where its flange is, what it holds.
+    struct RobotView {
+        std::string id;
+        KDL::Frame base, flange;
+        std::string held;  // empty: nothing
+    };
+    /// Every robot of the world (what a composite that drives "the robot carrying the tool"
+    /// perceives to find which one that is, and what it holds).
+    [[nodiscard]] ua::Result<std::vector<RobotView>> robots();
     [[nodiscard]] ua::Result<std::vector<std::string>> dockIds();
     [[nodiscard]] ua::Result<KDL::Frame> dockPose(const std::string& dockId);
     /// The tool stored in the dock; empty when it is empty.

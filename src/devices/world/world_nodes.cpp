@@ -346,6 +346,9 @@ void WorldNodes::sync() {
             ua::value_rank::kScalar);
         put(path + "/Size", path, "Size", NodeId(ua::ns0::Double), sizeValue(object.size),
             ua::value_rank::kOneDimension);
+        // How often a gripper took hold of it: one pick, one grasp, however its run went.
+        put(path + "/Grasps", path, "Grasps", NodeId(ua::ns0::UInt32), Variant(object.grasps),
+            ua::value_rank::kScalar);
         if (object.kind == ObjectKind::TerminalBlock) {
             // Where it is mounted: the rail and the block's centre along it; an empty rail
             // and NaN when it is on none.

@@ -401,6 +401,28 @@ TEST_F(Orders, AComponentUnpluggedMidStepIsReplacedAndTheOrderCompletesOnTheOthe
         << r.steps[1].note;
 }
 
+TEST_F(Orders, AComponentRestartedMidStepTakesTheStepAgainInItsNextLife) {
+    // The only component dies mid-step and its supervisor starts it again at once, with the
+    // same URI (a new StartTime, another port): the detector sees the new life before it ever
+    // says the old one went. The step runs again on it; the old life is not "tried".
+    plug({"urn:test:robot1"}, 1500ms);
+    start({process("urn:p", 1)});
+    const auto o = submit("urn:p");
+    waitUntilBegun(o);
+    components_.clear();
+    plug({"urn:test:robot1"}, 100ms);
+    const auto out = outcome(o);
+    EXPECT_TRUE(out.completed) << out.reason;
+    const auto r = record(o);
+    ASSERT_EQ(r.steps.size(), 2U);
+    EXPECT_EQ(r.steps[0].state, StepState::Failed);
+    EXPECT_EQ(r.steps[1].componentUri, "urn:test:robot1");
+    EXPECT_NE(r.steps[1].endpointUrl, r.steps[0].endpointUrl) << "the same life again";
+    EXPECT_EQ(r.steps[1].state, StepState::Finished);
+    EXPECT_NE(r.steps[1].note.find("settled from the cell's state"), std::string::npos)
+        << r.steps[1].note;
+}
+
 TEST_F(Orders, AmongFreeComponentsTheOneTheJournalKnowsAsFasterIsChosenAndWhySaid) {
     plug({"urn:test:a-slow-robot"}, 600ms);
     plug({"urn:test:b-fast-robot"}, 100ms);

@@ -72,7 +72,7 @@ TEST(StepBinding, AnInstanceOfTheTypeOrASubtypeFitsIfItHasTheParameters) {
     found = candidates(exact, live, {});
     ASSERT_EQ(found.size(), 2U);
     EXPECT_EQ(found[0]->componentUri, "urn:c1") << "a stable order";
-    found = candidates(exact, live, {keyOf(live[1])});
+    found = candidates(exact, live, {triedKeyOf(live[1])});
     ASSERT_EQ(found.size(), 1U);
     EXPECT_EQ(found[0]->componentUri, "urn:c2") << "a tried instance is left out";
 }
