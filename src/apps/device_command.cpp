@@ -24,6 +24,7 @@
 #include "cell/device_arguments.hpp"
 #include "commands.hpp"
 #include "devices/arm/arm_component.hpp"
+#include "devices/arm/arm_kinematics.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/common/robot_motion.hpp"
 #include "devices/dh/ag95_component.hpp"
@@ -332,6 +333,29 @@ struct ArmContent {
     std::unique_ptr<devices::ArmComponent> component;
 };
 
+/// Where a simulated arm starts: where the world has its flange, as a real arm's absolute
+/// encoders tell a restarted controller (a killed arm comes back where it stopped, holding
+/// what it held); the model's home when the world has not seen the arm yet (its flange still
+/// at the base) or the pose is out of its reach.
+devices::Joints startingJoints(devices::WorldLink& world, const devices::ArmModel& model,
+                               const KDL::Frame& base, const std::string& name) {
+    const auto flange = world.flangePose();
+    if (!flange || devices::near(*flange, base, 1e-9, 1e-9)) return {};
+    const devices::ArmKinematics kinematics(model, base);
+    std::string why;
+    auto q = kinematics.inverse(*flange, model.home, model.bounds, &why);
+    if (!q) {
+        spdlog::warn(
+            "{}: the world has the flange at {}, which the arm cannot take ({}): "
+            "starting at home",
+            name, devices::describe(*flange), why);
+        return {};
+    }
+    spdlog::info("{}: starting where the world has the flange, {}", name,
+                 devices::describe(*flange));
+    return *q;
+}
+
 /// A simulated robot arm of `model` as the command `name`.
 CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* name,
                  std::string_view applicationUri, const devices::ArmModel& model) {
@@ -378,6 +402,7 @@ CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* n
                      if (!options->world.empty()) {
                          auto link = connectWorld(options->world, c, options->robot);
                          if (!link) return link.status();
+                         o.arm.initial = startingJoints(**link, model, o.base, name);
                          content->reporter = devices::FlangeReporter::start(std::move(*link));
                          o.onFlange = [r = content->reporter.get()](const KDL::Frame& f) {
                              r->report(f);

@@ -15,7 +15,7 @@
 # A trial passes when all of these hold:
 #  - each order completes after the component comes back (`cell up` restarts it), or stops
 #    with a reason;
-#  - the journal shows no step of any run finished twice;
+#  - the journal shows no step of any run finished twice, and the world no box grasped twice;
 #  - when it completed: both boxes at their targets, no tool mounted, each tool in its dock;
 #    else each tool is in exactly one place (its dock, or mounted), none half-locked
 #    (not checked when the world itself was killed: the simulated world restarts from its
@@ -181,10 +181,23 @@ trial() {
   mounted=$(value Robots/ur5/MountedTool)
   dockP=$(value Docks/dockP/Tool)
   dockV=$(value Docks/dockV/Tool)
+  # Each box is taken hold of once, however many orders move it and whatever was killed: a
+  # run cut short is carried on, a box at its place is left there (not when the world itself
+  # restarted: it counts from its start).
+  local grasps=""
+  if [ "$kind" != world ]; then
+    local box g
+    for box in boxA boxB; do
+      g=$(value "Objects/$box/Grasps")
+      [[ $g =~ ^[0-9]+$ ]] && [ "$g" -le 1 ] || grasps="$grasps $box grasped ${g:-?} times;"
+    done
+  fi
   if [ -n "$link_fault" ]; then
     why=$link_fault
   elif [ -n "$twice" ]; then
     why="step(s) $twice (run.step) finished twice"
+  elif [ -n "$grasps" ]; then
+    why="a box moved twice:$grasps"
   elif [[ $result == "OUTCOME Finished"* ]]; then
     if [ "$kind" != world ] && {
       [[ $(value Objects/boxA/Pose) != "3DFrame(0.250, 0.350, 0.025"* ]] ||

@@ -154,8 +154,9 @@ struct SimulatedCell {
         if (withPickAndPlace) {
             pickplace = start(binary, pickAndPlaceArgs());
         }
-        robot = start(binary, {robotModel, "--speed", robotSpeed, "--world", world->url(),
-                               "--robot", robotName});
+        robotArgs_ = {robotModel,   "--speed", robotSpeed, "--world",
+                      world->url(), "--robot", robotName};
+        robot = start(binary, robotArgs_);
     }
     ~SimulatedCell() {
         // The changer powers the tools off when it stops; then their PKI directories go.
@@ -178,6 +179,11 @@ struct SimulatedCell {
         changer = start(binary_, changerArgs_);
     }
 
+    /// Starts the robot again (after a test killed it).
+    void restartRobot() {
+        robot.reset();
+        robot = start(binary_, robotArgs_);
+    }
     /// Starts the pick-and-place composite again (after a test killed it).
     void restartPickAndPlace() {
         pickplace.reset();
@@ -197,6 +203,7 @@ struct SimulatedCell {
 private:
     std::string binary_;
     std::vector<std::string> changerArgs_;
+    std::vector<std::string> robotArgs_;
 
     [[nodiscard]] std::vector<std::string> pickAndPlaceArgs() const {
         return {"pickplace", "--world", world->url(), "--detection-timeout-ms", "5000"};

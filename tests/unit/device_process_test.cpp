@@ -6,11 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <csignal>
+#include <memory>
 
 #include "client_thread.hpp"
 #include "component_process.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/world/world_link.hpp"
+#include "ua/client/blocking_client.hpp"
 
 namespace skillcell::devices::device_process_test {
 namespace {
@@ -92,6 +95,49 @@ TEST(DeviceProcesses, TheRobotPicksAndPlacesABoxWithTheVacuumGripper) {
     EXPECT_NEAR(box->p.y(), -0.15, 1e-6);
     EXPECT_NEAR(box->p.z(), 0.021, 1e-6);  // the top face at 0.041
     EXPECT_EQ(*w.mountedTool(), "ecbpi");
+}
+
+// A robot controller killed and started again finds its arm where it stopped (absolute
+// encoders: the world model has the flange there), holding what it held: it does not jump to
+// its home pose, carrying the box along.
+TEST(DeviceProcesses, ARestartedArmStartsWhereItsFlangeIsNotAtHome) {
+    DeviceProcess world({"world", "--object", "box1:0.04,0.04,0.04@0.45,0.15,0.02"});
+    ASSERT_FALSE(world.url().empty());
+    auto link = WorldLink::connect(world.url(), {}, "robot");
+    ASSERT_TRUE(link.ok());
+    WorldLink& w = **link;
+    auto robot = std::make_unique<DeviceProcess>(
+        std::vector<std::string>{"ur5", "--speed", "20", "--world", world.url()});
+    ASSERT_FALSE(robot->url().empty());
+    const KDL::Frame home = *w.flangePose();
+    {
+        test::ClientThread client;
+        auto ptp =
+            client.attach(robot->url(), ua::NodeId(1, ua::String("Skills/CartesianPtpMove")));
+        ASSERT_TRUE(ptp);
+        const auto outcome = client.invoke(ptp,
+                                           {{"TargetPosition", frameToVariant(down(0.4, 0.2, 0.3))},
+                                            {"ToolFrame", frameToVariant(KDL::Frame::Identity())}},
+                                           20s);
+        ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    }
+    const KDL::Frame stopped = *w.flangePose();
+    EXPECT_TRUE(near(stopped, down(0.4, 0.2, 0.3), 1e-4, 1e-4)) << describe(stopped);
+    EXPECT_FALSE(near(stopped, home, 0.01, 0.01));
+    robot->kill(SIGKILL);
+    robot.reset();
+    robot = std::make_unique<DeviceProcess>(
+        std::vector<std::string>{"ur5", "--speed", "20", "--world", world.url()});
+    ASSERT_FALSE(robot->url().empty());
+    // Its own report of the flange, and the world's, where it stopped.
+    ua::BlockingClient client;
+    ASSERT_EQ(client.connect(robot->url()), ua::status::Good);
+    const auto published = client.readValue(ua::NodeId(1, ua::String("UR5/FlangePose")));
+    ASSERT_TRUE(published.ok());
+    const auto reported = frameFromVariant(*published);
+    ASSERT_TRUE(reported.ok());
+    EXPECT_TRUE(near(*reported, stopped, 1e-6, 1e-6)) << describe(*reported);
+    EXPECT_TRUE(near(*w.flangePose(), stopped, 1e-6, 1e-6)) << describe(*w.flangePose());
 }
 
 }  // namespace

@@ -207,6 +207,49 @@ TEST(WorkCellSettling, APickCutShortIsCarriedOnFromWhereTheBoxIsNotPickedAgain) 
     EXPECT_TRUE(near(*w.flangePose(), flange, 1e-6, 1e-6));
 }
 
+// The robot killed mid-pick, the box in the gripper, and started again: the composite's run
+// goes on once discovery finds the robot again, from where the box is, and places it.
+TEST(WorkCellSettling, APickWhoseRobotDiesGoesOnWhenTheRobotIsBack) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
+    ASSERT_TRUE(cell.ready());
+    auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
+    ASSERT_TRUE(link.ok());
+    WorldLink& w = **link;
+    test::ClientThread client, pickClient;  // one connection each
+    auto change =
+        client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    auto pick =
+        pickClient.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
+    ASSERT_TRUE(change && pick);
+    auto outcome = client.invoke(change,
+                                 {{"ToolPosition", poseValue(parallelDock())},
+                                  {"ToolAppUri", textValue(cell.parallelUri.c_str())}},
+                                 60s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+
+    std::thread running([&] {
+        outcome = pickClient.invoke(pick,
+                                    {{"ObjectId", textValue("boxA")},
+                                     {"PlacePosition", poseValue("0.25,0.35,0.025,0,0,0")}},
+                                    120s);
+    });
+    bool grasped = false;
+    for (int i = 0; i < 1500 && !grasped; ++i) {
+        grasped = *w.graspedObject() == "boxA";
+        if (!grasped) std::this_thread::sleep_for(20ms);  // a bounded poll of the world
+    }
+    if (grasped) {
+        cell.robot->kill(SIGKILL);
+        cell.restartRobot();
+    }
+    running.join();
+    ASSERT_TRUE(grasped) << "the run never grasped boxA: " << outcome.reason;
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    expectAt(w, "boxA", 0.25, 0.35, 0.025);
+    EXPECT_EQ(*w.graspedObject(), "");
+    EXPECT_EQ(*w.objectGrasps("boxA"), 1U);
+}
+
 INSTANTIATE_TEST_SUITE_P(ParallelGrippers, WorkCell,
                          testing::Values(test::kRobotiq2f85, test::kDhAg95),
                          [](const testing::TestParamInfo<test::ParallelGripperModel>& model) {

@@ -9,12 +9,15 @@ RobotMotion::~RobotMotion() = default;
 
 asio::awaitable<std::unique_ptr<RobotMotion>> RobotMotion::open(
     asio::any_io_executor executor, std::string endpoint, ua::ClientConfig config, std::string& why,
-    bool forceLimited, std::chrono::milliseconds patience) {
+    bool forceLimited, std::chrono::milliseconds patience, bool* unreachable) {
     auto motion = std::make_unique<RobotMotion>(Token{});
     std::string linearType = "CartesianLinearMoveSkillType";
     auto linear =
         co_await skills::SkillConnection::open(executor, endpoint, linearType, config, &why);
-    if (!linear) co_return nullptr;
+    if (!linear) {
+        if (unreachable != nullptr) *unreachable = true;
+        co_return nullptr;
+    }
     motion->linear_ = std::move(*linear);
     std::string ptpType = "CartesianPtpMoveSkillType";
     std::string ignored;
@@ -64,6 +67,13 @@ asio::awaitable<std::string> RobotMotion::moveTo(skills::SubSkillRunner& runner,
     if (outcome.ok()) co_return std::string();
     co_return "the move to " + describe(flange) + " (" + move.description().browsePathString() +
         " at " + move.endpointUrl() + ") ended " + describeOutcome(outcome);
+}
+
+bool RobotMotion::connected() {
+    for (skills::SkillConnection* c : {linear_.get(), ptp_.get(), forceLimited_.get()}) {
+        if (c != nullptr && !c->client().isConnected()) return false;
+    }
+    return true;
 }
 
 asio::awaitable<ua::Result<KDL::Frame>> RobotMotion::reachCentre() {

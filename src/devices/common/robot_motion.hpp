@@ -50,10 +50,12 @@ public:
     /// `config.applicationUri`; null with `why` when the linear move is not there or the
     /// robot is reserved by another.
     /// `patience`: how long to wait for a robot another holder has reserved (skills::hold).
+    /// `unreachable` (if given) is set when the robot could not be reached at all (not when it
+    /// was reached and refused).
     static asio::awaitable<std::unique_ptr<RobotMotion>> open(
         asio::any_io_executor executor, std::string endpoint, ua::ClientConfig config,
         std::string& why, bool forceLimited = false,
-        std::chrono::milliseconds patience = kDeadHolderLease);
+        std::chrono::milliseconds patience = kDeadHolderLease, bool* unreachable = nullptr);
     ~RobotMotion();
     RobotMotion(const RobotMotion&) = delete;
     RobotMotion& operator=(const RobotMotion&) = delete;
@@ -65,6 +67,8 @@ public:
     /// Where the robot stands: its ReachCentre (the shoulder, in the cell's frame), as its
     /// linear move publishes it.
     asio::awaitable<ua::Result<KDL::Frame>> reachCentre();
+    /// Whether every session to the robot is still up (false once its component died).
+    [[nodiscard]] bool connected();
     /// Whether the robot offers force-limited moves.
     [[nodiscard]] bool sensesForce() const { return static_cast<bool>(forceLimited_); }
     /// Releases the robot and closes the sessions.

@@ -28,6 +28,9 @@ constexpr double kSameAngle = 0.02;      // rad
 /// (a shoulder stands a few decimetres above its base at most; robots stand apart).
 constexpr double kShoulderAboveBase = 0.5;  // m
 
+/// How often a run lost a device tries (the first try, and the tries after a loss).
+constexpr int kAttempts = 5;
+
 /// The object as the world model has it.
 struct ObjectFacts {
     ua::StatusCode status;
@@ -82,7 +85,8 @@ void PickAndPlace::publish(const std::string& name) {
 
 asio::awaitable<PickAndPlace::Connection> PickAndPlace::open(std::string endpoint,
                                                              std::string typeName, std::string& why,
-                                                             std::string componentUri) {
+                                                             std::string componentUri,
+                                                             bool* unreachable) {
     if (endpoint.empty()) {
         if (!detector_) {
             why = "no endpoint for " + typeName + ", and this component detects no skills";
@@ -99,17 +103,30 @@ asio::awaitable<PickAndPlace::Connection> PickAndPlace::open(std::string endpoin
     }
     auto opened = co_await skills::SkillConnection::open(executor_, endpoint, typeName,
                                                          options_.client, &why);
-    if (!opened) co_return nullptr;
+    if (!opened) {
+        if (unreachable != nullptr) *unreachable = true;
+        co_return nullptr;
+    }
     co_return std::move(*opened);
+}
+
+bool PickAndPlace::Skills::lost() {
+    if (unreachable) return true;
+    if (move && !move->connected()) return true;
+    for (const Connection* c : {&grasp, &release}) {
+        if (*c && !(*c)->client().isConnected()) return true;
+    }
+    return false;
 }
 
 asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request, Skills& skills) {
     std::string why;
     // The tool first: the robot that carries it is the one to move (its RobotUri, which its
     // tool changer gave it), where the request names no robot.
-    skills.grasp = co_await open(request.toolEndpoint, kGraspType, why);
+    skills.grasp = co_await open(request.toolEndpoint, kGraspType, why, {}, &skills.unreachable);
     if (!skills.grasp) co_return why;
-    skills.release = co_await open(skills.grasp->endpointUrl(), kReleaseType, why);
+    skills.release =
+        co_await open(skills.grasp->endpointUrl(), kReleaseType, why, {}, &skills.unreachable);
     if (!skills.release) co_return why;
     std::string moveEndpoint = request.moveEndpoint;
     if (moveEndpoint.empty()) {
@@ -119,13 +136,15 @@ asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request
         }
         // Which robot: the carrier's linear move, else (a tool that does not say) the one
         // detected.
-        Connection probe = co_await open(moveEndpoint, kMoveType, why, carrier);
+        Connection probe =
+            co_await open(moveEndpoint, kMoveType, why, carrier, &skills.unreachable);
         if (!probe) co_return why;
         moveEndpoint = probe->endpointUrl();
         co_await probe->close();
     }
     skills.move = co_await RobotMotion::open(executor_, moveEndpoint, options_.client, why,
-                                             /*forceLimited=*/request.fuse.has_value());
+                                             /*forceLimited=*/request.fuse.has_value(),
+                                             kDeadHolderLease, &skills.unreachable);
     if (!skills.move) co_return why;
     if (request.fuse && !skills.move->sensesForce()) {
         co_return "the robot at " + moveEndpoint +
@@ -540,10 +559,8 @@ asio::awaitable<std::string> PickAndPlace::execute(const Script& script, const P
     co_return std::string();
 }
 
-asio::awaitable<std::string> PickAndPlace::run(PickRequest request) {
-    auto self = shared_from_this();
-    const std::uint64_t generation = subSkill_.begin();
-    Skills skills;
+asio::awaitable<std::string> PickAndPlace::attempt(const PickRequest& request,
+                                                   std::uint64_t generation, Skills& skills) {
     publish("connecting");
     std::string why = co_await openSkills(request, skills);
     Script script;
@@ -556,6 +573,34 @@ asio::awaitable<std::string> PickAndPlace::run(PickRequest request) {
     if (skills.toolToken) (void)co_await skills::release(skills.grasp->client(), *skills.toolToken);
     for (Connection* c : {&skills.grasp, &skills.release}) {
         if (*c) co_await (*c)->close();
+    }
+    co_return why;
+}
+
+asio::awaitable<std::string> PickAndPlace::run(PickRequest request) {
+    auto self = shared_from_this();
+    const std::uint64_t generation = subSkill_.begin();
+    std::string why;
+    // A robot or tool lost mid-run (its component died; its supervisor starts it again): the
+    // run goes on from what the scene shows (plan() settles), once discovery finds the device
+    // again, a few times, waiting a little longer each time.
+    std::chrono::milliseconds pause{500};
+    std::string firstLoss;
+    for (int n = 1;; ++n) {
+        Skills skills;
+        why = co_await attempt(request, generation, skills);
+        if (!why.empty() && !firstLoss.empty()) why += " (after a lost device: " + firstLoss + ")";
+        if (why.empty() || subSkill_.halted(generation) || n == kAttempts || !skills.lost()) break;
+        if (firstLoss.empty()) firstLoss = why;
+        spdlog::warn(
+            "pick and place: {}: a device was lost; going on from the scene in {} ms "
+            "(attempt {} of {})",
+            why, pause.count(), n + 1, kAttempts);
+        publish("waiting for the lost device");
+        asio::steady_timer timer(executor_, pause);
+        co_await timer.async_wait(asio::use_awaitable);
+        if (subSkill_.halted(generation)) break;
+        pause *= 2;
     }
     publish("");
     co_return why;

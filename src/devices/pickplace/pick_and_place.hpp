@@ -111,13 +111,20 @@ private:
         std::unique_ptr<RobotMotion> move;
         Connection grasp, release;
         std::optional<std::uint64_t> toolToken;  // the tool's reservation, while held
+        bool unreachable = false;                // a device found by discovery could not be reached
+        /// Whether the run lost a device it drives: one unreachable, or a session gone.
+        [[nodiscard]] bool lost();
     };
 
+    /// One attempt at the run: "" or why it failed; `skills` says whether a device was lost.
+    asio::awaitable<std::string> attempt(const PickRequest& request, std::uint64_t generation,
+                                         Skills& skills);
     asio::awaitable<std::string> openSkills(const PickRequest& request, Skills& skills);
     /// The skill at `endpoint`, or (empty) the detected one of `typeName`, of the component
-    /// `componentUri` if one is named.
+    /// `componentUri` if one is named. `unreachable` is set when it was found but could not
+    /// be reached.
     asio::awaitable<Connection> open(std::string endpoint, std::string typeName, std::string& why,
-                                     std::string componentUri = {});
+                                     std::string componentUri = {}, bool* unreachable = nullptr);
     /// One thing the composite does, in order: a move, a tool skill, or a check of the world.
     struct Action {
         enum class Kind {
