@@ -11,9 +11,11 @@
 #   3. world_move_tool.js as the operator (MoveTool and AddRobot refused, SetFlangePose for an
 #      unknown robot BadNotFound, nothing changed), then as the engineer (the move; AddRobot of
 #      robot2, browsed and read back; robot2 moved to d2, mounting suction, grasping and
-#      releasing the box while `robot` stays put; bad input, taken ids and an unknown robot
-#      with their exact status codes; a new session reads the result);
-#   4. the refusals are in the world's log, and the world is still running and stops cleanly.
+#      releasing the box while `robot` stays put; bad input (another structure than a
+#      3DFrame included), taken ids, an empty and an unknown robot id with their exact status
+#      codes; a new session reads the result);
+#   4. the refusals are in the world's log, each with its reason (a wrong structure is the
+#      Call service's, never the world's), and the world is still running and stops cleanly.
 # Everything lives in a temporary directory. Skips (77) without node-opcua unless
 # SKILLCELL_REQUIRE_NODE=1.
 set -euo pipefail
@@ -70,6 +72,16 @@ for method in SetFlangePose MountTool UnmountTool Grasp Release DockAtFlange Obj
   grep -q "world: $method refused (BadNotFound): no robot nosuchrobot in the world" "$tmp/world.log" ||
     fail "no $method refusal for the unknown robot logged"
 done
+for method in SetFlangePose Release DockAtFlange; do
+  grep -q "world: $method refused (BadInvalidArgument): empty robot id" "$tmp/world.log" ||
+    fail "no $method refusal of an empty robot id logged"
+done
+grep -q "world: AddRobot refused (BadOutOfRange): Base holds a NaN or infinite number" "$tmp/world.log" ||
+  fail "AddRobot's refusal of a NaN in the base was not logged with its reason"
+! grep -q "world: [A-Za-z]* refused (BadTypeMismatch)" "$tmp/world.log" ||
+  fail "a wrongly typed argument reached the world (the Call service's check let it through)"
+! grep -Eq "world: [A-Za-z]+ refused \([A-Za-z]+\): *$" "$tmp/world.log" ||
+  fail "a refusal was logged without its reason: $(grep -E "world: [A-Za-z]+ refused \([A-Za-z]+\): *$" "$tmp/world.log" | head -n 1)"
 kill -0 "$pid" 2>/dev/null || fail "the world died during the test"
 kill -TERM "$pid"
 for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done

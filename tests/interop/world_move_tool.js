@@ -12,7 +12,9 @@
 //                       method) passes the role check and names an unknown robot: BadNotFound;
 //   --as engineer       MoveTool of a stored tool to a free dock is Good and the docks' Tool
 //                       variables show it; AddRobot adds robot2, whose World/Robots/robot2
-//                       nodes node-opcua browses and reads; bad input (to both) and calls
+//                       nodes node-opcua browses and reads; bad input (to both: another
+//                       structure than a 3DFrame is BadInvalidArgument with BadTypeMismatch
+//                       on that argument), an empty robot id (BadInvalidArgument) and calls
 //                       naming an unknown robot get their exact Bad status and change nothing;
 //                       SetFlangePose, DockAtFlange, MountTool, ObjectAtGripPoint, Grasp and
 //                       Release for robot2 act on robot2 alone (robot, the default robot, stays
@@ -24,7 +26,7 @@ require("./log_to_stderr"); // before node-opcua: keep stdout clean
 const { AttributeIds, BrowseDirection, DataType, StatusCodes, makeBrowsePath } = require("node-opcua-client");
 // The structures node-opcua-client encodes with (its own dependency, the version the lock file
 // pins); it does not re-export them.
-const { ThreeDFrame, ThreeDVector } = require("node-opcua-types");
+const { Range, ThreeDFrame, ThreeDVector } = require("node-opcua-types");
 const { checkEndpointUrl, connect, disconnect, resolveNamespaceIndex, stringNodeId } = require("./common");
 
 const USAGE = "usage: node world_move_tool.js URL --expect-untrusted | --as operator|engineer";
@@ -70,6 +72,9 @@ const frame = ([x, y, z, a, b, c]) => ({
     dataType: DataType.ExtensionObject,
     value: new ThreeDFrame({ cartesianCoordinates: { x, y, z }, orientation: { a, b, c } })
 });
+// Structures that are no 3DFrame, for a 3DFrame argument.
+const VECTOR = { dataType: DataType.ExtensionObject, value: new ThreeDVector({ x: 1, y: 2, z: 3 }) };
+const RANGE = { dataType: DataType.ExtensionObject, value: new Range({ low: 0, high: 1 }) };
 // Numbers rounded to 1 nm / 1 nrad (the server turns a 3DFrame into a rotation matrix and
 // back), -0 as 0, so that values compare as JSON.
 const round = (v) => Number(v.toFixed(9)) + 0;
@@ -290,19 +295,21 @@ async function engineerAddsRobot(w) {
         StatusCodes.BadInvalidArgument, [StatusCodes.Good, StatusCodes.BadTypeMismatch]);
     await expectCall(w, "Double[6] base", "AddRobot", [str("robot3"), { dataType: DataType.Double, value: ORIGIN }],
         StatusCodes.BadInvalidArgument, [StatusCodes.Good, StatusCodes.BadTypeMismatch]);
-    // Any structure passes the Call service's check of a 3DFrame argument (an ExtensionObject);
-    // frameFromVariant then refuses another structure with BadTypeMismatch and a NaN with
-    // BadOutOfRange, as the call's status.
-    await expectCall(w, "a 3DVector as base", "AddRobot",
-        [str("robot3"), { dataType: DataType.ExtensionObject, value: new ThreeDVector({ x: 1, y: 2, z: 3 }) }],
-        StatusCodes.BadTypeMismatch);
+    // Another structure where a 3DFrame is due is wrongly typed, too: the Call service checks
+    // that its encoding is 3DFrame's (or a subtype's) and answers as for any wrong type. A NaN
+    // in a 3DFrame is the method's to refuse: BadOutOfRange as the call's status.
+    await expectCall(w, "a 3DVector as base", "AddRobot", [str("robot3"), VECTOR],
+        StatusCodes.BadInvalidArgument, [StatusCodes.Good, StatusCodes.BadTypeMismatch]);
+    await expectCall(w, "a Range as base", "AddRobot", [str("robot3"), RANGE],
+        StatusCodes.BadInvalidArgument, [StatusCodes.Good, StatusCodes.BadTypeMismatch]);
     await expectCall(w, "a NaN in the base", "AddRobot", [str("robot3"), frame([NaN, 0, 0, 0, 0, 0])],
         StatusCodes.BadOutOfRange);
     expectSame(await scene(w), before, "the scene after AddRobot's refusals");
 }
 
 // Every per-robot method naming a robot the world lacks: BadNotFound, whatever else the call
-// names (the dock, the box exist; the calls would be refused otherwise for other reasons).
+// names (the dock, the box exist; the calls would be refused otherwise for other reasons); an
+// empty robot id BadInvalidArgument.
 async function engineerNamesUnknownRobot(w) {
     const before = await scene(w);
     const u = str(UNKNOWN);
@@ -313,7 +320,13 @@ async function engineerNamesUnknownRobot(w) {
     await expectCall(w, `${UNKNOWN} releases`, "Release", [u], StatusCodes.BadNotFound);
     await expectCall(w, `the dock at ${UNKNOWN}'s flange`, "DockAtFlange", [u], StatusCodes.BadNotFound);
     await expectCall(w, `the object at ${UNKNOWN}'s grip point`, "ObjectAtGripPoint", [u], StatusCodes.BadNotFound);
-    await expectCall(w, "an empty robot id", "SetFlangePose", [str(""), frame(AT_D2)], StatusCodes.BadNotFound);
+    // An empty robot id is a bad argument, as AddRobot answers it, not a robot not found.
+    await expectCall(w, "an empty robot id", "SetFlangePose", [str(""), frame(AT_D2)], StatusCodes.BadInvalidArgument);
+    await expectCall(w, "an empty robot id", "Release", [str("")], StatusCodes.BadInvalidArgument);
+    await expectCall(w, "an empty robot id", "DockAtFlange", [str("")], StatusCodes.BadInvalidArgument);
+    // A known robot, another structure than a 3DFrame for its pose: the Call service's.
+    await expectCall(w, "a 3DVector as robot2's flange pose", "SetFlangePose", [str("robot2"), VECTOR],
+        StatusCodes.BadInvalidArgument, [StatusCodes.Good, StatusCodes.BadTypeMismatch]);
     // The robot is the first argument of each: a wrongly typed one is the Call service's.
     await expectCall(w, "Int32 robot id", "Grasp", [{ dataType: DataType.Int32, value: 2 }, str("box")],
         StatusCodes.BadInvalidArgument, [StatusCodes.BadTypeMismatch, StatusCodes.Good]);

@@ -350,6 +350,28 @@ TEST(DeviceWorldNodes, MalformedCallsGetPreciseStatusCodesAndChangeNothing) {
     EXPECT_EQ(status(c.call(world, method("SetFlangePose"),
                             {ua::Variant(ua::String("other")), frameToVariant(at(1, 0, 0))})),
               BadNotFound);
+    // Another structure where a 3DFrame belongs: the argument check's, too.
+    ua::ExtensionObject vector;  // a 3DVector (its Default Binary encoding: three Doubles)
+    vector.typeId = ua::NodeId(18817);
+    vector.encoding = ua::ExtensionObject::Encoding::Binary;
+    vector.body = ua::ByteString(std::vector<std::uint8_t>(24, 0));
+    EXPECT_EQ(status(c.call(world, method("SetFlangePose"), {arm, ua::Variant(vector)})),
+              BadInvalidArgument);
+    // An empty robot id is a bad argument, as AddRobot answers it, not a robot not found.
+    for (const char* m : {"SetFlangePose", "MountTool", "UnmountTool", "Grasp"}) {
+        const bool pose = std::string_view(m) == "SetFlangePose";
+        EXPECT_EQ(
+            status(c.call(world, method(m),
+                          {ua::Variant(ua::String("")),
+                           pose ? frameToVariant(at(1, 0, 0)) : ua::Variant(ua::String("x"))})),
+            BadInvalidArgument)
+            << m;
+    }
+    for (const char* m : {"Release", "DockAtFlange", "ObjectAtGripPoint"}) {
+        EXPECT_EQ(status(c.call(world, method(m), {ua::Variant(ua::String(""))})),
+                  BadInvalidArgument)
+            << m;
+    }
     EXPECT_EQ(status(c.call(world, method("AddRobot"), {arm, frameToVariant(at(1, 0, 0))})),
               BadNodeIdExists);
     // Two box edges, or a NaN edge: the world refuses them.

@@ -518,6 +518,96 @@ TEST_F(Services, CallArgumentErrors) {
     EXPECT_TRUE(r.outputArguments.empty());
 }
 
+// A structure argument takes only that structure (or a subtype): the ExtensionObject's type id,
+// an encoding node, must belong to the argument's DataType. Structure takes any.
+TEST_F(Services, CallChecksTheStructureOfAnArgument) {
+    const NodeId place(1, "Cell.Place");
+    std::vector<Argument> in{{"Pose", NodeId(ns0::ThreeDFrame), -1, {}, {}},
+                             {"Anything", NodeId(ns0::Structure), -1, {}, {}},
+                             {"Frame", NodeId(18813), -1, {}, {}}};  // Frame: abstract
+    int calls = 0;
+    ASSERT_TRUE(as.addMethod(kCell, place, "Place", in, {},
+                             [&calls](const Caller&, const NodeId&, std::span<const Variant>,
+                                      std::vector<Variant>&) {
+                                 ++calls;
+                                 return status::Good;
+                             })
+                    .ok());
+    const auto structure = [](std::uint32_t encoding, std::size_t doubles) {
+        ExtensionObject eo;
+        eo.typeId = NodeId(encoding);
+        eo.encoding = ExtensionObject::Encoding::Binary;
+        eo.body = ByteString(std::vector<std::uint8_t>(doubles * 8, 0));
+        return Variant(std::move(eo));
+    };
+    const Variant frame = structure(18823, 6);   // 3DFrame's Default Binary
+    const Variant vector = structure(18817, 3);  // 3DVector's Default Binary
+    const Variant unknown(ExtensionObject{NodeId(1, "NoSuchEncoding"),
+                                          ExtensionObject::Encoding::Binary, ByteString{}});
+
+    auto r = callOne(kCell, place, {frame, vector, frame});
+    EXPECT_EQ(r.statusCode, status::Good);
+    EXPECT_EQ(r.inputArgumentResults,
+              (std::vector<StatusCode>{status::Good, status::Good, status::Good}));
+    EXPECT_EQ(calls, 1);
+
+    r = callOne(kCell, place, {vector, vector, frame});
+    EXPECT_EQ(r.statusCode, status::BadInvalidArgument);
+    EXPECT_EQ(r.inputArgumentResults,
+              (std::vector<StatusCode>{status::BadTypeMismatch, status::Good, status::Good}));
+    EXPECT_TRUE(r.outputArguments.empty());
+    // Not a Frame's subtype either; an encoding nobody knows is no 3DFrame's but a Structure.
+    r = callOne(kCell, place, {unknown, unknown, vector});
+    EXPECT_EQ(r.statusCode, status::BadInvalidArgument);
+    EXPECT_EQ(
+        r.inputArgumentResults,
+        (std::vector<StatusCode>{status::BadTypeMismatch, status::Good, status::BadTypeMismatch}));
+    EXPECT_EQ(calls, 1);  // the method body ran for the right structures only
+
+    // 3DFrame's other encoding is a 3DFrame as well (the method decodes, or refuses, it).
+    r = callOne(kCell, place, {structure(18859, 0), frame, frame});
+    EXPECT_EQ(r.statusCode, status::Good);
+    EXPECT_EQ(calls, 2);
+
+    // The check itself, for arrays and the types that take anything.
+    EXPECT_TRUE(as.structuresMatch(Variant(1.5), NodeId(ns0::ThreeDFrame)));
+    EXPECT_TRUE(as.structuresMatch(vector, NodeId(ns0::BaseDataType)));
+    EXPECT_TRUE(as.structuresMatch(Variant(ExtensionObject{}), NodeId(ns0::ThreeDFrame)));
+    const auto eoOf = [](const Variant& v) { return *v.get<ExtensionObject>(); };
+    EXPECT_TRUE(
+        as.structuresMatch(Variant::array(std::vector<ExtensionObject>{eoOf(frame), eoOf(frame)}),
+                           NodeId(ns0::ThreeDFrame)));
+    EXPECT_FALSE(
+        as.structuresMatch(Variant::array(std::vector<ExtensionObject>{eoOf(frame), eoOf(vector)}),
+                           NodeId(ns0::ThreeDFrame)));
+    ASSERT_NE(as.dataTypeOfEncoding(NodeId(18823)), nullptr);
+    EXPECT_EQ(*as.dataTypeOfEncoding(NodeId(18823)), NodeId(ns0::ThreeDFrame));
+    EXPECT_EQ(as.dataTypeOfEncoding(NodeId(1, "NoSuchEncoding")), nullptr);
+
+    // A data type built in C++ (not in the registry): its HasEncoding reference tells.
+    Node type;
+    type.nodeId = NodeId(1, "MyStructure");
+    type.nodeClass = NodeClass::DataType;
+    type.browseName = {1, "MyStructure"};
+    ASSERT_TRUE(as.addNode(type).ok());
+    ASSERT_EQ(as.addReference(NodeId(ns0::Structure), NodeId(ns0::HasSubtype), type.nodeId),
+              status::Good);
+    ASSERT_TRUE(as.addObject(NodeId(ns0::ObjectsFolder), NodeId(1, "MyStructure.Binary"),
+                             "Default Binary", NodeId(ns0::DataTypeEncodingType))
+                    .ok());
+    ASSERT_EQ(
+        as.addReference(type.nodeId, NodeId(ns0::HasEncoding), NodeId(1, "MyStructure.Binary")),
+        status::Good);
+    const Variant mine(ExtensionObject{NodeId(1, "MyStructure.Binary"),
+                                       ExtensionObject::Encoding::Binary, ByteString{}});
+    ASSERT_NE(as.dataTypeOfEncoding(NodeId(1, "MyStructure.Binary")), nullptr);
+    EXPECT_EQ(*as.dataTypeOfEncoding(NodeId(1, "MyStructure.Binary")), type.nodeId);
+    EXPECT_TRUE(as.structuresMatch(mine, type.nodeId));
+    EXPECT_FALSE(as.structuresMatch(mine, NodeId(ns0::ThreeDFrame)));
+    EXPECT_FALSE(as.structuresMatch(frame, type.nodeId));
+    EXPECT_FALSE(as.structuresMatch(unknown, type.nodeId));  // its encodings are known
+}
+
 TEST_F(Services, CallTargetErrors) {
     EXPECT_EQ(callOne(NodeId(1, "nope"), kAdd, {}).statusCode, status::BadNodeIdUnknown);
     EXPECT_EQ(callOne(kSpeed, kAdd, {}).statusCode, status::BadNodeIdInvalid);

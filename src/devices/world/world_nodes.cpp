@@ -40,6 +40,37 @@ std::string stringArg(const Variant& v) {
     return s == nullptr ? std::string() : std::string(*s);
 }
 
+/// A 3DFrame argument called `name` as a frame; when it is none, the reason in `why`. The
+/// Call service has refused another structure already (BadInvalidArgument, BadTypeMismatch
+/// on the argument): what is left is a 3DFrame that does not hold six Doubles, or one with
+/// a NaN or infinite number (BadOutOfRange).
+ua::Result<KDL::Frame> frameArg(const Variant& v, const char* name, std::string& why) {
+    auto frame = frameFromVariant(v);
+    if (!frame) {
+        why = std::string(name) + (frame.status() == ua::status::BadOutOfRange
+                                       ? " holds a NaN or infinite number"
+                                       : " is not a 3DFrame in its Default Binary encoding "
+                                         "(six Doubles)");
+    }
+    return frame;
+}
+
+/// A Double argument called `name`, or nullptr with the reason in `why`.
+const double* doubleArg(const Variant& v, const char* name, std::string& why) {
+    const double* d = v.get<double>();
+    if (d == nullptr) why = std::string(name) + " is not a Double";
+    return d;
+}
+
+/// The robot id a per-robot method names (its first argument) in `robot`; an empty one is
+/// BadInvalidArgument, as AddRobot answers it (not BadNotFound for a robot called "").
+StatusCode robotArg(const Variant& v, std::string& robot, std::string& why) {
+    robot = stringArg(v);
+    if (!robot.empty()) return ua::status::Good;
+    why = "empty robot id";
+    return ua::status::BadInvalidArgument;
+}
+
 /// BadNotFound, with the reason, for a robot `world` lacks: the questions about a robot's
 /// flange (the changes get the same from the World itself).
 StatusCode knownRobot(const World& world, const std::string& robot, std::string& why) {
@@ -48,9 +79,12 @@ StatusCode knownRobot(const World& world, const std::string& robot, std::string&
     return ua::status::BadNotFound;
 }
 
-/// A refused change: its reason goes to the log, its status to the caller.
+/// A refused change: its reason goes to the log, its status to the caller. Every refusal
+/// in this file and in World says why; the fallback only keeps a new one that does not from
+/// logging an empty reason.
 StatusCode refused(const char* method, StatusCode status, const std::string& why) {
-    spdlog::warn("world: {} refused ({}): {}", method, ua::statusName(status), why);
+    spdlog::warn("world: {} refused ({}): {}", method, ua::statusName(status),
+                 why.empty() ? std::string("no reason given") : why);
     return status;
 }
 
@@ -83,7 +117,8 @@ StatusCode WorldNodes::build() {
     }
 
     // The methods. The Call service has checked the argument count and types against the
-    // declarations before a callback runs; the callbacks check values.
+    // declarations before a callback runs (a 3DFrame argument holds a 3DFrame, not another
+    // structure); the callbacks check values.
     struct MethodSpec {
         const char* name;
         ua::Role requiredRole;  // changing the scene is configuration: Engineer
@@ -123,11 +158,11 @@ StatusCode WorldNodes::build() {
              [this, kind = m.kind](std::span<const Variant> in, std::vector<Variant>&,
                                    std::string& why) {
                  const auto size = sizeFrom(in[1]);
-                 const auto pose = frameFromVariant(in[2]);
                  if (!size) {
                      why = "Size must hold three Doubles";
                      return StatusCode(ua::status::BadInvalidArgument);
                  }
+                 const auto pose = frameArg(in[2], "Pose", why);
                  if (!pose) return pose.status();
                  return world_.addObject(WorldObject{stringArg(in[0]), *size, *pose, kind}, &why);
              }});
@@ -140,9 +175,9 @@ StatusCode WorldNodes::build() {
           arg("Depth", kDouble, "m the blades go in when seated")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             const auto pose = frameFromVariant(in[1]);
+             const auto pose = frameArg(in[1], "Pose", why);
              if (!pose) return pose.status();
-             const double* depth = in[2].get<double>();
+             const double* depth = doubleArg(in[2], "Depth", why);
              if (depth == nullptr) return StatusCode(ua::status::BadTypeMismatch);
              FuseSlot slot;
              slot.id = stringArg(in[0]);
@@ -160,12 +195,12 @@ StatusCode WorldNodes::build() {
           arg("Length", kDouble, "m"), arg("Width", kDouble, "m (TS35: 0.035)")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             const auto pose = frameFromVariant(in[1]);
+             const auto pose = frameArg(in[1], "Pose", why);
              if (!pose) return pose.status();
-             const double* length = in[2].get<double>();
-             const double* width = in[3].get<double>();
-             if (length == nullptr || width == nullptr)
-                 return StatusCode(ua::status::BadTypeMismatch);
+             const double* length = doubleArg(in[2], "Length", why);
+             if (length == nullptr) return StatusCode(ua::status::BadTypeMismatch);
+             const double* width = doubleArg(in[3], "Width", why);
+             if (width == nullptr) return StatusCode(ua::status::BadTypeMismatch);
              return world_.addRail(DinRail{stringArg(in[0]), *pose, *length, *width}, &why);
          }});
     methods.push_back(
@@ -175,7 +210,7 @@ StatusCode WorldNodes::build() {
           arg("Pose", kFrame, "the flange pose at which the dock's tool locks")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             const auto pose = frameFromVariant(in[1]);
+             const auto pose = frameArg(in[1], "Pose", why);
              if (!pose) return pose.status();
              return world_.addDock(ToolDock{stringArg(in[0]), *pose, {}}, &why);
          }});
@@ -186,7 +221,7 @@ StatusCode WorldNodes::build() {
           arg("GripPoint", kFrame, "grip point relative to the tool mounting plate")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             const auto grip = frameFromVariant(in[2]);
+             const auto grip = frameArg(in[2], "GripPoint", why);
              if (!grip) return grip.status();
              return world_.addTool(Tool{stringArg(in[0]), *grip}, stringArg(in[1]), &why);
          }});
@@ -199,8 +234,6 @@ StatusCode WorldNodes::build() {
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
              return world_.moveTool(stringArg(in[0]), stringArg(in[1]), &why);
          }});
-    // The answer is the physics' to the robot's motion: the force the held object meets
-    // there, which an arm with force sensing measures.
     methods.push_back(
         {"AddRobot",
          ua::Role::Engineer,
@@ -208,11 +241,12 @@ StatusCode WorldNodes::build() {
           arg("Base", kFrame, "the robot's base frame in the cell's base frame")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             const auto base = frameFromVariant(in[1]);
+             const auto base = frameArg(in[1], "Base", why);
              if (!base) return base.status();
              return world_.addRobot(stringArg(in[0]), *base, &why);
          }});
-    // What the devices report: each names the robot whose flange it moves or acts at.
+    // What the devices report: each names the robot whose flange it moves or acts at (an
+    // empty id is BadInvalidArgument, an unknown one BadNotFound).
     const Argument robot = arg("Robot", kString, "the robot's id (World/Robots)");
     // The answer is the physics' to the robot's motion: the force the held object meets
     // there, which an arm with force sensing measures.
@@ -223,9 +257,10 @@ StatusCode WorldNodes::build() {
          {arg("ContactForce", kDouble,
               "N the held object meets at this pose, pushing it back (a fuse in a slot)")},
          [this](std::span<const Variant> in, std::vector<Variant>& out, std::string& why) {
-             const auto pose = frameFromVariant(in[1]);
+             std::string r;
+             if (const StatusCode s = robotArg(in[0], r, why); s.isBad()) return s;
+             const auto pose = frameArg(in[1], "Pose", why);
              if (!pose) return pose.status();
-             const std::string r = stringArg(in[0]);
              if (const auto s = world_.setFlangePose(r, *pose, &why); s.isBad()) return s;
              out.emplace_back(world_.contactForce(r));
              return StatusCode(ua::status::Good);
@@ -236,7 +271,9 @@ StatusCode WorldNodes::build() {
          {robot, arg("DockId", kString, "the dock whose tool the flange takes")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             return world_.mountTool(stringArg(in[0]), stringArg(in[1]), &why);
+             std::string r;
+             if (const StatusCode s = robotArg(in[0], r, why); s.isBad()) return s;
+             return world_.mountTool(r, stringArg(in[1]), &why);
          }});
     methods.push_back(
         {"DockAtFlange",
@@ -244,7 +281,8 @@ StatusCode WorldNodes::build() {
          {robot},
          {arg("DockId", kString, "the dock the flange is at; empty when none")},
          [this](std::span<const Variant> in, std::vector<Variant>& out, std::string& why) {
-             const std::string r = stringArg(in[0]);
+             std::string r;
+             if (const StatusCode s = robotArg(in[0], r, why); s.isBad()) return s;
              if (const StatusCode s = knownRobot(world_, r, why); s.isBad()) return s;
              out.emplace_back(ua::String(world_.dockAtFlange(r).value_or("")));
              return StatusCode(ua::status::Good);
@@ -255,7 +293,9 @@ StatusCode WorldNodes::build() {
          {robot, arg("DockId", kString, "the free dock the mounted tool is left in")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             return world_.unmountTool(stringArg(in[0]), stringArg(in[1]), &why);
+             std::string r;
+             if (const StatusCode s = robotArg(in[0], r, why); s.isBad()) return s;
+             return world_.unmountTool(r, stringArg(in[1]), &why);
          }});
     methods.push_back(
         {"Grasp",
@@ -263,7 +303,9 @@ StatusCode WorldNodes::build() {
          {robot, arg("ObjectId", kString, "the object at the grip point")},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             return world_.grasp(stringArg(in[0]), stringArg(in[1]), &why);
+             std::string r;
+             if (const StatusCode s = robotArg(in[0], r, why); s.isBad()) return s;
+             return world_.grasp(r, stringArg(in[1]), &why);
          }});
     methods.push_back(
         {"Release",
@@ -271,7 +313,9 @@ StatusCode WorldNodes::build() {
          {robot},
          {},
          [this](std::span<const Variant> in, std::vector<Variant>&, std::string& why) {
-             return world_.release(stringArg(in[0]), &why);
+             std::string r;
+             if (const StatusCode s = robotArg(in[0], r, why); s.isBad()) return s;
+             return world_.release(r, &why);
          }});
     methods.push_back(
         {"ObjectAtGripPoint",
@@ -281,7 +325,8 @@ StatusCode WorldNodes::build() {
           arg("Extent", kDouble, "its extent along the grip point's x, y and z axes (m)",
               ua::value_rank::kOneDimension)},
          [this](std::span<const Variant> in, std::vector<Variant>& out, std::string& why) {
-             const std::string r = stringArg(in[0]);
+             std::string r;
+             if (const StatusCode s = robotArg(in[0], r, why); s.isBad()) return s;
              if (const StatusCode s = knownRobot(world_, r, why); s.isBad()) return s;
              const KDL::Frame grip = world_.gripPoint(r);
              const auto found = world_.objectAt(grip.p);

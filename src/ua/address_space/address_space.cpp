@@ -188,6 +188,44 @@ bool AddressSpace::valueMatches(const Variant& value, const NodeId& dataType,
     return value.type() == BuiltinType::Int32 && isSubtypeOf(dataType, NodeId(ns0::Enumeration));
 }
 
+const NodeId* AddressSpace::dataTypeOfEncoding(const NodeId& encodingId) const {
+    if (const DataTypeInfo* info = dataTypes_.findByEncoding(encodingId)) return &info->dataTypeId;
+    const Node* encoding = find(encodingId);
+    if (encoding == nullptr) return nullptr;
+    for (const auto& r : encoding->references) {
+        if (!r.isForward && r.referenceTypeId == NodeId(ns0::HasEncoding)) return &r.target;
+    }
+    return nullptr;
+}
+
+bool AddressSpace::structuresMatch(const Variant& value, const NodeId& dataType) const {
+    if (value.type() != BuiltinType::ExtensionObject) return true;
+    if (dataType == NodeId(ns0::Structure) || dataType == NodeId(ns0::BaseDataType)) return true;
+    // For an encoding nobody here knows: refused only where the data type's own encodings
+    // are known (a concrete structure such as 3DFrame), since none of them is this one.
+    const auto unknownEncodingFits = [&] {
+        const Node* type = find(dataType);
+        if (type == nullptr || type->isAbstract) return true;
+        if (const DataTypeInfo* info = dataTypes_.find(dataType);
+            info != nullptr &&
+            (!info->binaryEncodingId.isNull() || !info->xmlEncodingId.isNull())) {
+            return false;
+        }
+        return std::none_of(type->references.begin(), type->references.end(),
+                            [](const Reference& r) {
+                                return r.isForward && r.referenceTypeId == NodeId(ns0::HasEncoding);
+                            });
+    };
+    const auto fits = [&](const Scalar& s) {
+        const auto* eo = std::get_if<ExtensionObject>(&s);
+        if (eo == nullptr || (eo->empty() && eo->typeId.isNull())) return true;
+        const NodeId* type = dataTypeOfEncoding(eo->typeId);
+        return type != nullptr ? isSubtypeOf(*type, dataType) : unknownEncodingFits();
+    };
+    if (!value.isArray()) return fits(value.scalar());
+    return std::all_of(value.elements().begin(), value.elements().end(), fits);
+}
+
 DataValue AddressSpace::readValue(const Node& node) const {
     if (node.valueSource) return node.valueSource();
     return node.value;

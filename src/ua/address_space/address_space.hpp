@@ -78,6 +78,19 @@ public:
     /// (Duration takes a Double, an enumeration an Int32); and the value's dimensions fit.
     [[nodiscard]] bool valueMatches(const Variant& value, const NodeId& dataType,
                                     std::int32_t valueRank) const;
+    /// True unless `value` holds a structure of another data type than `dataType`: every
+    /// ExtensionObject in it (scalar or array element) must be encoded as `dataType` or one
+    /// of its subtypes, as its type id (an encoding node, e.g. 3DFrame's Default Binary)
+    /// tells through the data type registry or the address space's HasEncoding references.
+    /// Structure and BaseDataType take any structure; so does an abstract data type, or one
+    /// without known encodings, when the encoding is unknown. A null ExtensionObject passes
+    /// (its value is the callee's business). Values of other built-in types pass (that is
+    /// valueMatches' part). Lookups only, no allocation: for the Call service, beside
+    /// valueMatches (OPC 10000-4, 5.11.2: a wrong structure is BadTypeMismatch).
+    [[nodiscard]] bool structuresMatch(const Variant& value, const NodeId& dataType) const;
+    /// The data type whose encoding node is `encodingId` (registry, else the encoding
+    /// node's inverse HasEncoding reference); nullptr when unknown.
+    [[nodiscard]] const NodeId* dataTypeOfEncoding(const NodeId& encodingId) const;
 
     // --- Values ---------------------------------------------------------------------------
     /// The current value of a Variable or VariableType: from its ValueSource if it has

@@ -82,12 +82,15 @@ CallMethodResult callMethod(AddressSpace& as, const CallMethodRequest& request,
         return result;
     }
     // OPC 10000-4, 5.11.2.2: a wrongly typed argument makes the call BadInvalidArgument,
-    // with BadTypeMismatch in that argument's inputArgumentResults entry.
+    // with BadTypeMismatch in that argument's inputArgumentResults entry. A structure is
+    // wrongly typed, too, when its encoding is not one of the argument's DataType or of a
+    // subtype (a 3DVector where a 3DFrame is due), not only a value of another built-in type.
     bool allGood = true;
     result.inputArgumentResults.reserve(inputs.size());
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         const Argument& a = (*arguments)[i];
-        const bool ok = as.valueMatches(inputs[i], a.dataType, a.valueRank);
+        const bool ok = as.valueMatches(inputs[i], a.dataType, a.valueRank) &&
+                        as.structuresMatch(inputs[i], a.dataType);
         result.inputArgumentResults.push_back(ok ? status::Good : status::BadTypeMismatch);
         allGood = allGood && ok;
     }
