@@ -30,6 +30,7 @@ using SkillKey = std::pair<std::string, std::string>;
 struct TriedKey {
     SkillKey skill;
     std::int64_t life = 0;  // the component's StartTime, ticks
+    // NOLINTNEXTLINE(modernize-use-nullptr): the check misreads std::pair's synthesised <=>
     friend auto operator<=>(const TriedKey&, const TriedKey&) = default;
 };
 [[nodiscard]] TriedKey triedKeyOf(const skills::SkillInstance& skill);

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -295,6 +296,43 @@ TEST(ToolChangerProcess, ARestartedChangerReadsTheMountedToolFromItsPinAndItsDoc
     EXPECT_NE(outcome.reason.find("its dock is unknown"), std::string::npos) << outcome.reason;
     outcome = again.invoke(detachAgain, {{"ToolPosition", pose(vacuumDock())}}, 60s);
     EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+}
+
+// The robot dies while the changer moves it to the dock, and is started again (where it
+// stopped): the change goes on once discovery finds the robot again, from what the pin says.
+TEST(ToolChangerProcess, AChangeWhoseRobotDiesGoesOnWhenTheRobotIsBack) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, {}, false);
+    ASSERT_TRUE(cell.ready());
+    auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
+    ASSERT_TRUE(link.ok());
+    WorldLink& w = **link;
+    const KDL::Frame start = *w.flangePose();
+    test::ClientThread client;
+    auto change =
+        client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    ASSERT_TRUE(change);
+    skills::SkillOutcome outcome;
+    std::thread running([&] {
+        outcome = client.invoke(
+            change,
+            {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
+            60s);
+    });
+    // Killed once the robot has left where it stood (a bounded poll of the world model).
+    bool moving = false;
+    for (int i = 0; i < 1500 && !moving; ++i) {
+        moving = !near(*w.flangePose(), start, 1e-3, 1e-3);
+        if (!moving) std::this_thread::sleep_for(10ms);
+    }
+    if (moving) {
+        cell.robot->kill(SIGKILL);
+        cell.restartRobot();
+    }
+    running.join();
+    ASSERT_TRUE(moving) << "the robot never moved: " << outcome.reason;
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(*w.mountedTool(), "parallel");
+    EXPECT_EQ(*w.dockTool("dockP"), "");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include "devices/common/blocking_call.hpp"
 #include "devices/common/frame.hpp"
+#include "devices/common/lost_device_retry.hpp"
 #include "devices/pickplace/fuse_planner.hpp"
 #include "skills/reservation_client.hpp"
 
@@ -27,9 +28,6 @@ constexpr double kSameAngle = 0.02;      // rad
 /// The robot whose base is within this of the move skill's ReachCentre is the one it moves
 /// (a shoulder stands a few decimetres above its base at most; robots stand apart).
 constexpr double kShoulderAboveBase = 0.5;  // m
-
-/// How often a run lost a device tries (the first try, and the tries after a loss).
-constexpr int kAttempts = 5;
 
 /// The object as the world model has it.
 struct ObjectFacts {
@@ -110,6 +108,14 @@ asio::awaitable<PickAndPlace::Connection> PickAndPlace::open(std::string endpoin
     co_return std::move(*opened);
 }
 
+std::string PickAndPlace::componentAt(const std::string& endpoint) const {
+    if (!detector_) return {};
+    for (const auto& s : detector_->instances()) {
+        if (s.endpointUrl == endpoint) return s.componentUri;
+    }
+    return {};
+}
+
 bool PickAndPlace::Skills::lost() {
     if (unreachable) return true;
     if (move && !move->connected()) return true;
@@ -123,7 +129,8 @@ asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request
     std::string why;
     // The tool first: the robot that carries it is the one to move (its RobotUri, which its
     // tool changer gave it), where the request names no robot.
-    skills.grasp = co_await open(request.toolEndpoint, kGraspType, why, {}, &skills.unreachable);
+    skills.grasp =
+        co_await open(request.toolEndpoint, kGraspType, why, request.toolUri, &skills.unreachable);
     if (!skills.grasp) co_return why;
     skills.release =
         co_await open(skills.grasp->endpointUrl(), kReleaseType, why, {}, &skills.unreachable);
@@ -580,28 +587,27 @@ asio::awaitable<std::string> PickAndPlace::attempt(const PickRequest& request,
 asio::awaitable<std::string> PickAndPlace::run(PickRequest request) {
     auto self = shared_from_this();
     const std::uint64_t generation = subSkill_.begin();
-    std::string why;
-    // A robot or tool lost mid-run (its component died; its supervisor starts it again): the
-    // run goes on from what the scene shows (plan() settles), once discovery finds the device
-    // again, a few times, waiting a little longer each time.
-    std::chrono::milliseconds pause{500};
-    std::string firstLoss;
-    for (int n = 1;; ++n) {
-        Skills skills;
-        why = co_await attempt(request, generation, skills);
-        if (!why.empty() && !firstLoss.empty()) why += " (after a lost device: " + firstLoss + ")";
-        if (why.empty() || subSkill_.halted(generation) || n == kAttempts || !skills.lost()) break;
-        if (firstLoss.empty()) firstLoss = why;
-        spdlog::warn(
-            "pick and place: {}: a device was lost; going on from the scene in {} ms "
-            "(attempt {} of {})",
-            why, pause.count(), n + 1, kAttempts);
-        publish("waiting for the lost device");
-        asio::steady_timer timer(executor_, pause);
-        co_await timer.async_wait(asio::use_awaitable);
-        if (subSkill_.halted(generation)) break;
-        pause *= 2;
-    }
+    // A robot or tool lost mid-run: the run goes on from what the scene shows (plan()
+    // settles) once discovery finds the device again. A device restarted elsewhere (another
+    // port) is found by its component URI: the endpoints the request named are where the
+    // devices were, not where they are.
+    const std::string toolUri =
+        request.toolEndpoint.empty() ? request.toolUri : componentAt(request.toolEndpoint);
+    std::string why = co_await goOnAfterLostDevice(
+        executor_,
+        [this, &request, &toolUri, generation](bool& lost) -> asio::awaitable<std::string> {
+            Skills skills;
+            std::string failed = co_await attempt(request, generation, skills);
+            lost = skills.lost();
+            if (lost && !toolUri.empty()) {
+                request.toolEndpoint.clear();
+                request.toolUri = toolUri;
+            }
+            if (lost) request.moveEndpoint.clear();  // the robot carrying the tool, detected
+            co_return failed;
+        },
+        [this, generation] { return subSkill_.halted(generation); }, "pick and place",
+        [this] { publish("waiting for the lost device"); });
     publish("");
     co_return why;
 }

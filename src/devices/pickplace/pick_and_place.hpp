@@ -63,7 +63,8 @@ struct FuseTarget {
 
 struct PickRequest {
     std::string objectId;
-    std::string toolEndpoint;  // empty: the detected Grasp skill's component
+    std::string toolEndpoint;  // empty: the detected Grasp skill's component (of toolUri)
+    std::string toolUri;       // with no toolEndpoint: the tool's component URI; empty: any
     std::string moveEndpoint;  // empty: the CartesianLinearMove of the robot carrying the tool
     KDL::Frame placePosition;  // where the object's centre and orientation end up
     /// Set: the object is a terminal block hooked onto this rail (placePosition unused).
@@ -116,6 +117,8 @@ private:
         [[nodiscard]] bool lost();
     };
 
+    /// The component the detector found at `endpoint`; empty when none.
+    [[nodiscard]] std::string componentAt(const std::string& endpoint) const;
     /// One attempt at the run: "" or why it failed; `skills` says whether a device was lost.
     asio::awaitable<std::string> attempt(const PickRequest& request, std::uint64_t generation,
                                          Skills& skills);

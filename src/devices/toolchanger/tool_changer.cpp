@@ -13,6 +13,7 @@
 
 #include "devices/common/blocking_call.hpp"
 #include "devices/common/frame.hpp"
+#include "devices/common/lost_device_retry.hpp"
 #include "devices/toolchanger/dock_map_file.hpp"
 
 namespace skillcell::devices::toolchanger {
@@ -200,7 +201,7 @@ asio::awaitable<bool> ToolChanger::waitForComponent(std::string applicationUri) 
 }
 
 asio::awaitable<ToolChanger::Motion> ToolChanger::openMove(const std::string& endpoint,
-                                                           std::string& why) {
+                                                           std::string& why, bool* unreachable) {
     std::string url = endpoint;
     if (url.empty()) {
         if (!detector_) {
@@ -219,7 +220,8 @@ asio::awaitable<ToolChanger::Motion> ToolChanger::openMove(const std::string& en
             co_return nullptr;
         }
     }
-    co_return co_await RobotMotion::open(executor_, url, options_.client, why);
+    co_return co_await RobotMotion::open(executor_, url, options_.client, why, false,
+                                         kDeadHolderLease, unreachable);
 }
 
 asio::awaitable<std::string> ToolChanger::moveTo(RobotMotion& move, KDL::Frame flange,
@@ -343,8 +345,20 @@ bool ToolChanger::isWanted(const ToolEntry& mounted, const ToolRequest& request)
 asio::awaitable<std::string> ToolChanger::run(ToolRequest request) {
     auto self = shared_from_this();
     const std::uint64_t generation = subSkill_.begin();
+    // The robot lost mid-run: the run goes on from what the identification pin says once
+    // discovery finds the robot again.
+    co_return co_await goOnAfterLostDevice(
+        executor_,
+        [this, &request, generation](bool& lost) -> asio::awaitable<std::string> {
+            co_return co_await attempt(request, generation, lost);
+        },
+        [this, generation] { return subSkill_.halted(generation); }, "tool changer");
+}
+
+asio::awaitable<std::string> ToolChanger::attempt(const ToolRequest& request,
+                                                  std::uint64_t generation, bool& lost) {
     std::string why;
-    Motion move = co_await openMove(request.moveEndpoint, why);
+    Motion move = co_await openMove(request.moveEndpoint, why, &lost);
     if (!move) co_return why;
     if (request.operation == ToolOperation::Attach) {
         why = co_await attachAt(*move, request.toolPosition, request.toolAppUri, generation);
@@ -372,6 +386,7 @@ asio::awaitable<std::string> ToolChanger::run(ToolRequest request) {
             }
         }
     }
+    lost = !move->connected();
     co_await move->close();
     co_return why;
 }

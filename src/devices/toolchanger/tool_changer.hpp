@@ -113,7 +113,12 @@ private:
     asio::awaitable<ua::Result<bool>> lockedNow();
     asio::awaitable<std::string> powerOn(const ToolEntry& tool);
     asio::awaitable<void> powerOff(const ToolEntry& tool);
-    asio::awaitable<Motion> openMove(const std::string& endpoint, std::string& why);
+    /// `unreachable` is set when the robot was found but could not be reached.
+    asio::awaitable<Motion> openMove(const std::string& endpoint, std::string& why,
+                                     bool* unreachable = nullptr);
+    /// One try of run(); `lost` is set when it lost the robot.
+    asio::awaitable<std::string> attempt(const ToolRequest& request, std::uint64_t generation,
+                                         bool& lost);
     asio::awaitable<std::string> moveTo(RobotMotion& move, KDL::Frame flange,
                                         RobotMotion::Path path, std::uint64_t generation);
     asio::awaitable<std::string> attachAt(RobotMotion& move, KDL::Frame position,
