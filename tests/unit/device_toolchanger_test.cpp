@@ -232,6 +232,38 @@ TEST(ToolChangerProcess, AToolsAdapterEndsWhenTheChangerIsKilled) {
     }
 }
 
+// A powered tool's adapter that crashes is started again by the changer, as a board's watchdog
+// reboots it; powered off, it ends and is not started again.
+TEST(ToolChangerProcess, AToolsAdapterThatCrashesWhilePoweredIsStartedAgain) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, {}, false);
+    ASSERT_TRUE(cell.ready());
+    ASSERT_NO_FATAL_FAILURE(mountParallelGripper(cell));
+    const std::vector<pid_t> adapters = childrenOf(cell.changer->pid());
+    ASSERT_EQ(adapters.size(), 1U) << "the changer powers one adapter";
+    ASSERT_EQ(::kill(adapters[0], SIGKILL), 0);
+    std::vector<pid_t> now;
+    for (int i = 0; i < 500; ++i) {  // bounded: 5 s
+        now = childrenOf(cell.changer->pid());
+        if (now.size() == 1 && now[0] != adapters[0]) break;
+        std::this_thread::sleep_for(10ms);
+    }
+    ASSERT_EQ(now.size(), 1U);
+    EXPECT_NE(now[0], adapters[0]) << "the crashed adapter was not started again";
+    const int restarted = static_cast<int>(::syscall(SYS_pidfd_open, now[0], 0));
+    ASSERT_GE(restarted, 0);
+
+    test::ClientThread client;
+    auto detach =
+        client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/DetachTool")));
+    ASSERT_TRUE(detach);
+    const auto outcome = client.invoke(detach, {{"ToolPosition", pose(parallelDock())}}, 60s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    pollfd ended{restarted, POLLIN, 0};
+    EXPECT_EQ(::poll(&ended, 1, 10000), 1) << "the restarted adapter outlived its power";
+    ::close(restarted);
+    EXPECT_TRUE(childrenOf(cell.changer->pid()).empty());
+}
+
 // After a crash the changer's memory is gone, but the tool is still locked on: the restarted
 // changer asks the identification pin which tool it is, publishes it and powers it again. It
 // does not guess where the tool came from: a change asks for a DetachTool at its dock first.
