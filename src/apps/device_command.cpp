@@ -455,6 +455,9 @@ struct ParallelGripperOptions {
 struct FingerWiring {
     std::function<std::optional<devices::ObjectBetweenFingers>()> probe;
     std::function<void(const devices::FingerEvent&)> onEvent;
+    /// What the fingers hold as the simulated gripper starts: the world model's answer, for
+    /// an adapter restarted while its gripper holds a part.
+    std::optional<devices::ObjectBetweenFingers> holding;
 };
 
 /// What differs between parallel-gripper models; everything else of `skillcell device
@@ -506,6 +509,23 @@ FingerWiring wireFingers(devices::WorldLink* world) {
                          e.objectId, ua::statusName(s));
         }
     };
+    // Held already: the fingers stand at the object's extent along the grip point's y axis.
+    const auto held = world->graspedObject();
+    if (held && !held->empty()) {
+        const auto size = world->objectSize(*held);
+        const auto pose = world->objectPose(*held);
+        const auto grip = world->gripPoint();
+        if (size && pose && grip) {
+            const KDL::Vector across = grip->M.UnitY();
+            double width = 0;
+            for (int i = 0; i < 3; ++i) {
+                const KDL::Vector axis = pose->M * KDL::Vector(i == 0, i == 1, i == 2);
+                width += std::abs(KDL::dot(axis, across)) * (*size)[static_cast<std::size_t>(i)];
+            }
+            wiring.holding = devices::ObjectBetweenFingers{*held, width};
+            spdlog::info("the fingers hold {} ({} m across) as the gripper starts", *held, width);
+        }
+    }
     return wiring;
 }
 
@@ -612,6 +632,7 @@ ParallelGripperModel robotiq2f85() {
         sim.speed = speed;
         sim.probe = std::move(wiring.probe);
         sim.onEvent = std::move(wiring.onEvent);
+        sim.holding = std::move(wiring.holding);
         std::shared_ptr<rq::SimulatedGripperPort> port = rq::SimulatedGripperPort::open(sim, why);
         if (!port) return ua::status::BadResourceUnavailable;
         return std::pair{port->devicePath(), std::shared_ptr<void>(port)};
@@ -717,6 +738,11 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
                              e.partId, ua::statusName(s));
             }
         };
+        // Held already (an adapter restarted while the cup holds a part): still sucking.
+        if (const auto held = world->graspedObject(); held && !held->empty()) {
+            sim.holding = *held;
+            spdlog::info("the cup holds {} as the generator starts", *held);
+        }
     }
     content->master = std::make_unique<sz::SimulatedIoLinkMaster>(sim);
     std::string error;

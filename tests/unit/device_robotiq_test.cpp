@@ -160,6 +160,28 @@ private:
     modbus_t* ctx_;
 };
 
+// Started holding an object (its adapter restarted while the fingers held it): activated,
+// closed on it, so an adapter does not activate it again (which would open the fingers);
+// opening lets go of it.
+TEST(DeviceRobotiqSimulation, AGripperStartedHoldingAnObjectLetsGoOfItWhenItOpens) {
+    Simulated2F85 g;
+    g.startHolding({"box", 0.04});
+    Status s = g.status(0.0);
+    EXPECT_TRUE(s.activated);
+    EXPECT_EQ(s.activation, ActivationStatus::Active);
+    EXPECT_EQ(s.object, ObjectStatus::ContactClosing);
+    EXPECT_NEAR(s.position, 255.0 * (1 - 0.04 / kStroke), 1);
+    EXPECT_TRUE(g.takeEvents().empty()) << "held already: no new grasp";
+    Command open = g.command();
+    open.position = 0;
+    g.write(open, 1.0);
+    const auto events = g.takeEvents();
+    ASSERT_EQ(events.size(), 1U);
+    EXPECT_EQ(events[0].kind, FingerEvent::Kind::Released);
+    EXPECT_EQ(events[0].objectId, "box");
+    EXPECT_EQ(g.status(3.0).position, 0);
+}
+
 TEST(DeviceRobotiqProtocol, TheSimulatedGripperAnswersModbusRtuOnAPty) {
     SimulatedGripperOptions o;
     o.speed = 50;

@@ -84,6 +84,24 @@ TEST(DeviceSchmalzSimulation, VacuumBuildsUpOnlyWithAPartAndSwitchesWithHysteres
     EXPECT_FALSE(e.status(4.0).partDetached);
 }
 
+// Started holding a part (its adapter restarted while the cup held it): sucking, part present,
+// and the part goes with the next blow-off, as a grasped one does.
+TEST(DeviceSchmalzSimulation, AGeneratorStartedHoldingAPartLetsGoOfItOnBlowOff) {
+    SimulatedEcbpi e;
+    e.startHolding("plate");
+    EcbpiStatus s = e.status(0.5);
+    EXPECT_TRUE(s.partPresent);
+    EXPECT_TRUE(s.controlReached);
+    EXPECT_NEAR(s.vacuum, 750, 5);
+    EXPECT_TRUE(e.takeEvents().empty()) << "held already: no new grasp";
+    e.write({false, true}, 1.0);
+    EXPECT_FALSE(e.status(1.5).partPresent);
+    const auto events = e.takeEvents();
+    ASSERT_EQ(events.size(), 1U);
+    EXPECT_EQ(events[0].kind, CupEvent::Kind::Released);
+    EXPECT_EQ(events[0].partId, "plate");
+}
+
 TEST(DeviceSchmalzMaster, PortsAndLengthsAreChecked) {
     SimulatedIoLinkOptions o;
     o.port = 2;

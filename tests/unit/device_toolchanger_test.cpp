@@ -20,6 +20,7 @@
 #include "devices/toolchanger/dock_map_file.hpp"
 #include "devices/toolchanger/tool_table.hpp"
 #include "devices/world/world_link.hpp"
+#include "process_tree.hpp"
 #include "simulated_cell.hpp"
 #include "temp_dir.hpp"
 #include "ua/client/blocking_client.hpp"
@@ -182,17 +183,7 @@ TEST(ToolChangerProcess, ChangesToolsFoundByTheirPinAndPowersTheirAdapters) {
     EXPECT_EQ(*w.mountedTool(), "");
 }
 
-// The processes a process has started, as the kernel lists them for each of its threads.
-std::vector<pid_t> childrenOf(pid_t pid) {
-    std::vector<pid_t> children;
-    std::error_code ec;
-    for (const auto& task :
-         std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
-        std::ifstream in(task.path() / "children");
-        for (pid_t child = 0; in >> child;) children.push_back(child);
-    }
-    return children;
-}
+using test::childrenOf;
 
 // The changer takes the parallel gripper from its dock, through its ChangeTool skill.
 void mountParallelGripper(test::SimulatedCell& cell) {

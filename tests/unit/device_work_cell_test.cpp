@@ -8,11 +8,13 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <map>
 #include <thread>
 
 #include "client_thread.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/world/world_link.hpp"
+#include "process_tree.hpp"
 #include "simulated_cell.hpp"
 #include "skills/reservation_client.hpp"
 
@@ -147,36 +149,51 @@ TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
 // A composite killed mid-pick, the box in its gripper: the composite started again carries the
 // box on to its place from where it is, without letting go of it or taking it again; asked once
 // more, it finds the box at its place and does nothing.
+// The changer takes the parallel gripper from its dock (ChangeTool).
+void mountParallelGripper(test::SimulatedCell& cell) {
+    test::ClientThread client;
+    auto change =
+        client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    ASSERT_TRUE(change);
+    const auto outcome = client.invoke(change,
+                                       {{"ToolPosition", poseValue(parallelDock())},
+                                        {"ToolAppUri", textValue(cell.parallelUri.c_str())}},
+                                       60s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+}
+
+// Whether the robot holds `id` within 30 s (a bounded poll of the world model).
+bool grasps(WorldLink& w, const std::string& id) {
+    for (int i = 0; i < 1500; ++i) {
+        if (*w.graspedObject() == id) return true;
+        std::this_thread::sleep_for(20ms);
+    }
+    return false;
+}
+
+const std::map<std::string, ua::Variant>& pickBoxA() {
+    static const std::map<std::string, ua::Variant> request = {
+        {"ObjectId", textValue("boxA")}, {"PlacePosition", poseValue("0.25,0.35,0.025,0,0,0")}};
+    return request;
+}
+
 TEST(WorkCellSettling, APickCutShortIsCarriedOnFromWhereTheBoxIsNotPickedAgain) {
     test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
     ASSERT_TRUE(cell.ready());
     auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
     ASSERT_TRUE(link.ok());
     WorldLink& w = **link;
-    test::ClientThread client;
-    auto change =
-        client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
-    ASSERT_TRUE(change);
-    auto outcome = client.invoke(change,
-                                 {{"ToolPosition", poseValue(parallelDock())},
-                                  {"ToolAppUri", textValue(cell.parallelUri.c_str())}},
-                                 60s);
-    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    ASSERT_NO_FATAL_FAILURE(mountParallelGripper(cell));
 
-    const std::map<std::string, ua::Variant> request = {
-        {"ObjectId", textValue("boxA")}, {"PlacePosition", poseValue("0.25,0.35,0.025,0,0,0")}};
+    const auto& request = pickBoxA();
+    skills::SkillOutcome outcome;
     {
         test::ClientThread first;
         auto pick =
             first.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
         ASSERT_TRUE(pick);
         std::thread running([&] { outcome = first.invoke(pick, request, 120s); });
-        // Killed once the box is in its gripper (a bounded poll of the world model).
-        bool grasped = false;
-        for (int i = 0; i < 1500 && !grasped; ++i) {
-            grasped = *w.graspedObject() == "boxA";
-            if (!grasped) std::this_thread::sleep_for(20ms);
-        }
+        const bool grasped = grasps(w, "boxA");  // killed once the box is in its gripper
         if (grasped) cell.pickplace->kill(SIGKILL);
         running.join();
         ASSERT_TRUE(grasped) << "the first run never grasped boxA: " << outcome.reason;
@@ -215,29 +232,14 @@ TEST(WorkCellSettling, APickWhoseRobotDiesGoesOnWhenTheRobotIsBack) {
     auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
     ASSERT_TRUE(link.ok());
     WorldLink& w = **link;
-    test::ClientThread client, pickClient;  // one connection each
-    auto change =
-        client.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+    ASSERT_NO_FATAL_FAILURE(mountParallelGripper(cell));
+    test::ClientThread client;
     auto pick =
-        pickClient.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
-    ASSERT_TRUE(change && pick);
-    auto outcome = client.invoke(change,
-                                 {{"ToolPosition", poseValue(parallelDock())},
-                                  {"ToolAppUri", textValue(cell.parallelUri.c_str())}},
-                                 60s);
-    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-
-    std::thread running([&] {
-        outcome = pickClient.invoke(pick,
-                                    {{"ObjectId", textValue("boxA")},
-                                     {"PlacePosition", poseValue("0.25,0.35,0.025,0,0,0")}},
-                                    120s);
-    });
-    bool grasped = false;
-    for (int i = 0; i < 1500 && !grasped; ++i) {
-        grasped = *w.graspedObject() == "boxA";
-        if (!grasped) std::this_thread::sleep_for(20ms);  // a bounded poll of the world
-    }
+        client.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
+    ASSERT_TRUE(pick);
+    skills::SkillOutcome outcome;
+    std::thread running([&] { outcome = client.invoke(pick, pickBoxA(), 120s); });
+    const bool grasped = grasps(w, "boxA");
     if (grasped) {
         cell.robot->kill(SIGKILL);
         cell.restartRobot();
@@ -248,6 +250,41 @@ TEST(WorkCellSettling, APickWhoseRobotDiesGoesOnWhenTheRobotIsBack) {
     expectAt(w, "boxA", 0.25, 0.35, 0.025);
     EXPECT_EQ(*w.graspedObject(), "");
     EXPECT_EQ(*w.objectGrasps("boxA"), 1U);
+}
+
+// The gripper's adapter dies mid-pick, the box in its fingers; the changer's watchdog starts
+// it again, and the gripper it finds still holds the box (a 2F-85 keeps its grip while its
+// client restarts): the pick goes on, lets go of the box at its place, and the tool can be
+// put back in its dock (a tool that still held the box could not).
+TEST(WorkCellSettling, APickWhoseGripperAdapterDiesGoesOnWithTheBoxStillHeld) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
+    ASSERT_TRUE(cell.ready());
+    auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
+    ASSERT_TRUE(link.ok());
+    WorldLink& w = **link;
+    ASSERT_NO_FATAL_FAILURE(mountParallelGripper(cell));
+    const auto adapters = test::childrenOf(cell.changer->pid());
+    ASSERT_EQ(adapters.size(), 1U);
+    test::ClientThread client;
+    auto pick =
+        client.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
+    ASSERT_TRUE(pick);
+    skills::SkillOutcome outcome;
+    std::thread running([&] { outcome = client.invoke(pick, pickBoxA(), 120s); });
+    const bool grasped = grasps(w, "boxA");
+    if (grasped) ::kill(adapters[0], SIGKILL);
+    running.join();
+    ASSERT_TRUE(grasped) << "the run never grasped boxA: " << outcome.reason;
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    expectAt(w, "boxA", 0.25, 0.35, 0.025);
+    EXPECT_EQ(*w.graspedObject(), "") << "the restarted gripper never let go of the box";
+    EXPECT_EQ(*w.objectGrasps("boxA"), 1U);
+    test::ClientThread changer;
+    auto detach =
+        changer.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/DetachTool")));
+    ASSERT_TRUE(detach);
+    outcome = changer.invoke(detach, {{"ToolPosition", poseValue(parallelDock())}}, 60s);
+    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
 }
 
 INSTANTIATE_TEST_SUITE_P(ParallelGrippers, WorkCell,

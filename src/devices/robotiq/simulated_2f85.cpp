@@ -38,6 +38,18 @@ void Simulated2F85::write(const Command& command, double now) {
     startMotion(now_);
 }
 
+void Simulated2F85::startHolding(const ObjectBetweenFingers& object) {
+    const double width = std::clamp(object.width, 0.0, kStroke);
+    command_ = Command{.activate = true, .go = true, .position = 255, .speed = 255, .force = 255};
+    activation_ = ActivationStatus::Active;
+    fault_ = Fault::None;
+    position_ = 255.0 * (1.0 - width / kStroke);
+    from_ = stopAt_ = position_;
+    moving_ = false;
+    object_ = ObjectStatus::ContactClosing;
+    holding_ = object.id;
+}
+
 void Simulated2F85::startMotion(double now) {
     motionPending_ = false;
     fault_ = Fault::None;

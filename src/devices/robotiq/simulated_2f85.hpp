@@ -27,6 +27,10 @@ public:
 
     explicit Simulated2F85(Probe probe = {}) : probe_(std::move(probe)) {}
 
+    /// Powered, activated and closed on `object`: the gripper as its adapter finds it when the
+    /// adapter restarts while the fingers hold a part (the world model says they do). A real
+    /// 2F-85 keeps its activation and its grip while its controller's client restarts.
+    void startHolding(const ObjectBetweenFingers& object);
     /// The robot wrote the command registers at time `now`.
     void write(const Command& command, double now);
     /// The status registers at time `now` (time only moves forward).

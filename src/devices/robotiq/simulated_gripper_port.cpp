@@ -7,6 +7,7 @@ namespace skillcell::devices::robotiq {
 SimulatedGripperPort::SimulatedGripperPort(Token, SimulatedGripperOptions options)
     : options_(std::move(options)), gripper_(options_.probe) {
     epoch_ = options_.clock ? options_.clock() : std::chrono::steady_clock::now();
+    if (options_.holding) gripper_.startHolding(*options_.holding);
 }
 
 std::unique_ptr<SimulatedGripperPort> SimulatedGripperPort::open(SimulatedGripperOptions options,

@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,8 @@ struct SimulatedGripperOptions {
     std::function<std::chrono::steady_clock::time_point()> clock;  // empty: steady_clock
     Simulated2F85::Probe probe;
     std::function<void(const FingerEvent&)> onEvent;
+    /// What the fingers hold as the simulation starts (Simulated2F85::startHolding).
+    std::optional<ObjectBetweenFingers> holding;
 };
 
 class SimulatedGripperPort final : public SimulatedModbusDevice {

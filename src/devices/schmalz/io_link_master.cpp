@@ -7,7 +7,9 @@ namespace skillcell::devices::schmalz {
 SimulatedIoLinkMaster::SimulatedIoLinkMaster(SimulatedIoLinkOptions options)
     : options_(std::move(options)),
       epoch_(options_.clock ? options_.clock() : std::chrono::steady_clock::now()),
-      device_(options_.probe) {}
+      device_(options_.probe) {
+    if (options_.holding) device_.startHolding(*options_.holding);
+}
 
 double SimulatedIoLinkMaster::now() const {
     const auto t = options_.clock ? options_.clock() : std::chrono::steady_clock::now();

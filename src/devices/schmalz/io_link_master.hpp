@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -37,6 +38,7 @@ struct SimulatedIoLinkOptions {
     std::function<std::chrono::steady_clock::time_point()> clock;  // empty: steady_clock
     SimulatedEcbpi::Probe probe;
     std::function<void(const CupEvent&)> onEvent;  // called outside the master's lock
+    std::optional<std::string> holding;            // the part on the cup as the simulation starts
 };
 
 /// An IO-Link master with a simulated ECBPi on one port. Thread-safe.

@@ -43,6 +43,16 @@ void SimulatedEcbpi::advance(double now) {
     if (!sp3_ && part_ && !command_.suction && vacuum_ < levels_.detached) sp3_ = true;
 }
 
+void SimulatedEcbpi::startHolding(std::string part) {
+    command_ = EcbpiCommand{};
+    command_.suction = true;
+    part_ = std::move(part);
+    vacuum_ = levels_.sealed;
+    sp1_ = sp2_ = true;
+    sp3_ = false;
+    holding_ = true;
+}
+
 void SimulatedEcbpi::write(const EcbpiCommand& command, double now) {
     advance(now);
     const bool suctionStarts = command.suction && !command_.suction;

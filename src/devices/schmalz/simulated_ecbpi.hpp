@@ -43,6 +43,9 @@ public:
     explicit SimulatedEcbpi(Probe probe = {}, VacuumLevels levels = {})
         : probe_(std::move(probe)), levels_(levels) {}
 
+    /// Sucking, with `part` sealing the cup: the generator as its adapter finds it when the
+    /// adapter restarts while the cup holds a part (the world model says it does).
+    void startHolding(std::string part);
     /// The master wrote the process data out at time `now`.
     void write(const EcbpiCommand& command, double now);
     /// The process data in at time `now` (time only moves forward).

@@ -161,6 +161,10 @@ ua::Result<KDL::Frame> WorldLink::flangePose() {
     return readFrame(robotPath("FlangePose"));
 }
 
+ua::Result<KDL::Frame> WorldLink::gripPoint() {
+    return readFrame(robotPath("GripPoint"));
+}
+
 ua::Result<KDL::Frame> WorldLink::dockPose(const std::string& dockId) {
     return readFrame("World/Docks/" + dockId + "/Pose");
 }

@@ -64,6 +64,8 @@ public:
     [[nodiscard]] ua::Result<std::string> mountedTool();
     [[nodiscard]] ua::Result<std::string> graspedObject();
     [[nodiscard]] ua::Result<KDL::Frame> flangePose();
+    /// The mounted tool's grip point, in the cell's frame (the flange when no tool).
+    [[nodiscard]] ua::Result<KDL::Frame> gripPoint();
     /// The ids of the objects (World/Objects) and the docks (World/Docks), as browsed.
     [[nodiscard]] ua::Result<std::vector<std::string>> objectIds();
     /// How often a gripper took hold of the object.
