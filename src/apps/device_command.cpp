@@ -671,6 +671,7 @@ ParallelGripperModel dhAg95() {
         sim.speed = speed;
         sim.probe = std::move(wiring.probe);
         sim.onEvent = std::move(wiring.onEvent);
+        sim.holding = std::move(wiring.holding);
         std::shared_ptr<dh::SimulatedAg95> gripper = dh::SimulatedAg95::open(sim, why);
         if (!gripper) return ua::status::BadResourceUnavailable;
         return std::pair{gripper->devicePath(), std::shared_ptr<void>(gripper)};

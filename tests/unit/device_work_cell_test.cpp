@@ -253,11 +253,11 @@ TEST(WorkCellSettling, APickWhoseRobotDiesGoesOnWhenTheRobotIsBack) {
 }
 
 // The gripper's adapter dies mid-pick, the box in its fingers; the changer's watchdog starts
-// it again, and the gripper it finds still holds the box (a 2F-85 keeps its grip while its
-// client restarts): the pick goes on, lets go of the box at its place, and the tool can be
-// put back in its dock (a tool that still held the box could not).
-TEST(WorkCellSettling, APickWhoseGripperAdapterDiesGoesOnWithTheBoxStillHeld) {
-    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
+// it again, and the gripper it finds still holds the box (a 2F-85 or an AG-95 keeps its grip
+// while its client restarts): the pick goes on, lets go of the box at its place, and the
+// tool can be put back in its dock (a tool that still held the box could not).
+TEST_P(WorkCell, APickWhoseGripperAdapterDiesGoesOnWithTheBoxStillHeld) {
+    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true, GetParam());
     ASSERT_TRUE(cell.ready());
     auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
     ASSERT_TRUE(link.ok());

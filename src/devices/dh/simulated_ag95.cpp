@@ -7,6 +7,12 @@ namespace skillcell::devices::dh {
 
 SimulatedAg95::SimulatedAg95(Token, SimulatedAg95Options options) : options_(std::move(options)) {
     epoch_ = options_.clock ? options_.clock() : std::chrono::steady_clock::now();
+    if (const auto& held = options_.holding) {
+        initialisation_ = InitialisationState::Initialised;
+        perMille_ = std::clamp(held->width / kStroke * 1000, 0.0, 1000.0);
+        state_ = GripperState::Caught;
+        holding_ = held->id;
+    }
 }
 
 std::unique_ptr<SimulatedAg95> SimulatedAg95::open(SimulatedAg95Options options, std::string* why) {

@@ -29,6 +29,9 @@ struct SimulatedAg95Options {
     std::function<std::chrono::steady_clock::time_point()> clock;  // empty: steady_clock
     std::function<std::optional<ObjectBetweenFingers>()> probe;
     std::function<void(const FingerEvent&)> onEvent;  // on the port's thread
+    /// Initialised and closed on this object as the simulation starts: the gripper as its
+    /// adapter finds it when the adapter restarts while the fingers hold a part.
+    std::optional<ObjectBetweenFingers> holding;
 };
 
 class SimulatedAg95 final : public SimulatedModbusDevice {
