@@ -1,5 +1,6 @@
 #include "mes/resource_claims.hpp"
 
+#include <algorithm>
 #include <functional>
 
 namespace skillcell::mes {
@@ -14,9 +15,16 @@ bool ResourceClaims::mayTake(const OrderRank& who, const std::string& component)
     const auto h = holder(component);
     if (h) return *h == who.order;
     for (const auto& [order, w] : waiting_) {
-        if (order != who.order && w.rank.before(who) && w.components.contains(component)) {
-            return false;
+        if (order == who.order || !w.rank.before(who) || !w.components.contains(component)) {
+            continue;
         }
+        // An order that waits for something `who` holds cannot go first: `who` must run to its
+        // end and free it. Letting it wait for `who` and `who` for it is a deadlock that no
+        // holder closes (a resumed order that lost a claim the MES's former life had).
+        const bool blockedByWho = std::any_of(
+            w.components.begin(), w.components.end(),
+            [&](const std::string& c) { return holder(c) == std::optional(who.order); });
+        if (!blockedByWho) return false;
     }
     return true;
 }

@@ -37,7 +37,8 @@ public:
     /// The order holding `component`, if any.
     [[nodiscard]] std::optional<std::int64_t> holder(const std::string& component) const;
     /// Whether `who` may take `component` now: it is free or `who`'s already, and no order
-    /// ranked before `who` waits for it.
+    /// ranked before `who` waits for it, unless that order also waits for something `who`
+    /// holds (it cannot go before `who` ends).
     [[nodiscard]] bool mayTake(const OrderRank& who, const std::string& component) const;
     /// `who` holds `component` from now until release(). Taking a held one is a caller's
     /// error: it is not taken (false).

@@ -27,6 +27,8 @@
 # Usage: chaos.sh PATH/TO/skillcell SOURCE_DIR [TRIALS_PER_KIND] [KIND...]
 #   SEED=N fixes the random moments (printed with each trial, to replay one).
 #   CHAOS_ORDERS=1|2 runs every trial with that many orders.
+#   CHAOS_LOGS=DIR keeps the cell's logs and journal of each trial that did not complete, in
+#   DIR/KIND-N.
 # Needs root (network namespaces); skips (77) without, unless SKILLCELL_REQUIRE_NETNS=1.
 set -euo pipefail
 skillcell=$1
@@ -237,6 +239,13 @@ $(value Objects/boxB/Pose), mounted $mounted, docks $dockP $dockV"
     outcome=violation
     why="orphans after cell down: $(tr '\n' ';' <<<"$left")"
     pkill -KILL -f -- "$work/" || true
+  fi
+  # The cell's logs of a trial that did not complete, kept for a post-mortem.
+  if [ -n "${CHAOS_LOGS:-}" ] && [ "$outcome" != completed ]; then
+    local kept=$CHAOS_LOGS/$kind-$n
+    mkdir -p "$kept"
+    find "$work" -maxdepth 2 -name '*.log' -exec cp {} "$kept/" \; 2>/dev/null || true
+    cp "$work/journal.sqlite" "$kept/" 2>/dev/null || true
   fi
   echo "trial $kind $n (seed $seed, $orders order(s)): $killed; $outcome${why:+ - $why}"
 }

@@ -594,4 +594,16 @@ TEST(ResourceClaims, AFreeComponentGoesToTheBestRankedOrderWaitingForIt) {
     EXPECT_FALSE(c.mayTake({5, 0}, "urn:a")) << "the older order 3 waits for it";
 }
 
+// Found by the chaos suite (a killed MES, two orders): the resumed order 2 held the tool changer
+// but no longer the robot; order 1, ranked first, waited for both; order 2's next step needed
+// the robot, which order 1 "had the right" to first. Each waited for the other, and no holder
+// closed the cycle. An order that waits for what `who` holds does not go before `who`.
+TEST(ResourceClaims, AnOrderWaitingForWhatAnotherHoldsDoesNotKeepItFromWhatItNeedsToFinish) {
+    ResourceClaims c;
+    EXPECT_TRUE(c.take(2, "urn:changer"));
+    EXPECT_EQ(c.wait({1, 0}, {"urn:changer", "urn:robot"}), std::nullopt);
+    EXPECT_TRUE(c.mayTake({2, 0}, "urn:robot")) << "order 1 waits for what order 2 holds";
+    EXPECT_FALSE(c.mayTake({3, 0}, "urn:robot")) << "order 1 goes before order 3";
+}
+
 }  // namespace skillcell::mes::orders_test
