@@ -14,7 +14,7 @@
 # odd trials one order, even trials two.
 # A trial passes when all of these hold:
 #  - each order completes after the component comes back (`cell up` restarts it), or stops
-#    with a reason;
+#    with a reason (an order with no end after 240 s is a violation: a hang);
 #  - the journal shows no step of any run finished twice, and the world no box grasped twice;
 #  - when it completed: both boxes at their targets, no tool mounted, each tool in its dock;
 #    else each tool is in exactly one place (its dock, or mounted), none half-locked
@@ -98,7 +98,7 @@ world() {
 # One trial of kind $1 (number $2): prints "kind n: outcome (details)"; sets $outcome to
 # completed, stopped or violation.
 trial() {
-  local kind=$1 n=$2 why="" link_fault=""
+  local kind=$1 n=$2 why="" link_fault="" hung=""
   outcome=violation
   # Up (a second try when the first does not come up: the trial is about what follows).
   local i attempt placement=()
@@ -165,8 +165,14 @@ trial() {
   for o in $(seq "$orders"); do
     each=""
     for i in $(seq 12); do
-      each=$(as_operator orders wait "$o" --timeout 240 --mes "$(endpoint mes)" 2>/dev/null |
-        grep '^OUTCOME' || true)
+      local followed
+      followed=$(as_operator orders wait "$o" --timeout 240 --mes "$(endpoint mes)" 2>/dev/null ||
+        true)
+      each=$(grep '^OUTCOME' <<<"$followed" || true)
+      # `orders wait` cancels an order with no end after its timeout: a hang, not a stop.
+      if grep -q '^PROGRESS no end after' <<<"$followed"; then
+        hung="order $o had no end after 240 s (${each#OUTCOME })"
+      fi
       case $each in "OUTCOME Finished"* | "OUTCOME Failed"* | "OUTCOME Cancelled"*) break ;; esac
       sleep 1  # the MES is restarting: its supervisor reports it up again within seconds
     done
@@ -196,6 +202,8 @@ trial() {
   fi
   if [ -n "$link_fault" ]; then
     why=$link_fault
+  elif [ -n "$hung" ]; then
+    why=$hung
   elif [ -n "$twice" ]; then
     why="step(s) $twice (run.step) finished twice"
   elif [ -n "$grasps" ]; then
