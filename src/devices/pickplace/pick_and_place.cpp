@@ -281,10 +281,10 @@ asio::awaitable<std::string> PickAndPlace::plan(const PickRequest& request, Skil
         spdlog::info("pickplace: {} is at its place already: {}", request.objectId,
                      at ? "the gripper lets go and lifts off" : "nothing to do");
         if (at) {
-            KDL::Frame lifted = seen.flange;
-            lifted.p += KDL::Vector(0, 0, g.approachDistance);
+            // Lifted off as a carried-on run lifts: planCarryOn's retreat from where it is.
             script.insert(script.end(),
-                          {{K::Release, "Release", {}}, {K::Linear, "place-retreat", lifted}});
+                          {{K::Release, "Release", {}},
+                           {K::Linear, "place-retreat", planCarryOn(seen.flange, g).retreat}});
         }
         co_return std::string();
     }
