@@ -470,6 +470,15 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
             const auto shelf = cell::worldArguments(*options_.shelf);
             a.insert(a.end(), shelf.begin(), shelf.end());
         }
+        // The world's first start builds the scene the cell file draws; a restart (after a
+        // crash) goes on from the cell as it was, as the physics it simulates would.
+        const fs::path state = dir() / "world-state.json";
+        if (!worldLaunched_) {
+            std::error_code ec;
+            fs::remove(state, ec);
+            worldLaunched_ = true;
+        }
+        a.insert(a.end(), {"--state-file", state.string()});
     } else if (cell_.toolChanger(name) != nullptr) {
         if (auto e = needs("world")) return *e;
         const std::string robot = changerRobot(name);

@@ -173,6 +173,7 @@ private:
     std::string kbSparql_;                          // the KB's SPARQL line
     std::string dashboardUrl_;                      // the dashboard's DASHBOARD line
     std::vector<Credential> credentials_;
+    bool worldLaunched_ = false;  // the world's first start begins from the cell file
 };
 
 }  // namespace skillcell::apps

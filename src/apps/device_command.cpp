@@ -36,6 +36,7 @@
 #include "devices/toolchanger/simulated_kelvin_changer.hpp"
 #include "devices/toolchanger/tool_changer_component.hpp"
 #include "devices/world/flange_reporter.hpp"
+#include "devices/world/world_file.hpp"
 #include "devices/world/world_nodes.hpp"
 #include "server_process.hpp"
 
@@ -106,6 +107,7 @@ struct WorldOptions {
     std::vector<std::string> fuseSlots;        // ID@POSE
     std::vector<std::string> misalignedSlots;  // ID:DX,DY,DZ
     std::vector<std::string> robots;           // ID[@BASE]
+    std::string stateFile;                     // kept across restarts; empty: none
 };
 
 /// Splits "HEAD@POSE" into HEAD and the pose.
@@ -262,6 +264,24 @@ ua::StatusCode seedWorld(const WorldOptions& options, devices::World& world) {
     return ua::status::Good;
 }
 
+/// The world as --state-file kept it, else as the scene options build it.
+ua::Result<devices::World> startingWorld(const WorldOptions& options) {
+    std::error_code ec;
+    if (!options.stateFile.empty() && std::filesystem::exists(options.stateFile, ec)) {
+        auto kept = devices::loadWorldFile(options.stateFile);
+        if (!kept) {
+            spdlog::critical("--state-file: {}", kept.error());
+            return ua::status::BadConfigurationError;
+        }
+        spdlog::info("world: going on from {} (revision {}, {} objects, {} robots)",
+                     options.stateFile, kept->revision, kept->objects.size(), kept->robots.size());
+        return devices::World(std::move(*kept));
+    }
+    devices::World world;
+    if (const auto s = seedWorld(options, world); s.isBad()) return s;
+    return world;
+}
+
 CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
     auto options = std::make_shared<WorldOptions>();
     options->process.applicationUri = std::string(cell::kWorldUri);
@@ -297,6 +317,10 @@ CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
                                 "(its base in the cell's frame; none: the origin); none given: "
                                 "one, ") +
                         kDefaultRobot);
+    cmd->add_option("--state-file", options->stateFile,
+                    "keep the world in FILE after every change, and start from it when it "
+                    "exists (a restarted world goes on from the cell as it was; the scene "
+                    "options then only start a new FILE)");
     cmd->add_option("--misaligned-slot", options->misalignedSlots,
                     "a fuse slot made out of tolerance: ID:DX,DY,DZ, its terminals that far (m, "
                     "in its frame) from where --fuse-slot draws it; only the physics knows it");
@@ -305,11 +329,9 @@ CLI::App* addWorld(CLI::App* device, std::vector<Command>& commands) {
              return runServerProcess(
                  options->process,
                  [options](const ComponentContext& c) -> ua::Result<ComponentContent> {
-                     devices::World world;
-                     if (const auto s = seedWorld(*options, world); s.isBad()) {
-                         return s;
-                     }
-                     auto nodes = devices::WorldNodes::create(c.server, world);
+                     auto world = startingWorld(*options);
+                     if (!world) return world.status();
+                     auto nodes = devices::WorldNodes::create(c.server, *world, options->stateFile);
                      if (!nodes) return nodes.status();
                      return ComponentContent(std::move(*nodes));
                  });

@@ -15,6 +15,7 @@
 // Prints "SPARQL <url>" once the endpoint listens, then the server process's "READY <url>".
 #include <spdlog/spdlog.h>
 
+#include <asio/steady_timer.hpp>
 #include <asio/thread_pool.hpp>
 #include <atomic>
 #include <filesystem>
@@ -59,6 +60,7 @@ struct KbOptions {
     std::uint16_t virtuosoSqlPort = 0;
     bool demoProcess = false;
     bool noReasoner = false;
+    std::string koncludeBinary = kb::engine::KoncludeConfig{}.binary;
     bool httpWrites = false;
     std::vector<std::string> loads;      // GRAPH=FILE
     std::vector<std::string> processes;  // Turtle files, each in a graph of its own
@@ -176,6 +178,9 @@ ua::StatusCode addKnowledgeBaseNodes(ua::AddressSpace& as, kb::KnowledgeBase& kn
     return ua::status::Good;
 }
 
+inline constexpr std::chrono::milliseconds kFirstRecordRetry{250};
+inline constexpr std::chrono::milliseconds kLongestRecordRetry{8000};
+
 // What the KB runs while its server runs: the HTTP endpoint (its requests are answered on
 // the web server's own threads), and discovery-driven loading on a thread of its own.
 struct KbComponent {
@@ -184,6 +189,7 @@ struct KbComponent {
     ~KbComponent() {
         stopping = true;  // queued discovery jobs end at once: the KB is going
         reader.cancel();  // and a component being read is dropped
+        asio::post(loads, [this] { retryTimer.cancel(); });
         if (detector) detector->unsubscribe(subscription);
         if (web) web->stop();
         workers.join();  // before the KB goes: jobs use it
@@ -209,6 +215,15 @@ struct KbComponent {
     // skills appearing or leaving, a cell starting) becomes one recording.
     std::mutex pendingMutex;
     std::set<std::string> pending;
+    // Components whose recording failed (the reasoner killed mid-check, the store
+    // restarting) or was made without their parameter values (the component could not be
+    // read): recorded again after a pause, which doubles while they keep failing. Without
+    // this, a live component's facts stayed missing until its skills next changed, and an MES
+    // waiting for them gave up. On `loads` only.
+    std::set<std::string> failed;
+    asio::steady_timer retryTimer{loads};
+    bool retryArmed = false;
+    std::chrono::milliseconds retryPause = kFirstRecordRetry;
 };
 
 // Loads the model of `ns` and the models it requires from --models, once. `fromSkillType`:
@@ -247,6 +262,7 @@ struct ComponentRecord {
     kb::GraphData graph;
     std::size_t skills = 0;
     std::size_t values = 0;
+    bool unread = false;  // live, but its values could not be read: recorded without them
 };
 
 ComponentRecord readComponent(KbComponent& c, const std::string& componentUri) {
@@ -258,17 +274,20 @@ ComponentRecord readComponent(KbComponent& c, const std::string& componentUri) {
     // Its parameter values and its NamespaceArray. One that cannot be read is recorded all
     // the same, without values.
     kb::ComponentReading reading;
+    bool unread = false;
     if (!live.empty()) {
         auto r = c.reader.read(live.front().endpointUrl, live);
         if (r) {
             reading = std::move(*r);
         } else if (!c.stopping) {
-            spdlog::warn("kb: cannot read {} at {} ({}): recorded without parameter values",
+            unread = true;
+            spdlog::warn("kb: cannot read {} at {} ({}): recorded without parameter values for now",
                          componentUri, live.front().endpointUrl, ua::statusName(r.status()));
         }
     }
     ComponentRecord record{componentUri, c.graphs.update(componentUri, live, reading.values),
-                           live.size(), reading.values.size()};
+                           live.size(), reading.values.size(), false};
+    record.unread = unread;
     // The models of the component's skill types first, so that its skills are typed by
     // classes the KB knows; then those of every namespace it uses (index 0 is the OPC UA
     // namespace, index 1 the server's own: neither has a model to load).
@@ -283,6 +302,8 @@ void logRecorded(const ComponentRecord& r) {
     spdlog::info("kb: recorded {} ({} skills available, {} with parameter values)", r.uri, r.skills,
                  r.values);
 }
+
+void retryFailed(KbComponent& c);
 
 // Records every component with a recording queued. Components that appear together (a cell
 // starting, a rack plugged in) are read one by one and then recorded together
@@ -309,14 +330,45 @@ void recordPending(KbComponent& c) {
         std::size_t recorded = 0;
         for (std::size_t i = at; i < end; ++i) {
             if (const auto& s = loaded[i - at]; !s) {
-                spdlog::error("kb: cannot record {}: {}", records[i].uri, s.error());
+                spdlog::error("kb: cannot record {}: {} (trying again in {} ms)", records[i].uri,
+                              s.error(), c.retryPause.count());
+                c.failed.insert(records[i].uri);
+                continue;
+            }
+            logRecorded(records[i]);
+            ++recorded;
+            if (records[i].unread) {
+                c.failed.insert(records[i].uri);
             } else {
-                logRecorded(records[i]);
-                ++recorded;
+                c.failed.erase(records[i].uri);
             }
         }
         if (recorded > 1) spdlog::info("kb: {} components recorded", recorded);
     }
+    retryFailed(c);
+}
+
+// Queues the failed recordings again after the pause (one timer for all of them).
+void retryFailed(KbComponent& c) {
+    if (c.failed.empty()) {
+        c.retryPause = kFirstRecordRetry;
+        return;
+    }
+    if (c.retryArmed || c.stopping) return;
+    c.retryArmed = true;
+    c.retryTimer.expires_after(c.retryPause);
+    c.retryPause = std::min(c.retryPause * 2, kLongestRecordRetry);
+    c.retryTimer.async_wait([&c](const std::error_code& ec) {
+        c.retryArmed = false;
+        if (ec || c.stopping) return;
+        bool wasEmpty = false;
+        {
+            const std::lock_guard lock(c.pendingMutex);
+            wasEmpty = c.pending.empty();
+            c.pending.insert(c.failed.begin(), c.failed.end());
+        }
+        if (wasEmpty) recordPending(c);
+    });
 }
 
 ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const KbOptions& o,
@@ -430,7 +482,11 @@ int run(KbOptions& o) {
     // given by --sparql-url gets them as SPARQL Update requests.
     kb::HttpSparqlStore store(std::move(endpoint));
     std::optional<kb::engine::KoncludeReasoner> reasoner;
-    if (!o.noReasoner) reasoner.emplace();
+    if (!o.noReasoner) {
+        kb::engine::KoncludeConfig konclude;
+        konclude.binary = o.koncludeBinary;
+        reasoner.emplace(std::move(konclude));
+    }
     kb::KnowledgeBase knowledge(store, reasoner ? &*reasoner : nullptr);
     // What the KB starts with: the built-in models, the cell's scene (the docks, tools and
     // objects processes refer to) and the files of --load and --process.
@@ -547,6 +603,8 @@ Command addKbCommand(CLI::App& app) {
                     "load the scene of this cell file (its docks, tools and objects, which "
                     "processes refer to; docs/processes.md)")
         ->check(CLI::ExistingFile);
+    cmd->add_option("--konclude", o->koncludeBinary, "the Konclude binary the KB runs")
+        ->capture_default_str();
     cmd->add_flag("--no-reasoner", o->noReasoner,
                   "load without checking consistency and infer nothing (not for production)");
     cmd->add_option("--load", o->loads, "load a Turtle file into a graph: GRAPH=FILE (checked)");

@@ -132,29 +132,45 @@ bool isA(const SkillInstance& s, const std::string& typeName, const std::string&
 }
 
 std::string endpointOf(const SkillDetector& detector, const std::string& typeName,
-                       const std::string& componentUri) {
+                       const std::string& componentUri, const std::vector<ComponentLife>& gone) {
     for (const auto& s : detector.instances()) {
-        if (isA(s, typeName, componentUri)) return s.endpointUrl;
+        if (isA(s, typeName, componentUri) &&
+            std::find(gone.begin(), gone.end(),
+                      ComponentLife{s.endpointUrl, s.componentStartTime.ticks}) == gone.end()) {
+            return s.endpointUrl;
+        }
     }
     return {};
 }
 
 }  // namespace
 
+ComponentLife lifeAt(const SkillDetector& detector, const std::string& endpointUrl) {
+    for (const auto& s : detector.instances()) {
+        if (s.endpointUrl == endpointUrl) return {endpointUrl, s.componentStartTime.ticks};
+    }
+    return {endpointUrl, 0};
+}
+
 asio::awaitable<std::string> detectedSkillEndpoint(SkillDetector& detector, std::string typeName,
                                                    std::chrono::milliseconds timeout,
-                                                   std::string componentUri) {
-    std::string url = endpointOf(detector, typeName, componentUri);
+                                                   std::string componentUri,
+                                                   std::vector<ComponentLife> gone) {
+    std::string url = endpointOf(detector, typeName, componentUri, gone);
     if (!url.empty()) co_return url;
     auto timer = std::make_shared<asio::steady_timer>(detector.executor(), timeout);
-    const std::size_t id = detector.subscribe([timer, typeName, componentUri](const SkillEvent& e) {
-        if (e.kind == SkillEvent::Kind::Added && isA(e.instance, typeName, componentUri)) {
-            timer->cancel();
-        }
-    });
+    const std::size_t id =
+        detector.subscribe([timer, typeName, componentUri, gone](const SkillEvent& e) {
+            if (e.kind == SkillEvent::Kind::Added && isA(e.instance, typeName, componentUri) &&
+                std::find(gone.begin(), gone.end(),
+                          ComponentLife{e.instance.endpointUrl,
+                                        e.instance.componentStartTime.ticks}) == gone.end()) {
+                timer->cancel();
+            }
+        });
     co_await timer->async_wait(asio::experimental::as_tuple(asio::use_awaitable));
     detector.unsubscribe(id);
-    co_return endpointOf(detector, typeName, componentUri);
+    co_return endpointOf(detector, typeName, componentUri, gone);
 }
 
 }  // namespace skillcell::skills

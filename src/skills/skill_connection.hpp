@@ -7,8 +7,10 @@
 // Threading: like ua::Client, on the executor it was opened with.
 #include <asio/any_io_executor.hpp>
 #include <asio/awaitable.hpp>
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "skills/remote_skill_browser.hpp"
 #include "skills/skill_client.hpp"
@@ -64,12 +66,25 @@ private:
     RemoteSkill remote_;
 };
 
+/// One life of a component at an endpoint (its address and ServerStatus.StartTime): what a
+/// composite that lost a device there must not take again, while the detector still lists
+/// it (a dead server is dropped only when the detector notices).
+struct ComponentLife {
+    std::string endpointUrl;
+    std::int64_t startTicks = 0;
+    friend bool operator==(const ComponentLife&, const ComponentLife&) = default;
+};
+
+/// The life of the component `detector` lists at `endpointUrl` (a zero StartTime when none).
+[[nodiscard]] ComponentLife lifeAt(const SkillDetector& detector, const std::string& endpointUrl);
+
 /// The endpoint of a live skill whose type chain names `typeName`, as `detector` knows it,
-/// of the component `componentUri` (empty: of any); waits up to `timeout` for one to be
-/// detected (a component may still be starting). Empty when none came. On the detector's
-/// executor.
+/// of the component `componentUri` (empty: of any), in none of the lives `gone`; waits up to
+/// `timeout` for one to be detected (a component may still be starting, or starting again).
+/// Empty when none came. On the detector's executor.
 asio::awaitable<std::string> detectedSkillEndpoint(SkillDetector& detector, std::string typeName,
                                                    std::chrono::milliseconds timeout,
-                                                   std::string componentUri = {});
+                                                   std::string componentUri = {},
+                                                   std::vector<ComponentLife> gone = {});
 
 }  // namespace skillcell::skills

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <sys/types.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -32,7 +33,11 @@ public:
         name_ = args.size() > 1 ? args[0] + " " + args[1] : args.at(0);
         args.insert(args.begin(), binary);
         // --insecure: these tests are about the devices; security has tests of its own.
-        for (const char* a : {"--port", "0", "--host", "127.0.0.1"}) args.emplace_back(a);
+        // Any free port, unless the test gives one (a component started again where it was).
+        if (std::find(args.begin(), args.end(), "--port") == args.end()) {
+            args.insert(args.end(), {"--port", "0"});
+        }
+        args.insert(args.end(), {"--host", "127.0.0.1"});
         if (insecure) args.emplace_back("--insecure");
         if (!discovery) args.emplace_back("--no-discovery");
         args.emplace_back("--pki-dir");

@@ -7,12 +7,14 @@
 
 #include <cmath>
 #include <csignal>
+#include <fstream>
 #include <memory>
 
 #include "client_thread.hpp"
 #include "component_process.hpp"
 #include "devices/common/frame.hpp"
 #include "devices/world/world_link.hpp"
+#include "temp_dir.hpp"
 #include "ua/client/blocking_client.hpp"
 
 namespace skillcell::devices::device_process_test {
@@ -138,6 +140,67 @@ TEST(DeviceProcesses, ARestartedArmStartsWhereItsFlangeIsNotAtHome) {
     ASSERT_TRUE(reported.ok());
     EXPECT_TRUE(near(*reported, stopped, 1e-6, 1e-6)) << describe(*reported);
     EXPECT_TRUE(near(*w.flangePose(), stopped, 1e-6, 1e-6)) << describe(*w.flangePose());
+}
+
+// The world killed and started again on its state file goes on from the cell as it was (the
+// box still in the gripper, the gripper still mounted), and a device's link to it connects
+// again by itself, as a fieldbus does.
+TEST(DeviceProcesses, AKilledWorldGoesOnFromItsStateFileAndItsLinksConnectAgain) {
+    const test::TempDir dir("skillcell-world-state");
+    const std::string state = (dir.path() / "world.json").string();
+    const std::string dock = "0.3,-0.45,0.35,3.141592653589793,0,0";
+    std::vector<std::string> args{"world",
+                                  "--object",
+                                  "box1:0.04,0.04,0.04@0.45,0.15,0.02",
+                                  "--dock",
+                                  "dock1@" + dock,
+                                  "--tool",
+                                  "ecbpi:dock1@0,0,0.12",
+                                  "--state-file",
+                                  state};
+    auto world = std::make_unique<DeviceProcess>(args);
+    ASSERT_FALSE(world->url().empty());
+    const std::string url = world->url();
+    auto link = WorldLink::connect(url, {}, "robot");
+    ASSERT_TRUE(link.ok());
+    WorldLink& w = **link;
+    ASSERT_EQ(w.setFlangePose(down(0.3, -0.45, 0.35)), ua::status::Good);
+    ASSERT_EQ(w.mountTool("dock1"), ua::status::Good);
+    ASSERT_EQ(w.setFlangePose(down(0.45, 0.15, 0.04 + 0.12)), ua::status::Good);
+    ASSERT_EQ(w.grasp("box1"), ua::status::Good);
+    ASSERT_EQ(w.setFlangePose(down(0.2, -0.1, 0.3)), ua::status::Good);
+    const KDL::Frame carried = *w.objectPose("box1");
+
+    world->kill(SIGKILL);
+    world.reset();
+    EXPECT_NE(w.mountedTool().status(), ua::status::Good);
+    EXPECT_TRUE(w.lostConnection());
+    // Started again where it was (the port the devices know), on the same file.
+    const auto port = url.substr(url.rfind(':') + 1);
+    args.insert(args.end(), {"--port", port});
+    world = std::make_unique<DeviceProcess>(args);
+    ASSERT_EQ(world->url(), url);
+    w.clearLoss();
+    const auto tool = w.mountedTool();
+    ASSERT_TRUE(tool.ok()) << ua::statusName(tool.status());
+    EXPECT_EQ(*tool, "ecbpi");
+    EXPECT_EQ(*w.graspedObject(), "box1");
+    EXPECT_EQ(*w.objectGrasps("box1"), 1u);
+    EXPECT_TRUE(near(*w.objectPose("box1"), carried, 1e-12, 1e-12));
+    EXPECT_FALSE(w.lostConnection());
+    // And it moves on with the flange as before the kill.
+    ASSERT_EQ(w.setFlangePose(down(0.25, -0.15, 0.041 + 0.12)), ua::status::Good);
+    ASSERT_EQ(w.release(), ua::status::Good);
+    EXPECT_NEAR(w.objectPose("box1")->p.z(), 0.021, 1e-9);
+
+    // A state file that is not one stops the world at start, naming it.
+    world.reset();
+    { std::ofstream(state) << "{\"format\": \"skillcell world 1\", \"revision\": 3}"; }
+    DeviceProcess broken(args);
+    EXPECT_TRUE(broken.url().empty());
+    const auto ended = broken.kill(SIGTERM);  // it has exited already: this reaps it
+    ASSERT_TRUE(ended);
+    EXPECT_FALSE(ended->success()) << ended->describe();
 }
 
 }  // namespace

@@ -5,12 +5,15 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
 
 #include "devices/common/frame.hpp"
 #include "devices/world/world.hpp"
+#include "devices/world/world_file.hpp"
 #include "devices/world/world_link.hpp"
 #include "devices/world/world_nodes.hpp"
 #include "running_server.hpp"
+#include "temp_dir.hpp"
 #include "ua/client/blocking_client.hpp"
 
 namespace skillcell::devices::device_world_test {
@@ -231,6 +234,91 @@ struct WorldServer {
     std::unique_ptr<WorldNodes> nodes;  // before the server: it goes after the server stops
     test::RunningServer server;
 };
+
+// The world file keeps all a world holds, exactly: what a restarted world goes on from.
+TEST(DeviceWorldFile, SavesAndRestoresEverythingTheWorldHolds) {
+    WorldContents c;
+    c.revision = 812;
+    c.objects["box1"] = {
+        "box1", {0.04, 0.05, 0.06}, at(0.2, 0.1, 0.3, 0.1, 0.2, 0.3), ObjectKind::Box, 2};
+    c.objects["block"] = {
+        "block", {0.006, 0.04, 0.03}, at(0.5, 0, 0.1), ObjectKind::TerminalBlock, 1};
+    c.objects["fuse"] = {"fuse", {0.019, 0.005, 0.018}, at(0.4, 0.2, 0.1), ObjectKind::Fuse, 0};
+    c.tools["gripper"] = {"gripper", at(0, 0, 0.15)};
+    c.docks["dock1"] = {"dock1", at(0.3, -0.4, 0.3, M_PI, 0, 0), ""};
+    c.docks["dock2"] = {"dock2", at(0.6, -0.4, 0.3, M_PI, 0, 0), "other"};
+    c.rails["rail"] = {"rail", at(0.5, 0, 0), 0.3, 0.035};
+    c.railMounts["block2"] = {"rail", 0.12};
+    Flange f;
+    f.base = at(1, 0, 0, 0, 0, M_PI);
+    f.pose = at(0.2, 0.1, 0.45, 0.1, 0.2, 0.3);
+    f.tool = "gripper";
+    f.held = "box1";
+    f.toHeld = at(0, 0, 0.15, 0.01, 0.02, 0.03);
+    f.hooked = RailMount{"rail", 0.07};
+    f.tilted = true;
+    f.railRefusal = "skewed";
+    f.fuseContact = std::make_pair(std::string("slot1"), SlotContact{0.004, 0.0001, true, 7.5});
+    c.robots["arm"] = f;
+    c.robots["other"] = Flange{};
+    FuseSlot slot;
+    slot.id = "slot1";
+    slot.pose = at(0.4, 0.2, 0.05);
+    slot.misalignment = KDL::Vector(0.0002, -0.0001, 0);
+    c.fuseSlots["slot1"] = slot;
+    c.seatedFuses["fuse"] = "slot1";
+
+    const test::TempDir dir("skillcell-world-file");
+    const auto file = dir.path() / "world.json";
+    ASSERT_TRUE(saveWorldFile(file, World(c)).ok());
+    const auto back = loadWorldFile(file);
+    ASSERT_TRUE(back.ok()) << back.error();
+    EXPECT_EQ(back->revision, 812u);
+    ASSERT_EQ(back->objects.size(), 3u);
+    const WorldObject& box = back->objects.at("box1");
+    EXPECT_EQ(box.size, (BoxSize{0.04, 0.05, 0.06}));
+    EXPECT_TRUE(near(box.pose, c.objects["box1"].pose, 0, 0));  // bit for bit
+    EXPECT_EQ(box.grasps, 2u);
+    EXPECT_EQ(back->objects.at("block").kind, ObjectKind::TerminalBlock);
+    EXPECT_EQ(back->objects.at("fuse").kind, ObjectKind::Fuse);
+    EXPECT_TRUE(near(back->tools.at("gripper").gripPoint, at(0, 0, 0.15), 0, 0));
+    EXPECT_EQ(back->docks.at("dock1").tool, "");
+    EXPECT_EQ(back->docks.at("dock2").tool, "other");
+    EXPECT_DOUBLE_EQ(back->rails.at("rail").length, 0.3);
+    EXPECT_EQ(back->railMounts.at("block2"), (RailMount{"rail", 0.12}));
+    const Flange& arm = back->robots.at("arm");
+    EXPECT_TRUE(near(arm.base, f.base, 0, 0));
+    EXPECT_TRUE(near(arm.pose, f.pose, 0, 0));
+    EXPECT_TRUE(near(arm.toHeld, f.toHeld, 0, 0));
+    EXPECT_EQ(arm.tool, "gripper");
+    EXPECT_EQ(arm.held, "box1");
+    EXPECT_EQ(arm.hooked, f.hooked);
+    EXPECT_TRUE(arm.tilted);
+    EXPECT_FALSE(arm.snapped);
+    EXPECT_EQ(arm.railRefusal, "skewed");
+    ASSERT_TRUE(arm.fuseContact);
+    EXPECT_EQ(arm.fuseContact->first, "slot1");
+    EXPECT_DOUBLE_EQ(arm.fuseContact->second.force, 7.5);
+    EXPECT_TRUE(arm.fuseContact->second.aligned);
+    EXPECT_FALSE(back->robots.at("other").hooked);
+    EXPECT_EQ(back->fuseSlots.at("slot1").misalignment, slot.misalignment);
+    EXPECT_EQ(back->seatedFuses.at("fuse"), "slot1");
+    // A World made from it holds the same (the grasped box still moves with the flange).
+    World restored(*back);
+    EXPECT_EQ(restored.holderOf("box1"), std::optional<std::string>("arm"));
+
+    // What is not a world file is refused with the file's name and what is wrong.
+    std::ofstream(file) << "{\"format\": \"skillcell world 1\", \"revision\": 1}";
+    auto bad = loadWorldFile(file);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().find(file.string()), std::string::npos) << bad.error();
+    EXPECT_NE(bad.error().find("objects"), std::string::npos) << bad.error();
+    std::ofstream(file) << "not json";
+    bad = loadWorldFile(file);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().find("not JSON"), std::string::npos) << bad.error();
+    EXPECT_FALSE(loadWorldFile(dir.path() / "none.json").ok());
+}
 
 TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
     WorldServer fixture;

@@ -38,6 +38,9 @@ asio::awaitable<std::unique_ptr<RobotMotion>> RobotMotion::open(
         co_await skills::hold(std::move(sessions), config.applicationUri, patience);
     if (!held.refusal.empty()) {
         why = "the robot at " + endpoint + " cannot be driven: " + held.refusal;
+        // A refusal because the robot went between connect and Reserve is a lost robot (its
+        // supervisor starts it again), not one that another holds.
+        if (unreachable != nullptr && !motion->connected()) *unreachable = true;
         co_await motion->close();
         co_return nullptr;
     }

@@ -50,8 +50,8 @@ public:
     /// `config.applicationUri`; null with `why` when the linear move is not there or the
     /// robot is reserved by another.
     /// `patience`: how long to wait for a robot another holder has reserved (skills::hold).
-    /// `unreachable` (if given) is set when the robot could not be reached at all (not when it
-    /// was reached and refused).
+    /// `unreachable` (if given) is set when the robot could not be reached at all, or its
+    /// connection closed before the reservation (not when it was reached and refused).
     static asio::awaitable<std::unique_ptr<RobotMotion>> open(
         asio::any_io_executor executor, std::string endpoint, ua::ClientConfig config,
         std::string& why, bool forceLimited = false,

@@ -84,25 +84,29 @@ void PickAndPlace::publish(const std::string& name) {
 asio::awaitable<PickAndPlace::Connection> PickAndPlace::open(std::string endpoint,
                                                              std::string typeName, std::string& why,
                                                              std::string componentUri,
-                                                             bool* unreachable) {
+                                                             Skills& skills) {
     if (endpoint.empty()) {
         if (!detector_) {
             why = "no endpoint for " + typeName + ", and this component detects no skills";
             co_return nullptr;
         }
-        endpoint = co_await skills::detectedSkillEndpoint(*detector_, typeName,
-                                                          options_.detectionTimeout, componentUri);
+        endpoint = co_await skills::detectedSkillEndpoint(
+            *detector_, typeName, options_.detectionTimeout, componentUri, skills.gone);
         if (endpoint.empty()) {
             why = "no " + typeName + (componentUri.empty() ? "" : " of " + componentUri) +
                   " was detected within " + std::to_string(options_.detectionTimeout.count()) +
                   " ms";
             co_return nullptr;
         }
+        skills.found.try_emplace(endpoint, skills::lifeAt(*detector_, endpoint));
     }
     auto opened = co_await skills::SkillConnection::open(executor_, endpoint, typeName,
                                                          options_.client, &why);
     if (!opened) {
-        if (unreachable != nullptr) *unreachable = true;
+        skills.unreachable = true;
+        if (const auto f = skills.found.find(endpoint); f != skills.found.end()) {
+            skills.gone.push_back(f->second);
+        }
         co_return nullptr;
     }
     co_return std::move(*opened);
@@ -116,24 +120,25 @@ std::string PickAndPlace::componentAt(const std::string& endpoint) const {
     return {};
 }
 
-bool PickAndPlace::Skills::lost() {
-    if (unreachable) return true;
-    if (move && !move->connected()) return true;
+void PickAndPlace::Skills::noteLosses() {
+    lost = unreachable;
+    auto lose = [&](const std::string& endpoint) {
+        lost = true;
+        if (const auto f = found.find(endpoint); f != found.end()) gone.push_back(f->second);
+    };
+    if (move && !move->connected()) lose(move->endpointUrl());
     for (const Connection* c : {&grasp, &release}) {
-        if (*c && !(*c)->client().isConnected()) return true;
+        if (*c && !(*c)->client().isConnected()) lose((*c)->endpointUrl());
     }
-    return false;
 }
 
 asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request, Skills& skills) {
     std::string why;
     // The tool first: the robot that carries it is the one to move (its RobotUri, which its
     // tool changer gave it), where the request names no robot.
-    skills.grasp =
-        co_await open(request.toolEndpoint, kGraspType, why, request.toolUri, &skills.unreachable);
+    skills.grasp = co_await open(request.toolEndpoint, kGraspType, why, request.toolUri, skills);
     if (!skills.grasp) co_return why;
-    skills.release =
-        co_await open(skills.grasp->endpointUrl(), kReleaseType, why, {}, &skills.unreachable);
+    skills.release = co_await open(skills.grasp->endpointUrl(), kReleaseType, why, {}, skills);
     if (!skills.release) co_return why;
     std::string moveEndpoint = request.moveEndpoint;
     if (moveEndpoint.empty()) {
@@ -143,8 +148,7 @@ asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request
         }
         // Which robot: the carrier's linear move, else (a tool that does not say) the one
         // detected.
-        Connection probe =
-            co_await open(moveEndpoint, kMoveType, why, carrier, &skills.unreachable);
+        Connection probe = co_await open(moveEndpoint, kMoveType, why, carrier, skills);
         if (!probe) co_return why;
         moveEndpoint = probe->endpointUrl();
         co_await probe->close();
@@ -152,7 +156,13 @@ asio::awaitable<std::string> PickAndPlace::openSkills(const PickRequest& request
     skills.move = co_await RobotMotion::open(executor_, moveEndpoint, options_.client, why,
                                              /*forceLimited=*/request.fuse.has_value(),
                                              kDeadHolderLease, &skills.unreachable);
-    if (!skills.move) co_return why;
+    if (!skills.move) {
+        if (const auto f = skills.found.find(moveEndpoint);
+            skills.unreachable && f != skills.found.end()) {
+            skills.gone.push_back(f->second);
+        }
+        co_return why;
+    }
     if (request.fuse && !skills.move->sensesForce()) {
         co_return "the robot at " + moveEndpoint +
             " offers no CartesianForceLimitedLinearMove: a fuse is inserted under a force limit";
@@ -576,6 +586,7 @@ asio::awaitable<std::string> PickAndPlace::attempt(const PickRequest& request,
         why = co_await plan(request, skills, script);
     }
     if (why.empty()) why = co_await execute(script, request, skills, generation);
+    skills.noteLosses();
     if (skills.move) co_await skills.move->close();
     if (skills.toolToken) (void)co_await skills::release(skills.grasp->client(), *skills.toolToken);
     for (Connection* c : {&skills.grasp, &skills.release}) {
@@ -593,12 +604,18 @@ asio::awaitable<std::string> PickAndPlace::run(PickRequest request) {
     // devices were, not where they are.
     const std::string toolUri =
         request.toolEndpoint.empty() ? request.toolUri : componentAt(request.toolEndpoint);
+    std::vector<skills::ComponentLife> gone;  // devices lost in earlier tries
     std::string why = co_await goOnAfterLostDevice(
         executor_,
-        [this, &request, &toolUri, generation](bool& lost) -> asio::awaitable<std::string> {
+        [this, &request, &toolUri, &gone, generation](bool& lost) -> asio::awaitable<std::string> {
             Skills skills;
+            skills.gone = gone;
+            world_.clearLoss();
             std::string failed = co_await attempt(request, generation, skills);
-            lost = skills.lost();
+            // The world model is what the composite perceives the cell by: out of reach, it
+            // is a lost device too.
+            lost = skills.lost || world_.lostConnection();
+            gone = std::move(skills.gone);
             if (lost && !toolUri.empty()) {
                 request.toolEndpoint.clear();
                 request.toolUri = toolUri;

@@ -23,6 +23,7 @@
 #include <asio/thread_pool.hpp>
 #include <chrono>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -113,8 +114,16 @@ private:
         Connection grasp, release;
         std::optional<std::uint64_t> toolToken;  // the tool's reservation, while held
         bool unreachable = false;                // a device found by discovery could not be reached
-        /// Whether the run lost a device it drives: one unreachable, or a session gone.
-        [[nodiscard]] bool lost();
+        /// Lives of devices lost in earlier tries, not to be taken again (in), and this try's
+        /// lost ones added (out).
+        std::vector<skills::ComponentLife> gone;
+        /// The life of each device this try found by discovery, by endpoint.
+        std::map<std::string, skills::ComponentLife> found;
+        bool lost = false;  // set by noteLosses()
+        /// Notes, before the try closes its connections, whether it lost a device it drives
+        /// (one unreachable, or a session gone) in `lost`; the lives of the lost ones join
+        /// `gone`.
+        void noteLosses();
     };
 
     /// The component the detector found at `endpoint`; empty when none.
@@ -124,10 +133,10 @@ private:
                                          Skills& skills);
     asio::awaitable<std::string> openSkills(const PickRequest& request, Skills& skills);
     /// The skill at `endpoint`, or (empty) the detected one of `typeName`, of the component
-    /// `componentUri` if one is named. `unreachable` is set when it was found but could not
-    /// be reached.
+    /// `componentUri` if one is named, in none of `skills.gone`. `skills.unreachable` is set
+    /// when it was found but could not be reached.
     asio::awaitable<Connection> open(std::string endpoint, std::string typeName, std::string& why,
-                                     std::string componentUri = {}, bool* unreachable = nullptr);
+                                     std::string componentUri, Skills& skills);
     /// One thing the composite does, in order: a move, a tool skill, or a check of the world.
     struct Action {
         enum class Kind {

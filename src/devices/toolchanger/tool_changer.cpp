@@ -15,6 +15,7 @@
 #include "devices/common/frame.hpp"
 #include "devices/common/lost_device_retry.hpp"
 #include "devices/toolchanger/dock_map_file.hpp"
+#include "ua/types/connection_loss.hpp"
 
 namespace skillcell::devices::toolchanger {
 namespace {
@@ -122,6 +123,7 @@ asio::awaitable<ToolChanger::Pin> ToolChanger::readPin() {
     Pin pin;
     if (!counts) {
         pin.status = counts.status();
+        ioLost_ = ioLost_ || ua::isConnectionLoss(pin.status);
         co_return pin;
     }
     pin.volts = adcVolts(*counts);
@@ -134,12 +136,16 @@ asio::awaitable<ToolChanger::Pin> ToolChanger::readPin() {
 
 asio::awaitable<ua::StatusCode> ToolChanger::setLock(bool lock) {
     auto set = [this, lock] { return io_.setLockValve(lock); };
-    co_return co_await blockingCall(ioThread_, std::move(set));
+    const ua::StatusCode s = co_await blockingCall(ioThread_, std::move(set));
+    ioLost_ = ioLost_ || ua::isConnectionLoss(s);
+    co_return s;
 }
 
 asio::awaitable<ua::Result<bool>> ToolChanger::lockedNow() {
     auto read = [this] { return io_.locked(); };
-    co_return co_await blockingCall(ioThread_, std::move(read));
+    auto locked = co_await blockingCall(ioThread_, std::move(read));
+    ioLost_ = ioLost_ || (!locked && ua::isConnectionLoss(locked.status()));
+    co_return locked;
 }
 
 asio::awaitable<ua::Result<std::string>> ToolChanger::recover() {
@@ -201,7 +207,9 @@ asio::awaitable<bool> ToolChanger::waitForComponent(std::string applicationUri) 
 }
 
 asio::awaitable<ToolChanger::Motion> ToolChanger::openMove(const std::string& endpoint,
-                                                           std::string& why, bool* unreachable) {
+                                                           std::string& why,
+                                                           std::vector<skills::ComponentLife>& gone,
+                                                           bool* unreachable) {
     std::string url = endpoint;
     if (url.empty()) {
         if (!detector_) {
@@ -211,7 +219,7 @@ asio::awaitable<ToolChanger::Motion> ToolChanger::openMove(const std::string& en
         // The robot may still be starting: wait for its move skill to be detected.
         std::string type = kMoveType;
         url = co_await skills::detectedSkillEndpoint(*detector_, type, options_.detectionTimeout,
-                                                     options_.robotUri);
+                                                     options_.robotUri, gone);
         if (url.empty()) {
             why = std::string("no ") + kMoveType +
                   (options_.robotUri.empty() ? "" : " of " + options_.robotUri) +
@@ -220,8 +228,16 @@ asio::awaitable<ToolChanger::Motion> ToolChanger::openMove(const std::string& en
             co_return nullptr;
         }
     }
-    co_return co_await RobotMotion::open(executor_, url, options_.client, why, false,
-                                         kDeadHolderLease, unreachable);
+    const skills::ComponentLife life =
+        detector_ ? skills::lifeAt(*detector_, url) : skills::ComponentLife{url, 0};
+    bool lost = false;
+    auto move = co_await RobotMotion::open(executor_, url, options_.client, why, false,
+                                           kDeadHolderLease, &lost);
+    if (lost) {
+        if (endpoint.empty()) gone.push_back(life);
+        if (unreachable != nullptr) *unreachable = true;
+    }
+    co_return move;
 }
 
 asio::awaitable<std::string> ToolChanger::moveTo(RobotMotion& move, KDL::Frame flange,
@@ -347,19 +363,25 @@ asio::awaitable<std::string> ToolChanger::run(ToolRequest request) {
     const std::uint64_t generation = subSkill_.begin();
     // The robot lost mid-run: the run goes on from what the identification pin says once
     // discovery finds the robot again.
+    std::vector<skills::ComponentLife> gone;  // robots lost in earlier tries
     co_return co_await goOnAfterLostDevice(
         executor_,
-        [this, &request, generation](bool& lost) -> asio::awaitable<std::string> {
-            co_return co_await attempt(request, generation, lost);
+        [this, &request, &gone, generation](bool& lost) -> asio::awaitable<std::string> {
+            co_return co_await attempt(request, generation, lost, gone);
         },
         [this, generation] { return subSkill_.halted(generation); }, "tool changer");
 }
 
 asio::awaitable<std::string> ToolChanger::attempt(const ToolRequest& request,
-                                                  std::uint64_t generation, bool& lost) {
+                                                  std::uint64_t generation, bool& lost,
+                                                  std::vector<skills::ComponentLife>& gone) {
     std::string why;
-    Motion move = co_await openMove(request.moveEndpoint, why, &lost);
+    ioLost_ = false;
+    Motion move = co_await openMove(request.moveEndpoint, why, gone, &lost);
     if (!move) co_return why;
+    const skills::ComponentLife life = detector_ && request.moveEndpoint.empty()
+                                           ? skills::lifeAt(*detector_, move->endpointUrl())
+                                           : skills::ComponentLife{};
     if (request.operation == ToolOperation::Attach) {
         why = co_await attachAt(*move, request.toolPosition, request.toolAppUri, generation);
     } else if (request.operation == ToolOperation::Detach) {
@@ -386,7 +408,9 @@ asio::awaitable<std::string> ToolChanger::attempt(const ToolRequest& request,
             }
         }
     }
-    lost = !move->connected();
+    const bool robotLost = !move->connected();
+    if (robotLost && !life.endpointUrl.empty()) gone.push_back(life);
+    lost = robotLost || ioLost_;
     co_await move->close();
     co_return why;
 }

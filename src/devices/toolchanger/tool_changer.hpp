@@ -22,6 +22,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <kdl/frames.hpp>
 
@@ -29,6 +30,7 @@
 #include "devices/toolchanger/tool_changer_io.hpp"
 #include "devices/toolchanger/tool_power_supply.hpp"
 #include "devices/toolchanger/tool_table.hpp"
+#include "skills/skill_connection.hpp"
 #include "skills/skill_detector.hpp"
 #include "skills/sub_skill_runner.hpp"
 
@@ -113,12 +115,16 @@ private:
     asio::awaitable<ua::Result<bool>> lockedNow();
     asio::awaitable<std::string> powerOn(const ToolEntry& tool);
     asio::awaitable<void> powerOff(const ToolEntry& tool);
-    /// `unreachable` is set when the robot was found but could not be reached.
+    /// The robot at `endpoint`, or (empty) the detected one in none of the lives `gone`;
+    /// `unreachable` is set, and its life added to `gone`, when it was found but could not be
+    /// reached.
     asio::awaitable<Motion> openMove(const std::string& endpoint, std::string& why,
+                                     std::vector<skills::ComponentLife>& gone,
                                      bool* unreachable = nullptr);
-    /// One try of run(); `lost` is set when it lost the robot.
+    /// One try of run(); `lost` is set when it lost the robot or its I/O (whose lives
+    /// `gone` gains).
     asio::awaitable<std::string> attempt(const ToolRequest& request, std::uint64_t generation,
-                                         bool& lost);
+                                         bool& lost, std::vector<skills::ComponentLife>& gone);
     asio::awaitable<std::string> moveTo(RobotMotion& move, KDL::Frame flange,
                                         RobotMotion::Path path, std::uint64_t generation);
     asio::awaitable<std::string> attachAt(RobotMotion& move, KDL::Frame position,
@@ -142,8 +148,11 @@ private:
     void rememberDock(const std::string& tool, const std::optional<KDL::Frame>& dock);
 
     std::map<std::string, KDL::Frame> docks_;  // tool id -> where this changer took it
-    skills::SubSkillRunner subSkill_;          // the robot's move, run now
-    asio::thread_pool ioThread_{1};            // last: joined first, while the rest still exists
+    // Whether an I/O call of the current try found the I/O out of reach (the fieldbus down,
+    // the I/O restarting): such a try is taken again, as one that lost the robot is.
+    bool ioLost_ = false;
+    skills::SubSkillRunner subSkill_;  // the robot's move, run now
+    asio::thread_pool ioThread_{1};    // last: joined first, while the rest still exists
 };
 
 }  // namespace skillcell::devices::toolchanger

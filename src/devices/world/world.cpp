@@ -7,6 +7,24 @@
 #include "devices/common/frame.hpp"
 
 namespace skillcell::devices {
+
+World::World(WorldContents contents, WorldTolerances tolerances)
+    : tolerances_(tolerances),
+      objects_(std::move(contents.objects)),
+      tools_(std::move(contents.tools)),
+      docks_(std::move(contents.docks)),
+      rails_(std::move(contents.rails)),
+      railMounts_(std::move(contents.railMounts)),
+      robots_(std::move(contents.robots)),
+      fuseSlots_(std::move(contents.fuseSlots)),
+      seatedFuses_(std::move(contents.seatedFuses)),
+      revision_(contents.revision) {}
+
+WorldContents World::contents() const {
+    return {objects_, tools_,     docks_,       rails_,   railMounts_,
+            robots_,  fuseSlots_, seatedFuses_, revision_};
+}
+
 namespace {
 
 ua::StatusCode fail(ua::StatusCode status, std::string* why, std::string reason) {

@@ -82,9 +82,26 @@ struct WorldTolerances {
     double railOverlap = 0.0001;  // m: blocks side by side may touch by this much
 };
 
+/// Everything a World holds beyond its tolerances: what a world file saves and restores
+/// (world_file.hpp).
+struct WorldContents {
+    std::map<std::string, WorldObject> objects;
+    std::map<std::string, Tool> tools;
+    std::map<std::string, ToolDock> docks;
+    std::map<std::string, DinRail> rails;
+    std::map<std::string, RailMount> railMounts;
+    std::map<std::string, Flange> robots;
+    std::map<std::string, FuseSlot> fuseSlots;
+    std::map<std::string, std::string> seatedFuses;  // fuse -> slot
+    std::uint64_t revision = 0;
+};
+
 class World {
 public:
     explicit World(WorldTolerances tolerances = {}) : tolerances_(tolerances) {}
+    /// A world as it was (a saved one), trusted to be consistent: it was built by a World.
+    explicit World(WorldContents contents, WorldTolerances tolerances = {});
+    [[nodiscard]] WorldContents contents() const;
 
     // Building the scene. BadInvalidArgument for an empty id, a box with an edge that is
     // not positive; BadNodeIdExists for an id already used by an object, tool or dock.

@@ -3,6 +3,7 @@
 #include "devices/common/frame.hpp"
 #include "devices/world/world_nodes.hpp"
 #include "ua/address_space/ns0_ids.hpp"
+#include "ua/types/connection_loss.hpp"
 
 namespace skillcell::devices {
 
@@ -10,23 +11,55 @@ ua::Result<std::unique_ptr<WorldLink>> WorldLink::connect(const std::string& url
                                                           ua::ClientConfig config,
                                                           std::string robot) {
     auto link = std::make_unique<WorldLink>(Token{}, std::move(robot));
-    if (const auto s = link->client_.connect(url, std::move(config)); s.isBad()) return s;
-    const auto namespaces = link->client_.readValue(ua::NodeId(ua::ns0::Server_NamespaceArray));
+    link->url_ = url;
+    link->config_ = std::move(config);
+    if (const auto s = link->open(); s.isBad()) return s;
+    return link;
+}
+
+ua::StatusCode WorldLink::open() {
+    if (const auto s = client_.connect(url_, config_); s.isBad()) return s;
+    const auto namespaces = client_.readValue(ua::NodeId(ua::ns0::Server_NamespaceArray));
     if (!namespaces) return namespaces.status();
     const auto& uris = namespaces->elements();
     for (std::size_t i = 0; i < uris.size(); ++i) {
         const auto* uri = std::get_if<ua::String>(&uris[i]);
         if (uri != nullptr && *uri == kWorldNamespaceUri) {
-            link->ns_ = static_cast<std::uint16_t>(i);
-            return link;
+            ns_ = static_cast<std::uint16_t>(i);
+            return ua::status::Good;
         }
     }
     return ua::status::BadNotFound;
 }
 
+void WorldLink::reconnectIfLost() {
+    if (!lost_) return;
+    const std::lock_guard lock(reconnectMutex_);
+    if (!lost_) return;  // another thread reconnected meanwhile
+    const auto s = open();
+    // BadInvalidState: still connected (a late failure of a call on the old connection).
+    if (s.isGood() || s == ua::status::BadInvalidState) lost_ = false;
+}
+
+void WorldLink::note(ua::StatusCode s) {
+    if (!ua::isConnectionLoss(s)) return;
+    lost_ = true;
+    lostSinceMark_ = true;
+}
+
+ua::Result<ua::Variant> WorldLink::readValue(const std::string& path) {
+    reconnectIfLost();
+    auto value = client_.readValue(id(path));
+    note(value.status());
+    return value;
+}
+
 ua::Result<std::vector<ua::Variant>> WorldLink::call(const char* method,
                                                      std::vector<ua::Variant> in) {
-    return client_.call(id("World"), id(std::string("World.") + method), std::move(in));
+    reconnectIfLost();
+    auto out = client_.call(id("World"), id(std::string("World.") + method), std::move(in));
+    note(out.status());
+    return out;
 }
 
 ua::Result<std::vector<ua::Variant>> WorldLink::robotCall(const char* method,
@@ -148,7 +181,7 @@ ua::Result<std::string> WorldLink::dockAtFlange() {
 }
 
 ua::Result<KDL::Frame> WorldLink::readFrame(const std::string& path) {
-    const auto value = client_.readValue(id(path));
+    const auto value = readValue(path);
     if (!value) return value.status();
     return frameFromVariant(*value);
 }
@@ -174,7 +207,9 @@ ua::Result<std::string> WorldLink::dockTool(const std::string& dockId) {
 }
 
 ua::Result<std::vector<std::string>> WorldLink::children(const std::string& path) {
+    reconnectIfLost();
     auto found = client_.browse(id(path));
+    note(found.status());
     if (!found) return found.status();
     if (found->statusCode.isBad()) return found->statusCode;
     std::vector<std::string> names;
@@ -191,7 +226,7 @@ ua::Result<std::vector<std::string>> WorldLink::objectIds() {
 }
 
 ua::Result<std::uint32_t> WorldLink::objectGrasps(const std::string& objectId) {
-    const auto value = client_.readValue(id("World/Objects/" + objectId + "/Grasps"));
+    const auto value = readValue("World/Objects/" + objectId + "/Grasps");
     if (!value) return value.status();
     const std::uint32_t* n = value->get<std::uint32_t>();
     if (n == nullptr) return ua::status::BadTypeMismatch;
@@ -225,7 +260,7 @@ ua::Result<std::vector<std::string>> WorldLink::dockIds() {
 }
 
 ua::Result<std::array<double, 3>> WorldLink::objectSize(const std::string& objectId) {
-    const auto value = client_.readValue(id("World/Objects/" + objectId + "/Size"));
+    const auto value = readValue("World/Objects/" + objectId + "/Size");
     if (!value) return value.status();
     if (!value->isArray() || value->elements().size() != 3) return ua::status::BadTypeMismatch;
     std::array<double, 3> size{};
@@ -238,14 +273,14 @@ ua::Result<std::array<double, 3>> WorldLink::objectSize(const std::string& objec
 }
 
 ua::Result<std::string> WorldLink::readString(const std::string& path) {
-    const auto value = client_.readValue(id(path));
+    const auto value = readValue(path);
     if (!value) return value.status();
     const auto* s = value->get<ua::String>();
     if (s == nullptr) return ua::status::BadTypeMismatch;
     return *s;
 }
 ua::Result<double> WorldLink::readDouble(const std::string& path) {
-    const auto value = client_.readValue(id(path));
+    const auto value = readValue(path);
     if (!value) return value.status();
     const auto* d = value->get<double>();
     if (d == nullptr) return ua::status::BadTypeMismatch;

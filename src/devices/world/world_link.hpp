@@ -4,7 +4,9 @@
 // server's io_context thread: each call waits for a round trip) to report what it does
 // to the world (the flange moved, an object was grasped) and to ask what is there.
 #include <array>
+#include <atomic>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -122,7 +124,20 @@ public:
     WorldLink(Token, std::string robot) : robot_(std::move(robot)) {}
     [[nodiscard]] const std::string& robot() const { return robot_; }
 
+    /// Whether a call found the world out of reach since the last clearLoss(): a composite
+    /// takes a try that lost its view of the cell again. The link itself connects again on
+    /// the call after one that found the world gone (the world restarted).
+    [[nodiscard]] bool lostConnection() const { return lostSinceMark_; }
+    void clearLoss() { lostSinceMark_ = false; }
+
 private:
+    /// Connects and finds the world's namespace.
+    ua::StatusCode open();
+    /// Connects again first when the last call found the world out of reach.
+    void reconnectIfLost();
+    /// Notes whether `s` says the world is out of reach.
+    void note(ua::StatusCode s);
+    ua::Result<ua::Variant> readValue(const std::string& path);
     ua::Result<std::vector<ua::Variant>> call(const char* method, std::vector<ua::Variant> in);
     /// A call about this link's robot: its id goes first.
     ua::Result<std::vector<ua::Variant>> robotCall(const char* method,
@@ -134,12 +149,17 @@ private:
     ua::Result<double> readDouble(const std::string& path);
     ua::Result<std::vector<std::string>> children(const std::string& path);
     [[nodiscard]] ua::NodeId id(const std::string& path) const {
-        return ua::NodeId(ns_, ua::String(path));
+        return ua::NodeId(ns_.load(), ua::String(path));
     }
 
     ua::BlockingClient client_;
-    std::uint16_t ns_ = 0;
+    std::string url_;
+    ua::ClientConfig config_;
+    std::atomic<std::uint16_t> ns_{0};
     std::string robot_;
+    std::mutex reconnectMutex_;  // one reconnect at a time, whichever thread calls
+    std::atomic<bool> lost_{false};
+    std::atomic<bool> lostSinceMark_{false};
 };
 
 }  // namespace skillcell::devices

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "devices/common/frame.hpp"
+#include "devices/world/world_file.hpp"
 
 namespace skillcell::devices {
 namespace {
@@ -97,11 +98,24 @@ NodeId WorldNodes::id(const std::string& path) const {
     return NodeId(ns_, ua::String(path));
 }
 
-ua::Result<std::unique_ptr<WorldNodes>> WorldNodes::create(ua::Server& server, World world) {
+ua::Result<std::unique_ptr<WorldNodes>> WorldNodes::create(ua::Server& server, World world,
+                                                           std::filesystem::path stateFile) {
     const std::uint16_t ns = server.addressSpace().registerNamespace(kWorldNamespaceUri);
     auto nodes = std::make_unique<WorldNodes>(Token{}, server, std::move(world), ns);
-    if (const StatusCode s = nodes->build(); s.isBad()) return s;
+    nodes->stateFile_ = std::move(stateFile);
+    if (const StatusCode s = nodes->build(); s.isBad()) return s;  // build() saves
     return nodes;
+}
+
+void WorldNodes::save() {
+    if (stateFile_.empty() || savedRevision_ == world_.revision()) return;
+    if (auto s = saveWorldFile(stateFile_, world_); !s) {
+        if (!saveFailed_) spdlog::error("world: {}: a restart will not find this state", s.error());
+        saveFailed_ = true;
+        return;
+    }
+    saveFailed_ = false;
+    savedRevision_ = world_.revision();
 }
 
 StatusCode WorldNodes::build() {
@@ -475,6 +489,7 @@ void WorldNodes::sync() {
         put(path + "/ContactForce", path, "ContactForce", NodeId(ua::ns0::Double),
             Variant(world_.contactForce(rid)), ua::value_rank::kScalar);
     }
+    save();
 }
 
 }  // namespace skillcell::devices

@@ -18,7 +18,9 @@
 // refused change answers the World's status code (BadNotFound, BadInvalidState, ...) and
 // logs the reason. Variables are updated after every change (subscriptions see it).
 // Threading: the server's io_context thread only.
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "devices/world/world.hpp"
@@ -30,9 +32,10 @@ inline constexpr const char* kWorldNamespaceUri = "http://skillcell.dev/UA/World
 
 class WorldNodes {
 public:
-    /// Adds the World object and its methods to `server`'s address space.
-    [[nodiscard]] static ua::Result<std::unique_ptr<WorldNodes>> create(ua::Server& server,
-                                                                        World world = World());
+    /// Adds the World object and its methods to `server`'s address space. With a
+    /// `stateFile`, the world is saved there after every change (world_file.hpp).
+    [[nodiscard]] static ua::Result<std::unique_ptr<WorldNodes>> create(
+        ua::Server& server, World world = World(), std::filesystem::path stateFile = {});
     WorldNodes(const WorldNodes&) = delete;
     WorldNodes& operator=(const WorldNodes&) = delete;
     ~WorldNodes() = default;
@@ -59,9 +62,15 @@ private:
     void sync();
     [[nodiscard]] ua::NodeId id(const std::string& path) const;
 
+    /// Saves the world to the state file when it changed since the last save.
+    void save();
+
     ua::Server& server_;
     World world_;
     std::uint16_t ns_;
+    std::filesystem::path stateFile_;
+    std::optional<std::uint64_t> savedRevision_;
+    bool saveFailed_ = false;  // said once, not on every change
 };
 
 }  // namespace skillcell::devices

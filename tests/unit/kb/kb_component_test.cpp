@@ -119,6 +119,44 @@ TEST(KnowledgeBaseComponent, LearnsAComponentsSkillsByDiscoveryAndKeepsThemMarke
     EXPECT_TRUE(ask(port, "?c proc:applicationUri \"urn:test:mover\" ; proc:available false"));
 }
 
+// The reasoner killed while it checks a component (as the chaos suite's konclude trials do):
+// the component is recorded again after a pause, not left out until its skills next change.
+TEST(KnowledgeBaseComponent, AComponentWhoseRecordingFailedIsRecordedAgain) {
+    const test::TempDir dir("skillcell-kb-retry");
+    const fs::path data = dir.path() / "data";
+    const fs::path killNext = dir.path() / "kill-next-konclude";
+    // Konclude, except that the run after `killNext` appears is killed as it starts.
+    const fs::path konclude = dir.path() / "konclude";
+    {
+        std::ofstream script(konclude);
+        script << "#!/bin/sh\nif rm " << killNext << " 2>/dev/null; then kill -9 $$; fi\n"
+               << "exec /usr/bin/Konclude \"$@\"\n";
+    }
+    fs::permissions(konclude, fs::perms::owner_all);
+    test::ComponentProcess kb(SKILLCELL_BINARY,
+                              with({"kb", "--http-port", "0", "--data-dir", data.string(),
+                                    "--konclude", konclude.string()},
+                                   kFastMdns),
+                              true);
+    ASSERT_FALSE(kb.url().empty()) << "skillcell kb did not start";
+    const std::uint16_t port = sparqlPort(kb);
+    ASSERT_NE(port, 0) << "no SPARQL line";
+
+    std::ofstream(killNext).put('\n');
+    test::ComponentProcess component(SKILLCELL_BINARY,
+                                     with({"server", "--application-uri", "urn:test:retried",
+                                           "--noop-skill", "CartesianLinearMoveSkillType=Move"},
+                                          kFastMdns),
+                                     true);
+    ASSERT_FALSE(component.url().empty());
+    const auto took = askUntilTrue(port,
+                                   "?c proc:applicationUri \"urn:test:retried\" ; proc:offers ?s . "
+                                   "?s a rskill:CartesianLinearMoveSkillType ; proc:available true",
+                                   20s);
+    EXPECT_FALSE(fs::exists(killNext)) << "no Konclude run was killed: the test tested nothing";
+    EXPECT_TRUE(took) << "the component was not recorded again within 20 s";
+}
+
 TEST(KnowledgeBaseComponent, LoadsTheModelOfASkillTypeOfItsOwnWhenItsComponentAppears) {
     const test::TempDir dir("skillcell-kb-cell");
     const fs::path& data = dir.path();
