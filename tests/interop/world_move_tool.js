@@ -173,6 +173,18 @@ async function robot(w, id) {
     return out;
 }
 
+// How often a gripper took hold of the object (World/Objects/<id>/Grasps, a UInt32).
+async function grasps(w, id) {
+    const dv = await w.session.read({ nodeId: w.node(`World/Objects/${id}/Grasps`), attributeId: AttributeIds.Value });
+    if (dv.statusCode !== StatusCodes.Good) {
+        throw new Error(`reading World/Objects/${id}/Grasps: ${dv.statusCode.toString()}`);
+    }
+    if (dv.value.dataType !== DataType.UInt32) {
+        throw new Error(`World/Objects/${id}/Grasps is a ${DataType[dv.value.dataType]}, not a UInt32`);
+    }
+    return dv.value.value;
+}
+
 // Everything a refused call must leave as it was: the docks, the robot list, each robot.
 async function scene(w) {
     const out = { docks: await docks(w), robots: {} };
@@ -355,8 +367,11 @@ async function engineerWorksRobot2(w) {
     await expectAnswer(w, "robot2's flange above the box", "SetFlangePose", [str("robot2"), frame(ABOVE_BOX)], [0]);
     await expectAnswer(w, "the object at robot2's grip point", "ObjectAtGripPoint", [str("robot2")], ["box", BOX_EDGES]);
     await expectAnswer(w, "the object at robot's grip point", "ObjectAtGripPoint", [str("robot")], ["", [0, 0, 0]]);
+    const graspsBefore = await grasps(w, "box");
     await expectCall(w, "robot grasps box", "Grasp", [str("robot"), str("box")], StatusCodes.BadInvalidState);
+    expectSame(await grasps(w, "box"), graspsBefore, "box's Grasps after a refused Grasp");
     await expectCall(w, "robot2 grasps box", "Grasp", [str("robot2"), str("box")], StatusCodes.Good);
+    expectSame(await grasps(w, "box"), graspsBefore + 1, "box's Grasps after robot2's Grasp");
     await expectRobot(w, "robot2", { FlangePose: ABOVE_BOX, GraspedObject: "box" }, "after Grasp");
     await expectRobot(w, "robot", origin, "after robot2's Grasp");
     await expectCall(w, "robot releases", "Release", [str("robot")], StatusCodes.BadInvalidState);
