@@ -519,13 +519,14 @@ FingerWiring wireFingers(devices::WorldLink* world) {
     FingerWiring wiring;
     if (world == nullptr) return wiring;
     wiring.probe = [world]() -> std::optional<devices::ObjectBetweenFingers> {
-        const auto found = world->objectAtGripPoint();
+        const auto found = world->untilHeard([world] { return world->objectAtGripPoint(); });
         if (!found || !found->has_value()) return std::nullopt;
         return devices::ObjectBetweenFingers{(*found)->objectId, (*found)->extent[1]};
     };
     wiring.onEvent = [world](const devices::FingerEvent& e) {
         const bool grasped = e.kind == devices::FingerEvent::Kind::Grasped;
-        const auto s = grasped ? world->grasp(e.objectId) : world->release();
+        const auto s = world->untilHeard(
+            [&] { return grasped ? world->grasp(e.objectId) : world->release(); });
         if (s.isBad()) {
             spdlog::warn("world model refused the {} of {}: {}", grasped ? "grasp" : "release",
                          e.objectId, ua::statusName(s));
@@ -749,13 +750,14 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
     sim.speed = options.speed;
     if (devices::WorldLink* world = content->world.get()) {
         sim.probe = [world]() -> std::optional<std::string> {
-            const auto found = world->objectAtGripPoint();
+            const auto found = world->untilHeard([world] { return world->objectAtGripPoint(); });
             if (!found || !found->has_value()) return std::nullopt;
             return (*found)->objectId;
         };
         sim.onEvent = [world](const sz::CupEvent& e) {
             const bool grasped = e.kind == sz::CupEvent::Kind::Grasped;
-            const auto s = grasped ? world->grasp(e.partId) : world->release();
+            const auto s = world->untilHeard(
+                [&] { return grasped ? world->grasp(e.partId) : world->release(); });
             if (s.isBad()) {
                 spdlog::warn("world model refused the {} of {}: {}", grasped ? "grasp" : "release",
                              e.partId, ua::statusName(s));

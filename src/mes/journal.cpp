@@ -2,8 +2,10 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <chrono>
 #include <map>
+#include <vector>
 
 namespace skillcell::mes {
 namespace {
@@ -73,9 +75,28 @@ CREATE TABLE IF NOT EXISTS steps (
   ended_ms INTEGER NOT NULL,
   note TEXT NOT NULL DEFAULT '',
   choice TEXT NOT NULL DEFAULT '',
+  held TEXT NOT NULL DEFAULT '',
   PRIMARY KEY (run, idx, attempt)
 );
 )";
+
+// A list of URIs in one column, one per line (a URI holds no line break).
+std::string joinLines(const std::vector<std::string>& items) {
+    std::string out;
+    for (const auto& i : items) out += (out.empty() ? "" : "\n") + i;
+    return out;
+}
+
+std::vector<std::string> splitLines(const std::string& text) {
+    std::vector<std::string> out;
+    std::size_t at = 0;
+    while (at < text.size()) {
+        const auto end = std::min(text.find('\n', at), text.size());
+        if (end > at) out.push_back(text.substr(at, end - at));
+        at = end + 1;
+    }
+    return out;
+}
 
 // Journals written before steps had a note, or runs a priority, get the column (the MES and a
 // reader such as the dashboard may both try: the second finds it there).
@@ -159,6 +180,7 @@ kb::Expected<std::unique_ptr<Journal>> Journal::open(const std::string& path) {
         {"steps", "note", "ALTER TABLE steps ADD COLUMN note TEXT NOT NULL DEFAULT ''"},
         {"runs", "priority", "ALTER TABLE runs ADD COLUMN priority INTEGER NOT NULL DEFAULT 0"},
         {"steps", "choice", "ALTER TABLE steps ADD COLUMN choice TEXT NOT NULL DEFAULT ''"},
+        {"steps", "held", "ALTER TABLE steps ADD COLUMN held TEXT NOT NULL DEFAULT ''"},
     };
     for (const auto& a : added) {
         if (hasColumn(db, a.table, a.column)) continue;
@@ -220,8 +242,8 @@ kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
         db_,
         "INSERT OR REPLACE INTO steps (run, idx, attempt, step, state, skill_type, "
         "component, endpoint, skill_node, transition_before, reason, started_ms, "
-        "ended_ms, note, choice) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, "
-        "?13, ?14, ?15)");
+        "ended_ms, note, choice, held) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, "
+        "?12, ?13, ?14, ?15, ?16)");
     if (!s.prepared()) return error("prepare");
     s.bind(1, run);
     s.bind(2, std::int64_t{step.index});
@@ -238,6 +260,7 @@ kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
     s.bind(13, step.endedMs);
     s.bind(14, step.note);
     s.bind(15, step.choice);
+    s.bind(16, joinLines(step.held));
     if (s.step() != SQLITE_DONE) return error("cannot record step " + std::to_string(step.index));
     return kb::Done{};
 }
@@ -305,8 +328,8 @@ kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
     for (auto& r : out) {
         Statement q(db_,
                     "SELECT idx, attempt, step, state, skill_type, component, endpoint, "
-                    "skill_node, transition_before, reason, started_ms, ended_ms, note, choice "
-                    "FROM steps "
+                    "skill_node, transition_before, reason, started_ms, ended_ms, note, choice, "
+                    "held FROM steps "
                     "WHERE run = ?1 ORDER BY idx, attempt");
         if (!q.prepared()) return error("prepare");
         q.bind(1, r.id);
@@ -331,6 +354,7 @@ kb::Expected<std::vector<RunRecord>> Journal::runs(const std::string& where,
             st.endedMs = q.number(11);
             st.note = q.text(12);
             st.choice = q.text(13);
+            st.held = splitLines(q.text(14));
             r.steps.push_back(std::move(st));
         }
         if (rc != SQLITE_DONE) return error("cannot read the steps");

@@ -60,6 +60,9 @@ struct StepRecord {
     /// Why this instance was chosen among the candidates (expected durations learned from
     /// the journal, candidates held by other orders).
     std::string choice;
+    /// What the order held for this step: its component and the others it acted through (the
+    /// robot a composite or a tool changer moves). A resumed order takes them all back.
+    std::vector<std::string> held;
     std::int64_t startedMs = 0;  // Unix time, ms
     std::int64_t endedMs = 0;
 };

@@ -289,7 +289,8 @@ kb::Expected<std::size_t> ProcessExecutor::resumeOpenOrders() {
     if (!open) return open.failure();
     standingBy_ = false;
     // Each order takes back, before any of them runs, the components its steps used in the
-    // MES's earlier life: it holds them to its end, and another order taking one meanwhile
+    // MES's earlier life (each step's own, and those it acted through): it holds them to its
+    // end, and another order taking one meanwhile
     // (its first step, on the tool changer the first still needs) would deadlock both.
     for (const auto& r : *open) {
         if (orders_.contains(r.id)) continue;
@@ -298,6 +299,7 @@ kb::Expected<std::size_t> ProcessExecutor::resumeOpenOrders() {
         if (!*done) continue;
         for (const auto& step : (*done)->steps) {
             if (!step.componentUri.empty()) (void)claims_.take(r.id, step.componentUri);
+            for (const auto& held : step.held) (void)claims_.take(r.id, held);
         }
     }
     std::size_t begun = 0;
@@ -1209,6 +1211,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.startedMs = unixMillis();
         r.note = note;
         r.choice = found.why;
+        r.held.assign(busy.components.begin(), busy.components.end());
         if (auto s = co_await record(run, r); !s) {
             co_await hangUp(skill, std::move(*conn), token);
             co_return StepResult{false, s.error()};

@@ -1,8 +1,14 @@
 #include "devices/world/flange_reporter.hpp"
 
+#include "ua/types/connection_loss.hpp"
+
 #include <spdlog/spdlog.h>
 
 namespace skillcell::devices {
+
+namespace {
+constexpr std::chrono::milliseconds kResendPause{100};
+}  // namespace
 
 std::unique_ptr<FlangeReporter> FlangeReporter::start(std::unique_ptr<WorldLink> link) {
     auto reporter = std::make_unique<FlangeReporter>(Token{}, std::move(link));
@@ -52,12 +58,27 @@ void FlangeReporter::whenSent(std::function<void()> callback) {
 
 void FlangeReporter::run() {
     std::unique_lock lock(mutex_);
+    // The last pose, while the world was out of reach: sent again until it is back (a world
+    // restarting would otherwise keep the flange where it was before, though the arm moved).
+    std::optional<KDL::Frame> unsent;
     for (;;) {
-        cv_.wait(lock, [this] { return stopping_ || pending_.has_value(); });
+        const auto wake = [this] { return stopping_ || pending_.has_value(); };
+        if (unsent) {
+            cv_.wait_for(lock, kResendPause, wake);
+        } else {
+            cv_.wait(lock, wake);
+        }
         if (stopping_) return;
-        const KDL::Frame flange = *pending_;
-        const std::uint64_t covers = reported_;
-        pending_.reset();
+        KDL::Frame flange;
+        std::uint64_t covers = sent_;
+        if (pending_) {
+            flange = *pending_;
+            covers = reported_;
+            pending_.reset();
+        } else {
+            flange = *unsent;
+        }
+        unsent.reset();
         lock.unlock();
         double force = 0;
         const auto status = link_->setFlangePose(flange, &force);
@@ -66,6 +87,11 @@ void FlangeReporter::run() {
         if (status.isBad() && !warned_) {
             spdlog::warn("world model: SetFlangePose failed: {}", ua::statusName(status));
             warned_ = true;
+        }
+        if (ua::isConnectionLoss(status)) unsent = flange;
+        if (status.isGood() && warned_) {
+            spdlog::info("world model: SetFlangePose answered again");
+            warned_ = false;
         }
         sent_ = covers;
         cv_.notify_all();

@@ -1,5 +1,7 @@
 #include "devices/world/world_link.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include "devices/common/frame.hpp"
 #include "devices/world/world_nodes.hpp"
 #include "ua/address_space/ns0_ids.hpp"
@@ -47,6 +49,10 @@ void WorldLink::note(ua::StatusCode s) {
     lostSinceMark_ = true;
 }
 
+void WorldLink::heardAfter(int tries, ua::StatusCode s) {
+    spdlog::info("world model: heard after {} tries ({})", tries, ua::statusName(s));
+}
+
 ua::Result<ua::Variant> WorldLink::readValue(const std::string& path) {
     reconnectIfLost();
     auto value = client_.readValue(id(path));
@@ -73,12 +79,6 @@ ua::Result<std::vector<ua::Variant>> WorldLink::robotCall(const char* method,
 std::string WorldLink::robotPath(const char* name) const {
     return "World/Robots/" + robot_ + "/" + name;
 }
-
-namespace {
-ua::StatusCode statusOf(const ua::Result<std::vector<ua::Variant>>& r) {
-    return r.status();
-}
-}  // namespace
 
 ua::StatusCode WorldLink::setFlangePose(const KDL::Frame& flange, double* contactForce) {
     const auto out = robotCall("SetFlangePose", {frameToVariant(flange)});

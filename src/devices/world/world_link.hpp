@@ -5,15 +5,18 @@
 // to the world (the flange moved, an object was grasped) and to ask what is there.
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <kdl/frames.hpp>
 
 #include "ua/client/blocking_client.hpp"
+#include "ua/types/connection_loss.hpp"
 
 namespace skillcell::devices {
 
@@ -124,6 +127,26 @@ public:
     WorldLink(Token, std::string robot) : robot_(std::move(robot)) {}
     [[nodiscard]] const std::string& robot() const { return robot_; }
 
+    /// Runs `call` (a report of something that happened, a grasp or a release, or what a
+    /// sensor sees), again every 100 ms while it finds the world out of reach, up to
+    /// `patience`: a world restarting must lose no physical event, and a gripper's sensor
+    /// does not go blind while the simulation restarts. A refusal after such a retry may mean
+    /// that the first try had arrived; the caller's log says so. Returns `call`'s last
+    /// result (a StatusCode or a ua::Result).
+    template <class Call>
+    auto untilHeard(Call call, std::chrono::milliseconds patience = std::chrono::seconds(30)) {
+        const auto deadline = std::chrono::steady_clock::now() + patience;
+        for (int tries = 1;; ++tries) {
+            auto r = call();
+            if (!ua::isConnectionLoss(statusOf(r)) ||
+                std::chrono::steady_clock::now() >= deadline) {
+                if (tries > 1) heardAfter(tries, statusOf(r));
+                return r;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));  // it is restarting
+        }
+    }
+
     /// Whether a call found the world out of reach since the last clearLoss(): a composite
     /// takes a try that lost its view of the cell again. The link itself connects again on
     /// the call after one that found the world gone (the world restarted).
@@ -131,6 +154,12 @@ public:
     void clearLoss() { lostSinceMark_ = false; }
 
 private:
+    static ua::StatusCode statusOf(ua::StatusCode s) { return s; }
+    template <class T>
+    static ua::StatusCode statusOf(const ua::Result<T>& r) {
+        return r.status();
+    }
+    static void heardAfter(int tries, ua::StatusCode s);
     /// Connects and finds the world's namespace.
     ua::StatusCode open();
     /// Connects again first when the last call found the world out of reach.

@@ -401,6 +401,48 @@ TEST_F(Orders, AComponentUnpluggedMidStepIsReplacedAndTheOrderCompletesOnTheOthe
         << r.steps[1].note;
 }
 
+// A resumed order takes back all its journaled steps held, not only their components: the
+// robot a step drove stays the order's, and another order cannot move it between the resumed
+// order's steps (it waits for the resumed order's end).
+TEST_F(Orders, AResumedOrderTakesBackWhatItsStepsHeldNotOnlyTheirComponents) {
+    plug({"urn:test:a", "urn:test:r"}, 300ms);
+    // The MES's earlier life: an order whose first step ran on urn:test:a, driving
+    // urn:test:r, and finished.
+    const auto earlier = journal_->beginRun("urn:p");
+    ASSERT_TRUE(earlier) << earlier.error();
+    StepRecord first;
+    first.index = 1;
+    first.stepIri = "urn:p/step1";
+    first.state = StepState::Finished;
+    first.skillTypeIri = kMoveType;
+    first.componentUri = "urn:test:a";
+    first.held = {"urn:test:a", "urn:test:r"};
+    first.startedMs = 1;
+    first.endedMs = 2;
+    ASSERT_TRUE(journal_->recordStep(*earlier, first));
+    ASSERT_EQ(record(*earlier).steps.at(0).held, first.held);  // as the journal keeps it
+    start({process("urn:p", 2), process("urn:q", 1)});
+    const std::size_t resumed = mes_.run([&]() -> asio::awaitable<std::size_t> {
+        auto n = executor_->resumeOpenOrders();
+        co_return n ? *n : 0;
+    });
+    ASSERT_EQ(resumed, 1U);
+    const auto other = submit("urn:q");
+    ASSERT_NE(other, 0);
+    EXPECT_TRUE(outcome(*earlier).completed);
+    EXPECT_TRUE(outcome(other).completed);
+    const auto re = record(*earlier);
+    const auto ro = record(other);
+    ASSERT_EQ(re.steps.size(), 2U);
+    ASSERT_EQ(ro.steps.size(), 1U);
+    EXPECT_LE(re.steps[1].endedMs, ro.steps[0].startedMs)
+        << "order " << other << " ran on " << ro.steps[0].componentUri << " while the resumed "
+        << "order " << *earlier << " still held it";
+    // And what each step held is journaled: its component, at least.
+    EXPECT_NE(std::find(ro.steps[0].held.begin(), ro.steps[0].held.end(), ro.steps[0].componentUri),
+              ro.steps[0].held.end());
+}
+
 TEST_F(Orders, AComponentRestartedMidStepTakesTheStepAgainInItsNextLife) {
     // The only component dies mid-step and its supervisor starts it again at once, with the
     // same URI (a new StartTime, another port): the detector sees the new life before it ever
