@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "common/atomic_file.hpp"
 #include "kb/owl/nodeset_ontology.hpp"
 #include "ua/pki/file_util.hpp"
 
@@ -81,7 +82,7 @@ int run(const Nodeset2OwlOptions& o) {
     for (const auto& [name, turtle] : outputs) {
         const fs::path path = fs::path(o.outputDir) / name;
         // Atomic, so that a crash never leaves half an ontology for a loader to read.
-        if (!ua::pki::writeFileAtomically(path, turtle, 0644)) {
+        if (!writeFileAtomically(path, turtle, 0644)) {
             std::cerr << "nodeset2owl: cannot write " << path.string() << "\n";
             return 1;
         }

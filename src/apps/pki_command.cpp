@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "common/atomic_file.hpp"
 #include "ua/pki/certificate.hpp"
 #include "ua/pki/certificate_authority.hpp"
 #include "ua/pki/certificate_validator.hpp"
@@ -120,7 +121,7 @@ int runTrust(const PkiOptions& o) {
         const ua::ByteString der = pki::certificateDer(certs.front().get());
         const fs::path target = p.trustedCerts() / (pki::certificateThumbprintHex(der) + ".der");
         fs::create_directories(p.trustedCerts(), ec);
-        if (!pki::writeFileAtomically(
+        if (!writeFileAtomically(
                 target, {reinterpret_cast<const char*>(der.bytes.data()), der.bytes.size()},
                 0644)) {
             std::cerr << "cannot write " << target.string() << '\n';

@@ -1,12 +1,10 @@
 #include "devices/toolchanger/dock_map_file.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "common/atomic_file.hpp"
 #include "devices/common/frame.hpp"
 
 namespace skillcell::devices::toolchanger {
@@ -41,22 +39,7 @@ Status saveDockMap(const std::filesystem::path& file, const DockMap& docks) {
         const Pose6 p = toPose6(frame);
         json["docks"][tool] = {p.x, p.y, p.z, p.a, p.b, p.c};
     }
-    const std::string text = json.dump() + "\n";
-    const std::string tmp = file.string() + ".tmp";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) return Error{"cannot write " + tmp};
-    std::size_t written = 0;
-    while (written < text.size()) {
-        const auto n = ::write(fd, text.data() + written, text.size() - written);
-        if (n <= 0) break;
-        written += static_cast<std::size_t>(n);
-    }
-    const bool ok = written == text.size() && ::fsync(fd) == 0;
-    ::close(fd);
-    std::error_code ec;
-    if (ok) std::filesystem::rename(tmp, file, ec);
-    if (!ok || ec) {
-        std::filesystem::remove(tmp, ec);
+    if (!writeFileAtomically(file, json.dump() + "\n")) {
         return Error{"cannot replace " + file.string()};
     }
     return Done{};

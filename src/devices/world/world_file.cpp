@@ -1,10 +1,9 @@
 #include "devices/world/world_file.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <fstream>
 #include <nlohmann/json.hpp>
+
+#include "common/atomic_file.hpp"
 
 namespace skillcell::devices {
 
@@ -206,25 +205,10 @@ Expected<WorldContents> loadWorldFile(const std::filesystem::path& file) {
 }
 
 Status saveWorldFile(const std::filesystem::path& file, const World& world) {
-    const std::string text = contentsJson(world.contents()).dump() + "\n";
-    const std::string tmp = file.string() + ".tmp";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) return Error{"cannot write " + tmp};
-    std::size_t written = 0;
-    while (written < text.size()) {
-        const auto n = ::write(fd, text.data() + written, text.size() - written);
-        if (n <= 0) break;
-        written += static_cast<std::size_t>(n);
-    }
     // Not flushed to disk on every change (the flange moves 100 times a second): what this
-    // guards against is the world process dying, after which the kernel still writes the
-    // file; the rename makes the switch atomic.
-    const bool ok = written == text.size();
-    ::close(fd);
-    std::error_code ec;
-    if (ok) std::filesystem::rename(tmp, file, ec);
-    if (!ok || ec) {
-        std::filesystem::remove(tmp, ec);
+    // guards against is the world process dying, after which the kernel still writes the file.
+    if (!writeFileAtomically(file, contentsJson(world.contents()).dump() + "\n", 0644,
+                             Flush::ToKernel)) {
         return Error{"cannot replace " + file.string()};
     }
     return Done{};

@@ -2,14 +2,13 @@
 
 #include <openssl/evp.h>
 #include <openssl/kdf.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <sstream>
 
+#include "common/atomic_file.hpp"
 #include "ua/crypto/primitives.hpp"
 #include "ua/transport/rsa_security_policy.hpp"
 #include "ua/types/hex.hpp"
@@ -110,21 +109,9 @@ StatusCode UserDatabase::save(const std::filesystem::path& file, std::string* er
     text << "# skillcell users: NAME:ROLES:CREDENTIAL (written by `skillcell user`)\n";
     for (const auto& u : users_)
         text << u.name << ':' << u.roles.toString() << ':' << u.credential << '\n';
-    const auto tmp = file.string() + ".tmp" + std::to_string(::getpid());
-    {
-        std::ofstream out(tmp, std::ios::trunc);
-        ::chmod(tmp.c_str(), 0600);  // before the hashes are in it
-        out << text.str();
-        out.flush();
-        if (!out) {
-            if (error != nullptr) *error = "cannot write " + tmp;
-            return status::BadConfigurationError;
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, file, ec);
-    if (ec) {
-        if (error != nullptr) *error = "cannot replace " + file.string() + ": " + ec.message();
+    // 0600 before the hashes are in it.
+    if (!writeFileAtomically(file, text.str(), 0600)) {
+        if (error != nullptr) *error = "cannot replace " + file.string();
         return status::BadConfigurationError;
     }
     return status::Good;
