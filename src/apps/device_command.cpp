@@ -513,24 +513,26 @@ struct ParallelGripperContent {
     std::shared_ptr<devices::GripperComponent> adapter;
 };
 
+/// How long a simulated gripper's sensor waits for a world that is restarting.
+constexpr std::chrono::milliseconds kSensorPatience{400};
+
 /// The fingers close along the grip point's y axis: what they meet is the object's extent
 /// along it; grasps and releases go to the world model.
 FingerWiring wireFingers(devices::WorldLink* world) {
     FingerWiring wiring;
     if (world == nullptr) return wiring;
     wiring.probe = [world]() -> std::optional<devices::ObjectBetweenFingers> {
-        const auto found = world->untilHeard([world] { return world->objectAtGripPoint(); });
+        // Briefly: the controller's reply waits for it (its Modbus timeout is 1 s).
+        const auto found =
+            world->untilHeard([world] { return world->objectAtGripPoint(); }, kSensorPatience);
         if (!found || !found->has_value()) return std::nullopt;
         return devices::ObjectBetweenFingers{(*found)->objectId, (*found)->extent[1]};
     };
     wiring.onEvent = [world](const devices::FingerEvent& e) {
         const bool grasped = e.kind == devices::FingerEvent::Kind::Grasped;
-        const auto s = world->untilHeard(
-            [&] { return grasped ? world->grasp(e.objectId) : world->release(); });
-        if (s.isBad()) {
-            spdlog::warn("world model refused the {} of {}: {}", grasped ? "grasp" : "release",
-                         e.objectId, ua::statusName(s));
-        }
+        world->tell([world, grasped,
+                     id = e.objectId] { return grasped ? world->grasp(id) : world->release(); },
+                    std::string(grasped ? "grasp" : "release") + " of " + e.objectId);
     };
     // Held already: the fingers stand at the object's extent along the grip point's y axis.
     const auto held = world->graspedObject();
@@ -750,18 +752,16 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
     sim.speed = options.speed;
     if (devices::WorldLink* world = content->world.get()) {
         sim.probe = [world]() -> std::optional<std::string> {
-            const auto found = world->untilHeard([world] { return world->objectAtGripPoint(); });
+            const auto found =
+                world->untilHeard([world] { return world->objectAtGripPoint(); }, kSensorPatience);
             if (!found || !found->has_value()) return std::nullopt;
             return (*found)->objectId;
         };
         sim.onEvent = [world](const sz::CupEvent& e) {
             const bool grasped = e.kind == sz::CupEvent::Kind::Grasped;
-            const auto s = world->untilHeard(
-                [&] { return grasped ? world->grasp(e.partId) : world->release(); });
-            if (s.isBad()) {
-                spdlog::warn("world model refused the {} of {}: {}", grasped ? "grasp" : "release",
-                             e.partId, ua::statusName(s));
-            }
+            world->tell([world, grasped,
+                         id = e.partId] { return grasped ? world->grasp(id) : world->release(); },
+                        std::string(grasped ? "grasp" : "release") + " of " + e.partId);
         };
         // Held already (an adapter restarted while the cup holds a part): still sucking.
         if (const auto held = world->graspedObject(); held && !held->empty()) {

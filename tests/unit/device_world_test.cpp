@@ -303,9 +303,18 @@ TEST(DeviceWorldFile, SavesAndRestoresEverythingTheWorldHolds) {
     EXPECT_FALSE(back->robots.at("other").hooked);
     EXPECT_EQ(back->fuseSlots.at("slot1").misalignment, slot.misalignment);
     EXPECT_EQ(back->seatedFuses.at("fuse"), "slot1");
-    // A World made from it holds the same (the grasped box still moves with the flange).
+    // A World made from it holds the same; its robots act at their flanges only once each
+    // has reported where its flange is now (it may have moved while the world was down).
     World restored(*back);
     EXPECT_EQ(restored.holderOf("box1"), std::optional<std::string>("arm"));
+    std::string why;
+    EXPECT_EQ(restored.release("arm", &why), ua::status::BadWaitingForInitialData);
+    EXPECT_NE(why.find("has not heard where robot arm"), std::string::npos) << why;
+    EXPECT_EQ(restored.holderOf("box1"), std::optional<std::string>("arm"));
+    ASSERT_EQ(restored.setFlangePose("arm", at(0.3, 0.2, 0.5)), Good);
+    EXPECT_TRUE(near(restored.object("box1")->pose, at(0.3, 0.2, 0.5) * f.toHeld, 1e-12, 1e-12));
+    EXPECT_EQ(restored.release("arm"), Good);
+    EXPECT_EQ(restored.release("other"), ua::status::BadWaitingForInitialData);
 
     // What is not a world file is refused with the file's name and what is wrong.
     std::ofstream(file) << "{\"format\": \"skillcell world 1\", \"revision\": 1}";

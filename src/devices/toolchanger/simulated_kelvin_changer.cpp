@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ua/types/connection_loss.hpp"
+
 namespace skillcell::devices::toolchanger {
 
 SimulatedKelvinChanger::SimulatedKelvinChanger(WorldLink& world, const ToolTable& tools)
@@ -25,6 +27,8 @@ ua::StatusCode SimulatedKelvinChanger::setLockValve(bool lock) {
         return ua::status::Good;
     }
     const auto s = lock ? world_.mountTool(*dock) : world_.unmountTool(*dock);
+    // The physics not there (restarting) is an I/O failure, not a coupling that did not lock.
+    if (ua::isTransient(s)) return s;
     if (s.isBad()) {
         spdlog::info("tool changer: the coupling did not {} at dock {}: {}", lock ? "lock" : "open",
                      *dock, ua::statusName(s));

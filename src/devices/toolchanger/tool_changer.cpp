@@ -123,7 +123,7 @@ asio::awaitable<ToolChanger::Pin> ToolChanger::readPin() {
     Pin pin;
     if (!counts) {
         pin.status = counts.status();
-        ioLost_ = ioLost_ || ua::isConnectionLoss(pin.status);
+        ioLost_ = ioLost_ || ua::isTransient(pin.status);
         co_return pin;
     }
     pin.volts = adcVolts(*counts);
@@ -137,14 +137,14 @@ asio::awaitable<ToolChanger::Pin> ToolChanger::readPin() {
 asio::awaitable<ua::StatusCode> ToolChanger::setLock(bool lock) {
     auto set = [this, lock] { return io_.setLockValve(lock); };
     const ua::StatusCode s = co_await blockingCall(ioThread_, std::move(set));
-    ioLost_ = ioLost_ || ua::isConnectionLoss(s);
+    ioLost_ = ioLost_ || ua::isTransient(s);
     co_return s;
 }
 
 asio::awaitable<ua::Result<bool>> ToolChanger::lockedNow() {
     auto read = [this] { return io_.locked(); };
     auto locked = co_await blockingCall(ioThread_, std::move(read));
-    ioLost_ = ioLost_ || (!locked && ua::isConnectionLoss(locked.status()));
+    ioLost_ = ioLost_ || (!locked && ua::isTransient(locked.status()));
     co_return locked;
 }
 

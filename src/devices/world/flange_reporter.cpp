@@ -8,6 +8,7 @@ namespace skillcell::devices {
 
 namespace {
 constexpr std::chrono::milliseconds kResendPause{100};
+constexpr std::chrono::milliseconds kStandingPause{500};
 }  // namespace
 
 std::unique_ptr<FlangeReporter> FlangeReporter::start(std::unique_ptr<WorldLink> link) {
@@ -58,15 +59,18 @@ void FlangeReporter::whenSent(std::function<void()> callback) {
 
 void FlangeReporter::run() {
     std::unique_lock lock(mutex_);
-    // The last pose, while the world was out of reach: sent again until it is back (a world
-    // restarting would otherwise keep the flange where it was before, though the arm moved).
-    std::optional<KDL::Frame> unsent;
+    // The last pose sent, and whether the world was out of reach for it. It is sent again,
+    // every 100 ms until the world answers, and every 500 ms while the arm stands: a world
+    // that restarted while the arm moved, or stood, learns where the flange is (it acts at
+    // a restored robot's flange only once it has heard it, World::actingRobot).
+    std::optional<KDL::Frame> last;
+    bool unsent = false;
     for (;;) {
         const auto wake = [this] { return stopping_ || pending_.has_value(); };
-        if (unsent) {
-            cv_.wait_for(lock, kResendPause, wake);
-        } else {
+        if (!last) {
             cv_.wait(lock, wake);
+        } else {
+            cv_.wait_for(lock, unsent ? kResendPause : kStandingPause, wake);
         }
         if (stopping_) return;
         KDL::Frame flange;
@@ -76,9 +80,9 @@ void FlangeReporter::run() {
             covers = reported_;
             pending_.reset();
         } else {
-            flange = *unsent;
+            flange = *last;
         }
-        unsent.reset();
+        last = flange;
         lock.unlock();
         double force = 0;
         const auto status = link_->setFlangePose(flange, &force);
@@ -88,7 +92,7 @@ void FlangeReporter::run() {
             spdlog::warn("world model: SetFlangePose failed: {}", ua::statusName(status));
             warned_ = true;
         }
-        if (ua::isConnectionLoss(status)) unsent = flange;
+        unsent = ua::isConnectionLoss(status);
         if (status.isGood() && warned_) {
             spdlog::info("world model: SetFlangePose answered again");
             warned_ = false;

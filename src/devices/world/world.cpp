@@ -18,7 +18,11 @@ World::World(WorldContents contents, WorldTolerances tolerances)
       robots_(std::move(contents.robots)),
       fuseSlots_(std::move(contents.fuseSlots)),
       seatedFuses_(std::move(contents.seatedFuses)),
-      revision_(contents.revision) {}
+      revision_(contents.revision) {
+    // Robots may have moved while the world was down: each acts (takes a tool, grasps,
+    // releases) only once it has reported its flange again.
+    for (const auto& [id, f] : robots_) unsettled_.insert(id);
+}
 
 WorldContents World::contents() const {
     return {objects_, tools_,     docks_,       rails_,   railMounts_,
@@ -53,6 +57,17 @@ Flange* World::findRobot(const std::string& robot, ua::StatusCode& status, std::
     if (it != robots_.end()) return &it->second;
     status = fail(ua::status::BadNotFound, why, "no robot " + robot + " in the world");
     return nullptr;
+}
+
+Flange* World::actingRobot(const std::string& robot, ua::StatusCode& status, std::string* why) {
+    Flange* f = findRobot(robot, status, why);
+    if (f != nullptr && unsettled_.contains(robot)) {
+        status = fail(ua::status::BadWaitingForInitialData, why,
+                      "the world restarted and has not heard where robot " + robot +
+                          "'s flange is since: it acts there once the robot reports it");
+        return nullptr;
+    }
+    return f;
 }
 
 const Flange& World::flange(const std::string& robot) const {
@@ -203,6 +218,7 @@ ua::StatusCode World::setFlangePose(const std::string& robot, const KDL::Frame& 
     ua::StatusCode status;
     Flange* f = findRobot(robot, status, why);
     if (f == nullptr) return status;
+    unsettled_.erase(robot);
     f->pose = pose;
     if (!f->held.empty()) {
         objects_.at(f->held).pose = f->pose * f->toHeld;
@@ -285,7 +301,7 @@ void World::trackHeldFuse(Flange& f) {
 ua::StatusCode World::mountTool(const std::string& robot, const std::string& dockId,
                                 std::string* why) {
     ua::StatusCode status;
-    Flange* f = findRobot(robot, status, why);
+    Flange* f = actingRobot(robot, status, why);
     if (f == nullptr) return status;
     const auto dock = docks_.find(dockId);
     if (dock == docks_.end()) return fail(ua::status::BadNotFound, why, "no dock " + dockId);
@@ -309,7 +325,7 @@ ua::StatusCode World::mountTool(const std::string& robot, const std::string& doc
 ua::StatusCode World::unmountTool(const std::string& robot, const std::string& dockId,
                                   std::string* why) {
     ua::StatusCode status;
-    Flange* f = findRobot(robot, status, why);
+    Flange* f = actingRobot(robot, status, why);
     if (f == nullptr) return status;
     const auto dock = docks_.find(dockId);
     if (dock == docks_.end()) return fail(ua::status::BadNotFound, why, "no dock " + dockId);
@@ -381,7 +397,7 @@ std::optional<double> World::extentAlong(const std::string& objectId,
 ua::StatusCode World::grasp(const std::string& robot, const std::string& objectId,
                             std::string* why) {
     ua::StatusCode status;
-    Flange* f = findRobot(robot, status, why);
+    Flange* f = actingRobot(robot, status, why);
     if (f == nullptr) return status;
     const auto object = objects_.find(objectId);
     if (object == objects_.end()) {
@@ -417,7 +433,7 @@ ua::StatusCode World::grasp(const std::string& robot, const std::string& objectI
 
 ua::StatusCode World::release(const std::string& robot, std::string* why) {
     ua::StatusCode status;
-    Flange* f = findRobot(robot, status, why);
+    Flange* f = actingRobot(robot, status, why);
     if (f == nullptr) return status;
     if (f->held.empty()) return fail(ua::status::BadInvalidState, why, "no object is held");
     if (f->snapped && f->hooked) {

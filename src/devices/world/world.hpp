@@ -14,6 +14,7 @@
 #include <kdl/frames.hpp>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "devices/world/box_size.hpp"
@@ -100,6 +101,8 @@ class World {
 public:
     explicit World(WorldTolerances tolerances = {}) : tolerances_(tolerances) {}
     /// A world as it was (a saved one), trusted to be consistent: it was built by a World.
+    /// Its robots act at their flanges again only once each has reported it (they may have
+    /// moved while the world was down): until then such a change is BadWaitingForInitialData.
     explicit World(WorldContents contents, WorldTolerances tolerances = {});
     [[nodiscard]] WorldContents contents() const;
 
@@ -194,6 +197,9 @@ private:
     [[nodiscard]] bool flangeAt(const Flange& flange, const ToolDock& dock) const;
     /// The robot's flange, or a BadNotFound with the reason.
     Flange* findRobot(const std::string& robot, ua::StatusCode& status, std::string* why);
+    /// The same, for a change that acts at the flange: BadWaitingForInitialData while the
+    /// robot has not reported its flange since the world was restored.
+    Flange* actingRobot(const std::string& robot, ua::StatusCode& status, std::string* why);
     /// Follows a held terminal block onto and off the rails after the flange moved.
     void trackHeldBlock(Flange& flange);
     /// Follows a held fuse into and out of the slots after the flange moved.
@@ -212,6 +218,7 @@ private:
     std::map<std::string, FuseSlot> fuseSlots_;
     std::map<std::string, std::string> seatedFuses_;  // fuse -> slot
     std::uint64_t revision_ = 0;
+    std::set<std::string> unsettled_;  // restored robots not heard from since
 };
 
 }  // namespace skillcell::devices

@@ -44,9 +44,62 @@ void WorldLink::reconnectIfLost() {
 }
 
 void WorldLink::note(ua::StatusCode s) {
-    if (!ua::isConnectionLoss(s)) return;
-    lost_ = true;
-    lostSinceMark_ = true;
+    if (ua::isConnectionLoss(s)) lost_ = true;
+    if (ua::isTransient(s)) lostSinceMark_ = true;
+}
+
+WorldLink::~WorldLink() {
+    {
+        const std::lock_guard lock(backlogMutex_);
+        stopping_ = true;
+    }
+    backlogChanged_.notify_all();
+    if (backlogThread_.joinable()) backlogThread_.join();
+}
+
+void WorldLink::tell(std::function<ua::StatusCode()> event, std::string what) {
+    // Under the lock throughout: events told from several threads keep their order.
+    const std::lock_guard lock(backlogMutex_);
+    if (!backlog_.empty()) {  // after those still waiting
+        backlog_.push_back({std::move(event), std::move(what), std::chrono::steady_clock::now()});
+        return;
+    }
+    const ua::StatusCode s = event();
+    if (!ua::isTransient(s)) {
+        if (s.isBad()) spdlog::warn("world model refused the {}: {}", what, ua::statusName(s));
+        return;
+    }
+    spdlog::warn("world model: the {} is not heard ({}): telling it again until it is", what,
+                 ua::statusName(s));
+    backlog_.push_back({std::move(event), std::move(what), std::chrono::steady_clock::now()});
+    if (!backlogThread_.joinable()) backlogThread_ = std::thread([this] { deliverBacklog(); });
+    backlogChanged_.notify_all();
+}
+
+void WorldLink::deliverBacklog() {
+    constexpr auto kPause = std::chrono::milliseconds(100);
+    constexpr auto kPatience = std::chrono::minutes(1);
+    std::unique_lock lock(backlogMutex_);
+    for (;;) {
+        backlogChanged_.wait(lock, [this] { return stopping_ || !backlog_.empty(); });
+        if (stopping_) return;
+        Told& next = backlog_.front();
+        lock.unlock();
+        const ua::StatusCode s = next.event();  // only this thread takes from the front
+        lock.lock();
+        const bool late = std::chrono::steady_clock::now() - next.since > kPatience;
+        if (!ua::isTransient(s) || late) {
+            if (s.isGood()) {
+                spdlog::info("world model: the {} is heard", next.what);
+            } else {
+                spdlog::warn("world model: the {}: {}{}", next.what, ua::statusName(s),
+                             late ? ", given up after a minute" : "");
+            }
+            backlog_.pop_front();
+            continue;
+        }
+        backlogChanged_.wait_for(lock, kPause, [this] { return stopping_; });
+    }
 }
 
 void WorldLink::heardAfter(int tries, ua::StatusCode s) {

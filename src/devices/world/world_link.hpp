@@ -6,6 +6,9 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -30,7 +33,7 @@ public:
         const std::string& url, ua::ClientConfig config = {}, std::string robot = {});
     WorldLink(const WorldLink&) = delete;
     WorldLink& operator=(const WorldLink&) = delete;
-    ~WorldLink() = default;
+    ~WorldLink();
 
     /// Reports the flange; `contactForce` (if given) receives the force the held object
     /// meets there (N).
@@ -127,25 +130,29 @@ public:
     WorldLink(Token, std::string robot) : robot_(std::move(robot)) {}
     [[nodiscard]] const std::string& robot() const { return robot_; }
 
-    /// Runs `call` (a report of something that happened, a grasp or a release, or what a
-    /// sensor sees), again every 100 ms while it finds the world out of reach, up to
-    /// `patience`: a world restarting must lose no physical event, and a gripper's sensor
-    /// does not go blind while the simulation restarts. A refusal after such a retry may mean
-    /// that the first try had arrived; the caller's log says so. Returns `call`'s last
-    /// result (a StatusCode or a ua::Result).
+    /// Runs `call` (what a sensor sees), again every 100 ms while it finds the world out of
+    /// reach or not ready, up to `patience`. Returns `call`'s last result (a StatusCode or a
+    /// ua::Result).
     template <class Call>
-    auto untilHeard(Call call, std::chrono::milliseconds patience = std::chrono::seconds(30)) {
+    auto untilHeard(Call call, std::chrono::milliseconds patience) {
         const auto deadline = std::chrono::steady_clock::now() + patience;
         for (int tries = 1;; ++tries) {
             auto r = call();
-            if (!ua::isConnectionLoss(statusOf(r)) ||
-                std::chrono::steady_clock::now() >= deadline) {
+            if (!ua::isTransient(statusOf(r)) || std::chrono::steady_clock::now() >= deadline) {
                 if (tries > 1) heardAfter(tries, statusOf(r));
                 return r;
             }
             std::this_thread::sleep_for(std::chrono::milliseconds(100));  // it is restarting
         }
     }
+
+    /// Tells the world of something that happened (a grasp, a release): at once when it can,
+    /// else, while the world is out of reach or not ready (restarting), from a thread of the
+    /// link's own, again every 100 ms for up to a minute, in the order told: a world that
+    /// restarts loses no physical event, and the device that tells it is not held up (a
+    /// gripper's reply to its controller must not wait for the simulation). `what` names
+    /// the event in the log.
+    void tell(std::function<ua::StatusCode()> event, std::string what);
 
     /// Whether a call found the world out of reach since the last clearLoss(): a composite
     /// takes a try that lost its view of the cell again. The link itself connects again on
@@ -181,6 +188,9 @@ private:
         return ua::NodeId(ns_.load(), ua::String(path));
     }
 
+    /// Delivers the events tell() could not, in order (its thread).
+    void deliverBacklog();
+
     ua::BlockingClient client_;
     std::string url_;
     ua::ClientConfig config_;
@@ -189,6 +199,18 @@ private:
     std::mutex reconnectMutex_;  // one reconnect at a time, whichever thread calls
     std::atomic<bool> lost_{false};
     std::atomic<bool> lostSinceMark_{false};
+    // Events not heard yet (tell()), and the thread that delivers them, started with the
+    // first; its members are under backlogMutex_.
+    struct Told {
+        std::function<ua::StatusCode()> event;
+        std::string what;
+        std::chrono::steady_clock::time_point since;
+    };
+    std::mutex backlogMutex_;
+    std::condition_variable backlogChanged_;
+    std::deque<Told> backlog_;
+    bool stopping_ = false;
+    std::thread backlogThread_;  // last: joined before the rest goes
 };
 
 }  // namespace skillcell::devices

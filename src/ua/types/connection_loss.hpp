@@ -25,4 +25,10 @@ namespace skillcell::ua {
     return false;
 }
 
+/// A connection loss, or a server that answered that it is not ready yet
+/// (BadWaitingForInitialData: a restarted world waiting to hear where a robot is): both pass.
+[[nodiscard]] constexpr bool isTransient(StatusCode s) {
+    return isConnectionLoss(s) || s == status::BadWaitingForInitialData;
+}
+
 }  // namespace skillcell::ua
