@@ -35,6 +35,7 @@
 #include "kb/component_reader.hpp"
 #include "kb/engine/konclude_reasoner.hpp"
 #include "kb/engine/virtuoso_instance.hpp"
+#include "kb/engine/virtuoso_watch.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/owl/model_repository.hpp"
 #include "kb/rdf/turtle.hpp"
@@ -187,6 +188,7 @@ struct KbComponent {
     KbComponent(kb::KnowledgeBase& knowledge, bool httpWrites, ua::ClientConfig readerConfig)
         : endpoint(knowledge, httpWrites), kb(knowledge), reader(std::move(readerConfig)) {}
     ~KbComponent() {
+        watch.reset();    // no restart of Virtuoso, and no recording it asks for, from now on
         stopping = true;  // queued discovery jobs end at once: the KB is going
         reader.cancel();  // and a component being read is dropped
         asio::post(loads, [this] { retryTimer.cancel(); });
@@ -208,6 +210,7 @@ struct KbComponent {
     std::optional<kb::owl::ModelRepository> models;
     std::set<std::string> modelsLoaded;  // used on `loads` only
     std::unique_ptr<http::WebServer> web;
+    std::unique_ptr<kb::engine::VirtuosoWatch> watch;  // our own Virtuoso, restarted if it dies
     std::shared_ptr<skills::SkillDetector> detector;
     std::size_t subscription = 0;
     std::atomic<bool> stopping{false};
@@ -371,8 +374,22 @@ void retryFailed(KbComponent& c) {
     });
 }
 
+// Queues a recording of each component that `c`'s detector lists as live.
+void recordAllLive(KbComponent& c) {
+    if (!c.detector || c.stopping) return;
+    bool wasEmpty = false;
+    {
+        const std::lock_guard lock(c.pendingMutex);
+        wasEmpty = c.pending.empty();
+        for (const auto& s : c.detector->instances()) c.pending.insert(s.componentUri);
+        if (c.pending.empty()) return;
+    }
+    if (wasEmpty) asio::post(c.loads, [&c] { recordPending(c); });
+}
+
 ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const KbOptions& o,
-                                            kb::KnowledgeBase& knowledge) {
+                                            kb::KnowledgeBase& knowledge,
+                                            kb::engine::VirtuosoInstance* virtuoso) {
     if (auto s = addKnowledgeBaseNodes(ctx.server.addressSpace(), knowledge); s.isBad()) return s;
     // How the KB reads the components it records: as the KB's client, within bounds (a
     // component that hangs costs a few seconds, and nothing at shutdown).
@@ -435,6 +452,11 @@ ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const K
             }
             asio::post(component->loads, [component] { recordPending(*component); });
         });
+    }
+    if (virtuoso != nullptr) {
+        // Restarted after a crash: what discovery reported meanwhile may not be in the store.
+        c->watch = std::make_unique<kb::engine::VirtuosoWatch>(
+            *virtuoso, [component] { recordAllLive(*component); });
     }
     return ComponentContent(std::move(c));
 }
@@ -551,8 +573,9 @@ int run(KbOptions& o) {
     }
     spdlog::info("kb: store {} ready, reasoner {}", sparqlUrl, reasoner ? "Konclude" : "off");
     o.process.usesDetector = true;
-    const int rc = runServerProcess(
-        o.process, [&](const ComponentContext& ctx) { return startComponent(ctx, o, knowledge); });
+    const int rc = runServerProcess(o.process, [&](const ComponentContext& ctx) {
+        return startComponent(ctx, o, knowledge, virtuoso ? &*virtuoso : nullptr);
+    });
     if (virtuoso) {
         if (auto s = virtuoso->stop(); !s) spdlog::error("kb: Virtuoso: {}", s.error());
     }

@@ -194,6 +194,12 @@ bool VirtuosoInstance::running() {
     return process_ && process_->running();
 }
 
+std::string VirtuosoInstance::howItEnded() {
+    if (!process_) return "not started";
+    auto ended = process_->wait(std::chrono::milliseconds(0));
+    return ended ? ended->describe() : "still running";
+}
+
 Status VirtuosoInstance::prepareDataDir() {
     if (config_.dataDir.empty()) return Error{"Virtuoso: no data directory configured"};
     std::error_code ec;

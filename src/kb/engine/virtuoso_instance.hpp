@@ -57,6 +57,11 @@ public:
     /// SIGKILL without a checkpoint: a crash, for tests of what survives one.
     void kill();
     [[nodiscard]] bool running();
+    /// A descriptor that poll() reports readable when the running virtuoso-t ends (its
+    /// pidfd); -1 when none runs. A new one after each start().
+    [[nodiscard]] int exitFd() const { return process_ ? process_->exitFd() : -1; }
+    /// How the last virtuoso-t ended, once it has ("still running" before).
+    [[nodiscard]] std::string howItEnded();
 
     [[nodiscard]] std::uint16_t httpPort() const { return httpPort_; }
     [[nodiscard]] std::uint16_t sqlPort() const { return sqlPort_; }

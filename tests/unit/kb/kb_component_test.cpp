@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -13,6 +14,7 @@
 
 #include "component_process.hpp"
 #include "http/http_client.hpp"
+#include "process_tree.hpp"
 #include "temp_dir.hpp"
 #include "ua/server/user_database.hpp"
 
@@ -314,6 +316,41 @@ TEST(KnowledgeBaseComponent, AnAcknowledgedUpdateSurvivesAKillOfTheKbProcess) {
                                            "SELECT * WHERE { GRAPH <urn:test:kill> { ?s ?p ?o } }");
     // And the KB's own models, as after any start.
     EXPECT_TRUE(ask(port, "GRAPH <http://skillcell.dev/ontology/process> { ?s ?p ?o }"));
+}
+
+// The KB's Virtuoso killed on its own (the KB stays): the KB starts it again on the same data,
+// and what was acknowledged before is there; meanwhile queries fail and are asked again.
+TEST(KnowledgeBaseComponent, AKilledVirtuosoIsStartedAgainOnItsDataByTheKb) {
+    const test::TempDir dir("skillcell-kb-virtuoso-kill");
+    test::ComponentProcess kb(SKILLCELL_BINARY,
+                              {"kb", "--http-port", "0", "--data-dir", dir.path().string(),
+                               "--http-writes", "--no-discovery"});
+    ASSERT_FALSE(kb.url().empty()) << "skillcell kb did not start";
+    const std::uint16_t port = sparqlPort(kb);
+    ASSERT_NE(port, 0);
+    const std::string fact = "GRAPH <urn:test:vkill> { <urn:test:a> <urn:test:b> \"kept\" }";
+    ASSERT_EQ(update(port, "INSERT DATA { " + fact + " }"), 200);
+    auto virtuosoOf = [&]() -> pid_t {
+        for (const pid_t child : test::childrenOf(kb.pid())) {
+            std::ifstream comm("/proc/" + std::to_string(child) + "/comm");
+            std::string name;
+            if (std::getline(comm, name) && name == "virtuoso-t") return child;
+        }
+        return 0;
+    };
+    const pid_t first = virtuosoOf();
+    ASSERT_NE(first, 0) << "no virtuoso-t among the KB's children";
+    ASSERT_EQ(::kill(first, SIGKILL), 0);
+    const auto took = askUntilTrue(port, fact, 90s);
+    ASSERT_TRUE(took) << "the KB did not answer from its data within 90 s of Virtuoso's death";
+    std::cout << "the KB answered again " << took->count() << " ms after Virtuoso was killed\n";
+    const pid_t second = virtuosoOf();
+    EXPECT_NE(second, 0);
+    EXPECT_NE(second, first);
+    // And it takes updates again.
+    EXPECT_EQ(
+        update(port, "INSERT DATA { GRAPH <urn:test:vkill> { <urn:test:c> <urn:test:d> 1 } }"),
+        200);
 }
 
 TEST(KnowledgeBaseComponent, UsesAnyStoreGivenBySparqlUrlInsteadOfItsOwnVirtuoso) {
