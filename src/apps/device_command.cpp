@@ -513,8 +513,10 @@ struct ParallelGripperContent {
     std::shared_ptr<devices::GripperComponent> adapter;
 };
 
-/// How long a simulated gripper's sensor waits for a world that is restarting.
+/// How long a simulated gripper's sensor waits for a world that is restarting: behind a
+/// Modbus reply (its timeout is 1 s), and behind an in-process call.
 constexpr std::chrono::milliseconds kSensorPatience{400};
+constexpr std::chrono::milliseconds kInProcessSensorPatience{5000};
 
 /// The fingers close along the grip point's y axis: what they meet is the object's extent
 /// along it; grasps and releases go to the world model.
@@ -752,8 +754,10 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
     sim.speed = options.speed;
     if (devices::WorldLink* world = content->world.get()) {
         sim.probe = [world]() -> std::optional<std::string> {
-            const auto found =
-                world->untilHeard([world] { return world->objectAtGripPoint(); }, kSensorPatience);
+            // The simulated IO-Link master is called in-process, with no reply timeout: the
+            // switch may wait for a world that restarts as long as it usually takes.
+            const auto found = world->untilHeard([world] { return world->objectAtGripPoint(); },
+                                                 kInProcessSensorPatience);
             if (!found || !found->has_value()) return std::nullopt;
             return (*found)->objectId;
         };
