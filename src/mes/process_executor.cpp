@@ -28,22 +28,37 @@ using skills::SkillState;
 constexpr int kMaxInstancesPerStep = 8;
 // How often to ask the KB again while the skills are there but their facts are not.
 constexpr std::chrono::milliseconds kFactRetry{250};
-// How often the time a failed knowledge-base request took is not counted against a step's
-// skill wait: a KB cut off (a link down) answers nothing for its whole request timeout, which
-// may be as long as the wait; once it answers again, the step asks again. Bounded, so that a
-// KB that stays away ends the wait.
-constexpr int kKbExtensions = 3;
-
 using Clock = std::chrono::steady_clock;
 
-/// A knowledge-base request begun at `asked` has failed: the time it took is added to
-/// `deadline`, kKbExtensions times at most (`extensions` counts them).
-void discountFailedKbRequest(Clock::time_point& deadline, Clock::time_point asked,
-                             int& extensions) {
-    if (extensions >= kKbExtensions) return;
-    deadline += Clock::now() - asked;
-    ++extensions;
-}
+// How long, in all, the knowledge base may be out of reach without using up a step's or an
+// order's skill wait: a KB cut off by a link down answers nothing for its whole request
+// timeout, and a KB restarting (its Virtuoso, then its recordings) refuses for seconds; once it
+// answers again, the step asks again. Bounded, so that a KB that stays away ends the wait.
+constexpr Clock::duration kMaxKbOutage = std::chrono::seconds(60);
+
+/// The time the knowledge base could not be asked, not counted against a wait.
+class KbOutage {
+public:
+    /// A request begun at `asked` failed: the time from the start of this outage (the first
+    /// failure in a row, or the last time counted) to now moves `deadline` on, within
+    /// kMaxKbOutage in all.
+    void failed(Clock::time_point& deadline, Clock::time_point asked) {
+        const auto now = Clock::now();
+        const auto from = since_.value_or(asked);
+        const auto add = std::min(now - from, kMaxKbOutage - forgiven_);
+        if (add > Clock::duration::zero()) {
+            deadline += add;
+            forgiven_ += add;
+        }
+        since_ = now;
+    }
+    /// It answered: the outage, if any, is over.
+    void answered() { since_.reset(); }
+
+private:
+    std::optional<Clock::time_point> since_;
+    Clock::duration forgiven_{};
+};
 
 // The median of some durations (ms).
 std::int64_t median(std::vector<std::int64_t> v) {
@@ -761,7 +776,7 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
     std::shared_ptr<Order> order, const ProcessDescription& process, Progress p) {
     auto self = shared_from_this();
     auto deadline = Clock::now() + order->skillWait;
-    int kbExtensions = 0;
+    KbOutage kbOutage;
     const auto properties = requiredProperties(process);
     std::string shown;
     for (;;) {
@@ -772,9 +787,10 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
             auto read = co_await kb_.facts(properties);
             if (read) {
                 facts = std::move(*read);
+                kbOutage.answered();
             } else {
                 kbError = "cannot ask the knowledge base: " + read.error();
-                discountFailedKbRequest(deadline, asked, kbExtensions);
+                kbOutage.failed(deadline, asked);
             }
         }
         auto lacking = kbError.empty() ? infeasibility(process, detector_->instances(),
@@ -842,7 +858,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
     // a step that waited for another order's component may see that component leave (a link
     // down) long after it began, and then it still has the whole bound for it to come back.
     std::optional<Clock::time_point> deadline;
-    int kbExtensions = 0;
+    KbOutage kbOutage;
     std::optional<Clock::time_point> claimDeadline;  // from the first wait for a component
     // Registered as waiting for components: no longer on any return, and the orders that
     // gave way to it look again.
@@ -876,8 +892,11 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             for (const auto* s : typed) copies.push_back(*s);
             const auto asked = Clock::now();
             c = co_await withRequirements(step, std::move(copies), *live);
-            if (c.kbUnreachable && deadline)
-                discountFailedKbRequest(*deadline, asked, kbExtensions);
+            if (!c.kbUnreachable) {
+                kbOutage.answered();
+            } else if (deadline) {
+                kbOutage.failed(*deadline, asked);
+            }
             askAgain = c.skills.empty() && static_cast<bool>(kb_.facts);
             for (const auto& s : c.skills) suitable.push_back(&s);
         }

@@ -109,6 +109,9 @@ asio::awaitable<PickAndPlace::Connection> PickAndPlace::open(std::string endpoin
         }
         co_return nullptr;
     }
+    if (const auto& eps = (*opened)->client().serverEndpoints(); !eps.empty()) {
+        skills.uris.try_emplace(endpoint, eps.front().server.applicationUri);
+    }
     co_return std::move(*opened);
 }
 
@@ -602,7 +605,7 @@ asio::awaitable<std::string> PickAndPlace::run(PickRequest request) {
     // settles) once discovery finds the device again. A device restarted elsewhere (another
     // port) is found by its component URI: the endpoints the request named are where the
     // devices were, not where they are.
-    const std::string toolUri =
+    std::string toolUri =
         request.toolEndpoint.empty() ? request.toolUri : componentAt(request.toolEndpoint);
     std::vector<skills::ComponentLife> gone;  // devices lost in earlier tries
     std::string why = co_await goOnAfterLostDevice(
@@ -616,6 +619,12 @@ asio::awaitable<std::string> PickAndPlace::run(PickRequest request) {
             // is a lost device too.
             lost = skills.lost || world_.lostConnection();
             gone = std::move(skills.gone);
+            // A tool named by an endpoint the detector did not list yet when the run began:
+            // its server said its URI when this try connected to it.
+            if (lost && toolUri.empty()) {
+                if (const auto u = skills.uris.find(request.toolEndpoint); u != skills.uris.end())
+                    toolUri = u->second;
+            }
             if (lost && !toolUri.empty()) {
                 request.toolEndpoint.clear();
                 request.toolUri = toolUri;

@@ -119,6 +119,9 @@ private:
         std::vector<skills::ComponentLife> gone;
         /// The life of each device this try found by discovery, by endpoint.
         std::map<std::string, skills::ComponentLife> found;
+        /// The application URI of each server this try connected to, by endpoint: how a
+        /// device named by its endpoint is found again after it restarts elsewhere.
+        std::map<std::string, std::string> uris;
         bool lost = false;  // set by noteLosses()
         /// Notes, before the try closes its connections, whether it lost a device it drives
         /// (one unreachable, or a session gone) in `lost`; the lives of the lost ones join

@@ -607,6 +607,37 @@ TEST_F(Orders, AKnowledgeBaseThatAnswersNothingForAWhileIsAskedAgainOnceItAnswer
     EXPECT_EQ(*failures, 0);
 }
 
+// A KB restarting refuses at once, for longer than the skill wait: the time it could not be
+// asked (not only its failed requests' own, which are short) does not use up the wait.
+TEST_F(Orders, AKnowledgeBaseThatRefusesForLongerThanTheWaitIsAskedUntilItAnswers) {
+    plug({"urn:test:robot1"}, 50ms);
+    const auto until = std::chrono::steady_clock::now() + 3s;  // the skill wait is 2 s
+    auto refused = std::make_shared<int>(0);
+    facts_ = [this, until,
+              refused](std::vector<std::string>) -> asio::awaitable<kb::Expected<SkillFacts>> {
+        if (std::chrono::steady_clock::now() < until) {
+            ++*refused;
+            co_return kb::Error{"https://localhost/sparql: HTTP 503: cannot connect"};
+        }
+        SkillFacts f;
+        const std::string p(kProcessNs);
+        for (const auto& s : detector_->instances()) {
+            f.add(keyOf(s), p + "available", "true");  // recorded
+            f.add(keyOf(s), p + "reach", "0.85");
+            f.add(keyOf(s), p + "reachCentreX", "0");
+            f.add(keyOf(s), p + "reachCentreY", "0");
+            f.add(keyOf(s), p + "reachCentreZ", "0.089");
+        }
+        co_return f;
+    };
+    auto near = process("urn:near", 1);
+    near.steps[0].parameters.push_back({"TargetPosition", devices::Pose6{0.4, 0, 0.3}});
+    start({near});
+    const auto out = outcome(submit("urn:near"));
+    EXPECT_TRUE(out.completed) << out.reason;
+    EXPECT_GT(*refused, 2);
+}
+
 TEST(ResourceClaims, AWaitThatWouldCloseACycleIsRefusedWithTheChain) {
     ResourceClaims c;
     EXPECT_TRUE(c.take(1, "urn:a"));
