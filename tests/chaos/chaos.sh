@@ -61,7 +61,10 @@ target_pid() {
       local kb
       kb=$(component_pid kb)
       [ -n "$kb" ] && pgrep -P "$kb" -f Konclude | head -n 1 ;;
-    robotiq | schmalz) pgrep -f "skillcell device $kind .*$work/" | head -n 1 ;;
+    # The adapter itself: its command line begins so. (Unanchored, the pattern also matched
+    # the tool changer, whose arguments hold each tool's power command: a trial of a tool
+    # whose adapter was not running killed the changer instead.)
+    robotiq | schmalz) pgrep -f "^[^ ]*skillcell device $kind .*$work/" | head -n 1 ;;
     *) component_pid "$kind" ;;
   esac
 }
