@@ -168,6 +168,11 @@ TEST(DeviceWorld, AGraspedObjectMovesWithTheFlangeAndAReleasedOneStays) {
     EXPECT_NEAR(moved.p.z(), 0.25, 1e-9);
     EXPECT_EQ(w.unmountTool(kArm, "dock1"), BadInvalidState);  // still holding the box
 
+    // The same pose reported again (an arm that stands) is no change.
+    const std::uint64_t revision = w.revision();
+    EXPECT_EQ(w.setFlangePose(kArm, at(0.2, 0.3, 0.4, M_PI, 0, M_PI / 2)), Good);
+    EXPECT_EQ(w.revision(), revision);
+
     ASSERT_EQ(w.release(kArm), Good);
     EXPECT_EQ(w.release(kArm), BadInvalidState);
     w.setFlangePose(kArm, at(0.6, 0.6, 0.6));

@@ -1,5 +1,6 @@
 #include "devices/world/world.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -219,6 +220,12 @@ ua::StatusCode World::setFlangePose(const std::string& robot, const KDL::Frame& 
     Flange* f = findRobot(robot, status, why);
     if (f == nullptr) return status;
     unsettled_.erase(robot);
+    // The same pose again (an arm that stands reports it every 500 ms) changes nothing: no new
+    // revision, so the world's state file is not written again for it.
+    if (std::equal(pose.p.data, pose.p.data + 3, f->pose.p.data) &&
+        std::equal(pose.M.data, pose.M.data + 9, f->pose.M.data)) {
+        return ua::status::Good;
+    }
     f->pose = pose;
     if (!f->held.empty()) {
         objects_.at(f->held).pose = f->pose * f->toHeld;

@@ -114,6 +114,27 @@ protected:
         executor_.reset();
     }
 
+    /// What a KB that has recorded every detected instance says: each is a robot whose reach
+    /// (0.85 m around a point above its base) takes in 0.4, 0, 0.3.
+    SkillFacts reachableFacts() const {
+        SkillFacts f;
+        const std::string p(kProcessNs);
+        for (const auto& s : detector_->instances()) {
+            f.add(keyOf(s), p + "available", "true");  // recorded
+            f.add(keyOf(s), p + "reach", "0.85");
+            f.add(keyOf(s), p + "reachCentreX", "0");
+            f.add(keyOf(s), p + "reachCentreY", "0");
+            f.add(keyOf(s), p + "reachCentreZ", "0.089");
+        }
+        return f;
+    }
+    /// urn:near: one Move to 0.4, 0, 0.3 (what reachableFacts() makes every robot reach).
+    static ProcessDescription nearProcess() {
+        auto near = process("urn:near", 1);
+        near.steps[0].parameters.push_back({"TargetPosition", devices::Pose6{0.4, 0, 0.3}});
+        return near;
+    }
+
     /// Waits (bounded: 10 s) until the journal shows a step of `order` begun.
     void waitUntilBegun(std::int64_t order) {
         for (int i = 0; i < 200; ++i) {
@@ -588,20 +609,9 @@ TEST_F(Orders, AKnowledgeBaseThatAnswersNothingForAWhileIsAskedAgainOnceItAnswer
             co_await silence.async_wait(asio::use_awaitable);
             co_return kb::Error{"no (complete) answer within the timeout (waited 2500 ms)"};
         }
-        SkillFacts f;
-        const std::string p(kProcessNs);
-        for (const auto& s : detector_->instances()) {
-            f.add(keyOf(s), p + "available", "true");  // recorded
-            f.add(keyOf(s), p + "reach", "0.85");
-            f.add(keyOf(s), p + "reachCentreX", "0");
-            f.add(keyOf(s), p + "reachCentreY", "0");
-            f.add(keyOf(s), p + "reachCentreZ", "0.089");
-        }
-        co_return f;
+        co_return reachableFacts();
     };
-    auto near = process("urn:near", 1);
-    near.steps[0].parameters.push_back({"TargetPosition", devices::Pose6{0.4, 0, 0.3}});
-    start({near});
+    start({nearProcess()});
     const auto out = outcome(submit("urn:near"));
     EXPECT_TRUE(out.completed) << out.reason;
     EXPECT_EQ(*failures, 0);
@@ -619,20 +629,9 @@ TEST_F(Orders, AKnowledgeBaseThatRefusesForLongerThanTheWaitIsAskedUntilItAnswer
             ++*refused;
             co_return kb::Error{"https://localhost/sparql: HTTP 503: cannot connect"};
         }
-        SkillFacts f;
-        const std::string p(kProcessNs);
-        for (const auto& s : detector_->instances()) {
-            f.add(keyOf(s), p + "available", "true");  // recorded
-            f.add(keyOf(s), p + "reach", "0.85");
-            f.add(keyOf(s), p + "reachCentreX", "0");
-            f.add(keyOf(s), p + "reachCentreY", "0");
-            f.add(keyOf(s), p + "reachCentreZ", "0.089");
-        }
-        co_return f;
+        co_return reachableFacts();
     };
-    auto near = process("urn:near", 1);
-    near.steps[0].parameters.push_back({"TargetPosition", devices::Pose6{0.4, 0, 0.3}});
-    start({near});
+    start({nearProcess()});
     const auto out = outcome(submit("urn:near"));
     EXPECT_TRUE(out.completed) << out.reason;
     EXPECT_GT(*refused, 2);
