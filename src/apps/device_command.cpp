@@ -18,7 +18,9 @@
 //            world model
 #include <spdlog/spdlog.h>
 #include <charconv>
+#include <chrono>
 #include <map>
+#include <thread>
 
 #include "cell/component_uris.hpp"
 #include "cell/device_arguments.hpp"
@@ -91,9 +93,25 @@ ua::Result<std::unique_ptr<devices::WorldLink>> connectWorld(const std::string& 
     config.applicationUri = c.applicationUri;
     config.sessionName = "world link";
     config.security = c.clientSecurity;
-    auto link = devices::WorldLink::connect(url, std::move(config), std::move(robot));
-    if (!link) spdlog::critical("--world {}: {}", url, ua::statusName(link.status()));
-    return link;
+    // A world out of reach may be restarting (a tool's adapter is powered while it does): it
+    // is waited for, briefly, before the device gives up.
+    constexpr auto kPatience = std::chrono::seconds(15);
+    constexpr auto kPause = std::chrono::milliseconds(200);
+    const auto deadline = std::chrono::steady_clock::now() + kPatience;
+    for (bool told = false;;) {
+        auto link = devices::WorldLink::connect(url, config, robot);
+        if (link || !ua::isConnectionLoss(link.status()) ||
+            std::chrono::steady_clock::now() + kPause >= deadline) {
+            if (!link) spdlog::critical("--world {}: {}", url, ua::statusName(link.status()));
+            return link;
+        }
+        if (!told) {
+            spdlog::warn("--world {}: {}; waiting up to {} s for the world model", url,
+                         ua::statusName(link.status()), kPatience.count());
+            told = true;
+        }
+        std::this_thread::sleep_for(kPause);  // nothing to wait on but a server that restarts
+    }
 }
 
 struct WorldOptions {
@@ -475,8 +493,10 @@ struct ParallelGripperOptions {
 
 /// The world as a simulated parallel gripper's fingers meet it.
 struct FingerWiring {
-    std::function<std::optional<devices::ObjectBetweenFingers>()> probe;
+    std::function<devices::Probed()> probe;
     std::function<void(const devices::FingerEvent&)> onEvent;
+    /// Whether the world has not heard a grasp or release yet (it restarts).
+    std::function<bool()> worldBehind;
     /// What the fingers hold as the simulated gripper starts: the world model's answer, for
     /// an adapter restarted while its gripper holds a part.
     std::optional<devices::ObjectBetweenFingers> holding;
@@ -523,12 +543,15 @@ constexpr std::chrono::milliseconds kInProcessSensorPatience{5000};
 FingerWiring wireFingers(devices::WorldLink* world) {
     FingerWiring wiring;
     if (world == nullptr) return wiring;
-    wiring.probe = [world]() -> std::optional<devices::ObjectBetweenFingers> {
-        // Briefly: the controller's reply waits for it (its Modbus timeout is 1 s).
+    wiring.probe = [world]() -> devices::Probed {
+        // Briefly: the controller's reply waits for it (its Modbus timeout is 1 s). A world
+        // still out of reach then is asked again on the next status read; the fingers wait.
         const auto found =
             world->untilHeard([world] { return world->objectAtGripPoint(); }, kSensorPatience);
-        if (!found || !found->has_value()) return std::nullopt;
-        return devices::ObjectBetweenFingers{(*found)->objectId, (*found)->extent[1]};
+        if (!found && ua::isTransient(found.status())) return devices::Probed::unknown();
+        if (!found || !found->has_value()) return devices::Probed();
+        return devices::Probed(
+            devices::ObjectBetweenFingers{(*found)->objectId, (*found)->extent[1]});
     };
     wiring.onEvent = [world](const devices::FingerEvent& e) {
         const bool grasped = e.kind == devices::FingerEvent::Kind::Grasped;
@@ -536,6 +559,7 @@ FingerWiring wireFingers(devices::WorldLink* world) {
                      id = e.objectId] { return grasped ? world->grasp(id) : world->release(); },
                     std::string(grasped ? "grasp" : "release") + " of " + e.objectId);
     };
+    wiring.worldBehind = [world] { return world->behind(); };
     // Held already: the fingers stand at the object's extent along the grip point's y axis.
     const auto held = world->graspedObject();
     if (held && !held->empty()) {
@@ -659,6 +683,7 @@ ParallelGripperModel robotiq2f85() {
         sim.speed = speed;
         sim.probe = std::move(wiring.probe);
         sim.onEvent = std::move(wiring.onEvent);
+        sim.worldBehind = std::move(wiring.worldBehind);
         sim.holding = std::move(wiring.holding);
         std::shared_ptr<rq::SimulatedGripperPort> port = rq::SimulatedGripperPort::open(sim, why);
         if (!port) return ua::status::BadResourceUnavailable;
@@ -698,6 +723,7 @@ ParallelGripperModel dhAg95() {
         sim.speed = speed;
         sim.probe = std::move(wiring.probe);
         sim.onEvent = std::move(wiring.onEvent);
+        sim.worldBehind = std::move(wiring.worldBehind);
         sim.holding = std::move(wiring.holding);
         std::shared_ptr<dh::SimulatedAg95> gripper = dh::SimulatedAg95::open(sim, why);
         if (!gripper) return ua::status::BadResourceUnavailable;
@@ -767,6 +793,7 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
                          id = e.partId] { return grasped ? world->grasp(id) : world->release(); },
                         std::string(grasped ? "grasp" : "release") + " of " + e.partId);
         };
+        sim.worldBehind = [world] { return world->behind(); };
         // Held already (an adapter restarted while the cup holds a part): still sucking.
         if (const auto held = world->graspedObject(); held && !held->empty()) {
             sim.holding = *held;

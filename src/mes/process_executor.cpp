@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <set>
 
 #include "devices/common/blocking_call.hpp"
 #include "mes/feasibility.hpp"
@@ -59,6 +60,33 @@ private:
     std::optional<Clock::time_point> since_;
     Clock::duration forgiven_{};
 };
+
+/// Whether the KB has not recorded yet some live skill of one of `types`: while it
+/// records them, after a component plugged in or after its own restart, its time is not
+/// counted against a wait either (KbOutage), as its time out of reach is not.
+bool kbBehind(const SkillFacts& facts, const std::vector<skills::SkillInstance>& live,
+              const std::set<std::string>& types) {
+    return std::any_of(live.begin(), live.end(), [&](const skills::SkillInstance& s) {
+        return !facts.recorded(keyOf(s)) &&
+               std::any_of(types.begin(), types.end(),
+                           [&](const std::string& t) { return isOfType(s, t); });
+    });
+}
+
+/// The skill types a step may use: its own and those its requirements name.
+std::set<std::string> typesOf(const ProcessStep& step) {
+    std::set<std::string> types{step.skillTypeIri};
+    for (const auto& r : step.requirements) {
+        if (!r.skillTypeIri.empty()) types.insert(r.skillTypeIri);
+    }
+    return types;
+}
+
+std::set<std::string> typesOf(const ProcessDescription& process) {
+    std::set<std::string> types;
+    for (const auto& step : process.steps) types.merge(typesOf(step));
+    return types;
+}
 
 // The median of some durations (ms).
 std::int64_t median(std::vector<std::int64_t> v) {
@@ -746,6 +774,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::withRequirements(
         c.kbUnreachable = true;
         co_return c;
     }
+    c.kbBehind = kbBehind(*facts, live, typesOf(step));
     auto cell = matchCellRequirements(step, live, *facts);
     c.unmet = std::move(cell.unmet);
     if (!c.unmet.empty()) co_return c;
@@ -785,9 +814,12 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
         if (kb_.facts && !properties.empty()) {
             const auto asked = Clock::now();
             auto read = co_await kb_.facts(properties);
-            if (read) {
+            if (read && !kbBehind(*read, detector_->instances(), typesOf(process))) {
                 facts = std::move(*read);
                 kbOutage.answered();
+            } else if (read) {
+                facts = std::move(*read);
+                kbOutage.failed(deadline, asked);  // still recording the live cell
             } else {
                 kbError = "cannot ask the knowledge base: " + read.error();
                 kbOutage.failed(deadline, asked);
@@ -892,7 +924,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             for (const auto* s : typed) copies.push_back(*s);
             const auto asked = Clock::now();
             c = co_await withRequirements(step, std::move(copies), *live);
-            if (!c.kbUnreachable) {
+            if (!c.kbUnreachable && !c.kbBehind) {
                 kbOutage.answered();
             } else if (deadline) {
                 kbOutage.failed(*deadline, asked);

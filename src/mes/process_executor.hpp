@@ -215,6 +215,9 @@ private:
         std::string unmet;  // when there are none: the requirements not met, and why
         /// The knowledge base could not be asked (no answer, an error): unmet says why.
         bool kbUnreachable = false;
+        /// It answered, but has not recorded yet some live skill the step could use (a
+        /// component just plugged in, or a restarted KB recording the live cell again).
+        bool kbBehind = false;
         /// The instances meeting the step's requirements on the cell (CellMatch).
         std::vector<std::optional<skills::SkillInstance>> cellMatches;
         /// Why the first of `skills` was chosen (journaled with the attempt).

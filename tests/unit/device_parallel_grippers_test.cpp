@@ -29,8 +29,9 @@ using Kind = skills::SkillOutcome::Kind;
 struct Model {
     std::string name;
     /// Opens the simulated gripper; its device path.
-    std::function<std::string(std::function<std::optional<ObjectBetweenFingers>()> probe,
-                              std::function<void(const FingerEvent&)> onEvent)>
+    std::function<std::string(std::function<Probed()> probe,
+                              std::function<void(const FingerEvent&)> onEvent,
+                              std::function<bool()> worldBehind)>
         simulate;
     /// The fingers' gap now (m).
     std::function<double()> width;
@@ -45,11 +46,12 @@ Model robotiq2f85() {
     model.name = "Robotiq 2F-85";
     model.gripOffsetZ = 0.15;
     auto port = std::make_shared<std::unique_ptr<robotiq::SimulatedGripperPort>>();
-    model.simulate = [port](auto probe, auto onEvent) {
+    model.simulate = [port](auto probe, auto onEvent, auto worldBehind) {
         robotiq::SimulatedGripperOptions o;
         o.speed = 20;
         o.probe = std::move(probe);
         o.onEvent = std::move(onEvent);
+        o.worldBehind = std::move(worldBehind);
         *port = robotiq::SimulatedGripperPort::open(o);
         return *port ? (*port)->devicePath() : std::string();
     };
@@ -74,11 +76,12 @@ Model dhAg95() {
     model.name = "DH-Robotics AG-95";
     model.gripOffsetZ = 0.16;
     auto gripper = std::make_shared<std::unique_ptr<dh::SimulatedAg95>>();
-    model.simulate = [gripper](auto probe, auto onEvent) {
+    model.simulate = [gripper](auto probe, auto onEvent, auto worldBehind) {
         dh::SimulatedAg95Options o;
         o.speed = 20;
         o.probe = std::move(probe);
         o.onEvent = std::move(onEvent);
+        o.worldBehind = std::move(worldBehind);
         *gripper = dh::SimulatedAg95::open(o);
         return *gripper ? (*gripper)->devicePath() : std::string();
     };
@@ -101,13 +104,25 @@ class GripperCell {
 public:
     explicit GripperCell(Model model) : model_(std::move(model)) {
         const std::string device = model_.simulate(
-            [this]() -> std::optional<ObjectBetweenFingers> {
+            [this]() -> Probed {
                 std::lock_guard lock(mutex_);
+                ++probes_;
+                if (unknownFor_ > 0) {
+                    --unknownFor_;
+                    return Probed::unknown();
+                }
                 return between_;
             },
             [this](const FingerEvent& e) {
                 std::lock_guard lock(mutex_);
                 events_.push_back(e);
+                behindFor_ = lagging_;
+            },
+            [this] {
+                std::lock_guard lock(mutex_);
+                if (behindFor_ == 0) return false;
+                --behindFor_;
+                return true;
             });
         EXPECT_FALSE(device.empty());
         server_ = std::make_unique<test::RunningServer>(
@@ -131,6 +146,26 @@ public:
         std::lock_guard lock(mutex_);
         between_ = std::move(object);
     }
+    /// The world cannot say what lies between the fingers for the next `probes` probes.
+    void cannotSay(int probes) {
+        std::lock_guard lock(mutex_);
+        unknownFor_ = probes;
+    }
+    int probes() {
+        std::lock_guard lock(mutex_);
+        return probes_;
+    }
+    /// From now on the world hears each event only after the gripper has been read `reads`
+    /// more times (a world that restarts).
+    void lagBehind(int reads) {
+        std::lock_guard lock(mutex_);
+        lagging_ = reads;
+    }
+    /// How many reads the world still lags behind.
+    int behindFor() {
+        std::lock_guard lock(mutex_);
+        return behindFor_;
+    }
     std::vector<FingerEvent> events() {
         std::lock_guard lock(mutex_);
         return events_;
@@ -149,6 +184,10 @@ private:
     std::mutex mutex_;
     std::optional<ObjectBetweenFingers> between_;
     std::vector<FingerEvent> events_;
+    int lagging_ = 0;
+    int behindFor_ = 0;
+    int unknownFor_ = 0;
+    int probes_ = 0;
     std::shared_ptr<void> component_;
     std::unique_ptr<test::RunningServer> server_;
 };
@@ -219,6 +258,52 @@ TEST_P(ParallelGripperModels, TheSameSkillsBehaveTheSame) {
     const auto offset = frameFromVariant(cell.read(offsetNode));
     ASSERT_TRUE(offset.ok());
     EXPECT_TRUE(near(*offset, KDL::Frame(KDL::Vector(0, 0, model.gripOffsetZ)), 1e-12, 1e-12));
+}
+
+// A grasp or release the world has not heard yet (it restarts) is still under way, for
+// all the adapter can tell: the skill ends only once the world has caught up, so nothing
+// above it moves a part the simulation does not know is held (issue 25).
+TEST_P(ParallelGripperModels, AGraspEndsOnlyOnceTheWorldHasHeardIt) {
+    const Model model = GetParam()();
+    SCOPED_TRACE(model.name);
+    GripperCell cell(model);
+    test::ClientThread t;
+    auto grasp = t.attach(cell.url(), skill("Grasp"));
+    auto release = t.attach(cell.url(), skill("Release"));
+    ASSERT_TRUE(grasp && release);
+
+    constexpr int kReads = 25;
+    cell.lagBehind(kReads);
+    cell.put(ObjectBetweenFingers{"part", 0.030});
+    auto outcome = t.invoke(grasp, {}, 20s);
+    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(cell.behindFor(), 0) << "the grasp ended before the world heard it";
+    outcome = t.invoke(release, {}, 20s);
+    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(cell.behindFor(), 0) << "the release ended before the world heard it";
+    ASSERT_EQ(cell.events().size(), 2u);
+}
+
+// The world cannot say what lies between the fingers as they start to close (it restarts):
+// they wait, and close on the part once it can, instead of closing on nothing.
+TEST_P(ParallelGripperModels, FingersWaitForAWorldThatCannotSayWhatIsBetweenThem) {
+    const Model model = GetParam()();
+    SCOPED_TRACE(model.name);
+    GripperCell cell(model);
+    test::ClientThread t;
+    auto grasp = t.attach(cell.url(), skill("Grasp"));
+    ASSERT_TRUE(grasp);
+    cell.put(ObjectBetweenFingers{"part", 0.030});
+    constexpr int kUnknown = 10;
+    cell.cannotSay(kUnknown);
+    const auto outcome = t.invoke(grasp, {}, 20s);
+    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_NEAR(cell.width(), 0.030, 0.0005);
+    EXPECT_EQ(cell.probes(), kUnknown + 1);
+    const auto events = cell.events();
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, FingerEvent::Kind::Grasped);
+    EXPECT_EQ(events[0].objectId, "part");
 }
 
 // Named after the model, not the address of its function, so that a test's name (and CTest's)

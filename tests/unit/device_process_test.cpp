@@ -8,7 +8,15 @@
 #include <cmath>
 #include <csignal>
 #include <fstream>
+#include <future>
 #include <memory>
+#include <thread>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include "client_thread.hpp"
 #include "component_process.hpp"
@@ -175,11 +183,53 @@ TEST(DeviceProcesses, AKilledWorldGoesOnFromItsStateFileAndItsLinksConnectAgain)
     world.reset();
     EXPECT_NE(w.mountedTool().status(), ua::status::Good);
     EXPECT_TRUE(w.lostConnection());
-    // Started again where it was (the port the devices know), on the same file.
+
+    // A device started while the world is down (a tool's adapter powered as the world
+    // restarts) waits for it instead of exiting: the test holds the world's port, closes the
+    // device's first connection there, and starts the world only then.
+    // The gripper lives on a thread of its own, which outlives it: a child is started with
+    // PR_SET_PDEATHSIG, which fires when the thread that started it ends.
     const auto port = url.substr(url.rfind(':') + 1);
-    args.insert(args.end(), {"--port", port});
-    world = std::make_unique<DeviceProcess>(args);
+    std::promise<std::string> gripperUrl;
+    std::promise<void> stopGripper;
+    std::thread gripperThread;
+    struct JoinAtEnd {
+        std::promise<void>& stop;
+        std::thread& thread;
+        ~JoinAtEnd() {
+            if (!thread.joinable()) return;
+            stop.set_value();
+            thread.join();
+        }
+    } joinAtEnd{stopGripper, gripperThread};
+    {
+        const int listener = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        ASSERT_GE(listener, 0);
+        const int one = 1;
+        ::setsockopt(listener, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+        sockaddr_in at{};
+        at.sin_family = AF_INET;
+        at.sin_port = htons(static_cast<std::uint16_t>(std::stoi(port)));
+        at.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        ASSERT_EQ(::bind(listener, reinterpret_cast<const sockaddr*>(&at), sizeof at), 0);
+        ASSERT_EQ(::listen(listener, 4), 0);
+        gripperThread = std::thread([&url, &gripperUrl, stop = stopGripper.get_future()] {
+            DeviceProcess gripper({"schmalz", "--speed", "20", "--world", url, "--robot", "robot"});
+            gripperUrl.set_value(gripper.url());
+            stop.wait();
+        });
+        pollfd ready{listener, POLLIN, 0};
+        const bool tried = ::poll(&ready, 1, 30'000) == 1;
+        if (tried) ::close(::accept(listener, nullptr, nullptr));  // a world not there yet
+        ::close(listener);
+        // Started again where it was (the port the devices know), on the same file.
+        args.insert(args.end(), {"--port", port});
+        world = std::make_unique<DeviceProcess>(args);
+        ASSERT_TRUE(tried) << "the gripper never tried to reach the world";
+    }
     ASSERT_EQ(world->url(), url);
+    EXPECT_FALSE(gripperUrl.get_future().get().empty())
+        << "a gripper started while the world was down";
     w.clearLoss();
     const auto tool = w.mountedTool();
     ASSERT_TRUE(tool.ok()) << ua::statusName(tool.status());
@@ -194,6 +244,8 @@ TEST(DeviceProcesses, AKilledWorldGoesOnFromItsStateFileAndItsLinksConnectAgain)
     EXPECT_NEAR(w.objectPose("box1")->p.z(), 0.021, 1e-9);
 
     // A state file that is not one stops the world at start, naming it.
+    stopGripper.set_value();
+    gripperThread.join();
     world.reset();
     { std::ofstream(state) << "{\"format\": \"skillcell world 1\", \"revision\": 3}"; }
     DeviceProcess broken(args);

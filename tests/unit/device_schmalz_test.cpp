@@ -129,6 +129,13 @@ public:
         o.onEvent = [this](const CupEvent& e) {
             std::lock_guard lock(mutex_);
             events_.push_back(e);
+            behindFor_ = lagging_;
+        };
+        o.worldBehind = [this] {
+            std::lock_guard lock(mutex_);
+            if (behindFor_ == 0) return false;
+            --behindFor_;
+            return true;
         };
         master_ = std::make_unique<SimulatedIoLinkMaster>(o);
         server_ = std::make_unique<test::RunningServer>(
@@ -155,6 +162,16 @@ public:
         std::lock_guard lock(mutex_);
         under_ = std::move(part);
     }
+    /// From now on the world hears each event only after the process data has been read
+    /// `reads` more times (a world that restarts).
+    void lagBehind(int reads) {
+        std::lock_guard lock(mutex_);
+        lagging_ = reads;
+    }
+    int behindFor() {
+        std::lock_guard lock(mutex_);
+        return behindFor_;
+    }
     std::vector<CupEvent> events() {
         std::lock_guard lock(mutex_);
         return events_;
@@ -175,6 +192,8 @@ private:
     std::mutex mutex_;
     std::optional<std::string> under_;
     std::vector<CupEvent> events_;
+    int lagging_ = 0;
+    int behindFor_ = 0;
     std::unique_ptr<SimulatedIoLinkMaster> master_;
     std::unique_ptr<GripperComponent> component_;
     std::unique_ptr<test::RunningServer> server_;
@@ -242,6 +261,26 @@ TEST(DeviceSchmalzSkills, GraspAndReleaseAndAGraspWithNoPartFails) {
         }
     }
     EXPECT_FALSE(t.attach(cell.url(), ua::NodeId(1, ua::String("Skills/MoveGripper"))));
+}
+
+// A grasp or release the world has not heard yet (it restarts): the switching points show
+// what they showed before until it has, so the skill ends only then (issue 25).
+TEST(DeviceSchmalzSkills, AGraspEndsOnlyOnceTheWorldHasHeardIt) {
+    VacuumCell cell;
+    test::ClientThread t;
+    auto grasp = t.attach(cell.url(), ua::NodeId(1, ua::String("Skills/Grasp")));
+    auto release = t.attach(cell.url(), ua::NodeId(1, ua::String("Skills/Release")));
+    ASSERT_TRUE(grasp && release);
+    constexpr int kReads = 25;  // 1 ms polls: well within the 1 s evacuation budget
+    cell.lagBehind(kReads);
+    cell.put("plate");
+    auto outcome = t.invoke(grasp, {}, 20s);
+    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(cell.behindFor(), 0) << "the grasp ended before the world heard it";
+    outcome = t.invoke(release, {}, 20s);
+    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(cell.behindFor(), 0) << "the release ended before the world heard it";
+    ASSERT_EQ(cell.events().size(), 2u);
 }
 
 }  // namespace

@@ -86,22 +86,33 @@ TEST(DockMapFile, KeepsEachToolsDockAndSaysWhyAFileIsNoDockMap) {
     const auto file = dir.path() / "docks.json";
     auto none = loadDockMap(file);
     ASSERT_TRUE(none);
-    EXPECT_TRUE(none->empty());  // no file yet: nothing taken
+    EXPECT_TRUE(none->docks.empty());  // no file yet: nothing taken
+    EXPECT_FALSE(none->locking);
     const KDL::Frame parallel = toFrame(*parsePose6(parallelDock()));
     const KDL::Frame vacuum = toFrame(*parsePose6(vacuumDock()));
     DockMap docks;
-    docks["parallel"] = parallel;
-    docks["vacuum"] = vacuum;
+    docks.docks["parallel"] = parallel;
+    docks.locking = vacuum;
     ASSERT_TRUE(saveDockMap(file, docks));
     auto back = loadDockMap(file);
     ASSERT_TRUE(back);
-    ASSERT_EQ(back->size(), 2u);
-    EXPECT_TRUE(KDL::Equal(back->at("parallel"), parallel, 1e-9));
-    EXPECT_TRUE(KDL::Equal(back->at("vacuum"), vacuum, 1e-9));
+    ASSERT_EQ(back->docks.size(), 1u);
+    EXPECT_TRUE(KDL::Equal(back->docks.at("parallel"), parallel, 1e-9));
+    ASSERT_TRUE(back->locking);
+    EXPECT_TRUE(KDL::Equal(*back->locking, vacuum, 1e-9));
+    docks.docks["vacuum"] = vacuum;
+    docks.locking.reset();
+    ASSERT_TRUE(saveDockMap(file, docks));
+    back = loadDockMap(file);
+    ASSERT_TRUE(back);
+    ASSERT_EQ(back->docks.size(), 2u);
+    EXPECT_TRUE(KDL::Equal(back->docks.at("vacuum"), vacuum, 1e-9));
+    EXPECT_FALSE(back->locking);
     EXPECT_FALSE(std::filesystem::exists(file.string() + ".tmp"));
 
-    for (const char* text : {"not json", R"({"docks": []})", R"({"docks": {"p": [1, 2]}})",
-                             R"({"docks": {"p": [1, 2, 3, 4, 5, "x"]}})"}) {
+    for (const char* text :
+         {"not json", R"({"docks": []})", R"({"docks": {"p": [1, 2]}})",
+          R"({"docks": {"p": [1, 2, 3, 4, 5, "x"]}})", R"({"docks": {}, "locking": [1, 2, 3]})"}) {
         std::ofstream(file) << text;
         auto bad = loadDockMap(file);
         ASSERT_FALSE(bad) << text;
@@ -298,6 +309,29 @@ TEST(ToolChangerProcess, ARestartedChangerReadsTheMountedToolFromItsPinAndItsDoc
     EXPECT_EQ(*(*link)->mountedTool(), "vacuum");
     EXPECT_EQ(*(*link)->dockTool("dockP"), "parallel");
 
+    // Killed after the coupling closed on the vacuum gripper and before it noted which tool
+    // it took: its dock map says only that a lock was under way at the vacuum dock. The pin
+    // names the tool; that dock is its own, and a change puts it back there.
+    cell.changer->kill(SIGKILL);
+    DockMap crashed;
+    crashed.locking = toFrame(*parsePose6(vacuumDock()));
+    ASSERT_TRUE(saveDockMap(cell.dockMapFile(), crashed));
+    cell.restartChanger();
+    ASSERT_FALSE(cell.changer->url().empty());
+    {
+        test::ClientThread restarted;
+        auto changeBack =
+            restarted.attach(cell.changer->url(), ua::NodeId(1, ua::String("Skills/ChangeTool")));
+        ASSERT_TRUE(changeBack);
+        outcome = restarted.invoke(
+            changeBack,
+            {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
+            60s);
+        ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    }
+    EXPECT_EQ(*(*link)->mountedTool(), "parallel");
+    EXPECT_EQ(*(*link)->dockTool("dockV"), "vacuum");
+
     // Without its dock map (a changer that never took the mounted tool): the change is refused
     // with the reason, and DetachTool at the dock is the way out.
     std::filesystem::remove(cell.dockMapFile());
@@ -313,11 +347,10 @@ TEST(ToolChangerProcess, ARestartedChangerReadsTheMountedToolFromItsPinAndItsDoc
     ASSERT_TRUE(changeAgain && detachAgain);
     outcome = again.invoke(
         changeAgain,
-        {{"ToolPosition", pose(parallelDock())}, {"ToolAppUri", test::textValue(robotiqUri())}},
-        60s);
+        {{"ToolPosition", pose(vacuumDock())}, {"ToolAppUri", test::textValue(schmalzUri())}}, 60s);
     EXPECT_EQ(outcome.kind, Kind::Failed);
     EXPECT_NE(outcome.reason.find("its dock is unknown"), std::string::npos) << outcome.reason;
-    outcome = again.invoke(detachAgain, {{"ToolPosition", pose(vacuumDock())}}, 60s);
+    outcome = again.invoke(detachAgain, {{"ToolPosition", pose(parallelDock())}}, 60s);
     EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
 }
 

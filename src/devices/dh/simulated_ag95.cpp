@@ -49,7 +49,7 @@ void SimulatedAg95::advance(double t) {
         perMille_ = 1000;  // it found its zero fully open
         state_ = GripperState::AtPosition;
     }
-    if (!moving_) return;
+    if (!moving_ || waitingForWorld_) return;  // present() asks the world again
     const double rate = speed_ / 100.0 * kMaximumSpeed / kStroke * 1000;  // per mille / s
     const double travelled = (now_ - startedAt_) * rate;
     const double distance = std::abs(stopAt_ - from_);
@@ -76,21 +76,27 @@ void SimulatedAg95::startMotion(double target, double t) {
     }
     contactWith_.reset();
     stopAt_ = target;
+    waitingForWorld_ = false;
     if (target < perMille_ && options_.probe) {
-        // Closing: an object narrower than the gap stops the fingers at its width.
-        if (const auto object = options_.probe()) {
-            const double at = object->width / kStroke * 1000;
-            if (at < perMille_ && at > target) {
-                stopAt_ = at;
-                contactWith_ = object->id;
-            }
-        }
+        const Probed probed = options_.probe();
+        waitingForWorld_ = !probed.known;
+        meet(probed.object, target);
     }
     from_ = perMille_;
     startedAt_ = now_;
     moving_ = true;
     state_ = GripperState::Moving;
     advance(t);  // a motion to where the fingers are ends at once
+}
+
+void SimulatedAg95::meet(const std::optional<ObjectBetweenFingers>& object, double target) {
+    // Closing: an object narrower than the gap stops the fingers at its width.
+    if (!object) return;
+    const double at = object->width / kStroke * 1000;
+    if (at < perMille_ && at > target) {
+        stopAt_ = at;
+        contactWith_ = object->id;
+    }
 }
 
 void SimulatedAg95::report(const std::vector<FingerEvent>& events) const {
@@ -100,11 +106,23 @@ void SimulatedAg95::report(const std::vector<FingerEvent>& events) const {
 }
 
 void SimulatedAg95::present(std::span<std::uint16_t> holding, std::span<std::uint16_t>) {
-    // Grasps and releases reach the world before the reply that shows them.
+    // Grasps and releases reach the world before the reply that shows them; while the world
+    // has not heard one yet (it restarts), the fingers show as still moving.
     std::vector<FingerEvent> events;
     {
         std::lock_guard lock(mutex_);
-        advance(now());
+        const double t = now();
+        if (moving_ && waitingForWorld_) {
+            // The fingers start once the world says what lies between them.
+            const Probed probed = options_.probe();
+            if (probed.known) {
+                waitingForWorld_ = false;
+                now_ = std::max(now_, t);
+                startedAt_ = now_;
+                meet(probed.object, stopAt_);
+            }
+        }
+        advance(t);
         holding[kInitialisationState - kFirstRegister] =
             static_cast<std::uint16_t>(initialisation_);
         holding[kGripperState - kFirstRegister] = static_cast<std::uint16_t>(state_);
@@ -112,6 +130,9 @@ void SimulatedAg95::present(std::span<std::uint16_t> holding, std::span<std::uin
         events.swap(events_);
     }
     report(events);
+    if (options_.worldBehind && options_.worldBehind()) {
+        holding[kGripperState - kFirstRegister] = static_cast<std::uint16_t>(GripperState::Moving);
+    }
 }
 
 void SimulatedAg95::written(std::uint16_t address, std::uint16_t count,

@@ -27,8 +27,11 @@ struct SimulatedAg95Options {
     SimulatedAg95Options() = default;
     double speed = 1.0;  // simulated seconds per real second
     std::function<std::chrono::steady_clock::time_point()> clock;  // empty: steady_clock
-    std::function<std::optional<ObjectBetweenFingers>()> probe;
+    std::function<Probed()> probe;
     std::function<void(const FingerEvent&)> onEvent;  // on the port's thread
+    /// Whether the world has not heard every event yet (WorldLink::behind): the fingers show
+    /// as moving until it has.
+    std::function<bool()> worldBehind;
     /// Initialised and closed on this object as the simulation starts: the gripper as its
     /// adapter finds it when the adapter restarts while the fingers hold a part.
     std::optional<ObjectBetweenFingers> holding;
@@ -63,6 +66,8 @@ private:
     [[nodiscard]] double now() const;
     void advance(double now);
     void startMotion(double target, double now);
+    /// Where the closing fingers stop, from what the probe found.
+    void meet(const std::optional<ObjectBetweenFingers>& object, double target);
     void report(const std::vector<FingerEvent>& events) const;
 
     SimulatedAg95Options options_;
@@ -79,6 +84,7 @@ private:
     double stopAt_ = 0;
     double startedAt_ = 0;
     std::optional<std::string> contactWith_;
+    bool waitingForWorld_ = false;  // the probe could not say yet: not moving
     std::string holding_;
     std::vector<FingerEvent> events_;
     double now_ = 0;

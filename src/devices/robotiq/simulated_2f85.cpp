@@ -64,20 +64,26 @@ void Simulated2F85::startMotion(double now) {
         events_.push_back({FingerEvent::Kind::Released, holding_});
         holding_.clear();
     }
+    waitingForWorld_ = false;
     if (target > position_) {
-        const auto object = probe_ ? probe_() : std::nullopt;
-        // Only an object narrower than the stroke fits between the fingers.
-        if (object && object->width > 0 && object->width <= kStroke) {
-            const double contact = 255.0 * (1.0 - object->width / kStroke);
-            if (contact < target) {
-                stopAt_ = std::max(contact, position_);
-                contactWith_ = object->id;
-            }
-        }
+        const Probed probed = probe_ ? probe_() : Probed();
+        waitingForWorld_ = !probed.known;
+        meet(probed.object, target);
     }
     moving_ = true;
     object_ = ObjectStatus::Moving;
     advance(now);
+}
+
+void Simulated2F85::meet(const std::optional<ObjectBetweenFingers>& object, double target) {
+    // Only an object narrower than the stroke fits between the fingers.
+    if (object && object->width > 0 && object->width <= kStroke) {
+        const double contact = 255.0 * (1.0 - object->width / kStroke);
+        if (contact < target) {
+            stopAt_ = std::max(contact, position_);
+            contactWith_ = object->id;
+        }
+    }
 }
 
 void Simulated2F85::advance(double now) {
@@ -92,6 +98,7 @@ void Simulated2F85::advance(double now) {
         if (motionPending_) startMotion(activatedAt_);
     }
     if (!moving_) return;
+    if (waitingForWorld_) return;  // status() asks again
     const double travelled = unitsPerSecond_ * (now_ - startedAt_);
     const double direction = stopAt_ >= from_ ? 1.0 : -1.0;
     if (travelled >= std::abs(stopAt_ - from_)) {
@@ -110,6 +117,16 @@ void Simulated2F85::advance(double now) {
 }
 
 Status Simulated2F85::status(double now) {
+    if (moving_ && waitingForWorld_) {
+        // The fingers start once the world says what lies between them.
+        const Probed probed = probe_();
+        if (probed.known) {
+            waitingForWorld_ = false;
+            now_ = std::max(now_, now);
+            startedAt_ = now_;
+            meet(probed.object, stopAt_);
+        }
+    }
     advance(now);
     Status s;
     s.activated = command_.activate;

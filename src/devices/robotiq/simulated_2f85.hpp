@@ -19,10 +19,11 @@ namespace skillcell::devices::robotiq {
 
 using devices::FingerEvent;
 using devices::ObjectBetweenFingers;
+using devices::Probed;
 
 class Simulated2F85 {
 public:
-    using Probe = std::function<std::optional<ObjectBetweenFingers>()>;
+    using Probe = std::function<Probed()>;
     static constexpr double kActivationTime = 1.0;  // s
 
     explicit Simulated2F85(Probe probe = {}) : probe_(std::move(probe)) {}
@@ -44,6 +45,8 @@ public:
 private:
     void advance(double now);
     void startMotion(double now);
+    /// Where the closing fingers stop, from what the probe found.
+    void meet(const std::optional<ObjectBetweenFingers>& object, double target);
 
     Probe probe_;
     Command command_;
@@ -58,6 +61,7 @@ private:
     double startedAt_ = 0;
     double unitsPerSecond_ = 1;
     std::optional<std::string> contactWith_;  // the object the motion will meet
+    bool waitingForWorld_ = false;            // the probe could not say yet: not moving
     ObjectStatus object_ = ObjectStatus::Moving;
     bool motionPending_ = false;  // requested while activating
     std::string holding_;

@@ -60,15 +60,19 @@ void SimulatedGripperPort::report(const std::vector<FingerEvent>& events) const 
 void SimulatedGripperPort::present(std::span<std::uint16_t>, std::span<std::uint16_t> input) {
     // What the fingers did up to now reaches the world before the reply does, so a robot
     // that reads "object detected" finds the world already holding it. Events go out
-    // without the lock: reporting them is a network round trip.
+    // without the lock: reporting them is a network round trip. While the world has not
+    // heard one yet (it restarts), the fingers show as still moving.
     std::vector<FingerEvent> events;
+    Status status;
     {
         std::lock_guard lock(mutex_);
-        const Registers status = encode(gripper_.status(now()));
-        std::copy(status.begin(), status.end(), input.begin());
+        status = gripper_.status(now());
         events = gripper_.takeEvents();
     }
     report(events);
+    if (options_.worldBehind && options_.worldBehind()) status.object = ObjectStatus::Moving;
+    const Registers registers = encode(status);
+    std::copy(registers.begin(), registers.end(), input.begin());
 }
 
 void SimulatedGripperPort::written(std::uint16_t, std::uint16_t,

@@ -26,6 +26,9 @@ struct SimulatedGripperOptions {
     std::function<std::chrono::steady_clock::time_point()> clock;  // empty: steady_clock
     Simulated2F85::Probe probe;
     std::function<void(const FingerEvent&)> onEvent;
+    /// Whether the world has not heard every event yet (WorldLink::behind): gOBJ shows the
+    /// fingers moving until it has.
+    std::function<bool()> worldBehind;
     /// What the fingers hold as the simulation starts (Simulated2F85::startHolding).
     std::optional<ObjectBetweenFingers> holding;
 };

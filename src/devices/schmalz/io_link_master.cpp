@@ -8,7 +8,10 @@ SimulatedIoLinkMaster::SimulatedIoLinkMaster(SimulatedIoLinkOptions options)
     : options_(std::move(options)),
       epoch_(options_.clock ? options_.clock() : std::chrono::steady_clock::now()),
       device_(options_.probe) {
-    if (options_.holding) device_.startHolding(*options_.holding);
+    if (options_.holding) {
+        device_.startHolding(*options_.holding);
+        shown_.partPresent = true;
+    }
 }
 
 double SimulatedIoLinkMaster::now() const {
@@ -24,15 +27,28 @@ void SimulatedIoLinkMaster::deliver(std::vector<CupEvent> events) {
 
 ua::Result<std::vector<std::uint8_t>> SimulatedIoLinkMaster::readProcessData(int port) {
     if (port != options_.port) return ua::status::BadNotFound;
-    ProcessDataIn data{};
+    EcbpiStatus status;
     std::vector<CupEvent> events;
     {
         std::lock_guard lock(mutex_);
-        data = encode(device_.status(now()));
+        status = device_.status(now());
         events = device_.takeEvents();
     }
-    // The world learns of a grasp before the adapter reads "part present".
+    // The world learns of a grasp before the adapter reads "part present". While it has not
+    // heard one yet (it restarts), the switching points show what they showed before: the
+    // vacuum is still building or going, for all the adapter can tell.
     deliver(std::move(events));
+    const bool behind = options_.worldBehind && options_.worldBehind();
+    {
+        std::lock_guard lock(mutex_);
+        if (behind) {
+            status.partPresent = shown_.partPresent;
+            status.partDetached = shown_.partDetached;
+        } else {
+            shown_ = status;
+        }
+    }
+    const ProcessDataIn data = encode(status);
     return std::vector<std::uint8_t>(data.begin(), data.end());
 }
 

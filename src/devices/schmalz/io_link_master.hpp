@@ -39,6 +39,9 @@ struct SimulatedIoLinkOptions {
     SimulatedEcbpi::Probe probe;
     std::function<void(const CupEvent&)> onEvent;  // called outside the master's lock
     std::optional<std::string> holding;            // the part on the cup as the simulation starts
+    /// Whether the world has not heard every event yet (WorldLink::behind): the switching
+    /// points show what they showed before until it has.
+    std::function<bool()> worldBehind;
 };
 
 /// An IO-Link master with a simulated ECBPi on one port. Thread-safe.
@@ -61,6 +64,7 @@ private:
     std::chrono::steady_clock::time_point epoch_;
     std::mutex mutex_;
     SimulatedEcbpi device_;
+    EcbpiStatus shown_;  // the last status read while the world had heard everything
 };
 
 }  // namespace skillcell::devices::schmalz

@@ -65,7 +65,12 @@ ToolChanger::ToolChanger(Token, asio::any_io_executor executor, ToolChangerIo& i
                       docks.failure().message);
         return;
     }
-    for (auto& [tool, dock] : *docks) {
+    locking_ = docks->locking;
+    if (locking_) {
+        spdlog::info("tool changer: a lock was under way at {} when it stopped",
+                     describe(*locking_));
+    }
+    for (auto& [tool, dock] : docks->docks) {
         if (tools_.byId(tool) == nullptr) {
             spdlog::warn(
                 "tool changer: the dock map names tool '{}', which the tool table "
@@ -84,8 +89,30 @@ void ToolChanger::rememberDock(const std::string& tool, const std::optional<KDL:
     } else {
         docks_.erase(tool);
     }
+    locking_.reset();
+    saveDocks();
+}
+
+void ToolChanger::noteLocking(const std::optional<KDL::Frame>& dock) {
+    locking_ = dock;
+    saveDocks();
+}
+
+void ToolChanger::adoptLocking(const ToolEntry* mounted) {
+    if (!locking_) return;
+    if (mounted == nullptr) {  // the coupling never closed on a tool
+        noteLocking(std::nullopt);
+        return;
+    }
+    if (docks_.contains(mounted->id)) return;
+    spdlog::info("tool changer: tool {} was locked at {} as the changer stopped: its dock",
+                 mounted->id, describe(*locking_));
+    rememberDock(mounted->id, *locking_);
+}
+
+void ToolChanger::saveDocks() {
     if (options_.dockMapFile.empty()) return;
-    if (auto s = saveDockMap(options_.dockMapFile, docks_); !s) {
+    if (auto s = saveDockMap(options_.dockMapFile, DockMap{docks_, locking_}); !s) {
         spdlog::error("tool changer: the dock map: {}", s.failure().message);
     }
 }
@@ -268,12 +295,17 @@ asio::awaitable<std::string> ToolChanger::attachAt(RobotMotion& move, KDL::Frame
     if (auto why = co_await moveTo(move, position, kLinear, generation); !why.empty()) {
         co_return why;
     }
+    // Noted before the coupling closes: a changer killed before it noted the tool it took
+    // knows from this where that tool's dock is.
+    noteLocking(position);
     if (const auto s = co_await setLock(true); s.isBad()) {
+        noteLocking(std::nullopt);
         co_return "cannot switch the lock valve: " + std::string(ua::statusName(s));
     }
     const auto locked = co_await lockedNow();
     if (!locked || !*locked) {
         (void)co_await setLock(false);
+        noteLocking(std::nullopt);
         (void)co_await moveTo(move, approach, kLinear, generation);
         co_return "the coupling did not lock at " + describe(position) + ": no tool there";
     }
@@ -286,6 +318,7 @@ asio::awaitable<std::string> ToolChanger::attachAt(RobotMotion& move, KDL::Frame
     if (!appUri.empty() && tool.applicationUri != appUri) {
         // The wrong tool: leave it where it was.
         (void)co_await setLock(false);
+        noteLocking(std::nullopt);  // after: killed before, the locked tool is from here
         (void)co_await moveTo(move, approach, kLinear, generation);
         co_return "the tool at " + describe(position) + " is " + tool.id + " (" +
             tool.applicationUri + "), not " + appUri;
@@ -390,6 +423,9 @@ asio::awaitable<std::string> ToolChanger::attempt(const ToolRequest& request,
         const Pin pin = co_await readPin();
         const ToolEntry* current =
             pin.reading.kind == PinReading::Kind::Tool ? pin.reading.tool : nullptr;
+        if (pin.status.isGood() && pin.reading.kind != PinReading::Kind::Fault) {
+            adoptLocking(current);
+        }
         if (pin.status.isBad()) {
             why = "cannot read the identification pin: " + std::string(ua::statusName(pin.status));
         } else if (current != nullptr && isWanted(*current, request)) {

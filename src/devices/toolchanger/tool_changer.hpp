@@ -144,10 +144,18 @@ private:
     ToolChangerOptions options_;
     ToolPowerSupply power_;
     /// Records where `tool` was taken (a pose) or that it is back in a dock (none), in
-    /// docks_ and in the dock map file.
+    /// docks_ and in the dock map file; a lock under way is over.
     void rememberDock(const std::string& tool, const std::optional<KDL::Frame>& dock);
+    /// Records, before the coupling closes at `dock`, that a lock is under way there (none:
+    /// it is over, and nothing was taken).
+    void noteLocking(const std::optional<KDL::Frame>& dock);
+    /// The mounted tool as the pin reads it: one without a dock of its own was taken where
+    /// a lock was under way when this changer (or the one before its restart) stopped.
+    void adoptLocking(const ToolEntry* mounted);
+    void saveDocks();
 
     std::map<std::string, KDL::Frame> docks_;  // tool id -> where this changer took it
+    std::optional<KDL::Frame> locking_;        // a lock under way at this dock
     // Whether an I/O call of the current try found the I/O out of reach (the fieldbus down,
     // the I/O restarting): such a try is taken again, as one that lost the robot is.
     bool ioLost_ = false;

@@ -64,9 +64,12 @@ void WorldLink::tell(std::function<ua::StatusCode()> event, std::string what) {
         backlog_.push_back({std::move(event), std::move(what), std::chrono::steady_clock::now()});
         return;
     }
+    // Behind from before the call: a device asked while it travels waits for its answer.
+    behind_ = true;
     const ua::StatusCode s = event();
     if (!ua::isTransient(s)) {
         if (s.isBad()) spdlog::warn("world model refused the {}: {}", what, ua::statusName(s));
+        behind_ = false;
         return;
     }
     spdlog::warn("world model: the {} is not heard ({}): telling it again until it is", what,
@@ -96,6 +99,7 @@ void WorldLink::deliverBacklog() {
                              late ? ", given up after a minute" : "");
             }
             backlog_.pop_front();
+            behind_ = !backlog_.empty();
             continue;
         }
         backlogChanged_.wait_for(lock, kPause, [this] { return stopping_; });

@@ -153,6 +153,11 @@ public:
     /// gripper's reply to its controller must not wait for the simulation). `what` names
     /// the event in the log.
     void tell(std::function<ua::StatusCode()> event, std::string what);
+    /// Whether something told has not been heard yet: a simulated device shows the motion
+    /// that caused it as still under way meanwhile, so that nothing above it acts on a grasp
+    /// or release the world does not know of (the simulation is paused while its physics
+    /// restarts). Any thread.
+    [[nodiscard]] bool behind() const { return behind_.load(); }
 
     /// Whether a call found the world out of reach since the last clearLoss(): a composite
     /// takes a try that lost its view of the cell again. The link itself connects again on
@@ -209,6 +214,7 @@ private:
     std::mutex backlogMutex_;
     std::condition_variable backlogChanged_;
     std::deque<Told> backlog_;
+    std::atomic<bool> behind_{false};  // !backlog_.empty(), readable without the lock
     bool stopping_ = false;
     std::thread backlogThread_;  // last: joined before the rest goes
 };

@@ -637,6 +637,27 @@ TEST_F(Orders, AKnowledgeBaseThatRefusesForLongerThanTheWaitIsAskedUntilItAnswer
     EXPECT_GT(*refused, 2);
 }
 
+// A restarted KB answers at once, but records the live cell again only over the next
+// seconds: until it has recorded the step's candidates, longer than the skill wait, its time
+// does not use up the wait either (issue 25).
+TEST_F(Orders, AKnowledgeBaseStillRecordingTheLiveCellIsAskedUntilItHas) {
+    plug({"urn:test:robot1"}, 50ms);
+    const auto until = std::chrono::steady_clock::now() + 3s;  // the skill wait is 2 s
+    auto unrecorded = std::make_shared<int>(0);
+    facts_ = [this, until,
+              unrecorded](std::vector<std::string>) -> asio::awaitable<kb::Expected<SkillFacts>> {
+        if (std::chrono::steady_clock::now() < until) {
+            ++*unrecorded;
+            co_return SkillFacts{};  // an answer, without the robot: not recorded yet
+        }
+        co_return reachableFacts();
+    };
+    start({nearProcess()});
+    const auto out = outcome(submit("urn:near"));
+    EXPECT_TRUE(out.completed) << out.reason;
+    EXPECT_GT(*unrecorded, 2);
+}
+
 TEST(ResourceClaims, AWaitThatWouldCloseACycleIsRefusedWithTheChain) {
     ResourceClaims c;
     EXPECT_TRUE(c.take(1, "urn:a"));
