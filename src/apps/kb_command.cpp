@@ -41,6 +41,7 @@
 #include "kb/rdf/turtle.hpp"
 #include "kb/sparql_endpoint.hpp"
 #include "kb/store/http_sparql_store.hpp"
+#include "process/child_process.hpp"
 #include "server_process.hpp"
 #include "sparql_client_options.hpp"
 #include "ua/address_space/ns0_ids.hpp"
@@ -462,6 +463,15 @@ ua::Result<ComponentContent> startComponent(const ComponentContext& ctx, const K
 }
 
 int run(KbOptions& o) {
+    // Checked before anything starts: a reasoner that cannot run would fail every recording,
+    // again and again, with the KB otherwise up.
+    if (!o.noReasoner && process::findInPath(o.koncludeBinary).empty()) {
+        spdlog::critical(
+            "kb: --konclude {}: no such executable (install Konclude, give its path, or run "
+            "with --no-reasoner)",
+            o.koncludeBinary);
+        return 1;
+    }
     std::optional<kb::engine::VirtuosoInstance> virtuoso;
     if (o.sparqlUrl.empty()) {
         kb::engine::VirtuosoConfig config;

@@ -159,6 +159,27 @@ TEST(KnowledgeBaseComponent, AComponentWhoseRecordingFailedIsRecordedAgain) {
     EXPECT_TRUE(took) << "the component was not recorded again within 20 s";
 }
 
+// A reasoner that cannot run would fail every recording, again and again: the KB refuses to
+// start, naming it, before it starts anything.
+TEST(KnowledgeBaseComponent, AReasonerThatCannotRunStopsTheKbAtItsStartNamingIt) {
+    const test::TempDir dir("skillcell-kb-no-reasoner");
+    const fs::path errors = dir.path() / "kb.err";
+    auto kb = process::ChildProcess::start(
+        {SKILLCELL_BINARY, "kb", "--insecure", "--no-discovery", "--data-dir",
+         (dir.path() / "data").string(), "--konclude", "/nonexistent/Konclude"},
+        process::reportingChild(errors));
+    ASSERT_TRUE(kb) << kb.error();
+    const auto ended = kb->wait(30s);
+    ASSERT_TRUE(ended) << ended.error();
+    EXPECT_FALSE(ended->success());
+    std::stringstream text;
+    text << std::ifstream(errors).rdbuf();
+    EXPECT_NE(text.str().find("--konclude /nonexistent/Konclude: no such executable"),
+              std::string::npos)
+        << text.str();
+    EXPECT_FALSE(fs::exists(dir.path() / "data" / "virtuoso.lck")) << "Virtuoso was started";
+}
+
 TEST(KnowledgeBaseComponent, LoadsTheModelOfASkillTypeOfItsOwnWhenItsComponentAppears) {
     const test::TempDir dir("skillcell-kb-cell");
     const fs::path& data = dir.path();
