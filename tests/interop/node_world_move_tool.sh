@@ -15,7 +15,10 @@
 #      3DFrame included), taken ids, an empty and an unknown robot id with their exact status
 #      codes; a new session reads the result);
 #   4. the refusals are in the world's log, each with its reason (a wrong structure is the
-#      Call service's, never the world's), and the world is still running and stops cleanly.
+#      Call service's, never the world's), and the world is still running and stops cleanly;
+#   5. the world killed (SIGKILL) and started again on its state file, where it was:
+#      world_move_tool.js --as restored (robot2 as left; a Grasp BadWaitingForInitialData until
+#      its flange is reported again, then Good).
 # Everything lives in a temporary directory. Skips (77) without node-opcua unless
 # SKILLCELL_REQUIRE_NODE=1.
 set -euo pipefail
@@ -29,9 +32,11 @@ pki=$tmp/pki
 printf '%s\n' 'op-secret-1' | "$skillcell" user add operator --role Operator --pki-dir "$pki"
 printf '%s\n' 'eng-secret-2' | "$skillcell" user add engineer --role Engineer --pki-dir "$pki"
 
-interop_start world 20 "$skillcell" device world --port 0 --host 127.0.0.1 --no-discovery \
-  --pki-dir "$pki" --dock 'd1@0.4,-0.3,0.1' --dock 'd2@0.5,-0.3,0.1' --dock 'd3@0.6,-0.3,0.1' \
+world=("$skillcell" device world --host 127.0.0.1 --no-discovery --pki-dir "$pki"
+  --dock 'd1@0.4,-0.3,0.1' --dock 'd2@0.5,-0.3,0.1' --dock 'd3@0.6,-0.3,0.1'
   --tool 'parallel:d1@0,0,0.15' --tool 'suction:d2@0,0,0.12' --object 'box:0.04,0.04,0.04@0.2,0.2,0.42'
+  --state-file "$tmp/world.json")
+interop_start world 20 "${world[@]}" --port 0
 pid=$last_pid
 echo "world ready at $url"
 fail() { echo "FAIL: $*" >&2; echo "world log:" >&2; tail -n 60 "$tmp/world.log" >&2; exit 1; }
@@ -83,6 +88,17 @@ grep -q "world: AddRobot refused (BadOutOfRange): Base holds a NaN or infinite n
 ! grep -Eq "world: [A-Za-z]+ refused \([A-Za-z]+\): *$" "$tmp/world.log" ||
   fail "a refusal was logged without its reason: $(grep -E "world: [A-Za-z]+ refused \([A-Za-z]+\): *$" "$tmp/world.log" | head -n 1)"
 kill -0 "$pid" 2>/dev/null || fail "the world died during the test"
+
+# Killed, and started again where it was on its state file.
+kill -KILL "$pid"
+wait "$pid" || true
+port=${url##*:}
+interop_start world2 20 "${world[@]}" --port "$port"
+pid=$last_pid
+node_as operator:op-secret-1 --as restored || fail "world_move_tool.js on the restored world"
+grep -q "world: Grasp refused (BadWaitingForInitialData)" "$tmp/world2.log" ||
+  fail "the restored world's Grasp refusal was not logged"
+kill -0 "$pid" 2>/dev/null || fail "the restored world died during the test"
 kill -TERM "$pid"
 for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
 kill -0 "$pid" 2>/dev/null && fail "the world still runs 5 s after SIGTERM"

@@ -5,7 +5,7 @@
 // node_world_move_tool.sh starts the world with the scene below and runs this script once per
 // part, the user in SKILLCELL_NODE_USER (see common.js for SKILLCELL_NODE_*).
 //
-// usage: node world_move_tool.js URL --expect-untrusted | --as operator | --as engineer
+// usage: node world_move_tool.js URL --expect-untrusted | --as operator|engineer|restored
 //   --expect-untrusted  the connection must be refused (the server does not trust us yet);
 //   --as operator       MoveTool and AddRobot (Engineer methods) are refused with
 //                       BadUserAccessDenied and nothing changed; SetFlangePose (an Operator
@@ -18,7 +18,11 @@
 //                       naming an unknown robot get their exact Bad status and change nothing;
 //                       SetFlangePose, DockAtFlange, MountTool, ObjectAtGripPoint, Grasp and
 //                       Release for robot2 act on robot2 alone (robot, the default robot, stays
-//                       as it was); a new session afterwards still reads the changed state.
+//                       as it was); a new session afterwards still reads the changed state;
+//   --as restored       (an operator, on the world killed after the engineer's part and
+//                       started again from its state file) robot2 reads as the engineer left
+//                       it, but a Grasp at its flange is BadWaitingForInitialData until
+//                       SetFlangePose reports where the flange is; then the Grasp is Good.
 // Prints "OK ..." lines and exits 0, or one "FAIL ..." line per problem on stderr and exits 1.
 "use strict";
 
@@ -29,7 +33,7 @@ const { AttributeIds, BrowseDirection, DataType, StatusCodes, makeBrowsePath } =
 const { Range, ThreeDFrame, ThreeDVector } = require("node-opcua-types");
 const { checkEndpointUrl, connect, disconnect, resolveNamespaceIndex, stringNodeId } = require("./common");
 
-const USAGE = "usage: node world_move_tool.js URL --expect-untrusted | --as operator|engineer";
+const USAGE = "usage: node world_move_tool.js URL --expect-untrusted | --as operator|engineer|restored";
 const WORLD_NAMESPACE_URI = "http://skillcell.dev/UA/World/"; // kWorldNamespaceUri
 // The scene the driver starts: tool -> dock it is stored in; DOCKS lists every dock.
 const DOCKS = ["d1", "d2", "d3"];
@@ -52,7 +56,7 @@ const args = process.argv.slice(3);
 const asIndex = args.indexOf("--as");
 const role = asIndex >= 0 ? args[asIndex + 1] : undefined;
 const expectUntrusted = args.includes("--expect-untrusted");
-if (expectUntrusted === (role !== undefined) || (role && !["operator", "engineer"].includes(role))) {
+if (expectUntrusted === (role !== undefined) || (role && !["operator", "engineer", "restored"].includes(role))) {
     process.stderr.write(`${USAGE}\n`);
     process.exit(2);
 }
@@ -414,11 +418,31 @@ async function engineer() {
     }
 }
 
+// A world restarted from its state file knows where robot2's flange was, not where it is: it
+// acts there only once the robot has said so again.
+async function restored() {
+    const w = await open();
+    try {
+        expectSame(await robot(w, "robot2"), FINAL_ROBOT2, "restored: robot2");
+        const graspsBefore = await grasps(w, "box");
+        await expectCall(w, "robot2 grasps box before its flange is heard", "Grasp",
+            [str("robot2"), str("box")], StatusCodes.BadWaitingForInitialData);
+        expectSame(await grasps(w, "box"), graspsBefore, "box's Grasps after the refused Grasp");
+        await expectAnswer(w, "robot2's flange reported again", "SetFlangePose",
+            [str("robot2"), frame(ABOVE_BOX)], [0]);
+        await expectCall(w, "robot2 grasps box", "Grasp", [str("robot2"), str("box")], StatusCodes.Good);
+        expectSame(await grasps(w, "box"), graspsBefore + 1, "box's Grasps after the Grasp");
+        await expectRobot(w, "robot2", { GraspedObject: "box" }, "restored: after Grasp");
+    } finally {
+        await disconnect(w.client, w.session);
+    }
+}
+
 const timer = setTimeout(() => {
     fail("timed out after 25 s");
     process.exit(1);
 }, 25000);
-(expectUntrusted ? untrusted() : role === "operator" ? operator() : engineer())
+(expectUntrusted ? untrusted() : role === "operator" ? operator() : role === "restored" ? restored() : engineer())
     .catch((err) => fail(`unexpected: ${err.stack || err}`))
     .finally(() => {
         clearTimeout(timer);
