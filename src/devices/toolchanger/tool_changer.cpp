@@ -236,7 +236,8 @@ asio::awaitable<bool> ToolChanger::waitForComponent(std::string applicationUri) 
 asio::awaitable<ToolChanger::Motion> ToolChanger::openMove(const std::string& endpoint,
                                                            std::string& why,
                                                            std::vector<skills::ComponentLife>& gone,
-                                                           bool* unreachable) {
+                                                           bool* unreachable,
+                                                           skills::ComponentLife* life) {
     std::string url = endpoint;
     if (url.empty()) {
         if (!detector_) {
@@ -255,13 +256,14 @@ asio::awaitable<ToolChanger::Motion> ToolChanger::openMove(const std::string& en
             co_return nullptr;
         }
     }
-    const skills::ComponentLife life =
+    const skills::ComponentLife found =
         detector_ ? skills::lifeAt(*detector_, url) : skills::ComponentLife{url, 0};
+    if (life != nullptr && endpoint.empty()) *life = found;
     bool lost = false;
     auto move = co_await RobotMotion::open(executor_, url, options_.client, why, false,
                                            kDeadHolderLease, &lost);
     if (lost) {
-        if (endpoint.empty()) gone.push_back(life);
+        if (endpoint.empty()) gone.push_back(found);
         if (unreachable != nullptr) *unreachable = true;
     }
     co_return move;
@@ -410,11 +412,9 @@ asio::awaitable<std::string> ToolChanger::attempt(const ToolRequest& request,
                                                   std::vector<skills::ComponentLife>& gone) {
     std::string why;
     ioLost_ = false;
-    Motion move = co_await openMove(request.moveEndpoint, why, gone, &lost);
+    skills::ComponentLife life;  // the detected robot's, as it was found
+    Motion move = co_await openMove(request.moveEndpoint, why, gone, &lost, &life);
     if (!move) co_return why;
-    const skills::ComponentLife life = detector_ && request.moveEndpoint.empty()
-                                           ? skills::lifeAt(*detector_, move->endpointUrl())
-                                           : skills::ComponentLife{};
     if (request.operation == ToolOperation::Attach) {
         why = co_await attachAt(*move, request.toolPosition, request.toolAppUri, generation);
     } else if (request.operation == ToolOperation::Detach) {

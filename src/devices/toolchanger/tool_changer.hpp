@@ -117,10 +117,12 @@ private:
     asio::awaitable<void> powerOff(const ToolEntry& tool);
     /// The robot at `endpoint`, or (empty) the detected one in none of the lives `gone`;
     /// `unreachable` is set, and its life added to `gone`, when it was found but could not be
-    /// reached.
+    /// reached. `life` (if given) is the detected robot's life it connected to (none for a
+    /// given endpoint): the one a try that loses it adds to `gone`, not a later one.
     asio::awaitable<Motion> openMove(const std::string& endpoint, std::string& why,
                                      std::vector<skills::ComponentLife>& gone,
-                                     bool* unreachable = nullptr);
+                                     bool* unreachable = nullptr,
+                                     skills::ComponentLife* life = nullptr);
     /// One try of run(); `lost` is set when it lost the robot or its I/O (whose lives
     /// `gone` gains).
     asio::awaitable<std::string> attempt(const ToolRequest& request, std::uint64_t generation,
