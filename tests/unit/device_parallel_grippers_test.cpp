@@ -17,6 +17,7 @@
 #include "devices/dh/simulated_ag95.hpp"
 #include "devices/robotiq/robotiq_component.hpp"
 #include "devices/robotiq/simulated_gripper_port.hpp"
+#include "lagging_world.hpp"
 #include "running_server.hpp"
 
 namespace skillcell::devices::device_parallel_grippers_test {
@@ -114,16 +115,13 @@ public:
                 return between_;
             },
             [this](const FingerEvent& e) {
-                std::lock_guard lock(mutex_);
-                events_.push_back(e);
-                behindFor_ = lagging_;
+                {
+                    std::lock_guard lock(mutex_);
+                    events_.push_back(e);
+                }
+                world_.told();
             },
-            [this] {
-                std::lock_guard lock(mutex_);
-                if (behindFor_ == 0) return false;
-                --behindFor_;
-                return true;
-            });
+            [this] { return world_.behind(); });
         EXPECT_FALSE(device.empty());
         server_ = std::make_unique<test::RunningServer>(
             test::RunningServer::defaultConfig(), [this, device](ua::Server& s) {
@@ -155,17 +153,8 @@ public:
         std::lock_guard lock(mutex_);
         return probes_;
     }
-    /// From now on the world hears each event only after the gripper has been read `reads`
-    /// more times (a world that restarts).
-    void lagBehind(int reads) {
-        std::lock_guard lock(mutex_);
-        lagging_ = reads;
-    }
-    /// How many reads the world still lags behind.
-    int behindFor() {
-        std::lock_guard lock(mutex_);
-        return behindFor_;
-    }
+    /// The world model the gripper tells its grasps and releases.
+    test::LaggingWorld& world() { return world_; }
     std::vector<FingerEvent> events() {
         std::lock_guard lock(mutex_);
         return events_;
@@ -184,8 +173,7 @@ private:
     std::mutex mutex_;
     std::optional<ObjectBetweenFingers> between_;
     std::vector<FingerEvent> events_;
-    int lagging_ = 0;
-    int behindFor_ = 0;
+    test::LaggingWorld world_;
     int unknownFor_ = 0;
     int probes_ = 0;
     std::shared_ptr<void> component_;
@@ -273,14 +261,14 @@ TEST_P(ParallelGripperModels, AGraspEndsOnlyOnceTheWorldHasHeardIt) {
     ASSERT_TRUE(grasp && release);
 
     constexpr int kReads = 25;
-    cell.lagBehind(kReads);
+    cell.world().lagBehind(kReads);
     cell.put(ObjectBetweenFingers{"part", 0.030});
     auto outcome = t.invoke(grasp, {}, 20s);
     EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-    EXPECT_EQ(cell.behindFor(), 0) << "the grasp ended before the world heard it";
+    EXPECT_EQ(cell.world().behindFor(), 0) << "the grasp ended before the world heard it";
     outcome = t.invoke(release, {}, 20s);
     EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-    EXPECT_EQ(cell.behindFor(), 0) << "the release ended before the world heard it";
+    EXPECT_EQ(cell.world().behindFor(), 0) << "the release ended before the world heard it";
     ASSERT_EQ(cell.events().size(), 2u);
 }
 

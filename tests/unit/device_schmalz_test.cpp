@@ -11,6 +11,7 @@
 #include "devices/common/frame.hpp"
 #include "devices/schmalz/ecbpi_component.hpp"
 #include "devices/schmalz/io_link_master.hpp"
+#include "lagging_world.hpp"
 #include "running_server.hpp"
 #include "ua/nodeset/companion_models.hpp"
 
@@ -127,16 +128,13 @@ public:
             return under_;
         };
         o.onEvent = [this](const CupEvent& e) {
-            std::lock_guard lock(mutex_);
-            events_.push_back(e);
-            behindFor_ = lagging_;
+            {
+                std::lock_guard lock(mutex_);
+                events_.push_back(e);
+            }
+            world_.told();
         };
-        o.worldBehind = [this] {
-            std::lock_guard lock(mutex_);
-            if (behindFor_ == 0) return false;
-            --behindFor_;
-            return true;
-        };
+        o.worldBehind = [this] { return world_.behind(); };
         master_ = std::make_unique<SimulatedIoLinkMaster>(o);
         server_ = std::make_unique<test::RunningServer>(
             test::RunningServer::defaultConfig(), [this](ua::Server& s) {
@@ -162,16 +160,8 @@ public:
         std::lock_guard lock(mutex_);
         under_ = std::move(part);
     }
-    /// From now on the world hears each event only after the process data has been read
-    /// `reads` more times (a world that restarts).
-    void lagBehind(int reads) {
-        std::lock_guard lock(mutex_);
-        lagging_ = reads;
-    }
-    int behindFor() {
-        std::lock_guard lock(mutex_);
-        return behindFor_;
-    }
+    /// The world model the generator tells its grasps and releases.
+    test::LaggingWorld& world() { return world_; }
     std::vector<CupEvent> events() {
         std::lock_guard lock(mutex_);
         return events_;
@@ -192,8 +182,7 @@ private:
     std::mutex mutex_;
     std::optional<std::string> under_;
     std::vector<CupEvent> events_;
-    int lagging_ = 0;
-    int behindFor_ = 0;
+    test::LaggingWorld world_;
     std::unique_ptr<SimulatedIoLinkMaster> master_;
     std::unique_ptr<GripperComponent> component_;
     std::unique_ptr<test::RunningServer> server_;
@@ -272,14 +261,14 @@ TEST(DeviceSchmalzSkills, AGraspEndsOnlyOnceTheWorldHasHeardIt) {
     auto release = t.attach(cell.url(), ua::NodeId(1, ua::String("Skills/Release")));
     ASSERT_TRUE(grasp && release);
     constexpr int kReads = 25;  // 1 ms polls: well within the 1 s evacuation budget
-    cell.lagBehind(kReads);
+    cell.world().lagBehind(kReads);
     cell.put("plate");
     auto outcome = t.invoke(grasp, {}, 20s);
     EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-    EXPECT_EQ(cell.behindFor(), 0) << "the grasp ended before the world heard it";
+    EXPECT_EQ(cell.world().behindFor(), 0) << "the grasp ended before the world heard it";
     outcome = t.invoke(release, {}, 20s);
     EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-    EXPECT_EQ(cell.behindFor(), 0) << "the release ended before the world heard it";
+    EXPECT_EQ(cell.world().behindFor(), 0) << "the release ended before the world heard it";
     ASSERT_EQ(cell.events().size(), 2u);
 }
 
