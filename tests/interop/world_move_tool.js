@@ -21,8 +21,9 @@
 //                       as it was); a new session afterwards still reads the changed state;
 //   --as restored       (an operator, on the world killed after the engineer's part and
 //                       started again from its state file) robot2 reads as the engineer left
-//                       it, but a Grasp at its flange is BadWaitingForInitialData until
-//                       SetFlangePose reports where the flange is; then the Grasp is Good.
+//                       it, but ObjectAtGripPoint, DockAtFlange and a Grasp at its flange are
+//                       BadWaitingForInitialData until SetFlangePose reports where the flange
+//                       is; then they answer and the Grasp is Good.
 // Prints "OK ..." lines and exits 0, or one "FAIL ..." line per problem on stderr and exits 1.
 "use strict";
 
@@ -425,11 +426,18 @@ async function restored() {
     try {
         expectSame(await robot(w, "robot2"), FINAL_ROBOT2, "restored: robot2");
         const graspsBefore = await grasps(w, "box");
+        // What is at its flange is not known either.
+        await expectCall(w, "the object at robot2's grip point before its flange is heard",
+            "ObjectAtGripPoint", [str("robot2")], StatusCodes.BadWaitingForInitialData);
+        await expectCall(w, "the dock at robot2's flange before it is heard", "DockAtFlange",
+            [str("robot2")], StatusCodes.BadWaitingForInitialData);
         await expectCall(w, "robot2 grasps box before its flange is heard", "Grasp",
             [str("robot2"), str("box")], StatusCodes.BadWaitingForInitialData);
         expectSame(await grasps(w, "box"), graspsBefore, "box's Grasps after the refused Grasp");
         await expectAnswer(w, "robot2's flange reported again", "SetFlangePose",
             [str("robot2"), frame(ABOVE_BOX)], [0]);
+        await expectAnswer(w, "the object at robot2's grip point", "ObjectAtGripPoint", [str("robot2")],
+            ["box", BOX_EDGES]);
         await expectCall(w, "robot2 grasps box", "Grasp", [str("robot2"), str("box")], StatusCodes.Good);
         expectSame(await grasps(w, "box"), graspsBefore + 1, "box's Grasps after the Grasp");
         await expectRobot(w, "robot2", { GraspedObject: "box" }, "restored: after Grasp");

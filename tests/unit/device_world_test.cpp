@@ -312,11 +312,13 @@ TEST(DeviceWorldFile, SavesAndRestoresEverythingTheWorldHolds) {
     // has reported where its flange is now (it may have moved while the world was down).
     World restored(*back);
     EXPECT_EQ(restored.holderOf("box1"), std::optional<std::string>("arm"));
+    EXPECT_FALSE(restored.settled("arm"));
     std::string why;
     EXPECT_EQ(restored.release("arm", &why), ua::status::BadWaitingForInitialData);
     EXPECT_NE(why.find("has not heard where robot arm"), std::string::npos) << why;
     EXPECT_EQ(restored.holderOf("box1"), std::optional<std::string>("arm"));
     ASSERT_EQ(restored.setFlangePose("arm", at(0.3, 0.2, 0.5)), Good);
+    EXPECT_TRUE(restored.settled("arm"));
     EXPECT_TRUE(near(restored.object("box1")->pose, at(0.3, 0.2, 0.5) * f.toHeld, 1e-12, 1e-12));
     EXPECT_EQ(restored.release("arm"), Good);
     EXPECT_EQ(restored.release("other"), ua::status::BadWaitingForInitialData);

@@ -189,6 +189,12 @@ public:
     /// parallel gripper closing along that direction meets.
     [[nodiscard]] std::optional<double> extentAlong(const std::string& objectId,
                                                     const KDL::Vector& direction) const;
+    /// Whether the world knows where the robot's flange is: not a robot restored from a
+    /// state file that has not reported its flange since. What is at its flange (a dock, an
+    /// object at its grip point) is known only then.
+    [[nodiscard]] bool settled(const std::string& robot) const {
+        return !unsettled_.contains(robot);
+    }
     /// Bumps on every change, so observers can tell whether anything happened.
     [[nodiscard]] std::uint64_t revision() const { return revision_; }
 

@@ -80,6 +80,16 @@ StatusCode knownRobot(const World& world, const std::string& robot, std::string&
     return ua::status::BadNotFound;
 }
 
+/// A robot whose flange the world knows: one restored from a state file answers questions
+/// about what is at its flange only once it has reported the flange again.
+StatusCode heardRobot(const World& world, const std::string& robot, std::string& why) {
+    if (const StatusCode s = knownRobot(world, robot, why); s.isBad()) return s;
+    if (world.settled(robot)) return ua::status::Good;
+    why = "the world restarted and has not heard where robot " + robot +
+          "'s flange is since: it answers for its flange once the robot reports it";
+    return ua::status::BadWaitingForInitialData;
+}
+
 /// A refused change: its reason goes to the log, its status to the caller. Every refusal
 /// in this file and in World says why; the fallback only keeps a new one that does not from
 /// logging an empty reason.
@@ -297,7 +307,7 @@ StatusCode WorldNodes::build() {
          [this](std::span<const Variant> in, std::vector<Variant>& out, std::string& why) {
              std::string r;
              if (const StatusCode s = robotArg(in[0], r, why); s.isBad()) return s;
-             if (const StatusCode s = knownRobot(world_, r, why); s.isBad()) return s;
+             if (const StatusCode s = heardRobot(world_, r, why); s.isBad()) return s;
              out.emplace_back(ua::String(world_.dockAtFlange(r).value_or("")));
              return StatusCode(ua::status::Good);
          }});
@@ -341,7 +351,7 @@ StatusCode WorldNodes::build() {
          [this](std::span<const Variant> in, std::vector<Variant>& out, std::string& why) {
              std::string r;
              if (const StatusCode s = robotArg(in[0], r, why); s.isBad()) return s;
-             if (const StatusCode s = knownRobot(world_, r, why); s.isBad()) return s;
+             if (const StatusCode s = heardRobot(world_, r, why); s.isBad()) return s;
              const KDL::Frame grip = world_.gripPoint(r);
              const auto found = world_.objectAt(grip.p);
              std::vector<double> extent{0, 0, 0};
