@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <functional>
 #include <map>
+#include <memory>
 #include <thread>
 
 #include "client_thread.hpp"
@@ -177,28 +179,54 @@ const std::map<std::string, ua::Variant>& pickBoxA() {
     return request;
 }
 
-TEST(WorkCellSettling, APickCutShortIsCarriedOnFromWhereTheBoxIsNotPickedAgain) {
-    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
-    ASSERT_TRUE(cell.ready());
-    auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
-    ASSERT_TRUE(link.ok());
-    WorldLink& w = **link;
-    ASSERT_NO_FATAL_FAILURE(mountParallelGripper(cell));
+/// The settling tests' cell: the paper's, the parallel gripper mounted, and a pick of boxA
+/// that a test cuts into once the box is in the gripper.
+class Settling {
+public:
+    explicit Settling(test::ParallelGripperModel parallel = test::kRobotiq2f85)
+        : cell(SKILLCELL_BINARY, test::paperObjects(), true, parallel) {}
 
-    const auto& request = pickBoxA();
-    skills::SkillOutcome outcome;
-    {
-        test::ClientThread first;
-        auto pick =
-            first.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
-        ASSERT_TRUE(pick);
-        std::thread running([&] { outcome = first.invoke(pick, request, 120s); });
-        const bool grasped = grasps(w, "boxA");  // killed once the box is in its gripper
-        if (grasped) cell.pickplace->kill(SIGKILL);
-        running.join();
-        ASSERT_TRUE(grasped) << "the first run never grasped boxA: " << outcome.reason;
-        EXPECT_EQ(outcome.kind, Kind::Lost) << outcome.reason;
+    /// Whether the cell came up with the gripper mounted; world() is usable then.
+    [[nodiscard]] bool ready() {
+        if (!cell.ready()) return false;
+        auto connected = WorldLink::connect(cell.world->url(), {}, cell.robotName);
+        if (!connected.ok()) return false;
+        link_ = std::move(*connected);
+        mountParallelGripper(cell);
+        return !testing::Test::HasFatalFailure();
     }
+    WorldLink& world() { return *link_; }
+
+    /// Runs the pick of boxA and calls `cut` once the world shows boxA grasped; the pick's
+    /// outcome, and whether boxA was grasped (else `cut` was not called).
+    std::pair<skills::SkillOutcome, bool> pickCutBy(const std::function<void()>& cut) {
+        test::ClientThread client;
+        auto pick =
+            client.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
+        if (!pick) return {skills::SkillOutcome{}, false};
+        skills::SkillOutcome outcome;
+        std::thread running([&] { outcome = client.invoke(pick, pickBoxA(), 120s); });
+        const bool grasped = grasps(*link_, "boxA");
+        if (grasped) cut();
+        running.join();
+        return {outcome, grasped};
+    }
+
+    test::SimulatedCell cell;
+
+private:
+    std::unique_ptr<WorldLink> link_;
+};
+
+TEST(WorkCellSettling, APickCutShortIsCarriedOnFromWhereTheBoxIsNotPickedAgain) {
+    Settling settling;
+    ASSERT_TRUE(settling.ready());
+    test::SimulatedCell& cell = settling.cell;
+    WorldLink& w = settling.world();
+    const auto& request = pickBoxA();
+    auto [outcome, grasped] = settling.pickCutBy([&] { cell.pickplace->kill(SIGKILL); });
+    ASSERT_TRUE(grasped) << "the first run never grasped boxA: " << outcome.reason;
+    EXPECT_EQ(outcome.kind, Kind::Lost) << outcome.reason;
     EXPECT_EQ(*w.graspedObject(), "boxA");
     EXPECT_EQ(*w.objectGrasps("boxA"), 1U);
     EXPECT_FALSE(near(*w.objectPose("boxA"), KDL::Frame(KDL::Vector(0.25, 0.35, 0.025)), 0.01, 1))
@@ -227,24 +255,14 @@ TEST(WorkCellSettling, APickCutShortIsCarriedOnFromWhereTheBoxIsNotPickedAgain) 
 // The robot killed mid-pick, the box in the gripper, and started again: the composite's run
 // goes on once discovery finds the robot again, from where the box is, and places it.
 TEST(WorkCellSettling, APickWhoseRobotDiesGoesOnWhenTheRobotIsBack) {
-    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true);
-    ASSERT_TRUE(cell.ready());
-    auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
-    ASSERT_TRUE(link.ok());
-    WorldLink& w = **link;
-    ASSERT_NO_FATAL_FAILURE(mountParallelGripper(cell));
-    test::ClientThread client;
-    auto pick =
-        client.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
-    ASSERT_TRUE(pick);
-    skills::SkillOutcome outcome;
-    std::thread running([&] { outcome = client.invoke(pick, pickBoxA(), 120s); });
-    const bool grasped = grasps(w, "boxA");
-    if (grasped) {
+    Settling settling;
+    ASSERT_TRUE(settling.ready());
+    test::SimulatedCell& cell = settling.cell;
+    WorldLink& w = settling.world();
+    const auto [outcome, grasped] = settling.pickCutBy([&] {
         cell.robot->kill(SIGKILL);
         cell.restartRobot();
-    }
-    running.join();
+    });
     ASSERT_TRUE(grasped) << "the run never grasped boxA: " << outcome.reason;
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     expectAt(w, "boxA", 0.25, 0.35, 0.025);
@@ -257,23 +275,13 @@ TEST(WorkCellSettling, APickWhoseRobotDiesGoesOnWhenTheRobotIsBack) {
 // while its client restarts): the pick goes on, lets go of the box at its place, and the
 // tool can be put back in its dock (a tool that still held the box could not).
 TEST_P(WorkCell, APickWhoseGripperAdapterDiesGoesOnWithTheBoxStillHeld) {
-    test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true, GetParam());
-    ASSERT_TRUE(cell.ready());
-    auto link = WorldLink::connect(cell.world->url(), {}, cell.robotName);
-    ASSERT_TRUE(link.ok());
-    WorldLink& w = **link;
-    ASSERT_NO_FATAL_FAILURE(mountParallelGripper(cell));
+    Settling settling(GetParam());
+    ASSERT_TRUE(settling.ready());
+    test::SimulatedCell& cell = settling.cell;
+    WorldLink& w = settling.world();
     const auto adapters = test::childrenOf(cell.changer->pid());
     ASSERT_EQ(adapters.size(), 1U);
-    test::ClientThread client;
-    auto pick =
-        client.attach(cell.pickplace->url(), ua::NodeId(1, ua::String("Skills/PickAndPlace")));
-    ASSERT_TRUE(pick);
-    skills::SkillOutcome outcome;
-    std::thread running([&] { outcome = client.invoke(pick, pickBoxA(), 120s); });
-    const bool grasped = grasps(w, "boxA");
-    if (grasped) ::kill(adapters[0], SIGKILL);
-    running.join();
+    auto [outcome, grasped] = settling.pickCutBy([&] { ::kill(adapters[0], SIGKILL); });
     ASSERT_TRUE(grasped) << "the run never grasped boxA: " << outcome.reason;
     ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     expectAt(w, "boxA", 0.25, 0.35, 0.025);
