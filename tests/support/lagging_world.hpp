@@ -1,7 +1,10 @@
 #pragma once
 // LaggingWorld: the world model as a simulated gripper sees it while the world restarts: each
 // event the gripper tells it is heard only after the gripper's registers have been read a
-// number of times more (WorldLink::behind, as the simulations ask it on every read).
+// number of times more (WorldLink::behind, as the simulations ask it on every read), or, while
+// it is down (goDown() to comeBack()), only once it is back (WorldLink::waitUntilHeard).
+#include <chrono>
+#include <condition_variable>
 #include <mutex>
 
 namespace skillcell::test {
@@ -17,13 +20,33 @@ public:
     void told() {
         const std::lock_guard lock(mutex_);
         behindFor_ = lagging_;
+        toldWhileDown_ = toldWhileDown_ || down_;
     }
     /// Asked on each read: whether an event told is not heard yet.
     [[nodiscard]] bool behind() {
         const std::lock_guard lock(mutex_);
+        if (toldWhileDown_) return true;
         if (behindFor_ == 0) return false;
         --behindFor_;
         return true;
+    }
+    /// The world goes down; what is told from now on is heard once it comes back.
+    void goDown() {
+        const std::lock_guard lock(mutex_);
+        down_ = true;
+    }
+    void comeBack() {
+        {
+            const std::lock_guard lock(mutex_);
+            down_ = false;
+            toldWhileDown_ = false;
+        }
+        back_.notify_all();
+    }
+    /// Waits until what was told while the world was down is heard, at most `patience`.
+    void await(std::chrono::milliseconds patience) {
+        std::unique_lock lock(mutex_);
+        back_.wait_for(lock, patience, [this] { return !toldWhileDown_; });
     }
     /// How many reads it still lags behind: 0 once it has heard everything told.
     [[nodiscard]] int behindFor() {
@@ -33,8 +56,11 @@ public:
 
 private:
     std::mutex mutex_;
+    std::condition_variable back_;
     int lagging_ = 0;
     int behindFor_ = 0;
+    bool down_ = false;
+    bool toldWhileDown_ = false;
 };
 
 }  // namespace skillcell::test

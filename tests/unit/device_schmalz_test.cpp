@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <mutex>
+#include <thread>
 
 #include "client_thread.hpp"
 #include "devices/common/frame.hpp"
@@ -135,6 +136,7 @@ public:
             world_.told();
         };
         o.worldBehind = [this] { return world_.behind(); };
+        o.awaitWorld = [this] { world_.await(5s); };
         master_ = std::make_unique<SimulatedIoLinkMaster>(o);
         server_ = std::make_unique<test::RunningServer>(
             test::RunningServer::defaultConfig(), [this](ua::Server& s) {
@@ -270,6 +272,29 @@ TEST(DeviceSchmalzSkills, AGraspEndsOnlyOnceTheWorldHasHeardIt) {
     EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
     EXPECT_EQ(cell.world().behindFor(), 0) << "the release ended before the world heard it";
     ASSERT_EQ(cell.events().size(), 2u);
+}
+
+// The world down for longer than the adapter's release budget (1 s) as the part lets go: a
+// read of the in-process master waits for the world to come back, so the release ends then,
+// instead of failing with a vacuum "that did not go" (issue 25's chaos suite found it).
+TEST(DeviceSchmalzSkills, AReleaseWaitsForAWorldThatIsDownLongerThanItsBudget) {
+    VacuumCell cell;
+    test::ClientThread t;
+    auto grasp = t.attach(cell.url(), ua::NodeId(1, ua::String("Skills/Grasp")));
+    auto release = t.attach(cell.url(), ua::NodeId(1, ua::String("Skills/Release")));
+    ASSERT_TRUE(grasp && release);
+    cell.put("plate");
+    auto outcome = t.invoke(grasp, {}, 20s);
+    ASSERT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    cell.world().goDown();
+    std::thread outage([&cell] {
+        std::this_thread::sleep_for(1500ms);  // the outage itself: longer than the budget
+        cell.world().comeBack();
+    });
+    outcome = t.invoke(release, {}, 20s);
+    outage.join();
+    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+    EXPECT_EQ(cell.events().size(), 2u);
 }
 
 }  // namespace

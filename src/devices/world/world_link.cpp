@@ -100,10 +100,18 @@ void WorldLink::deliverBacklog() {
             }
             backlog_.pop_front();
             behind_ = !backlog_.empty();
+            backlogChanged_.notify_all();  // waitUntilHeard()
             continue;
         }
         backlogChanged_.wait_for(lock, kPause, [this] { return stopping_; });
     }
+}
+
+bool WorldLink::waitUntilHeard(std::chrono::milliseconds patience) {
+    std::unique_lock lock(backlogMutex_);
+    return backlogChanged_.wait_for(lock, patience, [this] {
+        return stopping_ || backlog_.empty();
+    }) && backlog_.empty();
 }
 
 void WorldLink::heardAfter(int tries, ua::StatusCode s) {

@@ -158,6 +158,9 @@ public:
     /// or release the world does not know of (the simulation is paused while its physics
     /// restarts). Any thread.
     [[nodiscard]] bool behind() const { return behind_.load(); }
+    /// Waits until everything told has been heard (or given up on), at most `patience`;
+    /// whether it has. For a device whose reads may wait for the world (an in-process one).
+    bool waitUntilHeard(std::chrono::milliseconds patience);
 
     /// Whether a call found the world out of reach since the last clearLoss(): a composite
     /// takes a try that lost its view of the cell again. The link itself connects again on
