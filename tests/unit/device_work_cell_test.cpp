@@ -45,7 +45,7 @@ class WorkCell : public testing::TestWithParam<test::ParallelGripperModel> {};
 TEST_P(WorkCell, ChangesToolsAndPicksAndPlacesTwoBoxesFoundByDiscovery) {
     // The paper's boxes, and box C out of the robot's reach.
     auto boxes = test::paperObjects();
-    boxes.push_back("boxC:0.04,0.04,0.04@1.5,0,0.02");
+    boxes.emplace_back("boxC:0.04,0.04,0.04@1.5,0,0.02");
     test::SimulatedCell cell(SKILLCELL_BINARY, boxes, true, GetParam());
     ASSERT_TRUE(cell.ready());
 
