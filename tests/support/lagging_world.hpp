@@ -3,9 +3,14 @@
 // event the gripper tells it is heard only after the gripper's registers have been read a
 // number of times more (WorldLink::behind, as the simulations ask it on every read), or, while
 // it is down (goDown() to comeBack()), only once it is back (WorldLink::waitUntilHeard).
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <condition_variable>
+#include <memory>
 #include <mutex>
+
+#include "client_thread.hpp"
 
 namespace skillcell::test {
 
@@ -62,5 +67,22 @@ private:
     bool down_ = false;
     bool toldWhileDown_ = false;
 };
+
+/// Grasps, then releases, through `grasp` and `release` (on `client`), with `world` lagging
+/// `reads` reads behind each event: each skill must end, and end only once the world has
+/// heard what it did.
+inline void expectEachEndsOnlyOnceHeard(ClientThread& client,
+                                        const std::shared_ptr<skills::SkillClient>& grasp,
+                                        const std::shared_ptr<skills::SkillClient>& release,
+                                        LaggingWorld& world, int reads) {
+    using namespace std::chrono_literals;
+    world.lagBehind(reads);
+    auto outcome = client.invoke(grasp, {}, 20s);
+    EXPECT_EQ(outcome.kind, skills::SkillOutcome::Kind::Finished) << outcome.reason;
+    EXPECT_EQ(world.behindFor(), 0) << "the grasp ended before the world heard it";
+    outcome = client.invoke(release, {}, 20s);
+    EXPECT_EQ(outcome.kind, skills::SkillOutcome::Kind::Finished) << outcome.reason;
+    EXPECT_EQ(world.behindFor(), 0) << "the release ended before the world heard it";
+}
 
 }  // namespace skillcell::test

@@ -260,15 +260,8 @@ TEST_P(ParallelGripperModels, AGraspEndsOnlyOnceTheWorldHasHeardIt) {
     auto release = t.attach(cell.url(), skill("Release"));
     ASSERT_TRUE(grasp && release);
 
-    constexpr int kReads = 25;
-    cell.world().lagBehind(kReads);
     cell.put(ObjectBetweenFingers{"part", 0.030});
-    auto outcome = t.invoke(grasp, {}, 20s);
-    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-    EXPECT_EQ(cell.world().behindFor(), 0) << "the grasp ended before the world heard it";
-    outcome = t.invoke(release, {}, 20s);
-    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
-    EXPECT_EQ(cell.world().behindFor(), 0) << "the release ended before the world heard it";
+    test::expectEachEndsOnlyOnceHeard(t, grasp, release, cell.world(), 25);
     ASSERT_EQ(cell.events().size(), 2u);
 }
 
