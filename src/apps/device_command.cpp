@@ -794,7 +794,7 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
                         std::string(grasped ? "grasp" : "release") + " of " + e.partId);
         };
         sim.worldBehind = [world] { return world->behind(); };
-        sim.awaitWorld = [world] { (void)world->waitUntilHeard(kInProcessSensorPatience); };
+        sim.awaitWorld = [world] { return world->waitUntilHeard(kInProcessSensorPatience); };
         // Held already (an adapter restarted while the cup holds a part): still sucking.
         if (const auto held = world->graspedObject(); held && !held->empty()) {
             sim.holding = *held;

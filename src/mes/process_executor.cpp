@@ -814,18 +814,19 @@ asio::awaitable<std::vector<std::string>> ProcessExecutor::feasible(
         if (kb_.facts && !properties.empty()) {
             const auto asked = Clock::now();
             auto read = co_await kb_.facts(properties);
-            if (read && !kbBehind(*read, detector_->instances(), typesOf(process))) {
+            if (read) {
                 facts = std::move(*read);
-                kbOutage.answered();
-            } else if (read) {
-                facts = std::move(*read);
-                kbOutage.failed(deadline, asked);  // still recording the live cell
+                if (kbBehind(*facts, *detector_->snapshot(), typesOf(process))) {
+                    kbOutage.failed(deadline, asked);  // still recording the live cell
+                } else {
+                    kbOutage.answered();
+                }
             } else {
                 kbError = "cannot ask the knowledge base: " + read.error();
                 kbOutage.failed(deadline, asked);
             }
         }
-        auto lacking = kbError.empty() ? infeasibility(process, detector_->instances(),
+        auto lacking = kbError.empty() ? infeasibility(process, *detector_->snapshot(),
                                                        facts ? &*facts : nullptr)
                                        : std::vector<std::string>{kbError};
         if (!lacking.empty() && kbError.empty() && !order->halted && Clock::now() >= deadline) {

@@ -48,10 +48,13 @@ public:
         }
         back_.notify_all();
     }
-    /// Waits until what was told while the world was down is heard, at most `patience`.
-    void await(std::chrono::milliseconds patience) {
+    /// Waits until what was told while the world was down is heard, at most `patience`;
+    /// whether everything told is heard (as WorldLink::waitUntilHeard: a lag of reads still
+    /// to come is not heard yet).
+    bool await(std::chrono::milliseconds patience) {
         std::unique_lock lock(mutex_);
-        back_.wait_for(lock, patience, [this] { return !toldWhileDown_; });
+        return back_.wait_for(lock, patience, [this] { return !toldWhileDown_; }) &&
+               behindFor_ == 0;
     }
     /// How many reads it still lags behind: 0 once it has heard everything told.
     [[nodiscard]] int behindFor() {

@@ -136,7 +136,7 @@ public:
             world_.told();
         };
         o.worldBehind = [this] { return world_.behind(); };
-        o.awaitWorld = [this] { world_.await(5s); };
+        o.awaitWorld = [this] { return world_.await(5s); };
         master_ = std::make_unique<SimulatedIoLinkMaster>(o);
         server_ = std::make_unique<test::RunningServer>(
             test::RunningServer::defaultConfig(), [this](ua::Server& s) {

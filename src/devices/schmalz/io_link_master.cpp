@@ -38,10 +38,8 @@ ua::Result<std::vector<std::uint8_t>> SimulatedIoLinkMaster::readProcessData(int
     // heard one yet (it restarts), the switching points show what they showed before: the
     // vacuum is still building or going, for all the adapter can tell.
     deliver(std::move(events));
-    if (options_.awaitWorld && options_.worldBehind && options_.worldBehind()) {
-        options_.awaitWorld();
-    }
-    const bool behind = options_.worldBehind && options_.worldBehind();
+    bool behind = options_.worldBehind && options_.worldBehind();
+    if (behind && options_.awaitWorld) behind = !options_.awaitWorld();
     {
         std::lock_guard lock(mutex_);
         if (behind) {

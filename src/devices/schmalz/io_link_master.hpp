@@ -42,10 +42,11 @@ struct SimulatedIoLinkOptions {
     /// Whether the world has not heard every event yet (WorldLink::behind): the switching
     /// points show what they showed before until it has.
     std::function<bool()> worldBehind;
-    /// Waits, bounded, for the world to hear every event (WorldLink::waitUntilHeard): a read
-    /// of this in-process master has no reply timeout, so it waits for a world that restarts
-    /// rather than show the adapter a vacuum that has not gone, for longer than its budget.
-    std::function<void()> awaitWorld;
+    /// Waits, bounded, for the world to hear every event (WorldLink::waitUntilHeard); whether
+    /// it has. A read of this in-process master has no reply timeout, so it waits for a world
+    /// that restarts rather than show the adapter a vacuum that has not gone, for longer than
+    /// its budget.
+    std::function<bool()> awaitWorld;
 };
 
 /// An IO-Link master with a simulated ECBPi on one port. Thread-safe.
