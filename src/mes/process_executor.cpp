@@ -5,6 +5,7 @@
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <asio/experimental/as_tuple.hpp>
+#include <asio/experimental/awaitable_operators.hpp>
 #include <asio/post.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
@@ -17,10 +18,12 @@
 #include "mes/feasibility.hpp"
 #include "skills/reservation_client.hpp"
 #include "skills/skill_connection.hpp"
+#include "ua/types/connection_loss.hpp"
 
 namespace skillcell::mes {
 namespace {
 
+using asio::experimental::awaitable_operators::operator&&;  // two requests, one round trip
 using skills::SkillOutcome;
 using skills::SkillState;
 
@@ -702,28 +705,16 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
     }
     // The step's component is the order's, as it was before the MES stopped.
     claims_.take(order->id, r.componentUri);
-    std::string why;
-    auto conn = co_await connections_->take(target, &why);
-    if (!conn) {
+    Claim held = co_await claim(target, *order);
+    if (held.failure != Claim::Failure::None) {
         co_return std::pair(Settled::Failed, "cannot tell whether the skill " + r.skillNodeId +
-                                                 " of " + r.componentUri + " ran: " + why);
+                                                 " of " + r.componentUri + " ran: " + held.why);
     }
-    auto reserved = co_await reserve(**conn, *order);
-    if (!reserved) {
-        co_await (*conn)->close();
-        co_return std::pair(Settled::Failed, "cannot tell whether the skill " + r.skillNodeId +
-                                                 " of " + r.componentUri +
-                                                 " ran: " + reserved.error());
-    }
-    const std::optional<std::uint64_t> token = *reserved;
-    auto& skill = (*conn)->skill();
-    auto time = co_await (*conn)->lastTransitionTime();
+    auto& skill = held.connection->skill();
+    const ua::DateTime time = held.before;
     std::pair<Settled, std::string> result{Settled::Failed, {}};
     const auto state = skill.state();
-    if (!time) {
-        result.second = "cannot read the LastTransition of " + r.skillNodeId + " of " +
-                        r.componentUri + ": " + std::string(ua::statusName(time.status()));
-    } else if (time->ticks == r.transitionTimeBefore && state == SkillState::Ready) {
+    if (time.ticks == r.transitionTimeBefore && state == SkillState::Ready) {
         result = {Settled::NotStarted, "Start never reached the skill: the MES stopped first"};
     } else if (state == SkillState::Running || state == SkillState::Suspended) {
         // Still running the Start this step gave: wait for its end as if we had stayed.
@@ -745,7 +736,7 @@ asio::awaitable<std::pair<ProcessExecutor::Settled, std::string>> ProcessExecuto
                         std::string(state ? skills::name(*state) : std::string_view("unknown")) +
                         ": it failed while the MES was not running";
     }
-    co_await hangUp(target, std::move(*conn), token);
+    co_await hangUp(target, std::move(held.connection), held.token);
     if (order->halted && result.first != Settled::Finished) {
         result = {Settled::Failed, "halted"};
     }
@@ -1062,27 +1053,60 @@ void ProcessExecutor::finishedIn(const std::string& skillTypeIri, const std::str
     if (ms.size() > kDurationHistory) ms.resize(kDurationHistory);
 }
 
+asio::awaitable<ua::StatusCode> ProcessExecutor::letGo(skills::SkillConnection& connection,
+                                                       std::optional<std::uint64_t> token) {
+    auto self = shared_from_this();
+    if (!token) co_return ua::status::Good;
+    const ua::StatusCode s = co_await skills::release(connection.client(), *token);
+    // Taken over meanwhile (a failover): the new holder's now.
+    if (s.isBad()) spdlog::warn("mes: releasing the reservation: {}", ua::statusName(s));
+    co_return s;
+}
+
 asio::awaitable<void> ProcessExecutor::hangUp(const skills::SkillInstance& skill,
                                               std::unique_ptr<skills::SkillConnection> connection,
                                               std::optional<std::uint64_t> token) {
     auto self = shared_from_this();
-    if (token) {
-        if (const auto s = co_await skills::release(connection->client(), *token); s.isBad()) {
-            // Taken over meanwhile (a failover): the new holder's now.
-            spdlog::warn("mes: releasing the reservation: {}", ua::statusName(s));
-        }
-    }
+    (void)co_await letGo(*connection, token);
     co_await connections_->giveBack(skill, std::move(connection));
 }
 
-asio::awaitable<kb::Expected<std::optional<std::uint64_t>>> ProcessExecutor::reserve(
-    skills::SkillConnection& connection, const Order& order) {
+asio::awaitable<ProcessExecutor::Claim> ProcessExecutor::claim(const skills::SkillInstance& skill,
+                                                               const Order& order) {
     auto self = shared_from_this();
     const std::string holder = options_.holder + " order " + std::to_string(order.id);
-    std::vector<ua::Client*> sessions{&connection.client()};  // named: see reservation_client
-    const skills::Hold held = co_await skills::hold(std::move(sessions), holder);
-    if (!held.refusal.empty()) co_return kb::Error{held.refusal, kb::ErrorKind::Unavailable};
-    co_return held.token;
+    skills::Hold held;
+    ua::Result<ua::DateTime> time = ua::status::BadNothingToDo;
+    // The pool runs this on a kept session, and again on a new one when the kept one did
+    // not answer: the Reserve and the read are also what proves a kept session alive.
+    auto first = [&held, &time, &holder](skills::SkillConnection& c) -> asio::awaitable<bool> {
+        std::vector<ua::Client*> sessions{&c.client()};  // named: see reservation_client
+        auto both = skills::hold(std::move(sessions), holder) && c.lastTransitionTime();
+        std::tie(held, time) = co_await std::move(both);
+        co_return time.ok() || !ua::isConnectionLoss(time.status());
+    };
+    Claim c;
+    auto conn = co_await connections_->take(skill, &c.why, first);
+    if (!conn) {
+        c.failure = Claim::Failure::Unreachable;
+        co_return c;
+    }
+    if (!held.refusal.empty()) {
+        c.failure = Claim::Failure::Refused;
+        c.why = held.refusal;
+        co_await (*conn)->close();
+        co_return c;
+    }
+    c.connection = std::move(*conn);
+    c.token = held.token;
+    if (!time) {
+        c.failure = Claim::Failure::Unreadable;
+        c.why = "cannot read its LastTransition: " + std::string(ua::statusName(time.status()));
+        co_await hangUp(skill, std::move(c.connection), c.token);
+        co_return c;
+    }
+    c.before = *time;
+    co_return c;
 }
 
 asio::awaitable<bool> ProcessExecutor::componentGone(std::shared_ptr<Order> order,
@@ -1200,55 +1224,45 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         }
         p.component = skill.componentUri;
         p.skill = skill.browsePathString();
-        std::string why;
-        auto conn = co_await connections_->take(skill, &why);
-        if (!conn) {
-            tried.insert(triedKeyOf(skill));
-            lastFailure = where(skill) + ": " + why;
-            p.state = "unreachable";
-            p.message = why;
-            report(*order, p);
-            continue;
-        }
         // The component is this order's while the step runs: a second MES, or this one's
         // stale self after a failover, cannot drive it (docs/skills.md, "Reservation").
-        auto reserved = co_await reserve(**conn, *order);
-        if (!reserved) {
+        Claim held = co_await claim(skill, *order);
+        if (held.failure != Claim::Failure::None) {
             tried.insert(triedKeyOf(skill));
-            lastFailure = where(skill) + ": " + reserved.error();
-            p.state = "reserved";
-            p.message = reserved.error();
-            report(*order, p);
-            co_await (*conn)->close();
+            lastFailure = where(skill) + ": " + held.why;
+            if (held.failure != Claim::Failure::Unreadable) {
+                p.state = held.failure == Claim::Failure::Unreachable ? "unreachable" : "reserved";
+                p.message = held.why;
+                report(*order, p);
+            }
             continue;
         }
-        const std::optional<std::uint64_t> token = *reserved;
-        skills::SkillClient& client = (*conn)->skill();
+        skills::SkillClient& client = held.connection->skill();
         // A Halted skill runs again only after a Reset, which the journal records with the
         // attempt it precedes: a retry's, or that of a skill an earlier fault left Halted.
         if (client.state() == SkillState::Halted) {
             const ua::StatusCode reset = co_await client.call(skills::SkillMethod::Reset);
-            if (reset.isBad()) {
+            // The Reset is a transition: what tells whether this attempt's Start reached the
+            // skill is the LastTransition after it.
+            ua::Result<ua::DateTime> after = ua::status::BadInvalidState;
+            if (reset.isGood()) after = co_await held.connection->lastTransitionTime();
+            if (reset.isBad() || !after) {
                 tried.insert(triedKeyOf(skill));
-                lastFailure = where(skill) + ": Halted, and its Reset was refused (" +
-                              std::string(ua::statusName(reset)) + ")";
-                co_await hangUp(skill, std::move(*conn), token);
+                lastFailure = where(skill) +
+                              (reset.isBad() ? ": Halted, and its Reset was refused (" +
+                                                   std::string(ua::statusName(reset)) + ")"
+                                             : ": cannot read its LastTransition: " +
+                                                   std::string(ua::statusName(after.status())));
+                co_await hangUp(skill, std::move(held.connection), held.token);
                 continue;
             }
+            held.before = *after;
             const std::string what =
                 retried > 0 ? "the skill was reset"
                             : "the skill was Halted (an earlier fault left it so) and was reset";
             note += (note.empty() ? "" : "; ") + what;
             spdlog::warn("mes: {}: {}, before {} (attempt {})", where(skill), what, step.label(),
                          attempt);
-        }
-        auto before = co_await (*conn)->lastTransitionTime();
-        if (!before) {
-            tried.insert(triedKeyOf(skill));
-            lastFailure = where(skill) + ": cannot read its LastTransition: " +
-                          std::string(ua::statusName(before.status()));
-            co_await hangUp(skill, std::move(*conn), token);
-            continue;
         }
         StepRecord r;
         r.index = step.index;
@@ -1259,13 +1273,13 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.componentUri = skill.componentUri;
         r.endpointUrl = skill.endpointUrl;
         r.skillNodeId = skill.nodeId.toString();
-        r.transitionTimeBefore = before->ticks;
+        r.transitionTimeBefore = held.before.ticks;
         r.startedMs = unixMillis();
         r.note = note;
         r.choice = found.why;
         r.held.assign(busy.components.begin(), busy.components.end());
         if (auto s = co_await record(run, r); !s) {
-            co_await hangUp(skill, std::move(*conn), token);
+            co_await hangUp(skill, std::move(held.connection), held.token);
             co_return StepResult{false, s.error()};
         }
         p.state = "running";
@@ -1282,9 +1296,12 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.endedMs = unixMillis();
         r.state = outcome.ok() ? StepState::Finished : StepState::Failed;
         r.reason = outcome.ok() ? std::string() : describe(outcome);
-        const auto recorded = co_await record(run, r);
+        // The end's record and the Release go out together: a restarted MES settles a step
+        // recorded as started from the skill's LastTransition, whoever holds it by then.
+        auto both = record(run, r) && letGo(*held.connection, held.token);
+        const auto [recorded, released] = co_await std::move(both);
         if (recorded && outcome.ok()) finishedIn(step.skillTypeIri, skill.componentUri, r);
-        co_await hangUp(skill, std::move(*conn), token);
+        co_await connections_->giveBack(skill, std::move(held.connection));
         if (!recorded) co_return StepResult{false, recorded.error()};
         if (outcome.ok()) {
             p.state = "finished";

@@ -268,15 +268,31 @@ private:
     /// A step of `skillTypeIri` finished on `componentUri` as `r` records.
     void finishedIn(const std::string& skillTypeIri, const std::string& componentUri,
                     const StepRecord& r);
+    /// Releases the component's reservation, when `token` holds one.
+    asio::awaitable<ua::StatusCode> letGo(skills::SkillConnection& connection,
+                                          std::optional<std::uint64_t> token);
     /// Releases the component's reservation (when `token` holds one), then gives the
     /// connection to `skill` back to the pool (which keeps it for the next step, or closes it).
     asio::awaitable<void> hangUp(const skills::SkillInstance& skill,
                                  std::unique_ptr<skills::SkillConnection> connection,
                                  std::optional<std::uint64_t> token);
-    /// Reserves the component `connection` reaches for `order`: the token, nothing when the
-    /// component has no reservation, or why it cannot be had (another holder has it).
-    asio::awaitable<kb::Expected<std::optional<std::uint64_t>>> reserve(
-        skills::SkillConnection& connection, const Order& order);
+    /// What a step holds of its skill while it runs: the session, the component's fencing
+    /// token (none when the component has no reservation) and the skill's LastTransition as
+    /// read under the hold. Or why it could not have them.
+    struct Claim {
+        enum class Failure { None, Unreachable, Refused, Unreadable };
+        Failure failure = Failure::None;
+        std::string why;
+        std::unique_ptr<skills::SkillConnection> connection;
+        std::optional<std::uint64_t> token;
+        ua::DateTime before;
+    };
+    /// Takes a session to `skill` (a kept one when there is one), reserves its component for
+    /// `order` and reads the skill's LastTransition. Reserve and Read go out together, one
+    /// round trip: a skill server answers one session's requests in the order they came, so
+    /// the read sees the skill under the hold. A failed claim holds nothing, and its
+    /// connection is closed.
+    asio::awaitable<Claim> claim(const skills::SkillInstance& skill, const Order& order);
     /// Whether the life of `skill`'s component has ended: the detector no longer lists it with
     /// the StartTime it had (it left, or restarted), waiting up to goneConfirmation.
     asio::awaitable<bool> componentGone(std::shared_ptr<Order> order, skills::SkillInstance skill);

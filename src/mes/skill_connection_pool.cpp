@@ -25,7 +25,12 @@ bool SkillConnectionPool::alive(skills::SkillConnection& c) {
 }
 
 asio::awaitable<ua::Result<std::unique_ptr<skills::SkillConnection>>> SkillConnectionPool::take(
-    const skills::SkillInstance& skill, std::string* why) {
+    const skills::SkillInstance& skill, std::string* why, FirstUse first) {
+    if (!first) {
+        first = [](skills::SkillConnection& c) -> asio::awaitable<bool> {
+            co_return (co_await c.lastTransitionTime()).ok();
+        };
+    }
     co_await expire();
     const Key key = keyOf(skill);
     while (true) {
@@ -33,16 +38,18 @@ asio::awaitable<ua::Result<std::unique_ptr<skills::SkillConnection>>> SkillConne
         if (it == idle_.end()) break;
         auto c = std::move(it->second.connection);
         idle_.erase(it);
-        // One read proves the session still answers: a component that restarted a moment ago
-        // may have left a socket whose end the client has not seen yet.
-        if (alive(*c) && (co_await c->lastTransitionTime())) {
+        // An answer proves the session: a component that restarted a moment ago may have left
+        // a socket whose end the client has not seen yet.
+        if (alive(*c) && co_await first(*c)) {
             ++reused_;
             co_return c;
         }
         co_await c->close();  // lost while idle (the component restarted, the link failed)
     }
     ++opened_;
-    co_return co_await skills::SkillConnection::open(executor_, skill, config_, why, options_);
+    auto opened = co_await skills::SkillConnection::open(executor_, skill, config_, why, options_);
+    if (opened) (void)co_await first(**opened);  // what it answered is the taker's to judge
+    co_return opened;
 }
 
 asio::awaitable<void> SkillConnectionPool::giveBack(

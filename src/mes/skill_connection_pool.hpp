@@ -8,9 +8,11 @@
 // as its session and subscription live and its component's endpoint is the same.
 //
 // A connection is used by one step at a time (the order holding the component has it). Idle
-// ones are closed after `idle`. A kept one is handed out only after a read through it
-// succeeds; one whose session or subscription was lost meanwhile (its component restarted or
-// left) is closed when next taken, and a new one opened. Each step
+// ones are closed after `idle`. A kept one is handed out only after requests through it are
+// answered: the taker's own first requests (a step's Reserve and LastTransition read), so
+// that proving the session costs no round trip of its own. One whose session or subscription
+// was lost meanwhile (its component restarted or left) is closed when next taken, and a new
+// one opened. Each step
 // reserves the component anew (reservation.hpp): keeping a session is not keeping the
 // component.
 //
@@ -18,6 +20,7 @@
 #include <asio/any_io_executor.hpp>
 #include <asio/awaitable.hpp>
 #include <chrono>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -36,10 +39,17 @@ public:
     SkillConnectionPool& operator=(const SkillConnectionPool&) = delete;
     ~SkillConnectionPool();
 
+    /// What a taker sends first through the connection it takes. True when the session
+    /// answered, whatever the answers say (a refusal is an answer; a closed socket is not).
+    using FirstUse = std::function<asio::awaitable<bool>(skills::SkillConnection&)>;
+
     /// A connection attached to `skill`: an idle one that still answers, else a new one
-    /// (with SkillConnection::open's errors, and `why`).
+    /// (with SkillConnection::open's errors, and `why`). `first` runs on the connection
+    /// before it is handed out: on a kept one that does not answer, then again on the new one
+    /// opened instead; its results are the last run's. Without it, a read of the skill's
+    /// LastTransition proves a kept session.
     asio::awaitable<ua::Result<std::unique_ptr<skills::SkillConnection>>> take(
-        const skills::SkillInstance& skill, std::string* why);
+        const skills::SkillInstance& skill, std::string* why, FirstUse first = {});
     /// `connection`, attached to `skill`, is free again. Kept when it is still alive (no
     /// run in progress, session and subscription up), else closed.
     asio::awaitable<void> giveBack(const skills::SkillInstance& skill,

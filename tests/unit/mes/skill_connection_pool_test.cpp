@@ -1,9 +1,13 @@
 // SkillConnectionPool: a session given back after a step is taken again by the next step on
 // that skill (no new session at the server); a connection whose component went away meanwhile
-// is not handed out; with no keeping time, every connection is closed when given back.
+// is not handed out; with no keeping time, every connection is closed when given back; the
+// taker's own first requests prove a kept session, and run again on a new one when it did not
+// answer.
 #include "mes/skill_connection_pool.hpp"
 
 #include <gtest/gtest.h>
+
+#include <vector>
 
 #include "client_thread.hpp"
 #include "noop_component.hpp"
@@ -96,6 +100,57 @@ TEST_F(SkillConnectionPoolTest, WithoutKeepingTimeEveryConnectionIsClosedWhenGiv
     EXPECT_EQ(pool_->idleCount(), 0U);
     EXPECT_EQ(pool_->opened(), 2U);
     EXPECT_EQ(sessionsAt(component), 0U);
+}
+
+TEST_F(SkillConnectionPoolTest, AKeptSessionIsProvenByTheTakersOwnFirstRequests) {
+    test::NoOpComponent component("urn:skillcell:test:pool", 0ms);
+    makePool(30s);
+    const auto skill = moveOf(component);
+    std::string why;
+    ASSERT_TRUE(runOnce(skill, &why)) << why;
+    int runs = 0;
+    bool read = false;
+    const bool taken = thread_.run([&]() -> asio::awaitable<bool> {
+        auto first = [&runs, &read](skills::SkillConnection& c) -> asio::awaitable<bool> {
+            ++runs;
+            read = (co_await c.lastTransitionTime()).ok();
+            co_return read;
+        };
+        auto c = co_await pool_->take(skill, &why, first);
+        if (!c) co_return false;
+        co_await pool_->giveBack(skill, std::move(*c));
+        co_return true;
+    });
+    ASSERT_TRUE(taken) << why;
+    EXPECT_EQ(runs, 1) << "the taker's requests ran once, and no probe of the pool's own";
+    EXPECT_TRUE(read);
+    EXPECT_EQ(pool_->reused(), 1U);
+    EXPECT_EQ(pool_->opened(), 1U);
+}
+
+TEST_F(SkillConnectionPoolTest, AKeptSessionThatDidNotAnswerIsReplacedAndTheRequestsRunAgain) {
+    test::NoOpComponent component("urn:skillcell:test:pool", 0ms);
+    makePool(30s);
+    const auto skill = moveOf(component);
+    std::string why;
+    ASSERT_TRUE(runOnce(skill, &why)) << why;
+    std::vector<bool> answers{false, true};  // the kept session's, then the new one's
+    std::size_t runs = 0;
+    const bool taken = thread_.run([&]() -> asio::awaitable<bool> {
+        auto first = [&](skills::SkillConnection&) -> asio::awaitable<bool> {
+            co_return answers.at(runs++);
+        };
+        auto c = co_await pool_->take(skill, &why, first);
+        if (!c) co_return false;
+        const auto outcome = co_await (*c)->skill().run({}, 5s);
+        co_await pool_->giveBack(skill, std::move(*c));
+        co_return outcome.ok();
+    });
+    ASSERT_TRUE(taken) << why;
+    EXPECT_EQ(runs, 2U) << "run on the kept session, then on the new one";
+    EXPECT_EQ(pool_->reused(), 0U);
+    EXPECT_EQ(pool_->opened(), 2U);
+    EXPECT_EQ(sessionsAt(component), 1U) << "the kept session that did not answer was closed";
 }
 
 }  // namespace
