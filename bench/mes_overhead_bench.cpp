@@ -103,6 +103,9 @@ struct OrdersResult {
     bench::LatencyStats steps;
     bench::LatencyStats invocations;  // the baseline at the same concurrency
     double ordersPerSecond = 0;
+    // The baseline's: K sequences of `steps` invocations, all at once, per second. The
+    // median step hides what the MES costs between and around steps; this does not.
+    double baselineOrdersPerSecond = 0;
     std::size_t completed = 0;
 };
 
@@ -173,10 +176,13 @@ OrdersResult concurrentOrders(std::size_t k, std::size_t steps, const fs::path& 
             }
             if (--*running == 0) allDone.cancel();
         };
+        const auto began = Clock::now();
         for (std::size_t i = 0; i < k; ++i) {
             asio::co_spawn(mesThread.io(), invoke(skills[i], steps, left), asio::detached);
         }
         (void)co_await allDone.async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        result.baselineOrdersPerSecond =
+            static_cast<double>(k) / std::chrono::duration<double>(Clock::now() - began).count();
         skills.clear();
         for (auto& c : clients) (void)co_await c->disconnect();
         co_return bench::summarize(times);
@@ -323,21 +329,27 @@ int main(int argc, char** argv) {
     constexpr std::size_t kOrderSteps = 10;
     std::printf("\nconcurrent orders (%zu steps each, one no-op component per order)\n\n",
                 kOrderSteps);
-    std::printf("  %7s  %12s  %12s  %14s  %14s  %14s  %10s\n", "orders", "step median", "step p99",
-                "invocation med.", "overhead med.", "overhead p99", "orders/s");
+    std::printf("  %7s  %12s  %12s  %14s  %14s  %14s  %10s  %10s  %5s\n", "orders", "step median",
+                "step p99", "invocation med.", "overhead med.", "overhead p99", "orders/s",
+                "base o/s", "ratio");
     bool allCompleted = true;
     for (const std::size_t k : orderCounts) {
         const auto r = concurrentOrders(k, kOrderSteps, dir);
         allCompleted = allCompleted && r.completed == k;
-        std::printf("  %7zu  %9.1f us  %9.1f us  %12.1f us  %11.1f us  %11.1f us  %10.1f%s\n", k,
-                    r.steps.medianUs, r.steps.p99Us, r.invocations.medianUs,
-                    r.steps.medianUs - r.invocations.medianUs,
-                    r.steps.p99Us - r.invocations.medianUs, r.ordersPerSecond,
-                    r.completed == k ? "" : "  (not all completed)");
+        std::printf(
+            "  %7zu  %9.1f us  %9.1f us  %12.1f us  %11.1f us  %11.1f us  %10.1f  %10.1f  "
+            "%5.2f%s\n",
+            k, r.steps.medianUs, r.steps.p99Us, r.invocations.medianUs,
+            r.steps.medianUs - r.invocations.medianUs, r.steps.p99Us - r.invocations.medianUs,
+            r.ordersPerSecond, r.baselineOrdersPerSecond,
+            r.baselineOrdersPerSecond > 0 ? r.ordersPerSecond / r.baselineOrdersPerSecond : 0.0,
+            r.completed == k ? "" : "  (not all completed)");
     }
     std::printf(
         "\n  invocation = the no-op skill through K SkillClients at once on one thread, no MES "
         "(the baseline at that concurrency)\n  overhead = step time - that invocation's "
-        "median\n");
+        "median\n  base o/s = the baseline's K sequences of %zu invocations per second; "
+        "ratio = orders/s / base o/s\n",
+        kOrderSteps);
     return outcome.completed && failures == 0 && mesSteps.n == steps && allCompleted ? 0 : 1;
 }

@@ -28,6 +28,11 @@ public:
     void bind(int i, std::int64_t number) { sqlite3_bind_int64(stmt_, i, number); }
     /// SQLITE_ROW, SQLITE_DONE or an error code.
     int step() { return sqlite3_step(stmt_); }
+    /// Ready to be bound and stepped again (a statement used for many rows is prepared once).
+    void reset() {
+        sqlite3_reset(stmt_);
+        sqlite3_clear_bindings(stmt_);
+    }
     [[nodiscard]] std::string text(int column) const {
         const auto* p = sqlite3_column_text(stmt_, column);
         return p != nullptr ? std::string(reinterpret_cast<const char*>(p)) : std::string();
@@ -237,14 +242,14 @@ kb::Expected<std::int64_t> Journal::submitOrder(const std::string& processIri, i
     return id;
 }
 
-kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
-    Statement s(
-        db_,
-        "INSERT OR REPLACE INTO steps (run, idx, attempt, step, state, skill_type, "
-        "component, endpoint, skill_node, transition_before, reason, started_ms, "
-        "ended_ms, note, choice, held) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, "
-        "?12, ?13, ?14, ?15, ?16)");
-    if (!s.prepared()) return error("prepare");
+namespace {
+
+constexpr const char* kRecordStep =
+    "INSERT OR REPLACE INTO steps (run, idx, attempt, step, state, skill_type, component, "
+    "endpoint, skill_node, transition_before, reason, started_ms, ended_ms, note, choice, held) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16)";
+
+int bindAndStep(Statement& s, std::int64_t run, const StepRecord& step) {
     s.bind(1, run);
     s.bind(2, std::int64_t{step.index});
     s.bind(3, std::int64_t{step.attempt});
@@ -261,24 +266,37 @@ kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
     s.bind(14, step.note);
     s.bind(15, step.choice);
     s.bind(16, joinLines(step.held));
-    if (s.step() != SQLITE_DONE) return error("cannot record step " + std::to_string(step.index));
+    const int rc = s.step();
+    s.reset();
+    return rc;
+}
+
+}  // namespace
+
+kb::Status Journal::recordStep(std::int64_t run, const StepRecord& step) {
+    Statement s(db_, kRecordStep);
+    if (!s.prepared()) return error("prepare");
+    if (bindAndStep(s, run, step) != SQLITE_DONE) {
+        return error("cannot record step " + std::to_string(step.index));
+    }
     return kb::Done{};
 }
 
 kb::Status Journal::recordSteps(const std::vector<std::pair<std::int64_t, StepRecord>>& steps) {
     if (steps.size() == 1) return recordStep(steps.front().first, steps.front().second);
     if (auto s = exec("BEGIN IMMEDIATE"); !s) return s;
-    for (const auto& [run, step] : steps) {
-        if (auto s = recordStep(run, step); !s) {
-            (void)exec("ROLLBACK");
-            return s;
+    // One statement for the whole batch: preparing it per row cost as much as the row.
+    Statement s(db_, kRecordStep);
+    kb::Status result = kb::Done{};
+    if (!s.prepared()) result = error("prepare");
+    for (std::size_t i = 0; result && i < steps.size(); ++i) {
+        if (bindAndStep(s, steps[i].first, steps[i].second) != SQLITE_DONE) {
+            result = error("cannot record step " + std::to_string(steps[i].second.index));
         }
     }
-    if (auto s = exec("COMMIT"); !s) {
-        (void)exec("ROLLBACK");
-        return s;
-    }
-    return kb::Done{};
+    if (result) result = exec("COMMIT");
+    if (!result) (void)exec("ROLLBACK");
+    return result;
 }
 
 kb::Status Journal::setRunState(std::int64_t run, RunState state, const std::string& reason) {

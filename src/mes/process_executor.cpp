@@ -34,6 +34,10 @@ constexpr int kMaxInstancesPerStep = 8;
 constexpr std::chrono::milliseconds kFactRetry{250};
 using Clock = std::chrono::steady_clock;
 
+// How many of the components that other orders hold a choice's reason names (the rest it
+// counts).
+constexpr std::size_t kNamedHolders = 5;
+
 // How long, in all, the knowledge base may be out of reach without using up a step's or an
 // order's skill wait: a KB cut off by a link down answers nothing for its whole request
 // timeout, and a KB restarting (its Virtuoso, then its recordings) refuses for seconds; once it
@@ -937,7 +941,16 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             // that copying was most of the MES's time (bench/mes_overhead).
             Choice free;
             std::set<std::string> wanted;
+            // The first few held ones by name, the rest counted: with 50 components the whole
+            // list was 2.7 kB in each of a step's two journal rows.
             std::string holders;
+            std::size_t heldCount = 0;
+            auto held = [&holders, &heldCount](const std::string& component,
+                                               const std::string& by) {
+                if (++heldCount > kNamedHolders) return;
+                if (!holders.empty()) holders += ", ";
+                holders.append(component).append(" (").append(by).append(")");
+            };
             for (const auto* s : suitable) {
                 const auto components = componentsOf(s, c.cellMatches, c.robots, c.matchedRobot);
                 if (available(*order, components)) {
@@ -947,13 +960,14 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                 for (const auto& component : components) {
                     wanted.insert(component);
                     if (order->busy.contains(component)) {
-                        holders += (holders.empty() ? "" : ", ") + component +
-                                   " (another step of this order uses it)";
+                        held(component, "another step of this order uses it");
                     } else if (const auto h = claims_.holder(component); h && *h != order->id) {
-                        holders += (holders.empty() ? "" : ", ") + component + " (order " +
-                                   std::to_string(*h) + " holds it)";
+                        held(component, "order " + std::to_string(*h) + " holds it");
                     }
                 }
+            }
+            if (heldCount > kNamedHolders) {
+                holders += " and " + std::to_string(heldCount - kNamedHolders) + " more";
             }
             if (!free.skills.empty()) {
                 free.cellMatches = std::move(c.cellMatches);
@@ -1278,20 +1292,30 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.note = note;
         r.choice = found.why;
         r.held.assign(busy.components.begin(), busy.components.end());
-        if (auto s = co_await record(run, r); !s) {
+        // Halting the order halts this skill (SkillClient::cancel).
+        auto running = client.shared_from_this();
+        order->running.insert(running);
+        // The Starting row must be on disk before Start, not before the parameters: writing
+        // them leaves LastTransition as it was, so both go at once.
+        auto prepared = record(run, r) && client.writeParameters(std::move(*values));
+        auto [recordedStart, refused] = co_await std::move(prepared);
+        if (!recordedStart) {
+            order->running.erase(running);
             co_await hangUp(skill, std::move(held.connection), held.token);
-            co_return StepResult{false, s.error()};
+            co_return StepResult{false, recordedStart.error()};
         }
         p.state = "running";
         p.message.clear();
         report(*order, p);
         spdlog::info("mes: order {}: {} on {} (attempt {})", run, step.label(), where(skill),
                      attempt);
-        // Halting the order halts this skill (SkillClient::cancel).
-        auto running = client.shared_from_this();
-        order->running.insert(running);
-        if (order->halted) running->cancel();
-        const SkillOutcome outcome = co_await client.run(std::move(*values), options_.stepTimeout);
+        if (order->halted) running->cancel();  // before Start: it is not sent
+        SkillOutcome outcome;
+        if (refused) {
+            outcome = std::move(*refused);
+        } else {
+            outcome = co_await client.startAndAwaitEnd(options_.stepTimeout);
+        }
         order->running.erase(running);
         r.endedMs = unixMillis();
         r.state = outcome.ok() ? StepState::Finished : StepState::Failed;

@@ -362,14 +362,48 @@ asio::awaitable<SkillOutcome> SkillClient::waitForEnd(std::chrono::milliseconds 
 
 asio::awaitable<SkillOutcome> SkillClient::run(std::map<std::string, Variant> parameters,
                                                std::chrono::milliseconds timeout) {
+    if (auto refused = co_await writeParameters(std::move(parameters))) co_return *refused;
+    co_return co_await startAndAwaitEnd(timeout);
+}
+
+asio::awaitable<std::optional<SkillOutcome>> SkillClient::writeParameters(
+    std::map<std::string, Variant> parameters) {
     cancelled_ = false;  // the run begins here: a cancel() from now on is its own
+    ua::WriteRequest req;
+    std::vector<std::string> names;  // of req.nodesToWrite, in its order
     for (auto& [parameterName, value] : parameters) {
-        const StatusCode s = co_await setParameter(parameterName, std::move(value));
-        if (s.isBad()) {
-            co_return SkillOutcome{SkillOutcome::Kind::Refused, s,
+        const std::string& wanted = parameterName;  // a lambda cannot capture a binding
+        const auto p =
+            std::find_if(parameters_.begin(), parameters_.end(),
+                         [&wanted](const auto& declared) { return declared.name == wanted; });
+        if (p == parameters_.end()) {
+            co_return SkillOutcome{SkillOutcome::Kind::Refused, ua::status::BadNoMatch,
                                    "parameter " + parameterName + " refused"};
         }
+        ua::WriteValue wv;
+        wv.nodeId = p->nodeId;
+        wv.attributeId = static_cast<std::uint32_t>(ua::AttributeId::Value);
+        wv.value.value = std::move(value);
+        req.nodesToWrite.push_back(std::move(wv));
+        names.push_back(parameterName);
     }
+    if (req.nodesToWrite.empty()) co_return std::nullopt;
+    // One request for all: a skill with several parameters costs one round trip, not one each.
+    auto resp = co_await client_.write(std::move(req));
+    StatusCode failed = resp ? StatusCode(ua::status::Good) : resp.status();
+    std::string which = names.front();
+    if (resp && resp->results.size() != names.size()) failed = ua::status::BadUnknownResponse;
+    for (std::size_t i = 0; resp && failed.isGood() && i < names.size(); ++i) {
+        if (resp->results[i].isBad()) {
+            failed = resp->results[i];
+            which = names[i];
+        }
+    }
+    if (failed.isGood()) co_return std::nullopt;
+    co_return SkillOutcome{SkillOutcome::Kind::Refused, failed, "parameter " + which + " refused"};
+}
+
+asio::awaitable<SkillOutcome> SkillClient::startAndAwaitEnd(std::chrono::milliseconds timeout) {
     if (cancelled_) {
         cancelled_ = false;
         co_return SkillOutcome{SkillOutcome::Kind::Cancelled, ua::status::Good,

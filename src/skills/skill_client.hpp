@@ -129,9 +129,19 @@ public:
     /// Running): waitForEnd() then waits for the first end at or after `startedAt` (the
     /// server's time of the transition to Running).
     void adoptRun(ua::DateTime startedAt);
-    /// Writes `parameters`, starts, waits for the end: the whole invocation.
+    /// Writes `parameters`, starts, waits for the end: the whole invocation
+    /// (writeParameters(), then startAndAwaitEnd()).
     asio::awaitable<SkillOutcome> run(std::map<std::string, ua::Variant> parameters,
                                       std::chrono::milliseconds timeout);
+    /// The first half of run(): writes `parameters` in one Write request. Nothing when all
+    /// were written, else the refusal naming the first one refused (BadNoMatch, before
+    /// anything is sent, for a name the skill does not declare). The run begins here: a
+    /// cancel() from now on is its own.
+    asio::awaitable<std::optional<SkillOutcome>> writeParameters(
+        std::map<std::string, ua::Variant> parameters);
+    /// The second half of run(): Start, then waitForEnd(). Cancelled, without a Start, when
+    /// cancel() came since writeParameters().
+    asio::awaitable<SkillOutcome> startAndAwaitEnd(std::chrono::milliseconds timeout);
     /// Makes a pending waitForEnd/run halt the skill and return Cancelled (any thread of
     /// the executor; safe when nothing waits).
     void cancel();

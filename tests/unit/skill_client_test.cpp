@@ -142,6 +142,21 @@ TEST(SkillClient, ReportsARefusedParameter) {
     EXPECT_EQ(cell.state("Move"), SkillState::Ready);  // nothing started
 }
 
+TEST(SkillClient, WritesItsParametersInOneRequestAndNamesTheOneRefused) {
+    Cell cell;
+    ClientThread t;
+    auto move = t.attach(cell.url(), Cell::id("Move"));
+    ASSERT_TRUE(move);
+    // Reach is read-only: the server refuses that one of the request's values, not the other.
+    auto outcome = t.invoke(move, {{"MaxVelocity", 0.25}, {"Reach", 1.0}}, 5s);
+    EXPECT_EQ(outcome.kind, Kind::Refused);
+    EXPECT_TRUE(outcome.status.isBad());
+    EXPECT_EQ(outcome.reason, "parameter Reach refused");
+    EXPECT_EQ(cell.state("Move"), SkillState::Ready);  // nothing started
+    outcome = t.invoke(move, {{"MaxVelocity", 0.5}}, 5s);
+    EXPECT_EQ(outcome.kind, Kind::Finished) << outcome.reason;
+}
+
 TEST(SkillClient, HaltsTheSkillWhenTheTimeoutExpires) {
     Cell cell;
     ClientThread t;
