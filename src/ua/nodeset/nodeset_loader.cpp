@@ -7,6 +7,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -28,6 +29,13 @@ pugi::xml_node child(const pugi::xml_node& n, std::string_view name) {
     }
     return {};
 }
+
+/// Hashes std::string and std::string_view alike, so that a map keyed by strings is searched
+/// with a view.
+struct TextHash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+};
 
 std::string_view trim(std::string_view s) {
     const auto b = s.find_first_not_of(" \t\r\n");
@@ -338,16 +346,19 @@ private:
     /// Lines are asked for in document order, so counting on from the last answer keeps
     /// the whole parse linear in the file size.
     std::size_t lineOf(std::size_t offset) {
-        offset = std::min(offset, xml_.size());
-        if (offset < lineCacheOffset_) {
-            lineCacheOffset_ = 0;
-            lineCache_ = 1;
+        // Where each line starts, found once: the values are read after all the nodes, so
+        // offsets come back to the start again and again (counting newlines up to each was
+        // an eighth of a component's model loading).
+        if (lineStarts_.empty()) {
+            lineStarts_.push_back(0);
+            for (std::size_t i = xml_.find('\n'); i != std::string_view::npos;
+                 i = xml_.find('\n', i + 1)) {
+                lineStarts_.push_back(i + 1);
+            }
         }
-        lineCache_ += static_cast<std::size_t>(
-            std::count(xml_.begin() + static_cast<std::ptrdiff_t>(lineCacheOffset_),
-                       xml_.begin() + static_cast<std::ptrdiff_t>(offset), '\n'));
-        lineCacheOffset_ = offset;
-        return lineCache_;
+        offset = std::min(offset, xml_.size());
+        const auto after = std::upper_bound(lineStarts_.begin(), lineStarts_.end(), offset);
+        return static_cast<std::size_t>(after - lineStarts_.begin());
     }
     std::size_t lineOf(const pugi::xml_node& n) {
         const auto off = n.offset_debug();
@@ -375,7 +386,7 @@ private:
     std::optional<NodeId> parseNodeIdText(const pugi::xml_node& at, std::string_view text,
                                           bool allowAlias = true) {
         if (allowAlias && text.find('=') == std::string_view::npos) {
-            auto it = aliases_.find(std::string(text));
+            auto it = aliases_.find(text);  // no string made: every reference names one
             if (it == aliases_.end()) {
                 failAt(at, "unknown alias '" + std::string(text) + "'");
                 return std::nullopt;
@@ -410,21 +421,28 @@ private:
     template <class T>
     bool numberAttr(const pugi::xml_node& e, const char* name, T& out) {
         const auto a = e.attribute(name);
-        if (!a) return true;
+        return !a || numberValue(e, a, out);
+    }
+    bool boolAttr(const pugi::xml_node& e, const char* name, bool& out) {
+        const auto a = e.attribute(name);
+        return !a || boolValue(e, a, out);
+    }
+    /// The number attribute `a` of `e` into `out`; a bad one fails, naming it.
+    template <class T>
+    bool numberValue(const pugi::xml_node& e, const pugi::xml_attribute& a, T& out) {
         auto v = parseNumber<T>(a.value());
         if (!v) {
-            failAt(e, std::string("bad ") + name + " '" + a.value() + "'");
+            failAt(e, std::string("bad ") + a.name() + " '" + a.value() + "'");
             return false;
         }
         out = *v;
         return true;
     }
-    bool boolAttr(const pugi::xml_node& e, const char* name, bool& out) {
-        const auto a = e.attribute(name);
-        if (!a) return true;
+    bool boolValue(const pugi::xml_node& e, const pugi::xml_attribute& a, bool& out) {
         auto v = parseBool(a.value());
         if (!v) {
-            failAt(e, std::string("bad ") + name + " '" + a.value() + "' (expected true/false)");
+            failAt(e,
+                   std::string("bad ") + a.name() + " '" + a.value() + "' (expected true/false)");
             return false;
         }
         out = *v;
@@ -438,48 +456,97 @@ private:
         Node& n = pn.node;
         pn.line = lineOf(e);
         n.nodeClass = nc;
-        const auto idAttr = e.attribute("NodeId");
+        // One pass over the attributes and one over the children: asking for each by name
+        // scans them all again, and a node has some fifteen to ask for (most of a
+        // component's start went to reading its models).
+        pugi::xml_attribute idAttr, bn, dt, ad;
+        bool ok = true;
+        for (auto a : e.attributes()) {
+            const std::string_view name = a.name();
+            if (name == "NodeId") {
+                idAttr = a;
+            } else if (name == "BrowseName") {
+                bn = a;
+            } else if (name == "DataType") {
+                dt = a;
+            } else if (name == "ArrayDimensions") {
+                ad = a;
+            } else if (name == "WriteMask") {
+                ok = numberValue(e, a, n.writeMask);
+            } else if (name == "UserWriteMask") {
+                ok = numberValue(e, a, n.userWriteMask);
+            } else if (name == "IsAbstract") {
+                ok = boolValue(e, a, n.isAbstract);
+            } else if (name == "Symmetric") {
+                ok = boolValue(e, a, n.symmetric);
+            } else if (name == "EventNotifier") {
+                ok = numberValue(e, a, n.eventNotifier);
+            } else if (name == "ContainsNoLoops") {
+                ok = boolValue(e, a, n.containsNoLoops);
+            } else if (name == "ValueRank") {
+                ok = numberValue(e, a, n.valueRank);
+            } else if (name == "AccessLevel") {
+                ok = numberValue(e, a, n.accessLevel);
+            } else if (name == "UserAccessLevel") {
+                ok = numberValue(e, a, n.userAccessLevel);
+            } else if (name == "MinimumSamplingInterval") {
+                ok = numberValue(e, a, n.minimumSamplingInterval);
+            } else if (name == "Historizing") {
+                ok = boolValue(e, a, n.historizing);
+            } else if (name == "Executable") {
+                ok = boolValue(e, a, n.executable);
+            } else if (name == "UserExecutable") {
+                ok = boolValue(e, a, n.userExecutable);
+            }
+            if (!ok) return false;
+        }
+        pugi::xml_node dn, desc, inv, refs, v, def;
+        for (auto c : e.children()) {
+            if (c.type() != pugi::node_element) continue;
+            const auto name = localName(c);
+            auto first = [&c](pugi::xml_node& slot) {
+                if (!slot) slot = c;
+            };
+            if (name == "DisplayName") {
+                first(dn);
+            } else if (name == "Description") {
+                first(desc);
+            } else if (name == "InverseName") {
+                first(inv);
+            } else if (name == "References") {
+                first(refs);
+            } else if (name == "Value") {
+                first(v);
+            } else if (name == "Definition") {
+                first(def);
+            }
+        }
         if (!idAttr) return failAt(e, "node without NodeId"), false;
         auto id = parseNodeIdText(e, idAttr.value(), false);
         if (!id) return false;
         n.nodeId = std::move(*id);
-        const auto bn = e.attribute("BrowseName");
         if (!bn || std::string_view(bn.value()).empty()) {
             return failAt(e, "node " + n.nodeId.toString() + " without BrowseName"), false;
         }
         auto qn = parseBrowseName(e, bn.value());
         if (!qn) return false;
         n.browseName = std::move(*qn);
-        if (auto dn = child(e, "DisplayName")) {
+        if (dn) {
             n.displayName = localizedText(dn);
         } else {
             n.displayName.text = n.browseName.name;
         }
-        if (auto d = child(e, "Description")) n.description = localizedText(d);
-        if (!numberAttr(e, "WriteMask", n.writeMask) ||
-            !numberAttr(e, "UserWriteMask", n.userWriteMask) ||
-            !boolAttr(e, "IsAbstract", n.isAbstract) || !boolAttr(e, "Symmetric", n.symmetric) ||
-            !numberAttr(e, "EventNotifier", n.eventNotifier) ||
-            !boolAttr(e, "ContainsNoLoops", n.containsNoLoops) ||
-            !numberAttr(e, "ValueRank", n.valueRank) ||
-            !numberAttr(e, "AccessLevel", n.accessLevel) ||
-            !numberAttr(e, "UserAccessLevel", n.userAccessLevel) ||
-            !numberAttr(e, "MinimumSamplingInterval", n.minimumSamplingInterval) ||
-            !boolAttr(e, "Historizing", n.historizing) ||
-            !boolAttr(e, "Executable", n.executable) ||
-            !boolAttr(e, "UserExecutable", n.userExecutable)) {
-            return false;
-        }
-        if (auto inv = child(e, "InverseName")) n.inverseName = localizedText(inv);
-        if (auto dt = e.attribute("DataType")) {
+        if (desc) n.description = localizedText(desc);
+        if (inv) n.inverseName = localizedText(inv);
+        if (dt) {
             auto t = parseNodeIdText(e, trim(dt.value()));
             if (!t) return false;
             n.dataType = std::move(*t);
         }
-        if (auto ad = e.attribute("ArrayDimensions")) {
+        if (ad) {
             if (!parseDimensions(e, ad.value(), n.arrayDimensions)) return false;
         }
-        if (auto refs = child(e, "References")) {
+        if (refs) {
             for (auto r : refs.children()) {
                 if (r.type() != pugi::node_element) continue;
                 if (localName(r) != "Reference") {
@@ -499,7 +566,7 @@ private:
                 pn.references.push_back(std::move(pr));
             }
         }
-        if (auto v = child(e, "Value")) {
+        if (v) {
             pugi::xml_node typed;
             for (auto c : v.children()) {
                 if (c.type() == pugi::node_element) {
@@ -509,10 +576,10 @@ private:
             }
             if (typed) pendingValues_.emplace_back(nodeIndex_, typed);
         }
-        if (auto d = child(e, "Definition")) {
+        if (def) {
             if (nc != NodeClass::DataType)
-                return failAt(d, "Definition on a node that is not a DataType"), false;
-            if (!parseDefinition(d, pn)) return false;
+                return failAt(def, "Definition on a node that is not a DataType"), false;
+            if (!parseDefinition(def, pn)) return false;
         }
         ++nodeIndex_;
         return true;
@@ -970,10 +1037,9 @@ private:
     std::string_view xml_;
     std::string source_;
     std::vector<std::uint16_t> nsMap_;
-    std::unordered_map<std::string, NodeId> aliases_;
+    std::unordered_map<std::string, NodeId, TextHash, std::equal_to<>> aliases_;
     NodeSetStatus status_;
-    std::size_t lineCacheOffset_ = 0;
-    std::size_t lineCache_ = 1;
+    std::vector<std::size_t> lineStarts_;  // offsets of the lines' first characters
 };
 
 std::string lineText(const ParsedNodeSet& p, std::size_t line) {
@@ -1034,7 +1100,12 @@ NodeSetStatus parseNodeSet(const AddressSpace& as, std::string_view xml,
     return Parser(as, xml, sourceName).run(out);
 }
 
-NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
+namespace {
+
+// commitNodeSet, for a parsed set to copy from or (`Parsed` not const) to move from: a load
+// that parses only to commit need not copy each node's attributes and values once more.
+template <class Parsed>
+NodeSetStatus commit(AddressSpace& as, Parsed& parsed) {
     // Check everything first: a failed load leaves the address space as it was.
     NodeSetStatus st = checkRequiredModels(as, parsed);
     if (!st.ok()) return st;
@@ -1076,10 +1147,17 @@ NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
     for (const auto& uri : parsed.namespaceUris) (void)as.registerNamespace(uri);
     for (const auto& m : parsed.models) as.registerModel({m.uri, m.version, m.publicationDate});
     for (const auto& info : parsed.dataTypes) as.dataTypes().add(info);
-    for (const auto& pn : parsed.nodes) {
-        auto added = as.addNode(pn.node);
+    for (auto& pn : parsed.nodes) {
+        const NodeId id = pn.node.nodeId;
+        Result<Node*> added = status::BadInternalError;
+        if constexpr (std::is_const_v<Parsed>) {
+            added = as.addNode(pn.node);
+        } else {
+            added = as.addNode(std::move(pn.node));
+            pn.node.nodeId = id;  // the references below still name it
+        }
         if (!added) {  // checked above; kept so an invariant break is not silent
-            st.error = lineText(parsed, pn.line) + "cannot add node " + pn.node.nodeId.toString();
+            st.error = lineText(parsed, pn.line) + "cannot add node " + id.toString();
             return st;
         }
         ++st.nodes;
@@ -1093,11 +1171,17 @@ NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
     return st;
 }
 
+}  // namespace
+
+NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
+    return commit(as, parsed);
+}
+
 NodeSetStatus loadNodeSet(AddressSpace& as, std::string_view xml, std::string_view sourceName) {
     ParsedNodeSet parsed;
     auto st = parseNodeSet(as, xml, sourceName, parsed);
     if (!st.ok()) return st;
-    return commitNodeSet(as, parsed);
+    return commit(as, parsed);
 }
 
 NodeSetStatus loadNodeSetFile(AddressSpace& as, const std::filesystem::path& path) {
