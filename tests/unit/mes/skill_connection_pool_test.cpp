@@ -53,7 +53,7 @@ protected:
     // Move, after a run through it.
     skills::SkillInstance keepOneTo(const test::NoOpComponent& component) {
         makePool(30s);
-        const auto skill = moveOf(component);
+        auto skill = moveOf(component);
         std::string why;
         EXPECT_TRUE(runOnce(skill, &why)) << why;
         EXPECT_EQ(pool_->idleCount(), 1U);
