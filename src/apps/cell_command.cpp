@@ -106,6 +106,11 @@ int cellUp(const UpOptions& o) {
         }
     }
     const cell::CellFile& c = *read.cell;
+    // Said at once: what comes before the first component (the network, the work directory,
+    // the CA and a certificate per component) takes seconds, more on a loaded machine.
+    std::printf("cell %s: preparing its network, work directory and certificates\n",
+                c.name.c_str());
+    std::fflush(stdout);
     // The network first, while this is the only thread: a namespace is per thread, and the
     // components inherit it.
     const bool privateNetwork = c.network.kind == cell::Network::Kind::PrivateNamespace;

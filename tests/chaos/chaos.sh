@@ -29,7 +29,8 @@
 #   CHAOS_ORDERS=1|2 runs every trial with that many orders.
 #   CHAOS_CHECK_KILLED_WORLD=0 does not check the world after a kill of the world.
 #   CHAOS_LOGS=DIR keeps the cell's logs and journal of each trial that did not complete, in
-#   DIR/KIND-N.
+#   DIR/KIND-N, and the output and logs of a start that did not come up, in
+#   DIR/KIND-N-startTRY.
 # Needs root (network namespaces); skips (77) without, unless SKILLCELL_REQUIRE_NETNS=1.
 set -euo pipefail
 skillcell=$1
@@ -123,6 +124,12 @@ trial() {
     wait "$supervisor" || rc=$?
     echo "trial $kind $n: the cell did not come up (try $attempt; cell up exit $rc):" >&2
     tail -n 20 "$tmp/up.out" "$tmp/up.err" >&2 || true
+    if [ -n "${CHAOS_LOGS:-}" ]; then  # the failed start's output and logs, for a post-mortem
+      local kept=$CHAOS_LOGS/$kind-$n-start$attempt
+      mkdir -p "$kept"
+      cp "$tmp/up.out" "$tmp/up.err" "$kept/" 2>/dev/null || true
+      find "$work" -maxdepth 2 -name '*.log' -exec cp {} "$kept/" \; 2>/dev/null || true
+    fi
     supervisor=
   done
   [ -n "$supervisor" ] || fail "trial $kind $n: the cell did not come up, twice"
