@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# `skillcell` itself: every subcommand is listed by --help and reachable, with or without the
+# global --log-level before it (only the subcommand named on the command line is built, so
+# that a component's start does not build all of them: src/apps/main.cpp).
+#   skillcell --help                              -> 0, every subcommand listed
+#   skillcell, or an unknown subcommand           -> 2
+#   skillcell [--log-level L] SUBCOMMAND --help   -> 0, that subcommand's own options
+# Usage: commands_cli_test.sh PATH/TO/skillcell
+set -euo pipefail
+skillcell=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAILED: $*" >&2; exit 1; }
+
+run() {  # run WANT ARGS...: skillcell ARGS (bounded), output in $tmp/out, exit code checked
+  local want=$1; shift
+  local rc=0
+  timeout 30 "$skillcell" "$@" >"$tmp/out" 2>&1 || rc=$?
+  [ "$rc" = "$want" ] || { cat "$tmp/out" >&2; fail "skillcell $*: exit $rc, expected $want"; }
+}
+expect() { grep -qE -- "$1" "$tmp/out" || { cat "$tmp/out" >&2; fail "missing in output: $1"; }; }
+
+commands=(server browse lds discover skill check detect pki user nodeset2owl kb mes run demo
+  cell process dashboard orders device)
+run 0 --help
+for c in "${commands[@]}"; do expect "^  $c( |$)"; done
+run 2
+expect "A subcommand is required"
+run 2 no-such-command
+run 0 server --help
+expect "--noop-skill"
+run 0 --log-level warn server --help
+expect "--noop-skill"
+run 0 --log-level=error lds --help
+expect "--port"
+run 0 --log-level debug device --help
+expect "world"
+run 2 --log-level nonsense server --help
+echo "every subcommand listed and reachable"
