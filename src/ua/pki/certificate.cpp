@@ -79,6 +79,16 @@ std::string certificateThumbprintHex(const ByteString& der) {
     return t ? toHex(*t) : std::string();
 }
 
+std::string applicationUriOf(X509* cert) {
+    const ossl::Names names(static_cast<GENERAL_NAMES*>(
+        X509_get_ext_d2i(cert, NID_subject_alt_name, nullptr, nullptr)));
+    for (int i = 0; names && i < sk_GENERAL_NAME_num(names.get()); ++i) {
+        const GENERAL_NAME* n = sk_GENERAL_NAME_value(names.get(), i);
+        if (n->type == GEN_URI) return asn1String(n->d.uniformResourceIdentifier);
+    }
+    return {};
+}
+
 CertificateInfo inspectCertificate(X509* cert) {
     CertificateInfo info;
     info.subject = nameString(X509_get_subject_name(cert));

@@ -50,6 +50,11 @@ struct CertificateInfo {
 /// The thumbprint as lower-case hex, or "" when `der` is no certificate.
 [[nodiscard]] std::string certificateThumbprintHex(const ByteString& der);
 
+/// The application URI of a parsed certificate: its first URI subject alternative name, or
+/// "" when it has none. Reads nothing else (inspectCertificate also re-encodes the certificate,
+/// hashes it and checks its signature).
+[[nodiscard]] std::string applicationUriOf(X509* cert);
+
 /// Subject, issuer, URI, host names, validity, thumbprint of the first certificate.
 [[nodiscard]] Result<CertificateInfo> inspectCertificate(const ByteString& der);
 [[nodiscard]] CertificateInfo inspectCertificate(X509* cert);

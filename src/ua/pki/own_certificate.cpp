@@ -30,8 +30,10 @@ bool keepUnderCa(const ByteString& der, const CertificateAuthority& ca) {
 }  // namespace
 
 std::string certificateApplicationUri(const ByteString& der) {
-    auto info = inspectCertificate(der);
-    return info ? info->applicationUri : std::string();
+    // Asked at every start (is the certificate there still ours?) and for every secured
+    // registration at an LDS: one parse, not a whole inspection.
+    auto cert = parseCertificate(der);
+    return cert ? applicationUriOf(cert->get()) : std::string();
 }
 
 fs::path cellCaDirectory(const fs::path& pkiDir) {
