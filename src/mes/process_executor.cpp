@@ -38,6 +38,11 @@ using Clock = std::chrono::steady_clock;
 // counts).
 constexpr std::size_t kNamedHolders = 5;
 
+// Why a step cannot use a skill whose LastTransition it could not read.
+std::string unreadable(ua::StatusCode s) {
+    return "cannot read its LastTransition: " + std::string(ua::statusName(s));
+}
+
 // How long, in all, the knowledge base may be out of reach without using up a step's or an
 // order's skill wait: a KB cut off by a link down answers nothing for its whole request
 // timeout, and a KB restarting (its Virtuoso, then its recordings) refuses for seconds; once it
@@ -1115,7 +1120,7 @@ asio::awaitable<ProcessExecutor::Claim> ProcessExecutor::claim(const skills::Ski
     c.token = held.token;
     if (!time) {
         c.failure = Claim::Failure::Unreadable;
-        c.why = "cannot read its LastTransition: " + std::string(ua::statusName(time.status()));
+        c.why = unreadable(time.status());
         co_await hangUp(skill, std::move(c.connection), c.token);
         co_return c;
     }
@@ -1262,11 +1267,10 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
             if (reset.isGood()) after = co_await held.connection->lastTransitionTime();
             if (reset.isBad() || !after) {
                 tried.insert(triedKeyOf(skill));
-                lastFailure = where(skill) +
-                              (reset.isBad() ? ": Halted, and its Reset was refused (" +
-                                                   std::string(ua::statusName(reset)) + ")"
-                                             : ": cannot read its LastTransition: " +
-                                                   std::string(ua::statusName(after.status())));
+                lastFailure =
+                    where(skill) + (reset.isBad() ? ": Halted, and its Reset was refused (" +
+                                                        std::string(ua::statusName(reset)) + ")"
+                                                  : ": " + unreadable(after.status()));
                 co_await hangUp(skill, std::move(held.connection), held.token);
                 continue;
             }

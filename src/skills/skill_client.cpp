@@ -273,12 +273,16 @@ asio::awaitable<StatusCode> SkillClient::readBack() {
     co_return ua::status::Good;
 }
 
+const RemoteParameter* SkillClient::parameter(std::string_view name) const {
+    const auto it = std::find_if(parameters_.begin(), parameters_.end(),
+                                 [name](const RemoteParameter& p) { return p.name == name; });
+    return it != parameters_.end() ? &*it : nullptr;
+}
+
 asio::awaitable<StatusCode> SkillClient::setParameter(std::string parameterName, Variant value) {
-    for (const auto& p : parameters_) {
-        if (p.name == parameterName)
-            co_return co_await client_.writeValue(p.nodeId, std::move(value));
-    }
-    co_return ua::status::BadNoMatch;
+    const RemoteParameter* p = parameter(parameterName);
+    if (p == nullptr) co_return ua::status::BadNoMatch;
+    co_return co_await client_.writeValue(p->nodeId, std::move(value));
 }
 
 asio::awaitable<StatusCode> SkillClient::call(SkillMethod method) {
@@ -369,17 +373,14 @@ asio::awaitable<SkillOutcome> SkillClient::run(std::map<std::string, Variant> pa
 asio::awaitable<std::optional<SkillOutcome>> SkillClient::writeParameters(
     std::map<std::string, Variant> parameters) {
     cancelled_ = false;  // the run begins here: a cancel() from now on is its own
+    auto refusal = [](StatusCode s, const std::string& name) {
+        return SkillOutcome{SkillOutcome::Kind::Refused, s, "parameter " + name + " refused"};
+    };
     ua::WriteRequest req;
     std::vector<std::string> names;  // of req.nodesToWrite, in its order
     for (auto& [parameterName, value] : parameters) {
-        const std::string& wanted = parameterName;  // a lambda cannot capture a binding
-        const auto p =
-            std::find_if(parameters_.begin(), parameters_.end(),
-                         [&wanted](const auto& declared) { return declared.name == wanted; });
-        if (p == parameters_.end()) {
-            co_return SkillOutcome{SkillOutcome::Kind::Refused, ua::status::BadNoMatch,
-                                   "parameter " + parameterName + " refused"};
-        }
+        const RemoteParameter* p = parameter(parameterName);
+        if (p == nullptr) co_return refusal(ua::status::BadNoMatch, parameterName);
         ua::WriteValue wv;
         wv.nodeId = p->nodeId;
         wv.attributeId = static_cast<std::uint32_t>(ua::AttributeId::Value);
@@ -390,17 +391,14 @@ asio::awaitable<std::optional<SkillOutcome>> SkillClient::writeParameters(
     if (req.nodesToWrite.empty()) co_return std::nullopt;
     // One request for all: a skill with several parameters costs one round trip, not one each.
     auto resp = co_await client_.write(std::move(req));
-    StatusCode failed = resp ? StatusCode(ua::status::Good) : resp.status();
-    std::string which = names.front();
-    if (resp && resp->results.size() != names.size()) failed = ua::status::BadUnknownResponse;
-    for (std::size_t i = 0; resp && failed.isGood() && i < names.size(); ++i) {
-        if (resp->results[i].isBad()) {
-            failed = resp->results[i];
-            which = names[i];
-        }
+    if (!resp) co_return refusal(resp.status(), names.front());
+    if (resp->results.size() != names.size()) {
+        co_return refusal(ua::status::BadUnknownResponse, names.front());
     }
-    if (failed.isGood()) co_return std::nullopt;
-    co_return SkillOutcome{SkillOutcome::Kind::Refused, failed, "parameter " + which + " refused"};
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        if (resp->results[i].isBad()) co_return refusal(resp->results[i], names[i]);
+    }
+    co_return std::nullopt;
 }
 
 asio::awaitable<SkillOutcome> SkillClient::startAndAwaitEnd(std::chrono::milliseconds timeout) {

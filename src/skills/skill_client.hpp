@@ -28,6 +28,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "skills/skill_state_machine.hpp"
@@ -97,6 +98,8 @@ public:
 
     [[nodiscard]] const ua::NodeId& nodeId() const { return skill_; }
     [[nodiscard]] const std::vector<RemoteParameter>& parameters() const { return parameters_; }
+    /// The declared parameter called `name`; null when the skill has none of that name.
+    [[nodiscard]] const RemoteParameter* parameter(std::string_view name) const;
     /// The state last learnt (read at attach, then from events).
     [[nodiscard]] std::optional<SkillState> state() const { return state_; }
     /// Good while the event subscription lives; once the subscription or the session is

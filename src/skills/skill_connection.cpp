@@ -111,11 +111,9 @@ asio::awaitable<ua::Result<ua::DateTime>> SkillConnection::lastTransitionTime() 
 }
 
 asio::awaitable<ua::Result<ua::Variant>> SkillConnection::readParameter(std::string name) {
-    const auto& ps = skill_->parameters();
-    const auto it = std::find_if(ps.begin(), ps.end(),
-                                 [&](const RemoteParameter& p) { return p.name == name; });
-    if (it == ps.end()) co_return ua::status::BadNoMatch;
-    co_return co_await client_->readValue(it->nodeId);
+    const RemoteParameter* p = skill_->parameter(name);
+    if (p == nullptr) co_return ua::status::BadNoMatch;
+    co_return co_await client_->readValue(p->nodeId);
 }
 
 asio::awaitable<void> SkillConnection::close() {
