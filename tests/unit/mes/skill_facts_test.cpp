@@ -492,5 +492,18 @@ TEST(Feasibility, AStepNeedsASkillOfItsTypeAndItsCellRequirementsMetOrBroughtEar
                     .empty());
 }
 
+TEST(Feasibility, AsksTheKnowledgeBaseWhichSkillsItRecordedWhenARequirementNamesAFact) {
+    const std::string available = std::string(kProcessNs) + "available";
+    ProcessDescription process;
+    process.iri = "urn:p";
+    process.steps = {pickStep({{kGripType, "magnetic", kGrasp}})};
+    // proc:available tells a skill the KB has not recorded yet from one without the fact:
+    // the process's check waits for the first, not for the second.
+    EXPECT_EQ(requiredProperties(process), (std::vector<std::string>{available, kGripType}));
+    // A process without facts to check asks nothing.
+    process.steps = {pickStep({})};
+    EXPECT_TRUE(requiredProperties(process).empty());
+}
+
 }  // namespace
 }  // namespace skillcell::mes::skill_facts_test
