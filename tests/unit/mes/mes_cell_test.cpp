@@ -301,7 +301,9 @@ TEST_F(MesCell, StopsForWantOfAVacuumGripperAndCompletesOnceOneIsPluggedIn) {
     test::SimulatedCell cell(SKILLCELL_BINARY, test::paperObjects(), true, test::kRobotiq2f85,
                              /*vacuumPowered=*/false);
     ASSERT_TRUE(cell.ready());
-    startMes();
+    // Steps 1 to 3 run on skills detected long before step 4, whose vacuum gripper is not
+    // coming: its wait need not be long to show that the MES stops for want of it.
+    startMes("4000");
     ASSERT_FALSE(mes_->url().empty());
 
     RunResult result = runProcess(mes_->url());
