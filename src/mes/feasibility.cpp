@@ -40,10 +40,6 @@ std::vector<std::string> requiredProperties(const ProcessDescription& process) {
             if (!r.propertyIri.empty()) out.insert(r.propertyIri);
         }
     }
-    // With them, proc:available, which alone tells a live skill the KB has not recorded yet
-    // (the wait for it does not count) from one that lacks the fact: without it, every
-    // live skill looked unrecorded, and a refusal came a minute late.
-    if (!out.empty()) out.insert(std::string(kProcessNs) + "available");
     return {out.begin(), out.end()};
 }
 

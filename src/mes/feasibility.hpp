@@ -26,8 +26,7 @@ namespace skillcell::mes {
                                                      const std::vector<skills::SkillInstance>& live,
                                                      const SkillFacts* facts);
 
-/// Every property a process's requirements ask about, and proc:available with them (sorted,
-/// each once); none when they ask about none.
+/// Every property a process's requirements ask about (sorted, each once).
 [[nodiscard]] std::vector<std::string> requiredProperties(const ProcessDescription& process);
 
 }  // namespace skillcell::mes

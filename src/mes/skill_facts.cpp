@@ -208,10 +208,16 @@ kb::Expected<std::string> factQuery(const std::vector<std::string>& propertyIris
     if (propertyIris.empty()) {
         return kb::Error{"no property to ask the knowledge base about", kb::ErrorKind::BadInput};
     }
+    // Always proc:available too: without it every skill of the answer looks not recorded yet
+    // (SkillFacts::recorded), and a wait for the KB to record it never ends before its bound.
+    std::vector<std::string> asked = propertyIris;
+    if (std::find(asked.begin(), asked.end(), proc("available")) == asked.end()) {
+        asked.push_back(proc("available"));
+    }
     // One branch per property: VALUES with a variable predicate would do, but plain patterns
     // are what every store gets right (docs/knowledge_base.md on Virtuoso).
     std::string where;
-    for (const auto& property : propertyIris) {
+    for (const auto& property : asked) {
         auto ref = kb::sparqlIri(property);
         if (!ref) return ref.failure();
         where += std::string(where.empty() ? "  " : "  UNION ") + "{ ?s " + *ref + " ?v . BIND(" +

@@ -30,8 +30,8 @@ public:
     /// The values the KB gives `skill` for `propertyIri` (none when it has not recorded it).
     [[nodiscard]] std::vector<std::string> values(const SkillKey& skill,
                                                   const std::string& propertyIri) const;
-    /// Whether the KB has recorded `skill` (it gives it proc:available, which requiredProperties
-    /// always asks for): until then it says nothing of its reach or robot either.
+    /// Whether the KB has recorded `skill` (it gives it proc:available, which factQuery always
+    /// asks for): until then it says nothing of its reach or robot either.
     [[nodiscard]] bool recorded(const SkillKey& skill) const;
     /// A skill of the component `componentUri` that the KB gives `propertyIri` (the first by
     /// node id), if any.
@@ -49,8 +49,9 @@ private:
 /// proc:available, which tells a recorded skill from one the KB has not recorded yet.
 [[nodiscard]] std::vector<std::string> requiredProperties(const ProcessStep& step);
 
-/// The CONSTRUCT query for every skill instance's values of `propertyIris`, with the
-/// component's application URI and the skill's node id (what SkillKey holds).
+/// The CONSTRUCT query for every skill instance's values of `propertyIris` and of
+/// proc:available (what SkillFacts::recorded reads), with the component's application URI and
+/// the skill's node id (what SkillKey holds).
 [[nodiscard]] kb::Expected<std::string> factQuery(const std::vector<std::string>& propertyIris);
 /// The facts in factQuery's answer.
 [[nodiscard]] SkillFacts parseFacts(const std::vector<kb::rdf::Triple>& triples);

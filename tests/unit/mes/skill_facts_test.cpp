@@ -492,17 +492,26 @@ TEST(Feasibility, AStepNeedsASkillOfItsTypeAndItsCellRequirementsMetOrBroughtEar
                     .empty());
 }
 
-TEST(Feasibility, AsksTheKnowledgeBaseWhichSkillsItRecordedWhenARequirementNamesAFact) {
-    const std::string available = std::string(kProcessNs) + "available";
+TEST(SkillFacts, TheQueryAlwaysAsksWhichSkillsTheKnowledgeBaseRecorded) {
+    const std::string available = "<" + std::string(kProcessNs) + "available>";
+    // A process's check asks only for the facts its requirements name; proc:available goes
+    // with them, or every skill looks not recorded yet and the check waits its whole bound.
     ProcessDescription process;
     process.iri = "urn:p";
     process.steps = {pickStep({{kGripType, "magnetic", kGrasp}})};
-    // proc:available tells a skill the KB has not recorded yet from one without the fact:
-    // the process's check waits for the first, not for the second.
-    EXPECT_EQ(requiredProperties(process), (std::vector<std::string>{available, kGripType}));
-    // A process without facts to check asks nothing.
-    process.steps = {pickStep({})};
-    EXPECT_TRUE(requiredProperties(process).empty());
+    const auto properties = requiredProperties(process);
+    ASSERT_EQ(properties, (std::vector<std::string>{kGripType}));
+    auto q = factQuery(properties);
+    ASSERT_TRUE(q) << q.error();
+    EXPECT_NE(q->find(available), std::string::npos) << *q;
+    // Asked for already, it is one branch of the query (its IRI twice: pattern and BIND).
+    q = factQuery({std::string(kProcessNs) + "available", kGripType});
+    ASSERT_TRUE(q) << q.error();
+    std::size_t times = 0;
+    for (auto at = q->find(available); at != std::string::npos; at = q->find(available, at + 1)) {
+        ++times;
+    }
+    EXPECT_EQ(times, 2U) << *q;
 }
 
 }  // namespace
