@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
     // Blocks up to 8 MB come from the heap, not from a mapping of their own: glibc maps every
     // block above 128 kB afresh and unmaps it when it is freed, and the page faults of the
     // few such blocks of a start (a NodeSet's document, the address space's tables as they
-    // grow) were 0.5 ms of the 15 ms to READY. An idle component's memory is the same either
+    // grow) were 0.6 ms of the 15.5 ms to READY. An idle component's memory is the same either
     // way (4.1 MB anonymous); under the sanitizers this is a no-op.
     mallopt(M_MMAP_THRESHOLD, 8 * 1024 * 1024);
     CLI::App app{"skillcell: a Plug & Produce system for robot work cells built on OPC UA skills"};
