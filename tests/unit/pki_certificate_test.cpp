@@ -13,16 +13,18 @@
 namespace skillcell::ua::pki::pki_certificate_test {
 namespace {
 
-TEST(Certificate, SplitsAConcatenatedChain) {
+TEST(Certificate, ParsesAConcatenatedChain) {
     const auto ca = test::makeCa("ca");
     const auto leaf = test::makeCertificate({}, &ca);
-    auto parts = splitCertificateChain(test::concat(leaf.der(), ca.der()));
+    auto parts = parseCertificateChain(test::concat(leaf.der(), ca.der()));
     ASSERT_TRUE(parts);
     ASSERT_EQ(parts->size(), 2u);
-    EXPECT_EQ((*parts)[0], leaf.der());
-    EXPECT_EQ((*parts)[1], ca.der());
-    EXPECT_EQ(splitCertificateChain(ByteString{}).status(), status::BadCertificateInvalid);
-    EXPECT_EQ(splitCertificateChain(test::concat(leaf.der(), ByteString({0x30}))).status(),
+    EXPECT_EQ((*parts)[0].der, leaf.der());
+    EXPECT_EQ((*parts)[1].der, ca.der());
+    EXPECT_EQ(certificateDer((*parts)[0].cert.get()), leaf.der());
+    EXPECT_EQ(certificateDer((*parts)[1].cert.get()), ca.der());
+    EXPECT_EQ(parseCertificateChain(ByteString{}).status(), status::BadCertificateInvalid);
+    EXPECT_EQ(parseCertificateChain(test::concat(leaf.der(), ByteString({0x30}))).status(),
               status::BadCertificateInvalid);
 }
 

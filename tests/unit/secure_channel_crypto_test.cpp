@@ -310,4 +310,26 @@ TEST(CryptoPrimitives, RsaRoundTripsAndRefusesForeignSignatures) {
     EXPECT_FALSE(crypto::RsaKey::fromCertificate(pattern(50)).ok());
 }
 
+TEST(CertificateChain, TheLeafIsTheFirstDerElementAndNothingElse) {
+    const Bytes leaf = certificate(2048, 0).der.bytes;
+    const Bytes issuer = certificate(2048, 1).der.bytes;
+    ASSERT_GT(leaf.size(), 256u);  // a two-octet length: 0x30 0x82 hi lo
+    EXPECT_EQ(leafCertificate(leaf), leaf);
+    Bytes chain = leaf;
+    chain.insert(chain.end(), issuer.begin(), issuer.end());
+    EXPECT_EQ(leafCertificate(chain), leaf);
+    // Truncated inside the leaf, or its length field cut short: nothing.
+    EXPECT_TRUE(leafCertificate(std::span(leaf).first(leaf.size() - 1)).empty());
+    EXPECT_TRUE(leafCertificate(std::span(leaf).first(3)).empty());
+    EXPECT_TRUE(leafCertificate(Bytes{}).empty());
+    // Not a SEQUENCE; an indefinite length (BER, not DER); a length in more octets than
+    // DER allows; a long form for a length the short form holds.
+    EXPECT_TRUE(leafCertificate(pattern(50)).empty());
+    EXPECT_TRUE(leafCertificate(Bytes{0x30, 0x80, 0x00, 0x00}).empty());
+    EXPECT_TRUE(leafCertificate(Bytes{0x30, 0x82, 0x00, 0x02, 0x05, 0x00}).empty());
+    EXPECT_TRUE(leafCertificate(Bytes{0x30, 0x81, 0x02, 0x05, 0x00}).empty());
+    EXPECT_EQ(leafCertificate(Bytes{0x30, 0x02, 0x05, 0x00, 0xFF}),
+              (Bytes{0x30, 0x02, 0x05, 0x00}));
+}
+
 }  // namespace secure_channel_crypto_test

@@ -933,7 +933,12 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
         // The server proves it holds its key by signing our certificate and nonce; we prove
         // ours by signing its certificate and nonce (OPC 10000-4, 5.6.2 and 5.6.3).
         const auto* profile = crypto::findSecurityPolicyProfile(config_.security.policyUri);
-        auto serverKey = crypto::RsaKey::fromCertificate(serverCertificate.bytes);
+        // The channel decoded the server's key when it opened, from this certificate.
+        const SecurityPolicy* channelPolicy = conn_->channel->policy();
+        auto serverKey = channelPolicy != nullptr && channelPolicy->remoteKey() != nullptr &&
+                                 channelPolicy->remoteCertificate() == serverCertificate
+                             ? Result<crypto::RsaKey>(*channelPolicy->remoteKey())
+                             : crypto::RsaKey::fromCertificate(serverCertificate.bytes);
         if (!serverKey ||
             leafCertificate(created->serverCertificate.bytes) !=
                 leafCertificate(serverCertificate.bytes) ||

@@ -34,15 +34,15 @@ std::string asn1String(const ASN1_STRING* s) {
 
 }  // namespace
 
-Result<std::vector<ByteString>> splitCertificateChain(const ByteString& chain) {
-    std::vector<ByteString> out;
+Result<std::vector<ChainCertificate>> parseCertificateChain(const ByteString& chain) {
+    std::vector<ChainCertificate> out;
     const unsigned char* p = chain.bytes.data();
     const unsigned char* const end = p + chain.bytes.size();
     while (p < end) {
         const unsigned char* start = p;
-        const ossl::Cert cert(d2i_X509(nullptr, &p, end - p));
+        ossl::Cert cert(d2i_X509(nullptr, &p, end - p));
         if (!cert || p <= start || p > end) return status::BadCertificateInvalid;
-        out.emplace_back(std::vector<std::uint8_t>(start, p));
+        out.push_back({ByteString(std::vector<std::uint8_t>(start, p)), std::move(cert)});
     }
     if (out.empty()) return status::BadCertificateInvalid;
     return out;

@@ -31,10 +31,16 @@ struct CertificateInfo {
     int keyBits = 0;
 };
 
-/// Splits a certificate ByteString into its DER certificates (leaf first). Each must parse
-/// and together they must use every byte; else BadCertificateInvalid. Empty input is
+/// One certificate of a chain: its DER bytes and the certificate they parse to.
+struct ChainCertificate {
+    ByteString der;
+    ossl::Cert cert;
+};
+
+/// Parses a certificate ByteString into its certificates (leaf first), each once. Each must
+/// parse and together they must use every byte; else BadCertificateInvalid. Empty input is
 /// BadCertificateInvalid too.
-[[nodiscard]] Result<std::vector<ByteString>> splitCertificateChain(const ByteString& chain);
+[[nodiscard]] Result<std::vector<ChainCertificate>> parseCertificateChain(const ByteString& chain);
 
 /// Parses the first certificate of `der` (a single certificate or a chain).
 [[nodiscard]] Result<ossl::Cert> parseCertificate(const ByteString& der);

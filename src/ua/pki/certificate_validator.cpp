@@ -172,19 +172,14 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
 CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
                                                   const PeerExpectations& expected) {
     CertificateVerdict verdict;
-    auto chain = splitCertificateChain(certificate);
+    auto chain = parseCertificateChain(certificate);
     if (!chain) {
         verdict.status = status::BadCertificateInvalid;
         verdict.reason = "the certificate is not DER X.509 (nor a chain of them)";
         return verdict;
     }
-    auto leaf = parseCertificate(chain->front());
-    if (!leaf) {
-        verdict.status = status::BadCertificateInvalid;
-        verdict.reason = "the certificate does not parse";
-        return verdict;
-    }
-    const CertificateInfo info = inspectCertificate(leaf->get());
+    const ossl::Cert& leaf = chain->front().cert;
+    const CertificateInfo info = inspectCertificate(leaf.get());
     verdict.thumbprint = info.thumbprint;
     verdict.subject = info.subject;
 
@@ -200,23 +195,18 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
     for (const auto& cert : trustList_.trusted()) X509_STORE_add_cert(store.get(), cert.get());
     for (const auto& crl : trustList_.crls()) X509_STORE_add_crl(store.get(), crl.get());
     // The issuers the peer sent and issuers/certs complete chains; neither is trusted.
-    std::vector<ossl::Cert> sent;
-    for (std::size_t i = 1; i < chain->size(); ++i) {
-        auto cert = parseCertificate((*chain)[i]);
-        if (cert) sent.push_back(std::move(*cert));
-    }
     // The stack owns one reference of each certificate (freed with it).
     const auto addUntrusted = [&untrusted](X509* cert) {
         X509_up_ref(cert);
         if (sk_X509_push(untrusted.get(), cert) == 0) X509_free(cert);
     };
-    for (const auto& cert : sent) addUntrusted(cert.get());
+    for (std::size_t i = 1; i < chain->size(); ++i) addUntrusted((*chain)[i].cert.get());
     for (const auto& cert : trustList_.issuers()) addUntrusted(cert.get());
 
     Collector collector;
     collector.trustList = &trustList_;
     collector.requireRevocationLists = options_.requireRevocationLists;
-    if (X509_STORE_CTX_init(ctx.get(), store.get(), leaf->get(), untrusted.get()) != 1) {
+    if (X509_STORE_CTX_init(ctx.get(), store.get(), leaf.get(), untrusted.get()) != 1) {
         verdict.status = status::BadInternalError;
         verdict.reason = "X509_STORE_CTX_init failed";
         return verdict;
@@ -234,7 +224,7 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
     X509_verify_cert(ctx.get());
     ERR_clear_error();  // the callback kept what matters; leave no errors for others to see
 
-    X509* leafCert = leaf->get();
+    X509* leafCert = leaf.get();
     if ((expected.minimumKeyBits > 0 && info.keyBits < expected.minimumKeyBits) ||
         (expected.maximumKeyBits > 0 && info.keyBits > expected.maximumKeyBits)) {
         collector.findings.push_back(
@@ -279,8 +269,8 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
     verdict.status = statusOf(first->step);
     verdict.reason = first->reason;
     if (options_.copyRejected && (first->step == Step::Trust || first->step == Step::Chain)) {
-        auto stored = storeRejectedCertificate(trustList_.paths().rejectedCerts(), chain->front(),
-                                               options_.maxRejectedFiles);
+        auto stored = storeRejectedCertificate(trustList_.paths().rejectedCerts(),
+                                               chain->front().der, options_.maxRejectedFiles);
         if (stored) {
             verdict.rejectedFile = *stored;
             verdict.reason += "; copied to " + stored->string() +

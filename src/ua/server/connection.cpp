@@ -201,6 +201,7 @@ StatusCode Connection::handleMessage(const ChannelMessage& message, SteadyTime n
     if (const SecurityPolicy* policy = channel_->policy(); policy != nullptr) {
         channel.securityPolicyUri = policy->uri();
         channel.clientCertificate = &policy->remoteCertificate();
+        channel.clientKey = policy->remoteKey();
     }
     channel.securityMode = channel_->securityMode();
     channel.discoveryOnly = discoveryOnly();

@@ -48,6 +48,7 @@ DispatchedRequest dispatchRequest(const ServiceTable& services, SessionManager& 
     ctx.endpointUrl = channel.endpointUrl;
     ctx.securityPolicyUri = channel.securityPolicyUri;
     ctx.clientCertificate = channel.clientCertificate;
+    ctx.clientKey = channel.clientKey;
     ctx.securityMode = channel.securityMode;
     if (entry->access == ServiceTable::Access::ActivatedSession) {
         auto session = sessions.authorize(header.authenticationToken, channel.channelId, now);

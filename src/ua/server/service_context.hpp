@@ -13,6 +13,9 @@
 namespace skillcell::ua {
 
 class Session;
+namespace crypto {
+class RsaKey;
+}
 
 /// Sends an encoded service body (type id + structure) as the response to the request being
 /// served, whenever that is. Set by the connection; harmless once the connection is gone.
@@ -32,6 +35,8 @@ struct ServiceContext {
     std::string_view securityPolicyUri;
     MessageSecurityMode securityMode = MessageSecurityMode::None;
     const ByteString* clientCertificate = nullptr;
+    /// The public key of clientCertificate's leaf, decoded when the channel opened.
+    const crypto::RsaKey* clientKey = nullptr;
     /// For deferred services (ServiceTable::addDeferred): answers this request later.
     ResponseSender reply;
 };

@@ -135,7 +135,9 @@ StatusCode UserDatabase::setPassword(const std::string& name, RoleSet roles,
 
 StatusCode UserDatabase::setCertificate(const std::string& name, RoleSet roles,
                                         const ByteString& certificate) {
-    if (!validName(name) || roles.roles().empty() || leafCertificate(certificate.bytes).empty()) {
+    // Decoded once here, so that a file of bytes that is not a certificate is refused now.
+    if (!validName(name) || roles.roles().empty() ||
+        !crypto::RsaKey::fromCertificate(certificate.bytes)) {
         return status::BadInvalidArgument;
     }
     remove(name);

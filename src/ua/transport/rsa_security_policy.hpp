@@ -58,6 +58,7 @@ public:
     [[nodiscard]] const ByteString& remoteCertificate() const override {
         return remoteCertificate_;
     }
+    [[nodiscard]] const crypto::RsaKey* remoteKey() const override { return &remoteKey_; }
 
 private:
     [[nodiscard]] StatusCode protectAsymmetric(std::vector<std::uint8_t>& chunk,
@@ -82,7 +83,9 @@ private:
 };
 
 /// The first certificate of a DER chain (OPC UA sends a leaf followed by its issuers in
-/// one ByteString); empty when `der` does not start with a well-formed certificate.
+/// one ByteString): the first DER element, found from its header; empty when `der` does
+/// not start with a DER SEQUENCE that fits. It does not decode the certificate: what
+/// must be one is checked where it is validated or its key is read.
 [[nodiscard]] std::vector<std::uint8_t> leafCertificate(std::span<const std::uint8_t> der);
 
 /// What the session handshake signs: a certificate followed by a nonce (OPC 10000-4,

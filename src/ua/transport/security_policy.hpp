@@ -18,6 +18,10 @@
 
 namespace skillcell::ua {
 
+namespace crypto {
+class RsaKey;
+}
+
 inline constexpr std::string_view kSecurityPolicyNoneUri =
     "http://opcfoundation.org/UA/SecurityPolicy#None";
 
@@ -70,6 +74,9 @@ public:
         static const ByteString kNone;
         return kNone;
     }
+    /// The public key of remoteCertificate()'s leaf, decoded once for the channel (the
+    /// session services verify signatures with it); nullptr for None.
+    [[nodiscard]] virtual const crypto::RsaKey* remoteKey() const { return nullptr; }
     /// Checks a received asymmetric header beyond its policy URI: that it names our
     /// certificate and comes from the certificate this channel was opened with.
     [[nodiscard]] virtual StatusCode checkAsymmetricHeader(
