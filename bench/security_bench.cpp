@@ -184,16 +184,16 @@ int main(int argc, char** argv) {
         rows.push_back(std::move(row));
     }
 
+    if (rows.empty()) {
+        std::cerr << "no row's name contains \"" << only << "\"\n";
+        return 2;
+    }
     std::printf(
         "security cost on loopback (our client and server, one process; RSA 2048 and a "
         "user with a password unless the row says otherwise); %zu reads, %zu connects per row\n\n",
         count, connects);
     std::printf("%-48s %12s %10s %8s %12s %10s %8s\n", "policy / mode", "connect med", "p99 (ms)",
                 "x first", "read med", "p99 (us)", "x first");
-    if (rows.empty()) {
-        std::cerr << "no row's name contains \"" << only << "\"\n";
-        return 2;
-    }
     const auto& none = rows.front();  // None, unless --only left it out
     for (const auto& r : rows) {
         std::printf("%-48s %12.2f %10.2f %8.2f %12.1f %10.1f %8.2f\n", r.name.c_str(),
