@@ -619,7 +619,9 @@ asio::awaitable<Result<std::vector<std::uint8_t>>> exchangeOn(std::shared_ptr<Co
         conn->pending.emplace(requestId, std::move(p));
         armRequestTimer(conn, deadline);
         send(conn, std::move(*frames));
-    };
+        // The analyzer loses the Waiter once it is in `pending` (a map in a shared_ptr'd
+        // Connection) and calls it a leak; the ASan runs of every test (detect_leaks=1) find none.
+    };  // NOLINT(clang-analyzer-cplusplus.NewDeleteLeaks)
     co_return co_await asio::async_initiate<decltype(asio::use_awaitable), void(Connection::Reply)>(
         initiate, asio::use_awaitable);
 }
