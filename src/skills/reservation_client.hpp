@@ -27,8 +27,8 @@ asio::awaitable<std::string> reservationHolder(ua::Client& client);
 /// Whether a status means "this component has no reservation to take".
 [[nodiscard]] bool noReservation(ua::StatusCode status);
 
-/// A hold on a component through one or more sessions to it (a composite drives a robot's
-/// linear, point-to-point and force-limited moves through a session each).
+/// A hold on a component through one or more sessions to it (a client that opens a session
+/// per skill binds each; a composite drives a robot's moves through one session).
 struct Hold {
     /// The fencing token; none when the component has no reservation (not built on
     /// skillcell's SkillServer): it is driven without one.

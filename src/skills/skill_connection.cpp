@@ -9,7 +9,14 @@
 namespace skillcell::skills {
 
 SkillConnection::SkillConnection(Token, asio::any_io_executor executor, std::string endpointUrl)
-    : endpointUrl_(std::move(endpointUrl)), client_(std::make_unique<ua::Client>(executor)) {}
+    : endpointUrl_(std::move(endpointUrl)),
+      session_(std::make_shared<Session>(executor)),
+      client_(&session_->client) {}
+
+SkillConnection::SkillConnection(Token, std::shared_ptr<Session> session, std::string endpointUrl)
+    : endpointUrl_(std::move(endpointUrl)),
+      session_(std::move(session)),
+      client_(&session_->client) {}
 
 SkillConnection::~SkillConnection() = default;
 
@@ -31,32 +38,16 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::o
             "cannot connect to " + endpointUrl + ": " + std::string(ua::statusName(connected)));
         co_return connected;
     }
-    RemoteSkillBrowser browser;
-    auto found = co_await browser.browse(*c->client_);
-    if (!found) {
-        say(why, "cannot browse the skills of " + endpointUrl + ": " +
-                     std::string(ua::statusName(found.status())));
-        co_await c->client_->disconnect();
-        co_return found.status();
+    auto skill = co_await c->find(typeName, why);
+    if (!skill) {
+        co_await c->abandon();
+        co_return skill.status();
     }
-    // A skill of that very type first: a subtype may want more (a force-limited move its
-    // limit); else one of a subtype.
-    auto it = std::find_if(found->begin(), found->end(), [&](const RemoteSkill& s) {
-        return !s.types.empty() && s.types.front().browseName == typeName;
-    });
-    if (it == found->end()) {
-        it = std::find_if(found->begin(), found->end(), [&](const RemoteSkill& s) {
-            return std::any_of(s.types.begin(), s.types.end(),
-                               [&](const SkillTypeRef& t) { return t.browseName == typeName; });
-        });
+    const ua::StatusCode attached = co_await c->attachTo(*skill, why, SkillClientOptions{});
+    if (attached.isBad()) {
+        co_await c->abandon();
+        co_return attached;
     }
-    if (it == found->end()) {
-        say(why, endpointUrl + " offers no " + typeName);
-        co_await c->client_->disconnect();
-        co_return ua::status::BadNotFound;
-    }
-    const ua::StatusCode attached = co_await c->attachTo(*it, why, SkillClientOptions{});
-    if (attached.isBad()) co_return attached;
     co_return c;
 }
 
@@ -71,8 +62,52 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::o
         co_return connected;
     }
     const ua::StatusCode attached = co_await c->attachTo(instance, why, options);
+    if (attached.isBad()) {
+        co_await c->abandon();
+        co_return attached;
+    }
+    co_return c;
+}
+
+asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::alongside(
+    std::string typeName, std::string* why) {
+    auto c = std::make_unique<SkillConnection>(Token{}, session_, endpointUrl_);
+    auto skill = co_await c->find(typeName, why);
+    if (!skill) co_return skill.status();
+    const ua::StatusCode attached = co_await c->attachTo(*skill, why, SkillClientOptions{});
     if (attached.isBad()) co_return attached;
     co_return c;
+}
+
+asio::awaitable<ua::Result<RemoteSkill>> SkillConnection::find(const std::string& typeName,
+                                                               std::string* why) {
+    if (session_->browsed.empty()) {
+        RemoteSkillBrowser browser;
+        auto found = co_await browser.browse(*client_);
+        if (!found) {
+            say(why, "cannot browse the skills of " + endpointUrl_ + ": " +
+                         std::string(ua::statusName(found.status())));
+            co_return found.status();
+        }
+        session_->browsed = std::move(*found);
+    }
+    const auto& found = session_->browsed;
+    // A skill of that very type first: a subtype may want more (a force-limited move its
+    // limit); else one of a subtype.
+    auto it = std::find_if(found.begin(), found.end(), [&](const RemoteSkill& s) {
+        return !s.types.empty() && s.types.front().browseName == typeName;
+    });
+    if (it == found.end()) {
+        it = std::find_if(found.begin(), found.end(), [&](const RemoteSkill& s) {
+            return std::any_of(s.types.begin(), s.types.end(),
+                               [&](const SkillTypeRef& t) { return t.browseName == typeName; });
+        });
+    }
+    if (it == found.end()) {
+        say(why, endpointUrl_ + " offers no " + typeName);
+        co_return ua::status::BadNotFound;
+    }
+    co_return *it;
 }
 
 asio::awaitable<ua::StatusCode> SkillConnection::attachTo(const RemoteSkill& skill,
@@ -83,11 +118,16 @@ asio::awaitable<ua::StatusCode> SkillConnection::attachTo(const RemoteSkill& ski
     if (!attached) {
         say(why, "cannot use " + skill.browsePathString() + " at " + endpointUrl_ + ": " +
                      std::string(ua::statusName(attached.status())));
-        co_await client_->disconnect();
         co_return attached.status();
     }
     skill_ = std::move(*attached);
+    ++session_->open;
+    counted_ = true;
     co_return ua::status::Good;
+}
+
+asio::awaitable<void> SkillConnection::abandon() {
+    if (session_->open == 0) co_await client_->disconnect();
 }
 
 asio::awaitable<ua::Result<ua::DateTime>> SkillConnection::lastTransitionTime() {
@@ -117,8 +157,10 @@ asio::awaitable<ua::Result<ua::Variant>> SkillConnection::readParameter(std::str
 }
 
 asio::awaitable<void> SkillConnection::close() {
-    if (skill_) co_await skill_->detach();
-    co_await client_->disconnect();
+    if (!counted_) co_return;  // closed already
+    counted_ = false;
+    co_await skill_->detach();
+    if (--session_->open == 0) co_await client_->disconnect();
 }
 
 namespace {

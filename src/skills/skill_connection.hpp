@@ -3,6 +3,8 @@
 // the robot's move skill, a pick-and-place runs a move and a gripper's skills). It opens a
 // session to the component's endpoint, finds the first skill whose type chain names the
 // wanted type (by browse name, so any subtype counts) and attaches a SkillClient to it.
+// Further skills of the same component go over the same session (alongside()): a robot's
+// linear and point-to-point moves cost one secured handshake and one browse, not one each.
 //
 // Threading: like ua::Client, on the executor it was opened with.
 #include <asio/any_io_executor.hpp>
@@ -45,7 +47,12 @@ public:
     /// The skill's LastTransition/TransitionTime (the server's clock; zero before the first
     /// transition): a Start that reached the skill changes it.
     asio::awaitable<ua::Result<ua::DateTime>> lastTransitionTime();
-    /// Deletes the subscription and closes the session.
+    /// Another skill of the same component, found as open() finds one, over this
+    /// connection's session: no second handshake, no second browse (after the first by
+    /// type). BadNotFound (with `why`) when the component offers none of `typeName`.
+    asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> alongside(std::string typeName,
+                                                                            std::string* why);
+    /// Deletes the subscription; closes the session when no other open connection shares it.
     asio::awaitable<void> close();
 
     struct Token {
@@ -56,12 +63,33 @@ public:
     SkillConnection(Token, asio::any_io_executor executor, std::string endpointUrl);
 
 private:
-    /// Connects and attaches to `skill`: the rest of both open()s.
+    /// The session, shared by the connections alongside() made; `open` counts those
+    /// attached and not closed yet (the last close() ends the session).
+    struct Session {
+        explicit Session(const asio::any_io_executor& executor) : client(executor) {}
+        ua::Client client;
+        std::size_t open = 0;
+        std::vector<RemoteSkill> browsed;  // the component's skills, once browsed by type
+    };
+
+public:
+    /// alongside()'s: another connection over `session`.
+    SkillConnection(Token, std::shared_ptr<Session> session, std::string endpointUrl);
+
+private:
+    /// The component's skills (browsed once per session), and the one `typeName` names;
+    /// BadNotFound with `why` when none.
+    asio::awaitable<ua::Result<RemoteSkill>> find(const std::string& typeName, std::string* why);
+    /// Attaches to `skill` on the session (which stays open when this fails).
     asio::awaitable<ua::StatusCode> attachTo(const RemoteSkill& skill, std::string* why,
                                              SkillClientOptions options);
+    /// Closes the session, if connected, after a failed open.
+    asio::awaitable<void> abandon();
 
     std::string endpointUrl_;
-    std::unique_ptr<ua::Client> client_;
+    std::shared_ptr<Session> session_;
+    ua::Client* client_;    // &session_->client
+    bool counted_ = false;  // attached, and counted in session_->open until close()
     std::shared_ptr<SkillClient> skill_;
     RemoteSkill remote_;
 };

@@ -1,14 +1,16 @@
-# The skill layer: the state machine table, skills served by a component, the SkillClient,
-# the example of a new skill type (examples/dispense_skill), and the conformance checker
-# (`skillcell check`, docs/conformance.md) against servers holding conforming and broken skills,
-# and the SkillDetector and RemoteSkillBrowser against skill servers on loopback (no
-# multicast: the tests feed the detector's "appeared"/"gone" themselves). The "tsan" preset
+# The skill layer: the state machine table, skills served by a component, the SkillClient and
+# SkillConnection (two skills over one session), the example of a new skill type
+# (examples/dispense_skill), the conformance checker (`skillcell check`, docs/conformance.md)
+# against servers holding conforming and broken skills, and the SkillDetector and
+# RemoteSkillBrowser against skill servers on loopback (no multicast: the tests feed the
+# detector's "appeared"/"gone" themselves). The "tsan" preset
 # runs the detector's tests under ThreadSanitizer:
 # cmake --preset tsan && cmake --build --preset tsan && ctest --preset tsan.
 skillcell_unit_test(test_skills
   skill_state_machine_test.cpp
   skill_test.cpp
   skill_client_test.cpp
+  skill_connection_test.cpp
   example_dispense_test.cpp
   conformance_checker_test.cpp
   skill_detector_test.cpp)

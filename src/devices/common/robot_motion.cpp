@@ -19,21 +19,16 @@ asio::awaitable<std::unique_ptr<RobotMotion>> RobotMotion::open(
         co_return nullptr;
     }
     motion->linear_ = std::move(*linear);
-    std::string ptpType = "CartesianPtpMoveSkillType";
+    // The robot's other moves over the same session: one handshake and one browse a robot.
     std::string ignored;
-    auto ptp =
-        co_await skills::SkillConnection::open(executor, endpoint, ptpType, config, &ignored);
+    auto ptp = co_await motion->linear_->alongside("CartesianPtpMoveSkillType", &ignored);
     if (ptp) motion->ptp_ = std::move(*ptp);
     if (forceLimited) {
-        std::string forceType = "CartesianForceLimitedLinearMoveSkillType";
-        auto opened =
-            co_await skills::SkillConnection::open(executor, endpoint, forceType, config, &ignored);
+        auto opened = co_await motion->linear_->alongside(
+            "CartesianForceLimitedLinearMoveSkillType", &ignored);
         if (opened) motion->forceLimited_ = std::move(*opened);
     }
     std::vector<ua::Client*> sessions{&motion->linear_->client()};
-    for (auto* c : {motion->ptp_.get(), motion->forceLimited_.get()}) {
-        if (c != nullptr) sessions.push_back(&c->client());
-    }
     const skills::Hold held =
         co_await skills::hold(std::move(sessions), config.applicationUri, patience);
     if (!held.refusal.empty()) {
@@ -73,10 +68,7 @@ asio::awaitable<std::string> RobotMotion::moveTo(skills::SubSkillRunner& runner,
 }
 
 bool RobotMotion::connected() {
-    for (skills::SkillConnection* c : {linear_.get(), ptp_.get(), forceLimited_.get()}) {
-        if (c != nullptr && !c->client().isConnected()) return false;
-    }
-    return true;
+    return linear_->client().isConnected();
 }
 
 asio::awaitable<ua::Result<KDL::Frame>> RobotMotion::reachCentre() {

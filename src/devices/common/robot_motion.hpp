@@ -7,8 +7,11 @@
 // the robot's component; without a PTP skill every move is linear. Poses are flange poses
 // (ToolFrame identity).
 //
+// The moves share one session to the robot's component (SkillConnection::alongside): one
+// secured handshake and one browse for the robot, where there were one for each move.
+//
 // A composite holds the robot while it drives it: open() reserves the robot's component
-// (docs/skills.md, "Reservation") for the composite's application URI, through every session,
+// (docs/skills.md, "Reservation") for the composite's application URI through that session,
 // and close() releases it. Another MES, or another composite, cannot move the robot meanwhile;
 // a restarted composite (same URI) takes back what its former self held.
 //
@@ -67,11 +70,11 @@ public:
     /// Where the robot stands: its ReachCentre (the shoulder, in the cell's frame), as its
     /// linear move publishes it.
     asio::awaitable<ua::Result<KDL::Frame>> reachCentre();
-    /// Whether every session to the robot is still up (false once its component died).
+    /// Whether the session to the robot is still up (false once its component died).
     [[nodiscard]] bool connected();
     /// Whether the robot offers force-limited moves.
     [[nodiscard]] bool sensesForce() const { return static_cast<bool>(forceLimited_); }
-    /// Releases the robot and closes the sessions.
+    /// Releases the robot and closes the session.
     asio::awaitable<void> close();
     [[nodiscard]] const std::string& endpointUrl() const { return linear_->endpointUrl(); }
 
