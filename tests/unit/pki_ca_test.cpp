@@ -130,6 +130,38 @@ TEST(CellCa, CellCaLinkInThePkiDirectoryIsUsed) {
     EXPECT_TRUE(cellCaDirectory(tmp.path() / "elsewhere").empty());
 }
 
+TEST(CellCa, AComponentReadsTheCaKeyOnlyToIssue) {
+    if (std::getenv("SKILLCELL_CA_DIR") != nullptr) {
+        GTEST_SKIP() << "SKILLCELL_CA_DIR is set: it overrides the cell-ca link";
+    }
+    test::TempDir tmp;
+    auto ca = createCertificateAuthority(tmp.path() / "ca", {});
+    ASSERT_TRUE(ca);
+    const fs::path pki = tmp.path() / "pki";
+    fs::create_directories(pki);
+    fs::create_directory_symlink(tmp.path() / "ca", pki / "cell-ca");
+    auto first = loadOrCreateOwnCertificate(pki, subjectFor("ur5"));
+    ASSERT_TRUE(first);
+    ASSERT_TRUE(first->created);
+    // The key away (where an operator keeps it when the cell is commissioned): a start with
+    // the certificate the CA issued needs only the CA's certificate and CRL.
+    fs::rename(ca->keyFile(), tmp.path() / "ca_key.pem");
+    std::string error;
+    auto again = loadOrCreateOwnCertificate(pki, subjectFor("ur5"), &error);
+    ASSERT_TRUE(again) << error;
+    EXPECT_FALSE(again->created);
+    EXPECT_EQ(again->der, first->der);
+    // Issuing does need it, and says which file it could not read.
+    auto other = loadOrCreateOwnCertificate(pki, subjectFor("mes"), &error);
+    EXPECT_FALSE(other);
+    EXPECT_NE(error.find("ca_key.pem"), std::string::npos) << error;
+    fs::rename(tmp.path() / "ca_key.pem", ca->keyFile());
+    other = loadOrCreateOwnCertificate(pki, subjectFor("mes"), &error);
+    ASSERT_TRUE(other) << error;
+    EXPECT_TRUE(other->created);
+    EXPECT_TRUE(issuedBy(other->der, *ca));
+}
+
 TEST(CellCa, RevokedComponentIsRefusedOnceTheCrlIsInstalled) {
     test::TempDir tmp;
     auto ca = createCertificateAuthority(tmp.path() / "ca", {});

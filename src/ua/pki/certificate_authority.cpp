@@ -252,7 +252,7 @@ Result<CertificateAuthority> createCertificateAuthority(const fs::path& dir,
     return ca;
 }
 
-Result<CertificateAuthority> loadCertificateAuthority(const fs::path& dir, std::string* error) {
+Result<CertificateAuthority> loadCaCertificate(const fs::path& dir, std::string* error) {
     CertificateAuthority ca;
     ca.directory = dir;
     auto certs = readCertificateFile(ca.certificateFile());
@@ -261,6 +261,17 @@ Result<CertificateAuthority> loadCertificateAuthority(const fs::path& dir, std::
         return status::BadConfigurationError;
     }
     ca.certificate = std::move(certs.front());
+    if (X509_check_ca(ca.certificate.get()) == 0) {
+        setError(error, ca.certificateFile().string() + " is no CA certificate");
+        return status::BadConfigurationError;
+    }
+    return ca;
+}
+
+Result<CertificateAuthority> loadCertificateAuthority(const fs::path& dir, std::string* error) {
+    auto loaded = loadCaCertificate(dir, error);
+    if (!loaded) return loaded.status();
+    CertificateAuthority ca = std::move(*loaded);
     const std::vector<std::uint8_t> pem = readWholeFile(ca.keyFile());
     const ossl::Bio bio(BIO_new_mem_buf(pem.data(), static_cast<int>(pem.size())));
     if (!pem.empty() && bio) {
@@ -270,11 +281,9 @@ Result<CertificateAuthority> loadCertificateAuthority(const fs::path& dir, std::
         setError(error, opensslError("cannot read the CA key " + ca.keyFile().string()));
         return status::BadConfigurationError;
     }
-    if (X509_check_private_key(ca.certificate.get(), ca.key.get()) != 1 ||
-        X509_check_ca(ca.certificate.get()) == 0) {
+    if (X509_check_private_key(ca.certificate.get(), ca.key.get()) != 1) {
         ERR_clear_error();
-        setError(error,
-                 dir.string() + ": the key does not belong to the certificate, or it is no CA");
+        setError(error, dir.string() + ": the key does not belong to the certificate");
         return status::BadConfigurationError;
     }
     return ca;
@@ -372,8 +381,9 @@ StatusCode installCertificateAuthority(const CertificateAuthority& ca, const fs:
 bool issuedBy(const ByteString& certificate, const CertificateAuthority& ca) {
     auto cert = parseCertificate(certificate);
     if (!cert) return false;
+    // The CA certificate's public key: the CA's private key is not needed to check.
     const bool ok = X509_check_issued(ca.certificate.get(), cert->get()) == X509_V_OK &&
-                    X509_verify(cert->get(), ca.key.get()) == 1;
+                    X509_verify(cert->get(), X509_get0_pubkey(ca.certificate.get())) == 1;
     ERR_clear_error();
     return ok;
 }

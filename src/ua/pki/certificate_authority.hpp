@@ -53,6 +53,12 @@ struct IssuedCertificate {
 [[nodiscard]] Result<CertificateAuthority> loadCertificateAuthority(
     const std::filesystem::path& dir, std::string* error = nullptr);
 
+/// The CA of `dir` without its private key (`key` empty): enough to tell what it issued
+/// (issuedBy) and to install it as trusted, not to issue. A component starting with a
+/// certificate the CA issued reads no more than this.
+[[nodiscard]] Result<CertificateAuthority> loadCaCertificate(const std::filesystem::path& dir,
+                                                             std::string* error = nullptr);
+
 /// Issues an application instance certificate (new RSA 2048 key, SHA-256, the extensions of
 /// OPC 10000-6 6.2.2, CA:FALSE) for `subject`, valid for subject.validDays but never
 /// beyond the CA's own end.

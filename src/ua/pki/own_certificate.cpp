@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <optional>
 
 #include "ua/pki/certificate.hpp"
 #include "ua/pki/certificate_authority.hpp"
@@ -50,8 +51,10 @@ Result<OwnCertificate> loadOrCreateOwnCertificate(const fs::path& pkiDir,
                                                   std::string* error) {
     const fs::path caDir = cellCaDirectory(pkiDir);
     if (caDir.empty()) return loadOrCreateOwnCertificate(pkiDir, subject, nullptr, error);
+    // The CA's key is read only when a certificate must be issued (below): a component that
+    // starts with one the CA issued reads the CA certificate and CRL, not the key.
     std::string why;
-    auto ca = loadCertificateAuthority(caDir, &why);
+    auto ca = loadCaCertificate(caDir, &why);
     if (!ca) return fail(error, "cell CA " + caDir.string() + ": " + why);
     return loadOrCreateOwnCertificate(pkiDir, subject, &*ca, error);
 }
@@ -80,6 +83,14 @@ Result<OwnCertificate> loadOrCreateOwnCertificate(const fs::path& pkiDir,
         }
         // Another application's certificate, a damaged file, or (with a CA) a self-signed
         // or expiring one: make a new one.
+    }
+    std::optional<CertificateAuthority> signer;  // the CA with its key, read to issue only
+    if (ca != nullptr && !ca->key) {
+        std::string why;
+        auto full = loadCertificateAuthority(ca->directory, &why);
+        if (!full) return fail(error, "cell CA " + ca->directory.string() + ": " + why);
+        signer = std::move(*full);
+        ca = &*signer;
     }
     auto made = ca != nullptr ? issueCertificate(*ca, subject, error)
                               : createSelfSignedCertificate(subject, error);
