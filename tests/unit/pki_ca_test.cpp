@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <cstdlib>
+#include <optional>
 
 #include "pki_test_support.hpp"
 #include "ua/pki/certificate.hpp"
@@ -113,16 +114,26 @@ TEST(CellCa, ReplacesASelfSignedCertificateAndKeepsAnIssuedOne) {
     EXPECT_TRUE(issuedBy(moved->der, *ca2));
 }
 
-TEST(CellCa, CellCaLinkInThePkiDirectoryIsUsed) {
-    if (std::getenv("SKILLCELL_CA_DIR") != nullptr) {
-        GTEST_SKIP() << "SKILLCELL_CA_DIR is set: it overrides the cell-ca link";
-    }
+/// A CA, and a PKI directory that links to it as `cell-ca` (as `cell up` commissions one).
+class CellCaLink : public testing::Test {
+protected:
     test::TempDir tmp;
-    auto ca = createCertificateAuthority(tmp.path() / "ca", {});
-    ASSERT_TRUE(ca);
-    const fs::path pki = tmp.path() / "pki";
-    fs::create_directories(pki);
-    fs::create_directory_symlink(tmp.path() / "ca", pki / "cell-ca");
+    std::optional<CertificateAuthority> ca;
+    fs::path pki = tmp.path() / "pki";
+
+    void SetUp() override {
+        if (std::getenv("SKILLCELL_CA_DIR") != nullptr) {
+            GTEST_SKIP() << "SKILLCELL_CA_DIR is set: it overrides the cell-ca link";
+        }
+        auto made = createCertificateAuthority(tmp.path() / "ca", {});
+        ASSERT_TRUE(made);
+        ca = std::move(*made);
+        fs::create_directories(pki);
+        fs::create_directory_symlink(tmp.path() / "ca", pki / "cell-ca");
+    }
+};
+
+TEST_F(CellCaLink, CellCaLinkInThePkiDirectoryIsUsed) {
     EXPECT_EQ(cellCaDirectory(pki), pki / "cell-ca");
     auto own = loadOrCreateOwnCertificate(pki, subjectFor("mes"));
     ASSERT_TRUE(own);
@@ -130,16 +141,7 @@ TEST(CellCa, CellCaLinkInThePkiDirectoryIsUsed) {
     EXPECT_TRUE(cellCaDirectory(tmp.path() / "elsewhere").empty());
 }
 
-TEST(CellCa, AComponentReadsTheCaKeyOnlyToIssue) {
-    if (std::getenv("SKILLCELL_CA_DIR") != nullptr) {
-        GTEST_SKIP() << "SKILLCELL_CA_DIR is set: it overrides the cell-ca link";
-    }
-    test::TempDir tmp;
-    auto ca = createCertificateAuthority(tmp.path() / "ca", {});
-    ASSERT_TRUE(ca);
-    const fs::path pki = tmp.path() / "pki";
-    fs::create_directories(pki);
-    fs::create_directory_symlink(tmp.path() / "ca", pki / "cell-ca");
+TEST_F(CellCaLink, AComponentReadsTheCaKeyOnlyToIssue) {
     auto first = loadOrCreateOwnCertificate(pki, subjectFor("ur5"));
     ASSERT_TRUE(first);
     ASSERT_TRUE(first->created);
