@@ -9,14 +9,10 @@
 namespace skillcell::skills {
 
 SkillConnection::SkillConnection(Token, asio::any_io_executor executor, std::string endpointUrl)
-    : endpointUrl_(std::move(endpointUrl)),
-      session_(std::make_shared<Session>(executor)),
-      client_(&session_->client) {}
+    : endpointUrl_(std::move(endpointUrl)), session_(std::make_shared<Session>(executor)) {}
 
 SkillConnection::SkillConnection(Token, std::shared_ptr<Session> session, std::string endpointUrl)
-    : endpointUrl_(std::move(endpointUrl)),
-      session_(std::move(session)),
-      client_(&session_->client) {}
+    : endpointUrl_(std::move(endpointUrl)), session_(std::move(session)) {}
 
 SkillConnection::~SkillConnection() = default;
 
@@ -32,7 +28,7 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::o
     asio::any_io_executor executor, std::string endpointUrl, std::string typeName,
     ua::ClientConfig config, std::string* why) {
     auto c = std::make_unique<SkillConnection>(Token{}, executor, endpointUrl);
-    const ua::StatusCode connected = co_await c->client_->connect(endpointUrl, config);
+    const ua::StatusCode connected = co_await c->client().connect(endpointUrl, config);
     if (connected.isBad()) {
         say(why,
             "cannot connect to " + endpointUrl + ": " + std::string(ua::statusName(connected)));
@@ -55,7 +51,7 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::o
     asio::any_io_executor executor, SkillInstance instance, ua::ClientConfig config,
     std::string* why, SkillClientOptions options) {
     auto c = std::make_unique<SkillConnection>(Token{}, executor, instance.endpointUrl);
-    const ua::StatusCode connected = co_await c->client_->connect(instance.endpointUrl, config);
+    const ua::StatusCode connected = co_await c->client().connect(instance.endpointUrl, config);
     if (connected.isBad()) {
         say(why, "cannot connect to " + instance.endpointUrl + ": " +
                      std::string(ua::statusName(connected)));
@@ -83,7 +79,7 @@ asio::awaitable<ua::Result<RemoteSkill>> SkillConnection::find(const std::string
                                                                std::string* why) {
     if (session_->browsed.empty()) {
         RemoteSkillBrowser browser;
-        auto found = co_await browser.browse(*client_);
+        auto found = co_await browser.browse(client());
         if (!found) {
             say(why, "cannot browse the skills of " + endpointUrl_ + ": " +
                          std::string(ua::statusName(found.status())));
@@ -114,7 +110,7 @@ asio::awaitable<ua::StatusCode> SkillConnection::attachTo(const RemoteSkill& ski
                                                           std::string* why,
                                                           SkillClientOptions options) {
     remote_ = skill;
-    auto attached = co_await SkillClient::attach(*client_, skill.nodeId, options);
+    auto attached = co_await SkillClient::attach(client(), skill.nodeId, options);
     if (!attached) {
         say(why, "cannot use " + skill.browsePathString() + " at " + endpointUrl_ + ": " +
                      std::string(ua::statusName(attached.status())));
@@ -127,7 +123,7 @@ asio::awaitable<ua::StatusCode> SkillConnection::attachTo(const RemoteSkill& ski
 }
 
 asio::awaitable<void> SkillConnection::abandon() {
-    if (session_->open == 0) co_await client_->disconnect();
+    co_await client().disconnect();
 }
 
 asio::awaitable<ua::Result<ua::DateTime>> SkillConnection::lastTransitionTime() {
@@ -138,11 +134,11 @@ asio::awaitable<ua::Result<ua::DateTime>> SkillConnection::lastTransitionTime() 
         std::vector<ua::QualifiedName> path;  // named: GCC 12 and temporaries in co_await
         path.push_back(ua::QualifiedName{0, ua::String("LastTransition")});
         path.push_back(ua::QualifiedName{0, ua::String("TransitionTime")});
-        auto translated = co_await client_->translateBrowsePath(remote_.nodeId, std::move(path));
+        auto translated = co_await client().translateBrowsePath(remote_.nodeId, std::move(path));
         if (!translated) co_return translated.status();
         node = *translated;
     }
-    auto value = co_await client_->readValue(node);
+    auto value = co_await client().readValue(node);
     if (!value) co_return value.status();
     if (value->isEmpty()) co_return ua::DateTime{};  // no transition yet
     const auto* time = value->get<ua::DateTime>();
@@ -153,14 +149,14 @@ asio::awaitable<ua::Result<ua::DateTime>> SkillConnection::lastTransitionTime() 
 asio::awaitable<ua::Result<ua::Variant>> SkillConnection::readParameter(std::string name) {
     const RemoteParameter* p = skill_->parameter(name);
     if (p == nullptr) co_return ua::status::BadNoMatch;
-    co_return co_await client_->readValue(p->nodeId);
+    co_return co_await client().readValue(p->nodeId);
 }
 
 asio::awaitable<void> SkillConnection::close() {
     if (!counted_) co_return;  // closed already
     counted_ = false;
     co_await skill_->detach();
-    if (--session_->open == 0) co_await client_->disconnect();
+    if (--session_->open == 0) co_await client().disconnect();
 }
 
 namespace {

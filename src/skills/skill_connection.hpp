@@ -39,7 +39,7 @@ public:
 
     [[nodiscard]] SkillClient& skill() { return *skill_; }
     /// The session to the skill's component, for what else a user reads there.
-    [[nodiscard]] ua::Client& client() { return *client_; }
+    [[nodiscard]] ua::Client& client() { return session_->client; }
     [[nodiscard]] const RemoteSkill& description() const { return remote_; }
     [[nodiscard]] const std::string& endpointUrl() const { return endpointUrl_; }
     /// The current value of one of the skill's parameters (BadNoMatch for an unknown name).
@@ -83,12 +83,11 @@ private:
     /// Attaches to `skill` on the session (which stays open when this fails).
     asio::awaitable<ua::StatusCode> attachTo(const RemoteSkill& skill, std::string* why,
                                              SkillClientOptions options);
-    /// Closes the session, if connected, after a failed open.
+    /// Closes the session after a failed open() (no other connection shares it yet).
     asio::awaitable<void> abandon();
 
     std::string endpointUrl_;
     std::shared_ptr<Session> session_;
-    ua::Client* client_;    // &session_->client
     bool counted_ = false;  // attached, and counted in session_->open until close()
     std::shared_ptr<SkillClient> skill_;
     RemoteSkill remote_;

@@ -936,10 +936,10 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
         // ours by signing its certificate and nonce (OPC 10000-4, 5.6.2 and 5.6.3).
         const auto* profile = crypto::findSecurityPolicyProfile(config_.security.policyUri);
         // The channel decoded the server's key when it opened, from this certificate.
-        const SecurityPolicy* channelPolicy = conn_->channel->policy();
-        auto serverKey = channelPolicy != nullptr && channelPolicy->remoteKey() != nullptr &&
-                                 channelPolicy->remoteCertificate() == serverCertificate
-                             ? Result<crypto::RsaKey>(*channelPolicy->remoteKey())
+        const SecurityPolicy* channel = conn_->channel->policy();
+        auto serverKey = channel != nullptr
+                             ? publicKeyOf(serverCertificate, &channel->remoteCertificate(),
+                                           channel->remoteKey())
                              : crypto::RsaKey::fromCertificate(serverCertificate.bytes);
         if (!serverKey ||
             leafCertificate(created->serverCertificate.bytes) !=

@@ -75,6 +75,16 @@ std::vector<std::uint8_t> leafCertificate(std::span<const std::uint8_t> der) {
     return {der.begin(), der.begin() + static_cast<std::ptrdiff_t>(header + length)};
 }
 
+Result<crypto::RsaKey> publicKeyOf(const ByteString& certificate,
+                                   const ByteString* channelCertificate,
+                                   const crypto::RsaKey* channelKey) {
+    if (channelKey != nullptr && channelCertificate != nullptr &&
+        leafCertificate(certificate.bytes) == leafCertificate(channelCertificate->bytes)) {
+        return *channelKey;
+    }
+    return crypto::RsaKey::fromCertificate(certificate.bytes);
+}
+
 std::vector<std::uint8_t> certificateAndNonce(const ByteString& certificate,
                                               const ByteString& nonce) {
     std::vector<std::uint8_t> out(certificate.bytes);

@@ -21,17 +21,6 @@ const crypto::SecurityPolicyProfile* channelProfile(const ServiceContext& ctx) {
     return crypto::findSecurityPolicyProfile(ctx.securityPolicyUri);
 }
 
-/// The public key of `certificate`: the channel's, decoded when it opened, when its leaf is
-/// the channel's client certificate (a session's, and a component's X.509 user token, which
-/// is its application certificate); decoded here otherwise.
-Result<crypto::RsaKey> publicKeyOf(const ServiceContext& ctx, const ByteString& certificate) {
-    if (ctx.clientKey != nullptr && ctx.clientCertificate != nullptr &&
-        leafCertificate(certificate.bytes) == leafCertificate(ctx.clientCertificate->bytes)) {
-        return *ctx.clientKey;
-    }
-    return crypto::RsaKey::fromCertificate(certificate.bytes);
-}
-
 StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
                          const ServerDescription& description, const ServerSecurity& security,
                          const CreateSessionRequest& req, CreateSessionResponse& resp) {
@@ -172,7 +161,7 @@ Result<UserIdentity> checkIdentity(const ServiceContext& ctx, const ServerDescri
         const auto* profile = tokenProfile(ctx, *policy);
         if (profile == nullptr) return status::BadIdentityTokenRejected;
         // Possession of the user's private key: a signature over our certificate and nonce.
-        auto key = publicKeyOf(ctx, x509.certificateData);
+        auto key = publicKeyOf(x509.certificateData, ctx.clientCertificate, ctx.clientKey);
         if (!key) return status::BadIdentityTokenInvalid;
         if (req.userTokenSignature.algorithm != profile->asymmetricSignatureUri ||
             crypto::rsaVerify(*key, profile->asymmetricSignature,
@@ -195,7 +184,7 @@ StatusCode activateSession(ServiceContext& ctx, SessionManager& sessions,
         // The client proves it holds the key of the certificate it gave in CreateSession by
         // signing our certificate and the last nonce we gave it.
         const auto* profile = channelProfile(ctx);
-        auto key = publicKeyOf(ctx, session->clientCertificate());
+        auto key = publicKeyOf(session->clientCertificate(), ctx.clientCertificate, ctx.clientKey);
         if (profile == nullptr || !key ||
             req.clientSignature.algorithm != profile->asymmetricSignatureUri ||
             crypto::rsaVerify(*key, profile->asymmetricSignature,
