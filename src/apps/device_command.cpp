@@ -863,6 +863,7 @@ struct CompositeOptions {
 
 void addCompositeOptions(CLI::App* cmd, CompositeOptions& options, const char* worldHelp) {
     options.process.usesDetector = true;
+    options.process.detectsItself = false;
     addServerProcessOptions(cmd, options.process);
     addDiscoveryOptions(cmd, options.process.discovery, /*registers=*/true, /*isLds=*/false);
     cmd->add_option("--world", options.world, worldHelp)->required();

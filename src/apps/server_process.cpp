@@ -245,7 +245,9 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
             detector->subscribe(
                 [](const skills::SkillEvent& e) { printSkillEvent(std::cout, e, false); });
         }
-        detectorWatcher = skills::attachMdns(detector, discovery->responder());
+        detectorWatcher = skills::attachMdns(
+            detector, discovery->responder(),
+            options.detectsItself || options.detect ? std::string() : discovery->mdnsName());
         if (discovery->lds()) skills::attachLds(detector, *discovery->lds());
     } else if (detector) {
         spdlog::error("{} needs discovery: no skills will be detected",

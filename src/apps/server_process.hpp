@@ -32,6 +32,9 @@ struct ServerProcessOptions {
     /// The component uses the cell's skills (a composite): it gets a SkillDetector fed by
     /// discovery in its ComponentContext.
     bool usesDetector = false;
+    /// Whether that detector also finds this component's own skills. A composite's does not
+    /// (it uses the others'), unless --detect asks for every skill: see skills::attachMdns.
+    bool detectsItself = true;
     /// Security (docs/security.md): secured endpoints only and no anonymous users unless
     /// told otherwise. --insecure is for development: SecurityPolicy None only, anonymous
     /// users with every right, exactly what a server without security would do.

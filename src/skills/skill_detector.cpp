@@ -690,13 +690,14 @@ std::vector<ComponentStatus> SkillDetector::components() const {
 
 std::shared_ptr<ua::lds::ServerWatcher> attachMdns(
     const std::shared_ptr<SkillDetector>& detector,
-    std::shared_ptr<ua::mdns::MdnsResponder> responder) {
+    std::shared_ptr<ua::mdns::MdnsResponder> responder, const std::string& itself) {
     const std::weak_ptr<SkillDetector> weak = detector;
     ua::lds::ServerWatcher::Callbacks callbacks;
-    callbacks.announced = [weak](const ua::lds::AnnouncedServer& s) {
-        if (auto d = weak.lock())
-            d->appeared("mdns:" + ua::mdns::foldCase(s.instance.name), s.application,
-                        s.discoveryUrl);
+    const std::string self = itself.empty() ? std::string() : ua::mdns::foldCase(itself);
+    callbacks.announced = [weak, self](const ua::lds::AnnouncedServer& s) {
+        const std::string name = ua::mdns::foldCase(s.instance.name);
+        if (name == self) return;
+        if (auto d = weak.lock()) d->appeared("mdns:" + name, s.application, s.discoveryUrl);
     };
     callbacks.gone = [weak](const ua::lds::AnnouncedServer& s, ua::mdns::RemovalReason why) {
         if (auto d = weak.lock())

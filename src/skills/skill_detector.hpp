@@ -266,11 +266,14 @@ private:
 };
 
 /// Feeds `detector` from multicast discovery: a ServerWatcher on `responder` whose
-/// "announced" and "gone" become appeared("mdns:<name>") and gone(). Returns the started
-/// watcher; stop it before the responder shuts down. Call on the detector's executor.
+/// "announced" and "gone" become appeared("mdns:<name>") and gone(). The instance named
+/// `itself` (the one this process announces on `responder`; empty: none) is left out: a
+/// composite uses other components' skills, and connecting to itself cost its one thread both
+/// ends of a secured handshake while the cell's clients handshake with it. Returns the
+/// started watcher; stop it before the responder shuts down. Call on the detector's executor.
 [[nodiscard]] std::shared_ptr<ua::lds::ServerWatcher> attachMdns(
     const std::shared_ptr<SkillDetector>& detector,
-    std::shared_ptr<ua::mdns::MdnsResponder> responder);
+    std::shared_ptr<ua::mdns::MdnsResponder> responder, const std::string& itself = {});
 
 /// Feeds `detector` from the registrations of an LDS in this process (its registration
 /// observer; the servers registered already are reported at once): appeared("lds:<uri>"),

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "running_server.hpp"
+#include "skills/skill_detector.hpp"
 #include "ua/client/blocking_client.hpp"
 #include "ua/discovery/local_discovery_server.hpp"
 #include "ua/discovery/mdns_responder.hpp"
@@ -370,6 +371,53 @@ TEST(Mdns, TheWatcherDescribesAnnouncedServersAndReportsThemGone) {
         watcher->stop();
         announcer->shutdown();
         listener->shutdown();
+        return 0;
+    });
+}
+
+TEST(Mdns, ADetectorLeavesOutTheComponentThatRunsItWhenToldItsName) {
+    // A composite: its server, announced on its own responder, which also feeds its detector.
+    auto selfConfig = test::RunningServer::defaultConfig();
+    selfConfig.description.applicationUri = "urn:test:composite";
+    test::RunningServer self(selfConfig);
+    auto otherConfig = test::RunningServer::defaultConfig();
+    otherConfig.description.applicationUri = "urn:test:robot";
+    test::RunningServer other(otherConfig);
+    Loop loop;
+    auto own = loop.run([&] { return makeResponder(loop.io()); });
+    auto elsewhere = loop.run([&] { return makeResponder(loop.io()); });
+    ASSERT_TRUE(own && elsewhere);
+    auto detector = skills::SkillDetector::create(loop.io().get_executor());
+    EventLog log;
+    loop.run([&] {
+        detector->subscribeComponents([&log](const skills::ComponentEvent& e) {
+            log.add(e.status.id + " " +
+                    (e.status.state == skills::ComponentStatus::State::Connected ? "connected"
+                                                                                 : "other"));
+        });
+        return 0;
+    });
+    ServiceAnnouncement a;
+    a.name = "Composite";
+    a.port = self.port();
+    loop.run([&] { return own->announce(a); });
+    auto watcher = loop.run([&] { return skills::attachMdns(detector, own, "composite"); });
+    ServiceAnnouncement b;
+    b.name = "robot";
+    b.port = other.port();
+    loop.run([&] { return elsewhere->announce(b); });
+    // The watcher heard both (its own announcement first); the detector connects to the other.
+    EXPECT_TRUE(log.waitFor("urn:test:robot connected"));
+    const auto components = loop.run([&] { return detector->components(); });
+    ASSERT_EQ(components.size(), 1U);
+    EXPECT_EQ(components.front().id, "urn:test:robot");
+    EXPECT_EQ(self.inServer([](ua::Server& s) { return s.sessionCount(); }), 0U);
+    EXPECT_EQ(other.inServer([](ua::Server& s) { return s.sessionCount(); }), 1U);
+    loop.run([&] {
+        watcher->stop();
+        detector->stop();
+        own->shutdown();
+        elsewhere->shutdown();
         return 0;
     });
 }
