@@ -27,6 +27,7 @@
 #include "dashboard/event_hub.hpp"
 #include "dashboard/periodic_task.hpp"
 #include "dashboard/scene_watcher.hpp"
+#include "dashboard/skill_state_follower.hpp"
 #include "dashboard/web_assets.hpp"
 #include "http/web_server.hpp"
 #include "kb/store/http_sparql_store.hpp"
@@ -152,7 +153,7 @@ private:
     dashboard::PeriodicTask task_;  // last
 };
 
-/// What the component keeps alive: the view, the web server and one session per skill.
+/// What the component keeps alive: the view, the web server and one session per component.
 /// Members go in reverse: the sessions first, the page's streams before the view.
 struct DashboardContent {
     explicit DashboardContent(asio::io_context& context) : io(context) {}
@@ -184,9 +185,9 @@ struct DashboardContent {
     std::size_t subscription = 0;
     std::size_t componentSubscription = 0;
     ua::ClientConfig client;
-    // On the io thread only: the skills as detected, and those watched, by CellView::keyOf.
+    // On the io thread only: the skills as detected, by CellView::keyOf, and their states.
     std::map<std::string, skills::SkillInstance> instances;
-    std::map<std::string, std::shared_ptr<skills::SkillConnection>> watched;
+    std::shared_ptr<dashboard::SkillStateFollower> states;
 };
 
 /// What a Start or Halt from the page came to.
@@ -261,8 +262,8 @@ asio::awaitable<ActionResult> cancelOrder(std::weak_ptr<DashboardContent> weak, 
 }
 
 // Wakes the journal's reader whenever the MES's Objects/ProcessExecution/Progress changes, by
-// a subscription in the session that follows the MES's ExecuteProcess skill (it ends with
-// that session). On the io thread.
+// a subscription in the session that follows the MES's skills (it ends with that session).
+// On the io thread.
 asio::awaitable<void> followProgress(std::weak_ptr<DashboardContent> weak,
                                      std::shared_ptr<skills::SkillConnection> connection) {
     // Named before co_await: GCC 12 destroys closure temporaries in a co_await twice.
@@ -288,61 +289,43 @@ asio::awaitable<void> followProgress(std::weak_ptr<DashboardContent> weak,
     spdlog::info("dashboard: the runs follow the MES's progress at {}", connection->endpointUrl());
 }
 
-// Opens a session to the skill's component and follows its transitions. On the io thread.
-asio::awaitable<void> watch(std::weak_ptr<DashboardContent> weak, skills::SkillInstance skill) {
-    const std::string key = dashboard::CellView::keyOf(skill);
-    ua::ClientConfig config;
-    {
-        auto c = weak.lock();
-        if (!c) co_return;
-        config = c->client;
-    }
-    const auto executor = co_await asio::this_coro::executor;
-    std::string why;
-    auto opened = co_await skills::SkillConnection::open(executor, skill, config, &why);
-    auto c = weak.lock();
-    if (!c) co_return;
-    if (!opened) {
-        spdlog::warn("dashboard: cannot follow {} ({}): its state stays unknown", key, why);
-        c->watched.erase(key);
-        co_return;
-    }
-    auto it = c->watched.find(key);
-    if (it == c->watched.end()) co_return;  // gone again meanwhile
-    std::shared_ptr<skills::SkillConnection> connection = std::move(*opened);
-    auto* view = &c->view;
-    connection->skill().onTransition(
-        [view, key](const skills::SkillTransitionRecord& t) { view->skillState(key, t.to, &t); });
-    c->view.skillState(key, connection->skill().state(), nullptr);
-    it->second = connection;
-    // The MES's Progress changes with every step: the journal has news then.
-    if (skill.type().browseName == "ExecuteProcessSkillType" && c->journal) {
-        c.reset();
-        co_await followProgress(weak, std::move(connection));
-    }
-}
-
 void onSkillEvent(const std::shared_ptr<DashboardContent>& c, const skills::SkillEvent& e) {
     const std::string key = dashboard::CellView::keyOf(e.instance);
     if (e.kind == skills::SkillEvent::Kind::Added) {
         c->instances[key] = e.instance;
         c->view.skillAdded(e.instance);
-        if (c->watched.emplace(key, nullptr).second) {
-            asio::co_spawn(c->io, watch(c, e.instance), asio::detached);
-        }
+        c->states->add(e.instance);
         return;
     }
     c->view.skillRemoved(e.instance, e.reason);
     c->instances.erase(key);
-    auto it = c->watched.find(key);
-    if (it == c->watched.end()) return;
-    if (auto connection = std::move(it->second)) {
-        // Closed politely if the server is still there; the session goes either way.
-        asio::co_spawn(
-            c->io, [connection]() -> asio::awaitable<void> { co_await connection->close(); },
-            asio::detached);
-    }
-    c->watched.erase(it);
+    c->states->remove(e.instance);
+}
+
+// Follows every detected skill's state into the view, over one session per component; the
+// MES's session also carries the subscription to its progress. On the io thread.
+std::shared_ptr<dashboard::SkillStateFollower> followStates(
+    const std::shared_ptr<DashboardContent>& c) {
+    std::weak_ptr<DashboardContent> weak = c;
+    dashboard::SkillStateFollower::Listeners listeners;
+    listeners.state = [weak](const std::string& key, std::optional<skills::SkillState> state,
+                             const skills::SkillTransitionRecord* transition) {
+        if (auto content = weak.lock()) content->view.skillState(key, state, transition);
+    };
+    listeners.followed = [weak](const skills::SkillInstance& skill,
+                                const std::shared_ptr<skills::SkillConnection>& connection) {
+        auto content = weak.lock();
+        // The MES's Progress changes with every step: the journal has news then.
+        if (content && content->journal && skill.type().browseName == "ExecuteProcessSkillType") {
+            asio::co_spawn(content->io, followProgress(weak, connection), asio::detached);
+        }
+    };
+    listeners.failed = [](const skills::SkillInstance& skill, const std::string& why) {
+        spdlog::warn("dashboard: cannot follow {} ({}): its state stays unknown",
+                     dashboard::CellView::keyOf(skill), why);
+    };
+    return dashboard::SkillStateFollower::create(c->io.get_executor(), c->client,
+                                                 std::move(listeners));
 }
 
 void serveAsset(httplib::Response& res, std::string_view name, const char* type) {
@@ -627,6 +610,7 @@ int run(DashboardOptions& o) {
                          tls ? "HTTPS, the cell's users log in" : "plain HTTP, no login");
             if (ctx.detector) {
                 c->detector = ctx.detector;
+                c->states = followStates(c);
                 std::weak_ptr<DashboardContent> weak = c;
                 // Detector events come on the io thread, where the sessions live too.
                 c->subscription = ctx.detector->subscribe([weak](const skills::SkillEvent& e) {

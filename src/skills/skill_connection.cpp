@@ -75,6 +75,19 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::a
     co_return c;
 }
 
+asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::alongside(
+    RemoteSkill skill, std::string* why, SkillClientOptions options) {
+    if (session_->open == 0) {
+        // The last connection closed it: attaching would fail on a dead session anyway.
+        say(why, "the session to " + endpointUrl_ + " is closed");
+        co_return ua::status::BadSessionClosed;
+    }
+    auto c = std::make_unique<SkillConnection>(Token{}, session_, endpointUrl_);
+    const ua::StatusCode attached = co_await c->attachTo(skill, why, options);
+    if (attached.isBad()) co_return attached;
+    co_return c;
+}
+
 asio::awaitable<ua::Result<RemoteSkill>> SkillConnection::find(const std::string& typeName,
                                                                std::string* why) {
     if (session_->browsed.empty()) {

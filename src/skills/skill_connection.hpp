@@ -52,6 +52,10 @@ public:
     /// type). BadNotFound (with `why`) when the component offers none of `typeName`.
     asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> alongside(std::string typeName,
                                                                             std::string* why);
+    /// Exactly `skill` (as a detector or a browse found it on this component), over this
+    /// connection's session; BadSessionClosed (with `why`) once no connection keeps it open.
+    asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> alongside(
+        RemoteSkill skill, std::string* why, SkillClientOptions options = {});
     /// Deletes the subscription; closes the session when no other open connection shares it.
     asio::awaitable<void> close();
 
