@@ -3,9 +3,11 @@
 // the OPC UA face driven through WorldLink over a real server.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <thread>
 
 #include "devices/common/frame.hpp"
 #include "devices/world/world.hpp"
@@ -22,6 +24,7 @@ namespace {
 // The robot whose flange the tests move (the world has it by this id).
 const std::string kArm = "arm";
 
+using namespace std::chrono_literals;
 using ua::status::BadInvalidArgument;
 using ua::status::BadInvalidState;
 using ua::status::BadNodeIdExists;
@@ -393,6 +396,37 @@ TEST(DeviceWorldNodes, DevicesChangeTheWorldThroughMethodsAndReadItBack) {
                near(world.object("box1")->pose, at(0.2, 0.3, 0.25), 1e-9, 1e-9);
     });
     EXPECT_TRUE(consistent);
+}
+
+// A device idle for longer than its session's timeout (a tool changer between two tool
+// changes): the world closes the session while the channel stays up, and the next request
+// goes through on a new session, without the device taking it for a lost world.
+TEST(DeviceWorldNodes, ALinkWhoseSessionTheWorldClosedWhileIdleOpensAnotherAndGoesOn) {
+    WorldServer fixture;
+    test::RunningServer& server = fixture.server;
+    ua::ClientConfig config;
+    config.sessionTimeoutMs = 1000;  // the server's least
+    auto link = WorldLink::connect(server.url(), config, kArm);
+    ASSERT_TRUE(link.ok()) << ua::statusName(link.status());
+    WorldLink& w = **link;
+    EXPECT_EQ(w.addObject("box1", {0.04, 0.04, 0.04}, at(0.5, 0.1, 0.02)), Good);
+    auto sessions = [&] { return server.inServer([](ua::Server& s) { return s.sessionCount(); }); };
+    // The server looks for timed-out sessions every second: bounded by 5 s.
+    const auto until = std::chrono::steady_clock::now() + 5s;
+    while (sessions() != 0 && std::chrono::steady_clock::now() < until) {
+        std::this_thread::sleep_for(20ms);
+    }
+    ASSERT_EQ(sessions(), 0U);
+    w.clearLoss();
+    const auto pose = w.objectPose("box1");  // a read
+    ASSERT_TRUE(pose.ok()) << ua::statusName(pose.status());
+    EXPECT_TRUE(near(*pose, at(0.5, 0.1, 0.02), 1e-9, 1e-9));
+    EXPECT_EQ(w.addObject("box2", {0.04, 0.04, 0.04}, at(0.3, 0.1, 0.02)), Good);  // a call
+    auto ids = w.objectIds();                                                      // a browse
+    ASSERT_TRUE(ids.ok());
+    EXPECT_EQ(ids->size(), 2U);
+    EXPECT_FALSE(w.lostConnection());
+    EXPECT_EQ(sessions(), 1U);
 }
 
 // A fuse pushed into a slot through the world's methods: the force it meets and the slot it

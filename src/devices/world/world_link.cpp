@@ -34,16 +34,28 @@ ua::StatusCode WorldLink::open() {
     return ua::status::BadNotFound;
 }
 
+namespace {
+
+/// The world closed the session (it outlived its timeout unused), and the channel is up.
+bool sessionClosedBy(ua::StatusCode s) {
+    return s == ua::status::BadSessionIdInvalid || s == ua::status::BadSessionClosed;
+}
+
+}  // namespace
+
 void WorldLink::reconnectIfLost() {
     if (!lost_) return;
     const std::lock_guard lock(reconnectMutex_);
     if (!lost_) return;  // another thread reconnected meanwhile
+    // The channel outlives a closed session: the client must let it go to open another.
+    if (sessionClosed_.exchange(false)) (void)client_.disconnect();
     const auto s = open();
     // BadInvalidState: still connected (a late failure of a call on the old connection).
     if (s.isGood() || s == ua::status::BadInvalidState) lost_ = false;
 }
 
 void WorldLink::note(ua::StatusCode s) {
+    if (sessionClosedBy(s)) sessionClosed_ = true;
     if (ua::isConnectionLoss(s)) lost_ = true;
     if (ua::isTransient(s)) lostSinceMark_ = true;
 }
@@ -118,19 +130,32 @@ void WorldLink::heardAfter(int tries, ua::StatusCode s) {
     spdlog::info("world model: heard after {} tries ({})", tries, ua::statusName(s));
 }
 
-ua::Result<ua::Variant> WorldLink::readValue(const std::string& path) {
+template <class Request>
+auto WorldLink::onSession(const Request& request) -> decltype(request()) {
     reconnectIfLost();
-    auto value = client_.readValue(id(path));
-    note(value.status());
-    return value;
+    auto result = request();
+    if (sessionClosedBy(result.status())) {
+        // A device idle for longer than the session's timeout (a tool changer between tool
+        // changes): the world refused the request unrun, so it goes again on a new session.
+        spdlog::info("world model: the session was closed ({}); opening another",
+                     ua::statusName(result.status()));
+        sessionClosed_ = true;  // not a loss the device must know of, unless this fails too
+        lost_ = true;
+        reconnectIfLost();
+        result = request();
+    }
+    note(result.status());
+    return result;
+}
+
+ua::Result<ua::Variant> WorldLink::readValue(const std::string& path) {
+    return onSession([&] { return client_.readValue(id(path)); });
 }
 
 ua::Result<std::vector<ua::Variant>> WorldLink::call(const char* method,
                                                      std::vector<ua::Variant> in) {
-    reconnectIfLost();
-    auto out = client_.call(id("World"), id(std::string("World.") + method), std::move(in));
-    note(out.status());
-    return out;
+    return onSession(
+        [&] { return client_.call(id("World"), id(std::string("World.") + method), in); });
 }
 
 ua::Result<std::vector<ua::Variant>> WorldLink::robotCall(const char* method,
@@ -272,9 +297,7 @@ ua::Result<std::string> WorldLink::dockTool(const std::string& dockId) {
 }
 
 ua::Result<std::vector<std::string>> WorldLink::children(const std::string& path) {
-    reconnectIfLost();
-    auto found = client_.browse(id(path));
-    note(found.status());
+    auto found = onSession([&] { return client_.browse(id(path)); });
     if (!found) return found.status();
     if (found->statusCode.isBad()) return found->statusCode;
     std::vector<std::string> names;

@@ -181,6 +181,11 @@ private:
     void reconnectIfLost();
     /// Notes whether `s` says the world is out of reach.
     void note(ua::StatusCode s);
+    /// Sends `request` (a call of client_) when the world is in reach; once more on a new
+    /// session when the world had closed the link's (idle longer than its timeout while the
+    /// channel stayed up), which it refuses before running anything of the request.
+    template <class Request>
+    auto onSession(const Request& request) -> decltype(request());
     ua::Result<ua::Variant> readValue(const std::string& path);
     ua::Result<std::vector<ua::Variant>> call(const char* method, std::vector<ua::Variant> in);
     /// A call about this link's robot: its id goes first.
@@ -206,6 +211,7 @@ private:
     std::string robot_;
     std::mutex reconnectMutex_;  // one reconnect at a time, whichever thread calls
     std::atomic<bool> lost_{false};
+    std::atomic<bool> sessionClosed_{false};  // lost_ with the channel up: reconnect anew
     std::atomic<bool> lostSinceMark_{false};
     // Events not heard yet (tell()), and the thread that delivers them, started with the
     // first; its members are under backlogMutex_.
