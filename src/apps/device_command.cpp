@@ -20,7 +20,6 @@
 #include <charconv>
 #include <chrono>
 #include <map>
-#include <thread>
 
 #include "cell/component_uris.hpp"
 #include "cell/device_arguments.hpp"
@@ -41,6 +40,7 @@
 #include "devices/world/world_file.hpp"
 #include "devices/world/world_nodes.hpp"
 #include "server_process.hpp"
+#include "world_connection.hpp"
 
 namespace skillcell::apps {
 namespace {
@@ -84,34 +84,19 @@ void addRobotUriOption(CLI::App* cmd, std::string& uri) {
                     "changer passes it), published as its skills' RobotUri");
 }
 
-/// The device's link to the world model (--world), as the component's own client: its
-/// certificate, and the user given by --client-user; acting for `robot` (empty: for none).
-ua::Result<std::unique_ptr<devices::WorldLink>> connectWorld(const std::string& url,
-                                                             const ComponentContext& c,
-                                                             std::string robot = {}) {
-    ua::ClientConfig config;
-    config.applicationUri = c.applicationUri;
-    config.sessionName = "world link";
-    config.security = c.clientSecurity;
-    // A world out of reach may be restarting (a tool's adapter is powered while it does): it
-    // is waited for, briefly, before the device gives up.
-    constexpr auto kPatience = std::chrono::seconds(15);
-    constexpr auto kPause = std::chrono::milliseconds(200);
-    const auto deadline = std::chrono::steady_clock::now() + kPatience;
-    for (bool told = false;;) {
-        auto link = devices::WorldLink::connect(url, config, robot);
-        if (link || !ua::isConnectionLoss(link.status()) ||
-            std::chrono::steady_clock::now() + kPause >= deadline) {
-            if (!link) spdlog::critical("--world {}: {}", url, ua::statusName(link.status()));
-            return link;
-        }
-        if (!told) {
-            spdlog::warn("--world {}: {}; waiting up to {} s for the world model", url,
-                         ua::statusName(link.status()), kPatience.count());
-            told = true;
-        }
-        std::this_thread::sleep_for(kPause);  // nothing to wait on but a server that restarts
-    }
+/// Starts `world` connecting as soon as the component can (StartEarly); nothing without one.
+StartEarly connectEarly(const std::shared_ptr<WorldConnection>& world) {
+    if (!world) return {};
+    return [world](const ua::ClientSecurity& security, const std::string& applicationUri) {
+        world->start(security, applicationUri);
+    };
+}
+
+/// The link to the world model that `world` connected to meanwhile, or why there is none.
+ua::Result<std::unique_ptr<devices::WorldLink>> worldLink(
+    const std::shared_ptr<WorldConnection>& world) {
+    if (!world) return ua::status::BadInvalidState;
+    return world->take();
 }
 
 struct WorldOptions {
@@ -430,36 +415,54 @@ CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* n
         ->capture_default_str();
     commands.push_back(
         {cmd, [options, model, name = std::string(name)] {
+             const KDL::Frame base = toFrame(*parsePose6(options->base));  // by poseText()
+             // Where the world has the flange, and the joints that take it there: learnt on
+             // the world link's thread (the inverse kinematics included) while the arm loads
+             // its models.
+             auto joints = std::make_shared<devices::Joints>();
+             std::shared_ptr<WorldConnection> world;
+             if (!options->world.empty()) {
+                 world = std::make_shared<WorldConnection>(
+                     options->world, options->robot,
+                     [joints, model, base, name](devices::WorldLink& link) {
+                         *joints = startingJoints(link, model, base, name);
+                     });
+             }
              return runServerProcess(
                  options->process,
-                 [options, model, name](const ComponentContext& c) -> ua::Result<ComponentContent> {
+                 [options, model, name, base, world,
+                  joints](const ComponentContext& c) -> ua::Result<ComponentContent> {
                      auto content = std::make_shared<ArmContent>();
                      devices::ArmComponentOptions o;
                      o.model = model;
                      o.arm.speed = options->speed;
                      o.arm.tick = std::chrono::milliseconds(options->tickMs);
-                     o.base = toFrame(*parsePose6(options->base));  // checked by poseText()
-                     if (!options->world.empty()) {
-                         auto link = connectWorld(options->world, c, options->robot);
-                         if (!link) return link.status();
-                         o.arm.initial = startingJoints(**link, model, o.base, name);
-                         content->reporter = devices::FlangeReporter::start(std::move(*link));
-                         o.onFlange = [r = content->reporter.get()](const KDL::Frame& f) {
-                             r->report(f);
+                     o.base = base;
+                     if (world) {
+                         ArmContent* arm = content.get();  // owns the component: outlives it
+                         o.startingJoints =
+                             [arm, world, joints](std::string* why) -> ua::Result<devices::Joints> {
+                             auto link = worldLink(world);
+                             if (!link) {
+                                 *why = "the world model is out of reach (" +
+                                        std::string(ua::statusName(link.status())) + ")";
+                                 return link.status();
+                             }
+                             arm->reporter = devices::FlangeReporter::start(std::move(*link));
+                             return *joints;
                          };
+                         // Called once the arm exists, after startingJoints: the reporter is.
+                         o.onFlange = [arm](const KDL::Frame& f) { arm->reporter->report(f); };
                          // A move ends once the world has its final pose: whoever runs
                          // the next skill finds the world up to date.
-                         o.arm.beforeDone =
-                             [r = content->reporter.get()](std::function<void()> report) {
-                                 r->whenSent(std::move(report));
-                             };
+                         o.arm.beforeDone = [arm](std::function<void()> report) {
+                             arm->reporter->whenSent(std::move(report));
+                         };
                          // What the arm's torque sensing measures: the world's answer.
                          if (model.sensesForce) {
-                             o.arm.contactForce = [r = content->reporter.get()] {
-                                 return r->contactForce();
-                             };
-                             o.arm.unmeasuredSamples = [r = content->reporter.get()] {
-                                 return r->unanswered();
+                             o.arm.contactForce = [arm] { return arm->reporter->contactForce(); };
+                             o.arm.unmeasuredSamples = [arm] {
+                                 return arm->reporter->unanswered();
                              };
                          }
                      }
@@ -471,7 +474,8 @@ CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* n
                      }
                      content->component = std::move(*component);
                      return ComponentContent(content);
-                 });
+                 },
+                 connectEarly(world));
          }});
     return cmd;
 }
@@ -580,13 +584,13 @@ FingerWiring wireFingers(devices::WorldLink* world) {
     return wiring;
 }
 
-ua::Result<ComponentContent> populateParallelGripper(const ParallelGripperModel& model,
-                                                     ParallelGripperOptions options,
-                                                     const ComponentContext& c) {
+ua::Result<ComponentContent> populateParallelGripper(
+    const ParallelGripperModel& model, ParallelGripperOptions options, const ComponentContext& c,
+    const std::shared_ptr<WorldConnection>& world) {
     auto content = std::make_shared<ParallelGripperContent>();
     if (options.serial.empty()) {
-        if (!options.world.empty()) {
-            auto link = connectWorld(options.world, c, options.robot);
+        if (world) {
+            auto link = worldLink(world);
             if (!link) return link.status();
             content->world = std::move(*link);
         }
@@ -648,9 +652,17 @@ CLI::App* addParallelGripper(CLI::App* device, std::vector<Command>& commands,
     commands.push_back(
         {cmd, [options, model] {
              options->process.boot = *devices::bootProfileNamed(options->bootProfile, false);
-             return runServerProcess(options->process, [options, model](const ComponentContext& c) {
-                 return populateParallelGripper(model, *options, c);
-             });
+             // A simulated gripper's fingers ask the world what lies between them.
+             std::shared_ptr<WorldConnection> world;
+             if (options->serial.empty() && !options->world.empty()) {
+                 world = std::make_shared<WorldConnection>(options->world, options->robot);
+             }
+             return runServerProcess(
+                 options->process,
+                 [options, model, world](const ComponentContext& c) {
+                     return populateParallelGripper(model, *options, c, world);
+                 },
+                 connectEarly(world));
          }});
     return cmd;
 }
@@ -764,14 +776,15 @@ struct SchmalzContent {
 };
 
 ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
-                                             const ComponentContext& c) {
+                                             const ComponentContext& c,
+                                             const std::shared_ptr<WorldConnection>& connection) {
     namespace sz = devices::schmalz;
     auto content = std::make_shared<SchmalzContent>();
     sz::EcbpiComponentOptions o;
     o.gripPointOffset = toFrame(*parsePose6(options.gripOffset));  // checked by poseText()
     o.gripper.port = options.port;
-    if (!options.world.empty()) {
-        auto link = connectWorld(options.world, c, options.robot);
+    if (connection) {
+        auto link = worldLink(connection);
         if (!link) return link.status();
         content->world = std::move(*link);
     }
@@ -846,9 +859,16 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
         {cmd, [options] {
              // The Schmalz board also initialises its IO-Link master.
              options->process.boot = *devices::bootProfileNamed(options->bootProfile, true);
-             return runServerProcess(options->process, [options](const ComponentContext& c) {
-                 return populateSchmalz(*options, c);
-             });
+             std::shared_ptr<WorldConnection> world;
+             if (!options->world.empty()) {
+                 world = std::make_shared<WorldConnection>(options->world, options->robot);
+             }
+             return runServerProcess(
+                 options->process,
+                 [options, world](const ComponentContext& c) {
+                     return populateSchmalz(*options, c, world);
+                 },
+                 connectEarly(world));
          }});
     return cmd;
 }
@@ -905,6 +925,7 @@ struct ToolChangerContent {
 };
 
 ua::Result<ComponentContent> populateToolChanger(const ToolChangerOptions& options,
+                                                 const std::shared_ptr<WorldConnection>& world,
                                                  const ComponentContext& c) {
     namespace tc = devices::toolchanger;
     tc::ToolTable tools;
@@ -922,7 +943,7 @@ ua::Result<ComponentContent> populateToolChanger(const ToolChangerOptions& optio
         }
     }
     auto content = std::make_shared<ToolChangerContent>();
-    auto link = connectWorld(options.composite.world, c, options.robot);
+    auto link = worldLink(world);
     if (!link) return link.status();
     content->world = std::move(*link);
     // The simulated coupling keeps its own copy of the table: the tools' resistors.
@@ -987,10 +1008,14 @@ CLI::App* addToolChanger(CLI::App* device, std::vector<Command>& commands) {
         ->check(CLI::Range(100, 600'000))
         ->capture_default_str();
     commands.push_back({cmd, [options] {
-                            return runServerProcess(options->composite.process,
-                                                    [options](const ComponentContext& c) {
-                                                        return populateToolChanger(*options, c);
-                                                    });
+                            auto world = std::make_shared<WorldConnection>(options->composite.world,
+                                                                           options->robot);
+                            return runServerProcess(
+                                options->composite.process,
+                                [options, world](const ComponentContext& c) {
+                                    return populateToolChanger(*options, world, c);
+                                },
+                                connectEarly(world));
                         }});
     return cmd;
 }
@@ -1032,12 +1057,13 @@ CLI::App* addPickPlace(CLI::App* device, std::vector<Command>& commands) {
         ->capture_default_str();
     commands.push_back(
         {cmd, [options] {
+             auto world = std::make_shared<WorldConnection>(options->composite.world, "");
              return runServerProcess(
                  options->composite.process,
-                 [options](const ComponentContext& c) -> ua::Result<ComponentContent> {
+                 [options, world](const ComponentContext& c) -> ua::Result<ComponentContent> {
                      namespace pp = devices::pickplace;
                      auto content = std::make_shared<PickPlaceContent>();
-                     auto link = connectWorld(options->composite.world, c);
+                     auto link = worldLink(world);
                      if (!link) return link.status();
                      content->world = std::move(*link);
                      pp::PickAndPlaceOptions o;
@@ -1055,7 +1081,8 @@ CLI::App* addPickPlace(CLI::App* device, std::vector<Command>& commands) {
                      }
                      content->component = std::move(*component);
                      return ComponentContent(content);
-                 });
+                 },
+                 connectEarly(world));
          }});
     return cmd;
 }

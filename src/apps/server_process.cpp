@@ -155,7 +155,8 @@ int configureSecurity(const ServerProcessOptions& options, const ApplicationIden
 
 }  // namespace
 
-int runServerProcess(const ServerProcessOptions& options, const PopulateServer& populate) {
+int runServerProcess(const ServerProcessOptions& options, const PopulateServer& populate,
+                     const StartEarly& startEarly) {
     BootSequence boot(options.boot);  // before any thread starts: they inherit the mask
     if (!boot.run(options.boot.powerOn)) return 0;
     asio::io_context io{1};  // one thread runs it: no scheduler locking needed
@@ -181,13 +182,15 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
         return 1;
     }
     config.description.certificate = identity->certificate().der;
-    if (const int s = configureSecurity(options, *identity, config); s != 0) return s;
     auto clientSecurity =
         componentClientSecurity(*identity, options.client, options.insecure, &error);
     if (!clientSecurity) {
         spdlog::critical("{}", error);
         return 1;
     }
+    // What the component needs of other servers is fetched beside the loading of its models.
+    if (startEarly) startEarly(*clientSecurity, options.applicationUri);
+    if (const int s = configureSecurity(options, *identity, config); s != 0) return s;
 
     auto server = ua::Server::create(io, config, &error);
     if (!server) {

@@ -74,7 +74,15 @@ struct ComponentContext {
 /// Adds the component's nodes; runs on the io_context's thread before the server listens.
 using PopulateServer = std::function<ua::Result<ComponentContent>(const ComponentContext&)>;
 
+/// Called once the component knows how it connects to others (its certificate is loaded) and
+/// before its server loads its models: where it starts, on a thread of its own, what it needs
+/// of other servers before it can add its nodes (a device's link to the world model:
+/// WorldConnection), so that its start takes the longer of the two, not their sum.
+using StartEarly =
+    std::function<void(const ua::ClientSecurity& security, const std::string& applicationUri)>;
+
 /// Runs until a signal. `populate` adds the component's nodes (may be empty).
-int runServerProcess(const ServerProcessOptions& options, const PopulateServer& populate);
+int runServerProcess(const ServerProcessOptions& options, const PopulateServer& populate,
+                     const StartEarly& startEarly = {});
 
 }  // namespace skillcell::apps

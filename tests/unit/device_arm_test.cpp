@@ -479,6 +479,53 @@ TEST(DeviceUr5Skills, TheArmIsInTheRoboticsModelWithEachAxisPosition) {
     }
 }
 
+TEST(DeviceUr5Skills, StartsWhereItIsToldOnceItsModelsAreLoadedOrFailsSayingWhyItWasNot) {
+    // A device that learns where its arm stands from the world model learns it while the arm
+    // loads its models: the arm asks once they are loaded.
+    const Joints q{0.3, -1.2, 1.1, -0.4, 1.2, 0.1};
+    bool modelsLoaded = false;
+    Joints started;
+    ua::Variant published;
+    {
+        std::unique_ptr<ArmComponent> arm;
+        test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+            ArmComponentOptions o;
+            o.startingJoints = [&](std::string*) -> ua::Result<Joints> {
+                modelsLoaded = s.addressSpace().namespaceIndex(ua::companion::kRoboticsUri) &&
+                               s.addressSpace().find(ua::NodeId(1, ua::String("UR5"))) != nullptr;
+                return q;
+            };
+            auto c = ArmComponent::create(s, o);
+            ASSERT_TRUE(c.ok());
+            arm = std::move(*c);
+        });
+        server.inServer([&](ua::Server& s) {
+            started = arm->arm().joints();
+            const ua::Node* node =
+                s.addressSpace().find(ua::NodeId(1, ua::String("UR5/JointPositions")));
+            if (node != nullptr) published = *s.addressSpace().readValue(*node).value;
+            arm.reset();
+            return 0;
+        });
+    }
+    EXPECT_TRUE(modelsLoaded);
+    EXPECT_EQ(started, q);
+    EXPECT_EQ(published, joints(q));
+
+    ua::StatusCode refused;
+    std::string error;
+    test::RunningServer server(test::RunningServer::defaultConfig(), [&](ua::Server& s) {
+        ArmComponentOptions o;
+        o.startingJoints = [](std::string* why) -> ua::Result<Joints> {
+            *why = "the world model is out of reach";
+            return ua::status::BadServerNotConnected;
+        };
+        refused = ArmComponent::create(s, o, &error).status();
+    });
+    EXPECT_EQ(refused, ua::status::BadServerNotConnected);
+    EXPECT_NE(error.find("the world model is out of reach"), std::string::npos) << error;
+}
+
 TEST(DeviceUr5Skills, AnUnreachableTargetHaltsTheSkillWithTheReason) {
     Ur5Cell cell;
     test::ClientThread t;

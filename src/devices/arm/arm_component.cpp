@@ -18,9 +18,7 @@ ArmComponent::ArmComponent(Token, ua::Server& server, ArmComponentOptions option
     : server_(server),
       options_(std::move(options)),
       kinematics_(options_.model, options_.base),
-      planner_(kinematics_, options_.model.defaults) {
-    if (options_.arm.initial.empty()) options_.arm.initial = options_.model.home;
-}
+      planner_(kinematics_, options_.model.defaults) {}
 
 ArmComponent::~ArmComponent() = default;
 
@@ -35,6 +33,41 @@ ua::Result<std::unique_ptr<ArmComponent>> ArmComponent::create(ua::Server& serve
 ua::StatusCode ArmComponent::build(std::string* error) {
     ua::AddressSpace& as = server_.addressSpace();
     const ArmModel& model = options_.model;
+    robot_ = ua::NodeId(1, ua::String(model.name));
+    if (auto r = as.addObject(ua::NodeId(ua::ns0::ObjectsFolder), robot_, model.name); !r) {
+        return r.status();
+    }
+    // The models first (most of a start): a device that asks the world where it stands has
+    // the answer meanwhile.
+    skills_ = skills::SkillServer::create(server_, server_.executor(), kArmSkillModels, error);
+    if (!skills_) return ua::status::BadConfigurationError;
+    // The same arm as the Robotics model shows it, for clients that know that model (the
+    // skill server has loaded the companion models).
+    MotionDeviceDescription description;
+    description.name = model.name;
+    description.manufacturer = model.manufacturer;
+    description.model = model.model;
+    description.productCode = model.productCode;
+    description.axes = model.axes;
+    auto motionDevice = MotionDeviceSystem::create(as, description);
+    if (!motionDevice) {
+        if (error != nullptr) {
+            *error = "cannot add the " + model.name + " to the Robotics model's DeviceSet";
+        }
+        return motionDevice.status();
+    }
+    motionDevice_ = std::move(*motionDevice);
+
+    if (options_.startingJoints) {
+        std::string why;
+        auto q = options_.startingJoints(&why);
+        if (!q) {
+            if (error != nullptr) *error = "where the arm stands: " + why;
+            return q.status();
+        }
+        if (!q->empty()) options_.arm.initial = std::move(*q);
+    }
+    if (options_.arm.initial.empty()) options_.arm.initial = model.home;
     if (options_.arm.initial.size() != model.joints()) {
         if (error != nullptr) {
             *error = "the " + model.name + " has " + std::to_string(model.joints()) +
@@ -43,13 +76,9 @@ ua::StatusCode ArmComponent::build(std::string* error) {
         }
         return ua::status::BadConfigurationError;
     }
-    robot_ = ua::NodeId(1, ua::String(model.name));
     auto id = [&model](const char* name) {
         return ua::NodeId(1, ua::String(model.name + "/" + name));
     };
-    if (auto r = as.addObject(ua::NodeId(ua::ns0::ObjectsFolder), robot_, model.name); !r) {
-        return r.status();
-    }
     const ua::NodeId frame(ua::ns0::ThreeDFrame);
     const Joints q0 = options_.arm.initial;
     struct Var {
@@ -78,24 +107,6 @@ ua::StatusCode ArmComponent::build(std::string* error) {
 
     arm_ = std::make_unique<SimulatedArm>(server_.executor(), options_.arm,
                                           [this](const Joints& q) { publish(q); });
-    skills_ = skills::SkillServer::create(server_, server_.executor(), kArmSkillModels, error);
-    if (!skills_) return ua::status::BadConfigurationError;
-    // The same arm as the Robotics model shows it, for clients that know that model (the
-    // skill server has loaded the companion models).
-    MotionDeviceDescription description;
-    description.name = model.name;
-    description.manufacturer = model.manufacturer;
-    description.model = model.model;
-    description.productCode = model.productCode;
-    description.axes = model.axes;
-    auto motionDevice = MotionDeviceSystem::create(as, description);
-    if (!motionDevice) {
-        if (error != nullptr) {
-            *error = "cannot add the " + model.name + " to the Robotics model's DeviceSet";
-        }
-        return motionDevice.status();
-    }
-    motionDevice_ = std::move(*motionDevice);
 
     struct SkillSpec {
         const char* type;

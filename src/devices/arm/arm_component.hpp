@@ -28,6 +28,10 @@ struct ArmComponentOptions {
     KDL::Frame base = KDL::Frame::Identity();
     /// Hears every new flange pose (e.g. to report it to the world model). Must not block.
     std::function<void(const KDL::Frame&)> onFlange;
+    /// Where the arm starts, asked once its models are loaded, so that a device that learns
+    /// it from elsewhere (the world model) learns it meanwhile; empty joints: `arm.initial`.
+    /// A bad status fails create(), with `why`.
+    std::function<ua::Result<Joints>(std::string* why)> startingJoints;
 };
 
 class ArmComponent {
