@@ -92,13 +92,6 @@ StartEarly connectEarly(const std::shared_ptr<WorldConnection>& world) {
     };
 }
 
-/// The link to the world model that `world` connected to meanwhile, or why there is none.
-ua::Result<std::unique_ptr<devices::WorldLink>> worldLink(
-    const std::shared_ptr<WorldConnection>& world) {
-    if (!world) return ua::status::BadInvalidState;
-    return world->take();
-}
-
 struct WorldOptions {
     ServerProcessOptions process;
     std::vector<std::string> objects;          // ID:SX,SY,SZ@POSE
@@ -442,7 +435,7 @@ CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* n
                          ArmContent* arm = content.get();  // owns the component: outlives it
                          o.startingJoints =
                              [arm, world, joints](std::string* why) -> ua::Result<devices::Joints> {
-                             auto link = worldLink(world);
+                             auto link = world->take();
                              if (!link) {
                                  *why = "the world model is out of reach (" +
                                         std::string(ua::statusName(link.status())) + ")";
@@ -590,7 +583,7 @@ ua::Result<ComponentContent> populateParallelGripper(
     auto content = std::make_shared<ParallelGripperContent>();
     if (options.serial.empty()) {
         if (world) {
-            auto link = worldLink(world);
+            auto link = world->take();
             if (!link) return link.status();
             content->world = std::move(*link);
         }
@@ -784,7 +777,7 @@ ua::Result<ComponentContent> populateSchmalz(const SchmalzOptions& options,
     o.gripPointOffset = toFrame(*parsePose6(options.gripOffset));  // checked by poseText()
     o.gripper.port = options.port;
     if (connection) {
-        auto link = worldLink(connection);
+        auto link = connection->take();
         if (!link) return link.status();
         content->world = std::move(*link);
     }
@@ -943,7 +936,7 @@ ua::Result<ComponentContent> populateToolChanger(const ToolChangerOptions& optio
         }
     }
     auto content = std::make_shared<ToolChangerContent>();
-    auto link = worldLink(world);
+    auto link = world->take();
     if (!link) return link.status();
     content->world = std::move(*link);
     // The simulated coupling keeps its own copy of the table: the tools' resistors.
@@ -1063,7 +1056,7 @@ CLI::App* addPickPlace(CLI::App* device, std::vector<Command>& commands) {
                  [options, world](const ComponentContext& c) -> ua::Result<ComponentContent> {
                      namespace pp = devices::pickplace;
                      auto content = std::make_shared<PickPlaceContent>();
-                     auto link = worldLink(world);
+                     auto link = world->take();
                      if (!link) return link.status();
                      content->world = std::move(*link);
                      pp::PickAndPlaceOptions o;

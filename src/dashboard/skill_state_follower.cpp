@@ -100,16 +100,15 @@ asio::awaitable<void> SkillStateFollower::attachAll(std::string life) {
 asio::awaitable<void> SkillStateFollower::attach(skills::SkillInstance skill, std::string life) {
     const std::string key = CellView::keyOf(skill);
     std::string why;
-    ua::Result<std::unique_ptr<skills::SkillConnection>> opened = ua::status::BadNothingToDo;
+    // No session of this life to share yet counts as one closed.
+    ua::Result<std::unique_ptr<skills::SkillConnection>> opened = ua::status::BadSessionClosed;
     if (const auto shared = sessionOf(life)) {
         const skills::RemoteSkill& remote = skill;
         opened = co_await shared->alongside(remote, &why);
     }
-    // No session yet, or the shared one was lost meanwhile: a session of its own. A skill
-    // the component refuses to attach is refused on any session: no second handshake for it.
-    if (!opened && (opened.status() == ua::status::BadNothingToDo ||
-                    opened.status() == ua::status::BadSessionClosed ||
-                    ua::isConnectionLoss(opened.status()))) {
+    // No session, or the shared one was lost meanwhile: a session of its own. A skill the
+    // component refuses to attach is refused on any session: no second handshake for it.
+    if (!opened && ua::isConnectionLoss(opened.status())) {
         opened = co_await skills::SkillConnection::open(executor_, skill, config_, &why);
     }
     const auto it = skills_.find(key);

@@ -67,12 +67,9 @@ asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::o
 
 asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::alongside(
     std::string typeName, std::string* why) {
-    auto c = std::make_unique<SkillConnection>(Token{}, session_, endpointUrl_);
-    auto skill = co_await c->find(typeName, why);
+    auto skill = co_await find(typeName, why);
     if (!skill) co_return skill.status();
-    const ua::StatusCode attached = co_await c->attachTo(*skill, why, SkillClientOptions{});
-    if (attached.isBad()) co_return attached;
-    co_return c;
+    co_return co_await alongside(std::move(*skill), why);
 }
 
 asio::awaitable<ua::Result<std::unique_ptr<SkillConnection>>> SkillConnection::alongside(
