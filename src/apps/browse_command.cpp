@@ -33,29 +33,6 @@ struct BrowseOptions {
     ClientSecurityOptions security;
 };
 
-const char* nodeClassName(ua::NodeClass c) {
-    switch (c) {
-        case ua::NodeClass::Object:
-            return "Object";
-        case ua::NodeClass::Variable:
-            return "Variable";
-        case ua::NodeClass::Method:
-            return "Method";
-        case ua::NodeClass::ObjectType:
-            return "ObjectType";
-        case ua::NodeClass::VariableType:
-            return "VariableType";
-        case ua::NodeClass::ReferenceType:
-            return "ReferenceType";
-        case ua::NodeClass::DataType:
-            return "DataType";
-        case ua::NodeClass::View:
-            return "View";
-        default:
-            return "?";
-    }
-}
-
 class TreePrinter {
 public:
     TreePrinter(ua::BlockingClient& client, const BrowseOptions& options)
@@ -82,9 +59,10 @@ public:
         }
         for (const auto& ref : references) {
             const ua::NodeId& target = ref.nodeId.nodeId;
+            const auto nodeClass = ua::nodeClassName(ref.nodeClass);
             std::cout << indent(depth) << ref.browseName.namespaceIndex << ":"
-                      << ref.browseName.name << "  [" << nodeClassName(ref.nodeClass) << " "
-                      << target.toString() << "]";
+                      << ref.browseName.name << "  [" << (nodeClass.empty() ? "?" : nodeClass)
+                      << " " << target.toString() << "]";
             if (options_.values && ref.nodeClass == ua::NodeClass::Variable) {
                 auto value = client_.readAttribute(target, ua::AttributeId::Value);
                 if (!value) {

@@ -1,7 +1,6 @@
 #include "skills/conformance_checker.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <deque>
 #include <map>
@@ -38,39 +37,16 @@ struct RangeValue {
     static auto tie(auto& s) { return std::tie(s.low, s.high); }
 };
 
-std::string nodeClassName(ua::NodeClass c) {
-    switch (c) {
-        case ua::NodeClass::Object:
-            return "Object";
-        case ua::NodeClass::Variable:
-            return "Variable";
-        case ua::NodeClass::Method:
-            return "Method";
-        case ua::NodeClass::ObjectType:
-            return "ObjectType";
-        case ua::NodeClass::VariableType:
-            return "VariableType";
-        case ua::NodeClass::ReferenceType:
-            return "ReferenceType";
-        case ua::NodeClass::DataType:
-            return "DataType";
-        case ua::NodeClass::View:
-            return "View";
-        default:
-            return "NodeClass " + std::to_string(static_cast<std::int32_t>(c));
-    }
+// What a report names: the standard's name, or the number a component sent.
+std::string nodeClassText(ua::NodeClass c) {
+    const auto name = ua::nodeClassName(c);
+    return name.empty() ? "NodeClass " + std::to_string(static_cast<std::int32_t>(c))
+                        : std::string(name);
 }
 
-std::string builtinName(ua::BuiltinType t) {
-    static constexpr std::array<std::string_view, ua::kMaxBuiltinType + 1> kNames = {
-        "Null",          "Boolean",       "SByte",           "Byte",           "Int16",
-        "UInt16",        "Int32",         "UInt32",          "Int64",          "UInt64",
-        "Float",         "Double",        "String",          "DateTime",       "Guid",
-        "ByteString",    "XmlElement",    "NodeId",          "ExpandedNodeId", "StatusCode",
-        "QualifiedName", "LocalizedText", "ExtensionObject", "DataValue",      "Variant",
-        "DiagnosticInfo"};
-    const auto i = static_cast<std::size_t>(t);
-    return i < kNames.size() ? std::string(kNames[i]) : "type " + std::to_string(i);
+std::string builtinText(ua::BuiltinType t) {
+    const auto name = ua::builtinTypeName(t);
+    return name.empty() ? "type " + std::to_string(static_cast<int>(t)) : std::string(name);
 }
 
 std::string valueRankText(std::int32_t rank) {
@@ -127,8 +103,8 @@ std::optional<std::string> rankProblem(const ua::Variant& v, std::int32_t rank) 
             ok = rank > 0 && dims == static_cast<std::size_t>(rank);
     }
     if (ok) return std::nullopt;
-    if (dims == 0) return "a scalar " + builtinName(v.type());
-    return "a " + builtinName(v.type()) + " array of " + std::to_string(dims) + " dimension" +
+    if (dims == 0) return "a scalar " + builtinText(v.type());
+    return "a " + builtinText(v.type()) + " array of " + std::to_string(dims) + " dimension" +
            (dims == 1 ? "" : "s");
 }
 
@@ -313,7 +289,7 @@ private:
         }
         if (*nc != static_cast<std::int32_t>(ua::NodeClass::ObjectType)) {
             report_.fail(server, label, expected,
-                         "a " + nodeClassName(static_cast<ua::NodeClass>(*nc)));
+                         "a " + nodeClassText(static_cast<ua::NodeClass>(*nc)));
             co_return false;
         }
         auto sub = co_await remote_.isSubtypeOf(type, ua::NodeId(superType));
@@ -569,7 +545,7 @@ private:
 
     /// "Variable (Mandatory), type BaseAnalogType, DataType Double, ValueRank -1 (scalar)".
     asio::awaitable<std::string> declarationText(const InstanceDeclaration& d, bool required) {
-        std::string s = nodeClassName(d.nodeClass);
+        std::string s = nodeClassText(d.nodeClass);
         if (d.isMandatory()) {
             s += " (Mandatory)";
         } else if (required) {
@@ -591,12 +567,12 @@ private:
         const std::string check = d.pathText();
         if (p.ref.nodeClass != d.nodeClass) {
             report_.fail(
-                subject, check, nodeClassName(d.nodeClass),
-                "a " + nodeClassName(p.ref.nodeClass) + " " + p.ref.nodeId.nodeId.toString());
+                subject, check, nodeClassText(d.nodeClass),
+                "a " + nodeClassText(p.ref.nodeClass) + " " + p.ref.nodeId.nodeId.toString());
             co_return;
         }
         bool ok = true;
-        std::string found = nodeClassName(d.nodeClass);
+        std::string found = nodeClassText(d.nodeClass);
         if (!d.typeDefinition.isNull()) {
             const ua::NodeId actual =
                 p.ref.typeDefinition.isLocal() ? p.ref.typeDefinition.nodeId : ua::NodeId();
@@ -729,7 +705,7 @@ private:
             co_return std::nullopt;
         }
         std::string what =
-            v.isArray() ? "a " + builtinName(builtin) + " array" : "a " + builtinName(builtin);
+            v.isArray() ? "a " + builtinText(builtin) + " array" : "a " + builtinText(builtin);
         co_return what;
     }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "ua/encoding/codec.hpp"
+#include "ua/messages/common.hpp"
 
 namespace encoding_test {
 
@@ -29,6 +30,32 @@ StatusCode decodeStatus(const Bytes& wire, DecodeLimits limits = {}) {
 }
 
 }  // namespace
+
+// One table of names serves the NodeSet loader and exporter, the conformance checker and
+// `skillcell browse`: each name leads back to its type, and what has no name says so.
+TEST(TypeNames, EveryBuiltinTypeHasTheStandardsNameAndThatNameLeadsBackToIt) {
+    for (std::uint8_t id = 1; id <= kMaxBuiltinType; ++id) {
+        const auto type = static_cast<BuiltinType>(id);
+        const auto name = builtinTypeName(type);
+        ASSERT_FALSE(name.empty()) << int(id);
+        EXPECT_EQ(builtinTypeByName(name), type) << name;
+    }
+    EXPECT_EQ(builtinTypeName(BuiltinType::Double), "Double");
+    EXPECT_EQ(builtinTypeName(BuiltinType::DiagnosticInfo), "DiagnosticInfo");
+    EXPECT_EQ(builtinTypeName(BuiltinType::Null), "Null");
+    EXPECT_EQ(builtinTypeName(static_cast<BuiltinType>(kMaxBuiltinType + 1)), "");
+    EXPECT_EQ(builtinTypeByName("Null"), std::nullopt);  // no value is of it
+    EXPECT_EQ(builtinTypeByName("double"), std::nullopt);
+    EXPECT_EQ(builtinTypeByName(""), std::nullopt);
+}
+
+TEST(TypeNames, NodeClassesHaveTheirNamesAndNoneIsMadeUpForOtherValues) {
+    EXPECT_EQ(nodeClassName(NodeClass::Object), "Object");
+    EXPECT_EQ(nodeClassName(NodeClass::VariableType), "VariableType");
+    EXPECT_EQ(nodeClassName(NodeClass::View), "View");
+    EXPECT_EQ(nodeClassName(NodeClass::Unspecified), "");
+    EXPECT_EQ(nodeClassName(static_cast<NodeClass>(3)), "");  // Object | Variable: a filter
+}
 
 TEST(Encoding, Numbers) {
     expectRoundTrip(true, {0x01});

@@ -3,6 +3,7 @@
 // and the enumerations the services use. Each structure lists its fields in wire order in
 // `tie`; the generic codec in ua/encoding/codec.hpp does the rest.
 #include <cstdint>
+#include <string_view>
 #include <tuple>
 #include <vector>
 
@@ -82,6 +83,31 @@ enum class NodeClass : std::int32_t {
     DataType = 64,
     View = 128
 };
+
+/// The node class's name in the standard ("Object", "ReferenceType"); empty for a value that
+/// names none (Unspecified, a combination of bits, a number off the list).
+[[nodiscard]] constexpr std::string_view nodeClassName(NodeClass c) {
+    switch (c) {
+        case NodeClass::Object:
+            return "Object";
+        case NodeClass::Variable:
+            return "Variable";
+        case NodeClass::Method:
+            return "Method";
+        case NodeClass::ObjectType:
+            return "ObjectType";
+        case NodeClass::VariableType:
+            return "VariableType";
+        case NodeClass::ReferenceType:
+            return "ReferenceType";
+        case NodeClass::DataType:
+            return "DataType";
+        case NodeClass::View:
+            return "View";
+        default:
+            return {};
+    }
+}
 
 /// Attribute ids (OPC 10000-6, A.1).
 enum class AttributeId : std::uint32_t {

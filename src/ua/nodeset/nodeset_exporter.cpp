@@ -8,14 +8,6 @@
 namespace skillcell::ua {
 namespace {
 
-constexpr std::string_view kBuiltinNames[] = {
-    "Null",          "Boolean",       "SByte",           "Byte",           "Int16",
-    "UInt16",        "Int32",         "UInt32",          "Int64",          "UInt64",
-    "Float",         "Double",        "String",          "DateTime",       "Guid",
-    "ByteString",    "XmlElement",    "NodeId",          "ExpandedNodeId", "StatusCode",
-    "QualifiedName", "LocalizedText", "ExtensionObject", "DataValue",      "Variant",
-    "DiagnosticInfo"};
-
 void escape(std::string& out, std::string_view s) {
     for (char c : s) {
         switch (c) {
@@ -377,7 +369,7 @@ private:
     }
 
     bool variant(std::string& out, const Variant& v, const std::string& ind) {
-        const auto name = kBuiltinNames[static_cast<std::size_t>(v.type())];
+        const auto name = builtinTypeName(v.type());
         if (v.isArray()) {
             out += ind + "<uax:ListOf" + std::string(name) + ">\n";
             for (const auto& e : v.elements()) {
@@ -495,9 +487,9 @@ private:
             const auto bt = as_.dataTypes().builtinTypeOf(f.dataType);
             if (nested != nullptr || (bt && *bt != BuiltinType::Variant && f.valueRank >= 0)) {
                 out += "\n";
-                const auto elementName =
-                    nested != nullptr ? as_.dataTypes().find(f.dataType)->browseName.name
-                                      : std::string(kBuiltinNames[static_cast<std::size_t>(*bt)]);
+                const auto elementName = nested != nullptr
+                                             ? as_.dataTypes().find(f.dataType)->browseName.name
+                                             : std::string(builtinTypeName(*bt));
                 const auto one = [&](const Scalar& s) -> bool {
                     if (nested != nullptr) {
                         auto inner =

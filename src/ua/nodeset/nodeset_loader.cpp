@@ -937,7 +937,7 @@ private:
             if (!typed) return Variant{};
             return parseVariant(typed);
         }
-        const std::string_view typeName = builtinName(*bt);
+        const std::string_view typeName = builtinTypeName(*bt);
         const bool isEnum = *bt == BuiltinType::Int32 && !isBuiltinId(f.dataType);
         const auto one = [&](const pugi::xml_node& el) -> std::optional<Scalar> {
             if (isEnum) return parseEnumValue(el);
@@ -999,7 +999,7 @@ private:
                 elements.push_back(std::move(*s));
             }
             const auto typeId = elements.empty()
-                                    ? builtinTypeByName(e, type)
+                                    ? builtinTypeOfElement(e, type)
                                     : std::optional<BuiltinType>(
                                           static_cast<BuiltinType>(elements.front().index()));
             if (!typeId) return std::nullopt;
@@ -1010,23 +1010,11 @@ private:
         return Variant::fromScalar(std::move(*s));
     }
 
-    static constexpr std::string_view kBuiltinNames[] = {
-        "Null",          "Boolean",       "SByte",           "Byte",           "Int16",
-        "UInt16",        "Int32",         "UInt32",          "Int64",          "UInt64",
-        "Float",         "Double",        "String",          "DateTime",       "Guid",
-        "ByteString",    "XmlElement",    "NodeId",          "ExpandedNodeId", "StatusCode",
-        "QualifiedName", "LocalizedText", "ExtensionObject", "DataValue",      "Variant",
-        "DiagnosticInfo"};
-    static std::string_view builtinName(BuiltinType t) {
-        return kBuiltinNames[static_cast<std::size_t>(t)];
-    }
-
-    std::optional<BuiltinType> builtinTypeByName(const pugi::xml_node& e, std::string_view type) {
-        for (std::size_t i = 1; i < std::size(kBuiltinNames); ++i) {
-            if (kBuiltinNames[i] == type) return static_cast<BuiltinType>(i);
-        }
-        failAt(e, "unsupported value type '" + std::string(type) + "'");
-        return std::nullopt;
+    std::optional<BuiltinType> builtinTypeOfElement(const pugi::xml_node& e,
+                                                    std::string_view type) {
+        auto bt = builtinTypeByName(type);
+        if (!bt) failAt(e, "unsupported value type '" + std::string(type) + "'");
+        return bt;
     }
 
     const AddressSpace& as_;

@@ -3,6 +3,7 @@
 // (OPC 10000-6, 5.2.2.15-17 and 5.2.2.12).
 #include <cstdint>
 #include <optional>
+#include <string_view>
 #include <type_traits>
 #include <variant>
 #include <vector>
@@ -49,6 +50,12 @@ enum class BuiltinType : std::uint8_t {
 };
 #pragma GCC diagnostic pop
 inline constexpr std::uint8_t kMaxBuiltinType = 25;
+
+/// The type's name in the standard ("Double", "LocalizedText"), as NodeSet2 files spell it;
+/// empty for an id past kMaxBuiltinType.
+[[nodiscard]] std::string_view builtinTypeName(BuiltinType type);
+/// The type that name spells; nothing for another name ("Null" included: no value is of it).
+[[nodiscard]] std::optional<BuiltinType> builtinTypeByName(std::string_view name);
 
 /// A structure carried opaquely: its encoding id and the encoded body. Whoever knows the
 /// type decodes the body (see ua/encoding/structure_codec.hpp).
