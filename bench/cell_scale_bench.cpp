@@ -22,7 +22,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <charconv>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -33,6 +32,7 @@
 #include <thread>
 #include <vector>
 
+#include "command_line.hpp"
 #include "detection_rig.hpp"
 #include "latency_stats.hpp"
 #include "process/child_process.hpp"
@@ -366,56 +366,31 @@ int runSize(const Options& o, int n, const fs::path& logs) {
     return 0;
 }
 
-std::optional<std::vector<int>> parseSizes(const std::string& text) {
-    std::vector<int> sizes;
-    std::istringstream in(text);
-    std::string part;
-    while (std::getline(in, part, ',')) {
-        int v = 0;
-        const auto* end = part.data() + part.size();
-        if (std::from_chars(part.data(), end, v).ptr != end || v < 1 || v > 2000) {
-            return std::nullopt;
-        }
-        sizes.push_back(v);
-    }
-    if (sizes.empty()) return std::nullopt;
-    return sizes;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
     Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        const bool hasValue = i + 1 < argc;
-        bool ok = hasValue;
-        if (arg == "--sizes" && hasValue) {
-            auto sizes = parseSizes(argv[++i]);
-            ok = sizes.has_value();
-            if (ok) o.sizes = *sizes;
-        } else if (arg == "--plugs" && hasValue) {
-            o.plugs = std::atoi(argv[++i]);
-            ok = o.plugs >= 1;
-        } else if (arg == "--idle-seconds" && hasValue) {
-            o.idleSeconds = std::atoi(argv[++i]);
-            ok = o.idleSeconds >= 1;
-        } else if (arg == "--skillcell" && hasValue) {
-            o.skillcell = argv[++i];
-        } else if (arg == "--pki-cache" && hasValue) {
-            o.pkiCache = argv[++i];
-        } else {
-            ok = false;
-        }
-        if (!ok) {
-            std::fprintf(stderr,
-                         "usage: %s [--sizes N[,N...]=20] [--plugs K=10] [--idle-seconds S=10] "
-                         "[--skillcell PATH] [--pki-cache DIR]\n"
-                         "Run it inside tests/netns/run_in_private_netns.sh.\n",
-                         argv[0]);
-            return arg == "--help" ? 0 : 2;
-        }
-    }
+    std::string pkiCache = o.pkiCache.string();
+    CLI::App app{
+        "A cell of N component processes on one segment (each `skillcell server` with "
+        "two no-op skills): all READY, cold detection, plug and unplug latency, idle "
+        "traffic, CPU and memory. Run it inside tests/netns/run_in_private_netns.sh."};
+    app.add_option("--sizes", o.sizes, "cell sizes N, comma-separated (1..2000)")
+        ->delimiter(',')
+        ->check(CLI::Range(1, 2000))
+        ->capture_default_str();
+    app.add_option("--plugs", o.plugs, "components plugged into each cell, one at a time")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--idle-seconds", o.idleSeconds, "how long the idle cell is measured")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--skillcell", o.skillcell, "the skillcell binary")->capture_default_str();
+    app.add_option("--pki-cache", pkiCache,
+                   "where the components' certificates are kept between runs")
+        ->capture_default_str();
+    if (const auto exit = skillcell::bench::parseCommandLine(app, argc, argv)) return *exit;
+    o.pkiCache = pkiCache;
     if (!skillcell::bench::onlyLoopbackMulticast()) {
         std::fprintf(stderr,
                      "refusing to send mDNS here: a real network interface is up. Run inside "

@@ -34,6 +34,7 @@
 #include <string>
 #include <thread>
 
+#include "command_line.hpp"
 #include "detection_rig.hpp"
 #include "latency_stats.hpp"
 #include "process/child_process.hpp"
@@ -277,43 +278,33 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
     Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        auto next = [&](int& v) {
-            if (i + 1 >= argc) return false;
-            v = std::atoi(argv[++i]);
-            return v >= 0;
-        };
-        bool ok = true;
-        if (arg == "--count") {
-            ok = next(o.count) && o.count > 0;
-        } else if (arg == "--killed") {
-            ok = next(o.killed);
-        } else if (arg == "--ttl") {
-            ok = next(o.ttl) && o.ttl > 0;
-        } else if (arg == "--idle") {
-            ok = next(o.idle);
-        } else if (arg == "--idle-seconds") {
-            ok = next(o.idleSeconds) && o.idleSeconds > 0;
-        } else if (arg == "--idle-settle") {
-            ok = next(o.idleSettle);
-        } else if (arg == "--idle-ttl") {
-            ok = next(o.idleTtl) && o.idleTtl > 0;
-        } else if (arg == "--skillcell" && i + 1 < argc) {
-            o.skillcell = argv[++i];
-        } else {
-            ok = false;
-        }
-        if (!ok) {
-            std::fprintf(stderr,
-                         "usage: %s [--count N=50] [--killed K=5] [--ttl S=2] [--idle N=30]\n"
-                         "          [--idle-seconds S=60] [--idle-ttl S=120] [--idle-settle S=8]\n"
-                         "          [--skillcell PATH]\n"
-                         "Run it inside tests/netns/run_in_private_netns.sh.\n",
-                         argv[0]);
-            return arg == "--help" ? 0 : 2;
-        }
-    }
+    CLI::App app{
+        "mDNS discovery between processes: start to described, stop (goodbye) and "
+        "kill (TTL) to gone, and the idle traffic of a cell. Run it inside "
+        "tests/netns/run_in_private_netns.sh."};
+    app.add_option("--count", o.count, "server processes started and stopped")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--killed", o.killed, "of them, how many are killed instead of stopped")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--ttl", o.ttl, "the TTL they announce, in seconds")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--idle", o.idle, "servers of the idle-traffic run (0: none)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--idle-seconds", o.idleSeconds, "how long the idle traffic is counted")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--idle-ttl", o.idleTtl, "the TTL the idle servers announce, in seconds")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--idle-settle", o.idleSettle, "seconds before counting")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--skillcell", o.skillcell, "the skillcell binary")->capture_default_str();
+    if (const auto exit = skillcell::bench::parseCommandLine(app, argc, argv)) return *exit;
     o.killed = std::min(o.killed, o.count);
     spdlog::set_level(spdlog::level::warn);
     return run(o);

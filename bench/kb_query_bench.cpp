@@ -14,8 +14,8 @@
 
 #include <chrono>
 #include <iostream>
-#include <sstream>
 
+#include "command_line.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "latency_stats.hpp"
@@ -71,18 +71,17 @@ void print(const char* what, std::size_t n, const bench::Samples& s, double base
 int main(int argc, char** argv) {
     std::vector<std::size_t> sizes{10, 100, 500};
     int count = 200;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--components" && i + 1 < argc) {
-            sizes = bench::componentCounts(argv[++i]);
-        } else if (a == "--queries" && i + 1 < argc) {
-            count = std::stoi(argv[++i]);
-        } else {
-            std::cerr
-                << "usage: skillcell_bench_kb_query [--components 10,100,500] [--queries N]\n";
-            return a == "--help" ? 0 : 2;
-        }
-    }
+    CLI::App app{
+        "SPARQL queries of the MES and the KB against Virtuoso holding N synthetic "
+        "components, beside the store's empty round trip"};
+    app.add_option("--components", sizes, "cell sizes, comma-separated")
+        ->delimiter(',')
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--queries", count, "queries of each kind at each size")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
     std::string error;
     auto virtuoso = bench::PrivateVirtuoso::start("skillcell-bench-kb", &error);

@@ -14,9 +14,9 @@
 #include <atomic>
 #include <chrono>
 #include <iostream>
-#include <sstream>
 #include <thread>
 
+#include "command_line.hpp"
 #include "kb/engine/konclude_reasoner.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/store/http_sparql_store.hpp"
@@ -78,18 +78,17 @@ bool answers(kb::KnowledgeBase& knowledge, const std::string& fit) {
 int main(int argc, char** argv) {
     std::vector<std::size_t> sizes{10, 50, 200};
     int count = 10;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--components" && i + 1 < argc) {
-            sizes = bench::componentCounts(argv[++i]);
-        } else if (a == "--recordings" && i + 1 < argc) {
-            count = std::max(1, std::stoi(argv[++i]));
-        } else {
-            std::cerr << "usage: skillcell_bench_kb_record [--components 10,50,200] "
-                         "[--recordings N]\n";
-            return a == "--help" ? 0 : 2;
-        }
-    }
+    CLI::App app{
+        "Recording one component in a KB that holds N others: time to recorded, and "
+        "SPARQL reads while it records"};
+    app.add_option("--components", sizes, "sizes of the KB in components, comma-separated")
+        ->delimiter(',')
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--recordings", count, "recordings at each size")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
     std::string error;
     auto virtuoso = bench::PrivateVirtuoso::start("skillcell-bench-kb-record", &error);

@@ -22,14 +22,12 @@
 // per step (median and p99) and orders per second.
 #include <spdlog/spdlog.h>
 
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <future>
 #include <iostream>
 #include <map>
 #include <random>
-#include <string_view>
 #include <vector>
 
 #include <asio/detached.hpp>
@@ -37,6 +35,7 @@
 #include <asio/steady_timer.hpp>
 
 #include "client_thread.hpp"
+#include "command_line.hpp"
 #include "kb/component_graph.hpp"
 #include "latency_stats.hpp"
 #include "mes/process_executor.hpp"
@@ -51,38 +50,6 @@ namespace fs = std::filesystem;
 
 constexpr const char* kMoveType =
     "http://skillcell.dev/UA/RoboticSkills/CartesianLinearMoveSkillType";
-
-bool parse(int argc, char** argv, std::size_t& steps, std::vector<std::size_t>& orders) {
-    for (int i = 1; i < argc; ++i) {
-        const std::string_view a = argv[i];
-        if (a == "--steps" && i + 1 < argc) {
-            const std::string_view v = argv[++i];
-            if (std::from_chars(v.data(), v.data() + v.size(), steps).ec == std::errc{} &&
-                steps > 0) {
-                continue;
-            }
-        }
-        if (a == "--orders" && i + 1 < argc) {
-            orders.clear();
-            std::string_view v = argv[++i];
-            bool ok = true;
-            while (ok && !v.empty()) {
-                const auto comma = v.find(',');
-                const std::string_view item = v.substr(0, comma);
-                std::size_t k = 0;
-                ok = std::from_chars(item.data(), item.data() + item.size(), k).ec == std::errc{} &&
-                     k > 0 && k <= 200;
-                orders.push_back(k);
-                v = comma == std::string_view::npos ? std::string_view() : v.substr(comma + 1);
-            }
-            if (ok) continue;
-        }
-        std::cerr << "usage: skillcell_bench_mes_overhead [--steps N] [--orders K,K,... (1..200 "
-                     "each)]\n";
-        return false;
-    }
-    return true;
-}
 
 mes::ProcessDescription process(std::size_t steps,
                                 std::string iri = "urn:skillcell:bench:process") {
@@ -226,7 +193,17 @@ OrdersResult concurrentOrders(std::size_t k, std::size_t steps, const fs::path& 
 int main(int argc, char** argv) {
     std::size_t steps = 200;
     std::vector<std::size_t> orderCounts{1, 10, 50};
-    if (!parse(argc, argv, steps, orderCounts)) return 2;
+    CLI::App app{
+        "The semantic MES's own cost per process step on no-op skills, beside a "
+        "SkillClient's invocation of the same skill, alone and with K orders at once"};
+    app.add_option("--steps", steps, "steps of the process run alone")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--orders", orderCounts, "how many orders at once, comma-separated (1..200)")
+        ->delimiter(',')
+        ->check(CLI::Range(1, 200))
+        ->capture_default_str();
+    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
     std::random_device rd;
     const fs::path dir =
@@ -279,9 +256,9 @@ int main(int argc, char** argv) {
                 detected.set_value();
             }
         });
-        ua::ApplicationDescription app;
-        app.applicationUri = "urn:skillcell:bench:server";
-        detector->appeared("bench", app, server.url());
+        ua::ApplicationDescription announced;
+        announced.applicationUri = "urn:skillcell:bench:server";
+        detector->appeared("bench", announced, server.url());
         co_return 0;
     });
     if (detected.get_future().wait_for(10s) != std::future_status::ready) {

@@ -27,7 +27,6 @@
 //      against our server and, unless --no-node, against node-opcua's server
 //      (tests/interop/server.js, our client).
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -57,6 +56,7 @@
 #include <asio/use_awaitable.hpp>
 
 #include "apps/demo_nodes.hpp"
+#include "command_line.hpp"
 #include "latency_stats.hpp"
 #include "node_peer.hpp"
 #include "running_server.hpp"
@@ -91,44 +91,6 @@ struct Options {
     double seconds = 2.0;       // per throughput mode
     bool node = true;
 };
-
-Options parseOptions(int argc, char** argv) {
-    Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string_view a = argv[i];
-        if (a == "--count" && i + 1 < argc) {
-            const std::string_view v = argv[++i];
-            std::size_t n = 0;
-            const auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), n);
-            if (ec != std::errc() || p != v.data() + v.size() || n == 0) {
-                throw std::invalid_argument("--count needs a positive integer");
-            }
-            o.count = n;
-        } else if (a == "--seconds" && i + 1 < argc) {
-            const std::string_view v = argv[++i];
-            double s = 0;
-            const auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), s);
-            if (ec != std::errc() || p != v.data() + v.size() || !(s > 0) || s > 3600) {
-                throw std::invalid_argument("--seconds needs a number in (0, 3600]");
-            }
-            o.seconds = s;
-        } else if (a == "--no-node") {
-            o.node = false;
-        } else if (a == "-h" || a == "--help") {
-            std::cout
-                << "usage: skillcell_bench_notifications [--count N] [--seconds S] [--no-node]\n"
-                   "  --count N     latency samples per latency measurement (default 5000; use\n"
-                   "                >= 2000 for real numbers); write round trips: N/10, at\n"
-                   "                most 300\n"
-                   "  --seconds S   duration of each throughput measurement (default 2)\n"
-                   "  --no-node     skip the write round trip against node-opcua's server\n";
-            std::exit(0);
-        } else {
-            throw std::invalid_argument("unknown argument '" + std::string(a) + "' (try --help)");
-        }
-    }
-    return o;
-}
 
 using bench::Samples;
 using bench::summarize;
@@ -773,8 +735,23 @@ int run(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    Options o;
+    CLI::App app{
+        "Data change notifications: throughput from one server to one client, the "
+        "latency from a change to the client's callback, and write -> notification "
+        "round trips (also against node-opcua's server)"};
+    app.add_option("--count", o.count,
+                   "latency samples per latency measurement (2000 or more for real numbers); "
+                   "write round trips: N/10, at most 300")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--seconds", o.seconds, "duration of each throughput measurement")
+        ->check(CLI::Range(0.001, 3600.0))
+        ->capture_default_str();
+    app.add_flag("--no-node{false}", o.node, "skip the write round trip against node-opcua");
+    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
     try {
-        return run(parseOptions(argc, argv));
+        return run(o);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "skillcell_bench_notifications: %s\n", e.what());
         return 1;

@@ -34,6 +34,7 @@
 #include <asio/io_context.hpp>
 
 #include "apps/demo_nodes.hpp"
+#include "command_line.hpp"
 #include "latency_stats.hpp"
 #include "node_peer.hpp"
 #include "process/child_process.hpp"
@@ -72,33 +73,6 @@ struct Row {
     Stats call;
     std::string note;
 };
-
-Options parseOptions(int argc, char** argv) {
-    Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string_view a = argv[i];
-        if (a == "--count" && i + 1 < argc) {
-            const std::string_view v = argv[++i];
-            std::size_t n = 0;
-            const auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), n);
-            if (ec != std::errc() || p != v.data() + v.size() || n == 0) {
-                throw std::invalid_argument("--count needs a positive integer");
-            }
-            o.count = n;
-        } else if (a == "--no-node") {
-            o.node = false;
-        } else if (a == "-h" || a == "--help") {
-            std::cout << "usage: skillcell_bench_roundtrip [--count N] [--no-node]\n"
-                         "  --count N   timed requests per measurement (default 10000; use\n"
-                         "              >= 10000 for real numbers, less for smoke tests)\n"
-                         "  --no-node   skip the node-opcua measurement\n";
-            std::exit(0);
-        } else {
-            throw std::invalid_argument("unknown argument '" + std::string(a) + "' (try --help)");
-        }
-    }
-    return o;
-}
 
 /// The Read and Call every client measurement repeats.
 struct DemoIds {
@@ -419,8 +393,19 @@ int run(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    Options o;
+    CLI::App app{
+        "Read and Call round trips: the raw TCP floor, our coroutine and blocking "
+        "clients against our server, open62541 if built, and node-opcua"};
+    app.add_option("--count", o.count,
+                   "timed requests per measurement (10000 or more for real numbers, fewer for "
+                   "smoke tests)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_flag("--no-node{false}", o.node, "skip the node-opcua measurement");
+    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
     try {
-        return run(parseOptions(argc, argv));
+        return run(o);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "skillcell_bench_roundtrip: %s\n", e.what());
         return 1;

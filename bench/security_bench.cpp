@@ -23,6 +23,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "command_line.hpp"
 #include "latency_stats.hpp"
 #include "running_server.hpp"
 #include "test_certificate.hpp"
@@ -41,36 +42,25 @@ struct Row {
     bench::LatencyStats read;
 };
 
-std::size_t parseCount(const char* text) {
-    std::size_t v = 0;
-    const auto* end = text + std::strlen(text);
-    if (std::from_chars(text, end, v).ptr != end || v == 0) {
-        std::cerr << "not a positive count: " << text << "\n";
-        std::exit(2);
-    }
-    return v;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
     std::size_t count = 5000;
     std::size_t connects = 30;
     std::string only;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--count" && i + 1 < argc) {
-            count = parseCount(argv[++i]);
-        } else if (a == "--connects" && i + 1 < argc) {
-            connects = parseCount(argv[++i]);
-        } else if (a == "--only" && i + 1 < argc) {
-            only = argv[++i];
-        } else {
-            std::cerr
-                << "usage: skillcell_bench_security [--count N] [--connects M] [--only TEXT]\n";
-            return a == "--help" ? 0 : 2;
-        }
-    }
+    CLI::App app{
+        "What security costs: the handshake and the Read round trip for each policy and "
+        "mode, the user token and the key size, against our server in this process"};
+    app.add_option("--count", count, "Reads per row (round trip)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--connects", connects, "connects per row (handshake)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--only", only,
+                   "run only the rows whose name contains this text (ratios are then to the "
+                   "first of them)");
+    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
 
     // One server per key size, each knowing the bench's user by password and by certificate.

@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <string>
 
+#include "command_line.hpp"
 #include "detection_rig.hpp"
 #include "latency_stats.hpp"
 #include "process/child_process.hpp"
@@ -135,33 +136,21 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
     Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        auto next = [&](int& v) {
-            if (i + 1 >= argc) return false;
-            v = std::atoi(argv[++i]);
-            return v >= 0;
-        };
-        bool ok = true;
-        if (arg == "--count") {
-            ok = next(o.count) && o.count > 0;
-        } else if (arg == "--killed") {
-            ok = next(o.killed);
-        } else if (arg == "--ttl") {
-            ok = next(o.ttl) && o.ttl > 0;
-        } else if (arg == "--skillcell" && i + 1 < argc) {
-            o.skillcell = argv[++i];
-        } else {
-            ok = false;
-        }
-        if (!ok) {
-            std::fprintf(stderr,
-                         "usage: %s [--count N=30] [--killed K=3] [--ttl S=2] [--skillcell PATH]\n"
-                         "Run it inside tests/netns/run_in_private_netns.sh.\n",
-                         argv[0]);
-            return arg == "--help" ? 0 : 2;
-        }
-    }
+    CLI::App app{
+        "From a component process's start to its skills in a SkillDetector, and from "
+        "its stop or kill to their removal. Run it inside "
+        "tests/netns/run_in_private_netns.sh."};
+    app.add_option("--count", o.count, "component processes started and stopped")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--killed", o.killed, "of them, how many are killed instead of stopped")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--ttl", o.ttl, "the TTL they announce, in seconds")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--skillcell", o.skillcell, "the skillcell binary")->capture_default_str();
+    if (const auto exit = skillcell::bench::parseCommandLine(app, argc, argv)) return *exit;
     o.killed = std::min(o.killed, o.count);
     spdlog::set_level(spdlog::level::warn);
     return run(o);

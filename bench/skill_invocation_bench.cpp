@@ -9,15 +9,14 @@
 // connection. Prints median and p99 in microseconds and the ratio to the Read. The server
 // sends event notifications at its subscription's publishing interval, so that interval is
 // printed too: it bounds the invocation latency from below.
-#include <charconv>
 #include <cstdio>
 #include <iostream>
 #include <map>
-#include <string_view>
 
 #include <spdlog/spdlog.h>
 
 #include "client_thread.hpp"
+#include "command_line.hpp"
 #include "latency_stats.hpp"
 #include "running_server.hpp"
 #include "skills/noop_behaviour.hpp"
@@ -33,23 +32,6 @@ struct Options {
     std::size_t count = 500;
     double publishingIntervalMs = 10;  // what SkillClient asks for by default
 };
-
-bool parse(int argc, char** argv, Options& o) {
-    for (int i = 1; i < argc; ++i) {
-        const std::string_view a = argv[i];
-        auto number = [&](auto& out) {
-            if (i + 1 >= argc) return false;
-            const std::string_view v = argv[++i];
-            return std::from_chars(v.data(), v.data() + v.size(), out).ec == std::errc{};
-        };
-        if (a == "--count" && number(o.count) && o.count > 0) continue;
-        if (a == "--publishing-interval" && number(o.publishingIntervalMs)) continue;
-        std::cerr << "usage: skillcell_bench_skill_invocation [--count N] "
-                     "[--publishing-interval MS]\n";
-        return false;
-    }
-    return true;
-}
 
 struct Measurement {
     bench::LatencyStats read;
@@ -112,7 +94,17 @@ Measurement measure(const Options& options, double minPublishingIntervalMs,
 
 int main(int argc, char** argv) {
     Options options;
-    if (!parse(argc, argv, options)) return 2;
+    CLI::App app{
+        "The latency of one whole invocation of a skill that does nothing, as a "
+        "SkillClient sees it, beside a Read round trip"};
+    app.add_option("--count", options.count, "invocations and Reads")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--publishing-interval", options.publishingIntervalMs,
+                   "the publishing interval the SkillClient asks for, in ms")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
 
     std::printf("skill invocation (no-op skill, in-process server, loopback), %zu runs each\n",

@@ -4,7 +4,6 @@
 // and, but for the last, gone again (proc:available false); the odd ones grip "vacuum", the
 // others and the last "parallel". Only the last one's skills fit a query for an available
 // parallel gripper or move.
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -12,14 +11,6 @@
 #include "kb/knowledge_base.hpp"
 
 namespace skillcell::bench {
-
-/// "10,100,500" (a --components argument): the numbers of components, in order.
-inline std::vector<std::size_t> componentCounts(const std::string& list) {
-    std::vector<std::size_t> out;
-    std::stringstream in(list);
-    for (std::string item; std::getline(in, item, ',');) out.push_back(std::stoul(item));
-    return out;
-}
 
 inline const char* const kSyntheticPrefixes =
     "PREFIX rdfs: <http://www.w3.org/2000/01/rdf-schema#>\n"
