@@ -172,23 +172,6 @@ start_component() {
   say "   $c on ${HOST[$c]}: $line"
 }
 
-# stop_gracefully PROCNAME: SIGTERM, exit within 5 s with status 0.
-stop_gracefully() {
-  local p=$1
-  proc_signal "$p" TERM || fail "$p is not running (it should be)"
-  proc_wait_exit "$p" 5 || fail "$p did not exit within 5 s of SIGTERM"
-  [ "$PROC_RC" = 0 ] || { sanitizer_report "$p"; fail "$p exited with status $PROC_RC after SIGTERM (expected 0)"; }
-}
-
-check_sanitizers() {
-  local f
-  for f in "$NETNS_DIR"/*.err; do
-    if grep -E -q 'ERROR: (Address|Leak|Thread|UndefinedBehavior)Sanitizer|runtime error:' "$f"; then
-      fail "sanitizer report in $(basename "$f")"
-    fi
-  done
-}
-
 # Every watcher's events alternate per name: no ANNOUNCED of a name already announced (a refresh
 # is not an event), no GONE of a name not announced.
 check_event_sequences() {

@@ -22,6 +22,10 @@
 #   line_count FILE            number of lines in FILE so far (to wait for lines after it).
 #   sanitizer_report NAME      prints the head of the sanitizer report in NAME.err, if any (for
 #                              a failure message: a CI log keeps its beginning, not every tail).
+#   stop_gracefully NAME       SIGTERM; NAME must exit within 5 s, with status 0.
+#   check_sanitizers           no process's stderr holds a sanitizer report.
+#                              Both fail through the caller's `fail` if it has one, else
+#                              netns_fail.
 #   now_ms                     milliseconds since the epoch.
 #   netns_fail MESSAGE         prints FAIL: MESSAGE and the last lines of every process's output
 #                              in $NETNS_DIR, then exits 1 (the trap cleans up).
@@ -224,6 +228,30 @@ sanitizer_report() {
   [ -f "$f" ] || return 0
   # The report's headlines and the frames in our code: the asio frames between them say little.
   grep -E 'Sanitizer|runtime error|leak of|in skillcell::' "$f" | sed 's/^ *//' | cut -c1-240 | head -n 40
+}
+
+# The caller's own failure (with its step and logs), or the library's.
+netns_fail_as_caller() {
+  if declare -F fail >/dev/null; then fail "$@"; else netns_fail "$@"; fi
+}
+
+stop_gracefully() {
+  local p=$1
+  proc_signal "$p" TERM || netns_fail_as_caller "$p is not running (it should be)"
+  proc_wait_exit "$p" 5 || netns_fail_as_caller "$p did not exit within 5 s of SIGTERM"
+  [ "$PROC_RC" = 0 ] || {
+    sanitizer_report "$p"
+    netns_fail_as_caller "$p exited with status $PROC_RC after SIGTERM (expected 0)"
+  }
+}
+
+check_sanitizers() {
+  local f
+  for f in "$NETNS_DIR"/*.err; do
+    if grep -E -q 'ERROR: (Address|Leak|Thread|UndefinedBehavior)Sanitizer|runtime error:' "$f"; then
+      netns_fail_as_caller "sanitizer report in $(basename "$f")"
+    fi
+  done
 }
 
 line_count() {

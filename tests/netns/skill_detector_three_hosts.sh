@@ -157,22 +157,6 @@ wait_ready() {
   say "   $c on ${HOST[$c]}: $line"
 }
 
-stop_gracefully() {
-  local p=$1
-  proc_signal "$p" TERM || fail "$p is not running (it should be)"
-  proc_wait_exit "$p" 5 || fail "$p did not exit within 5 s of SIGTERM"
-  [ "$PROC_RC" = 0 ] || { sanitizer_report "$p"; fail "$p exited with status $PROC_RC after SIGTERM (expected 0)"; }
-}
-
-check_sanitizers() {
-  local f
-  for f in "$NETNS_DIR"/*.err; do
-    if grep -E -q 'ERROR: (Address|Leak|Thread|UndefinedBehavior)Sanitizer|runtime error:' "$f"; then
-      fail "sanitizer report in $(basename "$f")"
-    fi
-  done
-}
-
 all_running() {
   local c
   for c in "$@"; do proc_running "${PROC[$c]}" || fail "$c (${PROC[$c]}) died unexpectedly"; done
