@@ -52,15 +52,12 @@ using skillcell::process::ChildProcess;
 namespace mdns = skillcell::ua::mdns;
 namespace lds = skillcell::ua::lds;
 
-struct Options {
-    int count = 50;
-    int killed = 5;  // of them, how many are killed instead of stopped
-    int ttl = 2;
+struct Options : skillcell::bench::ProcessRun {
+    Options() : ProcessRun{50, 5, 2, SKILLCELL_BINARY} {}
     int idle = 30;         // servers of the idle-traffic run (0: none)
     int idleSeconds = 60;  // how long it counts
     int idleTtl = 120;     // the TTL they announce
     int idleSettle = 8;    // seconds before counting: libmdnsd announces 4 times, 2 s apart
-    std::string skillcell = SKILLCELL_BINARY;
 };
 
 /// One `skillcell server` process announcing `name` with `ttl`, its output appended to `log`.
@@ -282,15 +279,7 @@ int main(int argc, char** argv) {
         "mDNS discovery between processes: start to described, stop (goodbye) and "
         "kill (TTL) to gone, and the idle traffic of a cell. Run it inside "
         "tests/netns/run_in_private_netns.sh."};
-    app.add_option("--count", o.count, "server processes started and stopped")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
-    app.add_option("--killed", o.killed, "of them, how many are killed instead of stopped")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_option("--ttl", o.ttl, "the TTL they announce, in seconds")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
+    skillcell::bench::addProcessRunOptions(app, o);
     app.add_option("--idle", o.idle, "servers of the idle-traffic run (0: none)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
@@ -303,7 +292,6 @@ int main(int argc, char** argv) {
     app.add_option("--idle-settle", o.idleSettle, "seconds before counting")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    app.add_option("--skillcell", o.skillcell, "the skillcell binary")->capture_default_str();
     if (const auto exit = skillcell::bench::parseCommandLine(app, argc, argv)) return *exit;
     o.killed = std::min(o.killed, o.count);
     spdlog::set_level(spdlog::level::warn);

@@ -36,11 +36,8 @@ using skillcell::bench::Samples;
 using skillcell::bench::Timeline;
 using skillcell::process::ChildProcess;
 
-struct Options {
-    int count = 30;
-    int killed = 3;  // of them, how many are killed instead of stopped
-    int ttl = 2;
-    std::string skillcell = SKILLCELL_BINARY;
+struct Options : skillcell::bench::ProcessRun {
+    Options() : ProcessRun{30, 3, 2, SKILLCELL_BINARY} {}
 };
 
 // The skills every component process offers.
@@ -140,16 +137,7 @@ int main(int argc, char** argv) {
         "From a component process's start to its skills in a SkillDetector, and from "
         "its stop or kill to their removal. Run it inside "
         "tests/netns/run_in_private_netns.sh."};
-    app.add_option("--count", o.count, "component processes started and stopped")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
-    app.add_option("--killed", o.killed, "of them, how many are killed instead of stopped")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_option("--ttl", o.ttl, "the TTL they announce, in seconds")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
-    app.add_option("--skillcell", o.skillcell, "the skillcell binary")->capture_default_str();
+    skillcell::bench::addProcessRunOptions(app, o);
     if (const auto exit = skillcell::bench::parseCommandLine(app, argc, argv)) return *exit;
     o.killed = std::min(o.killed, o.count);
     spdlog::set_level(spdlog::level::warn);
