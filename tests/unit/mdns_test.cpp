@@ -284,12 +284,48 @@ TEST(Mdns, AServerThatOnlyAnnouncesNeverQueries) {
     ASSERT_TRUE(announcer && listener);
     loop.run([&] { return announcer->announce(pump()); });
     ASSERT_TRUE(log.waitFor("announced pump opc.tcp://127.0.0.1:4840/ua"));
+    // The listener's first query waits 20-120 ms (RFC 6762, 5.2); the announcer's never comes.
+    EXPECT_TRUE(waitUntil(loop, [&] { return listener->stats().queriesSent >= 1; }));
     EXPECT_EQ(loop.run([&] { return announcer->stats().queriesSent; }), 0u);
-    EXPECT_GE(loop.run([&] { return listener->stats().queriesSent; }), 1u);
     EXPECT_TRUE(loop.run([&] { return announcer->services().empty(); }));  // keeps no cache
     loop.run([&] {
         announcer->shutdown();
         listener->shutdown();
+        return 0;
+    });
+}
+
+// RFC 6762, 5.2 and 7.3: servers that start together each look for their LDS, and each one's
+// first query waits 20-120 ms; the first that asks stands for the others, which hear its
+// question and its answers instead of asking the same.
+TEST(Mdns, ServersStartingTogetherLetOneQuestionForTheirLdsStandForTheOthers) {
+    Loop loop;
+    constexpr std::size_t kServers = 8;
+    std::vector<std::shared_ptr<MdnsResponder>> servers;
+    for (std::size_t i = 0; i < kServers; ++i) {
+        servers.push_back(loop.run([&] { return makeResponder(loop.io()); }));
+        ASSERT_TRUE(servers.back());
+    }
+    loop.run([&] {
+        for (auto& s : servers)
+            s->subscribe([](const ServiceEvent&) {}, BrowseScope::DiscoveryServers);
+        return 0;
+    });
+    // Each either asked or had its question asked for it.
+    ASSERT_TRUE(waitUntil(loop, [&] {
+        return std::all_of(servers.begin(), servers.end(), [](const auto& s) {
+            return s->stats().queriesSent + s->stats().queriesSpared >= 1;
+        });
+    }));
+    const std::size_t asked = loop.run([&] {
+        std::size_t n = 0;
+        for (const auto& s : servers) n += s->stats().queriesSent;
+        return n;
+    });
+    EXPECT_GE(asked, 1u);
+    EXPECT_LT(asked, kServers);  // all 8 asking would need 8 delays within a delivery time
+    loop.run([&] {
+        for (auto& s : servers) s->shutdown();
         return 0;
     });
 }

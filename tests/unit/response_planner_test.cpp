@@ -311,8 +311,42 @@ TEST(BrowseSchedule, AnotherHostsQueryCountsAsOursOnlyWhenOursIsNear) {
     s.sent(t0 + 1s);               // next at t0 + 3 s, then 4 s
     s.duplicateSeen(t0 + 1500ms);  // just after ours: no change
     EXPECT_EQ(*s.next(), t0 + 3s);
-    s.duplicateSeen(t0 + 2500ms);  // ours was due in 0.5 s: counts as sent
-    EXPECT_EQ(*s.next(), t0 + 2500ms + 4s);
+    s.duplicateSeen(t0 + 2500ms);  // ours was due in 0.5 s: counts as sent then
+    EXPECT_EQ(*s.next(), t0 + 3s + 4s);
+}
+
+// RFC 6762, 5.2 and 7.3: a process's first query waits, and another host's question asked
+// meanwhile stands for it, however early in the wait it comes.
+// Hosts that count one question as theirs keep each its own phase: with 500 servers looking
+// for an LDS, answering to the same question at the same instant would be 500 queries at
+// once at every step of the backoff.
+TEST(BrowseSchedule, HostsThatHeardOneQuestionDoNotAskAgainAtOneInstant) {
+    const auto t0 = Clock::time_point{} + 1000s;
+    BrowseSchedule a(std::chrono::minutes(60));
+    BrowseSchedule b(std::chrono::minutes(60));
+    a.restart(t0, 40ms);
+    b.restart(t0, 90ms);
+    a.duplicateSeen(t0 + 30ms);  // a third host asked first
+    b.duplicateSeen(t0 + 30ms);
+    EXPECT_EQ(*a.next(), t0 + 40ms + 1s);
+    EXPECT_EQ(*b.next(), t0 + 90ms + 1s);
+}
+
+TEST(BrowseSchedule, TheFirstQueryWaitsItsDelayAndAnotherHostsQuestionMeanwhileStandsForIt) {
+    const auto t0 = Clock::time_point{} + 1000s;
+    BrowseSchedule s(std::chrono::minutes(60));
+    s.restart(t0, 70ms);
+    EXPECT_EQ(*s.next(), t0 + 70ms);
+    s.duplicateSeen(t0 + 5ms);  // early in the wait: still counts, as sent when due
+    EXPECT_EQ(*s.next(), t0 + 70ms + 1s);
+    // After the first, the half-wait rule holds again: just after ours, no change.
+    s.duplicateSeen(t0 + 100ms);
+    EXPECT_EQ(*s.next(), t0 + 70ms + 1s);
+
+    BrowseSchedule alone(std::chrono::minutes(60));
+    alone.restart(t0, 120ms);
+    alone.sent(t0 + 120ms);  // nobody asked: ours goes out, then 1 s, 2 s ...
+    EXPECT_EQ(*alone.next(), t0 + 120ms + 1s);
 }
 
 }  // namespace

@@ -198,6 +198,7 @@ MdnsResponder::MdnsResponder(asio::any_io_executor executor, MdnsConfig config)
       cache_(std::string(kOpcUaServiceType), std::random_device{}()),
       browse_(config_.queryPeriod),
       planner_(std::random_device{}()),
+      random_(std::random_device{}()),
       queryId_(static_cast<std::uint16_t>(1 + std::random_device{}() % 0xFFFF)) {}
 
 MdnsResponder::~MdnsResponder() = default;
@@ -373,7 +374,10 @@ std::size_t MdnsResponder::subscribe(Listener listener, BrowseScope scope) {
         cache_.setInterest(scope == BrowseScope::DiscoveryServers
                                ? std::optional<std::string>(kLdsCapability)
                                : std::nullopt);
-        startBrowsing();
+        // A process's first query waits 20-120 ms (RFC 6762, 5.2): when a cell powers on,
+        // one server's question for its LDS then stands for the others' (7.3).
+        std::uniform_int_distribution<int> delayMs(20, 120);
+        startBrowsing(std::chrono::milliseconds(delayMs(random_)));
     }
     return id;
 }
@@ -507,11 +511,11 @@ void MdnsResponder::shutdown() {
 }
 
 void MdnsResponder::queryNow() {
-    startBrowsing();
+    startBrowsing(Clock::duration::zero());  // someone asked: now
 }
 
-void MdnsResponder::startBrowsing() {
-    browse_.restart(Clock::now());
+void MdnsResponder::startBrowsing(Clock::duration firstDelay) {
+    browse_.restart(Clock::now(), firstDelay);
     wake();
 }
 
@@ -647,7 +651,7 @@ void MdnsResponder::handleQuery(const DnsMessage& query, std::span<const std::ui
             const bool multicastAnswer = (q.qclass & kClassTopBit) == 0;
             if (isPtrQuestionFor(q, browseName()) && multicastAnswer &&
                 sourcePort == config_.port && cache_.knowsAll(knownByAsker, now)) {
-                browse_.duplicateSeen(now);
+                if (browse_.duplicateSeen(now)) ++stats_.queriesSpared;
             }
             if (multicastAnswer) cache_.questionSeen(q, knownByAsker, now);
         }

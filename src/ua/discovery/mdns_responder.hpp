@@ -9,9 +9,9 @@
 //   aggregated, without what the querier knows or another responder just sent. libmdnsd's
 //   own answering cannot (its delay is 20-120 us, known answers count whatever their TTL,
 //   nothing limits repeats), so it does not see those queries.
-// - Only a process with a subscriber browses (BrowseSchedule: at once, then backing off up to
-//   `queryPeriod`), with its known answers in the query; and only it keeps the records it
-//   hears fresh with refresh queries. A server that only announces never queries.
+// - Only a process with a subscriber browses (BrowseSchedule: after 20-120 ms, then backing
+//   off up to `queryPeriod`), with its known answers in the query; and only it keeps the
+//   records it hears fresh with refresh queries. A server that only announces never queries.
 // - A browser that looks for LDSes alone (BrowseScope::DiscoveryServers: a server that
 //   registers) asks for the LDS subtype (RFC 6763, 7.1), which our LDSes announce beside the
 //   service type: only LDSes answer, its known answers list only LDSes, and it refreshes
@@ -43,6 +43,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -104,9 +105,10 @@ public:
         std::uint64_t malformed = 0;
         std::uint64_t sent = 0;
         std::uint64_t sendErrors = 0;
-        std::uint64_t queriesSent = 0;   // datagrams of our queries
-        std::uint64_t answersSent = 0;   // datagrams of our answers to queries
-        std::uint64_t queriesHeard = 0;  // others' queries
+        std::uint64_t queriesSent = 0;    // datagrams of our queries
+        std::uint64_t answersSent = 0;    // datagrams of our answers to queries
+        std::uint64_t queriesHeard = 0;   // others' queries
+        std::uint64_t queriesSpared = 0;  // ours that another's same question stood for (7.3)
     };
 
     /// Opens and binds the socket and joins the group on the chosen interfaces.
@@ -130,9 +132,10 @@ public:
 
     /// Calls `listener` with an Announced event for every server known now, then with every
     /// change (of every server heard, whatever the scope). Returns the id for unsubscribe().
-    /// The first subscriber starts browsing: the first query goes out at once, so that servers
-    /// started earlier are found now; the first AllServers subscriber after DiscoveryServers
-    /// ones starts it again for every server.
+    /// The first subscriber starts browsing: the first query goes out within 20-120 ms (RFC
+    /// 6762, 5.2), so that servers started earlier are found now, unless another host asked
+    /// the same meanwhile (its answers reach us); the first AllServers subscriber after
+    /// DiscoveryServers ones starts it again for every server.
     std::size_t subscribe(Listener listener, BrowseScope scope = BrowseScope::AllServers);
     void unsubscribe(std::size_t id);
 
@@ -174,7 +177,8 @@ private:
                      const Ipv4& source, std::uint16_t sourcePort);
     [[nodiscard]] bool isOwnQuery(const DnsMessage& query,
                                   std::span<const std::uint8_t> bytes) const;
-    void startBrowsing();
+    /// Browsing from the shortest interval; the first query after `firstDelay`.
+    void startBrowsing(Clock::duration firstDelay);
     /// What our browse queries ask for: the service type, or the LDS subtype.
     [[nodiscard]] std::string browseName() const { return cache_.browseName(); }
     void rebuildOwnRecords();
@@ -202,6 +206,7 @@ private:
     ServiceCache cache_;
     BrowseSchedule browse_;
     ResponsePlanner planner_;
+    std::minstd_rand random_;  // the first query's delay
     // Our queries carry this id, and we keep a digest of the last ones we sent, so that the
     // copy the loopback brings back is not taken for another host's query.
     std::uint16_t queryId_ = 0;
