@@ -32,7 +32,7 @@
 #include <thread>
 #include <vector>
 
-#include "command_line.hpp"
+#include "common/command_line.hpp"
 #include "detection_rig.hpp"
 #include "latency_stats.hpp"
 #include "process/child_process.hpp"
@@ -370,7 +370,6 @@ int runSize(const Options& o, int n, const fs::path& logs) {
 
 int main(int argc, char** argv) {
     Options o;
-    std::string pkiCache = o.pkiCache.string();
     CLI::App app{
         "A cell of N component processes on one segment (each `skillcell server` with "
         "two no-op skills): all READY, cold detection, plug and unplug latency, idle "
@@ -386,11 +385,10 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     app.add_option("--skillcell", o.skillcell, "the skillcell binary")->capture_default_str();
-    app.add_option("--pki-cache", pkiCache,
+    app.add_option("--pki-cache", o.pkiCache,
                    "where the components' certificates are kept between runs")
         ->capture_default_str();
-    if (const auto exit = skillcell::bench::parseCommandLine(app, argc, argv)) return *exit;
-    o.pkiCache = pkiCache;
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     if (!skillcell::bench::onlyLoopbackMulticast()) {
         std::fprintf(stderr,
                      "refusing to send mDNS here: a real network interface is up. Run inside "

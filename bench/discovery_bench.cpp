@@ -292,7 +292,7 @@ int main(int argc, char** argv) {
     app.add_option("--idle-settle", o.idleSettle, "seconds before counting")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    if (const auto exit = skillcell::bench::parseCommandLine(app, argc, argv)) return *exit;
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     o.killed = std::min(o.killed, o.count);
     spdlog::set_level(spdlog::level::warn);
     return run(o);

@@ -15,7 +15,7 @@
 #include <chrono>
 #include <iostream>
 
-#include "command_line.hpp"
+#include "common/command_line.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/store/http_sparql_store.hpp"
 #include "latency_stats.hpp"
@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
     app.add_option("--queries", count, "queries of each kind at each size")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
     std::string error;
     auto virtuoso = bench::PrivateVirtuoso::start("skillcell-bench-kb", &error);

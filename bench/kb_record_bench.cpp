@@ -16,7 +16,7 @@
 #include <iostream>
 #include <thread>
 
-#include "command_line.hpp"
+#include "common/command_line.hpp"
 #include "kb/engine/konclude_reasoner.hpp"
 #include "kb/knowledge_base.hpp"
 #include "kb/store/http_sparql_store.hpp"
@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
     app.add_option("--recordings", count, "recordings at each size")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
     std::string error;
     auto virtuoso = bench::PrivateVirtuoso::start("skillcell-bench-kb-record", &error);

@@ -35,7 +35,7 @@
 #include <asio/steady_timer.hpp>
 
 #include "client_thread.hpp"
-#include "command_line.hpp"
+#include "common/command_line.hpp"
 #include "kb/component_graph.hpp"
 #include "latency_stats.hpp"
 #include "mes/process_executor.hpp"
@@ -203,7 +203,7 @@ int main(int argc, char** argv) {
         ->delimiter(',')
         ->check(CLI::Range(1, 200))
         ->capture_default_str();
-    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
     std::random_device rd;
     const fs::path dir =

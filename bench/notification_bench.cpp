@@ -56,7 +56,7 @@
 #include <asio/use_awaitable.hpp>
 
 #include "apps/demo_nodes.hpp"
-#include "command_line.hpp"
+#include "common/command_line.hpp"
 #include "latency_stats.hpp"
 #include "node_peer.hpp"
 #include "running_server.hpp"
@@ -749,7 +749,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.001, 3600.0))
         ->capture_default_str();
     app.add_flag("--no-node{false}", o.node, "skip the write round trip against node-opcua");
-    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     try {
         return run(o);
     } catch (const std::exception& e) {

@@ -34,7 +34,7 @@
 #include <asio/io_context.hpp>
 
 #include "apps/demo_nodes.hpp"
-#include "command_line.hpp"
+#include "common/command_line.hpp"
 #include "latency_stats.hpp"
 #include "node_peer.hpp"
 #include "process/child_process.hpp"
@@ -403,7 +403,7 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     app.add_flag("--no-node{false}", o.node, "skip the node-opcua measurement");
-    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     try {
         return run(o);
     } catch (const std::exception& e) {

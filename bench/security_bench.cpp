@@ -23,7 +23,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "command_line.hpp"
+#include "common/command_line.hpp"
 #include "latency_stats.hpp"
 #include "running_server.hpp"
 #include "test_certificate.hpp"
@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
     app.add_option("--only", only,
                    "run only the rows whose name contains this text (ratios are then to the "
                    "first of them)");
-    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
 
     // One server per key size, each knowing the bench's user by password and by certificate.

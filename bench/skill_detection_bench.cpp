@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
         "its stop or kill to their removal. Run it inside "
         "tests/netns/run_in_private_netns.sh."};
     skillcell::bench::addProcessRunOptions(app, o);
-    if (const auto exit = skillcell::bench::parseCommandLine(app, argc, argv)) return *exit;
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     o.killed = std::min(o.killed, o.count);
     spdlog::set_level(spdlog::level::warn);
     return run(o);

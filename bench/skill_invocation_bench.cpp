@@ -16,7 +16,7 @@
 #include <spdlog/spdlog.h>
 
 #include "client_thread.hpp"
-#include "command_line.hpp"
+#include "common/command_line.hpp"
 #include "latency_stats.hpp"
 #include "running_server.hpp"
 #include "skills/noop_behaviour.hpp"
@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
                    "the publishing interval the SkillClient asks for, in ms")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    if (const auto exit = bench::parseCommandLine(app, argc, argv)) return *exit;
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
 
     std::printf("skill invocation (no-op skill, in-process server, loopback), %zu runs each\n",

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "common/command_line.hpp"
 
 namespace {
 
@@ -94,13 +95,7 @@ int main(int argc, char** argv) {
         }
     }
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        // --help exits 0; every usage error exits 2, the usual code that scripts (and
-        // `skillcell check`'s contract) expect, instead of CLI11's own 100+ codes.
-        return app.exit(e) == 0 ? 0 : 2;
-    }
+    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
 
     // Logs go to stderr: stdout carries the commands' output (READY lines, browse trees).
     auto logger = spdlog::stderr_color_mt("skillcell");

@@ -56,9 +56,5 @@ wait_for_line_until "$NETNS_DIR/detector.out" "$added" $((up_at + 1500)) "$from"
 say "ok: h2 detects the robot again $(($(now_ms) - up_at)) ms after its link came up"
 grep -q 'link .* up again' "$NETNS_DIR/detector.err" || fail "h2's log does not say why it asked again"
 
-for p in robot detector; do
-  proc_signal "$p" TERM
-  proc_wait_exit "$p" 5 || fail "$p did not exit within 5 s of SIGTERM"
-  [ "$PROC_RC" = 0 ] || { sanitizer_report "$p"; fail "$p exited with $PROC_RC"; }
-done
+for p in robot detector; do stop_gracefully "$p"; done
 say "PASS"
