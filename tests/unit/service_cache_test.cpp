@@ -258,7 +258,7 @@ TEST_F(ServiceCacheTest, AnInterestInLdsesRefreshesOnlyTheirRecordsAndAsksForThe
     cache.ingest(announcement("the-lds", "host-a.local", kHostA, 4840, 10), kHostA, t0);
     cache.ingest(announcement("pump", "host-b.local", kHostB, 4841, 10, {"path=/", "caps=DA"}),
                  kHostB, t0);
-    EXPECT_EQ(cache.size(), 2u);  // both reported
+    EXPECT_EQ(cache.size(), 1u);  // the pump's TXT says it is no LDS: it is not kept
     auto q = cache.refreshQueries(t0 + 8s);
     std::set<std::string> asked;
     for (const auto& x : q) asked.insert(x.name);
@@ -269,10 +269,55 @@ TEST_F(ServiceCacheTest, AnInterestInLdsesRefreshesOnlyTheirRecordsAndAsksForThe
     ASSERT_EQ(known.size(), 1u);
     EXPECT_EQ(known[0].name, "_lds._sub._opcua-tcp._tcp.local");
     EXPECT_EQ(known[0].target, "the-lds._opcua-tcp._tcp.local");
-    EXPECT_EQ(cache.knownAnswers(t0 + 1s).size(), 2u);  // of the type: every server
-    // The pump, never asked for, goes at its TTL.
+    EXPECT_EQ(cache.knownAnswers(t0 + 1s).size(), 1u);  // of the type: every server kept
     const auto gone = cache.expire(t0 + 10s);
-    EXPECT_EQ(gone.size(), 2u);
+    EXPECT_EQ(gone.size(), 1u);
+}
+
+// A registrar hears every server's answer to every detector's browse: it keeps only the
+// instances that may be LDSes, and the addresses of their hosts.
+TEST_F(ServiceCacheTest, AnInterestInLdsesKeepsNoRecordOfTheOtherServers) {
+    cache.setInterest(std::string(kLdsCapability));
+    for (int i = 0; i < 50; ++i) {
+        const Ipv4 ip{198, 18, 2, static_cast<std::uint8_t>(i)};
+        EXPECT_TRUE(
+            cache
+                .ingest(announcement("s" + std::to_string(i), "h" + std::to_string(i) + ".local",
+                                     ip, 4840, 120, {"path=/", "caps=DA"}),
+                        ip, t0)
+                .empty());
+    }
+    EXPECT_EQ(cache.size(), 0u);
+    EXPECT_EQ(cache.queued(), 0u);  // nothing stored, nothing waiting for its time
+    EXPECT_TRUE(cache.refreshQueries(t0).empty());
+    // An LDS is kept; when its TXT no longer names the capability, it is gone.
+    ASSERT_EQ(
+        cache.ingest(announcement("the-lds", "host-a.local", kHostA, 4840), kHostA, t0).size(), 1u);
+    auto changed = announcement("the-lds", "host-a.local", kHostA, 4840, 120, {"caps=DA"});
+    changed.records = {changed.records[2]};  // the TXT alone
+    const auto events = cache.ingest(changed, kHostA, t0 + 1s);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, ServiceEvent::Kind::Gone);
+    EXPECT_EQ(cache.size(), 0u);
+    EXPECT_TRUE(cache.knownAnswers(t0 + 2s).empty());
+}
+
+// A server that becomes an LDS may say so in its TXT alone: the cache, which did not keep its
+// other records, asks for the LDSes' PTR (whose answer brings SRV, TXT and address along).
+TEST_F(ServiceCacheTest, AnInterestInLdsesAsksForAnLdsItKnowsOnlyTheTxtOf) {
+    cache.setInterest(std::string(kLdsCapability));
+    auto m = announcement("new-lds", "host-a.local", kHostA, 4840);
+    m.records = {m.records[2]};
+    EXPECT_TRUE(cache.ingest(m, kHostA, t0).empty());
+    ASSERT_TRUE(cache.nextDeadline());
+    EXPECT_LE(*cache.nextDeadline(), t0);
+    const auto q = cache.refreshQueries(t0);
+    ASSERT_EQ(q.size(), 1u);
+    EXPECT_EQ(q[0].name, "_lds._sub._opcua-tcp._tcp.local");
+    EXPECT_EQ(q[0].type, static_cast<std::uint16_t>(DnsType::Ptr));
+    EXPECT_EQ(
+        cache.ingest(announcement("new-lds", "host-a.local", kHostA, 4840), kHostA, t0 + 1s).size(),
+        1u);
 }
 
 TEST_F(ServiceCacheTest, AnotherHostsSubtypeQueryCountsAsOurRefreshOfTheLdsesOnly) {

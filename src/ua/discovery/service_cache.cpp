@@ -141,17 +141,19 @@ bool ServiceCache::store(const DnsRecord& rr, const Ipv4& source, Clock::time_po
         case DnsType::Srv:
             if (!endsWith(key, "." + serviceTypeKey_)) return false;
             if (goodbye) {
-                srvs_.erase(key);
+                eraseSrv(key);
                 goodbyes.push_back(key);
             } else if (roomFor(srvs_, key)) {
-                const std::string host = foldCase(rr.target);
-                const bool known = srvs_.contains(key) && srvs_[key].host == host;
+                std::string host = foldCase(rr.target);
+                const auto old = srvs_.find(key);
+                const bool known = old != srvs_.end() && old->second.host == host;
                 // A copy that came over IPv6 has no IPv4 sender: keep the one we know.
-                const Ipv4 sender = (source == Ipv4{} && known) ? srvs_[key].sender : source;
-                renew(srvs_[key], Srv{timed, host, rr.port, sender}, RecordKind::Srv, key);
+                const Ipv4 sender = (source == Ipv4{} && known) ? old->second.sender : source;
+                const bool literal = parseIpv4Literal(host).has_value();
+                putSrv(key, Srv{timed, std::move(host), rr.port, sender});
                 // A target without an address (yet): ask for it, once per new target. The
                 // A record often comes in the same message; asking then costs one datagram.
-                if (!known && !parseIpv4Literal(host) && pending_.size() < 64) {
+                if (!known && !literal && pending_.size() < 64) {
                     pending_.push_back(
                         {rr.target, static_cast<std::uint16_t>(DnsType::A), kClassIn});
                 }
@@ -210,16 +212,35 @@ std::vector<ServiceEvent> ServiceCache::ingest(const DnsMessage& message, const 
     // costs in proportion to its size, not to the size of the cache.
     std::set<std::string> touched;
     std::set<std::string> hosts;
+    const auto isIn = [](const DnsRecord& rr) { return (rr.rrclass & ~kClassTopBit) == kClassIn; };
+    const auto isA = [](const DnsRecord& rr) {
+        return rr.type == static_cast<std::uint16_t>(DnsType::A);
+    };
+    const std::set<std::string> others = withoutInterest(message);
+    for (const auto& key : others) {
+        if (forget(key)) touched.insert(key);
+    }
+    const auto instanceOf = [](const DnsRecord& rr) {
+        return foldCase(rr.type == static_cast<std::uint16_t>(DnsType::Ptr) ? rr.target : rr.name);
+    };
     for (const auto& rr : message.records) {
-        if ((rr.rrclass & ~kClassTopBit) != kClassIn) continue;
-        const bool addressesChanged = store(rr, source, now, goodbyes);
-        if (rr.type == static_cast<std::uint16_t>(DnsType::A)) {
-            if (addressesChanged) hosts.insert(foldCase(rr.name));
-        } else if (rr.type == static_cast<std::uint16_t>(DnsType::Ptr)) {
-            touched.insert(foldCase(rr.target));
-        } else {
-            touched.insert(foldCase(rr.name));
+        if (!isIn(rr) || isA(rr)) continue;
+        std::string key = instanceOf(rr);
+        if (others.contains(key)) continue;
+        store(rr, source, now, goodbyes);
+        if (interest_ && rr.type == static_cast<std::uint16_t>(DnsType::Txt) && rr.ttl > 0 &&
+            (!pointers_.contains(key) || !srvs_.contains(key)) && pending_.size() < 64) {
+            // An LDS we know only the TXT of (its capability came later): ask for the rest.
+            pending_.push_back({browseName(), static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
         }
+        touched.insert(std::move(key));
+    }
+    // Addresses after the SRVs that name their hosts, wherever they stand in the message.
+    for (const auto& rr : message.records) {
+        if (!isIn(rr) || !isA(rr)) continue;
+        std::string host = foldCase(rr.name);
+        if (interest_ && !instancesOnHost_.contains(host)) continue;  // no instance of interest
+        if (store(rr, source, now, goodbyes)) hosts.insert(std::move(host));
     }
     addInstancesOn(hosts, touched);
     std::vector<ServiceEvent> events;
@@ -240,13 +261,56 @@ std::vector<ServiceEvent> ServiceCache::expire(Clock::time_point now) {
 
 void ServiceCache::addInstancesOn(const std::set<std::string>& hosts,
                                   std::set<std::string>& keys) const {
-    if (hosts.empty()) return;
-    for (const auto& [key, srv] : srvs_) {
-        if (hosts.contains(srv.host)) keys.insert(key);
+    for (const auto& host : hosts) {
+        if (auto it = instancesOnHost_.find(host); it != instancesOnHost_.end()) {
+            keys.insert(it->second.begin(), it->second.end());
+        }
     }
-    for (const auto& [key, st] : announced_) {
-        if (hosts.contains(st.host)) keys.insert(key);
+}
+
+std::set<std::string> ServiceCache::withoutInterest(const DnsMessage& message) const {
+    std::set<std::string> out;
+    if (!interest_) return out;
+    for (const auto& rr : message.records) {
+        if (rr.type != static_cast<std::uint16_t>(DnsType::Txt) || rr.ttl == 0 ||
+            (rr.rrclass & ~kClassTopBit) != kClassIn) {
+            continue;
+        }
+        const auto caps = txtValue(rr.txt, "caps");
+        if (!caps || !hasCapability(splitCaps(*caps), *interest_)) out.insert(foldCase(rr.name));
     }
+    return out;
+}
+
+bool ServiceCache::forget(const std::string& key) {
+    const bool had = pointers_.erase(key) + txts_.erase(key) > 0 || srvs_.contains(key);
+    eraseSrv(key);
+    return had;
+}
+
+void ServiceCache::putSrv(const std::string& key, Srv srv) {
+    auto it = srvs_.find(key);
+    if (it == srvs_.end()) {
+        instancesOnHost_[srv.host].insert(key);
+        it = srvs_.emplace(key, Srv{}).first;
+    } else if (it->second.host != srv.host) {
+        instancesOnHost_[srv.host].insert(key);
+        if (auto old = instancesOnHost_.find(it->second.host); old != instancesOnHost_.end()) {
+            old->second.erase(key);
+            if (old->second.empty()) instancesOnHost_.erase(old);
+        }
+    }
+    renew(it->second, std::move(srv), RecordKind::Srv, key);
+}
+
+void ServiceCache::eraseSrv(const std::string& key) {
+    const auto it = srvs_.find(key);
+    if (it == srvs_.end()) return;
+    if (auto on = instancesOnHost_.find(it->second.host); on != instancesOnHost_.end()) {
+        on->second.erase(key);
+        if (on->second.empty()) instancesOnHost_.erase(on);
+    }
+    srvs_.erase(it);
 }
 
 ServiceCache::Timed* ServiceCache::recordOf(const Due& due) {
@@ -281,13 +345,13 @@ bool ServiceCache::refreshed(const Due& due) const {
         case RecordKind::Srv:
         case RecordKind::Txt:
             return announced_.contains(due.key) && interesting(due.key);
-        case RecordKind::Address:
-            // The host of a live instance that counts (a scan, but only when an address's
-            // refresh comes due: four times per TTL).
-            return std::any_of(srvs_.begin(), srvs_.end(), [&](const auto& kv) {
-                return kv.second.host == due.key && announced_.contains(kv.first) &&
-                       interesting(kv.first);
-            });
+        case RecordKind::Address: {  // the host of a live instance that counts
+            const auto on = instancesOnHost_.find(due.key);
+            return on != instancesOnHost_.end() &&
+                   std::any_of(on->second.begin(), on->second.end(), [&](const auto& key) {
+                       return announced_.contains(key) && interesting(key);
+                   });
+        }
     }
     return false;
 }
@@ -349,7 +413,7 @@ void ServiceCache::processDue(Clock::time_point now) {
                     expiredKeys_.insert(due.key);
                     break;
                 case RecordKind::Srv:
-                    srvs_.erase(due.key);
+                    eraseSrv(due.key);
                     expiredKeys_.insert(due.key);
                     break;
                 case RecordKind::Txt:

@@ -111,10 +111,12 @@ public:
     [[nodiscard]] std::vector<DnsRecord> knownAnswers(Clock::time_point now) const {
         return knownAnswers(now, serviceType_);
     }
-    /// What this cache's owner wants kept fresh: every server (none), or only the servers
-    /// with a capability (a server looking for its LDS). Records of the others are still
-    /// taken in and reported, but never asked for again: they live as long as their TTL and
-    /// whatever others' queries bring. The refresh of a PTR then asks for the subtype.
+    /// What this cache's owner wants: every server (none), or only the servers with a
+    /// capability (a server looking for its LDS). With a capability, an instance whose TXT
+    /// says it lacks it is not kept (nor the addresses of hosts that only such instances
+    /// name): a new detector's browse brings every server's answer to every process of the
+    /// segment, and a registrar stored and indexed them all. Instances whose TXT is not known
+    /// yet are kept, but not asked for again. The refresh of a PTR asks for the subtype.
     void setInterest(std::optional<std::string> capability);
     /// The name a browse query of this cache's owner asks for: the service type, or the
     /// subtype of the capability of interest.
@@ -185,8 +187,18 @@ private:
         record = std::move(fresh);
         schedule(record, kind, key, ip);
     }
-    /// Adds to `keys` the instances whose SRV or announcement names one of `hosts`.
+    /// Adds to `keys` the instances whose SRV names one of `hosts` (an announced instance's
+    /// host is its SRV's: reconcile() keeps them so).
     void addInstancesOn(const std::set<std::string>& hosts, std::set<std::string>& keys) const;
+    /// With an interest (setInterest): the instances (folded) whose TXT in `message` shows
+    /// they lack the capability. None without an interest.
+    [[nodiscard]] std::set<std::string> withoutInterest(const DnsMessage& message) const;
+    /// Drops the PTR, SRV and TXT of instance `key`; whether there was any.
+    bool forget(const std::string& key);
+    /// Stores or replaces the SRV of instance `key`, keeping instancesOnHost_ in step.
+    void putSrv(const std::string& key, Srv srv);
+    /// Erases the SRV of instance `key`, if any, keeping instancesOnHost_ in step.
+    void eraseSrv(const std::string& key);
     /// Queues `t` (of kind/key/ip) at its next time, unless it is queued as early already.
     void schedule(Timed& t, RecordKind kind, const std::string& key, const Ipv4& ip = {});
     /// Makes the queue again from the records, one entry each (kMaxQueued reached).
@@ -216,6 +228,10 @@ private:
     std::string serviceTypeKey_;
     std::map<std::string, Pointer> pointers_;  // folded instance name -> PTR
     std::map<std::string, Srv> srvs_;
+    // Folded host -> the instances whose SRV names it. An address heard for a host touches
+    // those instances only: looking them up in srvs_ instead cost a scan of the whole cache
+    // per datagram, which a cold detection in a cell of 500 made every component pay 500 times.
+    std::map<std::string, std::set<std::string>> instancesOnHost_;
     std::map<std::string, Txt> txts_;
     std::map<std::string, std::vector<Address>> addresses_;  // folded host -> A records
     std::map<std::string, ServiceInstance> announced_;       // folded instance name
