@@ -4,7 +4,7 @@
 //   all READY          from the first start to the last component listening (all started at once)
 //   cold detection     a new detector, started once all N are up, until it has every skill
 //   plug               one more component started until its skills are in that detector
-//                      (--plugs times, p50 and p99)
+//                      (--plugs times, p50 and p99), and until its READY line
 //   unplug             SIGTERM, and kill -9, until its skills are gone (alternately)
 //   idle               over --idle-seconds with nothing happening: packets per second on the
 //                      segment (the loopback's counters, mDNS and OPC UA alike), and each
@@ -278,6 +278,7 @@ int runSize(const Options& o, int n, const fs::path& logs) {
 
     // Plug and unplug one more, --plugs times.
     Samples plug;
+    Samples ready;  // the plugged component's own start, to its READY line
     Samples unplugTerm;
     Samples unplugKill;
     for (int k = 0; k < o.plugs; ++k) {
@@ -289,6 +290,7 @@ int runSize(const Options& o, int n, const fs::path& logs) {
         if (!child) return 1;
         auto port = readyPort(*child, i, log);
         if (!port) return 1;
+        ready.push_back(Clock::now() - tStart);
         auto tDetected = timeline.waitFor("skills " + *port, 30s);
         if (!tDetected) {
             std::fprintf(stderr, "plug %d: not detected within 30 s (see %s)\n", k, log.c_str());
@@ -307,6 +309,7 @@ int runSize(const Options& o, int n, const fs::path& logs) {
         (kill ? unplugKill : unplugTerm).push_back(*tGone - tStop);
     }
     printLatency("plug (start -> skills detected)", plug);
+    printLatency("  of which: start -> READY", ready);
     printLatency("unplug, SIGTERM -> skills gone", unplugTerm);
     printLatency("unplug, kill -9 -> skills gone", unplugKill);
 
