@@ -3,8 +3,10 @@
 // same time keeps being served.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstring>
 #include <string>
+#include <thread>
 
 #include "raw_connection.hpp"
 #include "running_server.hpp"
@@ -307,6 +309,30 @@ TEST_F(ServerProtocol, ServicesNeedAnActivatedSession) {
     auto early = c.exchange(readRequestBody(2, response.authenticationToken));
     ASSERT_TRUE(early);
     EXPECT_EQ(faultStatus(*early), status::BadSessionNotActivated);
+}
+
+// Nothing polls the sessions once a second any more: the server wakes at the first one's
+// timeout. A session nobody uses is closed then, and one in use is kept.
+TEST_F(ServerProtocol, ASessionNobodyUsesIsClosedAtItsTimeout) {
+    RawConnection c(server_.port());
+    c.open();
+    CreateSessionRequest create;
+    create.requestedSessionTimeout = 1000;  // the server's least
+    std::vector<std::uint8_t> body;
+    encodeServiceMessage(body, create);
+    auto count = [this] { return server_.inServer([](Server& s) { return s.sessionCount(); }); };
+    const std::size_t before = count();  // the bystander's, in use (TearDown reads through it)
+    const auto t0 = std::chrono::steady_clock::now();
+    ASSERT_TRUE(c.exchange(body));
+    EXPECT_EQ(count(), before + 1);
+    // Bounded wait (10 s) for the reaper; it should act about a second after the creation.
+    std::size_t now = before + 1;
+    for (int i = 0; i < 1000 && now > before; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));  // polls, bounded in count
+        now = count();
+    }
+    EXPECT_EQ(now, before);
+    EXPECT_GE(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(1000));
 }
 
 TEST(ServerLimits, ConnectionsBeyondTheLimitGetAnError) {

@@ -63,6 +63,27 @@ TEST(SessionManager, AuthorizeChecksActivationChannelAndExpiry) {
     EXPECT_EQ(m.size(), 0u);
 }
 
+// The server's reaper sleeps until nextExpiry(), and a new session wakes it to look again.
+TEST(SessionManager, NextExpiryIsTheFirstSessionsTimeoutAndACreationWakesItsWaiter) {
+    ServerLimits limits;
+    SessionManager m(limits);
+    int wakeups = 0;
+    m.setWakeup([&] { ++wakeups; });
+    EXPECT_FALSE(m.nextExpiry());
+    const auto t0 = SessionManager::Clock::now();
+    Session* a = *m.create(request(5000), 1, t0);
+    EXPECT_EQ(m.nextExpiry(), t0 + 5000ms);
+    (void)*m.create(request(2000), 1, t0 + 1s);
+    EXPECT_EQ(wakeups, 2);
+    EXPECT_EQ(m.nextExpiry(), t0 + 3000ms);
+    EXPECT_EQ(m.expire(t0 + 3000ms), 0u);  // at its deadline still alive
+    EXPECT_EQ(m.expire(t0 + 3001ms), 1u);
+    a->touch(t0 + 4s);  // used: its deadline moves on
+    EXPECT_EQ(m.nextExpiry(), t0 + 9000ms);
+    EXPECT_EQ(m.expire(t0 + 9001ms), 1u);
+    EXPECT_FALSE(m.nextExpiry());
+}
+
 TEST(SessionManager, TokensAreUnpredictableAndDistinct) {
     ServerLimits limits;
     SessionManager m(limits);

@@ -23,6 +23,7 @@ Server::Server(asio::io_context& io, ServerConfig config)
       subscriptionTimer_(io) {
     sessions_.setOnClose([this](const Session& s) { subscriptions_.closeSession(s.sessionId()); });
     subscriptions_.setWakeup([this] { subscriptionTimer_.cancel(); });
+    sessions_.setWakeup([this] { reaper_.cancel(); });
 }
 
 Server::~Server() {
@@ -128,10 +129,15 @@ asio::awaitable<void> Server::acceptLoop() {
 }
 
 asio::awaitable<void> Server::reapSessions() {
+    // Armed for the first session's timeout, not on a period: a component without sessions
+    // sleeps, and one whose clients keep their sessions alive wakes once per timeout, not
+    // once a second. A new session (perhaps the first to time out) cancels the wait.
     while (!stopped_) {
-        reaper_.expires_after(std::chrono::seconds(1));
-        auto [ec] = co_await reaper_.async_wait(asio::experimental::as_tuple(asio::use_awaitable));
-        if (ec || stopped_) co_return;
+        const auto first = sessions_.nextExpiry();
+        reaper_.expires_at(first ? *first + std::chrono::milliseconds(1)
+                                 : asio::steady_timer::time_point::max());
+        co_await reaper_.async_wait(asio::experimental::as_tuple(asio::use_awaitable));
+        if (stopped_) co_return;
         if (const auto n = sessions_.expire(std::chrono::steady_clock::now()); n > 0) {
             spdlog::info("closed {} timed-out session(s)", n);
         }

@@ -40,6 +40,8 @@ public:
     }
     /// Every request on the session restarts its timeout.
     void touch(Clock::time_point now) { lastActivity_ = now; }
+    /// The last instant at which the session is still alive, unless it is used again.
+    [[nodiscard]] Clock::time_point expiresAfter() const { return lastActivity_ + timeout_; }
     [[nodiscard]] bool isExpired(Clock::time_point now) const {
         return now - lastActivity_ > timeout_;
     }

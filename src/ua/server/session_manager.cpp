@@ -32,6 +32,7 @@ Result<Session*> SessionManager::create(const CreateSessionRequest& request,
                                   channelId, now, limits_.maxBrowseContinuationPoints);
     Session* raw = session.get();
     sessions_.emplace(token, std::move(session));
+    if (wakeup_) wakeup_();
     return raw;
 }
 
@@ -63,6 +64,15 @@ std::size_t SessionManager::expire(Clock::time_point now) {
         if (onClose_) onClose_(*kv.second);
         return true;
     });
+}
+
+std::optional<SessionManager::Clock::time_point> SessionManager::nextExpiry() const {
+    std::optional<Clock::time_point> first;
+    for (const auto& [token, session] : sessions_) {
+        const auto at = session->expiresAfter();
+        if (!first || at < *first) first = at;
+    }
+    return first;
 }
 
 BrowseContinuationPoints& continuationPointsOf(ServiceContext& ctx) {

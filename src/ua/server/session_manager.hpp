@@ -4,6 +4,7 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 
 #include "ua/messages/session.hpp"
@@ -36,6 +37,10 @@ public:
     void setOnClose(std::function<void(const Session&)> onClose) { onClose_ = std::move(onClose); }
     /// Closes the sessions whose timeout elapsed; returns how many.
     std::size_t expire(Clock::time_point now);
+    /// When the first of the sessions times out unless it is used before; none without any.
+    [[nodiscard]] std::optional<Clock::time_point> nextExpiry() const;
+    /// Told when a session is created: what waits for nextExpiry() must look again.
+    void setWakeup(std::function<void()> wakeup) { wakeup_ = std::move(wakeup); }
     /// A channel closed: its sessions stay (a client may reactivate them on a new channel)
     /// until they time out.
     [[nodiscard]] std::size_t size() const { return sessions_.size(); }
@@ -50,6 +55,7 @@ private:
     std::unordered_map<NodeId, std::unique_ptr<Session>> sessions_;  // by auth token
     std::uint32_t nextSessionNumber_ = 1;
     std::function<void(const Session&)> onClose_;
+    std::function<void()> wakeup_;
 };
 
 }  // namespace skillcell::ua
