@@ -749,82 +749,104 @@ private:
             if (!v) return bad();
             return Scalar(*v);
         };
-        if (type == "Boolean") {
-            auto b = parseBool(text);
-            if (!b) return bad();
-            return Scalar(*b);
+        const auto builtin = builtinTypeByName(type);  // the element is named after its type
+        if (!builtin) {
+            failAt(e, "unsupported value type '" + std::string(type) + "'");
+            return std::nullopt;
         }
-        if (type == "SByte") return num(std::int8_t{});
-        if (type == "Byte") return num(std::uint8_t{});
-        if (type == "Int16") return num(std::int16_t{});
-        if (type == "UInt16") return num(std::uint16_t{});
-        if (type == "Int32") return num(std::int32_t{});
-        if (type == "UInt32") return num(std::uint32_t{});
-        if (type == "Int64") return num(std::int64_t{});
-        if (type == "UInt64") return num(std::uint64_t{});
-        if (type == "Float") return num(float{});
-        if (type == "Double") return num(double{});
-        if (type == "String") return Scalar(String(text));
-        if (type == "DateTime") {
-            auto d = parseDateTime(text);
-            if (!d) return bad();
-            return Scalar(*d);
-        }
-        if (type == "StatusCode") {
-            auto c = parseNumber<std::uint32_t>(child(e, "Code").text().get());
-            if (!c) return bad();
-            return Scalar(StatusCode{*c});
-        }
-        if (type == "LocalizedText") {
-            return Scalar(LocalizedText{String(trim(child(e, "Locale").text().get())),
-                                        String(child(e, "Text").text().get())});
-        }
-        if (type == "QualifiedName") {
-            std::uint32_t fileNs = 0;
-            if (auto ni = child(e, "NamespaceIndex")) {
-                auto v = parseNumber<std::uint32_t>(ni.text().get());
-                if (!v) return bad();
-                fileNs = *v;
+        switch (*builtin) {
+            case BuiltinType::Boolean: {
+                auto b = parseBool(text);
+                if (!b) return bad();
+                return Scalar(*b);
             }
-            auto ns = mapNamespace(e, fileNs);
-            if (!ns) return std::nullopt;
-            return Scalar(QualifiedName{*ns, String(trim(child(e, "Name").text().get()))});
-        }
-        if (type == "NodeId" || type == "ExpandedNodeId") {
-            // An alias is accepted where a NodeId is written (Argument DataTypes often are);
-            // an empty Identifier is the null NodeId.
-            const auto idText = trim(child(e, "Identifier").text().get());
-            if (idText.empty()) {
-                if (type == "NodeId") return Scalar(NodeId{});
-                return Scalar(ExpandedNodeId{});
+            case BuiltinType::SByte:
+                return num(std::int8_t{});
+            case BuiltinType::Byte:
+                return num(std::uint8_t{});
+            case BuiltinType::Int16:
+                return num(std::int16_t{});
+            case BuiltinType::UInt16:
+                return num(std::uint16_t{});
+            case BuiltinType::Int32:
+                return num(std::int32_t{});
+            case BuiltinType::UInt32:
+                return num(std::uint32_t{});
+            case BuiltinType::Int64:
+                return num(std::int64_t{});
+            case BuiltinType::UInt64:
+                return num(std::uint64_t{});
+            case BuiltinType::Float:
+                return num(float{});
+            case BuiltinType::Double:
+                return num(double{});
+            case BuiltinType::String:
+                return Scalar(String(text));
+            case BuiltinType::DateTime: {
+                auto d = parseDateTime(text);
+                if (!d) return bad();
+                return Scalar(*d);
             }
-            auto id = parseNodeIdText(e, idText, true);
-            if (!id) return std::nullopt;
-            if (type == "NodeId") return Scalar(std::move(*id));
-            return Scalar(ExpandedNodeId{std::move(*id), {}, 0});
-        }
-        if (type == "Guid") {
-            // <Guid><String>...</String></Guid>; a bare text body is accepted too.
-            const auto str = child(e, "String");
-            const std::string_view guidText = str ? str.text().get() : text;
-            auto g = parseGuid(guidText);
-            if (!g) {
-                failAt(e, "bad Guid value '" + std::string(trim(guidText)) + "'");
-                return std::nullopt;
+            case BuiltinType::StatusCode: {
+                auto c = parseNumber<std::uint32_t>(child(e, "Code").text().get());
+                if (!c) return bad();
+                return Scalar(StatusCode{*c});
             }
-            return Scalar(*g);
+            case BuiltinType::LocalizedText:
+                return Scalar(LocalizedText{String(trim(child(e, "Locale").text().get())),
+                                            String(child(e, "Text").text().get())});
+            case BuiltinType::QualifiedName: {
+                std::uint32_t fileNs = 0;
+                if (auto ni = child(e, "NamespaceIndex")) {
+                    auto v = parseNumber<std::uint32_t>(ni.text().get());
+                    if (!v) return bad();
+                    fileNs = *v;
+                }
+                auto ns = mapNamespace(e, fileNs);
+                if (!ns) return std::nullopt;
+                return Scalar(QualifiedName{*ns, String(trim(child(e, "Name").text().get()))});
+            }
+            case BuiltinType::NodeId:
+            case BuiltinType::ExpandedNodeId: {
+                // An alias is accepted where a NodeId is written (Argument DataTypes often
+                // are); an empty Identifier is the null NodeId.
+                const bool plain = *builtin == BuiltinType::NodeId;
+                const auto idText = trim(child(e, "Identifier").text().get());
+                if (idText.empty()) return plain ? Scalar(NodeId{}) : Scalar(ExpandedNodeId{});
+                auto id = parseNodeIdText(e, idText, true);
+                if (!id) return std::nullopt;
+                if (plain) return Scalar(std::move(*id));
+                return Scalar(ExpandedNodeId{std::move(*id), {}, 0});
+            }
+            case BuiltinType::Guid: {
+                // <Guid><String>...</String></Guid>; a bare text body is accepted too.
+                const auto str = child(e, "String");
+                const std::string_view guidText = str ? str.text().get() : text;
+                auto g = parseGuid(guidText);
+                if (!g) {
+                    failAt(e, "bad Guid value '" + std::string(trim(guidText)) + "'");
+                    return std::nullopt;
+                }
+                return Scalar(*g);
+            }
+            case BuiltinType::ByteString: {
+                auto b = decodeBase64(text);
+                if (!b) return bad();
+                return Scalar(ByteString(std::move(*b)));
+            }
+            case BuiltinType::XmlElement: {
+                std::ostringstream xml;
+                for (auto c : e.children()) c.print(xml, "", pugi::format_raw);
+                return Scalar(XmlElement{std::move(xml).str()});
+            }
+            case BuiltinType::ExtensionObject:
+                return parseExtensionObject(e);
+            case BuiltinType::Null:
+            case BuiltinType::DataValue:
+            case BuiltinType::Variant:
+            case BuiltinType::DiagnosticInfo:
+                break;
         }
-        if (type == "ByteString") {
-            auto b = decodeBase64(text);
-            if (!b) return bad();
-            return Scalar(ByteString(std::move(*b)));
-        }
-        if (type == "XmlElement") {
-            std::ostringstream xml;
-            for (auto c : e.children()) c.print(xml, "", pugi::format_raw);
-            return Scalar(XmlElement{std::move(xml).str()});
-        }
-        if (type == "ExtensionObject") return parseExtensionObject(e);
         failAt(e, "unsupported value type '" + std::string(type) + "'");
         return std::nullopt;
     }
