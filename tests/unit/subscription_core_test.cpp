@@ -75,6 +75,7 @@ std::vector<EventFieldList> events(const NotificationMessage& m) {
 class Core : public ::testing::Test {
 protected:
     Core() {
+        engine_.setClock([this] { return now_; });
         auto addType = [this](std::uint32_t id, const char* name, NodeClass cls) {
             Node n;
             n.nodeId = NodeId(id);
@@ -266,6 +267,22 @@ TEST(SubscriptionStateMachine, PublishRequestsResetTheLifetime) {
     }
 }
 
+TEST(SubscriptionStateMachine, NextDueAndCatchUpCountTheCyclesItSleptThrough) {
+    ServerSubscriptionSettings settings{100, 30, 3, 100, 0};
+    ServerSubscription sub(1, kSession, settings, true, 5, kT0);
+    EXPECT_EQ(sub.nextDue(true), kT0 + 100ms);  // the first cycle's keep-alive
+    ASSERT_EQ(sub.onPublishingTimer(kT0 + 100ms, true), ServerSubscription::Action::KeepAlive);
+    (void)sub.keepAlive(DateTime::now());
+    EXPECT_EQ(sub.nextDue(true), kT0 + 400ms);    // three cycles on
+    EXPECT_EQ(sub.nextDue(false), kT0 + 3100ms);  // no request: the lifetime's end
+    sub.catchUp(kT0 + 350ms, true);               // 200 and 300 passed empty
+    EXPECT_EQ(sub.nextCycle(), kT0 + 400ms);
+    EXPECT_EQ(sub.nextDue(true), kT0 + 400ms);
+    sub.catchUp(kT0 + 900ms, true);  // never past the due cycle
+    EXPECT_EQ(sub.nextCycle(), kT0 + 400ms);
+    EXPECT_EQ(sub.onPublishingTimer(kT0 + 400ms, true), ServerSubscription::Action::KeepAlive);
+}
+
 TEST(SubscriptionStateMachine, AfterAStallTheScheduleRestartsInsteadOfBursting) {
     ServerSubscriptionSettings settings{100, 300, 100, 100, 0};
     ServerSubscription sub(1, kSession, settings, true, 5, kT0);
@@ -382,6 +399,61 @@ TEST_F(Core, WriteIsReportedAtTheNextPublishingCycleWithoutPolling) {
     EXPECT_EQ(*changes[0].value.value->get<double>(), 5.0);
     EXPECT_EQ(second.notificationMessage.sequenceNumber, 2u);
     EXPECT_EQ(second.availableSequenceNumbers, std::vector<std::uint32_t>{2});
+}
+
+// The server is not woken every publishing interval for a subscription with nothing to
+// send: only for its keep-alive, or the next cycle after something is queued.
+TEST_F(Core, AnIdleSubscriptionIsDueOnlyForItsKeepAliveAndAWriteAtTheNextCycle) {
+    ServerSubscription& sub = create(100, 5, 30);
+    ASSERT_EQ(monitor(sub, kValue).statusCode, status::Good);
+    publish();
+    advance(100ms);  // the initial value
+    ASSERT_EQ(out_.bodies.size(), 1u);
+    publish({{sub.id(), 1}});
+    EXPECT_EQ(engine_.nextDeadline(), kT0 + 600ms);  // the keep-alive, five cycles on
+    now_ += 250ms;                                   // the server sleeps: no tick
+    ASSERT_EQ(as_.setValue(kValue, Variant(7.0)), status::Good);
+    EXPECT_EQ(engine_.nextDeadline(), kT0 + 400ms);  // the first cycle after the write
+    advance(50ms);
+    ASSERT_EQ(out_.bodies.size(), 2u);
+    auto changes = dataChanges(out_.response(1).notificationMessage);
+    ASSERT_EQ(changes.size(), 1u);
+    EXPECT_EQ(*changes[0].value.value->get<double>(), 7.0);
+    // Nothing more: the keep-alive comes five cycles after that message, on schedule.
+    publish({{sub.id(), 2}});
+    EXPECT_EQ(engine_.nextDeadline(), kT0 + 900ms);
+    now_ = kT0 + 900ms;
+    engine_.tick(now_);
+    ASSERT_EQ(out_.bodies.size(), 3u);
+    EXPECT_TRUE(out_.response(2).notificationMessage.notificationData.empty());  // keep-alive
+}
+
+// Without Publish requests, an idle subscription is due when its lifetime ends, and the
+// cycles it slept through count toward it.
+TEST_F(Core, WithoutRequestsAnIdleSubscriptionIsDueAtTheEndOfItsLifetime) {
+    ServerSubscription& sub = create(100, 1, 3);
+    publish();
+    advance(100ms);  // a keep-alive takes the request
+    ASSERT_EQ(out_.bodies.size(), 1u);
+    EXPECT_EQ(engine_.nextDeadline(), kT0 + 400ms);
+    now_ = kT0 + 400ms;
+    engine_.tick(now_);
+    EXPECT_EQ(engine_.subscriptionCount(), 0u);
+    (void)sub;
+}
+
+// A request arriving after cycles the server slept through finds the keep-alive those
+// cycles made due, and gets it at once.
+TEST_F(Core, ARequestAfterASleepGetsTheKeepAliveThoseCyclesMadeDue) {
+    ServerSubscription& sub = create(100, 3, 30);
+    publish();
+    advance(100ms);  // the first keep-alive
+    ASSERT_EQ(out_.bodies.size(), 1u);
+    now_ += 450ms;  // no tick: four cycles pass, three of them enough for a keep-alive
+    publish();
+    ASSERT_EQ(out_.bodies.size(), 2u);
+    EXPECT_TRUE(out_.response(1).notificationMessage.notificationData.empty());
+    EXPECT_FALSE(sub.isLate());
 }
 
 TEST_F(Core, LateSubscriptionAnswersTheNextPublishAtOnce) {

@@ -25,7 +25,7 @@ void registerSubscriptionServices(ServiceTable& table, ServerSubscriptionEngine&
             const auto s = reviseSettings(
                 limitsOf(ctx), req.requestedPublishingInterval, req.requestedLifetimeCount,
                 req.requestedMaxKeepAliveCount, req.maxNotificationsPerPublish, req.priority);
-            sub->modify(s, ctx.now);
+            engine.modifySubscription(*sub, s, ctx.now);
             resp.revisedPublishingInterval = s.publishingIntervalMs;
             resp.revisedLifetimeCount = s.lifetimeCount;
             resp.revisedMaxKeepAliveCount = s.maxKeepAliveCount;
@@ -33,14 +33,14 @@ void registerSubscriptionServices(ServiceTable& table, ServerSubscriptionEngine&
         });
     table.add<SetPublishingModeRequest, SetPublishingModeResponse>(
         A::ActivatedSession, [&engine](ServiceContext& ctx, const auto& req, auto& resp) {
-            return forEachOperation(limitsOf(ctx), req.subscriptionIds, resp.results,
-                                    [&](std::uint32_t id) -> StatusCode {
-                                        ServerSubscription* sub =
-                                            engine.find(ctx.session->sessionId(), id);
-                                        if (sub == nullptr) return status::BadSubscriptionIdInvalid;
-                                        sub->setPublishingEnabled(req.publishingEnabled);
-                                        return status::Good;
-                                    });
+            return forEachOperation(
+                limitsOf(ctx), req.subscriptionIds, resp.results,
+                [&](std::uint32_t id) -> StatusCode {
+                    ServerSubscription* sub = engine.find(ctx.session->sessionId(), id);
+                    if (sub == nullptr) return status::BadSubscriptionIdInvalid;
+                    engine.setPublishingEnabled(*sub, req.publishingEnabled, ctx.now);
+                    return status::Good;
+                });
         });
     table.add<DeleteSubscriptionsRequest, DeleteSubscriptionsResponse>(
         A::ActivatedSession, [&engine](ServiceContext& ctx, const auto& req, auto& resp) {

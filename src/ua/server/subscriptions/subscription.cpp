@@ -84,6 +84,48 @@ ServerSubscription::Action ServerSubscription::onPublishingTimer(TimePoint now,
     return Action::None;
 }
 
+std::uint64_t ServerSubscription::cyclesUntilDue(bool requestQueued) const {
+    if (publishingEnabled_ && hasNotifications()) return 1;
+    if (requestQueued) {  // the keep-alive is what comes; the lifetime is reset every cycle
+        const std::uint32_t max = settings_.maxKeepAliveCount;
+        return keepAliveCounter_ >= max ? 1 : max - keepAliveCounter_;
+    }
+    // Without a request a keep-alive only marks the subscription late, which the next
+    // request finds (catchUp() marks it); the lifetime's end is what comes.
+    const std::uint32_t life = settings_.lifetimeCount;
+    return lifetimeCounter_ >= life ? 1 : life - lifetimeCounter_;
+}
+
+ServerSubscription::TimePoint ServerSubscription::nextDue(bool requestQueued) const {
+    const std::uint64_t k = cyclesUntilDue(requestQueued);
+    const auto step = interval();
+    if (k == kNever || step.count() <= 0) return k == kNever ? TimePoint::max() : nextCycle_;
+    const auto room = TimePoint::max() - nextCycle_;
+    const auto ahead = static_cast<std::uint64_t>(room / step);
+    if (k - 1 > ahead) return TimePoint::max();
+    return nextCycle_ + step * static_cast<std::int64_t>(k - 1);
+}
+
+void ServerSubscription::catchUp(TimePoint now, bool requestQueued) {
+    const auto step = interval();
+    if (nextCycle_ >= now || step.count() <= 0) return;
+    // The cycles strictly before `now`: one at `now` itself is left to the timer, which
+    // runs it after whatever happens at `now`.
+    const auto passed =
+        static_cast<std::uint64_t>((now - nextCycle_ + step - std::chrono::nanoseconds(1)) / step);
+    const std::uint64_t k = cyclesUntilDue(requestQueued);
+    const std::uint64_t n = std::min(passed, k - 1);
+    if (n == 0) return;
+    const std::uint32_t max = settings_.maxKeepAliveCount;
+    keepAliveCounter_ = static_cast<std::uint32_t>(
+        std::min<std::uint64_t>(max, std::uint64_t{keepAliveCounter_} + n));
+    if (keepAliveCounter_ >= max && !requestQueued) late_ = true;
+    lifetimeCounter_ = requestQueued ? 0
+                                     : static_cast<std::uint32_t>(std::min<std::uint64_t>(
+                                           settings_.lifetimeCount, lifetimeCounter_ + n));
+    nextCycle_ += step * static_cast<std::int64_t>(n);
+}
+
 std::uint32_t ServerSubscription::takeSequenceNumber() {
     const std::uint32_t n = nextSequenceNumber_;
     // Sequence numbers wrap to 1, never 0 (OPC 10000-4, 7.21).

@@ -70,6 +70,20 @@ public:
     /// The publishing timer fired at `now` (>= nextCycle()).
     Action onPublishingTimer(TimePoint now, bool requestQueued);
 
+    // An idle subscription is not woken every publishing interval: the cycles in which it
+    // could only count (toward the keep-alive and the lifetime) are counted when it is next
+    // looked at. The engine sleeps until nextDue() and calls catchUp() before anything changes
+    // (a notification queued, a Publish request, a setting).
+
+    /// The first cycle at which onPublishingTimer() may send or expire, `requestQueued`
+    /// telling whether a Publish request waits; TimePoint::max() when none comes before
+    /// something changes.
+    [[nodiscard]] TimePoint nextDue(bool requestQueued) const;
+    /// Counts the cycles before `now` that passed with nothing to do, as onPublishingTimer()
+    /// would have; what changes at `now` then takes effect from the next cycle. Never counts
+    /// the due cycle itself.
+    void catchUp(TimePoint now, bool requestQueued);
+
     /// The next NotificationMessage with up to maxNotificationsPerPublish notifications;
     /// it takes the next sequence number and is kept for Republish. `more` tells whether
     /// notifications remain.
@@ -95,6 +109,9 @@ public:
     }
 
 private:
+    /// How many cycles from nextCycle() on until the due one (1: the next), or kNever.
+    [[nodiscard]] std::uint64_t cyclesUntilDue(bool requestQueued) const;
+    static constexpr std::uint64_t kNever = ~std::uint64_t{0};
     std::uint32_t takeSequenceNumber();
     void remember(const NotificationMessage& message);
 

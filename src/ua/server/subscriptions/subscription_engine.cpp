@@ -160,6 +160,7 @@ void ServerSubscriptionEngine::publish(const NodeId& session, const PublishReque
         response.fail(status::BadTooManyPublishRequests);
         return;
     }
+    catchUp(now);  // the cycles so far passed without this request
     PendingPublish p;
     p.response = std::move(response);
     p.ackResults.reserve(req.subscriptionAcknowledgements.size());
@@ -173,7 +174,31 @@ void ServerSubscriptionEngine::publish(const NodeId& session, const PublishReque
     state.requests.push_back(std::move(p));
     for (const auto id : state.subscriptions) subscriptions_.at(id)->resetLifetime();
     serveLate(state);
-    if (hint != 0) wake();
+    wake();  // with a request waiting, a keep-alive is due (and perhaps its timeout)
+}
+
+void ServerSubscriptionEngine::modifySubscription(ServerSubscription& sub,
+                                                  const ServerSubscriptionSettings& settings,
+                                                  TimePoint now) {
+    catchUp(now);
+    sub.modify(settings, now);
+    wake();
+}
+
+void ServerSubscriptionEngine::setPublishingEnabled(ServerSubscription& sub, bool enabled,
+                                                    TimePoint now) {
+    catchUp(now);
+    sub.setPublishingEnabled(enabled);
+    wake();
+}
+
+void ServerSubscriptionEngine::catchUp(TimePoint now) {
+    for (auto& [id, sub] : subscriptions_) sub->catchUp(now, requestQueued(*sub));
+}
+
+bool ServerSubscriptionEngine::requestQueued(const ServerSubscription& sub) const {
+    const auto st = sessions_.find(sub.sessionId());
+    return st != sessions_.end() && !st->second.requests.empty();
 }
 
 void ServerSubscriptionEngine::serveLate(SessionState& state) {
@@ -223,6 +248,7 @@ void ServerSubscriptionEngine::expire(ServerSubscription& sub) {
 }
 
 void ServerSubscriptionEngine::tick(TimePoint now) {
+    catchUp(now);
     for (MonitoredItem* item : polledItems_) {
         if (item->mode() == MonitoringMode::Disabled || now < item->nextSample) continue;
         sample(*item, as_.find(item->itemToMonitor().nodeId));
@@ -263,7 +289,9 @@ void ServerSubscriptionEngine::tick(TimePoint now) {
 
 ServerSubscriptionEngine::TimePoint ServerSubscriptionEngine::nextDeadline() const {
     TimePoint next = TimePoint::max();
-    for (const auto& [id, sub] : subscriptions_) next = std::min(next, sub->nextCycle());
+    for (const auto& [id, sub] : subscriptions_) {
+        next = std::min(next, sub->nextDue(requestQueued(*sub)));
+    }
     for (const MonitoredItem* item : polledItems_) {
         if (item->mode() != MonitoringMode::Disabled) next = std::min(next, item->nextSample);
     }
@@ -275,6 +303,9 @@ ServerSubscriptionEngine::TimePoint ServerSubscriptionEngine::nextDeadline() con
 
 void ServerSubscriptionEngine::onValueChanged(const Node& node) {
     auto [begin, end] = valueItems_.equal_range(node.nodeId);
+    if (begin == end) return;
+    catchUp(clock_());
+    wake();  // a notification may be queued: its subscription is due at its next cycle
     for (auto it = begin; it != end; ++it) {
         if (static_cast<AttributeId>(it->second->itemToMonitor().attributeId) ==
             AttributeId::Value) {
@@ -316,6 +347,7 @@ double ServerSubscriptionEngine::reviseSampling(const ServerSubscription& sub, c
 MonitoredItemCreateResult ServerSubscriptionEngine::createMonitoredItem(
     ServerSubscription& sub, TimestampsToReturn timestamps, const MonitoredItemCreateRequest& req,
     TimePoint now) {
+    catchUp(now);  // the initial value is queued for the next cycle
     MonitoredItemCreateResult result;
     auto fail = [&result](StatusCode s) {
         result.statusCode = s;
@@ -371,6 +403,7 @@ MonitoredItemCreateResult ServerSubscriptionEngine::createMonitoredItem(
             wake();
         }
         sample(added, node);  // the initial value (OPC 10000-4, 5.12.1.4)
+        wake();
     }
     result.statusCode = status::Good;
     result.monitoredItemId = id;
@@ -382,6 +415,7 @@ MonitoredItemCreateResult ServerSubscriptionEngine::createMonitoredItem(
 MonitoredItemModifyResult ServerSubscriptionEngine::modifyMonitoredItem(
     ServerSubscription& sub, TimestampsToReturn timestamps, const MonitoredItemModifyRequest& req,
     TimePoint now) {
+    catchUp(now);
     MonitoredItemModifyResult result;
     MonitoredItem* item = sub.item(req.monitoredItemId);
     if (item == nullptr) {
@@ -423,8 +457,10 @@ StatusCode ServerSubscriptionEngine::setMonitoringMode(ServerSubscription& sub,
     MonitoredItem* item = sub.item(itemId);
     if (item == nullptr) return status::BadMonitoredItemIdInvalid;
     if (!validMode(mode)) return status::BadMonitoringModeInvalid;
+    catchUp(now);
     const bool wasDisabled = item->mode() == MonitoringMode::Disabled;
     item->setMode(mode);
+    wake();  // Reporting again: what the queue holds is due at the next cycle
     if (wasDisabled && mode != MonitoringMode::Disabled &&
         item->kind() == MonitoredItem::Kind::DataChange) {
         sample(*item, as_.find(item->itemToMonitor().nodeId));
@@ -479,16 +515,22 @@ ByteString ServerSubscriptionEngine::fireEvent(Event event) {
     }
     if (seen.insert(NodeId(ns0::Server)).second) notifiers.emplace_back(ns0::Server);
 
+    bool caughtUp = false;
     for (const auto& notifier : notifiers) {
         auto [begin, end] = eventItems_.equal_range(notifier);
         for (auto it = begin; it != end; ++it) {
             MonitoredItem& item = *it->second;
             if (item.mode() == MonitoringMode::Disabled || item.eventFilter() == nullptr) continue;
             if (auto fields = evaluateEventFilter(as_, *item.eventFilter(), record)) {
+                if (!caughtUp) {  // before the first notification is queued
+                    catchUp(clock_());
+                    caughtUp = true;
+                }
                 item.offerEvent(std::move(*fields));
             }
         }
     }
+    if (caughtUp) wake();  // their subscriptions are due at their next cycles
     return record.eventId;
 }
 

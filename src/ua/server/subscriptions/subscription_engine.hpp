@@ -1,8 +1,11 @@
 #pragma once
 // ServerSubscriptionEngine: every subscription of a server, the Publish requests each session has
 // queued, the value observer that turns writes into notifications, and event delivery.
-// Clock-free like ServerSubscription: the server's driver calls tick(now) at nextDeadline() on
-// its io_context; tests call it with fake times.
+// The server's driver calls tick(now) at nextDeadline() on its io_context; tests call it with
+// fake times (and a fake clock, setClock(), for writes and events, which come without one).
+// A subscription with nothing to send does not make a deadline every publishing interval:
+// only its keep-alive (with a Publish request waiting) or its lifetime's end does, and a write,
+// an event or a request first lets it count the cycles it slept through (catchUp).
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -36,6 +39,9 @@ public:
 
     /// Called when nextDeadline() may have moved earlier (the driver re-arms its timer).
     void setWakeup(std::function<void()> wakeup) { wakeup_ = std::move(wakeup); }
+    /// Where the time comes from when no caller passes it (a value written, an event fired):
+    /// the steady clock, or a test's fake one.
+    void setClock(std::function<TimePoint()> clock) { clock_ = std::move(clock); }
 
     // --- Subscription service set ----------------------------------------------------------
     [[nodiscard]] Result<ServerSubscription*> createSubscription(
@@ -43,6 +49,11 @@ public:
     /// The session's subscription, or nullptr (unknown, or another session's).
     [[nodiscard]] ServerSubscription* find(const NodeId& session, std::uint32_t subscriptionId);
     StatusCode deleteSubscription(const NodeId& session, std::uint32_t subscriptionId);
+    /// ModifySubscription with revised settings (reviseSettings()).
+    void modifySubscription(ServerSubscription& sub, const ServerSubscriptionSettings& settings,
+                            TimePoint now);
+    /// SetPublishingMode for one subscription.
+    void setPublishingEnabled(ServerSubscription& sub, bool enabled, TimePoint now);
     /// Queues a Publish request (acknowledgements processed first) and answers it as soon
     /// as a subscription of the session has something to send. Faults: BadNoSubscription,
     /// BadTooManyPublishRequests.
@@ -73,6 +84,8 @@ public:
     // --- Driver ------------------------------------------------------------------------------
     /// Samples polled items, runs due publishing cycles, times out Publish requests.
     void tick(TimePoint now);
+    /// The first due publishing cycle, sample or Publish timeout. A subscription with nothing
+    /// to send is not due every cycle, only when its keep-alive or its lifetime's end comes.
     [[nodiscard]] TimePoint nextDeadline() const;
     [[nodiscard]] std::size_t subscriptionCount() const { return subscriptions_.size(); }
     [[nodiscard]] std::size_t queuedPublishRequests(const NodeId& session) const;
@@ -104,10 +117,14 @@ private:
     void wake() {
         if (wakeup_) wakeup_();
     }
+    /// Every subscription counts the cycles it slept through, before something changes.
+    void catchUp(TimePoint now);
+    [[nodiscard]] bool requestQueued(const ServerSubscription& sub) const;
 
     AddressSpace& as_;
     const ServerLimits& limits_;
     std::function<void()> wakeup_;
+    std::function<TimePoint()> clock_ = [] { return Clock::now(); };
     std::map<std::uint32_t, std::unique_ptr<ServerSubscription>> subscriptions_;
     std::unordered_map<NodeId, SessionState> sessions_;
     // Items by monitored node: value items for the observer, event items for fireEvent.
