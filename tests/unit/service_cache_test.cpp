@@ -309,6 +309,7 @@ TEST_F(ServiceCacheTest, AnInterestInLdsesAsksForAnLdsItKnowsOnlyTheTxtOf) {
     auto m = announcement("new-lds", "host-a.local", kHostA, 4840);
     m.records = {m.records[2]};
     EXPECT_TRUE(cache.ingest(m, kHostA, t0).empty());
+    EXPECT_TRUE(cache.ingest(m, kHostA, t0).empty());  // heard twice: asked once
     ASSERT_TRUE(cache.nextDeadline());
     EXPECT_LE(*cache.nextDeadline(), t0);
     const auto q = cache.refreshQueries(t0);

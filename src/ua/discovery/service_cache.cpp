@@ -231,7 +231,8 @@ std::vector<ServiceEvent> ServiceCache::ingest(const DnsMessage& message, const 
         if (interest_ && rr.type == static_cast<std::uint16_t>(DnsType::Txt) && rr.ttl > 0 &&
             (!pointers_.contains(key) || !srvs_.contains(key)) && pending_.size() < 64) {
             // An LDS we know only the TXT of (its capability came later): ask for the rest.
-            pending_.push_back({browseName(), static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
+            addQuestion(pending_,
+                        {browseName(), static_cast<std::uint16_t>(DnsType::Ptr), kClassIn});
         }
         touched.insert(std::move(key));
     }
