@@ -99,7 +99,8 @@ std::uint64_t ServerSubscription::cyclesUntilDue(bool requestQueued) const {
 ServerSubscription::TimePoint ServerSubscription::nextDue(bool requestQueued) const {
     const std::uint64_t k = cyclesUntilDue(requestQueued);
     const auto step = interval();
-    if (k == kNever || step.count() <= 0) return k == kNever ? TimePoint::max() : nextCycle_;
+    if (step.count() <= 0) return nextCycle_;
+    // Guarded against overflow: a lifetime may count many cycles of up to an hour each.
     const auto room = TimePoint::max() - nextCycle_;
     const auto ahead = static_cast<std::uint64_t>(room / step);
     if (k - 1 > ahead) return TimePoint::max();

@@ -76,8 +76,8 @@ public:
     // (a notification queued, a Publish request, a setting).
 
     /// The first cycle at which onPublishingTimer() may send or expire, `requestQueued`
-    /// telling whether a Publish request waits; TimePoint::max() when none comes before
-    /// something changes.
+    /// telling whether a Publish request waits: the next one with notifications queued, the
+    /// keep-alive's with a request, else the lifetime's end.
     [[nodiscard]] TimePoint nextDue(bool requestQueued) const;
     /// Counts the cycles before `now` that passed with nothing to do, as onPublishingTimer()
     /// would have; what changes at `now` then takes effect from the next cycle. Never counts
@@ -109,9 +109,8 @@ public:
     }
 
 private:
-    /// How many cycles from nextCycle() on until the due one (1: the next), or kNever.
+    /// How many cycles from nextCycle() on until the due one (1: the next one).
     [[nodiscard]] std::uint64_t cyclesUntilDue(bool requestQueued) const;
-    static constexpr std::uint64_t kNever = ~std::uint64_t{0};
     std::uint32_t takeSequenceNumber();
     void remember(const NotificationMessage& message);
 
