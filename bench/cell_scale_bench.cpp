@@ -117,11 +117,10 @@ std::optional<std::string> readyPort(ChildProcess& child, int i, const fs::path&
     return portOf(line->substr(6));
 }
 
-/// utime + stime of a process, in clock ticks; 0 when it cannot be read.
 /// CPU time of every thread of `pid`, in ns, from the scheduler's own account
-/// (/proc/PID/task/TID/schedstat). The ticks of /proc/PID/stat charge a whole 10 ms tick to
-/// whoever runs when it falls: over a few seconds of idle that is 0.2 % a tick, and the
-/// busiest of 500 components is the one that happened to be charged most.
+/// (/proc/PID/task/TID/schedstat); 0 when it cannot be read. The ticks of /proc/PID/stat charge a
+/// whole 10 ms tick to whoever runs when it falls: over a few seconds of idle that is 0.2 % a tick,
+/// and the busiest of 500 components is the one that happened to be charged most.
 long long cpuNanoseconds(pid_t pid) {
     long long sum = 0;
     std::error_code ec;

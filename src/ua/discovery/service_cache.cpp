@@ -57,6 +57,15 @@ void addQuestion(std::vector<DnsQuestion>& questions, DnsQuestion q) {
     if (!dup) questions.push_back(std::move(q));
 }
 
+/// Takes `key` out of the instances `index` holds for `host`, and the host once it has none.
+void unindex(std::map<std::string, std::set<std::string>>& index, const std::string& host,
+             const std::string& key) {
+    if (auto on = index.find(host); on != index.end()) {
+        on->second.erase(key);
+        if (on->second.empty()) index.erase(on);
+    }
+}
+
 }  // namespace
 
 std::optional<Ipv4> parseIpv4Literal(std::string_view name) {
@@ -296,10 +305,7 @@ void ServiceCache::putSrv(const std::string& key, Srv srv) {
         it = srvs_.emplace(key, Srv{}).first;
     } else if (it->second.host != srv.host) {
         instancesOnHost_[srv.host].insert(key);
-        if (auto old = instancesOnHost_.find(it->second.host); old != instancesOnHost_.end()) {
-            old->second.erase(key);
-            if (old->second.empty()) instancesOnHost_.erase(old);
-        }
+        unindex(instancesOnHost_, it->second.host, key);
     }
     renew(it->second, std::move(srv), RecordKind::Srv, key);
 }
@@ -307,10 +313,7 @@ void ServiceCache::putSrv(const std::string& key, Srv srv) {
 void ServiceCache::eraseSrv(const std::string& key) {
     const auto it = srvs_.find(key);
     if (it == srvs_.end()) return;
-    if (auto on = instancesOnHost_.find(it->second.host); on != instancesOnHost_.end()) {
-        on->second.erase(key);
-        if (on->second.empty()) instancesOnHost_.erase(on);
-    }
+    unindex(instancesOnHost_, it->second.host, key);
     srvs_.erase(it);
 }
 

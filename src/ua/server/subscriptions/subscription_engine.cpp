@@ -305,13 +305,19 @@ void ServerSubscriptionEngine::onValueChanged(const Node& node) {
     auto [begin, end] = valueItems_.equal_range(node.nodeId);
     if (begin == end) return;
     catchUp(clock_());
-    wake();  // a notification may be queued: its subscription is due at its next cycle
+    bool becameDue = false;
     for (auto it = begin; it != end; ++it) {
-        if (static_cast<AttributeId>(it->second->itemToMonitor().attributeId) ==
-            AttributeId::Value) {
-            sample(*it->second, &node);
+        MonitoredItem& item = *it->second;
+        if (static_cast<AttributeId>(item.itemToMonitor().attributeId) != AttributeId::Value) {
+            continue;
         }
+        const bool had = item.hasNotifications();
+        sample(item, &node);
+        becameDue = becameDue || (!had && item.hasNotifications());
     }
+    // Its subscription is due at its next cycle; a write that queued nothing new (filtered
+    // out, or beside notifications already waiting) leaves the driver's timer as it is.
+    if (becameDue) wake();
 }
 
 void ServerSubscriptionEngine::sample(MonitoredItem& item, const Node* node) {
