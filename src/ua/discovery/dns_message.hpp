@@ -22,6 +22,10 @@ inline constexpr std::uint16_t kClassIn = 1;
 /// RFC 6762: the top bit of a question's class asks for a unicast answer; of a record's
 /// class it means "cache flush" (this record replaces all earlier ones of its name/type).
 inline constexpr std::uint16_t kClassTopBit = 0x8000;
+/// Whether a question's or record's class is IN, whatever its top bit says.
+[[nodiscard]] constexpr bool isClassIn(std::uint16_t cls) {
+    return (cls & ~kClassTopBit) == kClassIn;
+}
 /// RFC 6762, 17: an mDNS message is at most 9000 bytes.
 inline constexpr std::size_t kMaxMdnsMessage = 9000;
 

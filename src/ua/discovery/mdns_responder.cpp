@@ -151,7 +151,7 @@ bool isPtrQuestionFor(const DnsQuestion& q, std::string_view name) {
     return foldCase(q.name) == foldCase(name) &&
            (q.type == static_cast<std::uint16_t>(DnsType::Ptr) ||
             q.type == static_cast<std::uint16_t>(DnsType::Any)) &&
-           (q.qclass & ~kClassTopBit) == kClassIn;
+           isClassIn(q.qclass);
 }
 
 bool announcesLds(const ServiceAnnouncement& a) {

@@ -13,10 +13,6 @@ constexpr std::size_t kMaxHeldEntries = 4096;
 // Answers due within this much of the first one leave with it.
 constexpr auto kAggregationWindow = std::chrono::milliseconds(120);
 
-bool isIn(std::uint16_t rrclass) {
-    return (rrclass & ~kClassTopBit) == kClassIn;
-}
-
 bool hasType(const DnsRecord& r, DnsType t) {
     return r.type == static_cast<std::uint16_t>(t);
 }
@@ -154,12 +150,12 @@ void ResponsePlanner::onQuery(const DnsMessage& query, const Ipv4& source, Clock
 void ResponsePlanner::plan(const DnsMessage& query, Clock::time_point due) {
     KnownAnswers known;
     for (const auto& rr : query.records) {
-        if (!isIn(rr.rrclass)) continue;
+        if (!isClassIn(rr.rrclass)) continue;
         auto& ttl = known[recordIdentity(rr)];
         ttl = std::max(ttl, rr.ttl);
     }
     for (const auto& q : query.questions) {
-        if (!isIn(q.qclass)) continue;
+        if (!isClassIn(q.qclass)) continue;
         for (const Own* o : answersTo(q, known)) schedule(*o, due);
     }
 }
@@ -175,7 +171,7 @@ void ResponsePlanner::schedule(const Own& own, Clock::time_point due) {
 void ResponsePlanner::onResponse(const DnsMessage& response, Clock::time_point now) {
     if (own_.empty()) return;
     for (const auto& rr : response.records) {
-        if (!isIn(rr.rrclass)) continue;
+        if (!isClassIn(rr.rrclass)) continue;
         const std::string id = recordIdentity(rr);
         const auto it = ownById_.find(id);
         if (it == ownById_.end() || std::uint64_t{rr.ttl} * 2 < own_[it->second].record.ttl) {

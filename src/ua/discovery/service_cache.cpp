@@ -221,7 +221,6 @@ std::vector<ServiceEvent> ServiceCache::ingest(const DnsMessage& message, const 
     // costs in proportion to its size, not to the size of the cache.
     std::set<std::string> touched;
     std::set<std::string> hosts;
-    const auto isIn = [](const DnsRecord& rr) { return (rr.rrclass & ~kClassTopBit) == kClassIn; };
     const auto isA = [](const DnsRecord& rr) {
         return rr.type == static_cast<std::uint16_t>(DnsType::A);
     };
@@ -233,7 +232,7 @@ std::vector<ServiceEvent> ServiceCache::ingest(const DnsMessage& message, const 
         return foldCase(rr.type == static_cast<std::uint16_t>(DnsType::Ptr) ? rr.target : rr.name);
     };
     for (const auto& rr : message.records) {
-        if (!isIn(rr) || isA(rr)) continue;
+        if (!isClassIn(rr.rrclass) || isA(rr)) continue;
         std::string key = instanceOf(rr);
         if (others.contains(key)) continue;
         store(rr, source, now, goodbyes);
@@ -247,7 +246,7 @@ std::vector<ServiceEvent> ServiceCache::ingest(const DnsMessage& message, const 
     }
     // Addresses after the SRVs that name their hosts, wherever they stand in the message.
     for (const auto& rr : message.records) {
-        if (!isIn(rr) || !isA(rr)) continue;
+        if (!isClassIn(rr.rrclass) || !isA(rr)) continue;
         std::string host = foldCase(rr.name);
         if (interest_ && !instancesOnHost_.contains(host)) continue;  // no instance of interest
         if (store(rr, source, now, goodbyes)) hosts.insert(std::move(host));
@@ -283,7 +282,7 @@ std::set<std::string> ServiceCache::withoutInterest(const DnsMessage& message) c
     if (!interest_) return out;
     for (const auto& rr : message.records) {
         if (rr.type != static_cast<std::uint16_t>(DnsType::Txt) || rr.ttl == 0 ||
-            (rr.rrclass & ~kClassTopBit) != kClassIn) {
+            !isClassIn(rr.rrclass)) {
             continue;
         }
         const auto caps = txtValue(rr.txt, "caps");
@@ -585,7 +584,7 @@ void ServiceCache::questionSeen(const DnsQuestion& question,
         const auto window = std::chrono::duration_cast<Clock::duration>(t.ttl) / 20;
         while (t.nextRefresh() && *t.nextRefresh() <= now + window) ++t.refreshesAsked;
     };
-    if ((question.qclass & ~kClassTopBit) != kClassIn) return;
+    if (!isClassIn(question.qclass)) return;
     const std::string name = foldCase(question.name);
     const auto type = static_cast<DnsType>(question.type);
     const bool any = type == DnsType::Any;
