@@ -2,11 +2,13 @@
 // process (loopback), for SecurityPolicy None and for each RSA policy with Sign and
 // SignAndEncrypt, with RSA 2048 keys:
 //   - the handshake: connect (Hello, OpenSecureChannel, CreateSession, ActivateSession with
-//     a user name and password), median and p99 over --connects runs;
+//     a user name and password), median and p99 over --connects runs, and the CPU time the
+//     process (client and server together) spent per connect;
 //   - the Read round trip of one Double, median and p99 over --count sequential Reads.
 // Then, for the policy components use (Aes256_Sha256_RsaPss, SignAndEncrypt), the user token
 // (password: an scrypt hash on the server; X.509: one more RSA signature and verification)
-// and the key size (RSA 2048 and 3072, server and client).
+// and the key size (RSA 2048 and 3072, server and client); and ECC_nistP256 with P-256 keys,
+// whose users are X.509 certificates (no password travels over ECC here).
 // Prints a table with each row's ratio to None.
 //
 //   skillcell_bench_security [--count N] [--connects M] [--only TEXT]
@@ -22,6 +24,7 @@
 #include <vector>
 
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include "common/command_line.hpp"
 #include "latency_stats.hpp"
@@ -39,8 +42,19 @@ using Clock = std::chrono::steady_clock;
 struct Row {
     std::string name;
     bench::LatencyStats connect;
+    double cpuPerConnectMs = 0;
     bench::LatencyStats read;
 };
+
+/// User and system CPU of this process (client and server), in ms.
+double processCpuMs() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    const auto ms = [](const timeval& t) {
+        return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_usec) / 1e3;
+    };
+    return ms(usage.ru_utime) + ms(usage.ru_stime);
+}
 
 }  // namespace
 
@@ -63,22 +77,26 @@ int main(int argc, char** argv) {
     if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
 
-    // One server per key size, each knowing the bench's user by password and by certificate.
+    // One server per key (RSA 2048, RSA 3072, P-256), each knowing the bench's user by
+    // password and by certificate.
     struct Keys {
-        int bits;
         test::TestCertificate server;
         test::TestCertificate client;
     };
     std::vector<Keys> keys;
     for (int bits : {2048, 3072}) {
-        keys.push_back({bits, test::makeTestCertificate(bits, "urn:skillcell:server"),
+        keys.push_back({test::makeTestCertificate(bits, "urn:skillcell:server"),
                         test::makeTestCertificate(bits, "urn:skillcell:bench-client")});
     }
+    constexpr std::size_t kEccKeys = 2;
+    keys.push_back({test::makeTestEccCertificate("urn:skillcell:server"),
+                    test::makeTestEccCertificate("urn:skillcell:bench-client")});
     std::vector<std::unique_ptr<test::RunningServer>> servers;
     for (const auto& k : keys) {
         ua::ServerConfig config = test::RunningServer::defaultConfig();
         config.description.certificate = k.server.der;
-        config.description.securityEndpoints = ua::allSecurityEndpoints(true);
+        config.description.securityEndpoints =
+            ua::allSecurityEndpoints(true, {k.server.key.kind()});
         ua::UserTokenPolicy password;
         password.policyId = std::string(ua::kUserNamePolicyId);
         password.tokenType = ua::UserTokenType::UserName;
@@ -108,6 +126,7 @@ int main(int argc, char** argv) {
     std::vector<Variant> variants{
         {"None", std::string(ua::kSecurityPolicyNoneUri), ua::MessageSecurityMode::None}};
     for (const auto& p : ua::crypto::securityPolicyProfiles()) {
+        if (p.isEcc()) continue;
         variants.push_back({std::string(p.shortName) + " Sign", std::string(p.uri),
                             ua::MessageSecurityMode::Sign});
         variants.push_back({std::string(p.shortName) + " SignAndEncrypt", std::string(p.uri),
@@ -122,6 +141,13 @@ int main(int argc, char** argv) {
                         ua::MessageSecurityMode::SignAndEncrypt, 1, false});
     variants.push_back({bestName + ", RSA 3072, X.509 user", std::string(best->uri),
                         ua::MessageSecurityMode::SignAndEncrypt, 1, true});
+    for (const auto& p : ua::crypto::securityPolicyProfiles()) {
+        if (!p.isEcc()) continue;
+        variants.push_back({std::string(p.shortName) + " Sign, X.509 user", std::string(p.uri),
+                            ua::MessageSecurityMode::Sign, kEccKeys, true});
+        variants.push_back({std::string(p.shortName) + " S&E, X.509 user", std::string(p.uri),
+                            ua::MessageSecurityMode::SignAndEncrypt, kEccKeys, true});
+    }
 
     std::vector<Row> rows;
     for (const auto& v : variants) {
@@ -144,8 +170,9 @@ int main(int argc, char** argv) {
             c.security.user.userName = "bench";
             c.security.user.password = "bench-pw";
         }
-        Row row{v.name, {}, {}};
+        Row row{v.name, {}, 0, {}};
         bench::Samples connectTimes;
+        const double cpuBefore = processCpuMs();
         for (std::size_t i = 0; i < connects; ++i) {
             ua::BlockingClient client;
             const auto t0 = Clock::now();
@@ -156,6 +183,7 @@ int main(int argc, char** argv) {
                 return 1;
             }
         }
+        row.cpuPerConnectMs = (processCpuMs() - cpuBefore) / static_cast<double>(connects);
         row.connect = bench::summarize(std::move(connectTimes));
         ua::BlockingClient client;
         if (client.connect(server.url(), c).isBad()) return 1;
@@ -180,16 +208,17 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "security cost on loopback (our client and server, one process; RSA 2048 and a "
-        "user with a password unless the row says otherwise); %zu reads, %zu connects per row\n\n",
+        "user with a password unless the row says otherwise); %zu reads, %zu connects per row; "
+        "cpu: both ends' CPU per connect\n\n",
         count, connects);
-    std::printf("%-48s %12s %10s %8s %12s %10s %8s\n", "policy / mode", "connect med", "p99 (ms)",
-                "x first", "read med", "p99 (us)", "x first");
+    std::printf("%-48s %12s %10s %8s %9s %12s %10s %8s\n", "policy / mode", "connect med",
+                "p99 (ms)", "x first", "cpu (ms)", "read med", "p99 (us)", "x first");
     const auto& none = rows.front();  // None, unless --only left it out
     for (const auto& r : rows) {
-        std::printf("%-48s %12.2f %10.2f %8.2f %12.1f %10.1f %8.2f\n", r.name.c_str(),
+        std::printf("%-48s %12.2f %10.2f %8.2f %9.2f %12.1f %10.1f %8.2f\n", r.name.c_str(),
                     r.connect.medianUs / 1000, r.connect.p99Us / 1000,
-                    r.connect.medianUs / none.connect.medianUs, r.read.medianUs, r.read.p99Us,
-                    r.read.medianUs / none.read.medianUs);
+                    r.connect.medianUs / none.connect.medianUs, r.cpuPerConnectMs, r.read.medianUs,
+                    r.read.p99Us, r.read.medianUs / none.read.medianUs);
     }
     return 0;
 }

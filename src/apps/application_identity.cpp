@@ -47,27 +47,40 @@ ua::Result<ApplicationIdentity> ApplicationIdentity::load(
             subject.ipAddresses.push_back(a);
         }
     }
-    std::string why;
-    auto certificate = ua::pki::loadOrCreateOwnCertificate(pkiDir, subject, &why);
-    if (!certificate) {
-        if (error != nullptr) {
-            *error = "application certificate in " + pkiDir.string() + ": " + why;
-        }
-        return certificate.status();
-    }
-    auto key = ua::crypto::RsaKey::fromPrivateKeyFile(certificate->privateKeyFile);
-    if (!key) {
-        if (error != nullptr) {
-            *error = "cannot read the private key " + certificate->privateKeyFile.string();
-        }
-        return key.status();
-    }
-    spdlog::info("{} application certificate {}", certificate->created ? "created" : "using",
-                 certificate->certificateFile.string());
     ApplicationIdentity identity;
     identity.pkiDir_ = pkiDir;
-    identity.certificate_ = std::move(*certificate);
-    identity.privateKey_ = std::move(*key);
+    // The ECC certificate only under a cell CA: peers trust it through the CA, where a
+    // self-signed one would need trusting by hand beside the RSA one.
+    std::vector<ua::pki::CertificateKey> kinds{ua::pki::CertificateKey::Rsa2048};
+    if (!ua::pki::cellCaDirectory(pkiDir).empty()) {
+        kinds.push_back(ua::pki::CertificateKey::EccNistP256);
+    }
+    for (const auto kind : kinds) {
+        subject.key = kind;
+        const bool ecc = kind == ua::pki::CertificateKey::EccNistP256;
+        std::string why;
+        auto certificate = ua::pki::loadOrCreateOwnCertificate(pkiDir, subject, &why);
+        if (!certificate) {
+            if (error != nullptr) {
+                *error = std::string(ecc ? "ECC " : "") + "application certificate in " +
+                         pkiDir.string() + ": " + why;
+            }
+            return certificate.status();
+        }
+        auto key = ua::crypto::AsymmetricKey::fromPrivateKeyFile(certificate->privateKeyFile);
+        const auto wanted = ecc ? ua::crypto::AsymmetricKey::Kind::EccNistP256
+                                : ua::crypto::AsymmetricKey::Kind::Rsa;
+        if (!key || key->kind() != wanted) {
+            if (error != nullptr) {
+                *error = "cannot read the private key " + certificate->privateKeyFile.string();
+            }
+            return key ? ua::StatusCode(ua::status::BadConfigurationError) : key.status();
+        }
+        spdlog::info("{} application certificate {}", certificate->created ? "created" : "using",
+                     certificate->certificateFile.string());
+        (ecc ? identity.eccCertificate_ : identity.certificate_) = std::move(*certificate);
+        (ecc ? identity.eccPrivateKey_ : identity.privateKey_) = std::move(*key);
+    }
     identity.validator_ = std::make_shared<SharedValidator>(pkiDir);
     return identity;
 }

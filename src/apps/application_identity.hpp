@@ -29,7 +29,12 @@ public:
 
     [[nodiscard]] const std::filesystem::path& pkiDirectory() const { return pkiDir_; }
     [[nodiscard]] const ua::pki::OwnCertificate& certificate() const { return certificate_; }
-    [[nodiscard]] const ua::crypto::RsaKey& privateKey() const { return privateKey_; }
+    [[nodiscard]] const ua::crypto::AsymmetricKey& privateKey() const { return privateKey_; }
+    /// The second certificate, with a P-256 key, for ECC_nistP256 (own/certs/cert-nistP256.der),
+    /// issued by the cell CA; empty without one. The cell's components secure their
+    /// connections to each other with it, an ECDSA signature costing a fraction of an RSA one.
+    [[nodiscard]] const ua::pki::OwnCertificate& eccCertificate() const { return eccCertificate_; }
+    [[nodiscard]] const ua::crypto::AsymmetricKey& eccPrivateKey() const { return eccPrivateKey_; }
 
     /// Checks a client's certificate (server side); untrusted ones land in rejected/.
     [[nodiscard]] ua::CertificateCheck clientCertificateCheck() const;
@@ -40,7 +45,9 @@ private:
     struct SharedValidator;  // the validator and the lock that lets both roles share it
     std::filesystem::path pkiDir_;
     ua::pki::OwnCertificate certificate_;
-    ua::crypto::RsaKey privateKey_;
+    ua::crypto::AsymmetricKey privateKey_;
+    ua::pki::OwnCertificate eccCertificate_;
+    ua::crypto::AsymmetricKey eccPrivateKey_;
     std::shared_ptr<SharedValidator> validator_;
 };
 

@@ -184,7 +184,13 @@ bool CellRuntime::prepare(std::string* error) {
         }
     }
     all.emplace_back("operator", "urn:skillcell:operator");
-    std::vector<std::pair<std::string, ua::ByteString>> clients;  // name, certificate
+    // name, its RSA and ECC certificates
+    std::vector<std::pair<std::string, std::vector<ua::ByteString>>> clients;
+    const auto certificatesOf = [](const ApplicationIdentity& identity) {
+        std::vector<ua::ByteString> out{identity.certificate().der};
+        if (!identity.eccCertificate().der.empty()) out.push_back(identity.eccCertificate().der);
+        return out;
+    };
     for (const auto& [name, uri] : all) {
         auto identity = commission(name, uri, error);
         if (!identity) {
@@ -192,12 +198,12 @@ bool CellRuntime::prepare(std::string* error) {
             return false;
         }
         if (name != "operator" && actsAsCell(name)) {
-            clients.emplace_back(name, identity->certificate().der);
+            clients.emplace_back(name, certificatesOf(*identity));
         }
     }
     identity_ = commission(options_.selfName, selfUri(), error);
     if (!identity_) return false;
-    clients.emplace_back(options_.selfName, identity_->certificate().der);
+    clients.emplace_back(options_.selfName, certificatesOf(*identity_));
     return !certificateUsers() || addComponentUsers(clients, error);
 }
 
@@ -206,22 +212,26 @@ bool CellRuntime::certificateUsers() const {
 }
 
 bool CellRuntime::addComponentUsers(
-    const std::vector<std::pair<std::string, ua::ByteString>>& clients, std::string* error) {
-    // Each component is the user "cell-NAME", Operator, known by its certificate's
-    // thumbprint: an X.509 user token costs one RSA verification where a password costs an
-    // scrypt hash (tens of milliseconds, on purpose) on every session it opens.
+    const std::vector<std::pair<std::string, std::vector<ua::ByteString>>>& clients,
+    std::string* error) {
+    // Each component is the user "cell-NAME", Operator, known by its certificates'
+    // thumbprints (RSA and ECC: its X.509 user token is the certificate of the channel's
+    // policy): such a token costs one signature check where a password costs an scrypt hash
+    // (tens of milliseconds, on purpose) on every session it opens.
     const fs::path file = dir() / "users";
     auto users = ua::UserDatabase::load(file, error);
     if (!users) return false;
     bool changed = false;
-    for (const auto& [name, certificate] : clients) {
+    for (const auto& [name, certificates] : clients) {
         const std::string user = "cell-" + name;
         // A second `cell up` of the same work directory finds them.
-        if (auto known = users->authenticateCertificate(certificate);
-            known && known->name == user) {
+        if (std::all_of(certificates.begin(), certificates.end(), [&](const ua::ByteString& c) {
+                auto known = users->authenticateCertificate(c);
+                return known && known->name == user;
+            })) {
             continue;
         }
-        if (users->setCertificate(user, ua::RoleSet{ua::Role::Operator}, certificate).isBad()) {
+        if (users->setCertificates(user, ua::RoleSet{ua::Role::Operator}, certificates).isBad()) {
             *error = "cannot make the user " + user + " of its certificate";
             return false;
         }

@@ -151,9 +151,10 @@ private:
     /// Whether the components authenticate by their certificates (the generated users), or
     /// as "cell" with its password (a users database of the cell file's, which we don't write).
     [[nodiscard]] bool certificateUsers() const;
-    /// Each client component's certificate as the user "cell-NAME" (Operator).
-    bool addComponentUsers(const std::vector<std::pair<std::string, ua::ByteString>>& clients,
-                           std::string* error);
+    /// Each client component's certificates (RSA and ECC) as the user "cell-NAME" (Operator).
+    bool addComponentUsers(
+        const std::vector<std::pair<std::string, std::vector<ua::ByteString>>>& clients,
+        std::string* error);
     [[nodiscard]] std::optional<ApplicationIdentity> commission(const std::string& name,
                                                                 const std::string& uri,
                                                                 std::string* error) const;

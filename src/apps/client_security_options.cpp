@@ -103,6 +103,9 @@ ua::Result<ua::ClientSecurity> componentClientSecurity(const ApplicationIdentity
         security.policyUri = std::string(ua::kBestSecurity);
         security.certificate = identity.certificate().der;
         security.privateKey = identity.privateKey();
+        // Among the cell's components: ECC_nistP256 where the server offers it.
+        security.eccCertificate = identity.eccCertificate().der;
+        security.eccPrivateKey = identity.eccPrivateKey();
         security.validateServerCertificate = identity.serverCertificateCheck();
     }
     if (const auto s =
@@ -132,7 +135,8 @@ ua::Result<ua::ClientSecurity> commandClientSecurity(const ClientSecurityOptions
                                                : ua::MessageSecurityMode::SignAndEncrypt;
     } else {
         *error = "unknown --security '" + options.policy +
-                 "' (best, Basic256Sha256, Aes128_Sha256_RsaOaep or Aes256_Sha256_RsaPss)";
+                 "' (best, Basic256Sha256, Aes128_Sha256_RsaOaep, Aes256_Sha256_RsaPss or "
+                 "ECC_nistP256)";
         return ua::status::BadConfigurationError;
     }
     const std::filesystem::path pkiDir = options.pkiDir.empty()
@@ -151,6 +155,8 @@ ua::Result<ua::ClientSecurity> commandClientSecurity(const ClientSecurityOptions
     if (!identity) return identity.status();
     security.certificate = identity->certificate().der;
     security.privateKey = identity->privateKey();
+    security.eccCertificate = identity->eccCertificate().der;
+    security.eccPrivateKey = identity->eccPrivateKey();
     security.validateServerCertificate = identity->serverCertificateCheck();
     if (const auto s = fillUser(&*identity, options.user, "--", security.user, error); s.isBad()) {
         return s;

@@ -113,10 +113,19 @@ int configureSecurity(const ServerProcessOptions& options, const ApplicationIden
         return 0;
     }
     security.privateKey = identity.privateKey();
+    // ECC_nistP256 beside the RSA policies, with the second certificate (under a cell CA):
+    // the cell's components choose it among themselves (an ECDSA handshake costs half an RSA
+    // one), clients without ECC (node-opcua, UaExpert) keep the RSA endpoints.
+    std::vector<ua::crypto::AsymmetricKey::Kind> keyKinds{ua::crypto::AsymmetricKey::Kind::Rsa};
+    if (identity.eccPrivateKey().valid()) {
+        description.eccCertificate = identity.eccCertificate().der;
+        security.eccPrivateKey = identity.eccPrivateKey();
+        keyKinds.push_back(ua::crypto::AsymmetricKey::Kind::EccNistP256);
+    }
     // The validator reloads trusted/ when it changes: `skillcell pki trust` takes effect
     // on the next connection, without a restart.
     security.validateCertificate = identity.clientCertificateCheck();
-    description.securityEndpoints = ua::allSecurityEndpoints(false);
+    description.securityEndpoints = ua::allSecurityEndpoints(false, keyKinds);
 
     const auto usersFile =
         options.usersFile.empty() ? pkiDir / "users" : std::filesystem::path(options.usersFile);

@@ -42,7 +42,7 @@ struct ClientOptions {
     /// https only: a client certificate (DER) and its key, for servers that know users by
     /// their certificate. Empty: none.
     ua::ByteString certificate;
-    ua::crypto::RsaKey privateKey;
+    ua::crypto::AsymmetricKey privateKey;
 };
 
 struct HttpReply {

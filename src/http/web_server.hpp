@@ -27,7 +27,7 @@ namespace skillcell::http {
 
 struct ServerTls {
     ua::ByteString certificate;  // DER
-    ua::crypto::RsaKey privateKey;
+    ua::crypto::AsymmetricKey privateKey;
     /// Ask clients for a certificate, to know users by it (UserGate); a client without one
     /// is served all the same and proves its user otherwise.
     bool requestClientCertificates = false;

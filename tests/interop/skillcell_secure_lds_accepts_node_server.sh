@@ -82,6 +82,11 @@ dl_step "node server (CA certificate): ${line#register_server.js: }"
 grep -q -E 'LDS endpoint [^ ]+ SignAndEncrypt ' "$DL_TMP/nodesrv.err" ||
   dl_fail "node-opcua saw no SignAndEncrypt endpoint of our LDS"
 ! grep -q -E 'LDS endpoint [^ ]+ None ' "$DL_TMP/nodesrv.err" || dl_fail "our secured LDS offers a None endpoint"
+# Under the cell CA our LDS also offers ECC_nistP256, which node-opcua does not implement: it
+# must see those endpoints and still register over an RSA policy.
+grep -q -E 'LDS endpoint [^ ]+ SignAndEncrypt [^ ]+#ECC_nistP256 ' "$DL_TMP/nodesrv.err" ||
+  dl_fail "node-opcua saw no ECC_nistP256 endpoint of our LDS (under a cell CA)"
+! printf '%s\n' "$line" | grep -q 'ECC_nistP256' || dl_fail "node-opcua registered over ECC_nistP256?"
 line=$(dl_poll 30 PRESENT "$(registered "$CA_URI_NODE" "$node_port")" \
   "$skillcell" discover --lds "$lds_url" --registered) ||
   dl_fail "skillcell discover --registered does not list $CA_URI_NODE with port $node_port"

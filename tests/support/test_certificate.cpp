@@ -24,7 +24,7 @@ namespace {
 // n-th key of a size for an application URI that a process asks for is the same key in every
 // test process of one build. The n keeps two certificates for one URI (a stranger beside the
 // client) two keys. Certificates are made per call, as their validity is relative to now.
-ua::crypto::RsaKey testKey(int bits, const std::string& applicationUri) {
+ua::crypto::AsymmetricKey testKey(int bits, const std::string& applicationUri) {
     static std::mutex mutex;
     static std::map<std::pair<int, std::string>, int> asked;
     const std::lock_guard lock(mutex);
@@ -35,10 +35,11 @@ ua::crypto::RsaKey testKey(int bits, const std::string& applicationUri) {
     }
     const std::filesystem::path dir(SKILLCELL_TEST_KEY_DIR);
     const std::filesystem::path file = dir / (name + ".pem");
-    if (auto kept = ua::crypto::RsaKey::fromPrivateKeyFile(file); kept && kept->bits() == bits) {
+    if (auto kept = ua::crypto::AsymmetricKey::fromPrivateKeyFile(file);
+        kept && kept->bits() == bits) {
         return *kept;
     }
-    auto key = ua::crypto::RsaKey::generate(bits);
+    auto key = ua::crypto::AsymmetricKey::generate(bits);
     if (!key) throw std::runtime_error("RSA key generation failed");
     // Written beside, then renamed: a process reading the file sees a whole key or none.
     std::error_code ec;
@@ -55,11 +56,8 @@ ua::crypto::RsaKey testKey(int bits, const std::string& applicationUri) {
     return *key;
 }
 
-}  // namespace
-
-TestCertificate makeTestCertificate(int bits, const std::string& applicationUri, long validFrom,
-                                    long validTo) {
-    const ua::crypto::RsaKey key = testKey(bits, applicationUri);
+TestCertificate certify(const ua::crypto::AsymmetricKey& key, const std::string& applicationUri,
+                        long validFrom, long validTo) {
     ua::crypto::X509Handle cert(X509_new());
     X509_set_version(cert.get(), 2);
     ASN1_INTEGER_set(X509_get_serialNumber(cert.get()), 1);
@@ -80,7 +78,9 @@ TestCertificate makeTestCertificate(int bits, const std::string& applicationUri,
         {NID_subject_alt_name, san},
         {NID_basic_constraints, "critical,CA:FALSE"},
         {NID_key_usage,
-         "critical,digitalSignature,nonRepudiation,keyEncipherment,dataEncipherment"},
+         key.kind() == ua::crypto::AsymmetricKey::Kind::Rsa
+             ? "critical,digitalSignature,nonRepudiation,keyEncipherment,dataEncipherment"
+             : "critical,digitalSignature,nonRepudiation,keyAgreement"},
         {NID_ext_key_usage, "serverAuth,clientAuth"},
     };
     for (const auto& [nid, value] : extensions) {
@@ -97,6 +97,20 @@ TestCertificate makeTestCertificate(int bits, const std::string& applicationUri,
     ua::ByteString der(std::vector<std::uint8_t>(out, out + len));
     OPENSSL_free(out);
     return {std::move(der), key};
+}
+
+}  // namespace
+
+TestCertificate makeTestCertificate(int bits, const std::string& applicationUri, long validFrom,
+                                    long validTo) {
+    return certify(testKey(bits, applicationUri), applicationUri, validFrom, validTo);
+}
+
+TestCertificate makeTestEccCertificate(const std::string& applicationUri, long validFrom,
+                                       long validTo) {
+    auto key = ua::crypto::AsymmetricKey::generateEccNistP256();
+    if (!key) throw std::runtime_error("P-256 key generation failed");
+    return certify(*key, applicationUri, validFrom, validTo);
 }
 
 }  // namespace skillcell::test

@@ -1,7 +1,8 @@
 // Our client against our server with security on, in one process: every policy with Sign
 // and SignAndEncrypt, user names with passwords and X.509 user certificates, roles on Call
 // and Write, and the refusals (untrusted certificates on either side, wrong passwords,
-// anonymous users, a None channel used for more than discovery).
+// anonymous users, a None channel used for more than discovery); a server with a P-256
+// certificate and ECC_nistP256.
 #include <gtest/gtest.h>
 
 #include "running_server.hpp"
@@ -10,12 +11,13 @@
 #include "ua/client/blocking_client.hpp"
 #include "ua/crypto/security_policy_profile.hpp"
 #include "ua/server/user_database.hpp"
-#include "ua/transport/rsa_security_policy.hpp"
+#include "ua/transport/certificate_security_policy.hpp"
 
 namespace client_security_test {
 
 using namespace skillcell::ua;
 using skillcell::test::makeTestCertificate;
+using skillcell::test::makeTestEccCertificate;
 using skillcell::test::RunningServer;
 using skillcell::test::TestCertificate;
 
@@ -99,6 +101,7 @@ protected:
 
 TEST_F(SecureSession, EveryPolicyAndModeReadsWritesAndCalls) {
     for (const auto& profile : crypto::securityPolicyProfiles()) {
+        if (profile.isEcc()) continue;  // this server's certificate is RSA: EccSession below
         for (auto mode : {MessageSecurityMode::Sign, MessageSecurityMode::SignAndEncrypt}) {
             SCOPED_TRACE(std::string(profile.shortName) +
                          (mode == MessageSecurityMode::Sign ? " Sign" : " SignAndEncrypt"));
@@ -234,6 +237,113 @@ TEST(BestSecurity, NoneOnlyWhenAllowed) {
     BlockingClient allowed;
     ASSERT_EQ(allowed.connect(insecure.url(), config), status::Good);
     EXPECT_EQ(allowed.security().first, kSecurityPolicyNoneUri);
+}
+
+namespace {
+
+struct EccCertificates {
+    TestCertificate server = makeTestEccCertificate("urn:skillcell:server");
+    TestCertificate client = makeTestEccCertificate("urn:skillcell:client");
+};
+
+const EccCertificates& eccCerts() {
+    static const EccCertificates c;
+    return c;
+}
+
+/// The secured server above with a P-256 certificate: it offers ECC_nistP256 only, and
+/// knows the ECC client's certificate as the user "cell-mes".
+ServerConfig eccConfig() {
+    ServerConfig config = secureConfig();
+    config.description.certificate = eccCerts().server.der;
+    config.description.securityEndpoints =
+        allSecurityEndpoints(false, {crypto::AsymmetricKey::Kind::EccNistP256});
+    config.security.privateKey = eccCerts().server.key;
+    config.security.validateCertificate = [](const ByteString& der, std::string_view,
+                                             std::string* reason) {
+        if (leafCertificate(der.bytes) == leafCertificate(eccCerts().client.der.bytes)) {
+            return status::Good;
+        }
+        *reason = "not in the trust list";
+        return StatusCode(0x801A0000);
+    };
+    auto users = std::make_shared<UserDatabase>();
+    EXPECT_TRUE(users->setPassword("olga", RoleSet{Role::Operator}, "operator-pw").isGood());
+    EXPECT_TRUE(
+        users->setCertificate("cell-mes", RoleSet{Role::Operator}, eccCerts().client.der).isGood());
+    config.security.users = users;
+    return config;
+}
+
+ClientConfig eccClientConfig() {
+    ClientConfig c;
+    c.security.policyUri = std::string(kBestSecurity);
+    c.security.certificate = eccCerts().client.der;
+    c.security.privateKey = eccCerts().client.key;
+    c.applicationUri = "urn:skillcell:client";
+    c.security.user.kind = UserCredentials::Kind::Certificate;
+    c.security.user.certificate = eccCerts().client.der;
+    c.security.user.privateKey = eccCerts().client.key;
+    return c;
+}
+
+}  // namespace
+
+TEST(EccSession, AnEccClientChoosesEccNistP256AndActsAsItsCertificatesUser) {
+    RunningServer server{eccConfig(), addTargets};
+    BlockingClient client;
+    ASSERT_EQ(client.connect(server.url(), eccClientConfig()), status::Good);
+    const auto [policy, mode] = client.security();
+    EXPECT_EQ(policy, crypto::kPolicyEccNistP256);
+    EXPECT_EQ(mode, MessageSecurityMode::SignAndEncrypt);
+    EXPECT_EQ(client.writeValue(kTarget, Variant(4.0)), status::Good);  // an Operator
+    auto doubled = client.call(NodeId(85), kTwice, {Variant(21.0)});
+    ASSERT_TRUE(doubled.ok()) << statusName(doubled.status());
+    ASSERT_EQ(doubled->size(), 1u);
+    EXPECT_EQ((*doubled)[0], Variant(42.0));
+    for (const auto m : {MessageSecurityMode::Sign, MessageSecurityMode::SignAndEncrypt}) {
+        auto explicitPolicy = eccClientConfig();
+        explicitPolicy.security.policyUri = std::string(crypto::kPolicyEccNistP256);
+        explicitPolicy.security.mode = m;
+        BlockingClient c;
+        ASSERT_EQ(c.connect(server.url(), explicitPolicy), status::Good);
+        EXPECT_TRUE(c.readValue(kTarget).ok());
+    }
+}
+
+TEST(EccSession, PasswordsAndRsaClientsAreNotServedOverEcc) {
+    RunningServer server{eccConfig(), addTargets};
+    // No password travels over ECC (it would need an EccEncryptedSecret): the endpoints
+    // offer certificates only; a client with a password finds no endpoint it can use, or,
+    // pinned to ECC_nistP256, no token.
+    BlockingClient discovery;
+    ClientConfig none;
+    none.createSession = false;
+    ASSERT_EQ(discovery.connect(server.url(), none), status::Good);
+    auto endpoints = discovery.getEndpoints();
+    ASSERT_TRUE(endpoints.ok());
+    ASSERT_EQ(endpoints->size(), 2u);
+    for (const auto& ep : *endpoints) {
+        EXPECT_EQ(ep.securityPolicyUri, crypto::kPolicyEccNistP256);
+        for (const auto& token : ep.userIdentityTokens) {
+            EXPECT_NE(token.tokenType, UserTokenType::UserName);
+        }
+    }
+    auto withPassword = eccClientConfig();
+    withPassword.security.user = UserCredentials{};
+    withPassword.security.user.kind = UserCredentials::Kind::UserName;
+    withPassword.security.user.userName = "olga";
+    withPassword.security.user.password = "operator-pw";
+    BlockingClient password;
+    EXPECT_EQ(password.connect(server.url(), withPassword), status::BadSecurityPolicyRejected);
+    withPassword.security.policyUri = std::string(crypto::kPolicyEccNistP256);
+    withPassword.security.mode = MessageSecurityMode::SignAndEncrypt;
+    BlockingClient pinned;
+    EXPECT_EQ(pinned.connect(server.url(), withPassword), status::BadIdentityTokenRejected);
+    // A client with an RSA certificate finds no endpoint it can use.
+    BlockingClient rsa;
+    EXPECT_EQ(rsa.connect(server.url(), clientConfig(kBestSecurity, MessageSecurityMode::None)),
+              status::BadSecurityPolicyRejected);
 }
 
 }  // namespace client_security_test

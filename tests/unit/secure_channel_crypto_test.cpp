@@ -1,6 +1,7 @@
-// The RSA security policies on a client and a server SecureChannel wired back to back:
-// every policy with Sign and SignAndEncrypt, 2048- and 4096-bit keys (the latter need the
-// extra padding byte), multi-chunk messages, renewal, and the attacks a channel must refuse.
+// The security policies on a client and a server SecureChannel wired back to back: every
+// policy with Sign and SignAndEncrypt, RSA keys of 2048 and 4096 bits (the latter need the
+// extra padding byte) and P-256 keys for ECC_nistP256, multi-chunk messages, renewal, and
+// the attacks a channel must refuse.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include "test_certificate.hpp"
 #include "ua/crypto/security_policy_profile.hpp"
 #include "ua/encoding/codec.hpp"
+#include "ua/transport/ecc_security_policy.hpp"
 #include "ua/transport/rsa_security_policy.hpp"
 #include "ua/transport/secure_channel.hpp"
 
@@ -16,6 +18,7 @@ namespace secure_channel_crypto_test {
 
 using namespace skillcell::ua;
 using skillcell::test::makeTestCertificate;
+using skillcell::test::makeTestEccCertificate;
 using skillcell::test::TestCertificate;
 using Bytes = std::vector<std::uint8_t>;
 using skillcell::test::decodeService;
@@ -25,12 +28,17 @@ namespace {
 
 constexpr std::uint32_t kChannelId = 42;
 
+constexpr int kP256 = 256;  // "bits" of the P-256 certificates below
+
 /// Key generation is the slow part: each size is made once for the whole test program.
 const TestCertificate& certificate(int bits, int which) {
     static const TestCertificate c2048a = makeTestCertificate(2048, "urn:test:client");
     static const TestCertificate c2048b = makeTestCertificate(2048, "urn:test:server");
     static const TestCertificate c4096 = makeTestCertificate(4096, "urn:test:big");
+    static const TestCertificate p256a = makeTestEccCertificate("urn:test:client");
+    static const TestCertificate p256b = makeTestEccCertificate("urn:test:server");
     if (bits == 4096) return c4096;
+    if (bits == kP256) return which == 0 ? p256a : p256b;
     return which == 0 ? c2048a : c2048b;
 }
 
@@ -61,8 +69,8 @@ struct SecuredPair {
         : clientCert(certificate(c.clientBits, 0)), serverCert(certificate(c.serverBits, 1)) {
         SecureChannelConfig clientConfig;
         clientConfig.securityMode = c.mode;
-        auto policy = RsaSecurityPolicy::create(*c.profile, clientCert.der, clientCert.key,
-                                                serverCert.der, c.mode);
+        auto policy = createCertificateSecurityPolicy(*c.profile, clientCert.der, clientCert.key,
+                                                      serverCert.der, c.mode);
         EXPECT_TRUE(policy.ok()) << statusName(policy.status());
         client.emplace(SecureChannel::Role::Client, limits, std::move(*policy), clientConfig);
         auto selector =
@@ -71,9 +79,9 @@ struct SecuredPair {
             selectedUri = header.securityPolicyUri;
             const auto* profile = crypto::findSecurityPolicyProfile(header.securityPolicyUri);
             if (profile == nullptr) return status::BadSecurityPolicyRejected;
-            auto p =
-                RsaSecurityPolicy::create(*profile, serverCert.der, serverCert.key,
-                                          header.senderCertificate, MessageSecurityMode::Invalid);
+            auto p = createCertificateSecurityPolicy(*profile, serverCert.der, serverCert.key,
+                                                     header.senderCertificate,
+                                                     MessageSecurityMode::Invalid);
             if (!p) return p.status();
             return std::unique_ptr<SecurityPolicy>(std::move(*p));
         };
@@ -131,6 +139,12 @@ class SecuredChannel : public testing::TestWithParam<Case> {};
 std::vector<Case> allCases() {
     std::vector<Case> cases;
     for (const auto& profile : crypto::securityPolicyProfiles()) {
+        if (profile.isEcc()) {
+            for (auto mode : {MessageSecurityMode::Sign, MessageSecurityMode::SignAndEncrypt}) {
+                cases.push_back({&profile, mode, kP256, kP256});
+            }
+            continue;
+        }
         for (auto mode : {MessageSecurityMode::Sign, MessageSecurityMode::SignAndEncrypt}) {
             cases.push_back({&profile, mode, 2048, 2048});
         }
@@ -289,7 +303,7 @@ TEST(CryptoPrimitives, PSha256FollowsItsDefinition) {
 TEST(CryptoPrimitives, RsaRoundTripsAndRefusesForeignSignatures) {
     const auto& a = certificate(2048, 0);
     const auto& b = certificate(2048, 1);
-    auto pubA = crypto::RsaKey::fromCertificate(a.der.bytes);
+    auto pubA = crypto::AsymmetricKey::fromCertificate(a.der.bytes);
     ASSERT_TRUE(pubA.ok());
     for (auto enc : {crypto::RsaEncryption::OaepSha1, crypto::RsaEncryption::OaepSha256}) {
         const Bytes plain = pattern(700);  // several blocks
@@ -301,13 +315,108 @@ TEST(CryptoPrimitives, RsaRoundTripsAndRefusesForeignSignatures) {
         EXPECT_EQ(*back, plain);
         EXPECT_FALSE(crypto::rsaDecrypt(b.key, enc, *cipher).ok());
     }
-    for (auto sig : {crypto::RsaSignature::Pkcs1v15Sha256, crypto::RsaSignature::PssSha256}) {
-        auto s = crypto::rsaSign(b.key, sig, pattern(99));
+    for (auto sig :
+         {crypto::SignatureAlgorithm::Pkcs1v15Sha256, crypto::SignatureAlgorithm::PssSha256}) {
+        auto s = crypto::sign(b.key, sig, pattern(99));
         ASSERT_TRUE(s.ok());
-        EXPECT_EQ(crypto::rsaVerify(*pubA, sig, pattern(99), *s), status::BadSecurityChecksFailed);
-        EXPECT_EQ(crypto::rsaVerify(b.key, sig, pattern(99), *s), status::Good);
+        EXPECT_EQ(crypto::verify(*pubA, sig, pattern(99), *s), status::BadSecurityChecksFailed);
+        EXPECT_EQ(crypto::verify(b.key, sig, pattern(99), *s), status::Good);
     }
-    EXPECT_FALSE(crypto::RsaKey::fromCertificate(pattern(50)).ok());
+    EXPECT_FALSE(crypto::AsymmetricKey::fromCertificate(pattern(50)).ok());
+}
+
+TEST(SecuredChannelHandshake, EccOpensWithEphemeralKeysSignedNotEncrypted) {
+    const Case c{crypto::findSecurityPolicyProfile(crypto::kPolicyEccNistP256),
+                 MessageSecurityMode::SignAndEncrypt, kP256, kP256};
+    SecuredPair p(c);
+    const auto request = p.client->makeOpenRequest(SecurityTokenRequestType::Issue);
+    // The nonce is a point of P-256 (X || Y), not random bytes: a second one differs.
+    ASSERT_EQ(request.clientNonce.bytes.size(), 64u);
+    auto frames = p.client->encodeMessage(MessageType::OpenChannel, 1, encodeService(request));
+    ASSERT_TRUE(frames.ok());
+    // Signed only (6.8.1): the nonce is readable in the chunk, the signature is r || s.
+    const Bytes& f = frames->front();
+    EXPECT_NE(std::search(f.begin(), f.end(), request.clientNonce.bytes.begin(),
+                          request.clientNonce.bytes.end()),
+              f.end());
+    // Any flipped byte of the sequence header, body or signature fails the chunk.
+    for (std::size_t i = f.size() - 100; i < f.size(); i += 9) {
+        Bytes tampered = f;
+        tampered[i] ^= 0x01;
+        EXPECT_EQ(p.server->receiveFrame(tampered, p.t0).status(), status::BadSecurityChecksFailed)
+            << "byte " << i;
+    }
+    auto received = p.server->receiveFrame(f, p.t0);
+    ASSERT_TRUE(received.ok());
+    // A nonce that is not a point of the curve yields no keys and changes nothing.
+    auto offCurve = request;
+    offCurve.clientNonce.bytes.assign(64, 0x07);
+    EXPECT_EQ(p.server->openOrRenew(offCurve, kChannelId, p.t0).status(), status::BadNonceInvalid);
+    EXPECT_EQ(p.server->openOrRenew(request, kChannelId, p.t0).status(), status::Good);
+}
+
+TEST(SecuredChannelHandshake, EccRefusesRsaCertificatesAndRsaRefusesEcc) {
+    const auto* ecc = crypto::findSecurityPolicyProfile(crypto::kPolicyEccNistP256);
+    const auto* rsa = crypto::findSecurityPolicyProfile(crypto::kPolicyAes256Sha256RsaPss);
+    const auto& rsaCert = certificate(2048, 0);
+    const auto& eccCert = certificate(kP256, 1);
+    const auto mode = MessageSecurityMode::Sign;
+    // Our key of the wrong kind is our configuration's fault; the peer's, its certificate's.
+    EXPECT_EQ(EccSecurityPolicy::create(*ecc, rsaCert.der, rsaCert.key, eccCert.der, mode).status(),
+              status::BadConfigurationError);
+    EXPECT_EQ(EccSecurityPolicy::create(*ecc, eccCert.der, eccCert.key, rsaCert.der, mode).status(),
+              status::BadCertificateInvalid);
+    EXPECT_EQ(RsaSecurityPolicy::create(*rsa, rsaCert.der, rsaCert.key, eccCert.der, mode).status(),
+              status::BadCertificateInvalid);
+    EXPECT_TRUE(createCertificateSecurityPolicy(*ecc, eccCert.der, eccCert.key,
+                                                certificate(kP256, 0).der, mode)
+                    .ok());
+}
+
+TEST(CryptoPrimitives, HkdfSha256MatchesRfc5869) {
+    // RFC 5869, A.1 (test case 1).
+    const Bytes ikm(22, 0x0b);
+    Bytes salt;
+    for (std::uint8_t i = 0; i <= 0x0c; ++i) salt.push_back(i);
+    Bytes info;
+    for (std::uint8_t i = 0xf0; i <= 0xf9; ++i) info.push_back(i);
+    const Bytes expected = {0x3c, 0xb2, 0x5f, 0x25, 0xfa, 0xac, 0xd5, 0x7a, 0x90, 0x43, 0x4f,
+                            0x64, 0xd0, 0x36, 0x2f, 0x2a, 0x2d, 0x2d, 0x0a, 0x90, 0xcf, 0x1a,
+                            0x5a, 0x4c, 0x5d, 0xb0, 0x2d, 0x56, 0xec, 0xc4, 0xc5, 0xbf, 0x34,
+                            0x00, 0x72, 0x08, 0xd5, 0xb8, 0x87, 0x18, 0x58, 0x65};
+    EXPECT_EQ(crypto::hkdfSha256(salt, ikm, info, 42), expected);
+}
+
+TEST(CryptoPrimitives, EcdhAgreesAndEcdsaSignaturesAreRAndS) {
+    auto a = crypto::EphemeralKey::generateNistP256();
+    auto b = crypto::EphemeralKey::generateNistP256();
+    ASSERT_TRUE(a.ok() && b.ok());
+    ASSERT_EQ(a->publicKey().size(), 64u);
+    auto ab = a->agree(b->publicKey());
+    auto ba = b->agree(a->publicKey());
+    ASSERT_TRUE(ab.ok() && ba.ok());
+    EXPECT_EQ(ab->size(), 32u);
+    EXPECT_EQ(*ab, *ba);
+    EXPECT_EQ(a->agree(Bytes(64, 0x07)).status(), status::BadNonceInvalid);
+    EXPECT_EQ(a->agree(Bytes(63, 0x07)).status(), status::BadNonceInvalid);
+
+    const auto& signer = certificate(kP256, 0);
+    auto pub = crypto::AsymmetricKey::fromCertificate(signer.der.bytes);
+    ASSERT_TRUE(pub.ok());
+    EXPECT_EQ(pub->kind(), crypto::AsymmetricKey::Kind::EccNistP256);
+    const auto alg = crypto::SignatureAlgorithm::EcdsaSha256;
+    for (std::size_t n = 99; n < 119; ++n) {  // r and s with leading zero bytes stay 32 each
+        auto s = crypto::sign(signer.key, alg, pattern(n));
+        ASSERT_TRUE(s.ok());
+        ASSERT_EQ(s->size(), 64u);
+        EXPECT_EQ(crypto::verify(*pub, alg, pattern(n), *s), status::Good);
+        Bytes bad = *s;
+        bad[10] ^= 0x01;
+        EXPECT_EQ(crypto::verify(*pub, alg, pattern(n), bad), status::BadSecurityChecksFailed);
+    }
+    // A key of the wrong kind for the algorithm signs and verifies nothing.
+    EXPECT_FALSE(crypto::sign(certificate(2048, 0).key, alg, pattern(9)).ok());
+    EXPECT_FALSE(crypto::sign(signer.key, crypto::SignatureAlgorithm::PssSha256, pattern(9)).ok());
 }
 
 TEST(CertificateChain, TheLeafIsTheFirstDerElementAndNothingElse) {

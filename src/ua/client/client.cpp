@@ -27,8 +27,8 @@
 #include <asio/write.hpp>
 
 #include "ua/crypto/security_policy_profile.hpp"
+#include "ua/transport/certificate_security_policy.hpp"
 #include "ua/transport/no_throw.hpp"
-#include "ua/transport/rsa_security_policy.hpp"
 #include "ua/transport/secure_channel.hpp"
 #include "ua/transport/security_policy.hpp"
 
@@ -158,7 +158,7 @@ Result<std::pair<ExtensionObject, SignatureData>> makeIdentityToken(
             token.password =
                 ByteString(std::vector<std::uint8_t>(user.password.begin(), user.password.end()));
         } else {
-            auto key = crypto::RsaKey::fromCertificate(serverCertificate.bytes);
+            auto key = crypto::AsymmetricKey::fromCertificate(serverCertificate.bytes);
             if (!key) return key.status();
             const auto length =
                 static_cast<std::uint32_t>(user.password.size() + serverNonce.bytes.size());
@@ -178,8 +178,8 @@ Result<std::pair<ExtensionObject, SignatureData>> makeIdentityToken(
     X509IdentityToken token;
     token.policyId = policy->policyId;
     token.certificateData = user.certificate;
-    auto signature = crypto::rsaSign(user.privateKey, profile->asymmetricSignature,
-                                     certificateAndNonce(serverCertificate, serverNonce));
+    auto signature = crypto::sign(user.privateKey, profile->asymmetricSignature,
+                                  certificateAndNonce(serverCertificate, serverNonce));
     if (!signature) return signature.status();
     SignatureData data;
     data.algorithm = String(profile->asymmetricSignatureUri);
@@ -736,11 +736,11 @@ asio::awaitable<StatusCode> handshake(std::shared_ptr<Connection> conn,
     if (isSecured(config)) {
         const auto* profile = crypto::findSecurityPolicyProfile(config.security.policyUri);
         if (profile == nullptr) co_return status::BadSecurityPolicyRejected;
-        auto rsa = RsaSecurityPolicy::create(*profile, config.security.certificate,
-                                             config.security.privateKey, config.serverCertificate,
-                                             config.security.mode);
-        if (!rsa) co_return rsa.status();
-        policy = std::move(*rsa);
+        auto secured = createCertificateSecurityPolicy(
+            *profile, config.security.certificate, config.security.privateKey,
+            config.serverCertificate, config.security.mode);
+        if (!secured) co_return secured.status();
+        policy = std::move(*secured);
         channelConfig.securityMode = config.security.mode;
     }
     conn->channel.emplace(SecureChannel::Role::Client, *limits, std::move(policy), channelConfig);
@@ -832,13 +832,54 @@ namespace {
 
 /// How much an endpoint protects: SignAndEncrypt over Sign, then the server's own ranking
 /// (securityLevel), then the stronger policy of ours. 0: not one we can use.
-int endpointStrength(const EndpointDescription& ep, const ClientSecurity& security) {
-    const bool haveIdentity = security.privateKey.valid() && !security.certificate.empty();
+/// Whether we have a certificate and key for `profile`'s kind of key.
+bool canUse(const crypto::SecurityPolicyProfile& profile, const ClientSecurity& security) {
+    const auto has = [&profile](const ByteString& certificate, const crypto::AsymmetricKey& key) {
+        return !certificate.empty() && key.valid() && key.kind() == profile.keyKind;
+    };
+    return has(security.certificate, security.privateKey) ||
+           has(security.eccCertificate, security.eccPrivateKey);
+}
+
+/// Makes the certificate of `profile`'s kind the channel's (and the user's, when the user is
+/// the application): an ECC channel signs with ECDSA, and so does its X.509 user token.
+void useCertificateFor(const crypto::SecurityPolicyProfile& profile, ClientSecurity& security) {
+    if (security.privateKey.kind() == profile.keyKind || !security.eccPrivateKey.valid() ||
+        security.eccPrivateKey.kind() != profile.keyKind) {
+        return;
+    }
+    auto& user = security.user;
+    if (user.kind == UserCredentials::Kind::Certificate &&
+        user.certificate == security.certificate) {
+        user.certificate = security.eccCertificate;
+        user.privateKey = security.eccPrivateKey;
+    }
+    std::swap(security.certificate, security.eccCertificate);
+    std::swap(security.privateKey, security.eccPrivateKey);
+}
+
+int endpointStrength(const EndpointDescription& ep, const ClientSecurity& security,
+                     bool createsSession) {
+    // A password or a certificate goes only where the endpoint takes one (a password not
+    // over ECC_nistP256, for one).
+    const auto userKind = security.user.kind;
+    if (createsSession && userKind != UserCredentials::Kind::Anonymous) {
+        const UserTokenType wanted = userKind == UserCredentials::Kind::UserName
+                                         ? UserTokenType::UserName
+                                         : UserTokenType::Certificate;
+        if (std::none_of(ep.userIdentityTokens.begin(), ep.userIdentityTokens.end(),
+                         [wanted](const UserTokenPolicy& t) { return t.tokenType == wanted; })) {
+            return 0;
+        }
+    }
     if (ep.securityPolicyUri == kSecurityPolicyNoneUri) {
         return security.allowNone && ep.securityMode == MessageSecurityMode::None ? 1 : 0;
     }
     const auto* profile = crypto::findSecurityPolicyProfile(ep.securityPolicyUri);
-    if (profile == nullptr || !haveIdentity || ep.serverCertificate.empty()) return 0;
+    // Our certificates' keys decide between the RSA and the ECC policies.
+    if (profile == nullptr || !canUse(*profile, security) || ep.serverCertificate.empty()) {
+        return 0;
+    }
     int modeRank = 0;
     if (ep.securityMode == MessageSecurityMode::SignAndEncrypt) modeRank = 2;
     if (ep.securityMode == MessageSecurityMode::Sign) modeRank = 1;
@@ -852,16 +893,14 @@ asio::awaitable<StatusCode> Client::prepareSecurity() {
     auto& security = config_.security;
     const bool choose = security.choosesEndpoint();
     if (!choose) {
-        if (crypto::findSecurityPolicyProfile(security.policyUri) == nullptr) {
-            co_return status::BadSecurityPolicyRejected;
-        }
+        const auto* profile = crypto::findSecurityPolicyProfile(security.policyUri);
+        if (profile == nullptr) co_return status::BadSecurityPolicyRejected;
         if (security.mode != MessageSecurityMode::Sign &&
             security.mode != MessageSecurityMode::SignAndEncrypt) {
             co_return status::BadSecurityModeRejected;
         }
-        if (!security.privateKey.valid() || security.certificate.empty()) {
-            co_return status::BadConfigurationError;
-        }
+        if (!canUse(*profile, security)) co_return status::BadConfigurationError;
+        useCertificateFor(*profile, security);
     }
     if (choose || config_.serverCertificate.empty()) {
         Client discovery(executor_);
@@ -880,7 +919,7 @@ asio::awaitable<StatusCode> Client::prepareSecurity() {
         int best = 0;
         for (const auto& ep : *endpoints) {
             if (choose) {
-                const int strength = endpointStrength(ep, security);
+                const int strength = endpointStrength(ep, security, config_.createSession);
                 if (strength > best) {
                     best = strength;
                     chosen = &ep;
@@ -895,6 +934,7 @@ asio::awaitable<StatusCode> Client::prepareSecurity() {
         security.policyUri = chosen->securityPolicyUri;
         security.mode = chosen->securityMode;
         if (!isSecured(config_)) co_return status::Good;  // None, and allowed
+        useCertificateFor(*crypto::findSecurityPolicyProfile(security.policyUri), security);
         config_.serverCertificate = chosen->serverCertificate;
     }
     if (security.validateServerCertificate) {
@@ -940,21 +980,20 @@ asio::awaitable<StatusCode> Client::createAndActivateSession() {
         auto serverKey = channel != nullptr
                              ? publicKeyOf(serverCertificate, &channel->remoteCertificate(),
                                            channel->remoteKey())
-                             : crypto::RsaKey::fromCertificate(serverCertificate.bytes);
+                             : crypto::AsymmetricKey::fromCertificate(serverCertificate.bytes);
         if (!serverKey ||
             leafCertificate(created->serverCertificate.bytes) !=
                 leafCertificate(serverCertificate.bytes) ||
             created->serverSignature.algorithm != profile->asymmetricSignatureUri ||
-            crypto::rsaVerify(*serverKey, profile->asymmetricSignature,
-                              certificateAndNonce(config_.security.certificate, clientNonce),
-                              created->serverSignature.signature.bytes)
+            crypto::verify(*serverKey, profile->asymmetricSignature,
+                           certificateAndNonce(config_.security.certificate, clientNonce),
+                           created->serverSignature.signature.bytes)
                 .isBad()) {
             resetSession();
             co_return status::BadApplicationSignatureInvalid;
         }
-        auto signature =
-            crypto::rsaSign(config_.security.privateKey, profile->asymmetricSignature,
-                            certificateAndNonce(serverCertificate, created->serverNonce));
+        auto signature = crypto::sign(config_.security.privateKey, profile->asymmetricSignature,
+                                      certificateAndNonce(serverCertificate, created->serverNonce));
         if (!signature) co_return signature.status();
         activate.clientSignature.algorithm = String(profile->asymmetricSignatureUri);
         activate.clientSignature.signature = ByteString(std::move(*signature));

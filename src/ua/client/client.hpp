@@ -48,7 +48,7 @@ struct UserCredentials {
     std::string userName;
     std::string password;
     ByteString certificate;  // Certificate: the user's DER certificate
-    crypto::RsaKey privateKey;
+    crypto::AsymmetricKey privateKey;
 };
 
 /// Who the client is and how it protects its traffic: the same for every connection an
@@ -64,7 +64,12 @@ struct ClientSecurity {
     bool allowNone = false;
     /// Our application instance certificate and its key; needed by every policy but None.
     ByteString certificate;
-    crypto::RsaKey privateKey;
+    crypto::AsymmetricKey privateKey;
+    /// A second certificate of ours, with a P-256 key (when `certificate` has an RSA one):
+    /// with it the client may also use ECC_nistP256, and kBestSecurity prefers it. The
+    /// channel then uses it, and so does the user when the user is `certificate`.
+    ByteString eccCertificate;
+    crypto::AsymmetricKey eccPrivateKey;
     /// Decides whether to trust the server's certificate; unset: trusted (tests only).
     ServerCertificateValidator validateServerCertificate;
     UserCredentials user;

@@ -1,8 +1,12 @@
 #include "ua/crypto/primitives.hpp"
 
+#include <openssl/bio.h>
 #include <openssl/core_names.h>
 #include <openssl/crypto.h>
+#include <openssl/ec.h>
 #include <openssl/hmac.h>
+#include <openssl/kdf.h>
+#include <openssl/param_build.h>
 #include <openssl/pem.h>
 #include <openssl/rand.h>
 #include <openssl/rsa.h>
@@ -26,7 +30,7 @@ std::shared_ptr<EVP_PKEY> share(EVP_PKEY* key) {
 
 /// An RSA key context for encryption or decryption with OAEP and the policy's digest (MGF1
 /// uses the same digest, as the UA policies specify).
-PKeyCtxHandle oaepContext(const RsaKey& key, RsaEncryption algorithm, bool encrypt) {
+PKeyCtxHandle oaepContext(const AsymmetricKey& key, RsaEncryption algorithm, bool encrypt) {
     PKeyCtxHandle ctx(EVP_PKEY_CTX_new_from_pkey(nullptr, key.get(), nullptr));
     if (!ctx) return nullptr;
     const int init = encrypt ? EVP_PKEY_encrypt_init(ctx.get()) : EVP_PKEY_decrypt_init(ctx.get());
@@ -38,8 +42,8 @@ PKeyCtxHandle oaepContext(const RsaKey& key, RsaEncryption algorithm, bool encry
     return ctx;
 }
 
-bool setSignaturePadding(EVP_PKEY_CTX* ctx, RsaSignature algorithm) {
-    if (algorithm == RsaSignature::Pkcs1v15Sha256) {
+bool setSignaturePadding(EVP_PKEY_CTX* ctx, SignatureAlgorithm algorithm) {
+    if (algorithm == SignatureAlgorithm::Pkcs1v15Sha256) {
         return EVP_PKEY_CTX_set_rsa_padding(ctx, RSA_PKCS1_PADDING) == 1;
     }
     // RSA-PSS-SHA2-256: MGF1 with SHA-256 and a salt as long as the hash (OPC 10000-7).
@@ -48,56 +52,160 @@ bool setSignaturePadding(EVP_PKEY_CTX* ctx, RsaSignature algorithm) {
            EVP_PKEY_CTX_set_rsa_mgf1_md(ctx, EVP_sha256()) == 1;
 }
 
-bool isRsa(EVP_PKEY* key) {
-    return key != nullptr && EVP_PKEY_is_a(key, "RSA") == 1;
+constexpr std::size_t kP256Coordinate = 32;
+
+/// Whether `key` is an EC key on P-256 (OpenSSL names it prime256v1).
+bool isNistP256(EVP_PKEY* key) {
+    if (EVP_PKEY_is_a(key, "EC") != 1) return false;
+    char group[64] = {};
+    std::size_t length = 0;
+    return EVP_PKEY_get_utf8_string_param(key, OSSL_PKEY_PARAM_GROUP_NAME, group, sizeof(group),
+                                          &length) == 1 &&
+           std::string_view(group, length) == "prime256v1";
+}
+
+/// OpenSSL's DER ECDSA-Sig-Value as r || s, each `half` bytes.
+Result<Bytes> rawFromDer(ByteView der, std::size_t half) {
+    const unsigned char* p = der.data();
+    const std::unique_ptr<ECDSA_SIG, void (*)(ECDSA_SIG*)> sig(
+        d2i_ECDSA_SIG(nullptr, &p, static_cast<long>(der.size())), ECDSA_SIG_free);
+    if (!sig) return status::BadInternalError;
+    Bytes raw(2 * half);
+    if (BN_bn2binpad(ECDSA_SIG_get0_r(sig.get()), raw.data(), static_cast<int>(half)) < 0 ||
+        BN_bn2binpad(ECDSA_SIG_get0_s(sig.get()), raw.data() + half, static_cast<int>(half)) < 0) {
+        return status::BadInternalError;
+    }
+    return raw;
+}
+
+/// r || s as DER, for OpenSSL's verification; nothing when the halves do not fit.
+Result<Bytes> derFromRaw(ByteView raw, std::size_t half) {
+    if (raw.size() != 2 * half) return status::BadSecurityChecksFailed;
+    const std::unique_ptr<ECDSA_SIG, void (*)(ECDSA_SIG*)> sig(ECDSA_SIG_new(), ECDSA_SIG_free);
+    BIGNUM* r = BN_bin2bn(raw.data(), static_cast<int>(half), nullptr);
+    BIGNUM* s = BN_bin2bn(raw.data() + half, static_cast<int>(half), nullptr);
+    if (!sig || r == nullptr || s == nullptr || ECDSA_SIG_set0(sig.get(), r, s) != 1) {
+        BN_free(r);
+        BN_free(s);
+        return status::BadInternalError;
+    }
+    unsigned char* out = nullptr;
+    const int length = i2d_ECDSA_SIG(sig.get(), &out);
+    if (length <= 0) return status::BadInternalError;
+    Bytes der(out, out + length);
+    OPENSSL_free(out);
+    return der;
 }
 
 }  // namespace
+
+Result<AsymmetricKey> AsymmetricKey::adopt(EVP_PKEY* key, StatusCode otherwise) {
+    if (key != nullptr && EVP_PKEY_is_a(key, "RSA") == 1) {
+        return AsymmetricKey(share(key), Kind::Rsa);
+    }
+    if (key != nullptr && isNistP256(key)) return AsymmetricKey(share(key), Kind::EccNistP256);
+    EVP_PKEY_free(key);
+    return otherwise;
+}
 
 std::size_t oaepOverhead(RsaEncryption algorithm) {
     return algorithm == RsaEncryption::OaepSha1 ? 42 : 66;
 }
 
-Result<RsaKey> RsaKey::fromCertificate(ByteView der) {
+Result<AsymmetricKey> AsymmetricKey::fromCertificate(ByteView der) {
     const unsigned char* p = der.data();
     // d2i_X509 reads the first certificate of a chain and stops there.
     const X509Handle cert(d2i_X509(nullptr, &p, static_cast<long>(der.size())));
     if (!cert) return status::BadCertificateInvalid;
-    EVP_PKEY* key = X509_get_pubkey(cert.get());
-    if (!isRsa(key)) {
-        EVP_PKEY_free(key);
-        return status::BadCertificateInvalid;
-    }
-    return RsaKey(share(key));
+    return adopt(X509_get_pubkey(cert.get()), status::BadCertificateInvalid);
 }
 
-Result<RsaKey> RsaKey::fromPrivateKeyFile(const std::filesystem::path& pem) {
-    std::FILE* f = std::fopen(pem.c_str(), "rb");
-    if (f == nullptr) return status::BadConfigurationError;
-    EVP_PKEY* key = PEM_read_PrivateKey(f, nullptr, nullptr, nullptr);
-    std::fclose(f);
-    if (!isRsa(key)) {
-        EVP_PKEY_free(key);
-        return status::BadConfigurationError;
-    }
-    return RsaKey(share(key));
+Result<AsymmetricKey> AsymmetricKey::fromPrivateKeyFile(const std::filesystem::path& pem) {
+    const std::unique_ptr<BIO, int (*)(BIO*)> in(BIO_new_file(pem.c_str(), "rb"), BIO_free);
+    if (!in) return status::BadConfigurationError;
+    return adopt(PEM_read_bio_PrivateKey(in.get(), nullptr, nullptr, nullptr),
+                 status::BadConfigurationError);
 }
 
-Result<RsaKey> RsaKey::generate(int bits) {
+Result<AsymmetricKey> AsymmetricKey::generate(int bits) {
     EVP_PKEY* key = EVP_RSA_gen(static_cast<unsigned>(bits));
     if (key == nullptr) return status::BadInternalError;
-    return RsaKey(share(key));
+    return AsymmetricKey(share(key), Kind::Rsa);
 }
 
-std::size_t RsaKey::sizeBytes() const {
-    return key_ ? static_cast<std::size_t>(EVP_PKEY_get_size(key_.get())) : 0;
+Result<AsymmetricKey> AsymmetricKey::generateEccNistP256() {
+    EVP_PKEY* key = EVP_EC_gen("P-256");
+    if (key == nullptr) return status::BadInternalError;
+    return AsymmetricKey(share(key), Kind::EccNistP256);
 }
 
-int RsaKey::bits() const {
+std::size_t AsymmetricKey::sizeBytes() const {
+    if (!key_) return 0;
+    // EVP_PKEY_get_size of an EC key is the longest DER signature, not r || s.
+    if (kind_ == Kind::EccNistP256) return 2 * kP256Coordinate;
+    return static_cast<std::size_t>(EVP_PKEY_get_size(key_.get()));
+}
+
+Result<EphemeralKey> EphemeralKey::generateNistP256() {
+    EVP_PKEY* raw = EVP_EC_gen("P-256");
+    if (raw == nullptr) return status::BadInternalError;
+    EphemeralKey out;
+    out.key_ = share(raw);
+    // The uncompressed point: 0x04 || X || Y.
+    unsigned char point[1 + 2 * kP256Coordinate];
+    std::size_t length = 0;
+    if (EVP_PKEY_get_octet_string_param(raw, OSSL_PKEY_PARAM_PUB_KEY, point, sizeof(point),
+                                        &length) != 1 ||
+        length != sizeof(point) || point[0] != 0x04) {
+        return status::BadInternalError;
+    }
+    out.public_.assign(point + 1, point + length);
+    return out;
+}
+
+Result<Bytes> EphemeralKey::agree(ByteView peerPublicKey) const {
+    if (!key_ || peerPublicKey.size() != 2 * kP256Coordinate) return status::BadNonceInvalid;
+    Bytes point{0x04};
+    point.insert(point.end(), peerPublicKey.begin(), peerPublicKey.end());
+    const std::unique_ptr<OSSL_PARAM_BLD, void (*)(OSSL_PARAM_BLD*)> build(OSSL_PARAM_BLD_new(),
+                                                                           OSSL_PARAM_BLD_free);
+    if (!build ||
+        OSSL_PARAM_BLD_push_utf8_string(build.get(), OSSL_PKEY_PARAM_GROUP_NAME, "prime256v1", 0) !=
+            1 ||
+        OSSL_PARAM_BLD_push_octet_string(build.get(), OSSL_PKEY_PARAM_PUB_KEY, point.data(),
+                                         point.size()) != 1) {
+        return status::BadInternalError;
+    }
+    const std::unique_ptr<OSSL_PARAM, void (*)(OSSL_PARAM*)> params(
+        OSSL_PARAM_BLD_to_param(build.get()), OSSL_PARAM_free);
+    const PKeyCtxHandle fromData(EVP_PKEY_CTX_new_from_name(nullptr, "EC", nullptr));
+    EVP_PKEY* peerRaw = nullptr;
+    if (!params || !fromData || EVP_PKEY_fromdata_init(fromData.get()) != 1 ||
+        EVP_PKEY_fromdata(fromData.get(), &peerRaw, EVP_PKEY_PUBLIC_KEY, params.get()) != 1) {
+        return status::BadNonceInvalid;  // not a point of the curve
+    }
+    const PKeyHandle peer(peerRaw);
+    // A full public-key check: on the curve, not the point at infinity, of the right order.
+    const PKeyCtxHandle check(EVP_PKEY_CTX_new_from_pkey(nullptr, peer.get(), nullptr));
+    if (!check || EVP_PKEY_public_check(check.get()) != 1) return status::BadNonceInvalid;
+    const PKeyCtxHandle derive(EVP_PKEY_CTX_new_from_pkey(nullptr, key_.get(), nullptr));
+    std::size_t size = 0;
+    if (!derive || EVP_PKEY_derive_init(derive.get()) != 1 ||
+        EVP_PKEY_derive_set_peer(derive.get(), peer.get()) != 1 ||
+        EVP_PKEY_derive(derive.get(), nullptr, &size) != 1) {
+        return status::BadNonceInvalid;
+    }
+    Bytes secret(size);
+    if (EVP_PKEY_derive(derive.get(), secret.data(), &size) != 1) return status::BadInternalError;
+    secret.resize(size);
+    return secret;
+}
+
+int AsymmetricKey::bits() const {
     return key_ ? EVP_PKEY_get_bits(key_.get()) : 0;
 }
 
-Result<Bytes> rsaEncrypt(const RsaKey& publicKey, RsaEncryption algorithm, ByteView plain) {
+Result<Bytes> rsaEncrypt(const AsymmetricKey& publicKey, RsaEncryption algorithm, ByteView plain) {
     const std::size_t keySize = publicKey.sizeBytes();
     if (keySize <= oaepOverhead(algorithm)) return status::BadSecurityChecksFailed;
     const std::size_t block = keySize - oaepOverhead(algorithm);
@@ -119,7 +227,8 @@ Result<Bytes> rsaEncrypt(const RsaKey& publicKey, RsaEncryption algorithm, ByteV
     return out;
 }
 
-Result<Bytes> rsaDecrypt(const RsaKey& privateKey, RsaEncryption algorithm, ByteView cipher) {
+Result<Bytes> rsaDecrypt(const AsymmetricKey& privateKey, RsaEncryption algorithm,
+                         ByteView cipher) {
     const std::size_t keySize = privateKey.sizeBytes();
     if (keySize == 0 || cipher.size() % keySize != 0) return status::BadSecurityChecksFailed;
     auto ctx = oaepContext(privateKey, algorithm, false);
@@ -139,11 +248,15 @@ Result<Bytes> rsaDecrypt(const RsaKey& privateKey, RsaEncryption algorithm, Byte
     return out;
 }
 
-Result<Bytes> rsaSign(const RsaKey& privateKey, RsaSignature algorithm, ByteView data) {
+Result<Bytes> sign(const AsymmetricKey& privateKey, SignatureAlgorithm algorithm, ByteView data) {
+    const bool ecdsa = algorithm == SignatureAlgorithm::EcdsaSha256;
+    if (!privateKey.valid() || ecdsa != (privateKey.kind() == AsymmetricKey::Kind::EccNistP256)) {
+        return status::BadInternalError;  // our key does not fit our policy
+    }
     MdCtxHandle md(EVP_MD_CTX_new());
     EVP_PKEY_CTX* pctx = nullptr;  // owned by md
     if (!md || EVP_DigestSignInit(md.get(), &pctx, EVP_sha256(), nullptr, privateKey.get()) != 1 ||
-        !setSignaturePadding(pctx, algorithm)) {
+        (!ecdsa && !setSignaturePadding(pctx, algorithm))) {
         return status::BadInternalError;
     }
     std::size_t size = 0;
@@ -155,16 +268,27 @@ Result<Bytes> rsaSign(const RsaKey& privateKey, RsaSignature algorithm, ByteView
         return status::BadInternalError;
     }
     signature.resize(size);
+    if (ecdsa) return rawFromDer(signature, privateKey.sizeBytes() / 2);
     return signature;
 }
 
-StatusCode rsaVerify(const RsaKey& publicKey, RsaSignature algorithm, ByteView data,
-                     ByteView signature) {
+StatusCode verify(const AsymmetricKey& publicKey, SignatureAlgorithm algorithm, ByteView data,
+                  ByteView signature) {
+    const bool ecdsa = algorithm == SignatureAlgorithm::EcdsaSha256;
+    if (!publicKey.valid() || ecdsa != (publicKey.kind() == AsymmetricKey::Kind::EccNistP256)) {
+        return status::BadSecurityChecksFailed;
+    }
+    Bytes der;
+    if (ecdsa) {
+        auto converted = derFromRaw(signature, publicKey.sizeBytes() / 2);
+        if (!converted) return status::BadSecurityChecksFailed;
+        der = std::move(*converted);
+        signature = der;
+    }
     MdCtxHandle md(EVP_MD_CTX_new());
     EVP_PKEY_CTX* pctx = nullptr;
-    if (!md || !publicKey.valid() ||
-        EVP_DigestVerifyInit(md.get(), &pctx, EVP_sha256(), nullptr, publicKey.get()) != 1 ||
-        !setSignaturePadding(pctx, algorithm)) {
+    if (!md || EVP_DigestVerifyInit(md.get(), &pctx, EVP_sha256(), nullptr, publicKey.get()) != 1 ||
+        (!ecdsa && !setSignaturePadding(pctx, algorithm))) {
         return status::BadSecurityChecksFailed;
     }
     return EVP_DigestVerify(md.get(), signature.data(), signature.size(), data.data(),
@@ -218,6 +342,29 @@ StatusCode aesCbcEncrypt(ByteView key, ByteView iv, std::span<std::uint8_t> data
 
 StatusCode aesCbcDecrypt(ByteView key, ByteView iv, std::span<std::uint8_t> data) {
     return aesCbc(key, iv, data, false);
+}
+
+Bytes hkdfSha256(ByteView salt, ByteView secret, ByteView info, std::size_t length) {
+    const std::unique_ptr<EVP_KDF, void (*)(EVP_KDF*)> kdf(EVP_KDF_fetch(nullptr, "HKDF", nullptr),
+                                                           EVP_KDF_free);
+    const std::unique_ptr<EVP_KDF_CTX, void (*)(EVP_KDF_CTX*)> ctx(
+        kdf ? EVP_KDF_CTX_new(kdf.get()) : nullptr, EVP_KDF_CTX_free);
+    // OSSL_PARAM takes non-const pointers; OpenSSL only reads them.
+    auto* saltData = const_cast<std::uint8_t*>(salt.data());
+    auto* secretData = const_cast<std::uint8_t*>(secret.data());
+    auto* infoData = const_cast<std::uint8_t*>(info.data());
+    char digest[] = "SHA256";
+    const OSSL_PARAM params[] = {
+        OSSL_PARAM_construct_utf8_string(OSSL_KDF_PARAM_DIGEST, digest, 0),
+        OSSL_PARAM_construct_octet_string(OSSL_KDF_PARAM_SALT, saltData, salt.size()),
+        OSSL_PARAM_construct_octet_string(OSSL_KDF_PARAM_KEY, secretData, secret.size()),
+        OSSL_PARAM_construct_octet_string(OSSL_KDF_PARAM_INFO, infoData, info.size()),
+        OSSL_PARAM_construct_end(),
+    };
+    Bytes out(length);
+    // Fails only for lengths above 255 hash lengths, which no policy asks for.
+    if (!ctx || EVP_KDF_derive(ctx.get(), out.data(), out.size(), params) != 1) std::abort();
+    return out;
 }
 
 Bytes pSha256(ByteView secret, ByteView seed, std::size_t length) {

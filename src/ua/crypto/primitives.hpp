@@ -20,50 +20,85 @@ using Bytes = std::vector<std::uint8_t>;
 using ByteView = std::span<const std::uint8_t>;
 
 enum class RsaEncryption : std::uint8_t { OaepSha1, OaepSha256 };
-enum class RsaSignature : std::uint8_t { Pkcs1v15Sha256, PssSha256 };
+/// ECDSA signatures travel as r || s, each the size of the curve's order (OPC 10000-6, 6.8),
+/// not in the DER form OpenSSL makes: sign() and verify() convert.
+enum class SignatureAlgorithm : std::uint8_t { Pkcs1v15Sha256, PssSha256, EcdsaSha256 };
 
 /// Bytes of padding OAEP needs per block: 2 * hash length + 2.
 [[nodiscard]] std::size_t oaepOverhead(RsaEncryption algorithm);
 
-/// An RSA public or private key. Copyable handle (shared, immutable after loading).
-class RsaKey {
+/// An RSA key, or an ECC key on the NIST P-256 curve: public or private. Copyable handle
+/// (shared, immutable after loading).
+class AsymmetricKey {
 public:
-    RsaKey() = default;
-    /// The public key of a DER certificate (the first one, if `der` is a chain).
-    [[nodiscard]] static Result<RsaKey> fromCertificate(ByteView der);
-    /// A private key from a PEM file (PKCS#8 or traditional RSA).
-    [[nodiscard]] static Result<RsaKey> fromPrivateKeyFile(const std::filesystem::path& pem);
-    /// A fresh key, for tests and certificates.
-    [[nodiscard]] static Result<RsaKey> generate(int bits);
+    enum class Kind : std::uint8_t { Rsa, EccNistP256 };
+
+    AsymmetricKey() = default;
+    /// The public key of a DER certificate (the first one, if `der` is a chain);
+    /// BadCertificateInvalid for a key of another kind or curve.
+    [[nodiscard]] static Result<AsymmetricKey> fromCertificate(ByteView der);
+    /// A private key from a PEM file (PKCS#8, traditional RSA or EC).
+    [[nodiscard]] static Result<AsymmetricKey> fromPrivateKeyFile(const std::filesystem::path& pem);
+    /// A fresh RSA key, for tests and certificates.
+    [[nodiscard]] static Result<AsymmetricKey> generate(int bits);
+    /// A fresh P-256 key, for tests and certificates.
+    [[nodiscard]] static Result<AsymmetricKey> generateEccNistP256();
 
     [[nodiscard]] bool valid() const { return key_ != nullptr; }
+    [[nodiscard]] Kind kind() const { return kind_; }
+    /// RSA: the modulus' bytes (a signature's and a cipher block's size); ECC: a signature's
+    /// (r || s).
     [[nodiscard]] std::size_t sizeBytes() const;
     [[nodiscard]] int bits() const;
     [[nodiscard]] EVP_PKEY* get() const { return key_.get(); }
 
 private:
-    explicit RsaKey(std::shared_ptr<EVP_PKEY> key) : key_(std::move(key)) {}
+    AsymmetricKey(std::shared_ptr<EVP_PKEY> key, Kind kind) : key_(std::move(key)), kind_(kind) {}
+    /// The key's kind, or nothing for a kind no policy uses.
+    static Result<AsymmetricKey> adopt(EVP_PKEY* key, StatusCode otherwise);
+
     std::shared_ptr<EVP_PKEY> key_;
+    Kind kind_ = Kind::Rsa;
+};
+
+/// A key pair made for one key agreement and dropped after it: an ECC SecureChannel's nonce
+/// is the public half (OPC 10000-6, 6.8.1).
+class EphemeralKey {
+public:
+    /// A fresh P-256 pair.
+    [[nodiscard]] static Result<EphemeralKey> generateNistP256();
+    /// The public key as OPC UA carries it: X || Y, 64 bytes for P-256 (no 0x04 prefix).
+    [[nodiscard]] const Bytes& publicKey() const { return public_; }
+    /// ECDH with the peer's public key (X || Y): the shared secret (the x-coordinate).
+    /// BadNonceInvalid when the peer's key is not a point of the curve.
+    [[nodiscard]] Result<Bytes> agree(ByteView peerPublicKey) const;
+
+private:
+    std::shared_ptr<EVP_PKEY> key_;
+    Bytes public_;
 };
 
 /// Encrypts `plain` block by block (each block takes keySize - oaepOverhead bytes and
 /// becomes keySize bytes), as OPC 10000-6, 6.7.2.5 lays out asymmetric encryption.
-[[nodiscard]] Result<Bytes> rsaEncrypt(const RsaKey& publicKey, RsaEncryption algorithm,
+[[nodiscard]] Result<Bytes> rsaEncrypt(const AsymmetricKey& publicKey, RsaEncryption algorithm,
                                        ByteView plain);
 /// The inverse; `cipher` must be a whole number of keySize blocks.
-[[nodiscard]] Result<Bytes> rsaDecrypt(const RsaKey& privateKey, RsaEncryption algorithm,
+[[nodiscard]] Result<Bytes> rsaDecrypt(const AsymmetricKey& privateKey, RsaEncryption algorithm,
                                        ByteView cipher);
-[[nodiscard]] Result<Bytes> rsaSign(const RsaKey& privateKey, RsaSignature algorithm,
-                                    ByteView data);
+[[nodiscard]] Result<Bytes> sign(const AsymmetricKey& privateKey, SignatureAlgorithm algorithm,
+                                 ByteView data);
 /// Good, or BadSecurityChecksFailed.
-[[nodiscard]] StatusCode rsaVerify(const RsaKey& publicKey, RsaSignature algorithm, ByteView data,
-                                   ByteView signature);
+[[nodiscard]] StatusCode verify(const AsymmetricKey& publicKey, SignatureAlgorithm algorithm,
+                                ByteView data, ByteView signature);
 
 [[nodiscard]] Bytes hmacSha256(ByteView key, ByteView data);
 /// AES-CBC without padding (the policy pads): `data` must be a multiple of 16 bytes, the
 /// key 16 or 32 bytes, the IV 16 bytes. Works in place on `data`.
 [[nodiscard]] StatusCode aesCbcEncrypt(ByteView key, ByteView iv, std::span<std::uint8_t> data);
 [[nodiscard]] StatusCode aesCbcDecrypt(ByteView key, ByteView iv, std::span<std::uint8_t> data);
+/// HKDF-SHA256 (RFC 5869): extract with `salt` from `secret`, expand with `info` to `length`
+/// bytes: the ECC policies' key derivation (OPC 10000-6, 6.8.1).
+[[nodiscard]] Bytes hkdfSha256(ByteView salt, ByteView secret, ByteView info, std::size_t length);
 /// P_SHA256(secret, seed) of RFC 5246 5, `length` bytes: the UA key derivation.
 [[nodiscard]] Bytes pSha256(ByteView secret, ByteView seed, std::size_t length);
 [[nodiscard]] Bytes sha1(ByteView data);

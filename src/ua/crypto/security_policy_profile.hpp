@@ -17,26 +17,34 @@ inline constexpr std::string_view kPolicyAes128Sha256RsaOaep =
     "http://opcfoundation.org/UA/SecurityPolicy#Aes128_Sha256_RsaOaep";
 inline constexpr std::string_view kPolicyAes256Sha256RsaPss =
     "http://opcfoundation.org/UA/SecurityPolicy#Aes256_Sha256_RsaPss";
+inline constexpr std::string_view kPolicyEccNistP256 =
+    "http://opcfoundation.org/UA/SecurityPolicy#ECC_nistP256";
 
 struct SecurityPolicyProfile {
     std::string_view uri;
     std::string_view shortName;  // for command lines and logs: "Basic256Sha256"
+    /// RSA policies only: ECC encrypts nothing asymmetrically.
     RsaEncryption asymmetricEncryption = RsaEncryption::OaepSha1;
-    RsaSignature asymmetricSignature = RsaSignature::Pkcs1v15Sha256;
+    SignatureAlgorithm asymmetricSignature = SignatureAlgorithm::Pkcs1v15Sha256;
     /// The URIs OPC UA names these algorithms by in SignatureData and identity tokens.
     std::string_view asymmetricSignatureUri;
     std::string_view asymmetricEncryptionUri;
     std::size_t symmetricKeyLength = 32;  // AES key, bytes
     std::size_t signingKeyLength = 32;    // HMAC-SHA256 key, bytes
     std::size_t symmetricSignatureSize = 32;
+    /// ECC: an EphemeralKey's public half (X || Y).
     std::size_t nonceLength = 32;
     int minAsymmetricKeyBits = 2048;
     int maxAsymmetricKeyBits = 4096;
     /// Relative strength, for EndpointDescription.securityLevel.
     std::uint8_t strength = 1;
+    /// The kind of key the certificates of both ends must have.
+    AsymmetricKey::Kind keyKind = AsymmetricKey::Kind::Rsa;
+
+    [[nodiscard]] bool isEcc() const { return keyKind != AsymmetricKey::Kind::Rsa; }
 };
 
-/// The policies this stack implements besides None, strongest last.
+/// The policies this stack implements besides None, strongest last (each key kind's).
 [[nodiscard]] std::span<const SecurityPolicyProfile> securityPolicyProfiles();
 /// The profile of a policy URI, or nothing for None and unknown URIs.
 [[nodiscard]] const SecurityPolicyProfile* findSecurityPolicyProfile(std::string_view uri);

@@ -88,9 +88,10 @@ ByteString der(X509* cert) {
 Result<IssuedCertificate> buildApplicationCertificate(const CertificateSubject& subject,
                                                       X509* issuer, EVP_PKEY* issuerKey,
                                                       std::string* error) {
-    const ossl::PKey key(EVP_RSA_gen(2048));
+    const bool ecc = subject.key == CertificateKey::EccNistP256;
+    const ossl::PKey key(ecc ? EVP_EC_gen("P-256") : EVP_RSA_gen(2048));
     if (!key) {
-        setError(error, opensslError("RSA key generation"));
+        setError(error, opensslError(ecc ? "P-256 key generation" : "RSA key generation"));
         return status::BadConfigurationError;
     }
     ossl::Cert cert = newCertificate(key.get(), subject.commonName, subject.validDays);
@@ -110,8 +111,11 @@ Result<IssuedCertificate> buildApplicationCertificate(const CertificateSubject& 
     for (const auto& ip : subject.ipAddresses) san += ",IP:" + ip;
     // OPC 10000-6, 6.2.2: the extensions of an application instance certificate; a
     // self-signed one also signs itself (keyCertSign).
+    // An ECC key signs and agrees on keys; it encrypts nothing.
     const std::string usage =
-        std::string("critical,digitalSignature,nonRepudiation,keyEncipherment,dataEncipherment") +
+        std::string(ecc ? "critical,digitalSignature,nonRepudiation,keyAgreement"
+                        : "critical,digitalSignature,nonRepudiation,keyEncipherment,"
+                          "dataEncipherment") +
         (selfSigned ? ",keyCertSign" : "");
     X509* signer = selfSigned ? cert.get() : issuer;
     const bool ok =

@@ -242,14 +242,17 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
                                                      info.applicationUri + "\", expected \"" +
                                                      expected.applicationUri + "\""});
     }
-    // An application instance certificate signs and receives encrypted keys
-    // (OPC 10000-6, 6.2.2); a CA's certificate must not act as one.
+    // An application instance certificate signs and (RSA) receives encrypted keys
+    // (OPC 10000-6, 6.2.2); an ECC key agrees on keys instead of receiving them. A CA's
+    // certificate must not act as one.
     const std::uint32_t usage = X509_get_key_usage(leafCert);
+    const bool ecc = EVP_PKEY_is_a(X509_get0_pubkey(leafCert), "EC") == 1;
     if (usage != UINT32_MAX &&
-        ((usage & KU_DIGITAL_SIGNATURE) == 0 || (usage & KU_KEY_ENCIPHERMENT) == 0)) {
-        collector.findings.push_back({Step::Usage, describe(leafCert) +
-                                                       ": keyUsage lacks digitalSignature or "
-                                                       "keyEncipherment"});
+        ((usage & KU_DIGITAL_SIGNATURE) == 0 || (!ecc && (usage & KU_KEY_ENCIPHERMENT) == 0))) {
+        collector.findings.push_back(
+            {Step::Usage, describe(leafCert) + (ecc ? ": keyUsage lacks digitalSignature"
+                                                    : ": keyUsage lacks digitalSignature or "
+                                                      "keyEncipherment")});
     }
     if ((X509_get_extension_flags(leafCert) & EXFLAG_XKUSAGE) != 0 &&
         (X509_get_extended_key_usage(leafCert) & (XKU_SSL_SERVER | XKU_SSL_CLIENT)) == 0) {

@@ -70,8 +70,9 @@ Result<OwnCertificate> loadOrCreateOwnCertificate(const fs::path& pkiDir,
     }
     const PkiPaths paths{pkiDir};
     OwnCertificate out;
-    out.certificateFile = paths.ownCerts() / "cert.der";
-    out.privateKeyFile = paths.ownPrivate() / "key.pem";
+    const bool ecc = subject.key == CertificateKey::EccNistP256;
+    out.certificateFile = paths.ownCerts() / (ecc ? "cert-nistP256.der" : "cert.der");
+    out.privateKeyFile = paths.ownPrivate() / (ecc ? "key-nistP256.pem" : "key.pem");
     if (ca != nullptr) out.issuer = ca->directory;
     std::error_code ec;
     if (fs::exists(out.certificateFile, ec) && fs::exists(out.privateKeyFile, ec)) {

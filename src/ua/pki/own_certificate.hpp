@@ -8,11 +8,14 @@
 //   <pki>/own/certs/cert.der      the certificate (DER)
 //   <pki>/own/private/key.pem     its RSA private key (PEM, mode 0600)
 //
-// and reuses it on every later start, unless it no longer names the application's URI.
+// and reuses it on every later start, unless it no longer names the application's URI. A
+// second certificate with a NIST P-256 key, for the ECC_nistP256 policy, lives beside it as
+// cert-nistP256.der and key-nistP256.pem.
 //
 // With a cell CA (certificate_authority.hpp) the certificate is issued by the CA instead,
 // a self-signed one (or one of another CA) is replaced, and the CA's certificate and CRL are
 // put into trusted/, so that the cell's components trust each other without manual steps.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -22,7 +25,12 @@
 
 namespace skillcell::ua::pki {
 
+/// The key of an application instance certificate: RSA for the RSA policies (the one every
+/// OPC UA application has), P-256 for ECC_nistP256.
+enum class CertificateKey : std::uint8_t { Rsa2048, EccNistP256 };
+
 struct CertificateSubject {
+    CertificateKey key = CertificateKey::Rsa2048;
     std::string applicationUri;  // the subjectAltName URI, as OPC UA requires
     std::string commonName;
     std::vector<std::string> dnsNames;
@@ -40,7 +48,8 @@ struct OwnCertificate {
 
 struct CertificateAuthority;  // certificate_authority.hpp
 
-/// Loads the certificate from `pkiDir`, or creates it (RSA 2048, SHA-256, self-signed,
+/// Loads the certificate from `pkiDir`, or creates it (RSA 2048 or P-256 as `subject.key`
+/// says, SHA-256, self-signed,
 /// with the extensions OPC 10000-6 asks for) when there is none or it names another
 /// applicationUri. When cellCaDirectory(pkiDir) names a CA, the four-argument form below
 /// runs with it (and fails when that CA cannot be loaded, rather than silently going

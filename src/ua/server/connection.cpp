@@ -87,7 +87,7 @@ asio::awaitable<StatusCode> Connection::serve() {
     auto selector = [this](const AsymmetricSecurityHeader& header) {
         const std::string who = "channel " + std::to_string(channelId_) + " (" + peer_ + ")";
         return selectPolicy(env_.description.securityEndpoints, env_.security,
-                            env_.description.certificate, header, who);
+                            env_.description.certificateFor(header.securityPolicyUri), header, who);
     };
     channel_.emplace(limits_, selector, channelConfig);
 

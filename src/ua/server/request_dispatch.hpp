@@ -25,7 +25,7 @@ struct RequestChannel {
     const std::string* endpointUrl = nullptr;  // from the client's Hello
     std::string_view securityPolicyUri;        // empty: none negotiated
     const ByteString* clientCertificate = nullptr;
-    const crypto::RsaKey* clientKey = nullptr;  // clientCertificate's, decoded
+    const crypto::AsymmetricKey* clientKey = nullptr;  // clientCertificate's, decoded
     MessageSecurityMode securityMode = MessageSecurityMode::None;
     /// A None channel on a server that does not offer None: discovery services only.
     bool discoveryOnly = false;

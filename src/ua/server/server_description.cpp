@@ -52,6 +52,12 @@ std::string_view ServerDescription::tokenSecurityPolicy(const UserTokenPolicy& t
     return crypto::kPolicyBasic256Sha256;
 }
 
+const ByteString& ServerDescription::certificateFor(std::string_view policyUri) const {
+    const auto* profile = crypto::findSecurityPolicyProfile(policyUri);
+    return profile != nullptr && profile->isEcc() && !eccCertificate.empty() ? eccCertificate
+                                                                             : certificate;
+}
+
 bool ServerDescription::offers(std::string_view policyUri, MessageSecurityMode mode) const {
     return std::any_of(
         securityEndpoints.begin(), securityEndpoints.end(),
@@ -64,7 +70,7 @@ std::vector<EndpointDescription> ServerDescription::endpoints(const String& endp
         EndpointDescription ep;
         ep.endpointUrl = endpointUrl;
         ep.server = application(endpointUrl);
-        ep.serverCertificate = certificate;
+        ep.serverCertificate = certificateFor(offered.policyUri);
         ep.securityMode = offered.mode;
         ep.securityPolicyUri = offered.policyUri;
         ep.userIdentityTokens = userTokenPolicies;
@@ -79,9 +85,16 @@ std::vector<EndpointDescription> ServerDescription::endpoints(const String& endp
             }
         }
         ep.transportProfileUri = String(kTransportProfileUaTcp);
+        const auto* profile = crypto::findSecurityPolicyProfile(offered.policyUri);
+        if (profile != nullptr && profile->isEcc()) {
+            // A password over ECC needs an EccEncryptedSecret (OPC 10000-4, 7.40.2.5), which
+            // this stack does not implement: people log in on the RSA endpoints.
+            std::erase_if(ep.userIdentityTokens, [](const UserTokenPolicy& token) {
+                return token.tokenType == UserTokenType::UserName;
+            });
+        }
         // Clients that pick "the most secure endpoint" pick by this: None 0, then by the
         // policy's strength, SignAndEncrypt above Sign.
-        const auto* profile = crypto::findSecurityPolicyProfile(offered.policyUri);
         ep.securityLevel = profile == nullptr
                                ? 0
                                : static_cast<std::uint8_t>(

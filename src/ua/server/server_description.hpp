@@ -28,6 +28,12 @@ struct ServerDescription {
     /// The application instance certificate (DER), offered in every endpoint even with
     /// SecurityPolicy None: peers expect one (ua/pki/own_certificate.hpp).
     ByteString certificate;
+    /// A second certificate, with a P-256 key, for the ECC policies; empty when the server
+    /// has none (then `certificate` serves every policy it offers).
+    ByteString eccCertificate;
+
+    /// The certificate of the endpoints of `policyUri`: the ECC one for an ECC policy.
+    [[nodiscard]] const ByteString& certificateFor(std::string_view policyUri) const;
     /// The security policies and modes offered, one EndpointDescription each. The stack's
     /// default is None alone, for in-process tests and tools; applications offer the
     /// secured ones (apps/server_process.cpp).

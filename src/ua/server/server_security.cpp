@@ -5,19 +5,27 @@
 #include <algorithm>
 
 #include "ua/crypto/security_policy_profile.hpp"
-#include "ua/transport/rsa_security_policy.hpp"
+#include "ua/transport/certificate_security_policy.hpp"
 
 namespace skillcell::ua {
 
-std::vector<SecurityEndpoint> allSecurityEndpoints(bool withNone) {
+std::vector<SecurityEndpoint> allSecurityEndpoints(
+    bool withNone, const std::vector<crypto::AsymmetricKey::Kind>& keyKinds) {
     std::vector<SecurityEndpoint> out;
     const auto profiles = crypto::securityPolicyProfiles();
     for (auto it = profiles.rbegin(); it != profiles.rend(); ++it) {
+        if (std::find(keyKinds.begin(), keyKinds.end(), it->keyKind) == keyKinds.end()) continue;
         out.push_back({std::string(it->uri), MessageSecurityMode::SignAndEncrypt});
         out.push_back({std::string(it->uri), MessageSecurityMode::Sign});
     }
     if (withNone) out.push_back({std::string(kSecurityPolicyNoneUri), MessageSecurityMode::None});
     return out;
+}
+
+const crypto::AsymmetricKey& ServerSecurity::privateKeyFor(std::string_view policyUri) const {
+    const auto* profile = crypto::findSecurityPolicyProfile(policyUri);
+    return profile != nullptr && profile->isEcc() && eccPrivateKey.valid() ? eccPrivateKey
+                                                                           : privateKey;
 }
 
 Result<std::unique_ptr<SecurityPolicy>> selectPolicy(const std::vector<SecurityEndpoint>& offered,
@@ -40,7 +48,8 @@ Result<std::unique_ptr<SecurityPolicy>> selectPolicy(const std::vector<SecurityE
     }
     const auto* profile = crypto::findSecurityPolicyProfile(header.securityPolicyUri);
     if (profile == nullptr) return status::BadSecurityPolicyRejected;
-    if (!security.privateKey.valid()) {
+    const auto& privateKey = security.privateKeyFor(profile->uri);
+    if (!privateKey.valid()) {
         spdlog::error("{}: {} offered but the server has no private key", peer, profile->shortName);
         return status::BadConfigurationError;
     }
@@ -52,8 +61,9 @@ Result<std::unique_ptr<SecurityPolicy>> selectPolicy(const std::vector<SecurityE
             return s;
         }
     }
-    auto policy = RsaSecurityPolicy::create(*profile, ownCertificate, security.privateKey,
-                                            header.senderCertificate, MessageSecurityMode::Invalid);
+    auto policy =
+        createCertificateSecurityPolicy(*profile, ownCertificate, privateKey,
+                                        header.senderCertificate, MessageSecurityMode::Invalid);
     if (!policy) {
         spdlog::warn("{}: client certificate unusable with {}: {}", peer, profile->shortName,
                      statusName(policy.status()));

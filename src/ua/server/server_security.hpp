@@ -33,7 +33,12 @@ using CertificateCheck = std::function<StatusCode(
 
 struct ServerSecurity {
     /// The private key of ServerDescription::certificate; needed for any secured endpoint.
-    crypto::RsaKey privateKey;
+    crypto::AsymmetricKey privateKey;
+    /// The private key of ServerDescription::eccCertificate, when there is one.
+    crypto::AsymmetricKey eccPrivateKey;
+
+    /// The key of ServerDescription::certificateFor(policyUri).
+    [[nodiscard]] const crypto::AsymmetricKey& privateKeyFor(std::string_view policyUri) const;
     /// Decides about client certificates; unset means every well-formed certificate is
     /// accepted (tests only: applications always set it).
     CertificateCheck validateCertificate;
@@ -47,14 +52,17 @@ struct ServerSecurity {
     std::shared_ptr<const UserAuthenticator> users;
 };
 
-/// Every secured policy and mode this stack implements, strongest first, then None when
-/// `withNone` (development only).
-[[nodiscard]] std::vector<SecurityEndpoint> allSecurityEndpoints(bool withNone);
+/// Every secured policy and mode this stack implements for certificates with keys of
+/// `keyKinds`, strongest first, then None when `withNone` (development only).
+[[nodiscard]] std::vector<SecurityEndpoint> allSecurityEndpoints(
+    bool withNone,
+    const std::vector<crypto::AsymmetricKey::Kind>& keyKinds = {crypto::AsymmetricKey::Kind::Rsa});
 
 /// The policy for a channel's first OpenSecureChannel: None always (for discovery),
 /// BadSecurityPolicyRejected for another policy not offered, the validator's status for a
 /// certificate not trusted (logged with its reason), BadConfigurationError when a secured policy is
-/// offered without a private key.
+/// offered without a private key. `ownCertificate` is the certificate of the header's policy
+/// (ServerDescription::certificateFor).
 [[nodiscard]] Result<std::unique_ptr<SecurityPolicy>> selectPolicy(
     const std::vector<SecurityEndpoint>& offered, const ServerSecurity& security,
     const ByteString& ownCertificate, const AsymmetricSecurityHeader& header,

@@ -14,7 +14,7 @@ namespace skillcell::ua {
 
 class Session;
 namespace crypto {
-class RsaKey;
+class AsymmetricKey;
 }
 
 /// Sends an encoded service body (type id + structure) as the response to the request being
@@ -36,7 +36,7 @@ struct ServiceContext {
     MessageSecurityMode securityMode = MessageSecurityMode::None;
     const ByteString* clientCertificate = nullptr;
     /// The public key of clientCertificate's leaf, decoded when the channel opened.
-    const crypto::RsaKey* clientKey = nullptr;
+    const crypto::AsymmetricKey* clientKey = nullptr;
     /// For deferred services (ServiceTable::addDeferred): answers this request later.
     ResponseSender reply;
 };

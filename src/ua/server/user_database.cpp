@@ -10,7 +10,7 @@
 
 #include "common/atomic_file.hpp"
 #include "ua/crypto/primitives.hpp"
-#include "ua/transport/rsa_security_policy.hpp"
+#include "ua/transport/certificate_security_policy.hpp"
 #include "ua/types/hex.hpp"
 
 namespace skillcell::ua {
@@ -135,13 +135,25 @@ StatusCode UserDatabase::setPassword(const std::string& name, RoleSet roles,
 
 StatusCode UserDatabase::setCertificate(const std::string& name, RoleSet roles,
                                         const ByteString& certificate) {
-    // Decoded once here, so that a file of bytes that is not a certificate is refused now.
-    if (!validName(name) || roles.roles().empty() ||
-        !crypto::RsaKey::fromCertificate(certificate.bytes)) {
+    return setCertificates(name, roles, {certificate});
+}
+
+StatusCode UserDatabase::setCertificates(const std::string& name, RoleSet roles,
+                                         const std::vector<ByteString>& certificates) {
+    // Decoded once here, so that a file of bytes that is not a certificate is refused now
+    // (and nothing changes).
+    if (!validName(name) || roles.roles().empty() || certificates.empty()) {
         return status::BadInvalidArgument;
     }
+    for (const auto& certificate : certificates) {
+        if (!crypto::AsymmetricKey::fromCertificate(certificate.bytes)) {
+            return status::BadInvalidArgument;
+        }
+    }
     remove(name);
-    users_.push_back({name, roles, "x509$" + thumbprintHex(certificate)});
+    for (const auto& certificate : certificates) {
+        users_.push_back({name, roles, "x509$" + thumbprintHex(certificate)});
+    }
     return status::Good;
 }
 

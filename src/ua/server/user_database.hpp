@@ -43,6 +43,10 @@ public:
     /// Adds or replaces a user identified by an X.509 certificate (DER).
     [[nodiscard]] StatusCode setCertificate(const std::string& name, RoleSet roles,
                                             const ByteString& certificate);
+    /// The same with several certificates, each a line of its own: an application with an
+    /// RSA and an ECC certificate is one user by either.
+    [[nodiscard]] StatusCode setCertificates(const std::string& name, RoleSet roles,
+                                             const std::vector<ByteString>& certificates);
     /// False when there was no such user.
     bool remove(const std::string& name);
     [[nodiscard]] const std::vector<UserRecord>& users() const { return users_; }

@@ -365,7 +365,11 @@ Result<OpenSecureChannelResponse> SecureChannel::openOrRenew(
             ? maxLifetime
             : std::clamp(request.requestedLifetime, config_.minTokenLifetimeMs, maxLifetime);
 
-    ByteString serverNonce(crypto::randomBytes(nonceLength));
+    ByteString serverNonce = policy_->newNonce();
+    if (serverNonce.bytes.size() != nonceLength) return status::BadInternalError;
+    // Before anything changes: a nonce that yields no keys leaves the channel as it was.
+    auto keys = policy_->deriveKeys(request.clientNonce.bytes, serverNonce.bytes, false);
+    if (!keys) return keys.status();
     ChannelSecurityToken token;
     token.channelId = current_ ? channelId_ : channelId;
     token.tokenId = nextTokenId_++;
@@ -385,7 +389,7 @@ Result<OpenSecureChannelResponse> SecureChannel::openOrRenew(
     }
     current_ = token;
     currentCreated_ = now;
-    currentKeys_ = policy_->deriveKeys(request.clientNonce.bytes, serverNonce.bytes, false);
+    currentKeys_ = std::move(*keys);
 
     OpenSecureChannelResponse response;
     response.responseHeader.timestamp = token.createdAt;
@@ -403,7 +407,7 @@ bool SecureChannel::modeAccepted(MessageSecurityMode mode) const {
 }
 
 OpenSecureChannelRequest SecureChannel::makeOpenRequest(SecurityTokenRequestType type) {
-    ownNonce_ = ByteString(crypto::randomBytes(policy_->nonceLength()));
+    ownNonce_ = policy_->newNonce();
     OpenSecureChannelRequest request;
     request.requestHeader.timestamp = DateTime::now();
     request.clientProtocolVersion = kProtocolVersion;
@@ -430,8 +434,10 @@ StatusCode SecureChannel::acceptOpenResponse(const OpenSecureChannelResponse& re
     if (openResponseChannelId_ != 0 && token.channelId != openResponseChannelId_) {
         return status::BadSecureChannelIdInvalid;
     }
+    if (current_ && token.channelId != channelId_) return status::BadSecureChannelIdInvalid;
+    auto keys = policy_->deriveKeys(ownNonce_.bytes, response.serverNonce.bytes, true);
+    if (!keys) return keys.status();
     if (current_) {
-        if (token.channelId != channelId_) return status::BadSecureChannelIdInvalid;
         // Server messages secured with the old token may still be on their way.
         previous_ =
             TokenState{*current_, acceptableUntil(currentCreated_, current_->revisedLifetime),
@@ -440,7 +446,7 @@ StatusCode SecureChannel::acceptOpenResponse(const OpenSecureChannelResponse& re
     channelId_ = token.channelId;
     current_ = token;
     currentCreated_ = now;
-    currentKeys_ = policy_->deriveKeys(ownNonce_.bytes, response.serverNonce.bytes, true);
+    currentKeys_ = std::move(*keys);
     return status::Good;
 }
 

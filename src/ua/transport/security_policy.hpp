@@ -6,21 +6,20 @@
 // symmetric keys of a security token for everything else. The channel owns the tokens and
 // their keys (a renewal has two at once); the policy owns the algorithms and certificates.
 // None implements it as identity; RsaSecurityPolicy (rsa_security_policy.hpp) implements
-// Basic256Sha256, Aes128_Sha256_RsaOaep and Aes256_Sha256_RsaPss.
+// Basic256Sha256, Aes128_Sha256_RsaOaep and Aes256_Sha256_RsaPss, EccSecurityPolicy
+// (ecc_security_policy.hpp) ECC_nistP256.
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string_view>
 #include <vector>
 
+#include "ua/crypto/primitives.hpp"
 #include "ua/messages/common.hpp"
+#include "ua/types/result.hpp"
 #include "ua/types/status_code.hpp"
 
 namespace skillcell::ua {
-
-namespace crypto {
-class RsaKey;
-}
 
 inline constexpr std::string_view kSecurityPolicyNoneUri =
     "http://opcfoundation.org/UA/SecurityPolicy#None";
@@ -76,7 +75,7 @@ public:
     }
     /// The public key of remoteCertificate()'s leaf, decoded once for the channel (the
     /// session services verify signatures with it); nullptr for None.
-    [[nodiscard]] virtual const crypto::RsaKey* remoteKey() const { return nullptr; }
+    [[nodiscard]] virtual const crypto::AsymmetricKey* remoteKey() const { return nullptr; }
     /// Checks a received asymmetric header beyond its policy URI: that it names our
     /// certificate and comes from the certificate this channel was opened with.
     [[nodiscard]] virtual StatusCode checkAsymmetricHeader(
@@ -86,11 +85,17 @@ public:
 
     /// The length of the nonces exchanged in OpenSecureChannel; 0 for None.
     [[nodiscard]] virtual std::size_t nonceLength() const { return 0; }
+    /// Our nonce for the next OpenSecureChannel: random bytes, or (ECC) the public half of
+    /// a new EphemeralKey whose private half deriveKeys() then uses.
+    [[nodiscard]] virtual ByteString newNonce() {
+        return ByteString(crypto::randomBytes(nonceLength()));
+    }
     /// The keys of a new token from the two nonces; `client` says which side we are.
-    [[nodiscard]] virtual ChannelKeys deriveKeys(std::span<const std::uint8_t> /*clientNonce*/,
-                                                 std::span<const std::uint8_t> /*serverNonce*/,
-                                                 bool /*client*/) const {
-        return {};
+    /// BadNonceInvalid when the peer's nonce cannot be used (ECC: not a point of the curve).
+    [[nodiscard]] virtual Result<ChannelKeys> deriveKeys(
+        std::span<const std::uint8_t> /*clientNonce*/,
+        std::span<const std::uint8_t> /*serverNonce*/, bool /*client*/) const {
+        return ChannelKeys{};
     }
     /// Sign or SignAndEncrypt for the symmetric chunks; set once the mode is agreed.
     virtual void setSecurityMode(MessageSecurityMode /*mode*/) {}

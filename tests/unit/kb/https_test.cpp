@@ -191,7 +191,7 @@ protected:
         certificate_ = issued->der;
         const auto keyFile = dir_.path() / "key.pem";
         std::ofstream(keyFile) << issued->privateKeyPem;
-        auto key = ua::crypto::RsaKey::fromPrivateKeyFile(keyFile);
+        auto key = ua::crypto::AsymmetricKey::fromPrivateKeyFile(keyFile);
         ASSERT_TRUE(key);
         key_ = *key;
     }
@@ -233,7 +233,7 @@ protected:
 
     test::TempDir dir_{"skillcell-https"};
     ua::ByteString certificate_;
-    ua::crypto::RsaKey key_;
+    ua::crypto::AsymmetricKey key_;
 };
 
 TEST_F(HttpsLoopback, ATrustedServerAnswersAKnownUser) {

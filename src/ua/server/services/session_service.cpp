@@ -5,7 +5,7 @@
 #include <algorithm>
 
 #include "ua/crypto/security_policy_profile.hpp"
-#include "ua/transport/rsa_security_policy.hpp"
+#include "ua/transport/certificate_security_policy.hpp"
 
 namespace skillcell::ua {
 namespace {
@@ -47,8 +47,8 @@ StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
         const auto* profile = channelProfile(ctx);
         if (profile == nullptr) return status::BadSecurityPolicyRejected;
         auto signature =
-            crypto::rsaSign(security.privateKey, profile->asymmetricSignature,
-                            certificateAndNonce(req.clientCertificate, req.clientNonce));
+            crypto::sign(security.privateKeyFor(profile->uri), profile->asymmetricSignature,
+                         certificateAndNonce(req.clientCertificate, req.clientNonce));
         if (!signature) return signature.status();
         serverSignature.algorithm = String(profile->asymmetricSignatureUri);
         serverSignature.signature = ByteString(std::move(*signature));
@@ -70,7 +70,7 @@ StatusCode createSession(ServiceContext& ctx, SessionManager& sessions,
     (*session)->setServerNonce(resp.serverNonce);
     if (secured(ctx)) (*session)->setClientCertificate(req.clientCertificate);
     resp.serverEndpoints = description.endpoints(url);
-    resp.serverCertificate = description.certificate;
+    resp.serverCertificate = description.certificateFor(ctx.securityPolicyUri);
     resp.serverSignature = std::move(serverSignature);
     resp.maxRequestMessageSize = ctx.limits->transport.maxMessageSize;
     return status::Good;
@@ -106,11 +106,14 @@ Result<std::string> decryptPassword(const ServiceContext& ctx, const ServerSecur
         }
         return std::string(token.password.bytes.begin(), token.password.bytes.end());
     }
+    // ECC encrypts a password as an EccEncryptedSecret, which we do not implement (and do
+    // not offer: ServerDescription::endpoints).
+    if (profile->isEcc()) return status::BadIdentityTokenRejected;
     if (token.encryptionAlgorithm != profile->asymmetricEncryptionUri) {
         return status::BadIdentityTokenInvalid;
     }
-    auto plain = crypto::rsaDecrypt(security.privateKey, profile->asymmetricEncryption,
-                                    token.password.bytes);
+    auto plain = crypto::rsaDecrypt(security.privateKeyFor(profile->uri),
+                                    profile->asymmetricEncryption, token.password.bytes);
     if (!plain || plain->size() < 4) return status::BadIdentityTokenInvalid;
     const std::uint32_t length = std::uint32_t{(*plain)[0]} | (std::uint32_t{(*plain)[1]} << 8) |
                                  (std::uint32_t{(*plain)[2]} << 16) |
@@ -164,9 +167,10 @@ Result<UserIdentity> checkIdentity(const ServiceContext& ctx, const ServerDescri
         auto key = publicKeyOf(x509.certificateData, ctx.clientCertificate, ctx.clientKey);
         if (!key) return status::BadIdentityTokenInvalid;
         if (req.userTokenSignature.algorithm != profile->asymmetricSignatureUri ||
-            crypto::rsaVerify(*key, profile->asymmetricSignature,
-                              certificateAndNonce(description.certificate, session.serverNonce()),
-                              req.userTokenSignature.signature.bytes)
+            crypto::verify(*key, profile->asymmetricSignature,
+                           certificateAndNonce(description.certificateFor(ctx.securityPolicyUri),
+                                               session.serverNonce()),
+                           req.userTokenSignature.signature.bytes)
                 .isBad()) {
             return status::BadUserSignatureInvalid;
         }
@@ -187,9 +191,10 @@ StatusCode activateSession(ServiceContext& ctx, SessionManager& sessions,
         auto key = publicKeyOf(session->clientCertificate(), ctx.clientCertificate, ctx.clientKey);
         if (profile == nullptr || !key ||
             req.clientSignature.algorithm != profile->asymmetricSignatureUri ||
-            crypto::rsaVerify(*key, profile->asymmetricSignature,
-                              certificateAndNonce(description.certificate, session->serverNonce()),
-                              req.clientSignature.signature.bytes)
+            crypto::verify(*key, profile->asymmetricSignature,
+                           certificateAndNonce(description.certificateFor(ctx.securityPolicyUri),
+                                               session->serverNonce()),
+                           req.clientSignature.signature.bytes)
                 .isBad()) {
             spdlog::warn("session {}: client signature refused", session->sessionId().toString());
             return status::BadApplicationSignatureInvalid;
