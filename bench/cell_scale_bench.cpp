@@ -36,6 +36,7 @@
 #include "detection_rig.hpp"
 #include "latency_stats.hpp"
 #include "process/child_process.hpp"
+#include "process/cpu_time.hpp"
 #include "ua/pki/own_certificate.hpp"
 
 namespace {
@@ -117,20 +118,9 @@ std::optional<std::string> readyPort(ChildProcess& child, int i, const fs::path&
     return portOf(line->substr(6));
 }
 
-/// CPU time of every thread of `pid`, in ns, from the scheduler's own account
-/// (/proc/PID/task/TID/schedstat); 0 when it cannot be read. The ticks of /proc/PID/stat charge a
-/// whole 10 ms tick to whoever runs when it falls: over a few seconds of idle that is 0.2 % a tick,
-/// and the busiest of 500 components is the one that happened to be charged most.
+/// A process's CPU time in ns (process/cpu_time.hpp says why schedstat, not ticks).
 long long cpuNanoseconds(pid_t pid) {
-    long long sum = 0;
-    std::error_code ec;
-    for (const auto& task :
-         std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
-        std::ifstream in(task.path() / "schedstat");
-        long long ns = 0;
-        if (in >> ns) sum += ns;
-    }
-    return sum;
+    return skillcell::process::cpuTime(pid).count();
 }
 
 /// A field of a /proc file in kB ("VmRSS:" of status, "Pss:" of smaps_rollup), 0 if absent.

@@ -92,6 +92,15 @@ ClientConfig clientConfig(std::string_view policy, MessageSecurityMode mode) {
     return c;
 }
 
+/// The server's endpoints, asked for on a None channel as a client does before it chooses.
+Result<std::vector<EndpointDescription>> endpointsOverNone(const std::string& url) {
+    BlockingClient discovery;
+    ClientConfig none;
+    none.createSession = false;
+    if (const auto s = discovery.connect(url, none); s.isBad()) return s;
+    return discovery.getEndpoints();
+}
+
 class SecureSession : public testing::Test {
 protected:
     RunningServer server{secureConfig(), addTargets};
@@ -195,11 +204,7 @@ TEST_F(SecureSession, ClientRefusesAServerItDoesNotTrust) {
 }
 
 TEST_F(SecureSession, NoneChannelServesDiscoveryOnly) {
-    BlockingClient discovery;
-    ClientConfig none;
-    none.createSession = false;
-    ASSERT_EQ(discovery.connect(server.url(), none), status::Good);
-    auto endpoints = discovery.getEndpoints();
+    auto endpoints = endpointsOverNone(server.url());
     ASSERT_TRUE(endpoints.ok());
     EXPECT_EQ(endpoints->size(), 6u);
     for (const auto& ep : *endpoints) {
@@ -316,11 +321,7 @@ TEST(EccSession, PasswordsAndRsaClientsAreNotServedOverEcc) {
     // No password travels over ECC (it would need an EccEncryptedSecret): the endpoints
     // offer certificates only; a client with a password finds no endpoint it can use, or,
     // pinned to ECC_nistP256, no token.
-    BlockingClient discovery;
-    ClientConfig none;
-    none.createSession = false;
-    ASSERT_EQ(discovery.connect(server.url(), none), status::Good);
-    auto endpoints = discovery.getEndpoints();
+    auto endpoints = endpointsOverNone(server.url());
     ASSERT_TRUE(endpoints.ok());
     ASSERT_EQ(endpoints->size(), 2u);
     for (const auto& ep : *endpoints) {
@@ -330,10 +331,7 @@ TEST(EccSession, PasswordsAndRsaClientsAreNotServedOverEcc) {
         }
     }
     auto withPassword = eccClientConfig();
-    withPassword.security.user = UserCredentials{};
-    withPassword.security.user.kind = UserCredentials::Kind::UserName;
-    withPassword.security.user.userName = "olga";
-    withPassword.security.user.password = "operator-pw";
+    withPassword.security.user = clientConfig(kBestSecurity, {}).security.user;  // olga's password
     BlockingClient password;
     EXPECT_EQ(password.connect(server.url(), withPassword), status::BadSecurityPolicyRejected);
     withPassword.security.policyUri = std::string(crypto::kPolicyEccNistP256);
@@ -344,6 +342,65 @@ TEST(EccSession, PasswordsAndRsaClientsAreNotServedOverEcc) {
     BlockingClient rsa;
     EXPECT_EQ(rsa.connect(server.url(), clientConfig(kBestSecurity, MessageSecurityMode::None)),
               status::BadSecurityPolicyRejected);
+}
+
+TEST(EccSession, AServerWithBothCertificatesServesEachClientItsPolicy) {
+    // As a component under a cell CA: RSA and ECC endpoints, each with its certificate; the
+    // client that has both certificates is one user by either.
+    ServerConfig config = secureConfig();
+    config.description.eccCertificate = eccCerts().server.der;
+    config.security.eccPrivateKey = eccCerts().server.key;
+    config.description.securityEndpoints = allSecurityEndpoints(
+        false, {crypto::AsymmetricKey::Kind::Rsa, crypto::AsymmetricKey::Kind::EccNistP256});
+    config.security.validateCertificate = [](const ByteString& der, std::string_view,
+                                             std::string* reason) {
+        for (const auto* known : {&certs().client.der, &eccCerts().client.der}) {
+            if (leafCertificate(der.bytes) == leafCertificate(known->bytes)) return status::Good;
+        }
+        *reason = "not in the trust list";
+        return StatusCode(0x801A0000);
+    };
+    auto users = std::make_shared<UserDatabase>();
+    ASSERT_TRUE(users->setPassword("olga", RoleSet{Role::Operator}, "operator-pw").isGood());
+    ASSERT_TRUE(users
+                    ->setCertificates("cell-mes", RoleSet{Role::Operator},
+                                      {certs().client.der, eccCerts().client.der})
+                    .isGood());
+    config.security.users = users;
+    RunningServer server{config, addTargets};
+
+    auto endpoints = endpointsOverNone(server.url());
+    ASSERT_TRUE(endpoints.ok());
+    EXPECT_EQ(endpoints->size(), 8u);
+    for (const auto& ep : *endpoints) {
+        const bool ecc = ep.securityPolicyUri == crypto::kPolicyEccNistP256;
+        EXPECT_EQ(ep.serverCertificate, ecc ? eccCerts().server.der : certs().server.der);
+    }
+
+    // Both certificates, the user the (RSA) application certificate: ECC, as its P-256 user.
+    ClientConfig both = clientConfig(kBestSecurity, MessageSecurityMode::None);
+    both.security.eccCertificate = eccCerts().client.der;
+    both.security.eccPrivateKey = eccCerts().client.key;
+    both.security.user = UserCredentials{};
+    both.security.user.kind = UserCredentials::Kind::Certificate;
+    both.security.user.certificate = certs().client.der;
+    both.security.user.privateKey = certs().client.key;
+    BlockingClient component;
+    ASSERT_EQ(component.connect(server.url(), both), status::Good);
+    EXPECT_EQ(component.security().first, crypto::kPolicyEccNistP256);
+    EXPECT_EQ(component.writeValue(kTarget, Variant(5.0)), status::Good);  // cell-mes, Operator
+
+    // The same client with a password: the RSA endpoints.
+    both.security.user = clientConfig(kBestSecurity, {}).security.user;  // olga's password
+    BlockingClient person;
+    ASSERT_EQ(person.connect(server.url(), both), status::Good);
+    EXPECT_EQ(person.security().first, crypto::kPolicyAes256Sha256RsaPss);
+
+    // A client with an RSA certificate only: the RSA endpoints.
+    BlockingClient rsaOnly;
+    ASSERT_EQ(rsaOnly.connect(server.url(), clientConfig(kBestSecurity, MessageSecurityMode::None)),
+              status::Good);
+    EXPECT_EQ(rsaOnly.security().first, crypto::kPolicyAes256Sha256RsaPss);
 }
 
 }  // namespace client_security_test
