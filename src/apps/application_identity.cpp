@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <mutex>
+#include <optional>
 
 #include "ua/discovery/network_interfaces.hpp"
+#include "ua/pki/certificate_authority.hpp"
 #include "ua/pki/certificate_validator.hpp"
 
 namespace skillcell::apps {
@@ -52,14 +54,28 @@ ua::Result<ApplicationIdentity> ApplicationIdentity::load(
     // The ECC certificate only under a cell CA: peers trust it through the CA, where a
     // self-signed one would need trusting by hand beside the RSA one.
     std::vector<ua::pki::CertificateKey> kinds{ua::pki::CertificateKey::Rsa2048};
-    if (!ua::pki::cellCaDirectory(pkiDir).empty()) {
+    // The cell CA's certificate, read once for both (its key only when one must be issued).
+    std::optional<ua::pki::CertificateAuthority> ca;
+    if (const auto caDir = ua::pki::cellCaDirectory(pkiDir); !caDir.empty()) {
+        std::string why;
+        auto loaded = ua::pki::loadCaCertificate(caDir, &why);
+        if (!loaded) {
+            if (error != nullptr) {
+                *error = "application certificate in " + pkiDir.string() + ": cell CA " +
+                         caDir.string() + ": " + why;
+            }
+            return loaded.status();
+        }
+        ca = std::move(*loaded);
         kinds.push_back(ua::pki::CertificateKey::EccNistP256);
     }
     for (const auto kind : kinds) {
         subject.key = kind;
         const bool ecc = kind == ua::pki::CertificateKey::EccNistP256;
         std::string why;
-        auto certificate = ua::pki::loadOrCreateOwnCertificate(pkiDir, subject, &why);
+        auto certificate = ua::pki::loadOrCreateOwnCertificate(
+            pkiDir, subject, ca ? &*ca : static_cast<const ua::pki::CertificateAuthority*>(nullptr),
+            &why);
         if (!certificate) {
             if (error != nullptr) {
                 *error = std::string(ecc ? "ECC " : "") + "application certificate in " +
@@ -67,14 +83,15 @@ ua::Result<ApplicationIdentity> ApplicationIdentity::load(
             }
             return certificate.status();
         }
-        auto key = ua::crypto::AsymmetricKey::fromPrivateKeyFile(certificate->privateKeyFile);
         const auto wanted = ecc ? ua::crypto::AsymmetricKey::Kind::EccNistP256
                                 : ua::crypto::AsymmetricKey::Kind::Rsa;
-        if (!key || key->kind() != wanted) {
+        auto key =
+            ua::crypto::AsymmetricKey::fromPrivateKeyFile(certificate->privateKeyFile, wanted);
+        if (!key) {
             if (error != nullptr) {
                 *error = "cannot read the private key " + certificate->privateKeyFile.string();
             }
-            return key ? ua::StatusCode(ua::status::BadConfigurationError) : key.status();
+            return key.status();
         }
         spdlog::info("{} application certificate {}", certificate->created ? "created" : "using",
                      certificate->certificateFile.string());

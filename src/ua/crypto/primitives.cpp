@@ -3,6 +3,7 @@
 #include <openssl/bio.h>
 #include <openssl/core_names.h>
 #include <openssl/crypto.h>
+#include <openssl/decoder.h>
 #include <openssl/ec.h>
 #include <openssl/hmac.h>
 #include <openssl/kdf.h>
@@ -125,6 +126,24 @@ Result<AsymmetricKey> AsymmetricKey::fromPrivateKeyFile(const std::filesystem::p
     if (!in) return status::BadConfigurationError;
     return adopt(PEM_read_bio_PrivateKey(in.get(), nullptr, nullptr, nullptr),
                  status::BadConfigurationError);
+}
+
+Result<AsymmetricKey> AsymmetricKey::fromPrivateKeyFile(const std::filesystem::path& pem,
+                                                        Kind expected) {
+    const std::unique_ptr<BIO, int (*)(BIO*)> in(BIO_new_file(pem.c_str(), "rb"), BIO_free);
+    if (!in) return status::BadConfigurationError;
+    EVP_PKEY* key = nullptr;
+    const std::unique_ptr<OSSL_DECODER_CTX, void (*)(OSSL_DECODER_CTX*)> decoder(
+        OSSL_DECODER_CTX_new_for_pkey(&key, "PEM", nullptr, expected == Kind::Rsa ? "RSA" : "EC",
+                                      OSSL_KEYMGMT_SELECT_KEYPAIR, nullptr, nullptr),
+        OSSL_DECODER_CTX_free);
+    if (!decoder || OSSL_DECODER_from_bio(decoder.get(), in.get()) != 1) {
+        EVP_PKEY_free(key);
+        return status::BadConfigurationError;
+    }
+    auto out = adopt(key, status::BadConfigurationError);
+    if (out && out->kind() != expected) return status::BadConfigurationError;
+    return out;
 }
 
 Result<AsymmetricKey> AsymmetricKey::generate(int bits) {

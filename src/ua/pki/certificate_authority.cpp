@@ -384,10 +384,13 @@ StatusCode installCertificateAuthority(const CertificateAuthority& ca, const fs:
 
 bool issuedBy(const ByteString& certificate, const CertificateAuthority& ca) {
     auto cert = parseCertificate(certificate);
-    if (!cert) return false;
+    return cert && issuedBy(cert->get(), ca);
+}
+
+bool issuedBy(X509* certificate, const CertificateAuthority& ca) {
     // The CA certificate's public key: the CA's private key is not needed to check.
-    const bool ok = X509_check_issued(ca.certificate.get(), cert->get()) == X509_V_OK &&
-                    X509_verify(cert->get(), X509_get0_pubkey(ca.certificate.get())) == 1;
+    const bool ok = X509_check_issued(ca.certificate.get(), certificate) == X509_V_OK &&
+                    X509_verify(certificate, X509_get0_pubkey(ca.certificate.get())) == 1;
     ERR_clear_error();
     return ok;
 }

@@ -83,5 +83,7 @@ struct IssuedCertificate {
 
 /// True when `certificate` was issued (and signed) by `ca`.
 [[nodiscard]] bool issuedBy(const ByteString& certificate, const CertificateAuthority& ca);
+/// The same for a certificate parsed already.
+[[nodiscard]] bool issuedBy(X509* certificate, const CertificateAuthority& ca);
 
 }  // namespace skillcell::ua::pki
