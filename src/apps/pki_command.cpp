@@ -79,6 +79,9 @@ void printSection(const std::string& title, const fs::path& dir) {
                   << (i.selfSigned ? "  [self-signed]" : "") << '\n';
         if (!i.selfSigned) std::cout << "    issuer   " << i.issuer << '\n';
         std::cout << "    uri      " << (i.applicationUri.empty() ? "-" : i.applicationUri) << '\n'
+                  << "    key      "
+                  << (i.keyType == "RSA" ? "RSA " + std::to_string(i.keyBits) + " bits" : i.keyType)
+                  << '\n'
                   << "    validity " << date(i.notBefore) << " .. " << date(i.notAfter) << "  "
                   << state << '\n';
     }

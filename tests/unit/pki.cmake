@@ -4,7 +4,8 @@ target_link_libraries(skillcell_pki_test_support PUBLIC skillcell_ua_pki)
 
 # Not skillcell_unit_test(): the "pki." prefix lets `ctest -R pki` select exactly these.
 add_executable(test_pki pki_validator_test.cpp pki_certificate_test.cpp pki_ca_test.cpp)
-target_link_libraries(test_pki PRIVATE skillcell_pki_test_support GTest::gtest_main GTest::gmock)
+target_link_libraries(test_pki PRIVATE skillcell_pki_test_support skillcell_ua_crypto
+                               GTest::gtest_main GTest::gmock)
 gtest_discover_tests(test_pki TEST_PREFIX "pki." DISCOVERY_TIMEOUT 30)
 
 # The operator's view: `skillcell pki` init-ca, list, trust, reject, issue; exit codes.

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "pki_test_support.hpp"
+#include "ua/crypto/primitives.hpp"
 #include "ua/pki/certificate.hpp"
 #include "ua/pki/certificate_authority.hpp"
 #include "ua/pki/certificate_validator.hpp"
@@ -83,6 +84,42 @@ TEST(CellCa, ComponentsOfOneCaTrustEachOtherWithoutManualSteps) {
     // A stranger's self-signed certificate is still refused.
     const auto stranger = test::makeCertificate({});
     EXPECT_EQ(atRobot.validate(stranger.der()).status, status::BadCertificateUntrusted);
+}
+
+TEST(CellCa, IssuesP256CertificatesBesideTheRsaOnesThatPeersTrust) {
+    // The second certificate of a component under the cell CA, for ECC_nistP256.
+    test::TempDir tmp;
+    auto ca = createCertificateAuthority(tmp.path() / "ca", {});
+    ASSERT_TRUE(ca);
+    auto subject = subjectFor("robot");
+    subject.key = CertificateKey::EccNistP256;
+    std::string error;
+    auto ecc = loadOrCreateOwnCertificate(tmp.path() / "robot", subject, &*ca, &error);
+    ASSERT_TRUE(ecc) << error;
+    EXPECT_EQ(ecc->certificateFile.filename(), "cert-nistP256.der");
+    EXPECT_EQ(ecc->privateKeyFile.filename(), "key-nistP256.pem");
+    EXPECT_EQ(modeOf(ecc->privateKeyFile), 0600u);
+    EXPECT_TRUE(issuedBy(ecc->der, *ca));
+    auto key = crypto::AsymmetricKey::fromPrivateKeyFile(ecc->privateKeyFile,
+                                                         crypto::AsymmetricKey::Kind::EccNistP256);
+    ASSERT_TRUE(key);
+    // The RSA certificate beside it is another file and stays as it is.
+    auto rsa = loadOrCreateOwnCertificate(tmp.path() / "robot", subjectFor("robot"), &*ca, &error);
+    ASSERT_TRUE(rsa) << error;
+    EXPECT_NE(rsa->der, ecc->der);
+    EXPECT_EQ(crypto::AsymmetricKey::fromPrivateKeyFile(rsa->privateKeyFile,
+                                                        crypto::AsymmetricKey::Kind::EccNistP256)
+                  .status(),
+              status::BadConfigurationError);
+    auto again = loadOrCreateOwnCertificate(tmp.path() / "robot", subject, &*ca, &error);
+    ASSERT_TRUE(again) << error;
+    EXPECT_FALSE(again->created);
+    EXPECT_EQ(again->der, ecc->der);
+    // A peer of the same CA accepts it: its key usage is an ECC key's (no keyEncipherment).
+    ASSERT_TRUE(loadOrCreateOwnCertificate(tmp.path() / "gripper", subjectFor("gripper"), &*ca));
+    CertificateValidator atGripper(tmp.path() / "gripper");
+    const auto verdict = atGripper.validate(ecc->der, "urn:skillcell:robot");
+    EXPECT_EQ(verdict.status, status::Good) << verdict.reason;
 }
 
 TEST(CellCa, ReplacesASelfSignedCertificateAndKeepsAnIssuedOne) {

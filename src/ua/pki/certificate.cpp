@@ -1,5 +1,6 @@
 #include "ua/pki/certificate.hpp"
 
+#include <openssl/core_names.h>
 #include <openssl/sha.h>
 
 #include <ctime>
@@ -126,6 +127,19 @@ CertificateInfo inspectCertificate(X509* cert) {
     info.selfSigned = X509_self_signed(cert, 1) == 1;
     if (const EVP_PKEY* key = X509_get0_pubkey(cert); key != nullptr) {
         info.keyBits = EVP_PKEY_get_bits(key);
+        char group[64] = {};
+        std::size_t length = 0;
+        if (EVP_PKEY_is_a(key, "RSA") == 1) {
+            info.keyType = "RSA";
+        } else if (EVP_PKEY_get_utf8_string_param(key, OSSL_PKEY_PARAM_GROUP_NAME, group,
+                                                  sizeof group, &length) == 1) {
+            info.keyType = std::string_view(group, length) == "prime256v1"
+                               ? "EC P-256"
+                               : "EC " + std::string(group, length);
+        } else {
+            info.keyType =
+                EVP_PKEY_get0_type_name(key) != nullptr ? EVP_PKEY_get0_type_name(key) : "?";
+        }
     }
     return info;
 }

@@ -29,6 +29,7 @@ struct CertificateInfo {
     bool isCa = false;        // basicConstraints CA:TRUE
     bool selfSigned = false;  // issuer == subject and its own key verifies the signature
     int keyBits = 0;
+    std::string keyType;  // "RSA", "EC P-256", or OpenSSL's name of another
 };
 
 /// One certificate of a chain: its DER bytes and the certificate they parse to.
