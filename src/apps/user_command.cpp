@@ -23,7 +23,7 @@ struct UserOptions {
     std::string applicationUri = "urn:skillcell:server";
     std::string name;
     std::vector<std::string> roles;
-    std::string certificateFile;
+    std::vector<std::string> certificateFiles;
 };
 
 fs::path usersFile(const UserOptions& o) {
@@ -61,14 +61,18 @@ int add(const UserOptions& o) {
         return 1;
     }
     ua::StatusCode s = ua::status::Good;
-    if (!o.certificateFile.empty()) {
-        std::ifstream in(o.certificateFile, std::ios::binary);
-        if (!in) {
-            std::cerr << "cannot read " << o.certificateFile << "\n";
-            return 1;
+    if (!o.certificateFiles.empty()) {
+        std::vector<ua::ByteString> certificates;
+        for (const auto& certificateFile : o.certificateFiles) {
+            std::ifstream in(certificateFile, std::ios::binary);
+            if (!in) {
+                std::cerr << "cannot read " << certificateFile << "\n";
+                return 1;
+            }
+            certificates.emplace_back(
+                std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
         }
-        ua::ByteString der(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
-        s = db->setCertificate(o.name, roles, der);
+        s = db->setCertificates(o.name, roles, certificates);
     } else {
         std::string password;
         if (!std::getline(std::cin, password) || password.empty()) {
@@ -101,8 +105,10 @@ int list(const UserOptions& o) {
     }
     for (const auto& u : db->users()) {
         const auto kind = u.credential.substr(0, u.credential.find('$'));
+        // An application's certificates each have a line: the thumbprint tells them apart.
         std::cout << u.name << "\t" << u.roles.toString() << "\t"
-                  << (kind == "x509" ? "certificate" : "password") << "\n";
+                  << (kind == "x509" ? "certificate " + u.credential.substr(5) : "password")
+                  << "\n";
     }
     return 0;
 }
@@ -140,8 +146,10 @@ Command addUserCommand(CLI::App& app) {
     addCmd->add_option("--role", o->roles, "Observer, Operator, Engineer or Admin (repeatable)")
         ->required()
         ->delimiter(',');
-    addCmd->add_option("--certificate", o->certificateFile,
-                       "identify the user by this X.509 certificate (DER) instead of a password");
+    addCmd->add_option("--certificate", o->certificateFiles,
+                       "identify the user by this X.509 certificate (DER) instead of a password; "
+                       "repeat it for each certificate of an application (own/certs/cert.der and, "
+                       "under a cell CA, cert-nistP256.der, which it uses over ECC_nistP256)");
     addFileOptions(addCmd, *o);
     auto* listCmd = cmd->add_subcommand("list", "list the users and their roles");
     addFileOptions(listCmd, *o);

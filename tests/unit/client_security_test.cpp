@@ -403,4 +403,30 @@ TEST(EccSession, AServerWithBothCertificatesServesEachClientItsPolicy) {
     EXPECT_EQ(rsaOnly.security().first, crypto::kPolicyAes256Sha256RsaPss);
 }
 
+TEST(UserDatabaseCertificates, AnApplicationIsOneUserByEachOfItsCertificates) {
+    UserDatabase users;
+    ASSERT_TRUE(users
+                    .setCertificates("cell-mes", RoleSet{Role::Operator},
+                                     {certs().client.der, eccCerts().client.der})
+                    .isGood());
+    for (const auto* der : {&certs().client.der, &eccCerts().client.der}) {
+        auto who = users.authenticateCertificate(*der);
+        ASSERT_TRUE(who.ok());
+        EXPECT_EQ(who->name, "cell-mes");
+    }
+    EXPECT_FALSE(users.authenticateCertificate(certs().stranger.der).ok());
+    // A list with a file that is no certificate changes nothing.
+    EXPECT_EQ(
+        users.setCertificates("cell-mes", RoleSet{Role::Operator},
+                              {certs().stranger.der, ByteString(std::vector<std::uint8_t>{1, 2})}),
+        status::BadInvalidArgument);
+    EXPECT_TRUE(users.authenticateCertificate(eccCerts().client.der).ok());
+    EXPECT_FALSE(users.authenticateCertificate(certs().stranger.der).ok());
+    // Setting them again replaces both lines.
+    ASSERT_TRUE(
+        users.setCertificate("cell-mes", RoleSet{Role::Operator}, certs().stranger.der).isGood());
+    EXPECT_FALSE(users.authenticateCertificate(eccCerts().client.der).ok());
+    EXPECT_EQ(users.users().size(), 1u);
+}
+
 }  // namespace client_security_test
