@@ -830,8 +830,6 @@ asio::awaitable<StatusCode> Client::connect(std::string endpointUrl, ClientConfi
 
 namespace {
 
-/// How much an endpoint protects: SignAndEncrypt over Sign, then the server's own ranking
-/// (securityLevel), then the stronger policy of ours. 0: not one we can use.
 /// Whether we have a certificate and key for `profile`'s kind of key.
 bool canUse(const crypto::SecurityPolicyProfile& profile, const ClientSecurity& security) {
     const auto has = [&profile](const ByteString& certificate, const crypto::AsymmetricKey& key) {
@@ -858,6 +856,8 @@ void useCertificateFor(const crypto::SecurityPolicyProfile& profile, ClientSecur
     std::swap(security.privateKey, security.eccPrivateKey);
 }
 
+/// How much an endpoint protects: SignAndEncrypt over Sign, then the server's own ranking
+/// (securityLevel), then the stronger policy of ours. 0: not one we can use.
 int endpointStrength(const EndpointDescription& ep, const ClientSecurity& security,
                      bool createsSession) {
     // A password or a certificate goes only where the endpoint takes one (a password not
