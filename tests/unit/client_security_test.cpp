@@ -366,6 +366,8 @@ TEST(EccSession, AServerWithBothCertificatesServesEachClientItsPolicy) {
                     ->setCertificates("cell-mes", RoleSet{Role::Operator},
                                       {certs().client.der, eccCerts().client.der})
                     .isGood());
+    ASSERT_TRUE(users->setCertificate("robot-cell", RoleSet{Role::Operator}, certs().userCert.der)
+                    .isGood());
     config.security.users = users;
     RunningServer server{config, addTargets};
 
@@ -395,6 +397,16 @@ TEST(EccSession, AServerWithBothCertificatesServesEachClientItsPolicy) {
     BlockingClient person;
     ASSERT_EQ(person.connect(server.url(), both), status::Good);
     EXPECT_EQ(person.security().first, crypto::kPolicyAes256Sha256RsaPss);
+
+    // The same client acting for a person's RSA user certificate, which cannot sign for
+    // ECC: the RSA endpoints.
+    both.security.user = UserCredentials{};
+    both.security.user.kind = UserCredentials::Kind::Certificate;
+    both.security.user.certificate = certs().userCert.der;
+    both.security.user.privateKey = certs().userCert.key;
+    BlockingClient personByCertificate;
+    ASSERT_EQ(personByCertificate.connect(server.url(), both), status::Good);
+    EXPECT_EQ(personByCertificate.security().first, crypto::kPolicyAes256Sha256RsaPss);
 
     // A client with an RSA certificate only: the RSA endpoints.
     BlockingClient rsaOnly;

@@ -835,8 +835,17 @@ bool canUse(const crypto::SecurityPolicyProfile& profile, const ClientSecurity& 
     const auto has = [&profile](const ByteString& certificate, const crypto::AsymmetricKey& key) {
         return !certificate.empty() && key.valid() && key.kind() == profile.keyKind;
     };
-    return has(security.certificate, security.privateKey) ||
-           has(security.eccCertificate, security.eccPrivateKey);
+    const bool own = has(security.certificate, security.privateKey);
+    const bool second = has(security.eccCertificate, security.eccPrivateKey);
+    // An X.509 user signs with the channel's algorithm: a user certificate of another kind
+    // fits only when it is the application's, which useCertificateFor() swaps with it.
+    const auto& user = security.user;
+    if (user.kind == UserCredentials::Kind::Certificate && user.privateKey.valid() &&
+        user.privateKey.kind() != profile.keyKind &&
+        !(second && user.certificate == security.certificate)) {
+        return false;
+    }
+    return own || second;
 }
 
 /// Makes the certificate of `profile`'s kind the channel's (and the user's, when the user is
