@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <mutex>
-#include <optional>
 
 #include "ua/discovery/network_interfaces.hpp"
 #include "ua/pki/certificate_authority.hpp"
@@ -53,29 +52,20 @@ ua::Result<ApplicationIdentity> ApplicationIdentity::load(
     identity.pkiDir_ = pkiDir;
     // The ECC certificate only under a cell CA: peers trust it through the CA, where a
     // self-signed one would need trusting by hand beside the RSA one.
-    std::vector<ua::pki::CertificateKey> kinds{ua::pki::CertificateKey::Rsa2048};
     // The cell CA's certificate, read once for both (its key only when one must be issued).
-    std::optional<ua::pki::CertificateAuthority> ca;
-    if (const auto caDir = ua::pki::cellCaDirectory(pkiDir); !caDir.empty()) {
-        std::string why;
-        auto loaded = ua::pki::loadCaCertificate(caDir, &why);
-        if (!loaded) {
-            if (error != nullptr) {
-                *error = "application certificate in " + pkiDir.string() + ": cell CA " +
-                         caDir.string() + ": " + why;
-            }
-            return loaded.status();
-        }
-        ca = std::move(*loaded);
-        kinds.push_back(ua::pki::CertificateKey::EccNistP256);
+    std::string why;
+    auto ca = ua::pki::loadCellCaCertificate(pkiDir, &why);
+    if (!ca) {
+        if (error != nullptr) *error = "application certificate in " + pkiDir.string() + ": " + why;
+        return ca.status();
     }
+    std::vector<ua::pki::CertificateKey> kinds{ua::pki::CertificateKey::Rsa2048};
+    if (*ca) kinds.push_back(ua::pki::CertificateKey::EccNistP256);
+    const ua::pki::CertificateAuthority* issuer = *ca ? &**ca : nullptr;
     for (const auto kind : kinds) {
         subject.key = kind;
         const bool ecc = kind == ua::pki::CertificateKey::EccNistP256;
-        std::string why;
-        auto certificate = ua::pki::loadOrCreateOwnCertificate(
-            pkiDir, subject, ca ? &*ca : static_cast<const ua::pki::CertificateAuthority*>(nullptr),
-            &why);
+        auto certificate = ua::pki::loadOrCreateOwnCertificate(pkiDir, subject, issuer, &why);
         if (!certificate) {
             if (error != nullptr) {
                 *error = std::string(ecc ? "ECC " : "") + "application certificate in " +

@@ -46,6 +46,16 @@ void addClientSecurityOptions(CLI::App* cmd, ClientSecurityOptions& o) {
 
 namespace {
 
+/// The client is the application: its certificates (the P-256 one, under a cell CA, for
+/// ECC_nistP256 where the server offers it) and its trust list.
+void actAs(const ApplicationIdentity& identity, ua::ClientSecurity& security) {
+    security.certificate = identity.certificate().der;
+    security.privateKey = identity.privateKey();
+    security.eccCertificate = identity.eccCertificate().der;
+    security.eccPrivateKey = identity.eccPrivateKey();
+    security.validateServerCertificate = identity.serverCertificateCheck();
+}
+
 ua::Result<std::string> readPassword(const ClientUserOptions& user, const std::string& prefix,
                                      std::string* error) {
     std::string password;
@@ -101,12 +111,7 @@ ua::Result<ua::ClientSecurity> componentClientSecurity(const ApplicationIdentity
     ua::ClientSecurity security;
     if (!insecure) {
         security.policyUri = std::string(ua::kBestSecurity);
-        security.certificate = identity.certificate().der;
-        security.privateKey = identity.privateKey();
-        // Among the cell's components: ECC_nistP256 where the server offers it.
-        security.eccCertificate = identity.eccCertificate().der;
-        security.eccPrivateKey = identity.eccPrivateKey();
-        security.validateServerCertificate = identity.serverCertificateCheck();
+        actAs(identity, security);
     }
     if (const auto s =
             fillUser(insecure ? nullptr : &identity, user, "--client-", security.user, error);
@@ -153,11 +158,7 @@ ua::Result<ua::ClientSecurity> commandClientSecurity(const ClientSecurityOptions
     }
     auto identity = ApplicationIdentity::load(pkiDir, *applicationUri, "skillcell", error);
     if (!identity) return identity.status();
-    security.certificate = identity->certificate().der;
-    security.privateKey = identity->privateKey();
-    security.eccCertificate = identity->eccCertificate().der;
-    security.eccPrivateKey = identity->eccPrivateKey();
-    security.validateServerCertificate = identity->serverCertificateCheck();
+    actAs(*identity, security);
     if (const auto s = fillUser(&*identity, options.user, "--", security.user, error); s.isBad()) {
         return s;
     }

@@ -39,6 +39,15 @@ const Certificates& certs() {
     return c;
 }
 
+/// A user who is an X.509 certificate, as a component is its application certificate.
+UserCredentials certificateUser(const TestCertificate& certificate) {
+    UserCredentials user;
+    user.kind = UserCredentials::Kind::Certificate;
+    user.certificate = certificate.der;
+    user.privateKey = certificate.key;
+    return user;
+}
+
 ServerConfig secureConfig() {
     ServerConfig config = RunningServer::defaultConfig();
     config.description.certificate = certs().server.der;
@@ -158,9 +167,7 @@ TEST_F(SecureSession, WrongPasswordUnknownUserAndAnonymousAreRefused) {
 TEST_F(SecureSession, X509UserTokenNeedsAKnownCertificateAndItsKey) {
     auto config =
         clientConfig(crypto::kPolicyAes128Sha256RsaOaep, MessageSecurityMode::SignAndEncrypt);
-    config.security.user.kind = UserCredentials::Kind::Certificate;
-    config.security.user.certificate = certs().userCert.der;
-    config.security.user.privateKey = certs().userCert.key;
+    config.security.user = certificateUser(certs().userCert);
     BlockingClient known;
     ASSERT_EQ(known.connect(server.url(), config), status::Good);
     EXPECT_EQ(known.writeValue(kTarget, Variant(2.0)), status::Good);
@@ -286,9 +293,7 @@ ClientConfig eccClientConfig() {
     c.security.certificate = eccCerts().client.der;
     c.security.privateKey = eccCerts().client.key;
     c.applicationUri = "urn:skillcell:client";
-    c.security.user.kind = UserCredentials::Kind::Certificate;
-    c.security.user.certificate = eccCerts().client.der;
-    c.security.user.privateKey = eccCerts().client.key;
+    c.security.user = certificateUser(eccCerts().client);
     return c;
 }
 
@@ -383,10 +388,7 @@ TEST(EccSession, AServerWithBothCertificatesServesEachClientItsPolicy) {
     ClientConfig both = clientConfig(kBestSecurity, MessageSecurityMode::None);
     both.security.eccCertificate = eccCerts().client.der;
     both.security.eccPrivateKey = eccCerts().client.key;
-    both.security.user = UserCredentials{};
-    both.security.user.kind = UserCredentials::Kind::Certificate;
-    both.security.user.certificate = certs().client.der;
-    both.security.user.privateKey = certs().client.key;
+    both.security.user = certificateUser(certs().client);
     BlockingClient component;
     ASSERT_EQ(component.connect(server.url(), both), status::Good);
     EXPECT_EQ(component.security().first, crypto::kPolicyEccNistP256);
@@ -400,10 +402,7 @@ TEST(EccSession, AServerWithBothCertificatesServesEachClientItsPolicy) {
 
     // The same client acting for a person's RSA user certificate, which cannot sign for
     // ECC: the RSA endpoints.
-    both.security.user = UserCredentials{};
-    both.security.user.kind = UserCredentials::Kind::Certificate;
-    both.security.user.certificate = certs().userCert.der;
-    both.security.user.privateKey = certs().userCert.key;
+    both.security.user = certificateUser(certs().userCert);
     BlockingClient personByCertificate;
     ASSERT_EQ(personByCertificate.connect(server.url(), both), status::Good);
     EXPECT_EQ(personByCertificate.security().first, crypto::kPolicyAes256Sha256RsaPss);

@@ -66,8 +66,9 @@ struct ClientSecurity {
     ByteString certificate;
     crypto::AsymmetricKey privateKey;
     /// A second certificate of ours, with a P-256 key (when `certificate` has an RSA one):
-    /// with it the client may also use ECC_nistP256, and kBestSecurity prefers it. The
-    /// channel then uses it, and so does the user when the user is `certificate`.
+    /// with it the client may also use ECC_nistP256, and kBestSecurity prefers it. Once an
+    /// ECC endpoint is chosen the client's copy swaps the two pairs (the channel and the
+    /// handshake read `certificate`), and so the user's when the user is `certificate`.
     ByteString eccCertificate;
     crypto::AsymmetricKey eccPrivateKey;
     /// Decides whether to trust the server's certificate; unset: trusted (tests only).

@@ -54,15 +54,16 @@ bool setSignaturePadding(EVP_PKEY_CTX* ctx, SignatureAlgorithm algorithm) {
 }
 
 constexpr std::size_t kP256Coordinate = 32;
+constexpr const char* kP256Group = "prime256v1";  // OpenSSL's name of NIST P-256
 
-/// Whether `key` is an EC key on P-256 (OpenSSL names it prime256v1).
+/// Whether `key` is an EC key on P-256.
 bool isNistP256(EVP_PKEY* key) {
     if (EVP_PKEY_is_a(key, "EC") != 1) return false;
     char group[64] = {};
     std::size_t length = 0;
     return EVP_PKEY_get_utf8_string_param(key, OSSL_PKEY_PARAM_GROUP_NAME, group, sizeof(group),
                                           &length) == 1 &&
-           std::string_view(group, length) == "prime256v1";
+           std::string_view(group, length) == kP256Group;
 }
 
 /// OpenSSL's DER ECDSA-Sig-Value as r || s, each `half` bytes.
@@ -189,7 +190,7 @@ Result<Bytes> EphemeralKey::agree(ByteView peerPublicKey) const {
     const std::unique_ptr<OSSL_PARAM_BLD, void (*)(OSSL_PARAM_BLD*)> build(OSSL_PARAM_BLD_new(),
                                                                            OSSL_PARAM_BLD_free);
     if (!build ||
-        OSSL_PARAM_BLD_push_utf8_string(build.get(), OSSL_PKEY_PARAM_GROUP_NAME, "prime256v1", 0) !=
+        OSSL_PARAM_BLD_push_utf8_string(build.get(), OSSL_PKEY_PARAM_GROUP_NAME, kP256Group, 0) !=
             1 ||
         OSSL_PARAM_BLD_push_octet_string(build.get(), OSSL_PKEY_PARAM_PUB_KEY, point.data(),
                                          point.size()) != 1) {
@@ -363,7 +364,7 @@ StatusCode aesCbcDecrypt(ByteView key, ByteView iv, std::span<std::uint8_t> data
     return aesCbc(key, iv, data, false);
 }
 
-Bytes hkdfSha256(ByteView salt, ByteView secret, ByteView info, std::size_t length) {
+Result<Bytes> hkdfSha256(ByteView salt, ByteView secret, ByteView info, std::size_t length) {
     const std::unique_ptr<EVP_KDF, void (*)(EVP_KDF*)> kdf(EVP_KDF_fetch(nullptr, "HKDF", nullptr),
                                                            EVP_KDF_free);
     const std::unique_ptr<EVP_KDF_CTX, void (*)(EVP_KDF_CTX*)> ctx(
@@ -381,8 +382,9 @@ Bytes hkdfSha256(ByteView salt, ByteView secret, ByteView info, std::size_t leng
         OSSL_PARAM_construct_end(),
     };
     Bytes out(length);
-    // Fails only for lengths above 255 hash lengths, which no policy asks for.
-    if (!ctx || EVP_KDF_derive(ctx.get(), out.data(), out.size(), params) != 1) std::abort();
+    if (!ctx || EVP_KDF_derive(ctx.get(), out.data(), out.size(), params) != 1) {
+        return status::BadInternalError;
+    }
     return out;
 }
 

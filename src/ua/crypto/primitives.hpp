@@ -102,8 +102,10 @@ private:
 [[nodiscard]] StatusCode aesCbcEncrypt(ByteView key, ByteView iv, std::span<std::uint8_t> data);
 [[nodiscard]] StatusCode aesCbcDecrypt(ByteView key, ByteView iv, std::span<std::uint8_t> data);
 /// HKDF-SHA256 (RFC 5869): extract with `salt` from `secret`, expand with `info` to `length`
-/// bytes: the ECC policies' key derivation (OPC 10000-6, 6.8.1).
-[[nodiscard]] Bytes hkdfSha256(ByteView salt, ByteView secret, ByteView info, std::size_t length);
+/// bytes: the ECC policies' key derivation (OPC 10000-6, 6.8.1). BadInternalError when
+/// OpenSSL offers no HKDF (a provider without it) or `length` exceeds 255 hash lengths.
+[[nodiscard]] Result<Bytes> hkdfSha256(ByteView salt, ByteView secret, ByteView info,
+                                       std::size_t length);
 /// P_SHA256(secret, seed) of RFC 5246 5, `length` bytes: the UA key derivation.
 [[nodiscard]] Bytes pSha256(ByteView secret, ByteView seed, std::size_t length);
 [[nodiscard]] Bytes sha1(ByteView data);

@@ -272,6 +272,19 @@ Result<CertificateAuthority> loadCaCertificate(const fs::path& dir, std::string*
     return ca;
 }
 
+Result<std::optional<CertificateAuthority>> loadCellCaCertificate(const fs::path& pkiDir,
+                                                                  std::string* error) {
+    const fs::path caDir = cellCaDirectory(pkiDir);
+    if (caDir.empty()) return std::optional<CertificateAuthority>();
+    std::string why;
+    auto ca = loadCaCertificate(caDir, &why);
+    if (!ca) {
+        setError(error, "cell CA " + caDir.string() + ": " + why);
+        return ca.status();
+    }
+    return std::optional<CertificateAuthority>(std::move(*ca));
+}
+
 Result<CertificateAuthority> loadCertificateAuthority(const fs::path& dir, std::string* error) {
     auto loaded = loadCaCertificate(dir, error);
     if (!loaded) return loaded.status();

@@ -11,6 +11,7 @@
 // application instance certificate issued by it, and the CA certificate and CRL in its
 // trusted/ lists.
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "ua/pki/openssl_handles.hpp"
@@ -58,6 +59,13 @@ struct IssuedCertificate {
 /// certificate the CA issued reads no more than this.
 [[nodiscard]] Result<CertificateAuthority> loadCaCertificate(const std::filesystem::path& dir,
                                                              std::string* error = nullptr);
+
+/// The cell CA a PKI directory points at (cellCaDirectory), as loadCaCertificate reads it;
+/// nothing when it points at none. BadConfigurationError with `error` ("cell CA DIR: why")
+/// when the CA it points at cannot be read: a component then fails rather than silently
+/// going self-signed.
+[[nodiscard]] Result<std::optional<CertificateAuthority>> loadCellCaCertificate(
+    const std::filesystem::path& pkiDir, std::string* error = nullptr);
 
 /// Issues an application instance certificate (new RSA 2048 key, SHA-256, the extensions of
 /// OPC 10000-6 6.2.2, CA:FALSE) for `subject`, valid for subject.validDays but never

@@ -52,14 +52,11 @@ fs::path cellCaDirectory(const fs::path& pkiDir) {
 Result<OwnCertificate> loadOrCreateOwnCertificate(const fs::path& pkiDir,
                                                   const CertificateSubject& subject,
                                                   std::string* error) {
-    const fs::path caDir = cellCaDirectory(pkiDir);
-    if (caDir.empty()) return loadOrCreateOwnCertificate(pkiDir, subject, nullptr, error);
     // The CA's key is read only when a certificate must be issued (below): a component that
     // starts with one the CA issued reads the CA certificate and CRL, not the key.
-    std::string why;
-    auto ca = loadCaCertificate(caDir, &why);
-    if (!ca) return fail(error, "cell CA " + caDir.string() + ": " + why);
-    return loadOrCreateOwnCertificate(pkiDir, subject, &*ca, error);
+    auto ca = loadCellCaCertificate(pkiDir, error);
+    if (!ca) return status::BadConfigurationError;
+    return loadOrCreateOwnCertificate(pkiDir, subject, *ca ? &**ca : nullptr, error);
 }
 
 Result<OwnCertificate> loadOrCreateOwnCertificate(const fs::path& pkiDir,

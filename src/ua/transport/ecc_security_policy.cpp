@@ -56,10 +56,12 @@ Result<ChannelKeys> EccSecurityPolicy::deriveKeys(std::span<const std::uint8_t> 
     const std::size_t length = keyMaterialLength();
     const auto clientSalt = salt(length, "opcua-client", clientNonce, serverNonce);
     const auto serverSalt = salt(length, "opcua-server", serverNonce, clientNonce);
-    SymmetricKeys clientKeys =
-        splitKeys(crypto::hkdfSha256(clientSalt, *secret, clientSalt, length));
-    SymmetricKeys serverKeys =
-        splitKeys(crypto::hkdfSha256(serverSalt, *secret, serverSalt, length));
+    auto clientMaterial = crypto::hkdfSha256(clientSalt, *secret, clientSalt, length);
+    auto serverMaterial = crypto::hkdfSha256(serverSalt, *secret, serverSalt, length);
+    if (!clientMaterial) return clientMaterial.status();
+    if (!serverMaterial) return serverMaterial.status();
+    SymmetricKeys clientKeys = splitKeys(*clientMaterial);
+    SymmetricKeys serverKeys = splitKeys(*serverMaterial);
     if (client) return ChannelKeys{std::move(clientKeys), std::move(serverKeys)};
     return ChannelKeys{std::move(serverKeys), std::move(clientKeys)};
 }
