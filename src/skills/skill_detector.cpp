@@ -81,6 +81,9 @@ struct SkillDetector::Watch {
     struct Sighting {
         std::string url;
         std::uint64_t seq = 0;  // larger: more recent
+        // The source's GetEndpoints answer from that URL, for the next connect only: a
+        // connection that failed or ended asks the server itself next time.
+        std::vector<ua::EndpointDescription> endpoints;
     };
 
     std::string componentId;
@@ -138,7 +141,8 @@ SkillDetector::SkillDetector(asio::any_io_executor executor, SkillDetectorConfig
 SkillDetector::~SkillDetector() = default;
 
 void SkillDetector::appeared(const std::string& key, const ua::ApplicationDescription& application,
-                             const std::string& discoveryUrl) {
+                             const std::string& discoveryUrl,
+                             std::vector<ua::EndpointDescription> endpoints) {
     if (stopped_ || discoveryUrl.empty()) return;
     // The application URI identifies a server (OPC 10000-4, 7.1): two sources that list the
     // same server make one component.
@@ -152,7 +156,7 @@ void SkillDetector::appeared(const std::string& key, const ua::ApplicationDescri
     if (!watch) {
         watch = std::make_shared<Watch>(executor_, id, key, discoveryUrl, config_.limits);
         watch->applicationUri = application.applicationUri;
-        watch->sightings[key] = {discoveryUrl, ++watch->sightingSeq};
+        watch->sightings[key] = {discoveryUrl, ++watch->sightingSeq, std::move(endpoints)};
         setStatus(id, [&](ComponentStatus& s) {
             s.state = ComponentStatus::State::Connecting;
             s.endpointUrl = discoveryUrl;
@@ -161,7 +165,7 @@ void SkillDetector::appeared(const std::string& key, const ua::ApplicationDescri
         return;
     }
     Watch& w = *watch;
-    w.sightings[key] = {discoveryUrl, ++w.sightingSeq};
+    w.sightings[key] = {discoveryUrl, ++w.sightingSeq, std::move(endpoints)};
     if (discoveryUrl != w.url && (key == w.urlKey || !w.connected)) {
         // The server moved (restarted at another address or port), or the address in use
         // does not work: the newest word counts.
@@ -335,6 +339,11 @@ asio::awaitable<void> SkillDetector::run(std::shared_ptr<Watch> w) {
         cc.applicationName = "skillcell skill detector";
         cc.sessionName = "skill detector";
         cc.security = config_.security;
+        if (auto sighting = w->sightings.find(w->urlKey);
+            sighting != w->sightings.end() && sighting->second.url == url) {
+            cc.endpoints = std::move(sighting->second.endpoints);
+            sighting->second.endpoints.clear();
+        }
         // The keep-alive subscription keeps the session busy; a detector that vanished
         // leaves its session behind only this long.
         cc.sessionTimeoutMs = 30'000;
@@ -697,7 +706,9 @@ std::shared_ptr<ua::lds::ServerWatcher> attachMdns(
     callbacks.announced = [weak, self](const ua::lds::AnnouncedServer& s) {
         const std::string name = ua::mdns::foldCase(s.instance.name);
         if (name == self) return;
-        if (auto d = weak.lock()) d->appeared("mdns:" + name, s.application, s.discoveryUrl);
+        if (auto d = weak.lock()) {
+            d->appeared("mdns:" + name, s.application, s.discoveryUrl, s.endpoints);
+        }
     };
     callbacks.gone = [weak](const ua::lds::AnnouncedServer& s, ua::mdns::RemovalReason why) {
         if (auto d = weak.lock())

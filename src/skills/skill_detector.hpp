@@ -162,8 +162,11 @@ public:
     // --- Sources (on the executor) ---------------------------------------------------------
     /// A source lists the server `key` at `discoveryUrl`. A first sighting connects and
     /// browses; another one checks StartTime and address, re-browsing if they changed.
+    /// `endpoints`: what the source learnt from GetEndpoints there, if it asked; the next
+    /// connection to that URL chooses among them rather than asking again.
     void appeared(const std::string& key, const ua::ApplicationDescription& application,
-                  const std::string& discoveryUrl);
+                  const std::string& discoveryUrl,
+                  std::vector<ua::EndpointDescription> endpoints = {});
     /// The source no longer lists `key`; a component no source lists any more loses its
     /// skills at once.
     void gone(const std::string& key, GoneReason reason);

@@ -232,6 +232,25 @@ TEST_F(SecureSession, BestSecurityChoosesTheStrongestEndpoint) {
     EXPECT_TRUE(client.readValue(NodeId(2259)).ok());
 }
 
+TEST_F(SecureSession, BestSecurityChoosesAmongTheEndpointsItWasGiven) {
+    // A caller that asked GetEndpoints already (a watcher describing an announced server)
+    // hands the answer on: the client chooses among it and does not ask again, so the
+    // endpoint chosen is the best of those given, not the best the server has.
+    auto endpoints = endpointsOverNone(server.url());
+    ASSERT_TRUE(endpoints.ok());
+    auto config = clientConfig(kBestSecurity, MessageSecurityMode::None);
+    for (const auto& ep : *endpoints) {
+        if (ep.securityPolicyUri == crypto::kPolicyBasic256Sha256) config.endpoints.push_back(ep);
+    }
+    ASSERT_EQ(config.endpoints.size(), 2u);  // Sign, SignAndEncrypt
+    BlockingClient client;
+    ASSERT_EQ(client.connect(server.url(), config), status::Good);
+    const auto [policy, mode] = client.security();
+    EXPECT_EQ(policy, crypto::kPolicyBasic256Sha256);
+    EXPECT_EQ(mode, MessageSecurityMode::SignAndEncrypt);
+    EXPECT_TRUE(client.readValue(NodeId(2259)).ok());
+}
+
 TEST_F(SecureSession, BestSecurityNeedsOurCertificate) {
     auto config = clientConfig(kBestSecurity, MessageSecurityMode::None);
     config.security.certificate = ByteString{};

@@ -912,18 +912,21 @@ asio::awaitable<StatusCode> Client::prepareSecurity() {
         useCertificateFor(*profile, security);
     }
     if (choose || config_.serverCertificate.empty()) {
-        Client discovery(executor_);
-        ClientConfig discoveryConfig;
-        discoveryConfig.createSession = false;
-        discoveryConfig.connectTimeout = config_.connectTimeout;
-        discoveryConfig.requestTimeout = config_.requestTimeout;
-        discoveryConfig.limits = config_.limits;
-        const std::string url = endpointUrl_;
-        const StatusCode connected = co_await discovery.connect(url, discoveryConfig);
-        if (connected.isBad()) co_return connected;
-        auto endpoints = co_await discovery.getEndpoints(url);
-        co_await discovery.disconnect();
-        if (!endpoints) co_return endpoints.status();
+        Result<std::vector<EndpointDescription>> endpoints = config_.endpoints;
+        if (config_.endpoints.empty()) {
+            Client discovery(executor_);
+            ClientConfig discoveryConfig;
+            discoveryConfig.createSession = false;
+            discoveryConfig.connectTimeout = config_.connectTimeout;
+            discoveryConfig.requestTimeout = config_.requestTimeout;
+            discoveryConfig.limits = config_.limits;
+            const std::string url = endpointUrl_;
+            const StatusCode connected = co_await discovery.connect(url, discoveryConfig);
+            if (connected.isBad()) co_return connected;
+            endpoints = co_await discovery.getEndpoints(url);
+            co_await discovery.disconnect();
+            if (!endpoints) co_return endpoints.status();
+        }
         const EndpointDescription* chosen = nullptr;
         int best = 0;
         for (const auto& ep : *endpoints) {

@@ -106,6 +106,10 @@ struct ClientConfig {
     /// unless given here.
     ClientSecurity security;
     ByteString serverCertificate;
+    /// The server's endpoints as the caller already has them from a GetEndpoints of this URL
+    /// (a watcher that described an announced server): the endpoint and its certificate are
+    /// chosen among these, and no discovery connection is opened. Empty: asked for.
+    std::vector<EndpointDescription> endpoints;
 };
 
 /// The parts of "opc.tcp://host[:port][/path]"; host keeps no IPv6 brackets.

@@ -98,10 +98,12 @@ asio::awaitable<void> ServerWatcher::describe(std::string key, std::uint64_t gen
         config.requestTimeout = timeout_;
         StatusCode s = co_await client.connect(url, config);
         std::optional<ApplicationDescription> app;
+        std::vector<EndpointDescription> described;
         if (s.isGood()) {
             auto endpoints = co_await client.getEndpoints(url);
             if (endpoints && !endpoints->empty()) {
                 app = endpoints->front().server;
+                described = std::move(*endpoints);
             } else {
                 s = endpoints ? status::BadUnknownResponse : endpoints.status();
             }
@@ -112,6 +114,7 @@ asio::awaitable<void> ServerWatcher::describe(std::string key, std::uint64_t gen
         if (app) {
             if (app->discoveryUrls.empty()) app->discoveryUrls = {url};
             entry->server.application = std::move(*app);
+            entry->server.endpoints = std::move(described);
             entry->described = true;
             entry->describing = false;
             if (callbacks_.announced) callbacks_.announced(entry->server);

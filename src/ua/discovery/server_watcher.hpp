@@ -21,6 +21,9 @@ struct AnnouncedServer {
     mdns::ServiceInstance instance;
     std::string discoveryUrl;  // instance.discoveryUrl()
     ApplicationDescription application;
+    /// What the server answered to GetEndpoints at discoveryUrl when it was described: a
+    /// client connecting next can choose among these instead of asking again.
+    std::vector<EndpointDescription> endpoints;
 };
 
 class ServerWatcher : public std::enable_shared_from_this<ServerWatcher> {
