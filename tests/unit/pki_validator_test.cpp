@@ -93,6 +93,29 @@ TEST_F(ValidatorTest, ExpiredAndNotYetValidAreTimeInvalid) {
     EXPECT_EQ(validator.validate(a.der(), then).status, status::Good);
 }
 
+TEST_F(ValidatorTest, AGoodVerdictHoldsOnlyForItsPeriodAndItsExpectations) {
+    // Good verdicts are remembered (a channel's certificate comes again as its user token);
+    // what was remembered must not answer another question.
+    CertSpec spec;
+    spec.notBeforeDays = -1;
+    spec.notAfterDays = 5;
+    const auto peer = test::makeCertificate(spec);
+    trust(peer, "peer");
+    CertificateValidator validator(dir.path());
+    ASSERT_EQ(validator.validate(peer.der(), "urn:test:peer").status, status::Good);
+    ASSERT_EQ(validator.validate(peer.der(), "urn:test:peer").status, status::Good);
+    EXPECT_EQ(validator.validate(peer.der(), "urn:test:someone-else").status,
+              status::BadCertificateUriInvalid);
+    PeerExpectations later;
+    later.applicationUri = "urn:test:peer";
+    later.now = Clock::now() + std::chrono::hours(24 * 6);
+    EXPECT_EQ(validator.validate(peer.der(), later).status, status::BadCertificateTimeInvalid);
+    PeerExpectations earlier = later;
+    earlier.now = Clock::now() - std::chrono::hours(24 * 2);
+    EXPECT_EQ(validator.validate(peer.der(), earlier).status, status::BadCertificateTimeInvalid);
+    EXPECT_EQ(validator.validate(peer.der(), "urn:test:peer").status, status::Good);
+}
+
 TEST_F(ValidatorTest, WrongApplicationUriIsUriInvalid) {
     const auto peer = test::makeCertificate({});
     trust(peer, "peer");

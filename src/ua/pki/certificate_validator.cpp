@@ -4,6 +4,7 @@
 #include <openssl/x509_vfy.h>
 
 #include <algorithm>
+#include <ctime>
 #include <vector>
 
 namespace skillcell::ua::pki {
@@ -151,6 +152,29 @@ int verifyCallback(int ok, X509_STORE_CTX* ctx) {
     return 1;  // go on: all findings are collected, the earliest step decides
 }
 
+/// An ASN.1 time as a time point; nothing when it does not parse.
+std::optional<Clock::time_point> timePointOf(const ASN1_TIME* t) {
+    std::tm tm{};
+    if (t == nullptr || ASN1_TIME_to_tm(t, &tm) != 1) return std::nullopt;
+    // The clock's range ends in 2262; later ends (9999-12-31: "no expiry") are the end of it.
+    constexpr std::time_t kClockRangeEnd = 9'000'000'000;
+    const std::time_t seconds = timegm(&tm);
+    if (seconds >= kClockRangeEnd) return Clock::time_point::max();
+    return Clock::from_time_t(seconds);
+}
+
+/// The certificate, then each expectation, NUL-separated: what a verdict is remembered by.
+std::string rememberedKey(const ByteString& certificate, const PeerExpectations& expected) {
+    std::string key(certificate.bytes.begin(), certificate.bytes.end());
+    for (const std::string* part : {&expected.applicationUri, &expected.hostName}) {
+        key += '\0';
+        key += *part;
+    }
+    key += '\0' + std::to_string(expected.minimumKeyBits) + ',' +
+           std::to_string(expected.maximumKeyBits);
+    return key;
+}
+
 bool hostMatches(X509* leaf, const std::string& host) {
     // An IP literal is compared with the IP addresses, anything else with the DNS names.
     if (X509_check_ip_asc(leaf, host.c_str(), 0) == 1) return true;
@@ -169,8 +193,31 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
     return validate(certificate, expected);
 }
 
+void CertificateValidator::preload() {
+    if (trustList_.refresh()) remembered_.clear();
+}
+
 CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
                                                   const PeerExpectations& expected) {
+    if (trustList_.refresh()) remembered_.clear();  // trust changed: every verdict with it
+    const Clock::time_point now = expected.now.value_or(Clock::now());
+    std::string key = rememberedKey(certificate, expected);
+    if (auto it = remembered_.find(key); it != remembered_.end()) {
+        if (it->second.from <= now && now <= it->second.until) return it->second.verdict;
+        remembered_.erase(it);
+    }
+    std::optional<Remembered> good;
+    CertificateVerdict verdict = validateInFull(certificate, expected, &good);
+    if (good) {
+        if (remembered_.size() >= kRememberedMax) remembered_.clear();
+        remembered_.emplace(std::move(key), std::move(*good));
+    }
+    return verdict;
+}
+
+CertificateVerdict CertificateValidator::validateInFull(const ByteString& certificate,
+                                                        const PeerExpectations& expected,
+                                                        std::optional<Remembered>* good) {
     CertificateVerdict verdict;
     auto chain = parseCertificateChain(certificate);
     if (!chain) {
@@ -183,7 +230,6 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
     verdict.thumbprint = info.thumbprint;
     verdict.subject = info.subject;
 
-    trustList_.refresh();
     const ossl::Store store(X509_STORE_new());
     const ossl::CertStack untrusted(sk_X509_new_null());
     const ossl::StoreCtx ctx(X509_STORE_CTX_new());
@@ -221,7 +267,7 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
     X509_VERIFY_PARAM_set_flags(param, X509_V_FLAG_PARTIAL_CHAIN | X509_V_FLAG_CHECK_SS_SIGNATURE |
                                            X509_V_FLAG_CRL_CHECK | X509_V_FLAG_CRL_CHECK_ALL);
     X509_VERIFY_PARAM_set_time(param, Clock::to_time_t(expected.now.value_or(Clock::now())));
-    X509_verify_cert(ctx.get());
+    const bool chainVerified = X509_verify_cert(ctx.get()) == 1;
     ERR_clear_error();  // the callback kept what matters; leave no errors for others to see
 
     X509* leafCert = leaf.get();
@@ -265,7 +311,36 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
             {Step::Usage, describe(leafCert) + " is a CA certificate, not an application's"});
     }
 
-    if (collector.findings.empty()) return verdict;
+    if (collector.findings.empty()) {
+        // Good: it stays so from the latest start to the earliest end of the validity
+        // periods of the chain and of the CRLs checked against (second precision).
+        Remembered kept{verdict, Clock::time_point::min(), Clock::time_point::max()};
+        bool bounded = chainVerified;
+        const auto within = [&](const ASN1_TIME* from, const ASN1_TIME* until) {
+            const auto f = timePointOf(from);
+            const auto u =
+                until == nullptr ? std::optional(Clock::time_point::max()) : timePointOf(until);
+            if (!f || !u) {
+                bounded = false;
+                return;
+            }
+            kept.from = std::max(kept.from, *f);
+            kept.until = std::min(kept.until, *u);
+        };
+        if (STACK_OF(X509)* verified = X509_STORE_CTX_get0_chain(ctx.get())) {
+            for (int i = 0; i < sk_X509_num(verified); ++i) {
+                X509* c = sk_X509_value(verified, i);
+                within(X509_get0_notBefore(c), X509_get0_notAfter(c));
+            }
+        } else {
+            bounded = false;
+        }
+        for (const auto& crl : trustList_.crls()) {
+            within(X509_CRL_get0_lastUpdate(crl.get()), X509_CRL_get0_nextUpdate(crl.get()));
+        }
+        if (bounded) *good = std::move(kept);
+        return verdict;
+    }
     const auto first =
         std::min_element(collector.findings.begin(), collector.findings.end(),
                          [](const Finding& a, const Finding& b) { return a.step < b.step; });

@@ -21,8 +21,14 @@
 // BadCertificateChainIncomplete the leaf is copied to rejected/certs/<thumbprint>.der, so an
 // operator can trust it by moving the file (or `skillcell pki trust`). The next validation
 // sees the move: the lists reload when trusted/ or issuers/ change.
+//
+// A Good verdict is remembered for the same certificate bytes and expectations while the
+// trust list is unchanged and the moment checked lies within the validity periods of the
+// chain and the CRLs used: a peer validated for its secure channel is not validated again,
+// in full, for its X.509 user token, nor at every reconnect.
 #include <cstddef>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -80,11 +86,28 @@ public:
     [[nodiscard]] CertificateVerdict validate(const ByteString& certificate,
                                               std::string_view expectedApplicationUri = {});
 
+    /// Loads the trust list now (validate() would at its first use), so that the first peer
+    /// does not wait for it.
+    void preload();
+
     [[nodiscard]] const PkiPaths& paths() const { return trustList_.paths(); }
 
 private:
+    /// A Good verdict and the times between which it holds.
+    struct Remembered {
+        CertificateVerdict verdict;
+        Clock::time_point from;
+        Clock::time_point until;
+    };
+    static constexpr std::size_t kRememberedMax = 64;  // peers of one component, with room
+
+    [[nodiscard]] CertificateVerdict validateInFull(const ByteString& certificate,
+                                                    const PeerExpectations& expected,
+                                                    std::optional<Remembered>* good);
+
     TrustList trustList_;
     ValidatorOptions options_;
+    std::map<std::string, Remembered> remembered_;  // by certificate and expectations
 };
 
 }  // namespace skillcell::ua::pki
