@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <mutex>
 
 #include "ua/discovery/network_interfaces.hpp"
@@ -90,6 +91,18 @@ ua::Result<ApplicationIdentity> ApplicationIdentity::load(
     }
     identity.validator_ = std::make_shared<SharedValidator>(pkiDir);
     return identity;
+}
+
+void ApplicationIdentity::prepareForPeers() const {
+    {
+        std::lock_guard lock(validator_->mutex);
+        validator_->validator.preload();
+    }
+    if (!eccPrivateKey_.valid()) return;
+    // Both results are thrown away: only OpenSSL's caches of the algorithms are wanted.
+    (void)ua::crypto::EphemeralKey::generateNistP256();
+    static constexpr std::array<std::uint8_t, 1> kAnything{0};
+    (void)ua::crypto::sign(eccPrivateKey_, ua::crypto::SignatureAlgorithm::EcdsaSha256, kAnything);
 }
 
 ua::CertificateCheck ApplicationIdentity::clientCertificateCheck() const {

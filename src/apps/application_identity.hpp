@@ -36,6 +36,12 @@ public:
     [[nodiscard]] const ua::pki::OwnCertificate& eccCertificate() const { return eccCertificate_; }
     [[nodiscard]] const ua::crypto::AsymmetricKey& eccPrivateKey() const { return eccPrivateKey_; }
 
+    /// Does now what a peer's first connection would otherwise wait for: reads the trust
+    /// list, and has OpenSSL fetch the algorithms of an ECC handshake (a P-256 key pair, an
+    /// ECDSA-SHA256 signature), which it does once per process. For the moments after a
+    /// server announced itself, before the first peer connects.
+    void prepareForPeers() const;
+
     /// Checks a client's certificate (server side); untrusted ones land in rejected/.
     [[nodiscard]] ua::CertificateCheck clientCertificateCheck() const;
     /// Checks a server's certificate (client side); untrusted ones land in rejected/.

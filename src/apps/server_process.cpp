@@ -288,6 +288,9 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
     });
     std::cout << "READY opc.tcp://" << server->config().description.advertisedHost << ":" << *port
               << std::endl;  // flushed: scripts wait for this line
+    // After the announcement, while it travels and the peers connect: what their first
+    // handshake would wait for otherwise.
+    if (!options.insecure) asio::post(io, [&identity] { identity->prepareForPeers(); });
     io.run();
     return 0;
 }
