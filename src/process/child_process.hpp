@@ -63,6 +63,9 @@ struct ProcessOptions {
     /// Namespaces (open /proc/.../ns/* files, borrowed) the child enters before it runs: a
     /// component of a cell on a host of its own (apps/cell_hosts.hpp). Empty: ours.
     std::vector<int> namespaces;
+    /// Added to the child's nice value (setpriority): a batch job, such as a reasoner's run,
+    /// yields the cores to the latency-bound work of the cell while both want them.
+    int niceness = 0;
 };
 
 /// Options for a child that reports on its stdout while it runs (a component's or a peer's

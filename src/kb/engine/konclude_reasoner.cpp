@@ -23,6 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::string_view kOwlThing = "http://www.w3.org/2002/07/owl#Thing";
+/// A tenth of a normal process's share of a contended core (CFS weights 110 vs 1024).
+constexpr int kReasonerNiceness = 10;
 
 /// A directory of our own for one run, removed with everything in it.
 class TempDir {
@@ -290,6 +292,9 @@ Expected<KoncludeReasoner::Output> KoncludeReasoner::run(std::string_view comman
     }
     process::ProcessOptions options;
     options.workingDir = dir->path();
+    // Reasoning is batch work: a component plugged in meanwhile, and the detectors
+    // connecting to it, come first (they shared two cores with it in the demo).
+    options.niceness = kReasonerNiceness;
     auto ran = process::runToCompletion(argv, config_.timeout, options);
     if (!ran) return Error{"Konclude " + std::string(command) + ": " + ran.error()};
     Output output{ran->out + ran->err, {}};

@@ -29,6 +29,8 @@ struct KoncludeConfig {
 struct ClassAssertion {
     std::string individual;
     std::string cls;
+    // clang-tidy 14 takes the 0 of the synthesised comparison of a <=> result for a pointer.
+    // NOLINTNEXTLINE(modernize-use-nullptr)
     friend auto operator<=>(const ClassAssertion&, const ClassAssertion&) = default;
     friend bool operator==(const ClassAssertion&, const ClassAssertion&) = default;
 };

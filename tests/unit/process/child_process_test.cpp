@@ -4,6 +4,8 @@
 #include "process/child_process.hpp"
 
 #include <gtest/gtest.h>
+
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -66,6 +68,20 @@ TEST(ChildProcess, PassesWorkingDirectoryAndEnvironment) {
     auto run = runToCompletion({"sh", "-c", "pwd; echo \"$SKILLCELL_TEST_VALUE\""}, 10s, options);
     ASSERT_TRUE(run) << run.error();
     EXPECT_EQ(run->out, std::filesystem::canonical(dir.path()).string() + "\nforty two\n");
+}
+
+TEST(ChildProcess, RunsAtTheNicenessAskedFor) {
+    ProcessOptions options;
+    options.niceness = 5;
+    errno = 0;
+    const int ours = ::getpriority(PRIO_PROCESS, 0);
+    ASSERT_EQ(errno, 0);
+    auto run = runToCompletion({"nice"}, 10s, options);  // prints its own niceness
+    ASSERT_TRUE(run) << run.error();
+    EXPECT_EQ(run->out, std::to_string(std::min(ours + 5, 19)) + "\n");
+    auto plain = runToCompletion({"nice"}, 10s);
+    ASSERT_TRUE(plain) << plain.error();
+    EXPECT_EQ(plain->out, std::to_string(ours) + "\n");
 }
 
 TEST(ChildProcess, WritesOutputToAFile) {
