@@ -373,7 +373,9 @@ int main(int argc, char** argv) {
     app.add_option("--idle-seconds", o.idleSeconds, "how long the idle cell is measured")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    app.add_option("--skillcell", o.skillcell, "the skillcell binary")->capture_default_str();
+    app.add_option("--skillcell", o.skillcell,
+                   "the program the components run (skillcell-component, or skillcell)")
+        ->capture_default_str();
     app.add_option("--pki-cache", o.pkiCache,
                    "where the components' certificates are kept between runs")
         ->capture_default_str();

@@ -29,7 +29,9 @@ inline void addProcessRunOptions(CLI::App& app, ProcessRun& run) {
     app.add_option("--ttl", run.ttl, "the TTL they announce, in seconds")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    app.add_option("--skillcell", run.skillcell, "the skillcell binary")->capture_default_str();
+    app.add_option("--skillcell", run.skillcell,
+                   "the program the components run (skillcell-component, or skillcell)")
+        ->capture_default_str();
 }
 
 }  // namespace skillcell::bench

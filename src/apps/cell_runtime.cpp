@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 
 #include "cell/component_uris.hpp"
@@ -83,6 +84,17 @@ std::string skillcellProgram() {
     std::error_code ec;
     const auto path = fs::read_symlink("/proc/self/exe", ec);
     return ec ? std::string() : path.string();
+}
+
+std::string programFor(const std::string& skillcell, const std::vector<std::string>& args) {
+    static constexpr std::array<std::string_view, 3> kComponentSubcommands{"server", "lds",
+                                                                           "device"};
+    if (args.empty() || std::find(kComponentSubcommands.begin(), kComponentSubcommands.end(),
+                                  args.front()) == kComponentSubcommands.end()) {
+        return skillcell;
+    }
+    const fs::path component = fs::path(skillcell).parent_path() / "skillcell-component";
+    return ::access(component.c_str(), X_OK) == 0 ? component.string() : skillcell;
 }
 
 CellRuntime::CellRuntime(const cell::CellFile& cell, const WorkDirectory& work,
@@ -378,9 +390,10 @@ std::vector<std::string> CellRuntime::componentArgs(const std::string& name,
 std::string CellRuntime::adapterCommand(const cell::Tool& tool,
                                         const cell::AdapterModel& model) const {
     // The tool changer splits this at blanks and runs it when it powers the tool.
-    std::string cmd;
-    for (const auto& a : adapterArgs(tool, model)) cmd += (cmd.empty() ? "" : " ") + a;
-    return skillcell_ + " " + cmd;
+    const auto args = adapterArgs(tool, model);
+    std::string cmd = programFor(skillcell_, args);
+    for (const auto& a : args) cmd += " " + a;
+    return cmd;
 }
 
 std::vector<std::string> CellRuntime::adapterArgs(const cell::Tool& tool,
@@ -536,7 +549,7 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
 
 kb::Expected<CellProcess> CellRuntime::start(const ComponentLaunch& launch) {
     std::vector<std::string> argv = launch.args;
-    argv.insert(argv.begin(), skillcell_);
+    argv.insert(argv.begin(), programFor(skillcell_, launch.args));
     const std::vector<int> namespaces = options_.hosts != nullptr
                                             ? options_.hosts->namespaces(hostOf(launch.name))
                                             : std::vector<int>{};

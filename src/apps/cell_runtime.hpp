@@ -30,6 +30,12 @@ namespace skillcell::apps {
 /// the same one. Empty when it cannot be read.
 [[nodiscard]] std::string skillcellProgram();
 
+/// The program that runs `args` (a subcommand and its options): skillcell-component beside
+/// `skillcell` for what it runs (server, lds, device), when it is there; `skillcell` for
+/// everything else, and when it is not.
+[[nodiscard]] std::string programFor(const std::string& skillcell,
+                                     const std::vector<std::string>& args);
+
 /// The cell file's network, for this process and the components it will start: its own
 /// network namespace (network.kind = "private": needs root, or a network that is private
 /// already will do), or the host's; and the hosts its components name (CellHosts). Call it

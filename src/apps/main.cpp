@@ -1,109 +1,42 @@
-// skillcell: one program, one subcommand per component (server, lds, browse, discover, skill,
-// check, detect, device <kind>; later kb, mes, demo). Every component takes --port N for its OPC UA
-// port.
-#include <malloc.h>
-#include <spdlog/sinks/stdout_color_sinks.h>
-#include <spdlog/spdlog.h>
-
-#include <CLI/CLI.hpp>
+// skillcell: one program, one subcommand per component and tool (server, lds, device <kind>,
+// kb, mes, dashboard; browse, discover, skill, detect, run, cell, demo ...). Every component
+// takes --port N for its OPC UA port. A cell starts its servers, LDS and devices from
+// skillcell-component (component_main.cpp) when it is installed beside this program.
 #include <array>
-#include <string_view>
-#include <vector>
 
-#include "commands.hpp"
-#include "common/command_line.hpp"
+#include "program.hpp"
 
 namespace {
 
-using skillcell::apps::Command;
-
-// Each subcommand by the name it is invoked with. Only the one named on the command line is
-// built: building all of them (some hundred CLI11 options) was 1.5 ms of every component's
-// start, which counts in the time a plugged component takes to be READY.
-struct Subcommand {
-    std::string_view name;
-    std::vector<Command> (*add)(CLI::App&);
-};
-
-template <Command (*Add)(CLI::App&)>
-std::vector<Command> one(CLI::App& app) {
-    return {Add(app)};
-}
+using namespace skillcell::apps;
 
 constexpr std::array kSubcommands{
-    Subcommand{"server", one<skillcell::apps::addServerCommand>},
-    Subcommand{"browse", one<skillcell::apps::addBrowseCommand>},
-    Subcommand{"lds", one<skillcell::apps::addLdsCommand>},
-    Subcommand{"discover", one<skillcell::apps::addDiscoverCommand>},
-    Subcommand{"skill", one<skillcell::apps::addSkillCommand>},
-    Subcommand{"check", one<skillcell::apps::addCheckCommand>},
-    Subcommand{"detect", one<skillcell::apps::addDetectCommand>},
-    Subcommand{"pki", one<skillcell::apps::addPkiCommand>},
-    Subcommand{"user", one<skillcell::apps::addUserCommand>},
-    Subcommand{"nodeset2owl", one<skillcell::apps::addNodeset2OwlCommand>},
-    Subcommand{"kb", one<skillcell::apps::addKbCommand>},
-    Subcommand{"mes", one<skillcell::apps::addMesCommand>},
-    Subcommand{"run", one<skillcell::apps::addRunCommand>},
-    Subcommand{"demo", one<skillcell::apps::addDemoCommand>},
-    Subcommand{"cell", one<skillcell::apps::addCellCommand>},
-    Subcommand{"process", one<skillcell::apps::addProcessCommand>},
-    Subcommand{"dashboard", one<skillcell::apps::addDashboardCommand>},
-    Subcommand{"orders", one<skillcell::apps::addOrdersCommand>},
-    Subcommand{"device", skillcell::apps::addDeviceCommands},
+    Subcommand{"server", one<addServerCommand>},
+    Subcommand{"browse", one<addBrowseCommand>},
+    Subcommand{"lds", one<addLdsCommand>},
+    Subcommand{"discover", one<addDiscoverCommand>},
+    Subcommand{"skill", one<addSkillCommand>},
+    Subcommand{"check", one<addCheckCommand>},
+    Subcommand{"detect", one<addDetectCommand>},
+    Subcommand{"pki", one<addPkiCommand>},
+    Subcommand{"user", one<addUserCommand>},
+    Subcommand{"nodeset2owl", one<addNodeset2OwlCommand>},
+    Subcommand{"kb", one<addKbCommand>},
+    Subcommand{"mes", one<addMesCommand>},
+    Subcommand{"run", one<addRunCommand>},
+    Subcommand{"demo", one<addDemoCommand>},
+    Subcommand{"cell", one<addCellCommand>},
+    Subcommand{"process", one<addProcessCommand>},
+    Subcommand{"dashboard", one<addDashboardCommand>},
+    Subcommand{"orders", one<addOrdersCommand>},
+    Subcommand{"device", addDeviceCommands},
 };
-
-// The subcommand the command line names: its first word that is not the global option
-// (--log-level VALUE); none for `--help`, a typo or nothing, which then see them all.
-const Subcommand* named(int argc, char** argv) {
-    for (int i = 1; i < argc; ++i) {
-        const std::string_view word = argv[i];
-        if (word == "--log-level") {
-            ++i;
-            continue;
-        }
-        if (word.rfind("--log-level=", 0) == 0) continue;
-        for (const auto& s : kSubcommands) {
-            if (s.name == word) return &s;
-        }
-        return nullptr;
-    }
-    return nullptr;
-}
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    // Blocks up to 8 MB come from the heap, not from a mapping of their own: glibc maps every
-    // block above 128 kB afresh and unmaps it when it is freed, and the page faults of the
-    // few such blocks of a start (a NodeSet's document, the address space's tables as they
-    // grow) were 0.6 ms of the 15.5 ms to READY. An idle component's memory is the same either
-    // way (4.1 MB anonymous); under the sanitizers this is a no-op.
-    mallopt(M_MMAP_THRESHOLD, 8 * 1024 * 1024);
-    CLI::App app{"skillcell: a Plug & Produce system for robot work cells built on OPC UA skills"};
-    app.require_subcommand(1);
-    std::string logLevel = "info";
-    app.add_option("--log-level", logLevel, "trace, debug, info, warn, error, off")
-        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
-        ->capture_default_str();
-
-    std::vector<Command> commands;
-    if (const Subcommand* only = named(argc, argv)) {
-        commands = only->add(app);
-    } else {
-        for (const auto& s : kSubcommands) {
-            for (auto& c : s.add(app)) commands.push_back(std::move(c));
-        }
-    }
-
-    if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
-
-    // Logs go to stderr: stdout carries the commands' output (READY lines, browse trees).
-    auto logger = spdlog::stderr_color_mt("skillcell");
-    spdlog::set_default_logger(logger);
-    spdlog::set_level(spdlog::level::from_str(logLevel));
-
-    for (const auto& command : commands) {
-        if (command.cli->parsed()) return command.run();
-    }
-    return 2;
+    return runProgram(argc, argv,
+                      "skillcell: a Plug & Produce system for robot work cells built on OPC UA "
+                      "skills",
+                      kSubcommands);
 }

@@ -27,6 +27,12 @@ for _ in $(seq 480); do  # bounded: 4 minutes
 done
 grep -q 'is up' "$tmp/up.out" || fail "the cell did not come up"
 netns=$(grep -o '/proc/[0-9]*/ns/net' "$tmp/up.out" | head -1)
+# The devices run from skillcell-component, the program beside skillcell that links only what
+# components need; the knowledge base and the MES from skillcell.
+children=$(ps --ppid "$supervisor" -o args=)
+grep -q '/skillcell-component device ur5 ' <<<"$children" ||
+  fail "the UR5s do not run from skillcell-component: $children"
+grep -q '/skillcell mes ' <<<"$children" || fail "the MES does not run from skillcell: $children"
 endpoint() { grep -E "^  $1 " "$tmp/up.out" | awk '{print $2}'; }
 as() {  # as USER: a command inside the cell's network, with that user's credentials
   local user=$1

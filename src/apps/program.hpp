@@ -1,0 +1,30 @@
+#pragma once
+// What both programs do with a command line: `skillcell` (every subcommand) and
+// `skillcell-component` (only what a cell's components run: server, lds, device), which
+// links none of the libraries the others need (SQLite, cpp-httplib, toml++, serd), so that a
+// component loads and relocates less at every start and maps less for as long as it runs.
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "commands.hpp"
+
+namespace skillcell::apps {
+
+/// A subcommand by the name it is invoked with, and what adds it (some add several).
+struct Subcommand {
+    std::string_view name;
+    std::vector<Command> (*add)(CLI::App&);
+};
+
+template <Command (*Add)(CLI::App&)>
+std::vector<Command> one(CLI::App& app) {
+    return {Add(app)};
+}
+
+/// Parses the command line against `subcommands`, sets up the log, runs the one chosen;
+/// the process's exit code.
+int runProgram(int argc, char** argv, std::string_view description,
+               std::span<const Subcommand> subcommands);
+
+}  // namespace skillcell::apps
