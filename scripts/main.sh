@@ -9,5 +9,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh --main
 cmake --preset default >/dev/null
-cmake --build --preset default -j "$(nproc)" --target skillcell
+cmake --build --preset default -j "$(nproc)" --target skillcell skillcell-component
 exec build/src/apps/skillcell demo "$@"

@@ -68,8 +68,8 @@ LINT_SKIP_TIDY=1 bash scripts/lint.sh
 # stricter build: running the suite optimised too took 14 minutes and found nothing the
 # sanitizer run did not (docs/development.md). The optimised build is what the chaos trials
 # and the main job run.
-begin "build skillcell (RelWithDebInfo)"
-cmake --build --preset default -j "$jobs" --target skillcell
+begin "build skillcell and skillcell-component (RelWithDebInfo)"
+cmake --build --preset default -j "$jobs" --target skillcell skillcell-component
 
 begin "chaos (RelWithDebInfo)"
 ctest --preset default -j "$jobs" -L chaos
