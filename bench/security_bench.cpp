@@ -7,8 +7,9 @@
 //   - the Read round trip of one Double, median and p99 over --count sequential Reads.
 // Then, for the policy components use (Aes256_Sha256_RsaPss, SignAndEncrypt), the user token
 // (password: an scrypt hash on the server; X.509: one more RSA signature and verification)
-// and the key size (RSA 2048 and 3072, server and client); and ECC_nistP256 with P-256 keys,
-// whose users are X.509 certificates (no password travels over ECC here).
+// and the key size (RSA 2048 and 3072, server and client); and ECC_nistP256 and ECC_nistP384
+// with P-256 and P-384 keys, whose users are X.509 certificates (no password travels over ECC
+// here).
 // Prints a table with each row's ratio to None.
 //
 //   skillcell_bench_security [--count N] [--connects M] [--only TEXT]
@@ -77,7 +78,7 @@ int main(int argc, char** argv) {
     if (const auto exit = skillcell::parseCommandLine(app, argc, argv)) return *exit;
     spdlog::set_level(spdlog::level::warn);
 
-    // One server per key (RSA 2048, RSA 3072, P-256), each knowing the bench's user by
+    // One server per key (RSA 2048, RSA 3072, P-256, P-384), each knowing the bench's user by
     // password and by certificate.
     struct Keys {
         test::TestCertificate server;
@@ -88,9 +89,12 @@ int main(int argc, char** argv) {
         keys.push_back({test::makeTestCertificate(bits, "urn:skillcell:server"),
                         test::makeTestCertificate(bits, "urn:skillcell:bench-client")});
     }
-    constexpr std::size_t kEccKeys = 2;
-    keys.push_back({test::makeTestEccCertificate("urn:skillcell:server"),
-                    test::makeTestEccCertificate("urn:skillcell:bench-client")});
+    constexpr std::size_t kEccKeys = 2;  // then one per curve, in the profiles' order
+    for (const auto& p : ua::crypto::securityPolicyProfiles()) {
+        if (!p.isEcc()) continue;
+        keys.push_back({test::makeTestEccCertificate(p.keyKind, "urn:skillcell:server"),
+                        test::makeTestEccCertificate(p.keyKind, "urn:skillcell:bench-client")});
+    }
     std::vector<std::unique_ptr<test::RunningServer>> servers;
     for (const auto& k : keys) {
         ua::ServerConfig config = test::RunningServer::defaultConfig();
@@ -141,12 +145,14 @@ int main(int argc, char** argv) {
                         ua::MessageSecurityMode::SignAndEncrypt, 1, false});
     variants.push_back({bestName + ", RSA 3072, X.509 user", std::string(best->uri),
                         ua::MessageSecurityMode::SignAndEncrypt, 1, true});
+    std::size_t eccKeys = kEccKeys;
     for (const auto& p : ua::crypto::securityPolicyProfiles()) {
         if (!p.isEcc()) continue;
         variants.push_back({std::string(p.shortName) + " Sign, X.509 user", std::string(p.uri),
-                            ua::MessageSecurityMode::Sign, kEccKeys, true});
+                            ua::MessageSecurityMode::Sign, eccKeys, true});
         variants.push_back({std::string(p.shortName) + " S&E, X.509 user", std::string(p.uri),
-                            ua::MessageSecurityMode::SignAndEncrypt, kEccKeys, true});
+                            ua::MessageSecurityMode::SignAndEncrypt, eccKeys, true});
+        ++eccKeys;
     }
 
     std::vector<Row> rows;

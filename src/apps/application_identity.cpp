@@ -100,9 +100,14 @@ void ApplicationIdentity::prepareForPeers() const {
     }
     if (!eccPrivateKey_.valid()) return;
     // Both results are thrown away: only OpenSSL's caches of the algorithms are wanted.
-    (void)ua::crypto::EphemeralKey::generateNistP256();
+    using Kind = ua::crypto::AsymmetricKey::Kind;
+    using Signature = ua::crypto::SignatureAlgorithm;
+    const Kind curve = eccPrivateKey_.kind();
+    (void)ua::crypto::EphemeralKey::generate(curve);
     static constexpr std::array<std::uint8_t, 1> kAnything{0};
-    (void)ua::crypto::sign(eccPrivateKey_, ua::crypto::SignatureAlgorithm::EcdsaSha256, kAnything);
+    (void)ua::crypto::sign(
+        eccPrivateKey_,
+        curve == Kind::EccNistP384 ? Signature::EcdsaSha384 : Signature::EcdsaSha256, kAnything);
 }
 
 ua::CertificateCheck ApplicationIdentity::clientCertificateCheck() const {

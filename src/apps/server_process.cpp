@@ -120,7 +120,7 @@ int configureSecurity(const ServerProcessOptions& options, const ApplicationIden
     if (identity.eccPrivateKey().valid()) {
         description.eccCertificate = identity.eccCertificate().der;
         security.eccPrivateKey = identity.eccPrivateKey();
-        keyKinds.push_back(ua::crypto::AsymmetricKey::Kind::EccNistP256);
+        keyKinds.push_back(identity.eccPrivateKey().kind());
     }
     // The validator reloads trusted/ when it changes: `skillcell pki trust` takes effect
     // on the next connection, without a restart.

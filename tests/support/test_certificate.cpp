@@ -113,4 +113,11 @@ TestCertificate makeTestEccCertificate(const std::string& applicationUri, long v
     return certify(*key, applicationUri, validFrom, validTo);
 }
 
+TestCertificate makeTestEccCertificate(ua::crypto::AsymmetricKey::Kind curve,
+                                       const std::string& applicationUri) {
+    auto key = ua::crypto::AsymmetricKey::generateEcc(curve);
+    if (!key) throw std::runtime_error("ECC key generation failed");
+    return certify(*key, applicationUri, -3600, 3600L * 24 * 365);
+}
+
 }  // namespace skillcell::test

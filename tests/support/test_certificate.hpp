@@ -22,5 +22,8 @@ struct TestCertificate {
 [[nodiscard]] TestCertificate makeTestEccCertificate(const std::string& applicationUri,
                                                      long validFrom = -3600,
                                                      long validTo = 3600L * 24 * 365);
+/// A year's certificate with a fresh key on the curve `curve` names (P-256 or P-384).
+[[nodiscard]] TestCertificate makeTestEccCertificate(ua::crypto::AsymmetricKey::Kind curve,
+                                                     const std::string& applicationUri);
 
 }  // namespace skillcell::test

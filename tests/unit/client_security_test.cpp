@@ -340,6 +340,53 @@ TEST(EccSession, AnEccClientChoosesEccNistP256AndActsAsItsCertificatesUser) {
     }
 }
 
+TEST(EccSession, P384PeersUseEccNistP384) {
+    // Server and client with P-384 certificates: the server offers ECC_nistP384 (ECDSA with
+    // SHA-384, HKDF-SHA384, HMAC-SHA384, 96-byte nonces), the client chooses it and acts as
+    // its certificate's user.
+    using Kind = crypto::AsymmetricKey::Kind;
+    static const TestCertificate server384 =
+        skillcell::test::makeTestEccCertificate(Kind::EccNistP384, "urn:skillcell:server");
+    static const TestCertificate client384 =
+        skillcell::test::makeTestEccCertificate(Kind::EccNistP384, "urn:skillcell:client");
+    ServerConfig config = eccConfig();
+    config.description.certificate = server384.der;
+    config.description.securityEndpoints = allSecurityEndpoints(false, {Kind::EccNistP384});
+    config.security.privateKey = server384.key;
+    config.security.validateCertificate = [](const ByteString& der, std::string_view,
+                                             std::string* reason) {
+        if (leafCertificate(der.bytes) == leafCertificate(client384.der.bytes)) {
+            return status::Good;
+        }
+        *reason = "not in the trust list";
+        return StatusCode(0x801A0000);
+    };
+    auto users = std::make_shared<UserDatabase>();
+    EXPECT_TRUE(users->setCertificate("cell-mes", RoleSet{Role::Operator}, client384.der).isGood());
+    config.security.users = users;
+    RunningServer server{config, addTargets};
+    for (const auto m : {MessageSecurityMode::Sign, MessageSecurityMode::SignAndEncrypt}) {
+        ClientConfig c = eccClientConfig();
+        c.security.certificate = client384.der;
+        c.security.privateKey = client384.key;
+        c.security.user = certificateUser(client384);
+        if (m == MessageSecurityMode::Sign) {
+            c.security.policyUri = std::string(crypto::kPolicyEccNistP384);
+            c.security.mode = m;
+        }
+        BlockingClient client;
+        ASSERT_EQ(client.connect(server.url(), c), status::Good);
+        EXPECT_EQ(client.security().first, crypto::kPolicyEccNistP384);
+        EXPECT_EQ(client.security().second, m);
+        EXPECT_EQ(client.writeValue(kTarget, Variant(5.0)), status::Good);  // an Operator
+        auto read = client.readValue(kTarget);
+        ASSERT_TRUE(read.ok());
+    }
+    // A P-256 client finds no endpoint it can use.
+    BlockingClient p256;
+    EXPECT_EQ(p256.connect(server.url(), eccClientConfig()), status::BadSecurityPolicyRejected);
+}
+
 TEST(EccSession, PasswordsAndRsaClientsAreNotServedOverEcc) {
     RunningServer server{eccConfig(), addTargets};
     // No password travels over ECC (it would need an EccEncryptedSecret): the endpoints

@@ -29,6 +29,7 @@ namespace {
 constexpr std::uint32_t kChannelId = 42;
 
 constexpr int kP256 = 256;  // "bits" of the P-256 certificates below
+constexpr int kP384 = 384;  // and of the P-384 ones
 
 /// Key generation is the slow part: each size is made once for the whole test program.
 const TestCertificate& certificate(int bits, int which) {
@@ -37,8 +38,14 @@ const TestCertificate& certificate(int bits, int which) {
     static const TestCertificate c4096 = makeTestCertificate(4096, "urn:test:big");
     static const TestCertificate p256a = makeTestEccCertificate("urn:test:client");
     static const TestCertificate p256b = makeTestEccCertificate("urn:test:server");
+    using Kind = crypto::AsymmetricKey::Kind;
+    static const TestCertificate p384a =
+        makeTestEccCertificate(Kind::EccNistP384, "urn:test:client");
+    static const TestCertificate p384b =
+        makeTestEccCertificate(Kind::EccNistP384, "urn:test:server");
     if (bits == 4096) return c4096;
     if (bits == kP256) return which == 0 ? p256a : p256b;
+    if (bits == kP384) return which == 0 ? p384a : p384b;
     return which == 0 ? c2048a : c2048b;
 }
 
@@ -140,8 +147,10 @@ std::vector<Case> allCases() {
     std::vector<Case> cases;
     for (const auto& profile : crypto::securityPolicyProfiles()) {
         if (profile.isEcc()) {
+            const int bits =
+                profile.keyKind == crypto::AsymmetricKey::Kind::EccNistP384 ? kP384 : kP256;
             for (auto mode : {MessageSecurityMode::Sign, MessageSecurityMode::SignAndEncrypt}) {
-                cases.push_back({&profile, mode, kP256, kP256});
+                cases.push_back({&profile, mode, bits, bits});
             }
             continue;
         }
@@ -419,6 +428,50 @@ TEST(CryptoPrimitives, EcdhAgreesAndEcdsaSignaturesAreRAndS) {
     // A key of the wrong kind for the algorithm signs and verifies nothing.
     EXPECT_FALSE(crypto::sign(certificate(2048, 0).key, alg, pattern(9)).ok());
     EXPECT_FALSE(crypto::sign(signer.key, crypto::SignatureAlgorithm::PssSha256, pattern(9)).ok());
+}
+
+TEST(CryptoPrimitives, P384AgreesAndSignsWithSha384) {
+    using Kind = crypto::AsymmetricKey::Kind;
+    auto a = crypto::EphemeralKey::generate(Kind::EccNistP384);
+    auto b = crypto::EphemeralKey::generate(Kind::EccNistP384);
+    ASSERT_TRUE(a.ok() && b.ok());
+    ASSERT_EQ(a->publicKey().size(), 96u);
+    auto ab = a->agree(b->publicKey());
+    auto ba = b->agree(a->publicKey());
+    ASSERT_TRUE(ab.ok() && ba.ok());
+    EXPECT_EQ(ab->size(), 48u);
+    EXPECT_EQ(*ab, *ba);
+    // A P-256 point is no P-384 nonce, nor is a point off the curve.
+    auto p256 = crypto::EphemeralKey::generateNistP256();
+    ASSERT_TRUE(p256.ok());
+    EXPECT_EQ(a->agree(p256->publicKey()).status(), status::BadNonceInvalid);
+    EXPECT_EQ(a->agree(Bytes(96, 0x07)).status(), status::BadNonceInvalid);
+
+    const auto& signer = certificate(kP384, 0);
+    auto pub = crypto::AsymmetricKey::fromCertificate(signer.der.bytes);
+    ASSERT_TRUE(pub.ok());
+    EXPECT_EQ(pub->kind(), Kind::EccNistP384);
+    EXPECT_EQ(pub->sizeBytes(), 96u);
+    const auto alg = crypto::SignatureAlgorithm::EcdsaSha384;
+    auto s = crypto::sign(signer.key, alg, pattern(100));
+    ASSERT_TRUE(s.ok());
+    ASSERT_EQ(s->size(), 96u);
+    EXPECT_EQ(crypto::verify(*pub, alg, pattern(100), *s), status::Good);
+    EXPECT_EQ(crypto::verify(*pub, alg, pattern(101), *s), status::BadSecurityChecksFailed);
+    // Each curve signs with its own hash only.
+    EXPECT_FALSE(
+        crypto::sign(signer.key, crypto::SignatureAlgorithm::EcdsaSha256, pattern(9)).ok());
+    EXPECT_FALSE(crypto::sign(certificate(kP256, 0).key, alg, pattern(9)).ok());
+
+    // HKDF-SHA384: as long as asked, and not the SHA-256 derivation.
+    const Bytes salt(16, 0x01);
+    const Bytes secret(48, 0x02);
+    auto k384 = crypto::hkdf(crypto::HashAlgorithm::Sha384, salt, secret, salt, 96);
+    auto k256 = crypto::hkdf(crypto::HashAlgorithm::Sha256, salt, secret, salt, 96);
+    ASSERT_TRUE(k384.ok() && k256.ok());
+    EXPECT_EQ(k384->size(), 96u);
+    EXPECT_NE(*k384, *k256);
+    EXPECT_EQ(crypto::hmac(crypto::HashAlgorithm::Sha384, salt, secret).size(), 48u);
 }
 
 TEST(CertificateChain, TheLeafIsTheFirstDerElementAndNothingElse) {

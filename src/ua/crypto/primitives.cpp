@@ -13,6 +13,7 @@
 #include <openssl/rsa.h>
 #include <openssl/sha.h>
 
+#include <array>
 #include <cstdio>
 #include <limits>
 
@@ -53,17 +54,52 @@ bool setSignaturePadding(EVP_PKEY_CTX* ctx, SignatureAlgorithm algorithm) {
            EVP_PKEY_CTX_set_rsa_mgf1_md(ctx, EVP_sha256()) == 1;
 }
 
-constexpr std::size_t kP256Coordinate = 32;
-constexpr const char* kP256Group = "prime256v1";  // OpenSSL's name of NIST P-256
+/// A curve of the ECC policies: OpenSSL's name of it, and its coordinates' size.
+struct Curve {
+    AsymmetricKey::Kind kind;
+    const char* group;
+    std::size_t coordinate;
+};
+constexpr std::array<Curve, 2> kCurves{{
+    {AsymmetricKey::Kind::EccNistP256, "prime256v1", 32},
+    {AsymmetricKey::Kind::EccNistP384, "secp384r1", 48},
+}};
 
-/// Whether `key` is an EC key on P-256.
-bool isNistP256(EVP_PKEY* key) {
-    if (EVP_PKEY_is_a(key, "EC") != 1) return false;
+const Curve* curveOf(AsymmetricKey::Kind kind) {
+    for (const auto& c : kCurves) {
+        if (c.kind == kind) return &c;
+    }
+    return nullptr;
+}
+
+/// The curve of an EC key, if it is one of ours.
+const Curve* curveOfKey(EVP_PKEY* key) {
+    if (EVP_PKEY_is_a(key, "EC") != 1) return nullptr;
     char group[64] = {};
     std::size_t length = 0;
-    return EVP_PKEY_get_utf8_string_param(key, OSSL_PKEY_PARAM_GROUP_NAME, group, sizeof(group),
-                                          &length) == 1 &&
-           std::string_view(group, length) == kP256Group;
+    if (EVP_PKEY_get_utf8_string_param(key, OSSL_PKEY_PARAM_GROUP_NAME, group, sizeof(group),
+                                       &length) != 1) {
+        return nullptr;
+    }
+    for (const auto& c : kCurves) {
+        if (std::string_view(group, length) == c.group) return &c;
+    }
+    return nullptr;
+}
+
+/// The key kind an ECDSA algorithm signs with (Rsa for the RSA algorithms), and its digest.
+AsymmetricKey::Kind keyKindOf(SignatureAlgorithm algorithm) {
+    switch (algorithm) {
+        case SignatureAlgorithm::EcdsaSha256:
+            return AsymmetricKey::Kind::EccNistP256;
+        case SignatureAlgorithm::EcdsaSha384:
+            return AsymmetricKey::Kind::EccNistP384;
+        default:
+            return AsymmetricKey::Kind::Rsa;
+    }
+}
+const EVP_MD* digestOf(SignatureAlgorithm algorithm) {
+    return algorithm == SignatureAlgorithm::EcdsaSha384 ? EVP_sha384() : EVP_sha256();
 }
 
 /// OpenSSL's DER ECDSA-Sig-Value as r || s, each `half` bytes.
@@ -105,7 +141,9 @@ Result<AsymmetricKey> AsymmetricKey::adopt(EVP_PKEY* key, StatusCode otherwise) 
     if (key != nullptr && EVP_PKEY_is_a(key, "RSA") == 1) {
         return AsymmetricKey(share(key), Kind::Rsa);
     }
-    if (key != nullptr && isNistP256(key)) return AsymmetricKey(share(key), Kind::EccNistP256);
+    if (const Curve* curve = key != nullptr ? curveOfKey(key) : nullptr) {
+        return AsymmetricKey(share(key), curve->kind);
+    }
     EVP_PKEY_free(key);
     return otherwise;
 }
@@ -153,44 +191,53 @@ Result<AsymmetricKey> AsymmetricKey::generate(int bits) {
     return AsymmetricKey(share(key), Kind::Rsa);
 }
 
-Result<AsymmetricKey> AsymmetricKey::generateEccNistP256() {
-    EVP_PKEY* key = EVP_EC_gen("P-256");
+Result<AsymmetricKey> AsymmetricKey::generateEcc(Kind kind) {
+    const Curve* curve = curveOf(kind);
+    if (curve == nullptr) return status::BadInternalError;
+    EVP_PKEY* key = EVP_EC_gen(curve->group);
     if (key == nullptr) return status::BadInternalError;
-    return AsymmetricKey(share(key), Kind::EccNistP256);
+    return AsymmetricKey(share(key), kind);
 }
 
 std::size_t AsymmetricKey::sizeBytes() const {
     if (!key_) return 0;
     // EVP_PKEY_get_size of an EC key is the longest DER signature, not r || s.
-    if (kind_ == Kind::EccNistP256) return 2 * kP256Coordinate;
+    if (const Curve* curve = curveOf(kind_)) return 2 * curve->coordinate;
     return static_cast<std::size_t>(EVP_PKEY_get_size(key_.get()));
 }
 
-Result<EphemeralKey> EphemeralKey::generateNistP256() {
-    EVP_PKEY* raw = EVP_EC_gen("P-256");
+Result<EphemeralKey> EphemeralKey::generate(AsymmetricKey::Kind kind) {
+    const Curve* curve = curveOf(kind);
+    if (curve == nullptr) return status::BadInternalError;
+    EVP_PKEY* raw = EVP_EC_gen(curve->group);
     if (raw == nullptr) return status::BadInternalError;
     EphemeralKey out;
     out.key_ = share(raw);
+    out.curve_ = kind;
     // The uncompressed point: 0x04 || X || Y.
-    unsigned char point[1 + 2 * kP256Coordinate];
+    std::array<unsigned char, 1 + 2 * 48> point{};
+    const std::size_t expected = 1 + 2 * curve->coordinate;
     std::size_t length = 0;
-    if (EVP_PKEY_get_octet_string_param(raw, OSSL_PKEY_PARAM_PUB_KEY, point, sizeof(point),
+    if (EVP_PKEY_get_octet_string_param(raw, OSSL_PKEY_PARAM_PUB_KEY, point.data(), point.size(),
                                         &length) != 1 ||
-        length != sizeof(point) || point[0] != 0x04) {
+        length != expected || point[0] != 0x04) {
         return status::BadInternalError;
     }
-    out.public_.assign(point + 1, point + length);
+    out.public_.assign(point.begin() + 1, point.begin() + static_cast<std::ptrdiff_t>(length));
     return out;
 }
 
 Result<Bytes> EphemeralKey::agree(ByteView peerPublicKey) const {
-    if (!key_ || peerPublicKey.size() != 2 * kP256Coordinate) return status::BadNonceInvalid;
+    const Curve* curve = curveOf(curve_);
+    if (!key_ || curve == nullptr || peerPublicKey.size() != 2 * curve->coordinate) {
+        return status::BadNonceInvalid;
+    }
     Bytes point{0x04};
     point.insert(point.end(), peerPublicKey.begin(), peerPublicKey.end());
     const std::unique_ptr<OSSL_PARAM_BLD, void (*)(OSSL_PARAM_BLD*)> build(OSSL_PARAM_BLD_new(),
                                                                            OSSL_PARAM_BLD_free);
     if (!build ||
-        OSSL_PARAM_BLD_push_utf8_string(build.get(), OSSL_PKEY_PARAM_GROUP_NAME, kP256Group, 0) !=
+        OSSL_PARAM_BLD_push_utf8_string(build.get(), OSSL_PKEY_PARAM_GROUP_NAME, curve->group, 0) !=
             1 ||
         OSSL_PARAM_BLD_push_octet_string(build.get(), OSSL_PKEY_PARAM_PUB_KEY, point.data(),
                                          point.size()) != 1) {
@@ -269,13 +316,14 @@ Result<Bytes> rsaDecrypt(const AsymmetricKey& privateKey, RsaEncryption algorith
 }
 
 Result<Bytes> sign(const AsymmetricKey& privateKey, SignatureAlgorithm algorithm, ByteView data) {
-    const bool ecdsa = algorithm == SignatureAlgorithm::EcdsaSha256;
-    if (!privateKey.valid() || ecdsa != (privateKey.kind() == AsymmetricKey::Kind::EccNistP256)) {
+    const bool ecdsa = keyKindOf(algorithm) != AsymmetricKey::Kind::Rsa;
+    if (!privateKey.valid() || privateKey.kind() != keyKindOf(algorithm)) {
         return status::BadInternalError;  // our key does not fit our policy
     }
     MdCtxHandle md(EVP_MD_CTX_new());
     EVP_PKEY_CTX* pctx = nullptr;  // owned by md
-    if (!md || EVP_DigestSignInit(md.get(), &pctx, EVP_sha256(), nullptr, privateKey.get()) != 1 ||
+    if (!md ||
+        EVP_DigestSignInit(md.get(), &pctx, digestOf(algorithm), nullptr, privateKey.get()) != 1 ||
         (!ecdsa && !setSignaturePadding(pctx, algorithm))) {
         return status::BadInternalError;
     }
@@ -294,8 +342,8 @@ Result<Bytes> sign(const AsymmetricKey& privateKey, SignatureAlgorithm algorithm
 
 StatusCode verify(const AsymmetricKey& publicKey, SignatureAlgorithm algorithm, ByteView data,
                   ByteView signature) {
-    const bool ecdsa = algorithm == SignatureAlgorithm::EcdsaSha256;
-    if (!publicKey.valid() || ecdsa != (publicKey.kind() == AsymmetricKey::Kind::EccNistP256)) {
+    const bool ecdsa = keyKindOf(algorithm) != AsymmetricKey::Kind::Rsa;
+    if (!publicKey.valid() || publicKey.kind() != keyKindOf(algorithm)) {
         return status::BadSecurityChecksFailed;
     }
     Bytes der;
@@ -307,7 +355,8 @@ StatusCode verify(const AsymmetricKey& publicKey, SignatureAlgorithm algorithm, 
     }
     MdCtxHandle md(EVP_MD_CTX_new());
     EVP_PKEY_CTX* pctx = nullptr;
-    if (!md || EVP_DigestVerifyInit(md.get(), &pctx, EVP_sha256(), nullptr, publicKey.get()) != 1 ||
+    if (!md ||
+        EVP_DigestVerifyInit(md.get(), &pctx, digestOf(algorithm), nullptr, publicKey.get()) != 1 ||
         (!ecdsa && !setSignaturePadding(pctx, algorithm))) {
         return status::BadSecurityChecksFailed;
     }
@@ -317,11 +366,11 @@ StatusCode verify(const AsymmetricKey& publicKey, SignatureAlgorithm algorithm, 
                : status::BadSecurityChecksFailed;
 }
 
-Bytes hmacSha256(ByteView key, ByteView data) {
-    Bytes mac(SHA256_DIGEST_LENGTH);
+Bytes hmac(HashAlgorithm hash, ByteView key, ByteView data) {
+    Bytes mac(EVP_MAX_MD_SIZE);
     unsigned int size = 0;
-    HMAC(EVP_sha256(), key.data(), static_cast<int>(key.size()), data.data(), data.size(),
-         mac.data(), &size);
+    HMAC(hash == HashAlgorithm::Sha384 ? EVP_sha384() : EVP_sha256(), key.data(),
+         static_cast<int>(key.size()), data.data(), data.size(), mac.data(), &size);
     mac.resize(size);
     return mac;
 }
@@ -364,7 +413,8 @@ StatusCode aesCbcDecrypt(ByteView key, ByteView iv, std::span<std::uint8_t> data
     return aesCbc(key, iv, data, false);
 }
 
-Result<Bytes> hkdfSha256(ByteView salt, ByteView secret, ByteView info, std::size_t length) {
+Result<Bytes> hkdf(HashAlgorithm hash, ByteView salt, ByteView secret, ByteView info,
+                   std::size_t length) {
     const std::unique_ptr<EVP_KDF, void (*)(EVP_KDF*)> kdf(EVP_KDF_fetch(nullptr, "HKDF", nullptr),
                                                            EVP_KDF_free);
     const std::unique_ptr<EVP_KDF_CTX, void (*)(EVP_KDF_CTX*)> ctx(
@@ -373,7 +423,9 @@ Result<Bytes> hkdfSha256(ByteView salt, ByteView secret, ByteView info, std::siz
     auto* saltData = const_cast<std::uint8_t*>(salt.data());
     auto* secretData = const_cast<std::uint8_t*>(secret.data());
     auto* infoData = const_cast<std::uint8_t*>(info.data());
-    char digest[] = "SHA256";
+    char sha256[] = "SHA256";
+    char sha384[] = "SHA384";
+    char* digest = hash == HashAlgorithm::Sha384 ? sha384 : sha256;
     const OSSL_PARAM params[] = {
         OSSL_PARAM_construct_utf8_string(OSSL_KDF_PARAM_DIGEST, digest, 0),
         OSSL_PARAM_construct_octet_string(OSSL_KDF_PARAM_SALT, saltData, salt.size()),

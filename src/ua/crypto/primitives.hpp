@@ -22,16 +22,23 @@ using ByteView = std::span<const std::uint8_t>;
 enum class RsaEncryption : std::uint8_t { OaepSha1, OaepSha256 };
 /// ECDSA signatures travel as r || s, each the size of the curve's order (OPC 10000-6, 6.8),
 /// not in the DER form OpenSSL makes: sign() and verify() convert.
-enum class SignatureAlgorithm : std::uint8_t { Pkcs1v15Sha256, PssSha256, EcdsaSha256 };
+enum class SignatureAlgorithm : std::uint8_t {
+    Pkcs1v15Sha256,
+    PssSha256,
+    EcdsaSha256,
+    EcdsaSha384
+};
+/// The hash of a policy's symmetric signature (HMAC) and ECC key derivation (HKDF).
+enum class HashAlgorithm : std::uint8_t { Sha256, Sha384 };
 
 /// Bytes of padding OAEP needs per block: 2 * hash length + 2.
 [[nodiscard]] std::size_t oaepOverhead(RsaEncryption algorithm);
 
-/// An RSA key, or an ECC key on the NIST P-256 curve: public or private. Copyable handle
-/// (shared, immutable after loading).
+/// An RSA key, or an ECC key on the NIST P-256 or P-384 curve: public or private. Copyable
+/// handle (shared, immutable after loading).
 class AsymmetricKey {
 public:
-    enum class Kind : std::uint8_t { Rsa, EccNistP256 };
+    enum class Kind : std::uint8_t { Rsa, EccNistP256, EccNistP384 };
 
     AsymmetricKey() = default;
     /// The public key of a DER certificate (the first one, if `der` is a chain);
@@ -46,8 +53,11 @@ public:
                                                                   Kind expected);
     /// A fresh RSA key, for tests and certificates.
     [[nodiscard]] static Result<AsymmetricKey> generate(int bits);
-    /// A fresh P-256 key, for tests and certificates.
-    [[nodiscard]] static Result<AsymmetricKey> generateEccNistP256();
+    /// A fresh key on the curve `kind` names (not Rsa), for tests and certificates.
+    [[nodiscard]] static Result<AsymmetricKey> generateEcc(Kind kind);
+    [[nodiscard]] static Result<AsymmetricKey> generateEccNistP256() {
+        return generateEcc(Kind::EccNistP256);
+    }
 
     [[nodiscard]] bool valid() const { return key_ != nullptr; }
     [[nodiscard]] Kind kind() const { return kind_; }
@@ -70,9 +80,13 @@ private:
 /// is the public half (OPC 10000-6, 6.8.1).
 class EphemeralKey {
 public:
-    /// A fresh P-256 pair.
-    [[nodiscard]] static Result<EphemeralKey> generateNistP256();
-    /// The public key as OPC UA carries it: X || Y, 64 bytes for P-256 (no 0x04 prefix).
+    /// A fresh pair on the curve `kind` names (EccNistP256 or EccNistP384).
+    [[nodiscard]] static Result<EphemeralKey> generate(AsymmetricKey::Kind kind);
+    [[nodiscard]] static Result<EphemeralKey> generateNistP256() {
+        return generate(AsymmetricKey::Kind::EccNistP256);
+    }
+    /// The public key as OPC UA carries it: X || Y, 64 bytes for P-256, 96 for P-384 (no 0x04
+    /// prefix).
     [[nodiscard]] const Bytes& publicKey() const { return public_; }
     /// ECDH with the peer's public key (X || Y): the shared secret (the x-coordinate).
     /// BadNonceInvalid when the peer's key is not a point of the curve.
@@ -80,6 +94,7 @@ public:
 
 private:
     std::shared_ptr<EVP_PKEY> key_;
+    AsymmetricKey::Kind curve_ = AsymmetricKey::Kind::EccNistP256;
     Bytes public_;
 };
 
@@ -96,16 +111,24 @@ private:
 [[nodiscard]] StatusCode verify(const AsymmetricKey& publicKey, SignatureAlgorithm algorithm,
                                 ByteView data, ByteView signature);
 
-[[nodiscard]] Bytes hmacSha256(ByteView key, ByteView data);
+[[nodiscard]] Bytes hmac(HashAlgorithm hash, ByteView key, ByteView data);
+[[nodiscard]] inline Bytes hmacSha256(ByteView key, ByteView data) {
+    return hmac(HashAlgorithm::Sha256, key, data);
+}
 /// AES-CBC without padding (the policy pads): `data` must be a multiple of 16 bytes, the
 /// key 16 or 32 bytes, the IV 16 bytes. Works in place on `data`.
 [[nodiscard]] StatusCode aesCbcEncrypt(ByteView key, ByteView iv, std::span<std::uint8_t> data);
 [[nodiscard]] StatusCode aesCbcDecrypt(ByteView key, ByteView iv, std::span<std::uint8_t> data);
-/// HKDF-SHA256 (RFC 5869): extract with `salt` from `secret`, expand with `info` to `length`
-/// bytes: the ECC policies' key derivation (OPC 10000-6, 6.8.1). BadInternalError when
-/// OpenSSL offers no HKDF (a provider without it) or `length` exceeds 255 hash lengths.
-[[nodiscard]] Result<Bytes> hkdfSha256(ByteView salt, ByteView secret, ByteView info,
-                                       std::size_t length);
+/// HKDF (RFC 5869) with SHA-256 or SHA-384: extract with `salt` from `secret`, expand with
+/// `info` to `length` bytes: the ECC policies' key derivation (OPC 10000-6, 6.8.1).
+/// BadInternalError when OpenSSL offers no HKDF (a provider without it) or `length` exceeds
+/// 255 hash lengths.
+[[nodiscard]] Result<Bytes> hkdf(HashAlgorithm hash, ByteView salt, ByteView secret, ByteView info,
+                                 std::size_t length);
+[[nodiscard]] inline Result<Bytes> hkdfSha256(ByteView salt, ByteView secret, ByteView info,
+                                              std::size_t length) {
+    return hkdf(HashAlgorithm::Sha256, salt, secret, info, length);
+}
 /// P_SHA256(secret, seed) of RFC 5246 5, `length` bytes: the UA key derivation.
 [[nodiscard]] Bytes pSha256(ByteView secret, ByteView seed, std::size_t length);
 [[nodiscard]] Bytes sha1(ByteView data);

@@ -11,8 +11,9 @@ constexpr std::string_view kRsaOaep = "http://www.w3.org/2001/04/xmlenc#rsa-oaep
 constexpr std::string_view kRsaOaepSha256 =
     "http://opcfoundation.org/UA/security/rsa-oaep-sha2-256";
 constexpr std::string_view kEcdsaSha256 = "http://www.w3.org/2001/04/xmldsig-more#ecdsa-sha256";
+constexpr std::string_view kEcdsaSha384 = "http://www.w3.org/2001/04/xmldsig-more#ecdsa-sha384";
 
-constexpr std::array<SecurityPolicyProfile, 4> kProfiles{{
+constexpr std::array<SecurityPolicyProfile, 5> kProfiles{{
     {kPolicyAes128Sha256RsaOaep, "Aes128_Sha256_RsaOaep", RsaEncryption::OaepSha1,
      SignatureAlgorithm::Pkcs1v15Sha256, kRsaSha256, kRsaOaep, 16, 32, 32, 32, 2048, 4096, 2},
     {kPolicyBasic256Sha256, "Basic256Sha256", RsaEncryption::OaepSha1,
@@ -36,6 +37,24 @@ constexpr std::array<SecurityPolicyProfile, 4> kProfiles{{
      256,
      5,
      AsymmetricKey::Kind::EccNistP256},
+    // OPC 10000-7, ECC_nistP384: ECDSA-SHA2-384 and ECDH on P-384, HKDF-SHA2-384,
+    // AES256-CBC, HMAC-SHA2-384 (48-byte keys and signatures); 96-byte nonces. A 192-bit
+    // security level: the strongest policy here.
+    {kPolicyEccNistP384,
+     "ECC_nistP384",
+     RsaEncryption::OaepSha256,
+     SignatureAlgorithm::EcdsaSha384,
+     kEcdsaSha384,
+     {},
+     32,
+     48,
+     48,
+     96,
+     384,
+     384,
+     6,
+     AsymmetricKey::Kind::EccNistP384,
+     HashAlgorithm::Sha384},
 }};
 
 }  // namespace

@@ -19,6 +19,8 @@ inline constexpr std::string_view kPolicyAes256Sha256RsaPss =
     "http://opcfoundation.org/UA/SecurityPolicy#Aes256_Sha256_RsaPss";
 inline constexpr std::string_view kPolicyEccNistP256 =
     "http://opcfoundation.org/UA/SecurityPolicy#ECC_nistP256";
+inline constexpr std::string_view kPolicyEccNistP384 =
+    "http://opcfoundation.org/UA/SecurityPolicy#ECC_nistP384";
 
 struct SecurityPolicyProfile {
     std::string_view uri;
@@ -30,7 +32,7 @@ struct SecurityPolicyProfile {
     std::string_view asymmetricSignatureUri;
     std::string_view asymmetricEncryptionUri;
     std::size_t symmetricKeyLength = 32;  // AES key, bytes
-    std::size_t signingKeyLength = 32;    // HMAC-SHA256 key, bytes
+    std::size_t signingKeyLength = 32;    // HMAC key, bytes
     std::size_t symmetricSignatureSize = 32;
     /// ECC: an EphemeralKey's public half (X || Y).
     std::size_t nonceLength = 32;
@@ -40,6 +42,8 @@ struct SecurityPolicyProfile {
     std::uint8_t strength = 1;
     /// The kind of key the certificates of both ends must have.
     AsymmetricKey::Kind keyKind = AsymmetricKey::Kind::Rsa;
+    /// The symmetric signature's HMAC and the ECC key derivation's HKDF hash.
+    HashAlgorithm hash = HashAlgorithm::Sha256;
 
     [[nodiscard]] bool isEcc() const { return keyKind != AsymmetricKey::Kind::Rsa; }
 };

@@ -168,7 +168,7 @@ StatusCode CertificateSecurityPolicy::protectSymmetric(std::vector<std::uint8_t>
     const std::size_t signatureSize = profile_.symmetricSignatureSize;
     if (encrypt) appendPadding(chunk, headerSize, kAesBlock, signatureSize, false);
     patchMessageSize(chunk, chunk.size() + signatureSize);
-    const auto mac = crypto::hmacSha256(keys.signingKey, chunk);
+    const auto mac = crypto::hmac(profile_.hash, keys.signingKey, chunk);
     chunk.insert(chunk.end(), mac.begin(), mac.end());
     if (!encrypt) return status::Good;
     return crypto::aesCbcEncrypt(keys.encryptingKey, keys.initializationVector,
@@ -192,7 +192,8 @@ StatusCode CertificateSecurityPolicy::unprotectSymmetric(std::vector<std::uint8_
         }
     }
     const std::size_t signedEnd = chunk.size() - signatureSize;
-    const auto mac = crypto::hmacSha256(keys.signingKey, std::span(chunk).first(signedEnd));
+    const auto mac =
+        crypto::hmac(profile_.hash, keys.signingKey, std::span(chunk).first(signedEnd));
     if (!crypto::equalConstantTime(mac, std::span(chunk).subspan(signedEnd))) {
         return status::BadSecurityChecksFailed;
     }

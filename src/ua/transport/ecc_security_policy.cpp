@@ -35,7 +35,7 @@ Result<std::unique_ptr<EccSecurityPolicy>> EccSecurityPolicy::create(
 }
 
 ByteString EccSecurityPolicy::newNonce() {
-    auto key = crypto::EphemeralKey::generateNistP256();
+    auto key = crypto::EphemeralKey::generate(profile_.keyKind);
     if (!key) {
         // Only a broken OpenSSL gets here: the empty nonce fails the exchange (the server
         // answers BadInternalError, a client's derivation BadNonceInvalid).
@@ -56,8 +56,8 @@ Result<ChannelKeys> EccSecurityPolicy::deriveKeys(std::span<const std::uint8_t> 
     const std::size_t length = keyMaterialLength();
     const auto clientSalt = salt(length, "opcua-client", clientNonce, serverNonce);
     const auto serverSalt = salt(length, "opcua-server", serverNonce, clientNonce);
-    auto clientMaterial = crypto::hkdfSha256(clientSalt, *secret, clientSalt, length);
-    auto serverMaterial = crypto::hkdfSha256(serverSalt, *secret, serverSalt, length);
+    auto clientMaterial = crypto::hkdf(profile_.hash, clientSalt, *secret, clientSalt, length);
+    auto serverMaterial = crypto::hkdf(profile_.hash, serverSalt, *secret, serverSalt, length);
     if (!clientMaterial) return clientMaterial.status();
     if (!serverMaterial) return serverMaterial.status();
     SymmetricKeys clientKeys = splitKeys(*clientMaterial);
