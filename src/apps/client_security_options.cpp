@@ -34,7 +34,8 @@ void addClientSecurityOptions(CLI::App* cmd, ClientSecurityOptions& o) {
                     "~/.local/share/skillcell/pki/urn_skillcell_client)");
     cmd->add_option("--security", o.policy,
                     "best (the most secure endpoint the server offers), or Basic256Sha256, "
-                    "Aes128_Sha256_RsaOaep, Aes256_Sha256_RsaPss")
+                    "Aes128_Sha256_RsaOaep, Aes256_Sha256_RsaPss, ECC_nistP256, ECC_nistP384 "
+                    "(the ECC ones need a certificate with a key on that curve)")
         ->capture_default_str();
     cmd->add_option("--mode", o.mode, "with an explicit --security: Sign or SignAndEncrypt")
         ->check(CLI::IsMember({"Sign", "SignAndEncrypt"}))
@@ -140,8 +141,8 @@ ua::Result<ua::ClientSecurity> commandClientSecurity(const ClientSecurityOptions
                                                : ua::MessageSecurityMode::SignAndEncrypt;
     } else {
         *error = "unknown --security '" + options.policy +
-                 "' (best, Basic256Sha256, Aes128_Sha256_RsaOaep, Aes256_Sha256_RsaPss or "
-                 "ECC_nistP256)";
+                 "' (best, Basic256Sha256, Aes128_Sha256_RsaOaep, Aes256_Sha256_RsaPss, "
+                 "ECC_nistP256 or ECC_nistP384)";
         return ua::status::BadConfigurationError;
     }
     const std::filesystem::path pkiDir = options.pkiDir.empty()
