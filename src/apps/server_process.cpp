@@ -4,10 +4,12 @@
 
 #include <asio.hpp>
 #include <csignal>
+#include <future>
 #include <iostream>
 
 #include "skill_report.hpp"
 #include "skills/skill_detector.hpp"
+#include "ua/nodeset/nodeset_loader.hpp"
 #include "ua/server/user_database.hpp"
 
 namespace skillcell::apps {
@@ -183,6 +185,15 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
     config.limits.maxSessions = options.maxSessions;
     config.limits.maxChannels = options.maxChannels;
 
+    // Namespace 0 (2.6 ms of a start) loads on a thread of its own while this one reads the
+    // certificates, keys and users (1.7 ms): a plugged component is READY sooner when a core
+    // is free, as one mostly is before it has announced itself.
+    auto namespace0 =
+        std::async(std::launch::async | std::launch::deferred, [uri = options.applicationUri] {
+            ua::AddressSpace as(uri);
+            auto loaded = ua::loadBaseNodeSet(as);
+            return std::make_pair(std::move(as), std::move(loaded));
+        });
     std::string error;
     auto identity = ApplicationIdentity::load(options.pkiDir, options.applicationUri,
                                               options.applicationName, &error);
@@ -201,7 +212,12 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
     if (startEarly) startEarly(*clientSecurity, options.applicationUri);
     if (const int s = configureSecurity(options, *identity, config); s != 0) return s;
 
-    auto server = ua::Server::create(io, config, &error);
+    auto [addressSpace, loaded] = namespace0.get();
+    if (!loaded.ok()) {
+        spdlog::critical("cannot build the server: namespace 0: {}", loaded.error);
+        return 1;
+    }
+    auto server = ua::Server::create(io, config, std::move(addressSpace), &error);
     if (!server) {
         spdlog::critical("cannot build the server: {}", error);
         return 1;

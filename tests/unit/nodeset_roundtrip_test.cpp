@@ -297,4 +297,25 @@ TEST(NodeSetRoundTrip, ServerCreateTime) {
     std::printf("[ timing ] Server::create (best of 5): %.3f ms\n", best);
 }
 
+TEST(ServerCreate, TakesANamespaceZeroLoadedElsewhere) {
+    // As a component's start does: namespace 0 loaded on another thread, the server built
+    // around it, its application URI namespace 1 as if it had loaded it itself.
+    asio::io_context io;
+    ServerConfig config;
+    config.description.applicationUri = "urn:test:preloaded";
+    AddressSpace namespace0("urn:somebody:else");
+    ASSERT_TRUE(loadBaseNodeSet(namespace0).ok());
+    std::string error;
+    auto server = Server::create(io, config, std::move(namespace0), &error);
+    ASSERT_NE(server, nullptr) << error;
+    ASSERT_GE(server->addressSpace().namespaces().size(), 2u);
+    EXPECT_EQ(server->addressSpace().namespaces()[1], String("urn:test:preloaded"));
+    auto plain = Server::create(io, config, &error);
+    ASSERT_NE(plain, nullptr) << error;
+    EXPECT_EQ(server->addressSpace().size(), plain->addressSpace().size());
+    // An address space without namespace 0 is refused, with the reason.
+    EXPECT_EQ(Server::create(io, config, AddressSpace("urn:empty"), &error), nullptr);
+    EXPECT_NE(error.find("namespace 0"), std::string::npos) << error;
+}
+
 }  // namespace nodeset_roundtrip_test

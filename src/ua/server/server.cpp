@@ -12,10 +12,11 @@
 
 namespace skillcell::ua {
 
-Server::Server(asio::io_context& io, ServerConfig config)
+Server::Server(asio::io_context& io, ServerConfig config, std::optional<AddressSpace> namespace0)
     : io_(io),
       config_(std::move(config)),
-      addressSpace_(config_.description.applicationUri),
+      addressSpace_(namespace0 ? std::move(*namespace0)
+                               : AddressSpace(config_.description.applicationUri)),
       sessions_(config_.limits),
       subscriptions_(addressSpace_, config_.limits),
       acceptor_(io),
@@ -32,12 +33,29 @@ Server::~Server() {
 
 std::unique_ptr<Server> Server::create(asio::io_context& io, ServerConfig config,
                                        std::string* error) {
-    std::unique_ptr<Server> server(new Server(io, std::move(config)));  // NOLINT: private ctor
+    // NOLINTNEXTLINE(cppcoreguidelines-owning-memory): the constructor is private
+    std::unique_ptr<Server> server(new Server(io, std::move(config), std::nullopt));
     const auto loaded = loadBaseNodeSet(server->addressSpace_);
     if (!loaded.ok()) {
         if (error != nullptr) *error = "namespace 0: " + loaded.error;
         return nullptr;
     }
+    return finish(std::move(server), error);
+}
+
+std::unique_ptr<Server> Server::create(asio::io_context& io, ServerConfig config,
+                                       AddressSpace namespace0, std::string* error) {
+    if (namespace0.find(NodeId(84)) == nullptr) {  // no RootFolder: nothing was loaded
+        if (error != nullptr) *error = "namespace 0: not loaded";
+        return nullptr;
+    }
+    namespace0.setApplicationUri(config.description.applicationUri);
+    // NOLINTNEXTLINE(cppcoreguidelines-owning-memory): the constructor is private
+    std::unique_ptr<Server> server(new Server(io, std::move(config), std::move(namespace0)));
+    return finish(std::move(server), error);
+}
+
+std::unique_ptr<Server> Server::finish(std::unique_ptr<Server> server, std::string* error) {
     ServerInfo info;
     info.applicationUri = server->config_.description.applicationUri;
     info.productUri = server->config_.description.productUri;

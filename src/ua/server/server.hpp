@@ -9,6 +9,7 @@
 #include <asio.hpp>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -42,6 +43,12 @@ public:
     /// object) and the service table. No socket is opened yet. On failure, `error` (if
     /// given) receives a message naming the cause.
     [[nodiscard]] static std::unique_ptr<Server> create(asio::io_context& io, ServerConfig config,
+                                                        std::string* error = nullptr);
+    /// The same with namespace 0 loaded already (loadBaseNodeSet into `namespace0`), for a
+    /// caller that loaded it on another thread while it did something else; namespace 1
+    /// becomes the configured application URI.
+    [[nodiscard]] static std::unique_ptr<Server> create(asio::io_context& io, ServerConfig config,
+                                                        AddressSpace namespace0,
                                                         std::string* error = nullptr);
     Server(const Server&) = delete;
     Server& operator=(const Server&) = delete;
@@ -79,7 +86,9 @@ public:
     ByteString fireEvent(Event event) { return subscriptions_.fireEvent(std::move(event)); }
 
 private:
-    Server(asio::io_context& io, ServerConfig config);
+    Server(asio::io_context& io, ServerConfig config, std::optional<AddressSpace> namespace0);
+    [[nodiscard]] static std::unique_ptr<Server> finish(std::unique_ptr<Server> server,
+                                                        std::string* error);
     asio::awaitable<void> acceptLoop();
     asio::awaitable<void> reapSessions();
     /// Runs the subscription engine: publishing cycles, sampling, Publish timeouts.
