@@ -22,18 +22,21 @@ std::string nameString(const X509_NAME* name) {
     return {data, static_cast<std::size_t>(len)};
 }
 
-Clock::time_point toTimePoint(const ASN1_TIME* t) {
-    std::tm tm{};
-    if (t == nullptr || ASN1_TIME_to_tm(t, &tm) != 1) return {};
-    return Clock::from_time_t(timegm(&tm));
-}
-
 std::string asn1String(const ASN1_STRING* s) {
     return {reinterpret_cast<const char*>(ASN1_STRING_get0_data(s)),
             static_cast<std::size_t>(ASN1_STRING_length(s))};
 }
 
 }  // namespace
+
+std::optional<Clock::time_point> timePointOf(const ASN1_TIME* time) {
+    std::tm tm{};
+    if (time == nullptr || ASN1_TIME_to_tm(time, &tm) != 1) return std::nullopt;
+    constexpr std::time_t kClockRangeEnd = 9'000'000'000;  // 2255: before the clock's end
+    const std::time_t seconds = timegm(&tm);
+    if (seconds >= kClockRangeEnd) return Clock::time_point::max();
+    return Clock::from_time_t(seconds);
+}
 
 Result<std::vector<ChainCertificate>> parseCertificateChain(const ByteString& chain) {
     std::vector<ChainCertificate> out;
@@ -121,8 +124,8 @@ CertificateInfo inspectCertificate(X509* cert) {
         if (hex != nullptr) info.serialNumber = hex;
         OPENSSL_free(hex);
     }
-    info.notBefore = toTimePoint(X509_get0_notBefore(cert));
-    info.notAfter = toTimePoint(X509_get0_notAfter(cert));
+    info.notBefore = timePointOf(X509_get0_notBefore(cert)).value_or(Clock::time_point{});
+    info.notAfter = timePointOf(X509_get0_notAfter(cert)).value_or(Clock::time_point{});
     info.isCa = X509_check_ca(cert) != 0;
     info.selfSigned = X509_self_signed(cert, 1) == 1;
     if (const EVP_PKEY* key = X509_get0_pubkey(cert); key != nullptr) {

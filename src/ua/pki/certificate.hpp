@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,11 @@ struct ChainCertificate {
 /// parse and together they must use every byte; else BadCertificateInvalid. Empty input is
 /// BadCertificateInvalid too.
 [[nodiscard]] Result<std::vector<ChainCertificate>> parseCertificateChain(const ByteString& chain);
+
+/// An ASN.1 time (a validity bound, a CRL's update times) as a time point; nothing when it
+/// does not parse. Times past the clock's range (it ends in 2262; 9999-12-31 means "no
+/// expiry") are the end of it.
+[[nodiscard]] std::optional<Clock::time_point> timePointOf(const ASN1_TIME* time);
 
 /// Parses the first certificate of `der` (a single certificate or a chain).
 [[nodiscard]] Result<ossl::Cert> parseCertificate(const ByteString& der);

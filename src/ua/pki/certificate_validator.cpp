@@ -4,7 +4,6 @@
 #include <openssl/x509_vfy.h>
 
 #include <algorithm>
-#include <ctime>
 #include <vector>
 
 namespace skillcell::ua::pki {
@@ -150,17 +149,6 @@ int verifyCallback(int ok, X509_STORE_CTX* ctx) {
     }
     collector->findings.push_back({step, std::move(why)});
     return 1;  // go on: all findings are collected, the earliest step decides
-}
-
-/// An ASN.1 time as a time point; nothing when it does not parse.
-std::optional<Clock::time_point> timePointOf(const ASN1_TIME* t) {
-    std::tm tm{};
-    if (t == nullptr || ASN1_TIME_to_tm(t, &tm) != 1) return std::nullopt;
-    // The clock's range ends in 2262; later ends (9999-12-31: "no expiry") are the end of it.
-    constexpr std::time_t kClockRangeEnd = 9'000'000'000;
-    const std::time_t seconds = timegm(&tm);
-    if (seconds >= kClockRangeEnd) return Clock::time_point::max();
-    return Clock::from_time_t(seconds);
 }
 
 /// The certificate, then each expectation, NUL-separated: what a verdict is remembered by.
