@@ -98,16 +98,12 @@ void ApplicationIdentity::prepareForPeers() const {
         std::lock_guard lock(validator_->mutex);
         validator_->validator.preload();
     }
-    if (!eccPrivateKey_.valid()) return;
+    const auto ecdsa = ua::crypto::ecdsaAlgorithmFor(eccPrivateKey_.kind());
+    if (!eccPrivateKey_.valid() || !ecdsa) return;
     // Both results are thrown away: only OpenSSL's caches of the algorithms are wanted.
-    using Kind = ua::crypto::AsymmetricKey::Kind;
-    using Signature = ua::crypto::SignatureAlgorithm;
-    const Kind curve = eccPrivateKey_.kind();
-    (void)ua::crypto::EphemeralKey::generate(curve);
+    (void)ua::crypto::EphemeralKey::generate(eccPrivateKey_.kind());
     static constexpr std::array<std::uint8_t, 1> kAnything{0};
-    (void)ua::crypto::sign(
-        eccPrivateKey_,
-        curve == Kind::EccNistP384 ? Signature::EcdsaSha384 : Signature::EcdsaSha256, kAnything);
+    (void)ua::crypto::sign(eccPrivateKey_, *ecdsa, kAnything);
 }
 
 ua::CertificateCheck ApplicationIdentity::clientCertificateCheck() const {

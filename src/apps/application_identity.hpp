@@ -37,9 +37,9 @@ public:
     [[nodiscard]] const ua::crypto::AsymmetricKey& eccPrivateKey() const { return eccPrivateKey_; }
 
     /// Does now what a peer's first connection would otherwise wait for: reads the trust
-    /// list, and has OpenSSL fetch the algorithms of an ECC handshake (a P-256 key pair, an
-    /// ECDSA-SHA256 signature), which it does once per process. For the moments after a
-    /// server announced itself, before the first peer connects.
+    /// list, and has OpenSSL fetch the algorithms of an ECC handshake on our ECC key's curve
+    /// (a key pair, an ECDSA signature), which it does once per process. For the moments
+    /// after a server announced itself, before the first peer connects.
     void prepareForPeers() const;
 
     /// Checks a client's certificate (server side); untrusted ones land in rejected/.

@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 namespace skillcell::ua::crypto {
 namespace {
@@ -54,16 +55,25 @@ bool setSignaturePadding(EVP_PKEY_CTX* ctx, SignatureAlgorithm algorithm) {
            EVP_PKEY_CTX_set_rsa_mgf1_md(ctx, EVP_sha256()) == 1;
 }
 
-/// A curve of the ECC policies: OpenSSL's name of it, and its coordinates' size.
+/// A curve of the ECC policies: OpenSSL's name of it, its coordinates' size, and the ECDSA
+/// its keys sign with (the hash of the same strength).
 struct Curve {
     AsymmetricKey::Kind kind;
     const char* group;
     std::size_t coordinate;
+    SignatureAlgorithm ecdsa;
+    HashAlgorithm hash;
 };
 constexpr std::array<Curve, 2> kCurves{{
-    {AsymmetricKey::Kind::EccNistP256, "prime256v1", 32},
-    {AsymmetricKey::Kind::EccNistP384, "secp384r1", 48},
+    {AsymmetricKey::Kind::EccNistP256, "prime256v1", 32, SignatureAlgorithm::EcdsaSha256,
+     HashAlgorithm::Sha256},
+    {AsymmetricKey::Kind::EccNistP384, "secp384r1", 48, SignatureAlgorithm::EcdsaSha384,
+     HashAlgorithm::Sha384},
 }};
+
+const EVP_MD* mdOf(HashAlgorithm hash) {
+    return hash == HashAlgorithm::Sha384 ? EVP_sha384() : EVP_sha256();
+}
 
 const Curve* curveOf(AsymmetricKey::Kind kind) {
     for (const auto& c : kCurves) {
@@ -87,19 +97,21 @@ const Curve* curveOfKey(EVP_PKEY* key) {
     return nullptr;
 }
 
-/// The key kind an ECDSA algorithm signs with (Rsa for the RSA algorithms), and its digest.
-AsymmetricKey::Kind keyKindOf(SignatureAlgorithm algorithm) {
-    switch (algorithm) {
-        case SignatureAlgorithm::EcdsaSha256:
-            return AsymmetricKey::Kind::EccNistP256;
-        case SignatureAlgorithm::EcdsaSha384:
-            return AsymmetricKey::Kind::EccNistP384;
-        default:
-            return AsymmetricKey::Kind::Rsa;
+/// The curve an ECDSA algorithm signs on; nothing for the RSA algorithms.
+const Curve* curveSigning(SignatureAlgorithm algorithm) {
+    for (const auto& c : kCurves) {
+        if (c.ecdsa == algorithm) return &c;
     }
+    return nullptr;
+}
+/// The key kind an algorithm signs with, and its digest (SHA-256 for the RSA algorithms).
+AsymmetricKey::Kind keyKindOf(SignatureAlgorithm algorithm) {
+    const Curve* curve = curveSigning(algorithm);
+    return curve != nullptr ? curve->kind : AsymmetricKey::Kind::Rsa;
 }
 const EVP_MD* digestOf(SignatureAlgorithm algorithm) {
-    return algorithm == SignatureAlgorithm::EcdsaSha384 ? EVP_sha384() : EVP_sha256();
+    const Curve* curve = curveSigning(algorithm);
+    return mdOf(curve != nullptr ? curve->hash : HashAlgorithm::Sha256);
 }
 
 /// OpenSSL's DER ECDSA-Sig-Value as r || s, each `half` bytes.
@@ -189,6 +201,12 @@ Result<AsymmetricKey> AsymmetricKey::generate(int bits) {
     EVP_PKEY* key = EVP_RSA_gen(static_cast<unsigned>(bits));
     if (key == nullptr) return status::BadInternalError;
     return AsymmetricKey(share(key), Kind::Rsa);
+}
+
+std::optional<SignatureAlgorithm> ecdsaAlgorithmFor(AsymmetricKey::Kind kind) {
+    const Curve* curve = curveOf(kind);
+    if (curve == nullptr) return std::nullopt;
+    return curve->ecdsa;
 }
 
 Result<AsymmetricKey> AsymmetricKey::generateEcc(Kind kind) {
@@ -369,8 +387,8 @@ StatusCode verify(const AsymmetricKey& publicKey, SignatureAlgorithm algorithm, 
 Bytes hmac(HashAlgorithm hash, ByteView key, ByteView data) {
     Bytes mac(EVP_MAX_MD_SIZE);
     unsigned int size = 0;
-    HMAC(hash == HashAlgorithm::Sha384 ? EVP_sha384() : EVP_sha256(), key.data(),
-         static_cast<int>(key.size()), data.data(), data.size(), mac.data(), &size);
+    HMAC(mdOf(hash), key.data(), static_cast<int>(key.size()), data.data(), data.size(), mac.data(),
+         &size);
     mac.resize(size);
     return mac;
 }

@@ -7,6 +7,7 @@
 // BadInternalError.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -97,6 +98,10 @@ private:
     AsymmetricKey::Kind curve_ = AsymmetricKey::Kind::EccNistP256;
     Bytes public_;
 };
+
+/// The ECDSA algorithm keys on the curve `kind` names sign with (ECDSA-SHA256 on P-256,
+/// ECDSA-SHA384 on P-384); nothing for RSA.
+[[nodiscard]] std::optional<SignatureAlgorithm> ecdsaAlgorithmFor(AsymmetricKey::Kind kind);
 
 /// Encrypts `plain` block by block (each block takes keySize - oaepOverhead bytes and
 /// becomes keySize bytes), as OPC 10000-6, 6.7.2.5 lays out asymmetric encryption.
