@@ -5,13 +5,13 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <array>
 #include <cstdio>
 
 #include "cell/component_uris.hpp"
 #include "cell/device_arguments.hpp"
 #include "private_network.hpp"
 #include "process/child_process.hpp"
+#include "program.hpp"
 #include "ua/crypto/primitives.hpp"
 #include "ua/pki/certificate_authority.hpp"
 #include "ua/server/user_database.hpp"
@@ -87,10 +87,9 @@ std::string skillcellProgram() {
 }
 
 std::string programFor(const std::string& skillcell, const std::vector<std::string>& args) {
-    static constexpr std::array<std::string_view, 3> kComponentSubcommands{"server", "lds",
-                                                                           "device"};
-    if (args.empty() || std::find(kComponentSubcommands.begin(), kComponentSubcommands.end(),
-                                  args.front()) == kComponentSubcommands.end()) {
+    const auto components = componentSubcommands();
+    if (args.empty() || std::none_of(components.begin(), components.end(),
+                                     [&](const Subcommand& s) { return s.name == args.front(); })) {
         return skillcell;
     }
     const fs::path component = fs::path(skillcell).parent_path() / "skillcell-component";

@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <array>
 #include <string>
 
 #include "common/command_line.hpp"
@@ -31,6 +32,15 @@ const Subcommand* named(int argc, char** argv, std::span<const Subcommand> subco
 }
 
 }  // namespace
+
+std::span<const Subcommand> componentSubcommands() {
+    static constexpr std::array kComponents{
+        Subcommand{"server", one<addServerCommand>},
+        Subcommand{"lds", one<addLdsCommand>},
+        Subcommand{"device", addDeviceCommands},
+    };
+    return kComponents;
+}
 
 int runProgram(int argc, char** argv, std::string_view description,
                std::span<const Subcommand> subcommands) {

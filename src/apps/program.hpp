@@ -22,6 +22,10 @@ std::vector<Command> one(CLI::App& app) {
     return {Add(app)};
 }
 
+/// What a cell's components run (server, lds, device <kind>): skillcell-component's
+/// subcommands, and the ones a cell starts from it (cell_runtime.cpp: programFor).
+[[nodiscard]] std::span<const Subcommand> componentSubcommands();
+
 /// Parses the command line against `subcommands`, sets up the log, runs the one chosen;
 /// the process's exit code.
 int runProgram(int argc, char** argv, std::string_view description,
