@@ -211,6 +211,12 @@ bool CellRuntime::prepare(std::string* error) {
         if (name != "operator" && actsAsCell(name)) {
             clients.emplace_back(name, certificatesOf(*identity));
         }
+        if (name == "world") {
+            // The one its clients' links choose: ECC when it has one (ClientSecurity).
+            worldCertificate_ = identity->eccCertificate().der.empty()
+                                    ? identity->certificate().certificateFile
+                                    : identity->eccCertificate().certificateFile;
+        }
     }
     identity_ = commission(options_.selfName, selfUri(), error);
     if (!identity_) return false;
@@ -395,27 +401,28 @@ std::string CellRuntime::adapterCommand(const cell::Tool& tool,
     return cmd;
 }
 
+std::vector<std::string> CellRuntime::worldArgs() const {
+    std::vector<std::string> a = {"--world", endpoint("world")};
+    // The cell issued it: its clients need not ask the world which it is (WorldConnection).
+    if (secure() && !worldCertificate_.empty()) {
+        a.insert(a.end(), {"--world-certificate", worldCertificate_.string()});
+    }
+    return a;
+}
+
 std::vector<std::string> CellRuntime::adapterArgs(const cell::Tool& tool,
                                                   const cell::AdapterModel& model) const {
     const auto adapter = cell::adapterComponent(model, tool.changer);
     char speed[32];
     std::snprintf(speed, sizeof speed, "%g", this->speed());
-    std::vector<std::string> a = {"device",
-                                  std::string(model.command),
-                                  "--world",
-                                  endpoint("world"),
-                                  "--robot",
-                                  changerRobot(tool.changer),
-                                  "--robot-uri",
-                                  applicationUri(changerRobot(tool.changer)),
-                                  "--application-uri",
-                                  adapter.applicationUri,
-                                  "--speed",
-                                  speed,
-                                  "--boot-profile",
-                                  options_.bootProfile,
-                                  "--grip-offset",
-                                  cell::vectorArgument(tool.gripOffset)};
+    std::vector<std::string> a = {"device", std::string(model.command)};
+    const auto world = worldArgs();
+    a.insert(a.end(), world.begin(), world.end());
+    a.insert(a.end(),
+             {"--robot", changerRobot(tool.changer), "--robot-uri",
+              applicationUri(changerRobot(tool.changer)), "--application-uri",
+              adapter.applicationUri, "--speed", speed, "--boot-profile", options_.bootProfile,
+              "--grip-offset", cell::vectorArgument(tool.gripOffset)});
     // Powered adapters come and go: each start takes any free port.
     const auto tail = componentArgs(adapter.name, 0);
     a.insert(a.end(), tail.begin(), tail.end());
@@ -504,16 +511,11 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
     } else if (cell_.toolChanger(name) != nullptr) {
         if (auto e = needs("world")) return *e;
         const std::string robot = changerRobot(name);
-        a = {"device",
-             "toolchanger",
-             "--world",
-             endpoint("world"),
-             "--robot",
-             robot,
-             "--robot-uri",
-             applicationUri(robot),
-             "--detection-timeout-ms",
-             detectionTimeout};
+        a = {"device", "toolchanger"};
+        const auto world = worldArgs();
+        a.insert(a.end(), world.begin(), world.end());
+        a.insert(a.end(), {"--robot", robot, "--robot-uri", applicationUri(robot),
+                           "--detection-timeout-ms", detectionTimeout});
         // Kept with the cell: a restarted changer puts the mounted tool back into its dock.
         a.insert(a.end(), {"--dock-map", (dir() / (name + "-docks.json")).string()});
         const auto power = [this](const cell::Tool& t, const cell::AdapterModel& m) {
@@ -527,8 +529,10 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
         }
     } else if (cell_.pickAndPlace(name) != nullptr) {
         if (auto e = needs("world")) return *e;
-        a = {"device",        "pickplace", "--world", endpoint("world"), "--detection-timeout-ms",
-             detectionTimeout};
+        a = {"device", "pickplace"};
+        const auto world = worldArgs();
+        a.insert(a.end(), world.begin(), world.end());
+        a.insert(a.end(), {"--detection-timeout-ms", detectionTimeout});
     } else {
         if (auto e = needs("world")) return *e;
         const auto robot = std::find_if(cell_.robots.begin(), cell_.robots.end(),
@@ -536,9 +540,11 @@ kb::Expected<ComponentLaunch> CellRuntime::launch(const std::string& name) {
         char speed[32];
         std::snprintf(speed, sizeof speed, "%g",
                       options_.speed > 0 ? options_.speed : robot->speed);
-        a = {"device",  robot->model, "--world", endpoint("world"),
-             "--robot", robot->name,  "--base",  cell::poseArgument(robot->base),
-             "--speed", speed};
+        a = {"device", robot->model};
+        const auto world = worldArgs();
+        a.insert(a.end(), world.begin(), world.end());
+        a.insert(a.end(), {"--robot", robot->name, "--base", cell::poseArgument(robot->base),
+                           "--speed", speed});
     }
     a.insert(a.end(), {"--application-uri", l.applicationUri});
     const auto tail = componentArgs(name, port(name));

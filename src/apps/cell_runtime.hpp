@@ -169,6 +169,8 @@ private:
     [[nodiscard]] std::string hostOf(const std::string& name) const;
     /// The address `name` serves on.
     [[nodiscard]] std::string addressOf(const std::string& name) const;
+    /// --world and the world model's certificate (--world-certificate), for its clients.
+    [[nodiscard]] std::vector<std::string> worldArgs() const;
 
     const cell::CellFile& cell_;
     const WorkDirectory& work_;
@@ -177,6 +179,7 @@ private:
     std::optional<ApplicationIdentity> identity_;
     std::map<std::string, std::uint16_t> ports_;    // keepPorts: by component (and "kb-http")
     std::map<std::string, std::string> endpoints_;  // by component, from READY
+    std::filesystem::path worldCertificate_;        // secured: the one its clients use
     std::string kbSparql_;                          // the KB's SPARQL line
     std::string dashboardUrl_;                      // the dashboard's DASHBOARD line
     std::vector<Credential> credentials_;

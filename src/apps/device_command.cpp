@@ -339,7 +339,7 @@ struct ArmOptions {
     ServerProcessOptions process;
     double speed = 1;
     int tickMs = 10;
-    std::string world;
+    WorldAddress world;
     std::string robot = kDefaultRobot;
     std::string base = "0,0,0";
 };
@@ -380,6 +380,8 @@ CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* n
     auto options = std::make_shared<ArmOptions>();
     options->process.applicationUri = std::string(applicationUri);
     options->process.applicationName = "skillcell " + model.model + " (simulated)";
+    const auto models = devices::ArmComponent::skillModels();
+    options->process.skillModels.assign(models.begin(), models.end());
     CLI::App* cmd = device->add_subcommand(
         name, "Run a simulated " + model.manufacturer + " " + model.model + " (" +
                   std::to_string(model.joints()) +
@@ -397,9 +399,10 @@ CLI::App* addArm(CLI::App* device, std::vector<Command>& commands, const char* n
     cmd->add_option("--tick-ms", options->tickMs, "simulation step (real time)")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
-    cmd->add_option("--world", options->world,
+    cmd->add_option("--world", options->world.url,
                     "the world model's endpoint (opc.tcp://...): the flange pose is reported "
                     "there");
+    addWorldCertificateOption(cmd, options->world);
     addRobotOption(cmd, options->robot, "this arm is");
     cmd->add_option("--base", options->base,
                     "where the arm's base stands in the cell's frame, X,Y,Z[,A,B,C] (m, rad): "
@@ -479,7 +482,7 @@ struct ParallelGripperOptions {
     std::string serial;
     int slaveId = 1;
     double speed = 1;
-    std::string world;
+    WorldAddress world;
     std::string robot = kDefaultRobot;
     std::string robotUri;
     std::string gripOffset;
@@ -613,6 +616,8 @@ CLI::App* addParallelGripper(CLI::App* device, std::vector<Command>& commands,
     auto options = std::make_shared<ParallelGripperOptions>();
     options->process.applicationUri = model.applicationUri;
     options->process.applicationName = model.applicationName;
+    const auto models = devices::GripperComponent::skillModels();
+    options->process.skillModels.assign(models.begin(), models.end());
     options->slaveId = model.slaveId;
     options->gripOffset = model.gripOffset;
     CLI::App* cmd = device->add_subcommand(model.command, model.description);
@@ -626,9 +631,10 @@ CLI::App* addParallelGripper(CLI::App* device, std::vector<Command>& commands,
     cmd->add_option("--speed", options->speed, "simulated seconds per real second")
         ->check(CLI::Range(0.01, 1000.0))
         ->capture_default_str();
-    cmd->add_option("--world", options->world,
+    cmd->add_option("--world", options->world.url,
                     "the world model's endpoint: the simulated gripper asks it what lies "
                     "between its fingers and reports grasps and releases");
+    addWorldCertificateOption(cmd, options->world);
     addRobotOption(cmd, options->robot, "whose flange the gripper is mounted on");
     addRobotUriOption(cmd, options->robotUri);
     cmd->add_option("--grip-offset", options->gripOffset,
@@ -752,7 +758,7 @@ ParallelGripperModel dhAg95() {
 struct SchmalzOptions {
     ServerProcessOptions process;
     double speed = 1;
-    std::string world;
+    WorldAddress world;
     std::string robot = kDefaultRobot;
     std::string robotUri;
     std::string gripOffset = "0,0,0.12";
@@ -825,6 +831,8 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
     const cell::AdapterModel& model = *cell::findAdapterModel("schmalz-ecbpi");
     options->process.applicationUri = std::string(model.applicationUri);
     options->process.applicationName = "skillcell Schmalz ECBPi";
+    const auto models = devices::GripperComponent::skillModels();
+    options->process.skillModels.assign(models.begin(), models.end());
     CLI::App* cmd = device->add_subcommand(
         std::string(model.command),
         "Run the Schmalz ECBPi vacuum gripper adapter (IO-Link process data) with the skills "
@@ -834,9 +842,10 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
     cmd->add_option("--speed", options->speed, "simulated seconds per real second")
         ->check(CLI::Range(0.01, 1000.0))
         ->capture_default_str();
-    cmd->add_option("--world", options->world,
+    cmd->add_option("--world", options->world.url,
                     "the world model's endpoint: the simulated ECBPi asks it what is under the "
                     "cup and reports grasps and releases");
+    addWorldCertificateOption(cmd, options->world);
     addRobotOption(cmd, options->robot, "whose flange the gripper is mounted on");
     addRobotUriOption(cmd, options->robotUri);
     cmd->add_option("--grip-offset", options->gripOffset,
@@ -870,7 +879,7 @@ CLI::App* addSchmalz(CLI::App* device, std::vector<Command>& commands) {
 /// skills (found by discovery), the world model, and how long to wait for a skill to appear.
 struct CompositeOptions {
     ServerProcessOptions process;
-    std::string world;
+    WorldAddress world;
     int detectionTimeoutMs = 30'000;
 };
 
@@ -879,7 +888,8 @@ void addCompositeOptions(CLI::App* cmd, CompositeOptions& options, const char* w
     options.process.detectsItself = false;
     addServerProcessOptions(cmd, options.process);
     addDiscoveryOptions(cmd, options.process.discovery, /*registers=*/true, /*isLds=*/false);
-    cmd->add_option("--world", options.world, worldHelp)->required();
+    cmd->add_option("--world", options.world.url, worldHelp)->required();
+    addWorldCertificateOption(cmd, options.world);
     cmd->add_option("--detection-timeout-ms", options.detectionTimeoutMs,
                     "how long to wait for a skill it needs (the robot's moves, a tool's skills) "
                     "to be detected")
@@ -964,6 +974,8 @@ CLI::App* addToolChanger(CLI::App* device, std::vector<Command>& commands) {
     auto options = std::make_shared<ToolChangerOptions>();
     options->composite.process.applicationUri = std::string(cell::kToolChangerUri);
     options->composite.process.applicationName = "skillcell Kelvin tool changer";
+    const auto models = devices::toolchanger::ToolChangerComponent::skillModels();
+    options->composite.process.skillModels.assign(models.begin(), models.end());
     CLI::App* cmd = device->add_subcommand(
         "toolchanger",
         "Run the Kelvin tool changer with the skills AttachTool, DetachTool and ChangeTool. "
@@ -1029,6 +1041,8 @@ CLI::App* addPickPlace(CLI::App* device, std::vector<Command>& commands) {
     auto options = std::make_shared<PickPlaceOptions>();
     options->composite.process.applicationUri = std::string(cell::kPickAndPlaceUri);
     options->composite.process.applicationName = "skillcell pick and place";
+    const auto models = devices::pickplace::PickAndPlaceComponent::skillModels();
+    options->composite.process.skillModels.assign(models.begin(), models.end());
     CLI::App* cmd = device->add_subcommand(
         "pickplace",
         "Run the pick-and-place composite with the skills PickAndPlace and "

@@ -200,6 +200,8 @@ Command addMesCommand(CLI::App& app) {
     o->process.port = 4851;
     o->process.applicationUri = std::string(cell::kMesUri);
     o->process.applicationName = "skillcell semantic MES";
+    const auto models = mes::MesComponent::skillModels();
+    o->process.skillModels.assign(models.begin(), models.end());
     auto* cmd = app.add_subcommand(
         "mes",
         "Run the semantic MES: the ExecuteProcess skill reads a process from the knowledge "

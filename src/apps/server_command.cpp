@@ -25,6 +25,23 @@ struct ServerCommandOptions {
     int noopHalts = 0;
 };
 
+/// The models the --noop-skill types come from, and what they require; all of them when a
+/// --nodeset file may require any, or a type is not found in one (the error names it).
+std::vector<std::string_view> noopSkillModels(const ServerCommandOptions& options) {
+    std::vector<std::string_view> models;
+    bool everyModel = !options.nodesets.empty();
+    for (const auto& spec : options.noopSkills) {
+        const auto model = ua::companionModelDeclaring(spec.substr(0, spec.find('=')));
+        everyModel = everyModel || !model;
+        if (model) models.push_back(*model);
+    }
+    if (everyModel) {
+        models.clear();
+        for (const auto& model : ua::kCompanionModels) models.push_back(model.uri);
+    }
+    return models;
+}
+
 ua::Result<ComponentContent> populate(const ServerCommandOptions& options, ua::Server& server,
                                       asio::io_context& io) {
     auto fireDemoEvent = [&server](const ua::NodeId& source, ua::String message) {
@@ -37,19 +54,9 @@ ua::Result<ComponentContent> populate(const ServerCommandOptions& options, ua::S
     if (const auto s = addDemoNodes(server.addressSpace(), fireDemoEvent); s.isBad()) return s;
     if (options.noopSkills.empty() && options.nodesets.empty()) return ComponentContent{};
 
-    // The models the --noop-skill types come from, and what they require; all of them when a
-    // --nodeset file may require any, or a type is not found in one (the error names it).
-    std::vector<std::string_view> models;
-    bool everyModel = !options.nodesets.empty();
-    for (const auto& spec : options.noopSkills) {
-        const auto model = ua::companionModelDeclaring(spec.substr(0, spec.find('=')));
-        everyModel = everyModel || !model;
-        if (model) models.push_back(*model);
-    }
     std::string error;
     std::shared_ptr<skills::SkillServer> skillServer =
-        everyModel ? skills::SkillServer::create(server, io.get_executor(), &error)
-                   : skills::SkillServer::create(server, io.get_executor(), models, &error);
+        skills::SkillServer::create(server, io.get_executor(), noopSkillModels(options), &error);
     if (!skillServer) {
         spdlog::critical("{}", error);
         return ua::status::BadConfigurationError;
@@ -119,6 +126,10 @@ Command addServerCommand(CLI::App& app) {
         ->check(CLI::Range(0, 1'000'000))
         ->capture_default_str();
     return {cmd, [options] {
+                // Loaded beside namespace 0 (runServerProcess), not after it.
+                if (!options->noopSkills.empty() || !options->nodesets.empty()) {
+                    options->process.skillModels = noopSkillModels(*options);
+                }
                 return runServerProcess(options->process, [options](const ComponentContext& c) {
                     return populate(*options, c.server, c.io);
                 });

@@ -9,6 +9,7 @@
 
 #include "skill_report.hpp"
 #include "skills/skill_detector.hpp"
+#include "skills/skill_server.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
 #include "ua/server/user_database.hpp"
 
@@ -185,15 +186,24 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
     config.limits.maxSessions = options.maxSessions;
     config.limits.maxChannels = options.maxChannels;
 
-    // Namespace 0 (2.6 ms of a start) loads on a thread of its own while this one reads the
-    // certificates, keys and users (1.7 ms): a plugged component is READY sooner when a core
-    // is free, as one mostly is before it has announced itself.
-    auto namespace0 =
-        std::async(std::launch::async | std::launch::deferred, [uri = options.applicationUri] {
-            ua::AddressSpace as(uri);
-            auto loaded = ua::loadBaseNodeSet(as);
-            return std::make_pair(std::move(as), std::move(loaded));
-        });
+    // Namespace 0 (2.6 ms of a start) and the skills' models (2.7 ms for a gripper's, 8 ms for
+    // an arm's) load on a thread of their own while this one reads the certificates, keys
+    // and users (2.5 ms) and the component connects to what it needs (a device's world link,
+    // 5 ms): a plugged component is READY sooner when a core is free, as one mostly is before
+    // it has announced itself.
+    auto namespace0 = std::async(std::launch::async | std::launch::deferred,
+                                 [uri = options.applicationUri, models = options.skillModels] {
+                                     ua::AddressSpace as(uri);
+                                     auto loaded = ua::loadBaseNodeSet(as);
+                                     if (!loaded.ok()) {
+                                         loaded.error = "namespace 0: " + loaded.error;
+                                     } else if (!models.empty()) {
+                                         loaded = skills::SkillServer::loadModels(as, models);
+                                         if (!loaded.ok())
+                                             loaded.error = "the skills' models: " + loaded.error;
+                                     }
+                                     return std::make_pair(std::move(as), std::move(loaded));
+                                 });
     std::string error;
     auto identity = ApplicationIdentity::load(options.pkiDir, options.applicationUri,
                                               options.applicationName, &error);
@@ -214,7 +224,7 @@ int runServerProcess(const ServerProcessOptions& options, const PopulateServer& 
 
     auto [addressSpace, loaded] = namespace0.get();
     if (!loaded.ok()) {
-        spdlog::critical("cannot build the server: namespace 0: {}", loaded.error);
+        spdlog::critical("cannot build the server: {}", loaded.error);
         return 1;
     }
     auto server = ua::Server::create(io, config, std::move(addressSpace), &error);

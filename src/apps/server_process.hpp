@@ -6,6 +6,8 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "application_identity.hpp"
 #include "client_security_options.hpp"
@@ -46,6 +48,11 @@ struct ServerProcessOptions {
     ClientUserOptions client;
     /// A simulated controller's start (devices/common/boot_profile.hpp); empty: at once.
     devices::BootProfile boot;
+    /// The companion models the component's skills are of (its component class's
+    /// skillModels()): loaded with namespace 0 on a thread of its own while the component
+    /// reads its identity and connects to what it needs, not after. Empty: none (a component
+    /// without skills, or one that loads them itself).
+    std::vector<std::string_view> skillModels;
 };
 
 /// --port, --host, --advertised-host, --application-uri, --pki-dir, --max-sessions,

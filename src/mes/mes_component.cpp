@@ -63,6 +63,10 @@ ua::NodeId progressVariable(const char* name) {
     return ua::NodeId(1, ua::String(std::string("ProcessExecution/") + name));
 }
 
+std::span<const std::string_view> MesComponent::skillModels() {
+    return kMesSkillModels;
+}
+
 MesComponent::~MesComponent() {
     if (executor_) {
         executor_->onProgress = nullptr;

@@ -7,7 +7,9 @@
 // resumes the orders the journal shows Queued or Running. Build and destroy it on the
 // server's thread.
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "mes/order_nodes.hpp"
 #include "mes/process_executor.hpp"
@@ -17,6 +19,9 @@ namespace skillcell::mes {
 
 class MesComponent {
 public:
+    /// The companion models its skills are of: what a server process loads beside namespace
+    /// 0 before it creates the component (skills::SkillServer::loadModels).
+    [[nodiscard]] static std::span<const std::string_view> skillModels();
     [[nodiscard]] static ua::Result<std::unique_ptr<MesComponent>> create(
         ua::Server& server, std::shared_ptr<ProcessExecutor> executor,
         std::string* error = nullptr);

@@ -16,10 +16,7 @@ std::unique_ptr<SkillServer> SkillServer::create(ua::Server& server, asio::any_i
                                                  std::span<const std::string_view> models,
                                                  std::string* error) {
     ua::AddressSpace& as = server.addressSpace();
-    // Objects/Reservation is of a type of the Skills model, whatever the skills are.
-    std::vector<std::string_view> uris{ua::companion::kSkillsUri};
-    uris.insert(uris.end(), models.begin(), models.end());
-    const auto loaded = ua::loadCompanionModels(as, uris);
+    const auto loaded = loadModels(as, models);
     if (!loaded.ok()) {
         if (error != nullptr) *error = "cannot load the skill models: " + loaded.error;
         return nullptr;
@@ -49,6 +46,14 @@ std::unique_ptr<SkillServer> SkillServer::create(ua::Server& server, asio::any_i
     }
     skills->reservation_ = *reservation;
     return skills;
+}
+
+ua::NodeSetStatus SkillServer::loadModels(ua::AddressSpace& as,
+                                          std::span<const std::string_view> models) {
+    // Objects/Reservation is of a type of the Skills model, whatever the skills are.
+    std::vector<std::string_view> uris{ua::companion::kSkillsUri};
+    uris.insert(uris.end(), models.begin(), models.end());
+    return ua::loadCompanionModels(as, uris);
 }
 
 ua::Result<std::shared_ptr<Skill>> SkillServer::add(const ua::NodeId& type, std::string name,

@@ -12,6 +12,7 @@
 
 #include "skills/reservation.hpp"
 #include "skills/skill.hpp"
+#include "ua/nodeset/nodeset_loader.hpp"
 
 namespace skillcell::skills {
 
@@ -28,6 +29,11 @@ public:
     [[nodiscard]] static std::unique_ptr<SkillServer> create(
         ua::Server& server, asio::any_io_executor executor,
         std::span<const std::string_view> models, std::string* error = nullptr);
+    /// Loads what create() with `models` loads (the Skills model, `models` and what they
+    /// require) into `as`, where that is missing: a server process does it beside namespace
+    /// 0, on a thread of its own, before the server exists (runServerProcess).
+    [[nodiscard]] static ua::NodeSetStatus loadModels(ua::AddressSpace& as,
+                                                      std::span<const std::string_view> models);
 
     /// Adds a skill of `type` named `name` to the Skills folder.
     [[nodiscard]] ua::Result<std::shared_ptr<Skill>> add(

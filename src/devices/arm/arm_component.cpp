@@ -14,6 +14,10 @@ constexpr std::array<std::string_view, 2> kArmSkillModels{ua::companion::kRoboti
                                                           ua::companion::kRoboticsUri};
 }  // namespace
 
+std::span<const std::string_view> ArmComponent::skillModels() {
+    return kArmSkillModels;
+}
+
 ArmComponent::ArmComponent(Token, ua::Server& server, ArmComponentOptions options)
     : server_(server),
       options_(std::move(options)),

@@ -11,6 +11,8 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
+#include <string_view>
 
 #include "devices/arm/arm_kinematics.hpp"
 #include "devices/arm/motion_planner.hpp"
@@ -36,6 +38,9 @@ struct ArmComponentOptions {
 
 class ArmComponent {
 public:
+    /// The companion models its skills are of: what a server process loads beside namespace
+    /// 0 before it creates the component (skills::SkillServer::loadModels).
+    [[nodiscard]] static std::span<const std::string_view> skillModels();
     [[nodiscard]] static ua::Result<std::unique_ptr<ArmComponent>> create(
         ua::Server& server, ArmComponentOptions options, std::string* error = nullptr);
     ~ArmComponent();

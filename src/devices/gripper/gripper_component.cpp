@@ -9,6 +9,10 @@ namespace {
 constexpr std::array<std::string_view, 1> kGripperSkillModels{ua::companion::kGripperSkillsUri};
 }  // namespace
 
+std::span<const std::string_view> GripperComponent::skillModels() {
+    return kGripperSkillModels;
+}
+
 GripperComponent::~GripperComponent() = default;
 
 ua::Result<std::unique_ptr<GripperComponent>> GripperComponent::create(

@@ -6,7 +6,9 @@
 // (robotiq/robotiq_component, dh/ag95_component, schmalz/ecbpi_component), so nothing above
 // the adapter knows which model it is. Build and destroy it on the server's thread.
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "devices/gripper/gripper_skills.hpp"
 
@@ -14,6 +16,9 @@ namespace skillcell::devices {
 
 class GripperComponent {
 public:
+    /// The companion models its skills are of: what a server process loads beside namespace
+    /// 0 before it creates the component (skills::SkillServer::loadModels).
+    [[nodiscard]] static std::span<const std::string_view> skillModels();
     /// A parallel gripper: Grasp, Release, MoveGripper; grip point PARALLEL.
     [[nodiscard]] static ua::Result<std::unique_ptr<GripperComponent>> create(
         ua::Server& server, std::unique_ptr<ParallelGripper> gripper, const KDL::Frame& offset,

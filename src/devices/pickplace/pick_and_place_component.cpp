@@ -94,6 +94,10 @@ private:
 
 }  // namespace
 
+std::span<const std::string_view> PickAndPlaceComponent::skillModels() {
+    return kPickAndPlaceSkillModels;
+}
+
 PickAndPlaceComponent::~PickAndPlaceComponent() {
     // A run still going may hold the composite until the executor goes; the world link its
     // I/O uses goes with the component.

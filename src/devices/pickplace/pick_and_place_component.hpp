@@ -3,7 +3,9 @@
 // over a PickAndPlace composite, and Objects/PickAndPlace/CurrentStep. Build and destroy it
 // on the server's thread.
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "devices/pickplace/pick_and_place.hpp"
 #include "skills/skill_server.hpp"
@@ -12,6 +14,9 @@ namespace skillcell::devices::pickplace {
 
 class PickAndPlaceComponent {
 public:
+    /// The companion models its skills are of: what a server process loads beside namespace
+    /// 0 before it creates the component (skills::SkillServer::loadModels).
+    [[nodiscard]] static std::span<const std::string_view> skillModels();
     /// `world` must outlive the component.
     [[nodiscard]] static ua::Result<std::unique_ptr<PickAndPlaceComponent>> create(
         ua::Server& server, WorldLink& world, std::shared_ptr<skills::SkillDetector> detector,

@@ -62,6 +62,10 @@ private:
 
 }  // namespace
 
+std::span<const std::string_view> ToolChangerComponent::skillModels() {
+    return kToolChangerSkillModels;
+}
+
 ToolChangerComponent::~ToolChangerComponent() {
     // An operation still running may hold the changer until the executor goes; its I/O
     // (which `io` serves) must end now, and the tools lose power with the changer.

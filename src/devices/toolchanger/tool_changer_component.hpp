@@ -3,7 +3,9 @@
 // DetachTool and ChangeTool over a ToolChanger, and Objects/ToolChanger/MountedTool (the
 // tool the identification pin last showed). Build and destroy it on the server's thread.
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "devices/toolchanger/tool_changer.hpp"
 #include "skills/skill_server.hpp"
@@ -12,6 +14,9 @@ namespace skillcell::devices::toolchanger {
 
 class ToolChangerComponent {
 public:
+    /// The companion models its skills are of: what a server process loads beside namespace
+    /// 0 before it creates the component (skills::SkillServer::loadModels).
+    [[nodiscard]] static std::span<const std::string_view> skillModels();
     /// `io` must outlive the component.
     [[nodiscard]] static ua::Result<std::unique_ptr<ToolChangerComponent>> create(
         ua::Server& server, ToolChangerIo& io, ToolTable tools,

@@ -6,6 +6,8 @@
 #    certificates (cell-NAME, x509$ in the users file, no password of theirs), and the UR5's
 #    session on the world is activated as cell-ur5;
 #  - a second `cell up` of the same work directory is refused while the first runs;
+#  - the UR5 is given the world model's certificate and uses it (it does not ask the world
+#    for its endpoints); given a certificate the world does not have, it asks, and comes up;
 #  - the UR5 killed with SIGKILL: reported with the last lines of its log, restarted
 #    (restart = "on-failure", the default) on the same endpoint, its skills detected again;
 #  - the LDS killed (restart = "never"): reported, stays down, `cell status` exits 1;
@@ -93,12 +95,25 @@ timeout 60 "$skillcell" cell up "$cell" --work-dir "$work" >/dev/null 2>"$tmp/se
 [ "$rc" = 1 ] || fail "a second cell up in the same work directory: exit $rc, expected 1"
 grep -q 'a cell is up already' "$tmp/second.err" || fail "second up: $(cat "$tmp/second.err")"
 
-# The UR5 killed: reported with its log, restarted on its endpoint.
+# The UR5 reached the world with the certificate the cell gave it, without asking first.
 endpoint=$(field ur5 endpoint)
 pid=$(field ur5 pid)
+worldcert=$work/pki-world/own/certs/cert-nistP256.der
+tr '\0' ' ' <"/proc/$pid/cmdline" | grep -qF -- "--world-certificate $worldcert" ||
+  fail "the UR5 was not given the world's certificate: $(tr '\0' ' ' <"/proc/$pid/cmdline")"
+! grep -q 'asking the world for its endpoints' "$work/logs/ur5.log" ||
+  fail "the UR5 asked the world for its endpoints: $(grep asking "$work/logs/ur5.log")"
+# Given a certificate the world does not have (here the UR5's own), the restarted UR5 asks.
+cp "$worldcert" "$tmp/world-cert.der"
+cp "$work/pki-ur5/own/certs/cert-nistP256.der" "$worldcert"
+
+# The UR5 killed: reported with its log, restarted on its endpoint.
 kill -KILL "$pid"
 restarted() { [ "$(field ur5 restarts)" = 1 ] && [ "$(field ur5 state)" = up ]; }
 until_ok 60 restarted || fail "the UR5 was not restarted"
+cp "$tmp/world-cert.der" "$worldcert"
+grep -q "with the certificate of $worldcert: .*asking the world for its endpoints" \
+  "$work/logs/ur5.log" || fail "the UR5 did not say that it asked: $(tail -5 "$work/logs/ur5.log")"
 grep -q 'cell: ur5 ended (killed by signal 9' "$tmp/up.err" || fail "the UR5's end not reported"
 grep -q '^    | ' "$tmp/up.err" || fail "no lines of the UR5's log in the report"
 [ "$(field ur5 endpoint)" = "$endpoint" ] || fail "the UR5 came back on another endpoint"
