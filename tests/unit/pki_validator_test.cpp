@@ -116,6 +116,38 @@ TEST_F(ValidatorTest, AGoodVerdictHoldsOnlyForItsPeriodAndItsExpectations) {
     EXPECT_EQ(validator.validate(peer.der(), "urn:test:peer").status, status::Good);
 }
 
+TEST_F(ValidatorTest, ARememberedVerdictAnswersOtherExpectationsTheLeafMeets) {
+    // A server checks a client's certificate without its application URI when the channel
+    // opens, then with it when the session is created: one verification of the chain.
+    const auto peer = test::makeCertificate({});
+    trust(peer, "peer");
+    CertificateValidator validator(dir.path());
+    ASSERT_EQ(validator.validate(peer.der()).status, status::Good);
+    ASSERT_EQ(validator.fullValidations(), 1U);
+    EXPECT_EQ(validator.validate(peer.der(), "urn:test:peer").status, status::Good);
+    PeerExpectations host;
+    host.hostName = "localhost";
+    host.minimumKeyBits = 2048;
+    host.maximumKeyBits = 4096;
+    EXPECT_EQ(validator.validate(peer.der(), host).status, status::Good);
+    EXPECT_EQ(validator.fullValidations(), 1U);
+    // One the leaf misses is refused as in full, with its reason.
+    const auto uri = validator.validate(peer.der(), "urn:test:someone-else");
+    EXPECT_EQ(uri.status, status::BadCertificateUriInvalid);
+    EXPECT_NE(uri.reason.find("urn:test:peer"), std::string::npos) << uri.reason;
+    host.hostName = "robot.example";
+    EXPECT_EQ(validator.validate(peer.der(), host).status, status::BadCertificateHostNameInvalid);
+    host.hostName.clear();
+    host.minimumKeyBits = 3072;
+    EXPECT_EQ(validator.validate(peer.der(), host).status, status::BadCertificatePolicyCheckFailed);
+    EXPECT_EQ(validator.fullValidations(), 4U);
+    // Another certificate is verified in full.
+    const auto other = test::makeCertificate({});
+    trust(other, "other");
+    EXPECT_EQ(validator.validate(other.der()).status, status::Good);
+    EXPECT_EQ(validator.fullValidations(), 5U);
+}
+
 TEST_F(ValidatorTest, WrongApplicationUriIsUriInvalid) {
     const auto peer = test::makeCertificate({});
     trust(peer, "peer");

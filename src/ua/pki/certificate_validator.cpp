@@ -151,22 +151,32 @@ int verifyCallback(int ok, X509_STORE_CTX* ctx) {
     return 1;  // go on: all findings are collected, the earliest step decides
 }
 
-/// The certificate, then each expectation, NUL-separated: what a verdict is remembered by.
-std::string rememberedKey(const ByteString& certificate, const PeerExpectations& expected) {
-    std::string key(certificate.bytes.begin(), certificate.bytes.end());
-    for (const std::string* part : {&expected.applicationUri, &expected.hostName}) {
-        key += '\0';
-        key += *part;
-    }
-    key += '\0' + std::to_string(expected.minimumKeyBits) + ',' +
-           std::to_string(expected.maximumKeyBits);
-    return key;
-}
-
 bool hostMatches(X509* leaf, const std::string& host) {
     // An IP literal is compared with the IP addresses, anything else with the DNS names.
     if (X509_check_ip_asc(leaf, host.c_str(), 0) == 1) return true;
     return X509_check_host(leaf, host.data(), host.size(), 0, nullptr) == 1;
+}
+
+/// What `expected` asks of the leaf beside its chain: a finding for each expectation it misses.
+void checkExpectations(X509* leaf, const CertificateInfo& info, const PeerExpectations& expected,
+                       std::vector<Finding>& findings) {
+    if ((expected.minimumKeyBits > 0 && info.keyBits < expected.minimumKeyBits) ||
+        (expected.maximumKeyBits > 0 && info.keyBits > expected.maximumKeyBits)) {
+        findings.push_back({Step::Policy, describe(leaf) + " has a " +
+                                              std::to_string(info.keyBits) +
+                                              "-bit key; the security policy needs " +
+                                              std::to_string(expected.minimumKeyBits) + ".." +
+                                              std::to_string(expected.maximumKeyBits) + " bits"});
+    }
+    if (!expected.hostName.empty() && !hostMatches(leaf, expected.hostName)) {
+        findings.push_back(
+            {Step::HostName, describe(leaf) + " is not issued for host " + expected.hostName});
+    }
+    if (!expected.applicationUri.empty() && info.applicationUri != expected.applicationUri) {
+        findings.push_back({Step::Uri, describe(leaf) + " names application URI \"" +
+                                           info.applicationUri + "\", expected \"" +
+                                           expected.applicationUri + "\""});
+    }
 }
 
 }  // namespace
@@ -189,12 +199,20 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
                                                   const PeerExpectations& expected) {
     if (trustList_.refresh()) remembered_.clear();  // trust changed: every verdict with it
     const Clock::time_point now = expected.now.value_or(Clock::now());
-    std::string key = rememberedKey(certificate, expected);
+    std::string key(certificate.bytes.begin(), certificate.bytes.end());
+    std::optional<Remembered> good;
     if (auto it = remembered_.find(key); it != remembered_.end()) {
-        if (it->second.from <= now && now <= it->second.until) return it->second.verdict;
+        const Remembered& r = it->second;
+        if (r.from <= now && now <= r.until) {
+            // The chain holds; what this caller expects of the leaf is checked anew. One it
+            // misses is refused in full, with its reason.
+            std::vector<Finding> missed;
+            checkExpectations(r.leaf.get(), r.info, expected, missed);
+            if (missed.empty()) return r.verdict;
+            return validateInFull(certificate, expected, &good);
+        }
         remembered_.erase(it);
     }
-    std::optional<Remembered> good;
     CertificateVerdict verdict = validateInFull(certificate, expected, &good);
     if (good) {
         if (remembered_.size() >= kRememberedMax) remembered_.clear();
@@ -206,6 +224,7 @@ CertificateVerdict CertificateValidator::validate(const ByteString& certificate,
 CertificateVerdict CertificateValidator::validateInFull(const ByteString& certificate,
                                                         const PeerExpectations& expected,
                                                         std::optional<Remembered>* good) {
+    ++fullValidations_;
     CertificateVerdict verdict;
     auto chain = parseCertificateChain(certificate);
     if (!chain) {
@@ -259,23 +278,7 @@ CertificateVerdict CertificateValidator::validateInFull(const ByteString& certif
     ERR_clear_error();  // the callback kept what matters; leave no errors for others to see
 
     X509* leafCert = leaf.get();
-    if ((expected.minimumKeyBits > 0 && info.keyBits < expected.minimumKeyBits) ||
-        (expected.maximumKeyBits > 0 && info.keyBits > expected.maximumKeyBits)) {
-        collector.findings.push_back(
-            {Step::Policy, describe(leafCert) + " has a " + std::to_string(info.keyBits) +
-                               "-bit key; the security policy needs " +
-                               std::to_string(expected.minimumKeyBits) + ".." +
-                               std::to_string(expected.maximumKeyBits) + " bits"});
-    }
-    if (!expected.hostName.empty() && !hostMatches(leafCert, expected.hostName)) {
-        collector.findings.push_back(
-            {Step::HostName, describe(leafCert) + " is not issued for host " + expected.hostName});
-    }
-    if (!expected.applicationUri.empty() && info.applicationUri != expected.applicationUri) {
-        collector.findings.push_back({Step::Uri, describe(leafCert) + " names application URI \"" +
-                                                     info.applicationUri + "\", expected \"" +
-                                                     expected.applicationUri + "\""});
-    }
+    checkExpectations(leafCert, info, expected, collector.findings);
     // An application instance certificate signs and (RSA) receives encrypted keys
     // (OPC 10000-6, 6.2.2); an ECC key agrees on keys instead of receiving them. A CA's
     // certificate must not act as one.
@@ -302,7 +305,9 @@ CertificateVerdict CertificateValidator::validateInFull(const ByteString& certif
     if (collector.findings.empty()) {
         // Good: it stays so from the latest start to the earliest end of the validity
         // periods of the chain and of the CRLs checked against (second precision).
-        Remembered kept{verdict, Clock::time_point::min(), Clock::time_point::max()};
+        Remembered kept{verdict, Clock::time_point::min(), Clock::time_point::max(), nullptr, info};
+        X509_up_ref(leafCert);
+        kept.leaf.reset(leafCert);
         bool bounded = chainVerified;
         const auto within = [&](const ASN1_TIME* from, const ASN1_TIME* until) {
             const auto f = timePointOf(from);

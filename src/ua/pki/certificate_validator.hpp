@@ -22,10 +22,11 @@
 // operator can trust it by moving the file (or `skillcell pki trust`). The next validation
 // sees the move: the lists reload when trusted/ or issuers/ change.
 //
-// A Good verdict is remembered for the same certificate bytes and expectations while the
-// trust list is unchanged and the moment checked lies within the validity periods of the
-// chain and the CRLs used: a peer validated for its secure channel is not validated again,
-// in full, for its X.509 user token, nor at every reconnect.
+// A Good verdict is remembered for the same certificate bytes while the trust list is
+// unchanged and the moment checked lies within the validity periods of the chain and the CRLs
+// used; what a later caller expects of the leaf (application URI, host, key length) is
+// checked anew, and one it misses runs in full. A peer validated for its secure channel is not
+// validated again, in full, for its session, its X.509 user token, nor at every reconnect.
 #include <cstddef>
 #include <filesystem>
 #include <map>
@@ -92,12 +93,21 @@ public:
 
     [[nodiscard]] const PkiPaths& paths() const { return trustList_.paths(); }
 
+    /// How many validations ran in full, the chain verified against the trust list; the
+    /// others were answered from a Good verdict remembered for the same certificate.
+    [[nodiscard]] std::size_t fullValidations() const { return fullValidations_; }
+
 private:
-    /// A Good verdict and the times between which it holds.
+    /// A Good verdict, the times between which it holds, and the leaf, against which the
+    /// expectations of the next callers are checked (they differ: a server checks a client's
+    /// certificate without an application URI when the channel opens, with one when the
+    /// session is created).
     struct Remembered {
         CertificateVerdict verdict;
         Clock::time_point from;
         Clock::time_point until;
+        ossl::Cert leaf;
+        CertificateInfo info;
     };
     static constexpr std::size_t kRememberedMax = 64;  // peers of one component, with room
 
@@ -107,7 +117,8 @@ private:
 
     TrustList trustList_;
     ValidatorOptions options_;
-    std::map<std::string, Remembered> remembered_;  // by certificate and expectations
+    std::map<std::string, Remembered> remembered_;  // by certificate (its DER bytes)
+    std::size_t fullValidations_ = 0;
 };
 
 }  // namespace skillcell::ua::pki
