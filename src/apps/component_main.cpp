@@ -8,5 +8,6 @@ int main(int argc, char** argv) {
         argc, argv,
         "skillcell-component: the components of a skillcell work cell (what `skillcell server`, "
         "`skillcell lds` and `skillcell device` run)",
-        skillcell::apps::componentSubcommands());
+        skillcell::apps::componentSubcommands(),
+        "the other commands are skillcell's (`skillcell --help`)");
 }

@@ -5,7 +5,10 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <array>
+#include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "common/command_line.hpp"
@@ -13,9 +16,9 @@
 namespace skillcell::apps {
 namespace {
 
-// The subcommand the command line names: its first word that is not the global option
-// (--log-level VALUE); none for `--help`, a typo or nothing, which then see them all.
-const Subcommand* named(int argc, char** argv, std::span<const Subcommand> subcommands) {
+// The command line's first word that is not the global option (--log-level VALUE); empty
+// when there is none, or an option comes first (`--help`).
+std::string_view firstWord(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string_view word = argv[i];
         if (word == "--log-level") {
@@ -23,12 +26,9 @@ const Subcommand* named(int argc, char** argv, std::span<const Subcommand> subco
             continue;
         }
         if (word.rfind("--log-level=", 0) == 0) continue;
-        for (const auto& s : subcommands) {
-            if (s.name == word) return &s;
-        }
-        return nullptr;
+        return word.rfind('-', 0) == 0 ? std::string_view{} : word;
     }
-    return nullptr;
+    return {};
 }
 
 }  // namespace
@@ -43,7 +43,7 @@ std::span<const Subcommand> componentSubcommands() {
 }
 
 int runProgram(int argc, char** argv, std::string_view description,
-               std::span<const Subcommand> subcommands) {
+               std::span<const Subcommand> subcommands, std::string_view elsewhere) {
     // Blocks up to 8 MB come from the heap, not from a mapping of their own: glibc maps every
     // block above 128 kB afresh and unmaps it when it is freed, and the page faults of the
     // few such blocks of a start (a NodeSet's document, the address space's tables as they
@@ -61,8 +61,22 @@ int runProgram(int argc, char** argv, std::string_view description,
     // hundred CLI11 options) was 1.5 ms of every component's start, which counts in the time
     // a plugged component takes to be READY.
     std::vector<Command> commands;
-    if (const Subcommand* only = named(argc, argv, subcommands)) {
+    const std::string_view word = firstWord(argc, argv);
+    const auto only = std::find_if(subcommands.begin(), subcommands.end(),
+                                   [&](const Subcommand& s) { return s.name == word; });
+    if (only != subcommands.end()) {
         commands = only->add(app);
+    } else if (!word.empty()) {
+        // Not one of ours: say which are, and where the others are (CLI11 would only say that
+        // a subcommand is required).
+        std::string names;
+        for (const auto& s : subcommands)
+            names += (names.empty() ? "" : ", ") + std::string(s.name);
+        std::fprintf(stderr, "%s: no command '%.*s'; it has: %s%s%s\n",
+                     std::filesystem::path(argv[0]).filename().c_str(),
+                     static_cast<int>(word.size()), word.data(), names.c_str(),
+                     elsewhere.empty() ? "" : "; ", std::string(elsewhere).c_str());
+        return 2;
     } else {
         for (const auto& s : subcommands) {
             for (auto& c : s.add(app)) commands.push_back(std::move(c));

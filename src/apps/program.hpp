@@ -27,8 +27,9 @@ std::vector<Command> one(CLI::App& app) {
 [[nodiscard]] std::span<const Subcommand> componentSubcommands();
 
 /// Parses the command line against `subcommands`, sets up the log, runs the one chosen;
-/// the process's exit code.
+/// the process's exit code. A first word that names none of them exits 2 with the names,
+/// and `elsewhere` (where the others are) when given.
 int runProgram(int argc, char** argv, std::string_view description,
-               std::span<const Subcommand> subcommands);
+               std::span<const Subcommand> subcommands, std::string_view elsewhere = {});
 
 }  // namespace skillcell::apps

@@ -3,7 +3,8 @@
 # global --log-level before it (only the subcommand named on the command line is built, so
 # that a component's start does not build all of them: src/apps/main.cpp).
 #   skillcell --help                              -> 0, every subcommand listed
-#   skillcell, or an unknown subcommand           -> 2
+#   skillcell, or an unknown subcommand           -> 2 (an unknown one named, with ours)
+#   skillcell-component kb                        -> 2, its commands and where kb is
 #   skillcell [--log-level L] SUBCOMMAND --help   -> 0, that subcommand's own options
 # Usage: commands_cli_test.sh PATH/TO/skillcell
 set -euo pipefail
@@ -27,6 +28,7 @@ for c in "${commands[@]}"; do expect "^  $c( |$)"; done
 run 2
 expect "A subcommand is required"
 run 2 no-such-command
+expect "^skillcell: no command 'no-such-command'; it has: server, browse, lds"
 run 0 server --help
 expect "--noop-skill"
 run 0 --log-level warn server --help
@@ -36,4 +38,16 @@ expect "--port"
 run 0 --log-level debug device --help
 expect "world"
 run 2 --log-level nonsense server --help
+# skillcell-component (beside skillcell): its three, and where the others are.
+component=$(dirname "$skillcell")/skillcell-component
+if [ -x "$component" ]; then
+  rc=0
+  timeout 30 "$component" kb >"$tmp/out" 2>&1 || rc=$?
+  [ "$rc" = 2 ] || { cat "$tmp/out" >&2; fail "skillcell-component kb: exit $rc, expected 2"; }
+  expect "^skillcell-component: no command 'kb'; it has: server, lds, device; the other commands are skillcell's"
+  rc=0
+  timeout 30 "$component" --log-level warn device --help >"$tmp/out" 2>&1 || rc=$?
+  [ "$rc" = 0 ] || fail "skillcell-component device --help: exit $rc"
+  expect "robotiq"
+fi
 echo "every subcommand listed and reachable"

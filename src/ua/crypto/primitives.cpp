@@ -441,11 +441,11 @@ Result<Bytes> hkdf(HashAlgorithm hash, ByteView salt, ByteView secret, ByteView 
     auto* saltData = const_cast<std::uint8_t*>(salt.data());
     auto* secretData = const_cast<std::uint8_t*>(secret.data());
     auto* infoData = const_cast<std::uint8_t*>(info.data());
-    char sha256[] = "SHA256";
-    char sha384[] = "SHA384";
-    char* digest = hash == HashAlgorithm::Sha384 ? sha384 : sha256;
+    // The digest mdOf() picks, by the name OpenSSL knows it by: the HMAC's and this cannot
+    // differ.
+    std::string digest = EVP_MD_get0_name(mdOf(hash));
     const OSSL_PARAM params[] = {
-        OSSL_PARAM_construct_utf8_string(OSSL_KDF_PARAM_DIGEST, digest, 0),
+        OSSL_PARAM_construct_utf8_string(OSSL_KDF_PARAM_DIGEST, digest.data(), 0),
         OSSL_PARAM_construct_octet_string(OSSL_KDF_PARAM_SALT, saltData, salt.size()),
         OSSL_PARAM_construct_octet_string(OSSL_KDF_PARAM_KEY, secretData, secret.size()),
         OSSL_PARAM_construct_octet_string(OSSL_KDF_PARAM_INFO, infoData, info.size()),
