@@ -228,20 +228,29 @@ bool DemoCell::waitForQuietCell(const Interruption& interruption) const {
     constexpr auto kQuiet = std::chrono::microseconds(5000);  // 10 % of one core per window
     constexpr auto kBound = std::chrono::seconds(3);
     const pid_t self = ::getpid();
+    // Each process's CPU with what its reaped children used (the knowledge base's reasoner
+    // runs for a fraction of a window and is gone): a window's work is the growth of each
+    // process seen at both ends, and all of one that appeared. One that ended took its time
+    // with it, but not what its parent reaped.
     const auto cellCpu = [self] {
-        std::chrono::nanoseconds sum{0};
-        for (const pid_t pid : process::descendantsOf(self)) sum += process::cpuTime(pid);
-        return sum;
+        std::map<pid_t, std::chrono::nanoseconds> cpu;
+        for (const pid_t pid : process::descendantsOf(self)) {
+            cpu[pid] = process::cpuTimeWithReapedChildren(pid);
+        }
+        return cpu;
     };
     const auto deadline = Clock::now() + kBound;
     auto before = cellCpu();
     while (Clock::now() < deadline && !interruption.requested()) {
         std::this_thread::sleep_for(kWindow);
-        const auto now = cellCpu();
-        // A process that ended in the window takes its time with it: the difference may be
-        // negative, which is quiet enough.
-        if (now - before < kQuiet) return true;
-        before = now;
+        auto now = cellCpu();
+        std::chrono::nanoseconds used{0};
+        for (const auto& [pid, cpu] : now) {
+            const auto it = before.find(pid);
+            used += it == before.end() ? cpu : std::max(cpu - it->second, decltype(cpu){0});
+        }
+        if (used < kQuiet) return true;
+        before = std::move(now);
     }
     return false;
 }

@@ -1,5 +1,7 @@
 #include "process/cpu_time.hpp"
 
+#include <unistd.h>
+
 #include <charconv>
 #include <filesystem>
 #include <fstream>
@@ -23,18 +25,40 @@ std::chrono::nanoseconds cpuTime(pid_t pid) {
 
 namespace {
 
-/// The parent of `pid` from /proc/PID/stat, or 0. The command name (field 2) is in
-/// parentheses and may hold spaces and parentheses: the fields after it start after the last ')'.
-pid_t parentOf(pid_t pid) {
+/// The fields of /proc/PID/stat after the command name (field 2, in parentheses, which may
+/// hold spaces and parentheses: they start after the last ')'); empty when it cannot be read.
+std::vector<std::string_view> statFields(const std::string& stat) {
+    std::vector<std::string_view> fields;
+    const auto close = stat.rfind(')');
+    if (close == std::string::npos) return fields;
+    std::string_view rest = std::string_view(stat).substr(close + 1);
+    while (!rest.empty()) {
+        const auto start = rest.find_first_not_of(' ');
+        if (start == std::string_view::npos) break;
+        rest.remove_prefix(start);
+        const auto end = rest.find(' ');
+        fields.push_back(rest.substr(0, end));
+        if (end == std::string_view::npos) break;
+        rest.remove_prefix(end);
+    }
+    return fields;
+}
+
+/// The whole of /proc/PID/stat; empty when the process is gone.
+std::string statOf(pid_t pid) {
     std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
     std::string stat;
     std::getline(in, stat);
-    const auto close = stat.rfind(')');
-    if (close == std::string::npos || close + 4 >= stat.size()) return 0;
-    // ") S PPID ...": the state, then the parent.
-    const std::string_view rest = std::string_view(stat).substr(close + 4);
+    return stat;
+}
+
+/// The parent of `pid` (field 4), or 0.
+pid_t parentOf(pid_t pid) {
+    const std::string stat = statOf(pid);
+    const auto fields = statFields(stat);
     pid_t parent = 0;
-    std::from_chars(rest.data(), rest.data() + rest.size(), parent);
+    if (fields.size() > 1)
+        std::from_chars(fields[1].data(), fields[1].data() + fields[1].size(), parent);
     return parent;
 }
 
@@ -62,6 +86,23 @@ std::vector<pid_t> descendantsOf(pid_t ancestor) {
         if (p == ancestor) out.push_back(pid);
     }
     return out;
+}
+
+std::chrono::nanoseconds cpuTimeWithReapedChildren(pid_t pid) {
+    const std::string stat = statOf(pid);
+    // Field 3 (the state) is the first after the name: cutime and cstime are 16 and 17.
+    const auto fields = statFields(stat);
+    if (fields.size() < 15) return std::chrono::nanoseconds(0);
+    long long ticks = 0;
+    for (const std::size_t i : {13U, 14U}) {
+        long long v = 0;
+        std::from_chars(fields[i].data(), fields[i].data() + fields[i].size(), v);
+        ticks += v;
+    }
+    const long perSecond = ::sysconf(_SC_CLK_TCK);
+    const auto children =
+        std::chrono::nanoseconds(perSecond > 0 ? ticks * 1'000'000'000 / perSecond : 0);
+    return cpuTime(pid) + children;
 }
 
 }  // namespace skillcell::process

@@ -14,6 +14,12 @@ namespace skillcell::process {
 /// over a second of idle that is most of what there is to measure.
 [[nodiscard]] std::chrono::nanoseconds cpuTime(pid_t pid);
 
+/// cpuTime() and what the children the process has reaped used (cutime + cstime of
+/// /proc/PID/stat, to the clock tick): a process that runs short-lived children (the knowledge
+/// base its reasoner) shows their work when it reaps them, which cpuTime() of the parent and
+/// of the children, gone by then, both miss.
+[[nodiscard]] std::chrono::nanoseconds cpuTimeWithReapedChildren(pid_t pid);
+
 /// The processes whose parent chain leads to `ancestor`, not `ancestor` itself.
 [[nodiscard]] std::vector<pid_t> descendantsOf(pid_t ancestor);
 

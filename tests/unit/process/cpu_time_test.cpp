@@ -3,6 +3,7 @@
 #include "process/cpu_time.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -34,6 +35,32 @@ TEST(CpuTime, GrowsWithTheWorkOfThisProcessAndIsZeroForNone) {
     EXPECT_LT(after - before, 5s);
     // No such process (pid_max is at most 2^22).
     EXPECT_EQ(cpuTime(1 << 23).count(), 0);
+}
+
+TEST(CpuTime, WithReapedChildrenCountsWhatAChildUsedOnceItIsReaped) {
+    const auto before = cpuTimeWithReapedChildren(::getpid());
+    EXPECT_GE(before, cpuTime(::getpid()) - 1ms);  // read just before: at least as much
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        // 60 ms of work by the child's own clock, then out without running our exit code.
+        timespec t{};
+        const auto used = [&t] {
+            clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+            return std::chrono::seconds(t.tv_sec) + std::chrono::nanoseconds(t.tv_nsec);
+        };
+        volatile unsigned sink = 0;
+        while (used() < 60ms) sink = sink + 1;
+        ::_exit(0);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    // The child's time is the parent's once reaped (to the clock tick: 10 ms).
+    const auto after = cpuTimeWithReapedChildren(::getpid());
+    EXPECT_GE(after - before, 40ms);
+    EXPECT_LT(after - before, 5s);
+    EXPECT_EQ(cpuTimeWithReapedChildren(1 << 23).count(), 0);
 }
 
 TEST(CpuTime, DescendantsAreChildrenAndTheirChildren) {
