@@ -3,6 +3,7 @@
 // exit code when it was chosen.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string_view>
 #include <vector>
 
 namespace skillcell::apps {
@@ -37,7 +38,9 @@ Command addDashboardCommand(CLI::App& app);
 Command addCellCommand(CLI::App& app);
 /// `skillcell process check|list`: processes checked against the skill models.
 Command addProcessCommand(CLI::App& app);
-/// `skillcell device <kind>`: one Command per kind (world, ur5, robotiq, schmalz).
-std::vector<Command> addDeviceCommands(CLI::App& app);
+/// `skillcell device <kind>`: one Command per kind (world, ur5, iiwa, robotiq, ag95, schmalz,
+/// toolchanger, pickplace); only `kind`'s when it names one (the word after `device` on the
+/// command line), every kind's otherwise (--help, a typo).
+std::vector<Command> addDeviceCommands(CLI::App& app, std::string_view kind);
 
 }  // namespace skillcell::apps

@@ -10,15 +10,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include "common/command_line.hpp"
 
 namespace skillcell::apps {
 namespace {
 
-// The command line's first word that is not the global option (--log-level VALUE); empty
-// when there is none, or an option comes first (`--help`).
-std::string_view firstWord(int argc, char** argv) {
+// The command line's first two words after the global option (--log-level VALUE): each
+// empty when there is none, or an option comes first (`--help`).
+std::pair<std::string_view, std::string_view> firstWords(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string_view word = argv[i];
         if (word == "--log-level") {
@@ -26,7 +27,9 @@ std::string_view firstWord(int argc, char** argv) {
             continue;
         }
         if (word.rfind("--log-level=", 0) == 0) continue;
-        return word.rfind('-', 0) == 0 ? std::string_view{} : word;
+        if (word.rfind('-', 0) == 0) return {};
+        const std::string_view next = i + 1 < argc ? argv[i + 1] : "";
+        return {word, next.rfind('-', 0) == 0 ? std::string_view{} : next};
     }
     return {};
 }
@@ -61,11 +64,14 @@ int runProgram(int argc, char** argv, std::string_view description,
     // hundred CLI11 options) was 1.5 ms of every component's start, which counts in the time
     // a plugged component takes to be READY.
     std::vector<Command> commands;
-    const std::string_view word = firstWord(argc, argv);
+    // Not a structured binding: clang 14 (clang-tidy's) cannot capture one in a lambda.
+    const auto words = firstWords(argc, argv);
+    const std::string_view word = words.first;
+    const std::string_view next = words.second;
     const auto only = std::find_if(subcommands.begin(), subcommands.end(),
                                    [&](const Subcommand& s) { return s.name == word; });
     if (only != subcommands.end()) {
-        commands = only->add(app);
+        commands = only->add(app, next);
     } else if (!word.empty()) {
         // Not one of ours: say which are, and where the others are (CLI11 would only say that
         // a subcommand is required).
@@ -79,7 +85,7 @@ int runProgram(int argc, char** argv, std::string_view description,
         return 2;
     } else {
         for (const auto& s : subcommands) {
-            for (auto& c : s.add(app)) commands.push_back(std::move(c));
+            for (auto& c : s.add(app, {})) commands.push_back(std::move(c));
         }
     }
 

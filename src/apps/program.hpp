@@ -11,14 +11,16 @@
 
 namespace skillcell::apps {
 
-/// A subcommand by the name it is invoked with, and what adds it (some add several).
+/// A subcommand by the name it is invoked with, and what adds it (some add several). `add`
+/// is given the command line's next word after the name (empty when there is none, or it is
+/// an option), for subcommands that build only what it names.
 struct Subcommand {
     std::string_view name;
-    std::vector<Command> (*add)(CLI::App&);
+    std::vector<Command> (*add)(CLI::App&, std::string_view next);
 };
 
 template <Command (*Add)(CLI::App&)>
-std::vector<Command> one(CLI::App& app) {
+std::vector<Command> one(CLI::App& app, std::string_view /*next*/) {
     return {Add(app)};
 }
 

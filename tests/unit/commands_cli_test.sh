@@ -5,6 +5,7 @@
 #   skillcell --help                              -> 0, every subcommand listed
 #   skillcell, or an unknown subcommand           -> 2 (an unknown one named, with ours)
 #   skillcell-component kb                        -> 2, its commands and where kb is
+#   skillcell-component device [KIND] --help      -> 0, every kind; KIND's options
 #   skillcell [--log-level L] SUBCOMMAND --help   -> 0, that subcommand's own options
 # Usage: commands_cli_test.sh PATH/TO/skillcell
 set -euo pipefail
@@ -48,6 +49,11 @@ if [ -x "$component" ]; then
   rc=0
   timeout 30 "$component" --log-level warn device --help >"$tmp/out" 2>&1 || rc=$?
   [ "$rc" = 0 ] || fail "skillcell-component device --help: exit $rc"
-  expect "robotiq"
+  for kind in world ur5 iiwa robotiq ag95 schmalz toolchanger pickplace; do expect "^  $kind "; done
+  # Only the kind named is built: its options are there.
+  rc=0
+  timeout 30 "$component" device ur5 --help >"$tmp/out" 2>&1 || rc=$?
+  [ "$rc" = 0 ] || fail "skillcell-component device ur5 --help: exit $rc"
+  expect "--base"
 fi
 echo "every subcommand listed and reachable"
