@@ -56,7 +56,7 @@ ua::Result<ComponentContent> populate(const ServerCommandOptions& options, ua::S
 
     std::string error;
     std::shared_ptr<skills::SkillServer> skillServer =
-        skills::SkillServer::create(server, io.get_executor(), noopSkillModels(options), &error);
+        skills::SkillServer::create(server, io.get_executor(), options.process.skillModels, &error);
     if (!skillServer) {
         spdlog::critical("{}", error);
         return ua::status::BadConfigurationError;
@@ -126,7 +126,8 @@ Command addServerCommand(CLI::App& app) {
         ->check(CLI::Range(0, 1'000'000))
         ->capture_default_str();
     return {cmd, [options] {
-                // Loaded beside namespace 0 (runServerProcess), not after it.
+                // Loaded beside namespace 0 (runServerProcess), not after it; populate()
+                // creates its SkillServer over the same list.
                 if (!options->noopSkills.empty() || !options->nodesets.empty()) {
                     options->process.skillModels = noopSkillModels(*options);
                 }

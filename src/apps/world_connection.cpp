@@ -86,7 +86,8 @@ void addWorldCertificateOption(CLI::App* cmd, WorldAddress& address) {
     cmd->add_option("--world-certificate", address.certificateFile,
                     "the world model's application certificate (DER), as the cell issued it: "
                     "the link opens its secure channel with it at once instead of asking the "
-                    "world for its endpoints first (and asks when the world refuses it)");
+                    "world for its endpoints first (and asks when the world refuses it)")
+        ->check(CLI::ExistingFile);
 }
 
 WorldConnection::WorldConnection(WorldAddress address, std::string robot, Then then)

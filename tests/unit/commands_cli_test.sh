@@ -6,6 +6,7 @@
 #   skillcell, or an unknown subcommand           -> 2 (an unknown one named, with ours)
 #   skillcell-component kb                        -> 2, its commands and where kb is
 #   skillcell-component device [KIND] --help      -> 0, every kind; KIND's options
+#   ... device robotiq --world-certificate MISSING -> 2, the option and the file named
 #   skillcell [--log-level L] SUBCOMMAND --help   -> 0, that subcommand's own options
 # Usage: commands_cli_test.sh PATH/TO/skillcell
 set -euo pipefail
@@ -55,5 +56,12 @@ if [ -x "$component" ]; then
   timeout 30 "$component" device ur5 --help >"$tmp/out" 2>&1 || rc=$?
   [ "$rc" = 0 ] || fail "skillcell-component device ur5 --help: exit $rc"
   expect "--base"
+  # A world certificate that is not there: refused before anything starts.
+  rc=0
+  timeout 30 "$component" device robotiq --world opc.tcp://127.0.0.1:1 \
+    --world-certificate "$tmp/no-such.der" --port 0 >"$tmp/out" 2>&1 || rc=$?
+  [ "$rc" = 2 ] || { cat "$tmp/out" >&2; fail "a missing --world-certificate: exit $rc, expected 2"; }
+  expect "^--world-certificate: File does not exist: $tmp/no-such.der"
+  ! grep -q '^READY' "$tmp/out" || fail "a missing --world-certificate started anyway"
 fi
 echo "every subcommand listed and reachable"
