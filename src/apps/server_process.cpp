@@ -10,7 +10,7 @@
 #include "skill_report.hpp"
 #include "skills/skill_detector.hpp"
 #include "skills/skill_server.hpp"
-#include "ua/nodeset/nodeset_loader.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 #include "ua/server/user_database.hpp"
 
 namespace skillcell::apps {

@@ -1,6 +1,7 @@
 #include "skills/skill_server.hpp"
 
 #include "ua/nodeset/companion_models.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 
 namespace skillcell::skills {
 

@@ -5,7 +5,7 @@
 #include "ua/address_space/address_space.hpp"
 #include "ua/address_space/server_object.hpp"
 #include "ua/encoding/codec.hpp"
-#include "ua/nodeset/nodeset_loader.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 
 namespace address_space_test {
 

@@ -32,6 +32,7 @@
 #include "skills/skill_state_machine.hpp"
 #include "ua/address_space/instantiate.hpp"
 #include "ua/nodeset/companion_models.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 
 namespace skillcell::skills::conformance_checker_test {
 namespace {

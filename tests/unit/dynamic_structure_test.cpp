@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "ua/address_space/dynamic_structure.hpp"
-#include "ua/nodeset/nodeset_loader.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 
 namespace dynamic_structure_test {
 

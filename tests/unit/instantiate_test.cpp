@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "ua/address_space/instantiate.hpp"
-#include "ua/nodeset/nodeset_loader.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 
 namespace instantiate_test {
 

@@ -6,8 +6,11 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "ua/nodeset/companion_models.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 #include "ua/nodeset/nodeset_exporter.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
+#include "ua/nodeset/nodeset_snapshot.hpp"
 #include "ua/server/server.hpp"
 
 namespace nodeset_roundtrip_test {
@@ -48,6 +51,15 @@ void expectSameNamespace(const AddressSpace& a, const AddressSpace& b, std::uint
         EXPECT_EQ(m->symmetric, n.symmetric) << id;
         EXPECT_EQ(m->inverseName, n.inverseName) << id;
         EXPECT_EQ(m->eventNotifier, n.eventNotifier) << id;
+        EXPECT_EQ(m->writeMask, n.writeMask) << id;
+        EXPECT_EQ(m->userWriteMask, n.userWriteMask) << id;
+        EXPECT_EQ(m->containsNoLoops, n.containsNoLoops) << id;
+        EXPECT_EQ(m->userAccessLevel, n.userAccessLevel) << id;
+        EXPECT_EQ(m->historizing, n.historizing) << id;
+        EXPECT_EQ(m->executable, n.executable) << id;
+        EXPECT_EQ(m->userExecutable, n.userExecutable) << id;
+        EXPECT_EQ(m->requiredRole, n.requiredRole) << id;
+        EXPECT_EQ(m->superType, n.superType) << id;
         EXPECT_EQ(m->dataType, n.dataType) << id;
         EXPECT_EQ(m->valueRank, n.valueRank) << id;
         EXPECT_EQ(m->arrayDimensions, n.arrayDimensions) << id;
@@ -115,8 +127,8 @@ TEST(NodeSetRoundTrip, NamespaceZeroSurvivesExportAndReload) {
     EXPECT_EQ(again, xml);
 }
 
-TEST(NodeSetRoundTrip, CompanionModelWithStructuresSurvives) {
-    constexpr std::string_view kModel = R"(<?xml version="1.0"?>
+/// A companion model with structures (optional fields too) and values of every kind.
+constexpr std::string_view kStructuresModel = R"(<?xml version="1.0"?>
 <UANodeSet xmlns="http://opcfoundation.org/UA/2011/03/UANodeSet.xsd"
            xmlns:uax="http://opcfoundation.org/UA/2008/02/Types.xsd">
   <NamespaceUris><Uri>urn:test:rt</Uri></NamespaceUris>
@@ -171,8 +183,10 @@ TEST(NodeSetRoundTrip, CompanionModelWithStructuresSurvives) {
     <Value><uax:StatusCode><uax:Code>2150891520</uax:Code></uax:StatusCode></Value>
   </UAVariable>
 </UANodeSet>)";
+
+TEST(NodeSetRoundTrip, CompanionModelWithStructuresSurvives) {
     AddressSpace a = baseSpace();
-    auto st = loadNodeSet(a, kModel, "rt.xml");
+    auto st = loadNodeSet(a, kStructuresModel, "rt.xml");
     ASSERT_TRUE(st.ok()) << st.error;
     const auto ns = *a.namespaceIndex("urn:test:rt");
     const Node* g = a.find(NodeId(ns, "G"));
@@ -263,6 +277,142 @@ TEST(NodeSetRoundTrip, RequiredModelsAndBadValues) {
                   "</uax:Range></uax:Body></uax:ExtensionObject>"),
             "v.xml")
             .ok());
+}
+
+// The snapshots the build made (nodeset_snapshot.hpp): what a server's start loads instead of
+// the XML.
+
+/// The files servers load, in the order that loads them all.
+std::vector<std::pair<std::string, std::string>> everyEmbeddedFile() {
+    std::vector<std::pair<std::string, std::string>> files{
+        {"Opc.Ua.NodeSet2.Base.xml", "models/Opc.Ua.NodeSet2.Base.xml"},
+        {"Opc.Ua.NodeSet2.Closure.xml", "models/opcfoundation/Opc.Ua.NodeSet2.Closure.xml"}};
+    for (const auto& m : kCompanionModels) files.emplace_back(m.fileName, m.fileName);
+    return files;
+}
+
+TEST(NodeSetSnapshot, EveryEmbeddedModelLoadsFromItsSnapshotAsFromItsXml) {
+    AddressSpace xml("urn:test:server");
+    AddressSpace snap("urn:test:server");
+    for (const auto& [file, source] : everyEmbeddedFile()) {
+        SCOPED_TRACE(file);
+        // A snapshot fits the address space it goes into: it is what the load takes.
+        bool fits = false;
+        for (const auto bytes : embeddedSnapshots(file)) {
+            ParsedNodeSet parsed;
+            fits = fits || decodeSnapshot(snap, bytes, parsed) == SnapshotDecode::Decoded;
+        }
+        EXPECT_TRUE(fits);
+        const auto a = loadNodeSet(xml, embeddedModel(file), source);
+        ASSERT_TRUE(a.ok()) << a.error;
+        NodeSetStatus b;
+        ASSERT_TRUE(loadEmbeddedModel(snap, file, source, b)) << b.error;
+        EXPECT_EQ(b.nodes, a.nodes);
+        EXPECT_EQ(b.references, a.references);
+    }
+    ASSERT_EQ(snap.namespaces(), xml.namespaces());
+    for (std::size_t ns = 0; ns < xml.namespaces().size(); ++ns) {
+        if (ns != 1) expectSameNamespace(xml, snap, static_cast<std::uint16_t>(ns));
+    }
+    EXPECT_EQ(snap.size(), xml.size());
+    for (const auto& m : kCompanionModels) {
+        ASSERT_NE(snap.findModel(m.uri), nullptr) << m.uri;
+        EXPECT_EQ(snap.findModel(m.uri)->version, xml.findModel(m.uri)->version);
+    }
+}
+
+TEST(NodeSetSnapshot, ACompanionModelAloneLoadsFromASnapshotOfItsOwnIndices) {
+    // A gripper adapter's models: DI, Skills, GripperSkills; Skills gets index 3 here, not
+    // the 5 it has after IA and Robotics.
+    const std::string_view uris[] = {companion::kGripperSkillsUri};
+    AddressSpace as = baseSpace();
+    const auto models = companionModelsFor(uris);
+    ASSERT_TRUE(models.has_value());
+    for (const auto& model : *models) {
+        SCOPED_TRACE(model.fileName);
+        bool fits = false;
+        for (const auto bytes : embeddedSnapshots(model.fileName)) {
+            ParsedNodeSet parsed;
+            fits = fits || decodeSnapshot(as, bytes, parsed) == SnapshotDecode::Decoded;
+        }
+        EXPECT_TRUE(fits);
+        NodeSetStatus st;
+        ASSERT_TRUE(loadEmbeddedModel(as, model.fileName, model.fileName, st)) << st.error;
+    }
+    EXPECT_EQ(as.namespaceIndex(companion::kSkillsUri), std::optional<std::uint16_t>(3));
+}
+
+TEST(NodeSetSnapshot, NamespacesAtOtherIndicesTakeTheXml) {
+    // A server that registered a namespace of its own before loading DI: no snapshot fits.
+    AddressSpace xml = baseSpace();
+    AddressSpace snap = baseSpace();
+    (void)xml.registerNamespace("urn:test:mine");
+    (void)snap.registerNamespace("urn:test:mine");
+    for (const auto bytes : embeddedSnapshots("Opc.Ua.Di.NodeSet2.xml")) {
+        ParsedNodeSet parsed;
+        EXPECT_EQ(decodeSnapshot(snap, bytes, parsed), SnapshotDecode::OtherNamespaces);
+    }
+    ASSERT_TRUE(loadNodeSet(xml, embeddedModel("Opc.Ua.Di.NodeSet2.xml"), "di").ok());
+    NodeSetStatus st;
+    ASSERT_TRUE(loadEmbeddedModel(snap, "Opc.Ua.Di.NodeSet2.xml", "di", st)) << st.error;
+    EXPECT_EQ(snap.namespaceIndex(companion::kDiUri), std::optional<std::uint16_t>(3));
+    expectSameNamespace(xml, snap, 3);
+}
+
+TEST(NodeSetSnapshot, AModelWithStructureValuesSurvivesItsSnapshot) {
+    AddressSpace xml = baseSpace();
+    AddressSpace snap = baseSpace();
+    ParsedNodeSet parsed;
+    ASSERT_TRUE(parseNodeSet(xml, kStructuresModel, "rt.xml", parsed).ok());
+    const auto bytes = encodeSnapshot(parsed);
+    ASSERT_TRUE(commitNodeSet(xml, parsed).ok());
+    ParsedNodeSet back;
+    ASSERT_EQ(decodeSnapshot(snap, bytes, back), SnapshotDecode::Decoded);
+    EXPECT_EQ(back.source, "rt.xml");
+    ASSERT_TRUE(commitNodeSet(snap, std::move(back)).ok());
+    expectSameNamespace(xml, snap, 2);
+    ASSERT_NE(snap.findModel("urn:test:rt"), nullptr);
+    EXPECT_EQ(snap.findModel("urn:test:rt")->version, "2.1");
+    EXPECT_NE(snap.dataTypes().find(NodeId(2, 1)), nullptr);
+}
+
+TEST(NodeSetSnapshot, ABrokenSnapshotIsMalformedAndChangesNothing) {
+    AddressSpace as = baseSpace();
+    const auto snapshots = embeddedSnapshots("Opc.Ua.Di.NodeSet2.xml");
+    ASSERT_FALSE(snapshots.empty());
+    const std::vector<std::uint8_t> good(snapshots.front().begin(), snapshots.front().end());
+    ParsedNodeSet parsed;
+    // Cut anywhere: never a crash, never a partial set.
+    for (const std::size_t cut : {std::size_t{0}, std::size_t{5}, std::size_t{40}, good.size() / 3,
+                                  good.size() / 2, good.size() - 1}) {
+        const std::span<const std::uint8_t> prefix(good.data(), cut);
+        EXPECT_EQ(decodeSnapshot(as, prefix, parsed), SnapshotDecode::Malformed) << cut;
+        EXPECT_TRUE(parsed.nodes.empty()) << cut;
+    }
+    auto longer = good;
+    longer.push_back(0);
+    EXPECT_EQ(decodeSnapshot(as, longer, parsed), SnapshotDecode::Malformed);
+    auto otherVersion = good;
+    otherVersion[4 + 27] ^= 1;  // the magic's version digit
+    EXPECT_EQ(decodeSnapshot(as, otherVersion, parsed), SnapshotDecode::Malformed);
+    EXPECT_EQ(decodeSnapshot(as, good, parsed), SnapshotDecode::Decoded);
+}
+
+TEST(NodeSetSnapshot, ErrorsOfASnapshotLoadNameTheXmlsLine) {
+    // DI twice: the second load's first node exists already. The message is the XML's.
+    AddressSpace xml = baseSpace();
+    AddressSpace snap = baseSpace();
+    const auto di = embeddedModel("Opc.Ua.Di.NodeSet2.xml");
+    ASSERT_TRUE(loadNodeSet(xml, di, "Opc.Ua.Di.NodeSet2.xml").ok());
+    const auto fromXml = loadNodeSet(xml, di, "Opc.Ua.Di.NodeSet2.xml");
+    NodeSetStatus first, again;
+    ASSERT_TRUE(loadEmbeddedModel(snap, "Opc.Ua.Di.NodeSet2.xml", "Opc.Ua.Di.NodeSet2.xml", first));
+    const auto nodes = snap.size();
+    EXPECT_FALSE(
+        loadEmbeddedModel(snap, "Opc.Ua.Di.NodeSet2.xml", "Opc.Ua.Di.NodeSet2.xml", again));
+    EXPECT_EQ(again.error.rfind("Opc.Ua.Di.NodeSet2.xml:", 0), 0u) << again.error;
+    EXPECT_EQ(again.error, fromXml.error);
+    EXPECT_EQ(snap.size(), nodes);
 }
 
 TEST(NodeSetRoundTrip, BaseModelLoadTime) {

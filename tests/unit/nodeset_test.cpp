@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "ua/encoding/codec.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
 
 namespace nodeset_test {

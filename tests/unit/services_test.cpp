@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "ua/address_space/server_object.hpp"
-#include "ua/nodeset/nodeset_loader.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 #include "ua/server/browse_continuation_points.hpp"
 #include "ua/server/services/attribute_service.hpp"
 #include "ua/server/services/method_service.hpp"

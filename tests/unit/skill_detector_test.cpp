@@ -25,6 +25,7 @@
 #include "ua/address_space/ns0_ids.hpp"
 #include "ua/client/blocking_client.hpp"
 #include "ua/nodeset/companion_models.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 
 namespace skillcell::skills::skill_detector_test {
 namespace {

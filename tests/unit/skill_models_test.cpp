@@ -11,6 +11,7 @@
 
 #include "ua/address_space/instantiate.hpp"
 #include "ua/nodeset/companion_models.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 #include "ua/nodeset/nodeset_exporter.hpp"
 #include "ua/nodeset/nodeset_loader.hpp"
 

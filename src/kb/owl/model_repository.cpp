@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "ua/nodeset/companion_models.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 
 namespace skillcell::kb::owl {
 namespace {

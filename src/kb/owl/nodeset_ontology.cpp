@@ -11,6 +11,7 @@
 #include "kb/owl/ua_vocabulary.hpp"
 #include "ua/address_space/ns0_ids.hpp"
 #include "ua/nodeset/companion_models.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 
 namespace skillcell::kb::owl {
 namespace {

@@ -45,15 +45,6 @@ std::vector<std::string> requiredModelUris(std::string_view xml) {
 
 }  // namespace
 
-NodeSetStatus loadCompanionModels(AddressSpace& as) {
-    NodeSetStatus total;
-    for (const auto& model : kCompanionModels) {
-        if (as.findModel(model.uri) != nullptr) continue;
-        if (!loadEmbeddedModel(as, model.fileName, model.fileName, total)) break;
-    }
-    return total;
-}
-
 std::optional<std::vector<CompanionModel>> companionModelsFor(
     std::span<const std::string_view> uris, std::string* unknown) {
     std::set<std::string_view> wanted;
@@ -77,21 +68,6 @@ std::optional<std::vector<CompanionModel>> companionModelsFor(
         if (wanted.contains(model.uri)) ordered.push_back(model);
     }
     return ordered;
-}
-
-NodeSetStatus loadCompanionModels(AddressSpace& as, std::span<const std::string_view> uris) {
-    NodeSetStatus total;
-    std::string unknown;
-    const auto models = companionModelsFor(uris, &unknown);
-    if (!models) {
-        total.error = "no companion model has the namespace URI " + unknown;
-        return total;
-    }
-    for (const auto& model : *models) {
-        if (as.findModel(model.uri) != nullptr) continue;
-        if (!loadEmbeddedModel(as, model.fileName, model.fileName, total)) break;
-    }
-    return total;
 }
 
 std::optional<std::string_view> companionModelDeclaring(std::string_view name) {

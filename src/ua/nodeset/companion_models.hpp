@@ -57,15 +57,6 @@ inline constexpr std::array<CompanionModel, 9> kCompanionModels{{
     {companion::kMesSkillsUri, "Skillcell.MesSkills.NodeSet2.xml"},
 }};
 
-/// Loads the embedded companion models that are not loaded yet, in dependency order
-/// (namespace 0 must be loaded). Stops at the first error; the status sums the nodes and
-/// references added.
-[[nodiscard]] NodeSetStatus loadCompanionModels(AddressSpace& as);
-/// Loads the companion models `uris` and, before them, the companion models they require
-/// (their files' <RequiredModel>s, transitively); those loaded already are skipped. An URI
-/// that is no companion model's is an error that names it, and nothing is loaded.
-[[nodiscard]] NodeSetStatus loadCompanionModels(AddressSpace& as,
-                                                std::span<const std::string_view> uris);
 /// The companion models `uris` require, transitively, with `uris` themselves, in the load
 /// order of kCompanionModels; nullopt (and `unknown` set) for an URI of no companion model.
 [[nodiscard]] std::optional<std::vector<CompanionModel>> companionModelsFor(

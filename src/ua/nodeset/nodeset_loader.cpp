@@ -240,36 +240,15 @@ private:
         }
         out.source = source_;
         // Pass 1: namespaces and aliases, wherever they are in the file.
-        nsMap_.push_back(0);
         if (auto uris = child(root, "NamespaceUris")) {
-            std::uint16_t next = static_cast<std::uint16_t>(as_.namespaces().size());
             for (auto u : uris.children()) {
                 if (u.type() != pugi::node_element) continue;
-                const std::string uri(trim(u.text().get()));
-                out.namespaceUris.push_back(uri);
-                if (auto known = as_.namespaceIndex(uri)) {
-                    nsMap_.push_back(*known);
-                } else {
-                    // A URI listed twice in the file maps to the same new index.
-                    auto prev =
-                        std::find(out.namespaceUris.begin(), out.namespaceUris.end() - 1, uri);
-                    if (prev != out.namespaceUris.end() - 1) {
-                        nsMap_.push_back(
-                            nsMap_[static_cast<std::size_t>(prev - out.namespaceUris.begin() + 1)]);
-                    } else {
-                        nsMap_.push_back(next++);
-                    }
-                }
+                out.namespaceUris.emplace_back(trim(u.text().get()));
             }
         }
-        // The table the parsed NodeIds' indices refer to: the address space's, then the
-        // file's new URIs at the indices given above.
-        out.serverNamespaces.assign(as_.namespaces().begin(), as_.namespaces().end());
-        for (std::size_t i = 0; i < out.namespaceUris.size(); ++i) {
-            const std::size_t index = nsMap_[i + 1];
-            if (index >= out.serverNamespaces.size()) out.serverNamespaces.resize(index + 1);
-            out.serverNamespaces[index] = out.namespaceUris[i];
-        }
+        nsMap_ = namespaceMap(as_, out.namespaceUris);
+        nsMap_.insert(nsMap_.begin(), 0);  // the file's index 0 is namespace 0
+        out.serverNamespaces = serverNamespaceTable(as_, out.namespaceUris);
         if (auto aliases = child(root, "Aliases")) {
             for (auto a : aliases.children()) {
                 if (a.type() != pugi::node_element) continue;
@@ -1104,6 +1083,39 @@ NodeSetStatus checkRequiredModels(const AddressSpace& as, const ParsedNodeSet& p
 
 }  // namespace
 
+std::vector<std::uint16_t> namespaceMap(const AddressSpace& as,
+                                        std::span<const std::string> fileUris) {
+    std::vector<std::uint16_t> map;
+    map.reserve(fileUris.size());
+    auto next = static_cast<std::uint16_t>(as.namespaces().size());
+    for (std::size_t i = 0; i < fileUris.size(); ++i) {
+        if (auto known = as.namespaceIndex(fileUris[i])) {
+            map.push_back(*known);
+            continue;
+        }
+        // A URI listed twice in the file maps to the same new index.
+        const auto end = fileUris.begin() + static_cast<std::ptrdiff_t>(i);
+        const auto prev = std::find(fileUris.begin(), end, fileUris[i]);
+        if (prev != end) {
+            map.push_back(map[static_cast<std::size_t>(prev - fileUris.begin())]);
+        } else {
+            map.push_back(next++);
+        }
+    }
+    return map;
+}
+
+std::vector<std::string> serverNamespaceTable(const AddressSpace& as,
+                                              std::span<const std::string> fileUris) {
+    std::vector<std::string> table(as.namespaces().begin(), as.namespaces().end());
+    const auto map = namespaceMap(as, fileUris);
+    for (std::size_t i = 0; i < fileUris.size(); ++i) {
+        if (map[i] >= table.size()) table.resize(std::size_t{map[i]} + 1);
+        table[map[i]] = fileUris[i];
+    }
+    return table;
+}
+
 NodeSetStatus parseNodeSet(const AddressSpace& as, std::string_view xml,
                            std::string_view sourceName, ParsedNodeSet& out) {
     out = ParsedNodeSet{};
@@ -1187,6 +1199,10 @@ NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed) {
     return commit(as, parsed);
 }
 
+NodeSetStatus commitNodeSet(AddressSpace& as, ParsedNodeSet&& parsed) {
+    return commit(as, parsed);
+}
+
 NodeSetStatus loadNodeSet(AddressSpace& as, std::string_view xml, std::string_view sourceName) {
     ParsedNodeSet parsed;
     auto st = parseNodeSet(as, xml, sourceName, parsed);
@@ -1201,30 +1217,6 @@ NodeSetStatus loadNodeSetFile(AddressSpace& as, const std::filesystem::path& pat
     buf << in.rdbuf();
     const std::string xml = std::move(buf).str();
     return loadNodeSet(as, xml, path.string());
-}
-
-bool loadEmbeddedModel(AddressSpace& as, std::string_view fileName, std::string_view sourceName,
-                       NodeSetStatus& total) {
-    const auto xml = embeddedModel(fileName);
-    if (xml.empty()) {
-        total.error = std::string(sourceName) + ": not embedded";
-        return false;
-    }
-    const auto st = loadNodeSet(as, xml, sourceName);
-    total.nodes += st.nodes;
-    total.references += st.references;
-    if (!st.ok()) total.error = st.error;
-    return st.ok();
-}
-
-NodeSetStatus loadBaseNodeSet(AddressSpace& as) {
-    NodeSetStatus total;
-    if (loadEmbeddedModel(as, "Opc.Ua.NodeSet2.Base.xml", "models/Opc.Ua.NodeSet2.Base.xml",
-                          total)) {
-        (void)loadEmbeddedModel(as, "Opc.Ua.NodeSet2.Closure.xml",
-                                "models/opcfoundation/Opc.Ua.NodeSet2.Closure.xml", total);
-    }
-    return total;
 }
 
 }  // namespace skillcell::ua

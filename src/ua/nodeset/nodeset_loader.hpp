@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -72,6 +73,16 @@ struct NodeSetStatus {
     [[nodiscard]] bool ok() const { return error.empty(); }
 };
 
+/// Where a file's NamespaceUris go in `as`, one index each: a URI `as` knows keeps its index,
+/// new ones get the next free indices in file order (a URI listed twice, one). The parse and
+/// the snapshots (nodeset_snapshot.hpp) share it.
+[[nodiscard]] std::vector<std::uint16_t> namespaceMap(const AddressSpace& as,
+                                                      std::span<const std::string> fileUris);
+/// `as`'s namespace table with the file's new URIs at the indices namespaceMap gives them:
+/// the table a parsed set's NodeIds refer to (ParsedNodeSet::serverNamespaces).
+[[nodiscard]] std::vector<std::string> serverNamespaceTable(const AddressSpace& as,
+                                                            std::span<const std::string> fileUris);
+
 /// Parses `xml`. The server's namespace indices are computed against `as` (without
 /// registering anything yet): a URI already known keeps its index, new URIs get the next
 /// free ones in file order.
@@ -79,6 +90,8 @@ struct NodeSetStatus {
                                          std::string_view sourceName, ParsedNodeSet& out);
 /// Adds a parsed node set to `as`. On error nothing has been added.
 [[nodiscard]] NodeSetStatus commitNodeSet(AddressSpace& as, const ParsedNodeSet& parsed);
+/// The same, moving the nodes' attributes and values out of `parsed`.
+[[nodiscard]] NodeSetStatus commitNodeSet(AddressSpace& as, ParsedNodeSet&& parsed);
 
 /// parseNodeSet + commitNodeSet.
 [[nodiscard]] NodeSetStatus loadNodeSet(AddressSpace& as, std::string_view xml,
@@ -91,12 +104,5 @@ struct NodeSetStatus {
 [[nodiscard]] std::string_view embeddedModel(std::string_view fileName);
 /// Names of all embedded model files.
 [[nodiscard]] std::vector<std::string_view> embeddedModelNames();
-/// Loads the embedded `fileName` and adds its counts (or its error) to `total`; false on
-/// error (also when it is not embedded). Messages name the file `sourceName`.
-bool loadEmbeddedModel(AddressSpace& as, std::string_view fileName, std::string_view sourceName,
-                       NodeSetStatus& total);
-/// Loads namespace 0: our subset (models/Opc.Ua.NodeSet2.Base.xml), then the nodes the OPC
-/// Foundation's companion models use beyond it (models/opcfoundation/...Closure.xml).
-[[nodiscard]] NodeSetStatus loadBaseNodeSet(AddressSpace& as);
 
 }  // namespace skillcell::ua

@@ -4,7 +4,7 @@
 
 #include <asio/experimental/as_tuple.hpp>
 
-#include "ua/nodeset/nodeset_loader.hpp"
+#include "ua/nodeset/embedded_models.hpp"
 #include "ua/server/services/monitored_item_service.hpp"
 #include "ua/server/services/register_services.hpp"
 #include "ua/server/services/session_service.hpp"
