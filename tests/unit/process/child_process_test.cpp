@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <pthread.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -43,6 +44,45 @@ TEST(ChildProcess, ReportsExitCodesAndCapturesOutput) {
     ASSERT_TRUE(status) << status.error();
     EXPECT_TRUE(status->success());
     EXPECT_FALSE(child->running());
+}
+
+/// A line of /proc/<pid>/status ("SigBlk", "SigCgt", ...), its value.
+std::string statusField(const std::string& status, const std::string& field) {
+    const auto at = status.find(field + ":\t");
+    if (at == std::string::npos) return "?";
+    const auto begin = at + field.size() + 2;
+    return status.substr(begin, status.find('\n', begin) - begin);
+}
+
+void countSignal(int /*signal*/) {}
+
+TEST(ChildProcess, StartsWithNoSignalBlockedOrCaughtWhateverItsParentDoes) {
+    // The child runs in our memory until it execs: none of our handlers may run there, and
+    // what we block or catch must not reach the program it becomes.
+    struct sigaction handler {};
+    handler.sa_handler = countSignal;
+    struct sigaction before {};
+    ASSERT_EQ(::sigaction(SIGUSR1, &handler, &before), 0);
+    sigset_t blocked;
+    sigemptyset(&blocked);
+    sigaddset(&blocked, SIGTERM);
+    sigset_t previous;
+    ASSERT_EQ(::pthread_sigmask(SIG_BLOCK, &blocked, &previous), 0);
+
+    auto run = runToCompletion({"cat", "/proc/self/status"}, 10s);
+
+    sigset_t after;
+    ::pthread_sigmask(SIG_SETMASK, &previous, &after);
+    struct sigaction still {};
+    ::sigaction(SIGUSR1, &before, &still);
+    ASSERT_TRUE(run) << run.error();
+    EXPECT_EQ(statusField(run->out, "SigBlk"), "0000000000000000");
+    EXPECT_EQ(statusField(run->out, "SigCgt"), "0000000000000000");
+    EXPECT_EQ(statusField(run->out, "SigIgn"), "0000000000000000");
+    // Ours are as they were.
+    EXPECT_EQ(sigismember(&after, SIGTERM), 1);
+    EXPECT_EQ(sigismember(&after, SIGUSR1), 0);
+    EXPECT_EQ(still.sa_handler, &countSignal);
 }
 
 TEST(ChildProcess, ReadsStdoutLineByLineWhileTheChildRuns) {
