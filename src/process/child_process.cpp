@@ -139,15 +139,18 @@ struct KernelSigaction {
 // sanitizers' included, are small.
 constexpr std::size_t kChildStackBytes = std::size_t{256} * 1024;
 
+/// Reports why the child could not become the program, and ends it.
+[[noreturn, gnu::no_sanitize_address]] void failChild(const ChildSetup& c, int step) {
+    const ChildFailure failure{step, errno};
+    [[maybe_unused]] const auto n = ::write(c.reportFd, &failure, sizeof failure);
+    ::_exit(127);
+}
+
 /// The child, in our memory until it execs (clone with CLONE_VM | CLONE_VFORK): system calls
 /// only, and it writes nothing of ours but errno, which the thread that started it, stopped
-/// until the exec, does not read.
-[[noreturn]] void execChild(const ChildSetup& c) {
-    auto fail = [&c](int step) {
-        const ChildFailure failure{step, errno};
-        [[maybe_unused]] const auto n = ::write(c.reportFd, &failure, sizeof failure);
-        ::_exit(127);
-    };
+/// until the exec, does not read. Not instrumented by AddressSanitizer, whose bookkeeping
+/// of stacks would see a stack it does not know (this one's) and warn in every child.
+[[noreturn, gnu::no_sanitize_address]] void execChild(const ChildSetup& c) {
     // Our handlers first, while every signal is still blocked (the parent blocked them
     // around the clone): none may run here, on our memory. Blocked or ignored signals
     // survive exec; an engine must see SIGTERM and SIGPIPE.
@@ -161,25 +164,25 @@ constexpr std::size_t kChildStackBytes = std::size_t{256} * 1024;
     (void)::syscall(SYS_rt_sigprocmask, SIG_SETMASK, &none, nullptr, sizeof none);
     // Dies with the thread that started it; the check closes the race with a parent that
     // died before prctl.
-    if (::prctl(PR_SET_PDEATHSIG, c.deathSignal) != 0) fail(kDeathSignal);
+    if (::prctl(PR_SET_PDEATHSIG, c.deathSignal) != 0) failChild(c, kDeathSignal);
     if (::getppid() != c.parent) ::_exit(127);
-    if (::dup2(c.stdinFd, STDIN_FILENO) < 0) fail(kRedirect);
-    if (c.stdoutFd >= 0 && ::dup2(c.stdoutFd, STDOUT_FILENO) < 0) fail(kRedirect);
-    if (c.stderrFd >= 0 && ::dup2(c.stderrFd, STDERR_FILENO) < 0) fail(kRedirect);
-    if (c.cwd != nullptr && ::chdir(c.cwd) != 0) fail(kChdir);
+    if (::dup2(c.stdinFd, STDIN_FILENO) < 0) failChild(c, kRedirect);
+    if (c.stdoutFd >= 0 && ::dup2(c.stdoutFd, STDOUT_FILENO) < 0) failChild(c, kRedirect);
+    if (c.stderrFd >= 0 && ::dup2(c.stderrFd, STDERR_FILENO) < 0) failChild(c, kRedirect);
+    if (c.cwd != nullptr && ::chdir(c.cwd) != 0) failChild(c, kChdir);
     // Only ever raised, which needs no privilege; a kernel that refused would leave the
     // child at our priority, which is no reason not to run it.
     if (c.niceness > 0)
         (void)::setpriority(PRIO_PROCESS, 0, ::getpriority(PRIO_PROCESS, 0) + c.niceness);
     for (const int ns : *c.namespaces) {  // reads the vector only: no allocation
-        if (::setns(ns, 0) != 0) fail(kNamespace);
+        if (::setns(ns, 0) != 0) failChild(c, kNamespace);
     }
     ::execve(c.path, c.argv, c.envp);
-    fail(kExec);
-    ::_exit(127);  // not reached: fail() exits
+    failChild(c, kExec);
+    ::_exit(127);  // not reached: failChild() exits
 }
 
-int childEntry(void* setup) {
+[[gnu::no_sanitize_address]] int childEntry(void* setup) {
     execChild(*static_cast<const ChildSetup*>(setup));
 }
 

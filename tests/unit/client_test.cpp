@@ -722,6 +722,38 @@ TEST(ClientRequests, DroppedConnectionFailsPendingRequests) {
     EXPECT_FALSE(client.isConnected());
 }
 
+TEST(ClientRequests, AnEventLoopThatEndsWithARequestInFlightLeavesNothingBehind) {
+    // A coroutine with a client of its own (as a ServerWatcher describes a server) waits for
+    // a reply that never comes, and the loop ends: a process stopping meanwhile. The waiting
+    // request holds the coroutine and the coroutine its connection; the loop's end must
+    // destroy them (under AddressSanitizer the rest would be a leak report at exit).
+    std::weak_ptr<int> frameAlive;
+    bool requested = false;
+    {
+        asio::io_context io;
+        FakeServer server(io, [&requested](FakeServer&, FakeServer::Request) {
+            requested = true;  // and never answered
+        });
+        asio::co_spawn(
+            io,
+            [&]() -> asio::awaitable<void> {
+                auto alive = std::make_shared<int>(0);
+                frameAlive = alive;
+                Client client(io.get_executor());
+                ClientConfig config;
+                config.requestTimeout = 60s;
+                if ((co_await client.connect(server.url(), config)).isGood()) {
+                    (void)co_await client.readValue(NodeId(1));
+                }
+            },
+            asio::detached);
+        runUntil(io, requested);
+        ASSERT_TRUE(requested);
+        EXPECT_FALSE(frameAlive.expired());  // the coroutine waits for its reply
+    }
+    EXPECT_TRUE(frameAlive.expired());
+}
+
 TEST(BlockingClient, ConnectsReadsAndShutsDown) {
     asio::io_context serverIo;
     FakeServer server(serverIo, [](FakeServer& s, FakeServer::Request r) {

@@ -5,11 +5,13 @@
 #include <cctype>
 #include <cstring>
 #include <exception>
+#include <mutex>
 #include <new>
 #include <optional>
 #include <random>
 #include <span>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 #include <asio/associated_cancellation_slot.hpp>
@@ -237,6 +239,41 @@ Result<EndpointAddress> parseEndpointUrl(std::string_view url) {
     return out;
 }
 
+namespace {
+
+/// A request waiting for its reply holds its coroutine (the Waiter in its Connection's
+/// `pending`), and the coroutine holds the Connection: a cycle that a reply, a timeout or
+/// close() breaks. An event loop that ends with requests in flight (a process stopping
+/// while one of its clients connects) would leave the cycle, and all that the coroutines
+/// own, behind. This service of the loop destroys those waiters when the loop shuts down,
+/// as Asio's own services destroy the handlers they hold.
+class PendingRequests final : public asio::execution_context::service {
+public:
+    using key_type = PendingRequests;
+    // NOLINTNEXTLINE(readability-identifier-naming,cppcoreguidelines-avoid-non-const-global-variables):
+    // Asio finds a service by this member
+    static inline asio::execution_context::id id;
+
+    explicit PendingRequests(asio::execution_context& context) : service(context) {}
+
+    void add(client_detail::Connection* c) {
+        const std::lock_guard lock(mutex_);
+        live_.insert(c);
+    }
+    void remove(client_detail::Connection* c) {
+        const std::lock_guard lock(mutex_);
+        live_.erase(c);
+    }
+
+private:
+    void shutdown() override;
+
+    std::mutex mutex_;
+    std::unordered_set<client_detail::Connection*> live_;
+};
+
+}  // namespace
+
 // Everything tied to one socket. Callbacks and coroutines that outlive a call (reader,
 // write completions, timers, token renewal) hold it by shared_ptr and never touch the
 // Client, which may be gone by then.
@@ -301,7 +338,13 @@ struct client_detail::Connection {
           renewTimer(ex),
           requestTimer(ex),
           drained(ex),
-          requestTimeout(config.requestTimeout) {}
+          requestTimeout(config.requestTimeout),
+          requests(asio::use_service<PendingRequests>(asio::query(ex, asio::execution::context))) {
+        requests.add(this);
+    }
+    ~Connection() { requests.remove(this); }
+    Connection(const Connection&) = delete;
+    Connection& operator=(const Connection&) = delete;
 
     tcp::socket socket;
     tcp::resolver resolver;
@@ -331,7 +374,8 @@ struct client_detail::Connection {
     std::uint32_t nextRequestHandle = 1;
     bool writing = false;  // an async write is in flight (then frames go to writeQueue)
     bool closed = false;
-    bool timedOut = false;  // the connect watchdog fired
+    bool timedOut = false;      // the connect watchdog fired
+    PendingRequests& requests;  // of the event loop, which outlives its sockets
 
     /// Ends the connection once: every pending request fails with `reason`.
     void close(StatusCode reason) {
@@ -354,6 +398,20 @@ struct client_detail::Connection {
         writeQueue.clear();
     }
 };
+
+void PendingRequests::shutdown() {
+    // Taken under the lock, destroyed after it: destroying a coroutine may end a Connection,
+    // whose destructor comes back here.
+    std::vector<std::unordered_map<std::uint32_t, client_detail::Connection::Pending>> taken;
+    {
+        const std::lock_guard lock(mutex_);
+        for (auto* c : live_) {
+            for (auto& entry : c->pending) entry.second.cancelSlot.clear();
+            taken.push_back(std::exchange(c->pending, {}));
+        }
+    }
+    taken.clear();
+}
 
 namespace {
 
