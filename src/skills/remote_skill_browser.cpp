@@ -178,16 +178,24 @@ std::string RemoteSkill::browsePathString() const {
     return out;
 }
 
-asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(ua::Client& client) {
-    // 1. The namespaces: where SkillType and the DI ParameterSet live on this server.
-    const NodeId namespaceArray(ns0::Server_NamespaceArray);
-    auto nsValue = co_await client.readValue(namespaceArray);
-    if (!nsValue) co_return nsValue.status();
+std::vector<std::string> RemoteSkillBrowser::namespacesOf(const ua::Variant& value) {
     std::vector<std::string> namespaces;
-    for (const auto& element : nsValue->elements()) {
+    for (const auto& element : value.elements()) {
         const auto* uri = std::get_if<ua::String>(&element);
         namespaces.push_back(uri != nullptr ? *uri : std::string());
     }
+    return namespaces;
+}
+
+asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(
+    ua::Client& client, std::optional<std::vector<std::string>> namespaceArray) {
+    // 1. The namespaces: where SkillType and the DI ParameterSet live on this server.
+    if (!namespaceArray) {
+        auto nsValue = co_await client.readValue(NodeId(ns0::Server_NamespaceArray));
+        if (!nsValue) co_return nsValue.status();
+        namespaceArray = namespacesOf(*nsValue);
+    }
+    const std::vector<std::string> namespaces = std::move(*namespaceArray);
     if (namespaces != namespaces_) {
         types_.clear();  // another server, or the same one restarted with other models
         namespaces_ = namespaces;
@@ -201,29 +209,75 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(ua:
                           q.name};
     };
 
-    // 2. Walk the objects below the Objects folder, a level per round trip. ParameterSets
-    //    are browsed for their variables too (the declared parameters).
+    // 2. Walk the objects below the Objects folder, a level per round trip, and climb the
+    //    server's type hierarchy from every type met there of another namespace than 0 (a
+    //    namespace-0 type is never below SkillType), a supertype per round trip: both in
+    //    the same Browse, so that the climb costs no round trips of its own beyond the
+    //    walk's. ParameterSets are browsed for their variables too (the declared
+    //    parameters). Types already climbed (the cache) cost nothing.
     std::vector<FoundObject> found;
     found.push_back({NodeId(ns0::ObjectsFolder), NodeId(), {0, "Objects"}, 0, false, {}});
     std::set<NodeId> visited{NodeId(ns0::ObjectsFolder)};
     std::vector<std::size_t> level{0};
-    for (std::size_t depth = 0; !level.empty() && depth < limits_.maxDepth; ++depth) {
+    std::size_t depth = 0;
+    // Types to climb this round, each with how many supertypes above the one met it is.
+    std::vector<std::pair<NodeId, std::size_t>> climb;
+    const auto meetType = [&](const NodeId& t, std::size_t height) {
+        if (t.isNull() || t.namespaceIndex() == 0 || t == skillType) return;
+        auto [it, added] = types_.try_emplace(t);
+        if (it->second.climbed || height >= limits_.maxTypeDepth) return;
+        const bool queued =
+            std::any_of(climb.begin(), climb.end(), [&t](const auto& c) { return c.first == t; });
+        if (!queued) climb.emplace_back(t, height);
+    };
+    while ((!level.empty() && depth < limits_.maxDepth) || !climb.empty()) {
+        const std::size_t walked = depth < limits_.maxDepth ? level.size() : 0;
         std::vector<ua::BrowseDescription> descriptions;
-        descriptions.reserve(level.size());
-        for (const std::size_t index : level) {
+        descriptions.reserve(walked + climb.size());
+        for (std::size_t k = 0; k < walked; ++k) {
+            const FoundObject& o = found[level[k]];
             ua::BrowseDescription d;
-            d.nodeId = found[index].id;
+            d.nodeId = o.id;
             d.referenceTypeId = NodeId(ns0::HierarchicalReferences);
-            d.nodeClassMask =
-                found[index].isParameterSet ? (kObjectMask | kVariableMask) : kObjectMask;
+            d.nodeClassMask = o.isParameterSet ? (kObjectMask | kVariableMask) : kObjectMask;
             d.resultMask = ua::browse_result::kIsForward | ua::browse_result::kNodeClass |
                            ua::browse_result::kBrowseName | ua::browse_result::kTypeDefinition;
             descriptions.push_back(std::move(d));
         }
+        for (const auto& [t, height] : climb) {
+            ua::BrowseDescription d;
+            d.nodeId = t;
+            d.browseDirection = ua::BrowseDirection::Inverse;
+            d.referenceTypeId = NodeId(ns0::HasSubtype);
+            d.includeSubtypes = false;
+            d.nodeClassMask = kObjectTypeMask;
+            d.resultMask = ua::browse_result::kIsForward | ua::browse_result::kBrowseName;
+            descriptions.push_back(std::move(d));
+        }
         auto refs = co_await browseAll(client, descriptions, limits_.nodesPerRequest);
         if (!refs) co_return refs.status();
+
+        // The supertypes found, queued for the next round.
+        const auto climbed = std::exchange(climb, {});
+        for (std::size_t k = 0; k < climbed.size(); ++k) {
+            const auto& [t, height] = climbed[k];
+            TypeInfo& info = types_[t];
+            info.climbed = true;
+            for (auto& ref : (*refs)[walked + k]) {
+                if (ref.isForward) continue;
+                auto super = localTarget(ref.nodeId, namespaces);
+                if (!super) continue;
+                info.superType = *super;
+                auto [it, added] = types_.try_emplace(*super);
+                if (added || it->second.browseName.name.empty())
+                    it->second.browseName = std::move(ref.browseName);
+                meetType(*super, height + 1);
+                break;  // a type has one supertype (OPC 10000-3, 6.3)
+            }
+        }
+
         std::vector<std::size_t> nextLevel;
-        for (std::size_t k = 0; k < level.size(); ++k) {
+        for (std::size_t k = 0; k < walked; ++k) {
             const std::size_t parent = level[k];
             for (auto& ref : (*refs)[k]) {
                 if (!ref.isForward) continue;
@@ -248,72 +302,15 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(ua:
                                    ref.browseName.name == kParameterSet;
                 o.browseName = std::move(ref.browseName);
                 o.parent = parent;
+                meetType(o.typeDefinition, 0);
                 nextLevel.push_back(found.size());
                 found.push_back(std::move(o));
             }
         }
-        level = std::move(nextLevel);
-    }
-
-    // 3. Climb the server's type hierarchy from every type of another namespace than 0 (a
-    //    namespace-0 type is never below SkillType), a supertype level per round trip.
-    //    Types already climbed (the cache) cost nothing.
-    std::vector<NodeId> unnamed;
-    std::vector<NodeId> climb;
-    for (const auto& o : found) {
-        const NodeId& t = o.typeDefinition;
-        if (t.isNull() || t.namespaceIndex() == 0 || t == skillType) continue;
-        auto [it, added] = types_.try_emplace(t);
-        if (added) unnamed.push_back(t);
-        if (!it->second.climbed && std::find(climb.begin(), climb.end(), t) == climb.end())
-            climb.push_back(t);
-    }
-    if (!unnamed.empty()) {
-        std::vector<ua::ReadValueId> ids;
-        ids.reserve(unnamed.size());
-        for (const auto& t : unnamed) ids.push_back(readOf(t, ua::AttributeId::BrowseName));
-        auto names = co_await readAll(client, ids, limits_.nodesPerRequest);
-        if (!names) co_return names.status();
-        for (std::size_t k = 0; k < unnamed.size(); ++k) {
-            if (const auto* q = valueOf<ua::QualifiedName>((*names)[k]))
-                types_[unnamed[k]].browseName = *q;
+        if (walked > 0) {
+            level = std::move(nextLevel);
+            ++depth;
         }
-    }
-    for (std::size_t depth = 0; !climb.empty() && depth < limits_.maxTypeDepth; ++depth) {
-        std::vector<ua::BrowseDescription> descriptions;
-        descriptions.reserve(climb.size());
-        for (const auto& t : climb) {
-            ua::BrowseDescription d;
-            d.nodeId = t;
-            d.browseDirection = ua::BrowseDirection::Inverse;
-            d.referenceTypeId = NodeId(ns0::HasSubtype);
-            d.includeSubtypes = false;
-            d.nodeClassMask = kObjectTypeMask;
-            d.resultMask = ua::browse_result::kIsForward | ua::browse_result::kBrowseName;
-            descriptions.push_back(std::move(d));
-        }
-        auto refs = co_await browseAll(client, descriptions, limits_.nodesPerRequest);
-        if (!refs) co_return refs.status();
-        std::vector<NodeId> next;
-        for (std::size_t k = 0; k < climb.size(); ++k) {
-            TypeInfo& info = types_[climb[k]];
-            info.climbed = true;
-            for (auto& ref : (*refs)[k]) {
-                if (ref.isForward) continue;
-                auto super = localTarget(ref.nodeId, namespaces);
-                if (!super) continue;
-                info.superType = *super;
-                auto [it, added] = types_.try_emplace(*super);
-                if (added || it->second.browseName.name.empty())
-                    it->second.browseName = std::move(ref.browseName);
-                const bool terminal = super->namespaceIndex() == 0 || *super == skillType;
-                if (!terminal && !it->second.climbed &&
-                    std::find(next.begin(), next.end(), *super) == next.end())
-                    next.push_back(*super);
-                break;  // a type has one supertype (OPC 10000-3, 6.3)
-            }
-        }
-        climb = std::move(next);
     }
 
     // The chain from `type` up to SkillType; empty if SkillType is not among its supertypes.
@@ -338,6 +335,7 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(ua:
     }
     std::vector<RemoteSkill> skills;
     std::vector<std::size_t> skillIndex;
+    std::vector<NodeId> unnamed;
     for (std::size_t i = 1; i < found.size(); ++i) {
         const auto chain = skillChain(found[i].typeDefinition);
         if (chain.empty()) continue;
@@ -351,6 +349,11 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(ua:
             ref.id = GlobalNodeId::from(namespaces, t).value_or(GlobalNodeId());
             auto it = types_.find(t);
             ref.browseName = it != types_.end() ? it->second.browseName.name : std::string();
+            // A skill's own type: the walk gave its NodeId, not its name (step 5 reads it).
+            if (ref.browseName.empty() && it != types_.end() && t != skillType &&
+                std::find(unnamed.begin(), unnamed.end(), t) == unnamed.end()) {
+                unnamed.push_back(t);
+            }
             s.types.push_back(std::move(ref));
         }
         if (auto ps = parameterSetOf.find(i); ps != parameterSetOf.end()) {
@@ -365,7 +368,8 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(ua:
         skillIndex.push_back(i);
     }
 
-    // 5. The parameters' data types and value ranks, in one Read.
+    // 5. In one Read: the parameters' data types and value ranks, and the names of the
+    //    skills' own types (a supertype's name came with the climb).
     std::vector<ua::ReadValueId> ids;
     for (const auto& s : skills) {
         for (const auto& p : s.parameters) {
@@ -373,6 +377,8 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(ua:
             ids.push_back(readOf(p.nodeId, ua::AttributeId::ValueRank));
         }
     }
+    const std::size_t parameterReads = ids.size();
+    for (const auto& t : unnamed) ids.push_back(readOf(t, ua::AttributeId::BrowseName));
     if (!ids.empty()) {
         auto values = co_await readAll(client, ids, limits_.nodesPerRequest);
         if (!values) co_return values.status();
@@ -385,6 +391,17 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(ua:
                 }
                 if (const auto* rank = valueOf<std::int32_t>((*values)[k + 1])) p.valueRank = *rank;
                 k += 2;
+            }
+        }
+        for (std::size_t n = 0; n < unnamed.size(); ++n) {
+            const auto* q = valueOf<ua::QualifiedName>((*values)[parameterReads + n]);
+            if (q == nullptr) continue;
+            types_[unnamed[n]].browseName = *q;
+            const auto id = GlobalNodeId::from(namespaces, unnamed[n]);
+            for (auto& s : skills) {
+                for (auto& ref : s.types) {
+                    if (id && ref.id == *id) ref.browseName = q->name;
+                }
             }
         }
     }

@@ -112,8 +112,12 @@ public:
 
     /// Every skill on the server `client` is connected to (with a session). The server's
     /// type hierarchy, as far as it was climbed, is cached for the next call: call
-    /// forgetTypes() when the server restarted.
-    asio::awaitable<ua::Result<std::vector<RemoteSkill>>> browse(ua::Client& client);
+    /// forgetTypes() when the server restarted. `namespaceArray`: the server's, when the
+    /// caller has read it already (with the StartTime, in one Read); else read here.
+    asio::awaitable<ua::Result<std::vector<RemoteSkill>>> browse(
+        ua::Client& client, std::optional<std::vector<std::string>> namespaceArray = std::nullopt);
+    /// A NamespaceArray value as URIs (an element that is no String: an empty URI).
+    [[nodiscard]] static std::vector<std::string> namespacesOf(const ua::Variant& value);
 
     void forgetTypes() { types_.clear(); }
     /// Types cached so far (for tests: a second browse climbs no further).

@@ -43,13 +43,33 @@ bool gaveUp(StatusCode s) {
            s == status::BadRequestCancelledByClient || s == status::BadShutdown;
 }
 
-asio::awaitable<ua::Result<ua::DateTime>> readStartTime(ua::Client& client) {
-    const ua::NodeId startTime(ua::ns0::Server_ServerStatus_StartTime);
-    auto value = co_await client.readValue(startTime);
-    if (!value) co_return value.status();
-    const auto* time = value->get<ua::DateTime>();
-    if (time == nullptr) co_return status::BadTypeMismatch;
-    co_return *time;
+/// What tells one run of a server from another, and what a browse of it starts from.
+struct ServerState {
+    ua::DateTime startTime;
+    std::vector<std::string> namespaces;
+};
+
+/// The server's StartTime and NamespaceArray, in one Read: each browse needs both.
+asio::awaitable<ua::Result<ServerState>> readServerState(ua::Client& client) {
+    ua::ReadRequest req;
+    req.timestampsToReturn = ua::TimestampsToReturn::Neither;
+    for (const std::uint32_t node :
+         {ua::ns0::Server_ServerStatus_StartTime, ua::ns0::Server_NamespaceArray}) {
+        ua::ReadValueId id;
+        id.nodeId = ua::NodeId(node);
+        id.attributeId = static_cast<std::uint32_t>(ua::AttributeId::Value);
+        req.nodesToRead.push_back(std::move(id));
+    }
+    auto resp = co_await client.read(std::move(req));
+    if (!resp) co_return resp.status();
+    if (resp->results.size() != 2) co_return status::BadUnknownResponse;
+    for (const auto& result : resp->results) {
+        if (result.statusOrGood().isBad()) co_return result.statusOrGood();
+    }
+    const auto* time =
+        resp->results[0].value ? resp->results[0].value->get<ua::DateTime>() : nullptr;
+    if (time == nullptr || !resp->results[1].value) co_return status::BadTypeMismatch;
+    co_return ServerState{*time, RemoteSkillBrowser::namespacesOf(*resp->results[1].value)};
 }
 
 }  // namespace
@@ -407,17 +427,18 @@ asio::awaitable<void> SkillDetector::run(std::shared_ptr<Watch> w) {
 asio::awaitable<StatusCode> SkillDetector::serve(const std::shared_ptr<Watch>& w, Turn& turn) {
     ua::Client& client = *w->client;
     w->busy = true;
-    auto start = co_await readStartTime(client);
-    if (!start) {
+    auto state = co_await readServerState(client);
+    if (!state) {
         w->busy = false;
-        co_return start.status();
+        co_return state.status();
     }
     if (w->ended || w->moved) {
         w->busy = false;
         co_return status::Good;
     }
-    if (*start != w->startTime) w->browser.forgetTypes();  // another run of the server
-    StatusCode s = co_await browseInto(w, *start, RemovalReason::Restarted);
+    if (state->startTime != w->startTime) w->browser.forgetTypes();  // another run of the server
+    StatusCode s = co_await browseInto(w, state->startTime, std::move(state->namespaces),
+                                       RemovalReason::Restarted);
     if (s.isBad() || w->ended || w->moved) {
         w->busy = false;
         co_return s;
@@ -490,15 +511,16 @@ asio::awaitable<StatusCode> SkillDetector::serve(const std::shared_ptr<Watch>& w
         if (w->recheck) {
             w->recheck = false;
             w->busy = true;
-            auto now = co_await readStartTime(client);
+            auto now = co_await readServerState(client);
             if (!now) {
                 w->busy = false;
                 co_return now.status();
             }
-            if (!w->ended && !w->moved && *now != w->startTime) {
+            if (!w->ended && !w->moved && now->startTime != w->startTime) {
                 spdlog::info("skill detector: {} restarted, browsing it again", w->componentId);
                 w->browser.forgetTypes();
-                s = co_await browseInto(w, *now, RemovalReason::Restarted);
+                s = co_await browseInto(w, now->startTime, std::move(now->namespaces),
+                                        RemovalReason::Restarted);
                 if (s.isBad()) {
                     w->busy = false;
                     co_return s;
@@ -519,13 +541,19 @@ asio::awaitable<StatusCode> SkillDetector::serve(const std::shared_ptr<Watch>& w
 
 asio::awaitable<StatusCode> SkillDetector::browseInto(const std::shared_ptr<Watch>& w,
                                                       ua::DateTime startTime,
+                                                      std::vector<std::string> namespaces,
                                                       RemovalReason reason) {
-    auto skills = co_await w->browser.browse(*w->client);
+    const auto requestsBefore = w->client->requestsSent();
+    auto skills = co_await w->browser.browse(*w->client, std::move(namespaces));
     if (!skills) {
         spdlog::warn("skill detector: browsing {} at {} failed: {}", w->componentId,
                      w->client->endpointUrl(), ua::statusName(skills.status()));
         co_return skills.status();
     }
+    spdlog::debug(
+        "skill detector: {} has {} skill(s), browsed in {} request(s) after the "
+        "connection's {}",
+        w->componentId, skills->size(), w->client->requestsSent() - requestsBefore, requestsBefore);
     if (w->ended || w->moved) co_return status::Good;
     std::string applicationUri = w->applicationUri;
     const auto& endpoints = w->client->serverEndpoints();

@@ -224,7 +224,9 @@ private:
     };
     asio::awaitable<ua::StatusCode> serve(const std::shared_ptr<Watch>& watch, Turn& turn);
     asio::awaitable<ua::StatusCode> browseInto(const std::shared_ptr<Watch>& watch,
-                                               ua::DateTime startTime, RemovalReason reason);
+                                               ua::DateTime startTime,
+                                               std::vector<std::string> namespaces,
+                                               RemovalReason reason);
     void endWatch(Watch& watch);
     /// A turn to connect and browse: at once while fewer than maxConcurrentConnects are
     /// taken, else when one is given back. False when the watch ended while it waited.

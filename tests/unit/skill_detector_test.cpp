@@ -873,6 +873,50 @@ TEST(RemoteSkillBrowser, WalksEverythingThroughContinuationPoints) {
     EXPECT_GT(cachedAfterFirst, 0u);
 }
 
+// A deep branch beside the skills (an arm's Robotics model nests eight levels): the climb of
+// the skills' types rides in the walk's Browse requests, so the walk's depth, not its depth
+// plus the type hierarchy's, is what the browse costs in round trips.
+TEST(RemoteSkillBrowser, ClimbsTheTypesWhileItWalksNotAfter) {
+    constexpr int kDeep = 10;
+    test::RunningServer server(serverConfig("urn:test:deep"), [](ua::Server& s) {
+        addSkills(s, {{cm::kGripperSkillsUri, "GraspGripperSkillType", "Grasp"}});
+        auto& as = s.addressSpace();
+        ua::NodeId parent(ua::ns0::ObjectsFolder);
+        for (int i = 0; i < kDeep; ++i) {
+            const ua::NodeId id(1, ua::String("Deep" + std::to_string(i)));
+            ASSERT_TRUE(as.addFolder(parent, id, "Deep" + std::to_string(i)));
+            parent = id;
+        }
+    });
+    asio::io_context io{1};
+    ua::Client client(io.get_executor());
+    RemoteSkillBrowser browser;
+    ua::Result<std::vector<RemoteSkill>> found = ua::status::BadInternalError;
+    std::uint64_t requests = 0;
+    asio::co_spawn(
+        io,
+        [&]() -> asio::awaitable<void> {
+            const std::string url = server.url();
+            if ((co_await client.connect(url)).isBad()) co_return;
+            const auto before = client.requestsSent();
+            found = co_await browser.browse(client);
+            requests = client.requestsSent() - before;
+            co_await client.disconnect();
+        },
+        asio::detached);
+    io.run();
+    ASSERT_TRUE(found.ok()) << ua::statusName(found.status());
+    ASSERT_EQ(found->size(), 1u);
+    const auto& grasp = found->front();
+    ASSERT_GE(grasp.types.size(), 2u);
+    EXPECT_EQ(grasp.types.front().browseName, "GraspGripperSkillType");
+    EXPECT_EQ(grasp.types.back().browseName, "SkillType");
+    EXPECT_EQ(grasp.parameters.size(), 5u);
+    // The NamespaceArray, a Browse per level (the Objects folder, the ten folders, the
+    // last one's empty answer), and one Read for the parameters and the type's name.
+    EXPECT_EQ(requests, 1u + (kDeep + 1) + 1u);
+}
+
 TEST(GlobalNodeId, NamesANodeByNamespaceUri) {
     const std::vector<std::string> namespaces{"http://opcfoundation.org/UA/", "urn:app",
                                               std::string(cm::kSkillsUri)};

@@ -372,6 +372,7 @@ struct client_detail::Connection {
     StatusCode closeReason = status::BadConnectionClosed;
     std::uint32_t nextRequestId = 1;
     std::uint32_t nextRequestHandle = 1;
+    std::uint64_t requestsSent = 0;
     bool writing = false;  // an async write is in flight (then frames go to writeQueue)
     bool closed = false;
     bool timedOut = false;      // the connect watchdog fired
@@ -660,6 +661,7 @@ asio::awaitable<Result<std::vector<std::uint8_t>>> exchangeOn(std::shared_ptr<Co
                                                               std::chrono::milliseconds timeout) {
     if (conn->closed) co_return conn->closeReason;
     const auto requestId = conn->nextRequestId++;
+    ++conn->requestsSent;
     auto frames = conn->channel->encodeMessage(type, requestId, body);
     if (!frames) co_return frames.status();
     const auto deadline = steadyNow() + timeout;
@@ -823,6 +825,10 @@ void Client::abort() {
 
 bool Client::isConnected() const {
     return conn_ && !conn_->closed && conn_->channel && conn_->channel->isOpen();
+}
+
+std::uint64_t Client::requestsSent() const {
+    return conn_ ? conn_->requestsSent : 0;
 }
 
 void Client::resetSession() {

@@ -193,6 +193,9 @@ public:
     void abort();
 
     [[nodiscard]] bool isConnected() const;
+    /// Requests sent on the current connection (OpenSecureChannel included): what a test
+    /// counts to see how many round trips a walk took.
+    [[nodiscard]] std::uint64_t requestsSent() const;
     [[nodiscard]] bool hasSession() const { return !authenticationToken_.isNull(); }
     [[nodiscard]] const std::string& endpointUrl() const { return endpointUrl_; }
     /// The server's endpoints as returned by CreateSession.
