@@ -1,5 +1,7 @@
 #include "ua/nodeset/nodeset_snapshot.hpp"
 
+#include <tuple>
+
 #include "ua/encoding/codec.hpp"
 
 namespace skillcell::ua {
@@ -7,7 +9,7 @@ namespace skillcell::ua {
 namespace {
 
 // Bump when the layout below changes: a snapshot of another version is Malformed.
-constexpr std::string_view kMagic = "skillcell NodeSet snapshot 1";
+constexpr std::string_view kMagic = "skillcell NodeSet snapshot 2";
 
 // The layout: the magic, the source name, the file's NamespaceUris with the indices they
 // were mapped to, the models, the nodes (attributes, value, definition, references, line)
@@ -71,98 +73,62 @@ void decodeModel(BinaryReader& r, ParsedModel& m) {
     decodeLine(r, m.line);
 }
 
-// Every attribute a NodeSet2 file sets; the callbacks, references and cached supertype are
-// the address space's, made at commit.
+// Each record's fields, in snapshot order, for encode and decode alike (as the structures of
+// the codec list theirs with `tie`).
+
+/// Every attribute a NodeSet2 file sets; the callbacks, references and cached supertype are
+/// the address space's, made at commit.
+auto attributesOf(auto& n) {
+    return std::tie(n.nodeId, n.nodeClass, n.browseName, n.displayName, n.description, n.writeMask,
+                    n.userWriteMask, n.isAbstract, n.symmetric, n.inverseName, n.containsNoLoops,
+                    n.eventNotifier, n.value, n.dataType, n.valueRank, n.arrayDimensions,
+                    n.accessLevel, n.userAccessLevel, n.minimumSamplingInterval, n.historizing,
+                    n.executable, n.userExecutable, n.requiredRole);
+}
+auto fieldsOf(auto& ref) {
+    return std::tie(ref.referenceTypeId, ref.target, ref.isForward);
+}
+auto dataTypeFieldsOf(auto& t) {
+    return std::tie(t.dataTypeId, t.browseName, t.superType, t.binaryEncodingId, t.xmlEncodingId);
+}
+
+void encodeAll(BinaryWriter& w, const auto& fields) {
+    std::apply([&w](const auto&... f) { (encode(w, f), ...); }, fields);
+}
+void decodeAll(BinaryReader& r, const auto& fields) {
+    std::apply([&r](auto&... f) { (decode(r, f), ...); }, fields);
+}
+
 void encodeNode(BinaryWriter& w, const ParsedNode& pn) {
-    const Node& n = pn.node;
-    encode(w, n.nodeId);
-    encode(w, n.nodeClass);
-    encode(w, n.browseName);
-    encode(w, n.displayName);
-    encode(w, n.description);
-    encode(w, n.writeMask);
-    encode(w, n.userWriteMask);
-    encode(w, n.isAbstract);
-    encode(w, n.symmetric);
-    encode(w, n.inverseName);
-    encode(w, n.containsNoLoops);
-    encode(w, n.eventNotifier);
-    encode(w, n.value);
-    encode(w, n.dataType);
-    encode(w, n.valueRank);
-    encode(w, n.arrayDimensions);
-    encode(w, n.accessLevel);
-    encode(w, n.userAccessLevel);
-    encode(w, n.minimumSamplingInterval);
-    encode(w, n.historizing);
-    encode(w, n.executable);
-    encode(w, n.userExecutable);
-    encode(w, static_cast<std::uint8_t>(n.requiredRole));
-    encodeDefinition(w, n.definition);
+    encodeAll(w, attributesOf(pn.node));
+    encodeDefinition(w, pn.node.definition);
     encode(w, static_cast<std::uint32_t>(pn.references.size()));
     for (const auto& ref : pn.references) {
-        encode(w, ref.referenceTypeId);
-        encode(w, ref.target);
-        encode(w, ref.isForward);
+        encodeAll(w, fieldsOf(ref));
         encodeLine(w, ref.line);
     }
     encodeLine(w, pn.line);
 }
 void decodeNode(BinaryReader& r, ParsedNode& pn) {
-    Node& n = pn.node;
-    decode(r, n.nodeId);
-    decode(r, n.nodeClass);
-    decode(r, n.browseName);
-    decode(r, n.displayName);
-    decode(r, n.description);
-    decode(r, n.writeMask);
-    decode(r, n.userWriteMask);
-    decode(r, n.isAbstract);
-    decode(r, n.symmetric);
-    decode(r, n.inverseName);
-    decode(r, n.containsNoLoops);
-    decode(r, n.eventNotifier);
-    decode(r, n.value);
-    decode(r, n.dataType);
-    decode(r, n.valueRank);
-    decode(r, n.arrayDimensions);
-    decode(r, n.accessLevel);
-    decode(r, n.userAccessLevel);
-    decode(r, n.minimumSamplingInterval);
-    decode(r, n.historizing);
-    decode(r, n.executable);
-    decode(r, n.userExecutable);
-    std::uint8_t role = 0;
-    decode(r, role);
-    n.requiredRole = static_cast<Role>(role);
-    decodeDefinition(r, n.definition);
+    decodeAll(r, attributesOf(pn.node));
+    decodeDefinition(r, pn.node.definition);
     // A reference takes at least 9 bytes (two 2-byte NodeIds, the direction, the line).
     const auto refs = r.readLength(r.remaining(), 9);
     pn.references.reserve(refs);
     for (std::uint32_t i = 0; i < refs && r.ok(); ++i) {
         auto& ref = pn.references.emplace_back();
-        decode(r, ref.referenceTypeId);
-        decode(r, ref.target);
-        decode(r, ref.isForward);
+        decodeAll(r, fieldsOf(ref));
         decodeLine(r, ref.line);
     }
     decodeLine(r, pn.line);
 }
 
 void encodeDataType(BinaryWriter& w, const DataTypeInfo& t) {
-    encode(w, t.dataTypeId);
-    encode(w, t.browseName);
-    encode(w, t.superType);
-    encode(w, t.binaryEncodingId);
-    encode(w, t.xmlEncodingId);
+    encodeAll(w, dataTypeFieldsOf(t));
     encodeDefinition(w, t.definition);
 }
 void decodeDataType(BinaryReader& r, DataTypeInfo& t) {
-    decode(r, t.dataTypeId);
-    decode(r, t.browseName);
-    decode(r, t.superType);
-    decode(r, t.binaryEncodingId);
-    decode(r, t.xmlEncodingId);
+    decodeAll(r, dataTypeFieldsOf(t));
     decodeDefinition(r, t.definition);
 }
 
