@@ -44,6 +44,10 @@ TEST(Certificate, ThumbprintIsSha1OfTheLeafOnly) {
     EXPECT_EQ(certificateThumbprintHex(leaf.der()), toHex(std::span(expected, 20)));
     EXPECT_EQ(certificateThumbprintHex(leaf.der()).size(), 40u);
     EXPECT_EQ(certificateThumbprint(ByteString({1, 2})).status(), status::BadCertificateInvalid);
+    // Of the parsed certificate, as the validator takes it, and as inspection reports it.
+    EXPECT_EQ(certificateThumbprintHex(leaf.cert.get()), certificateThumbprintHex(leaf.der()));
+    EXPECT_EQ(inspectCertificate(leaf.cert.get()).thumbprint, certificateThumbprintHex(leaf.der()));
+    EXPECT_EQ(certificateThumbprintHex(static_cast<X509*>(nullptr)), "");
 }
 
 TEST(Certificate, InspectReadsNamesValidityAndKey) {

@@ -2,6 +2,7 @@
 
 #include <openssl/core_names.h>
 #include <openssl/sha.h>
+#include <openssl/x509.h>
 
 #include <ctime>
 
@@ -83,6 +84,16 @@ std::string certificateThumbprintHex(const ByteString& der) {
     return t ? toHex(*t) : std::string();
 }
 
+std::string certificateThumbprintHex(X509* cert) {
+    std::array<std::uint8_t, 20> digest{};
+    unsigned int length = 0;
+    if (cert == nullptr || X509_digest(cert, EVP_sha1(), digest.data(), &length) != 1 ||
+        length != digest.size()) {
+        return {};
+    }
+    return toHex(digest);
+}
+
 std::string applicationUriOf(X509* cert) {
     const ossl::Names names(static_cast<GENERAL_NAMES*>(
         X509_get_ext_d2i(cert, NID_subject_alt_name, nullptr, nullptr)));
@@ -117,8 +128,9 @@ CertificateInfo inspectCertificate(X509* cert) {
             }
         }
     }
-    const ByteString der = certificateDer(cert);
-    info.thumbprint = certificateThumbprintHex(der);
+    // Reading the extensions (which the chain's verification needs too) keeps the SHA-1.
+    info.isCa = X509_check_ca(cert) != 0;
+    info.thumbprint = certificateThumbprintHex(cert);
     if (const ossl::Bn serial(ASN1_INTEGER_to_BN(X509_get0_serialNumber(cert), nullptr)); serial) {
         char* hex = BN_bn2hex(serial.get());
         if (hex != nullptr) info.serialNumber = hex;
@@ -126,7 +138,6 @@ CertificateInfo inspectCertificate(X509* cert) {
     }
     info.notBefore = timePointOf(X509_get0_notBefore(cert)).value_or(Clock::time_point{});
     info.notAfter = timePointOf(X509_get0_notAfter(cert)).value_or(Clock::time_point{});
-    info.isCa = X509_check_ca(cert) != 0;
     info.selfSigned = X509_self_signed(cert, 1) == 1;
     if (const EVP_PKEY* key = X509_get0_pubkey(cert); key != nullptr) {
         info.keyBits = EVP_PKEY_get_bits(key);

@@ -62,6 +62,9 @@ struct ChainCertificate {
 
 /// The thumbprint as lower-case hex, or "" when `der` is no certificate.
 [[nodiscard]] std::string certificateThumbprintHex(const ByteString& der);
+/// The same of a parsed certificate, without encoding and parsing it again (OpenSSL keeps
+/// its SHA-1 once the certificate's extensions have been read).
+[[nodiscard]] std::string certificateThumbprintHex(X509* cert);
 
 /// The application URI of a parsed certificate: its first URI subject alternative name, or
 /// "" when it has none. Reads nothing else (inspectCertificate also re-encodes the certificate,

@@ -135,8 +135,7 @@ int verifyCallback(int ok, X509_STORE_CTX* ctx) {
     if (step == Step::RevocationList || step == Step::IssuerRevocationList) {
         // A directly trusted certificate needs no CRL (see the header).
         const bool trustedItself =
-            cert != nullptr &&
-            collector->trustList->isTrusted(certificateThumbprintHex(certificateDer(cert)));
+            cert != nullptr && collector->trustList->isTrusted(certificateThumbprintHex(cert));
         if (trustedItself || !collector->requireRevocationLists) return 1;
     }
     std::string why = describe(cert) + ": " + X509_verify_cert_error_string(error);

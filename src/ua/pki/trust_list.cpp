@@ -224,7 +224,7 @@ bool TrustList::refresh() {
     for (const fs::path& f : regularFiles(paths_.trustedCerts())) {
         if (!isCertificateFile(f)) continue;
         for (auto& cert : readCertificateFile(f)) {
-            trustedThumbprints_.insert(certificateThumbprintHex(certificateDer(cert.get())));
+            trustedThumbprints_.insert(certificateThumbprintHex(cert.get()));
             trusted_.push_back(std::move(cert));
         }
     }
