@@ -36,14 +36,13 @@ struct Row {
 };
 
 /// The files a server with `models` loads, in its order.
-std::vector<std::pair<std::string, std::string>> filesOf(std::span<const std::string_view> models) {
-    std::vector<std::pair<std::string, std::string>> files{
-        {"Opc.Ua.NodeSet2.Base.xml", "models/Opc.Ua.NodeSet2.Base.xml"},
-        {"Opc.Ua.NodeSet2.Closure.xml", "models/opcfoundation/Opc.Ua.NodeSet2.Closure.xml"}};
+std::vector<ua::EmbeddedNodeSet> filesOf(std::span<const std::string_view> models) {
+    std::vector<ua::EmbeddedNodeSet> files(ua::kNamespaceZeroFiles.begin(),
+                                           ua::kNamespaceZeroFiles.end());
     if (!models.empty()) {
         for (const auto& m :
              ua::companionModelsFor(models).value_or(std::vector<ua::CompanionModel>{})) {
-            files.emplace_back(m.fileName, m.fileName);
+            files.push_back({m.fileName, m.fileName});
         }
     }
     return files;

@@ -283,11 +283,9 @@ TEST(NodeSetRoundTrip, RequiredModelsAndBadValues) {
 // the XML.
 
 /// The files servers load, in the order that loads them all.
-std::vector<std::pair<std::string, std::string>> everyEmbeddedFile() {
-    std::vector<std::pair<std::string, std::string>> files{
-        {"Opc.Ua.NodeSet2.Base.xml", "models/Opc.Ua.NodeSet2.Base.xml"},
-        {"Opc.Ua.NodeSet2.Closure.xml", "models/opcfoundation/Opc.Ua.NodeSet2.Closure.xml"}};
-    for (const auto& m : kCompanionModels) files.emplace_back(m.fileName, m.fileName);
+std::vector<EmbeddedNodeSet> everyEmbeddedFile() {
+    std::vector<EmbeddedNodeSet> files(kNamespaceZeroFiles.begin(), kNamespaceZeroFiles.end());
+    for (const auto& m : kCompanionModels) files.push_back({m.fileName, m.fileName});
     return files;
 }
 

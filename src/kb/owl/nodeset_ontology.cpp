@@ -331,9 +331,9 @@ Expected<std::vector<Ontology>> convertNodeSets(const std::vector<NodeSetText>& 
         // nodes the companion models use beyond it, into the same ontology.
         ua::AddressSpace ns0;
         Ontology merged;
-        for (const std::string_view file :
-             {"Opc.Ua.NodeSet2.Base.xml", "Opc.Ua.NodeSet2.Closure.xml"}) {
-            if (!withClosure && file != "Opc.Ua.NodeSet2.Base.xml") break;
+        for (const auto& embedded : ua::kNamespaceZeroFiles) {
+            const std::string_view file = embedded.fileName;
+            if (!withClosure && &embedded != &ua::kNamespaceZeroFiles.front()) break;
             ua::ParsedNodeSet parsed;
             if (auto s = ua::parseNodeSet(ns0, ua::embeddedModel(file), file, parsed); !s.ok()) {
                 return Error{s.error};

@@ -36,10 +36,8 @@ bool loadEmbeddedModel(AddressSpace& as, std::string_view fileName, std::string_
 
 NodeSetStatus loadBaseNodeSet(AddressSpace& as) {
     NodeSetStatus total;
-    if (loadEmbeddedModel(as, "Opc.Ua.NodeSet2.Base.xml", "models/Opc.Ua.NodeSet2.Base.xml",
-                          total)) {
-        (void)loadEmbeddedModel(as, "Opc.Ua.NodeSet2.Closure.xml",
-                                "models/opcfoundation/Opc.Ua.NodeSet2.Closure.xml", total);
+    for (const auto& file : kNamespaceZeroFiles) {
+        if (!loadEmbeddedModel(as, file.fileName, file.sourceName, total)) break;
     }
     return total;
 }

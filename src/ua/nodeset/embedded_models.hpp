@@ -21,8 +21,7 @@ namespace skillcell::ua {
 /// error (also when it is not embedded). Messages name the file `sourceName`.
 bool loadEmbeddedModel(AddressSpace& as, std::string_view fileName, std::string_view sourceName,
                        NodeSetStatus& total);
-/// Loads namespace 0: our subset (models/Opc.Ua.NodeSet2.Base.xml), then the nodes the OPC
-/// Foundation's companion models use beyond it (models/opcfoundation/...Closure.xml).
+/// Loads namespace 0 (kNamespaceZeroFiles), stopping at the first error.
 [[nodiscard]] NodeSetStatus loadBaseNodeSet(AddressSpace& as);
 
 /// Loads the embedded companion models that are not loaded yet, in dependency order

@@ -247,8 +247,8 @@ private:
             }
         }
         nsMap_ = namespaceMap(as_, out.namespaceUris);
+        out.serverNamespaces = serverNamespaceTable(as_, out.namespaceUris, nsMap_);
         nsMap_.insert(nsMap_.begin(), 0);  // the file's index 0 is namespace 0
-        out.serverNamespaces = serverNamespaceTable(as_, out.namespaceUris);
         if (auto aliases = child(root, "Aliases")) {
             for (auto a : aliases.children()) {
                 if (a.type() != pugi::node_element) continue;
@@ -1106,9 +1106,9 @@ std::vector<std::uint16_t> namespaceMap(const AddressSpace& as,
 }
 
 std::vector<std::string> serverNamespaceTable(const AddressSpace& as,
-                                              std::span<const std::string> fileUris) {
+                                              std::span<const std::string> fileUris,
+                                              std::span<const std::uint16_t> map) {
     std::vector<std::string> table(as.namespaces().begin(), as.namespaces().end());
-    const auto map = namespaceMap(as, fileUris);
     for (std::size_t i = 0; i < fileUris.size(); ++i) {
         if (map[i] >= table.size()) table.resize(std::size_t{map[i]} + 1);
         table[map[i]] = fileUris[i];

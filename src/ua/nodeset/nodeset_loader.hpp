@@ -14,6 +14,7 @@
 // loaded before) decode through DynamicStructure without hand-written code.
 //
 // Errors are values: "<source>:<line>: <what>", never exceptions.
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <optional>
@@ -78,10 +79,11 @@ struct NodeSetStatus {
 /// the snapshots (nodeset_snapshot.hpp) share it.
 [[nodiscard]] std::vector<std::uint16_t> namespaceMap(const AddressSpace& as,
                                                       std::span<const std::string> fileUris);
-/// `as`'s namespace table with the file's new URIs at the indices namespaceMap gives them:
-/// the table a parsed set's NodeIds refer to (ParsedNodeSet::serverNamespaces).
+/// `as`'s namespace table with the file's URIs at the indices `map` (namespaceMap's) gives
+/// them: the table a parsed set's NodeIds refer to (ParsedNodeSet::serverNamespaces).
 [[nodiscard]] std::vector<std::string> serverNamespaceTable(const AddressSpace& as,
-                                                            std::span<const std::string> fileUris);
+                                                            std::span<const std::string> fileUris,
+                                                            std::span<const std::uint16_t> map);
 
 /// Parses `xml`. The server's namespace indices are computed against `as` (without
 /// registering anything yet): a URI already known keeps its index, new URIs get the next
@@ -98,6 +100,18 @@ struct NodeSetStatus {
                                         std::string_view sourceName);
 /// Reads and loads a file; messages name the file as given.
 [[nodiscard]] NodeSetStatus loadNodeSetFile(AddressSpace& as, const std::filesystem::path& path);
+
+/// An embedded NodeSet2 file: its name, and the path its messages name it by.
+struct EmbeddedNodeSet {
+    std::string_view fileName;
+    std::string_view sourceName;
+};
+/// Namespace 0, in load order: our subset (models/Opc.Ua.NodeSet2.Base.xml), then the nodes
+/// the OPC Foundation's companion models use beyond it.
+inline constexpr std::array<EmbeddedNodeSet, 2> kNamespaceZeroFiles{{
+    {"Opc.Ua.NodeSet2.Base.xml", "models/Opc.Ua.NodeSet2.Base.xml"},
+    {"Opc.Ua.NodeSet2.Closure.xml", "models/opcfoundation/Opc.Ua.NodeSet2.Closure.xml"},
+}};
 
 /// A NodeSet2 file from models/ compiled into the library ("Opc.Ua.NodeSet2.Base.xml");
 /// empty if there is no such file.

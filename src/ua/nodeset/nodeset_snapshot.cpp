@@ -15,11 +15,12 @@ constexpr std::string_view kMagic = "skillcell NodeSet snapshot 2";
 // were mapped to, the models, the nodes (attributes, value, definition, references, line)
 // and the data types. Each is the OPC UA binary encoding of its fields in this order.
 
-void encodeDate(BinaryWriter& w, const std::optional<DateTime>& d) {
+// An optional date (a model's PublicationDate): whether it is there, then the date.
+void encode(BinaryWriter& w, const std::optional<DateTime>& d) {
     encode(w, d.has_value());
     if (d) encode(w, *d);
 }
-void decodeDate(BinaryReader& r, std::optional<DateTime>& d) {
+void decode(BinaryReader& r, std::optional<DateTime>& d) {
     bool present = false;
     decode(r, present);
     if (present) decode(r, d.emplace());
@@ -47,35 +48,13 @@ void decodeDefinition(BinaryReader& r, StructureOrEnumDefinition& d) {
     if (kind > 2) r.fail(status::BadDecodingError);
 }
 
-void encodeModel(BinaryWriter& w, const ParsedModel& m) {
-    encode(w, m.uri);
-    encode(w, m.version);
-    encodeDate(w, m.publicationDate);
-    encode(w, static_cast<std::uint32_t>(m.required.size()));
-    for (const auto& req : m.required) {
-        encode(w, req.uri);
-        encode(w, req.version);
-        encodeDate(w, req.publicationDate);
-    }
-    encodeLine(w, m.line);
-}
-void decodeModel(BinaryReader& r, ParsedModel& m) {
-    decode(r, m.uri);
-    decode(r, m.version);
-    decodeDate(r, m.publicationDate);
-    const auto n = r.readLength(r.remaining(), 1);
-    for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
-        auto& req = m.required.emplace_back();
-        decode(r, req.uri);
-        decode(r, req.version);
-        decodeDate(r, req.publicationDate);
-    }
-    decodeLine(r, m.line);
-}
-
 // Each record's fields, in snapshot order, for encode and decode alike (as the structures of
 // the codec list theirs with `tie`).
 
+/// A model, or a model it requires: URI, version, publication date.
+auto identityOf(auto& m) {
+    return std::tie(m.uri, m.version, m.publicationDate);
+}
 /// Every attribute a NodeSet2 file sets; the callbacks, references and cached supertype are
 /// the address space's, made at commit.
 auto attributesOf(auto& n) {
@@ -97,6 +76,20 @@ void encodeAll(BinaryWriter& w, const auto& fields) {
 }
 void decodeAll(BinaryReader& r, const auto& fields) {
     std::apply([&r](auto&... f) { (decode(r, f), ...); }, fields);
+}
+
+void encodeModel(BinaryWriter& w, const ParsedModel& m) {
+    encodeAll(w, identityOf(m));
+    encode(w, static_cast<std::uint32_t>(m.required.size()));
+    for (const auto& req : m.required) encodeAll(w, identityOf(req));
+    encodeLine(w, m.line);
+}
+void decodeModel(BinaryReader& r, ParsedModel& m) {
+    decodeAll(r, identityOf(m));
+    const auto n = r.readLength(r.remaining(), 1);
+    for (std::uint32_t i = 0; i < n && r.ok(); ++i)
+        decodeAll(r, identityOf(m.required.emplace_back()));
+    decodeLine(r, m.line);
 }
 
 void encodeNode(BinaryWriter& w, const ParsedNode& pn) {
@@ -171,7 +164,7 @@ SnapshotDecode decodeSnapshot(const AddressSpace& as, std::span<const std::uint8
     for (auto& index : made) decode(r, index);
     if (!r.ok()) return SnapshotDecode::Malformed;
     if (namespaceMap(as, out.namespaceUris) != made) return SnapshotDecode::OtherNamespaces;
-    out.serverNamespaces = serverNamespaceTable(as, out.namespaceUris);
+    out.serverNamespaces = serverNamespaceTable(as, out.namespaceUris, made);
 
     // Counts are checked against what is left (each item takes at least a byte) before
     // anything is reserved.

@@ -98,10 +98,8 @@ int main(int argc, char** argv) {
         // The application URI takes namespace 1 in every server, as here.
         AddressSpace as("urn:skillcell:nodeset-snapshots");
         std::vector<Made> these;
-        if (!snapshot(as, "Opc.Ua.NodeSet2.Base.xml", "models/Opc.Ua.NodeSet2.Base.xml", these) ||
-            !snapshot(as, "Opc.Ua.NodeSet2.Closure.xml",
-                      "models/opcfoundation/Opc.Ua.NodeSet2.Closure.xml", these)) {
-            return 1;
+        for (const auto& file : kNamespaceZeroFiles) {
+            if (!snapshot(as, file.fileName, file.sourceName, these)) return 1;
         }
         for (const auto& model : order) {
             if (!snapshot(as, model.fileName, model.fileName, these)) return 1;
