@@ -224,7 +224,7 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(
     std::vector<std::pair<NodeId, std::size_t>> climb;
     const auto meetType = [&](const NodeId& t, std::size_t height) {
         if (t.isNull() || t.namespaceIndex() == 0 || t == skillType) return;
-        auto [it, added] = types_.try_emplace(t);
+        const auto it = types_.try_emplace(t).first;
         if (it->second.climbed || height >= limits_.maxTypeDepth) return;
         const bool queued =
             std::any_of(climb.begin(), climb.end(), [&t](const auto& c) { return c.first == t; });
@@ -328,13 +328,12 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(
         return std::vector<NodeId>{};
     };
 
-    // 4. The skills, their paths, types and ParameterSets.
+    // 3. The skills, their paths, types and ParameterSets.
     std::map<std::size_t, std::size_t> parameterSetOf;  // skill index -> ParameterSet index
     for (std::size_t i = 1; i < found.size(); ++i) {
         if (found[i].isParameterSet) parameterSetOf.try_emplace(found[i].parent, i);
     }
     std::vector<RemoteSkill> skills;
-    std::vector<std::size_t> skillIndex;
     std::vector<NodeId> unnamed;
     for (std::size_t i = 1; i < found.size(); ++i) {
         const auto chain = skillChain(found[i].typeDefinition);
@@ -349,7 +348,7 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(
             ref.id = GlobalNodeId::from(namespaces, t).value_or(GlobalNodeId());
             auto it = types_.find(t);
             ref.browseName = it != types_.end() ? it->second.browseName.name : std::string();
-            // A skill's own type: the walk gave its NodeId, not its name (step 5 reads it).
+            // A skill's own type: the walk gave its NodeId, not its name (step 4 reads it).
             if (ref.browseName.empty() && it != types_.end() && t != skillType &&
                 std::find(unnamed.begin(), unnamed.end(), t) == unnamed.end()) {
                 unnamed.push_back(t);
@@ -365,10 +364,9 @@ asio::awaitable<Result<std::vector<RemoteSkill>>> RemoteSkillBrowser::browse(
             }
         }
         skills.push_back(std::move(s));
-        skillIndex.push_back(i);
     }
 
-    // 5. In one Read: the parameters' data types and value ranks, and the names of the
+    // 4. In one Read: the parameters' data types and value ranks, and the names of the
     //    skills' own types (a supertype's name came with the climb).
     std::vector<ua::ReadValueId> ids;
     for (const auto& s : skills) {

@@ -67,8 +67,8 @@ struct ChainCertificate {
 [[nodiscard]] std::string certificateThumbprintHex(X509* cert);
 
 /// The application URI of a parsed certificate: its first URI subject alternative name, or
-/// "" when it has none. Reads nothing else (inspectCertificate also re-encodes the certificate,
-/// hashes it and checks its signature).
+/// "" when it has none. Reads nothing else (inspectCertificate also reads every extension, the
+/// key, and checks a self-issued certificate's signature).
 [[nodiscard]] std::string applicationUriOf(X509* cert);
 
 /// Subject, issuer, URI, host names, validity, thumbprint of the first certificate.
