@@ -356,14 +356,17 @@ struct ArmContent {
 /// Where a simulated arm starts: where the world has its flange, as a real arm's absolute
 /// encoders tell a restarted controller (a killed arm comes back where it stopped, holding
 /// what it held); the model's home when the world has not seen the arm yet (its flange still
-/// at the base) or the pose is out of its reach.
+/// at the base) or the pose is out of its reach. The joints are those the solver reaches
+/// from home; only when it reaches none from there does the full search run (33 solver
+/// runs, 7 ms of a UR5's start on the 2-core machine, against one).
 devices::Joints startingJoints(devices::WorldLink& world, const devices::ArmModel& model,
                                const KDL::Frame& base, const std::string& name) {
     const auto flange = world.flangePose();
     if (!flange || devices::near(*flange, base, 1e-9, 1e-9)) return {};
     const devices::ArmKinematics kinematics(model, base);
     std::string why;
-    auto q = kinematics.inverse(*flange, model.home, model.bounds, &why);
+    auto q = kinematics.inverseNear(*flange, model.home, model.bounds);
+    if (!q) q = kinematics.inverse(*flange, model.home, model.bounds, &why);
     if (!q) {
         spdlog::warn(
             "{}: the world has the flange at {}, which the arm cannot take ({}): "
