@@ -4,6 +4,8 @@
 // by running the skills through SkillClients; the test checks the world, not logs.
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "client_thread.hpp"
 #include "devices/arm/arm_component.hpp"
 #include "devices/common/frame.hpp"
@@ -178,6 +180,49 @@ TEST(DeviceCell, AGraspedBoxTravelsWithTheRobotAndStaysWhereItIsReleased) {
         worldNodes.reset();
         return 0;
     });
+}
+
+// A standing arm tells its pose once and then only when its link's connection goes or is made
+// anew: a world model that restarts (a new one on the same port, which has not heard from the
+// arm) still learns where the flange is, without the arm moving.
+TEST(DeviceCell, AStandingArmTellsARestartedWorldWhereItsFlangeIs) {
+    const KDL::Frame pose = down(0.4, 0.1, 0.3);
+    const auto startWorld = [](std::unique_ptr<WorldNodes>& nodes, std::uint16_t port) {
+        auto config = test::RunningServer::defaultConfig();
+        config.description.port = port;
+        return std::make_unique<test::RunningServer>(config, [&nodes](ua::Server& s) {
+            World w;
+            EXPECT_EQ(w.addRobot(kArm), ua::status::Good);
+            auto created = WorldNodes::create(s, w);
+            ASSERT_TRUE(created.ok());
+            nodes = std::move(*created);
+        });
+    };
+    std::unique_ptr<WorldNodes> firstNodes;
+    auto first = startWorld(firstNodes, 0);
+    const std::uint16_t port = first->port();
+    auto link = WorldLink::connect(first->url(), {}, kArm);
+    ASSERT_TRUE(link.ok());
+    auto reporter = FlangeReporter::start(std::move(*link));
+    reporter->report(pose);
+    ASSERT_TRUE(reporter->flush(5s));
+
+    first.reset();
+    firstNodes.reset();
+    std::unique_ptr<WorldNodes> secondNodes;
+    auto second = startWorld(secondNodes, port);
+    const auto heard = [&] {
+        const World w = second->inServer([&](ua::Server&) { return secondNodes->world(); });
+        const auto robot = w.robots().find(kArm);
+        return robot != w.robots().end() && near(robot->second.pose, pose, 1e-9, 1e-9);
+    };
+    // Within half the 10 s after which a standing arm tells its pose anyway.
+    const auto deadline = std::chrono::steady_clock::now() + 5s;
+    while (!heard() && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(20ms);  // the arm's thread tells it, in its own time
+    }
+    EXPECT_TRUE(heard());
+    reporter.reset();
 }
 
 }  // namespace

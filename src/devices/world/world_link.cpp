@@ -28,6 +28,7 @@ ua::StatusCode WorldLink::open() {
         const auto* uri = std::get_if<ua::String>(&uris[i]);
         if (uri != nullptr && *uri == kWorldNamespaceUri) {
             ns_ = static_cast<std::uint16_t>(i);
+            ++connections_;
             return ua::status::Good;
         }
     }
@@ -42,6 +43,10 @@ bool sessionClosedBy(ua::StatusCode s) {
 }
 
 }  // namespace
+
+bool WorldLink::connected() {
+    return !lost_ && client_.isConnected();
+}
 
 void WorldLink::reconnectIfLost() {
     if (!lost_) return;

@@ -162,6 +162,14 @@ public:
     /// whether it has. For a device whose reads may wait for the world (an in-process one).
     bool waitUntilHeard(std::chrono::milliseconds patience);
 
+    /// Whether the link's connection is up, as far as it knows without asking the world: no
+    /// call found the world out of reach, and the world has not closed the connection (as
+    /// its process does when it ends). Any thread; no round trip.
+    [[nodiscard]] bool connected();
+    /// How many times the link has connected (to the same world model, or to the one that
+    /// took its place after a restart). Any thread.
+    [[nodiscard]] std::uint64_t connections() const { return connections_.load(); }
+
     /// Whether a call found the world out of reach since the last clearLoss(): a composite
     /// takes a try that lost its view of the cell again. The link itself connects again on
     /// the call after one that found the world gone (the world restarted).
@@ -211,6 +219,7 @@ private:
     std::string robot_;
     std::mutex reconnectMutex_;  // one reconnect at a time, whichever thread calls
     std::atomic<bool> lost_{false};
+    std::atomic<std::uint64_t> connections_{0};
     std::atomic<bool> sessionClosed_{false};  // lost_ with the channel up: reconnect anew
     std::atomic<bool> lostSinceMark_{false};
     // Events not heard yet (tell()), and the thread that delivers them, started with the

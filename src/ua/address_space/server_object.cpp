@@ -39,8 +39,6 @@ StatusCode installServerObject(AddressSpace& as, const ServerInfo& info, const S
     };
     source(ns0::Server_NamespaceArray,
            [&as] { return now(Variant::array(std::vector<String>(as.namespaces()))); });
-    source(ns0::Server_ServerArray,
-           [uri = info.applicationUri] { return now(Variant::array(std::vector<String>{uri})); });
     source(ns0::Server_ServerStatus, [build, start, currentState] {
         ServerStatusDataType st;
         st.startTime = start;
@@ -49,23 +47,26 @@ StatusCode installServerObject(AddressSpace& as, const ServerInfo& info, const S
         st.buildInfo = build;
         return now(Variant(toExtensionObject(st)));
     });
-    source(ns0::Server_ServerStatus_StartTime, [start] { return now(Variant(start)); });
     source(ns0::Server_ServerStatus_CurrentTime, [] { return now(Variant(DateTime::now())); });
     source(ns0::Server_ServerStatus_State,
            [currentState] { return now(Variant(static_cast<std::int32_t>(currentState()))); });
     source(ns0::Server_ServerStatus_BuildInfo,
            [build] { return now(Variant(toExtensionObject(build))); });
-    source(ns0::Server_ServerStatus_SecondsTillShutdown,
-           [] { return now(Variant(std::uint32_t{0})); });
-    source(ns0::Server_ServerStatus_ShutdownReason, [] { return now(Variant(LocalizedText{})); });
-    source(ns0::Server_ServiceLevel, [] { return now(Variant(std::uint8_t{255})); });
     if (s.isBad()) return s;
 
-    // Values that do not change while the server runs are stored once.
+    // Values that do not change while the server runs are stored once. A stored value is
+    // also what a monitored item reports on change only; a ValueSource's is sampled at the
+    // item's interval: each detector watching StartTime (to see a restart) woke its server
+    // once a second for a value that never changes.
     const auto store = [&](std::uint32_t id, Variant v) {
         const StatusCode r = as.setValue(NodeId(id), std::move(v));
         if (r.isBad() && s.isGood()) s = r;
     };
+    store(ns0::Server_ServerStatus_StartTime, start);
+    store(ns0::Server_ServerArray, Variant::array(std::vector<String>{info.applicationUri}));
+    store(ns0::Server_ServerStatus_SecondsTillShutdown, std::uint32_t{0});
+    store(ns0::Server_ServerStatus_ShutdownReason, LocalizedText{});
+    store(ns0::Server_ServiceLevel, std::uint8_t{255});
     store(ns0::Server_ServerStatus_BuildInfo_ProductUri, build.productUri);
     store(ns0::Server_ServerStatus_BuildInfo_ManufacturerName, build.manufacturerName);
     store(ns0::Server_ServerStatus_BuildInfo_ProductName, build.productName);
