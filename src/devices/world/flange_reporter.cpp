@@ -73,7 +73,8 @@ void FlangeReporter::run() {
     // percent of a core.
     std::optional<KDL::Frame> last;
     bool unsent = false;
-    std::uint64_t sentOnConnection = 0;  // link_->connections() when `last` was heard
+    bool heardLast = false;              // the world answered `last` with Good
+    std::uint64_t sentOnConnection = 0;  // link_->connections() when it did
     auto sentAt = std::chrono::steady_clock::now();
     for (;;) {
         const auto wake = [this] { return stopping_ || pending_.has_value(); };
@@ -93,7 +94,8 @@ void FlangeReporter::run() {
             flange = *last;
             if (!unsent) {
                 lock.unlock();
-                const bool heard = link_->connected() && link_->connections() == sentOnConnection &&
+                const bool heard = heardLast && link_->connected() &&
+                                   link_->connections() == sentOnConnection &&
                                    std::chrono::steady_clock::now() - sentAt < kStandingResend;
                 lock.lock();
                 if (stopping_) return;
@@ -109,7 +111,8 @@ void FlangeReporter::run() {
         lock.unlock();
         double force = 0;
         const auto status = link_->setFlangePose(flange, &force);
-        if (status.isGood()) {
+        heardLast = status.isGood();
+        if (heardLast) {
             sentOnConnection = link_->connections();
             sentAt = std::chrono::steady_clock::now();
         }

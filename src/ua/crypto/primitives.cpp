@@ -134,19 +134,25 @@ std::optional<PKeyHandle> eccKeyOfCertificate(ByteView der) {
     long length = 0;
     int tag = 0;
     int tagClass = 0;
-    // Certificate ::= SEQUENCE { tbsCertificate, signatureAlgorithm, signature }
+    // Certificate ::= SEQUENCE { tbsCertificate, signatureAlgorithm, signature }: that shape,
+    // with nothing after the signature, as d2i_X509 would insist on.
     if (!nextElement(p, end, &content, &length, &tag, &tagClass) || tag != V_ASN1_SEQUENCE) {
         return std::nullopt;
     }
     p = content;
     end = content + length;
+    const unsigned char* tbs = nullptr;
+    long tbsLength = 0;
+    if (!nextElement(p, end, &tbs, &tbsLength, &tag, &tagClass) || tag != V_ASN1_SEQUENCE ||
+        !nextElement(p, end, &content, &length, &tag, &tagClass) || tag != V_ASN1_SEQUENCE ||
+        !nextElement(p, end, &content, &length, &tag, &tagClass) || tag != V_ASN1_BIT_STRING ||
+        p != end) {
+        return std::nullopt;
+    }
     // TBSCertificate ::= SEQUENCE { [0] version OPTIONAL, serialNumber, signature, issuer,
     //                               validity, subject, subjectPublicKeyInfo, ... }
-    if (!nextElement(p, end, &content, &length, &tag, &tagClass) || tag != V_ASN1_SEQUENCE) {
-        return std::nullopt;
-    }
-    p = content;
-    end = content + length;
+    p = tbs;
+    end = tbs + tbsLength;
     const unsigned char* element = p;
     if (!nextElement(p, end, &content, &length, &tag, &tagClass)) return std::nullopt;
     if (tagClass == V_ASN1_CONTEXT_SPECIFIC && tag == 0) element = p;  // the version
@@ -367,8 +373,8 @@ Result<Bytes> EphemeralKey::agree(ByteView peerPublicKey) const {
     // curves here (P-256, P-384) have cofactor 1, so such a point has the group's prime order,
     // and the full check's order test (a scalar multiplication as costly as the agreement
     // itself) adds nothing: the partial validation of SP 800-56A (5.6.2.3.4) suffices for an
-    // ephemeral key. OpenSSL's own check in derive_set_peer (the full one) is thus skipped
-    // too: they were two of a handshake's three multiplications per side.
+    // ephemeral key. OpenSSL's own check in derive_set_peer (the full one again) is skipped
+    // too: each cost a scalar multiplication beside the agreement's own.
     const PKeyCtxHandle check(EVP_PKEY_CTX_new_from_pkey(nullptr, peer.get(), nullptr));
     if (!check || EVP_PKEY_public_check_quick(check.get()) != 1) return status::BadNonceInvalid;
     const PKeyCtxHandle derive(EVP_PKEY_CTX_new_from_pkey(nullptr, key_.get(), nullptr));
