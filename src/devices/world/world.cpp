@@ -220,7 +220,7 @@ ua::StatusCode World::setFlangePose(const std::string& robot, const KDL::Frame& 
     Flange* f = findRobot(robot, status, why);
     if (f == nullptr) return status;
     unsettled_.erase(robot);
-    // The same pose again (an arm that stands reports it every 500 ms) changes nothing: no new
+    // The same pose again (an arm that stands tells it again every 10 s) changes nothing: no new
     // revision, so the world's state file is not written again for it.
     if (std::equal(pose.p.data, pose.p.data + 3, f->pose.p.data) &&
         std::equal(pose.M.data, pose.M.data + 9, f->pose.M.data)) {
