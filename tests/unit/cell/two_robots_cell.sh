@@ -41,6 +41,21 @@ as() {  # as USER: a command inside the cell's network, with that user's credent
     --password-file "$work/$user.pw"
 }
 
+# The MES chooses each branch's tool changer and robot by what the knowledge base knows of
+# them (which dock each reaches). The order goes in once the KB has recorded them all: what
+# the journal checks below is the MES running the branches at once, not how soon after the
+# cell's start the KB knew its components (CI run 97: under the sanitizers the KB recorded
+# the right tool changer 2 s after the order came, and step 2 could only start then).
+for uri in kelvin-toolchanger:changer-left kelvin-toolchanger:changer-right ur5:left ur5:right \
+  pick-and-place:pickplace-1 pick-and-place:pickplace-2; do
+  for _ in $(seq 240); do  # bounded: 2 minutes
+    grep -q "kb: recorded urn:skillcell:device:$uri " "$work/logs/kb.log" 2>/dev/null && break
+    sleep 0.5  # a bounded poll of the log a child process writes
+  done
+  grep -q "kb: recorded urn:skillcell:device:$uri " "$work/logs/kb.log" ||
+    fail "the knowledge base did not record urn:skillcell:device:$uri"
+done
+
 as operator run http://skillcell.dev/demo/two-robots#twoBoxesWithTwoRobots --mes "$(endpoint mes)" \
   >"$tmp/run.out" 2>"$tmp/run.err" || true
 grep -q '^OUTCOME Finished' "$tmp/run.out" || {
