@@ -73,8 +73,9 @@ void FlangeReporter::run() {
     // percent of a core.
     std::optional<KDL::Frame> last;
     bool unsent = false;
-    bool heardLast = false;              // the world answered `last` with Good
-    std::uint64_t sentOnConnection = 0;  // link_->connections() when it did
+    // link_->connections() when the world answered `last` with Good; 0 (no connection's
+    // number) when it did not.
+    std::uint64_t sentOnConnection = 0;
     auto sentAt = std::chrono::steady_clock::now();
     for (;;) {
         const auto wake = [this] { return stopping_ || pending_.has_value(); };
@@ -84,6 +85,14 @@ void FlangeReporter::run() {
             cv_.wait_for(lock, unsent ? kResendPause : kStandingPause, wake);
         }
         if (stopping_) return;
+        if (!pending_ && !unsent) {  // standing (`last` is set: the wait above saw to it)
+            lock.unlock();
+            const bool heard = link_->connected() && link_->connections() == sentOnConnection &&
+                               std::chrono::steady_clock::now() - sentAt < kStandingResend;
+            lock.lock();
+            if (stopping_) return;
+            if (heard && !pending_) continue;
+        }
         KDL::Frame flange;
         std::uint64_t covers = sent_;
         if (pending_) {
@@ -92,31 +101,16 @@ void FlangeReporter::run() {
             pending_.reset();
         } else {
             flange = *last;
-            if (!unsent) {
-                lock.unlock();
-                const bool heard = heardLast && link_->connected() &&
-                                   link_->connections() == sentOnConnection &&
-                                   std::chrono::steady_clock::now() - sentAt < kStandingResend;
-                lock.lock();
-                if (stopping_) return;
-                if (heard && !pending_) continue;
-                if (pending_) {
-                    flange = *pending_;
-                    covers = reported_;
-                    pending_.reset();
-                }
-            }
         }
         last = flange;
         lock.unlock();
         double force = 0;
         const auto status = link_->setFlangePose(flange, &force);
-        heardLast = status.isGood();
-        if (heardLast) {
-            sentOnConnection = link_->connections();
+        sentOnConnection = status.isGood() ? link_->connections() : 0;
+        if (status.isGood()) {
             sentAt = std::chrono::steady_clock::now();
+            contactForce_.store(force);
         }
-        if (status.isGood()) contactForce_.store(force);
         lock.lock();
         if (status.isBad() && !warned_) {
             spdlog::warn("world model: SetFlangePose failed: {}", ua::statusName(status));

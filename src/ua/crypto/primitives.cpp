@@ -120,14 +120,14 @@ bool nextElement(const unsigned char*& p, const unsigned char* end, const unsign
 }
 
 /// The public key of a certificate whose key is on one of our curves, read from its
-/// SubjectPublicKeyInfo alone; nothing for any other certificate (RSA, another curve, DER
+/// SubjectPublicKeyInfo alone; null for any other certificate (RSA, another curve, DER
 /// that does not have the shape), which then takes d2i_X509. Why: OpenSSL 3.0's d2i_X509
 /// decodes the key through its decoder framework, which builds a chain of decoders for
 /// every certificate it reads (240 us for a P-256 one on the 2-core machine, more than the
 /// handshake's ECDSA signature and verification together, on both ends of every secured
 /// connection). The certificate itself is validated elsewhere (the CertificateValidator,
 /// which reads it whole); this only takes its key, as d2i_X509 would.
-std::optional<PKeyHandle> eccKeyOfCertificate(ByteView der) {
+PKeyHandle eccKeyOfCertificate(ByteView der) {
     const unsigned char* p = der.data();
     const unsigned char* end = p + der.size();
     const unsigned char* content = nullptr;
@@ -137,7 +137,7 @@ std::optional<PKeyHandle> eccKeyOfCertificate(ByteView der) {
     // Certificate ::= SEQUENCE { tbsCertificate, signatureAlgorithm, signature }: that shape,
     // with nothing after the signature, as d2i_X509 would insist on.
     if (!nextElement(p, end, &content, &length, &tag, &tagClass) || tag != V_ASN1_SEQUENCE) {
-        return std::nullopt;
+        return nullptr;
     }
     p = content;
     end = content + length;
@@ -147,37 +147,37 @@ std::optional<PKeyHandle> eccKeyOfCertificate(ByteView der) {
         !nextElement(p, end, &content, &length, &tag, &tagClass) || tag != V_ASN1_SEQUENCE ||
         !nextElement(p, end, &content, &length, &tag, &tagClass) || tag != V_ASN1_BIT_STRING ||
         p != end) {
-        return std::nullopt;
+        return nullptr;
     }
     // TBSCertificate ::= SEQUENCE { [0] version OPTIONAL, serialNumber, signature, issuer,
     //                               validity, subject, subjectPublicKeyInfo, ... }
     p = tbs;
     end = tbs + tbsLength;
     const unsigned char* element = p;
-    if (!nextElement(p, end, &content, &length, &tag, &tagClass)) return std::nullopt;
+    if (!nextElement(p, end, &content, &length, &tag, &tagClass)) return nullptr;
     if (tagClass == V_ASN1_CONTEXT_SPECIFIC && tag == 0) element = p;  // the version
     p = element;
     for (int skipped = 0; skipped < 5; ++skipped) {  // serial number ... subject
-        if (!nextElement(p, end, &content, &length, &tag, &tagClass)) return std::nullopt;
+        if (!nextElement(p, end, &content, &length, &tag, &tagClass)) return nullptr;
     }
     // SubjectPublicKeyInfo ::= SEQUENCE { algorithm AlgorithmIdentifier, BIT STRING }
     if (!nextElement(p, end, &content, &length, &tag, &tagClass) || tag != V_ASN1_SEQUENCE) {
-        return std::nullopt;
+        return nullptr;
     }
     p = content;
     end = content + length;
     const std::unique_ptr<X509_ALGOR, void (*)(X509_ALGOR*)> algorithm(
         d2i_X509_ALGOR(nullptr, &p, end - p), X509_ALGOR_free);
-    if (!algorithm || p >= end) return std::nullopt;
+    if (!algorithm || p >= end) return nullptr;
     const std::unique_ptr<ASN1_BIT_STRING, void (*)(ASN1_BIT_STRING*)> bits(
         d2i_ASN1_BIT_STRING(nullptr, &p, end - p), ASN1_BIT_STRING_free);
-    if (!bits || p != end) return std::nullopt;
+    if (!bits || p != end) return nullptr;
     const ASN1_OBJECT* keyType = nullptr;
     int parameterType = 0;
     const void* parameter = nullptr;
     X509_ALGOR_get0(&keyType, &parameterType, &parameter, algorithm.get());
     if (OBJ_obj2nid(keyType) != NID_X9_62_id_ecPublicKey || parameterType != V_ASN1_OBJECT) {
-        return std::nullopt;
+        return nullptr;
     }
     const int curveNid = OBJ_obj2nid(static_cast<const ASN1_OBJECT*>(parameter));
     const Curve* curve = nullptr;
@@ -188,11 +188,9 @@ std::optional<PKeyHandle> eccKeyOfCertificate(ByteView der) {
     const bool unusedBits =
         (bits->flags & ASN1_STRING_FLAG_BITS_LEFT) != 0 && (bits->flags & 0x07) != 0;
     if (curve == nullptr || unusedBits) {
-        return std::nullopt;
+        return nullptr;
     }
-    auto key = eccPublicKey(*curve, ByteView(bits->data, static_cast<std::size_t>(bits->length)));
-    if (!key) return std::nullopt;
-    return key;
+    return eccPublicKey(*curve, ByteView(bits->data, static_cast<std::size_t>(bits->length)));
 }
 
 /// The curve of an EC key, if it is one of ours.
@@ -279,7 +277,7 @@ std::size_t oaepOverhead(RsaEncryption algorithm) {
 
 Result<AsymmetricKey> AsymmetricKey::fromCertificate(ByteView der) {
     if (auto ecc = eccKeyOfCertificate(der))
-        return adopt(ecc->release(), status::BadCertificateInvalid);
+        return adopt(ecc.release(), status::BadCertificateInvalid);
     const unsigned char* p = der.data();
     // d2i_X509 reads the first certificate of a chain and stops there.
     const X509Handle cert(d2i_X509(nullptr, &p, static_cast<long>(der.size())));
