@@ -906,6 +906,8 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
         }
     } waiting{*this, order->id};
     std::string shown;
+    Clock::duration waitedForSkill{};
+    std::string lacked;
     for (;;) {
         // Shared, not copied: each step of every order looks through all of them.
         const auto live = detector_->snapshot();
@@ -981,6 +983,9 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                 free.why = rankByExpectedDuration(free.skills, durations);
                 if (!c.chosen.empty()) free.why += "; " + c.chosen;
                 if (!holders.empty()) free.why += "; not free: " + holders;
+                free.waitedForSkill =
+                    std::chrono::duration_cast<std::chrono::milliseconds>(waitedForSkill);
+                free.lacked = std::move(lacked);
                 co_return free;
             }
             if (auto chain = claims_.wait(order->rank(), wanted)) {
@@ -1022,6 +1027,8 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             shown = p.message;
             report(*order, p);
         }
+        lacked = shortName(step.skillTypeIri) + (c.unmet.empty() ? "" : ": " + c.unmet);
+        const auto asleep = Clock::now();
         const auto wake = askAgain ? std::min(*deadline, Clock::now() + kFactRetry) : *deadline;
         auto timer = std::make_shared<asio::steady_timer>(detector_->executor(), wake);
         // A new instance of the step's type, or of a type a requirement names, may fit.
@@ -1038,6 +1045,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                 if (wanted) timer->cancel();
             });
         co_await sleep(*order, timer);
+        waitedForSkill += Clock::now() - asleep;
         detector_->unsubscribe(id);
         if (order->halted) co_return Choice{};
     }
@@ -1294,6 +1302,13 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.transitionTimeBefore = held.before.ticks;
         r.startedMs = unixMillis();
         r.note = note;
+        // This attempt's own wait: a step that started late tells whether it waited for a
+        // skill of its own (a gripper a tool change powers) or for others to end.
+        if (found.waitedForSkill.count() > 0) {
+            r.note += (r.note.empty() ? "" : "; ") + std::string("waited ") +
+                      std::to_string(found.waitedForSkill.count()) + " ms for a suitable " +
+                      found.lacked;
+        }
         r.choice = found.why;
         r.held.assign(busy.components.begin(), busy.components.end());
         // Halting the order halts this skill (SkillClient::cancel).

@@ -229,6 +229,11 @@ private:
         /// composite moves when the process names no robot): the step holds it too.
         std::map<SkillKey, std::string> robots;
         std::string matchedRobot;
+        /// How long the step waited for a suitable skill to be there (not for other orders
+        /// or steps to free one), and what it lacked last: journaled in the attempt's note, so
+        /// that a step that started late says whether it waited for its own skill.
+        std::chrono::milliseconds waitedForSkill{0};
+        std::string lacked;
     };
     /// Why the cell cannot run `process` (empty: it can), after waiting up to skillWait for
     /// the skills it lacks to appear (or for the KB to record their facts).

@@ -3,7 +3,8 @@
 # (examples/processes/two-robots.ttl), brought up by `cell up` in a network namespace of its own:
 #  - the order completes;
 #  - the journal shows the branches at the same time: each branch's tool change overlaps the
-#    other's, and the two picks overlap or the later one waited only for its own branch;
+#    other's, and the two picks overlap or the later one waited only for its own branch (its
+#    tool change, then its gripper's detection, which the journal's note of the step gives);
 #  - each step ran on the robot that reaches its dock or box: the left tool changer and the
 #    left UR5 for boxL, the right ones for boxR (from the choice the journal keeps);
 #  - the world has each box where the process puts it, each gripper back in its dock and no
@@ -69,12 +70,21 @@ span() {
   sqlite3 "$journal" "SELECT started_ms || ' ' || ended_ms FROM steps WHERE run = 1 AND \
     idx = $1 AND state = 'finished'"
 }
+# The ms the finished step IDX waited for a suitable skill to be there (its note says so: a
+# pick waits for the gripper that its branch's tool change powered to be detected), else 0.
+waited() {
+  local note
+  note=$(sqlite3 "$journal" "SELECT note FROM steps WHERE run = 1 AND idx = $1 AND \
+    state = 'finished'")
+  [[ $note =~ waited\ ([0-9]+)\ ms\ for\ a\ suitable ]] && echo "${BASH_REMATCH[1]}" ||
+    echo 0
+}
 # at_once A B [PA PB]: the finished steps A and B, of the two branches, did not wait for each
-# other. They overlapped; or, when they did not, the one that started later had its own
-# predecessor (PA for A, PB for B) end only after the other step had ended, so that it could
-# not have started sooner (one branch running slower than the other, as under the
-# sanitizers on two busy cores). Without predecessors both could start at once: they must
-# overlap.
+# other. They overlapped; or, when they did not, the one that started later could not have
+# started sooner for its own branch's reasons: its predecessor (PA for A, PB for B) ended,
+# and then it waited for a skill of its own (its note), only after the other step had ended
+# (one branch running slower than the other, as under the sanitizers on two busy cores).
+# Without predecessors both could start at once: they must overlap.
 at_once() {
   local a b pa pb
   read -r -a a <<<"$(span "$1")"
@@ -84,11 +94,12 @@ at_once() {
   if [ $# = 4 ]; then
     read -r -a pa <<<"$(span "$3")"
     read -r -a pb <<<"$(span "$4")"
-    [ "${b[0]}" -ge "${a[1]}" ] && [ "${pb[1]}" -ge "${a[1]}" ] && return 0
-    [ "${a[0]}" -ge "${b[1]}" ] && [ "${pa[1]}" -ge "${b[1]}" ] && return 0
+    [ "${b[0]}" -ge "${a[1]}" ] && [ $((pb[1] + $(waited "$2"))) -ge "${a[1]}" ] && return 0
+    [ "${a[0]}" -ge "${b[1]}" ] && [ $((pa[1] + $(waited "$1"))) -ge "${b[1]}" ] && return 0
   fi
   local before=""
-  [ $# = 4 ] && before="; before them, step $3 ${pa[*]} and step $4 ${pb[*]}"
+  [ $# = 4 ] && before="; before them, step $3 ${pa[*]} and step $4 ${pb[*]}; \
+waited for a skill: $(waited "$1") and $(waited "$2") ms"
   fail "steps $1 (${a[*]}) and $2 (${b[*]}) ran one after the other$before"
 }
 at_once 1 2      # the two tool changes

@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <future>
 #include <map>
+#include <optional>
 
 #include "client_thread.hpp"
 #include "mes/process_executor.hpp"
@@ -48,6 +50,18 @@ std::unique_ptr<Journal> openJournal(const std::string& path) {
     auto j = Journal::open(path);
     EXPECT_TRUE(j) << j.error();
     return j ? std::move(*j) : nullptr;
+}
+
+// The ms of a step's "waited N ms for a suitable ..." note; nothing when it has none.
+std::optional<long> waitedForSkill(const StepRecord& step) {
+    const std::string key = "waited ";
+    const auto at = step.note.find(key);
+    if (at == std::string::npos) return std::nullopt;
+    const auto digits = step.note.substr(at + key.size());
+    if (digits.empty() || std::isdigit(static_cast<unsigned char>(digits[0])) == 0) {
+        return std::nullopt;
+    }
+    return std::stol(digits);
 }
 
 class Orders : public testing::Test {
@@ -530,6 +544,11 @@ TEST_F(Orders, WhenTheOnlyComponentLeavesTheOrderWaitsAsLongAsItsProcessSays) {
     ASSERT_EQ(r.steps.size(), 2U);
     EXPECT_EQ(r.steps[1].componentUri, "urn:test:robot2");
     EXPECT_EQ(r.steps[1].state, StepState::Finished);
+    // The attempt on robot2 says it waited for a skill, about the 3 s until robot2 came.
+    const auto waited = waitedForSkill(r.steps[1]);
+    ASSERT_TRUE(waited) << r.steps[1].note;
+    EXPECT_GE(*waited, 2000) << r.steps[1].note;
+    EXPECT_NE(r.steps[1].note.find(" ms for a suitable "), std::string::npos) << r.steps[1].note;
 }
 
 TEST_F(Orders, AnOrderWaitingForAComponentThatLeavesHasItsWholeSkillWaitFromThen) {
@@ -555,6 +574,11 @@ TEST_F(Orders, AnOrderWaitingForAComponentThatLeavesHasItsWholeSkillWaitFromThen
     ASSERT_FALSE(r.steps.empty());
     EXPECT_EQ(r.steps.back().componentUri, "urn:test:robot2");
     EXPECT_TRUE(outcome(first).completed) << "replaced by robot2, as a departure mid-step is";
+    // Its note counts the wait for a skill (about 1 s, from robot1's departure), not the
+    // 2.5 s it waited before for the first order to free robot1.
+    const auto waited = waitedForSkill(r.steps.back());
+    ASSERT_TRUE(waited) << r.steps.back().note;
+    EXPECT_LT(*waited, 2500) << r.steps.back().note;
 }
 
 TEST_F(Orders, AStepWhoseOnlyComponentLeftStopsNamingThatComponent) {
