@@ -21,7 +21,7 @@ case "${1:-}" in
 esac
 
 packages=(
-  build-essential cmake ninja-build ccache
+  build-essential cmake ninja-build ccache lld  # lld: links in a fifth of GNU ld's time
   libasio-dev libspdlog-dev libfmt-dev libcli11-dev libpugixml-dev libmdnsd-dev libssl-dev
   libgtest-dev libgmock-dev  # CMake configures the tests' targets even when it builds one
   liborocos-kdl-dev libeigen3-dev libmodbus-dev pkg-config
