@@ -908,6 +908,8 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
     std::string shown;
     Clock::duration waitedForSkill{};
     std::string lacked;
+    Clock::duration waitedForHolders{};
+    std::string heldBy;
     for (;;) {
         // Shared, not copied: each step of every order looks through all of them.
         const auto live = detector_->snapshot();
@@ -986,6 +988,9 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                 free.waitedForSkill =
                     std::chrono::duration_cast<std::chrono::milliseconds>(waitedForSkill);
                 free.lacked = std::move(lacked);
+                free.waitedForHolders =
+                    std::chrono::duration_cast<std::chrono::milliseconds>(waitedForHolders);
+                free.holders = std::move(heldBy);
                 co_return free;
             }
             if (auto chain = claims_.wait(order->rank(), wanted)) {
@@ -1012,7 +1017,10 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             auto timer =
                 std::make_shared<asio::steady_timer>(detector_->executor(), *claimDeadline);
             claimWaits_.push_back(timer);
+            heldBy = holders.empty() ? "orders of higher priority" : holders;
+            const auto asleep = Clock::now();
             co_await sleep(*order, timer);
+            waitedForHolders += Clock::now() - asleep;
             continue;
         }
         if (!deadline) deadline = Clock::now() + order->skillWait;
@@ -1308,6 +1316,11 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
             r.note += (r.note.empty() ? "" : "; ") + std::string("waited ") +
                       std::to_string(found.waitedForSkill.count()) + " ms for a suitable " +
                       found.lacked;
+        }
+        if (found.waitedForHolders.count() > 0) {
+            r.note += (r.note.empty() ? "" : "; ") + std::string("waited ") +
+                      std::to_string(found.waitedForHolders.count()) +
+                      " ms for components others held: " + found.holders;
         }
         r.choice = found.why;
         r.held.assign(busy.components.begin(), busy.components.end());

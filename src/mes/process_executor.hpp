@@ -234,6 +234,10 @@ private:
         /// that a step that started late says whether it waited for its own skill.
         std::chrono::milliseconds waitedForSkill{0};
         std::string lacked;
+        /// How long it waited for other orders, or other steps of its own, to free a suitable
+        /// component, and which held them last (journaled likewise).
+        std::chrono::milliseconds waitedForHolders{0};
+        std::string holders;
     };
     /// Why the cell cannot run `process` (empty: it can), after waiting up to skillWait for
     /// the skills it lacks to appear (or for the KB to record their facts).

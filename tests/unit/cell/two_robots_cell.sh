@@ -70,21 +70,19 @@ span() {
   sqlite3 "$journal" "SELECT started_ms || ' ' || ended_ms FROM steps WHERE run = 1 AND \
     idx = $1 AND state = 'finished'"
 }
-# The ms the finished step IDX waited for a suitable skill to be there (its note says so: a
-# pick waits for the gripper that its branch's tool change powered to be detected), else 0.
-waited() {
-  local note
-  note=$(sqlite3 "$journal" "SELECT note FROM steps WHERE run = 1 AND idx = $1 AND \
-    state = 'finished'")
-  [[ $note =~ waited\ ([0-9]+)\ ms\ for\ a\ suitable ]] && echo "${BASH_REMATCH[1]}" ||
-    echo 0
+# What the MES noted of the finished step IDX's waits (its journal note): for a suitable skill
+# of its own (a pick waits for the gripper that its branch's tool change powered to be
+# detected), or for components other steps held.
+note() {
+  sqlite3 "$journal" "SELECT note FROM steps WHERE run = 1 AND idx = $1 AND state = 'finished'"
 }
 # at_once A B [PA PB]: the finished steps A and B, of the two branches, did not wait for each
 # other. They overlapped; or, when they did not, the one that started later could not have
-# started sooner for its own branch's reasons: its predecessor (PA for A, PB for B) ended,
-# and then it waited for a skill of its own (its note), only after the other step had ended
-# (one branch running slower than the other, as under the sanitizers on two busy cores).
-# Without predecessors both could start at once: they must overlap.
+# started sooner for its own branch's reasons (one branch running slower than the other, as
+# under the sanitizers on two busy cores): its predecessor (PA for A, PB for B) ended only
+# after the other step had ended, or it waited for a skill of its own to appear. A step that
+# waited for components other steps held fails the check either way. Without predecessors
+# both could start at once: they must overlap.
 at_once() {
   local a b pa pb
   read -r -a a <<<"$(span "$1")"
@@ -94,12 +92,18 @@ at_once() {
   if [ $# = 4 ]; then
     read -r -a pa <<<"$(span "$3")"
     read -r -a pb <<<"$(span "$4")"
-    [ "${b[0]}" -ge "${a[1]}" ] && [ $((pb[1] + $(waited "$2"))) -ge "${a[1]}" ] && return 0
-    [ "${a[0]}" -ge "${b[1]}" ] && [ $((pa[1] + $(waited "$1"))) -ge "${b[1]}" ] && return 0
+    local later=$2 pl=${pb[1]} other=${a[1]}
+    if [ "${a[0]}" -ge "${b[1]}" ]; then later=$1 pl=${pa[1]} other=${b[1]}; fi
+    local n
+    n=$(note "$later")
+    if [[ $n != *"for components others held"* ]]; then
+      [ "$pl" -ge "$other" ] && return 0
+      [[ $n =~ waited\ [0-9]+\ ms\ for\ a\ suitable ]] && return 0
+    fi
   fi
   local before=""
   [ $# = 4 ] && before="; before them, step $3 ${pa[*]} and step $4 ${pb[*]}; \
-waited for a skill: $(waited "$1") and $(waited "$2") ms"
+their notes: '$(note "$1")', '$(note "$2")'"
   fail "steps $1 (${a[*]}) and $2 (${b[*]}) ran one after the other$before"
 }
 at_once 1 2      # the two tool changes

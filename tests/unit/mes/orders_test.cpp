@@ -579,6 +579,12 @@ TEST_F(Orders, AnOrderWaitingForAComponentThatLeavesHasItsWholeSkillWaitFromThen
     const auto waited = waitedForSkill(r.steps.back());
     ASSERT_TRUE(waited) << r.steps.back().note;
     EXPECT_LT(*waited, 2500) << r.steps.back().note;
+    // That earlier wait is noted apart, with who held what it waited for last.
+    EXPECT_NE(r.steps.back().note.find(" ms for components others held: urn:test:robot"),
+              std::string::npos)
+        << r.steps.back().note;
+    EXPECT_NE(r.steps.back().note.find("(order 1 holds it)"), std::string::npos)
+        << r.steps.back().note;
 }
 
 TEST_F(Orders, AStepWhoseOnlyComponentLeftStopsNamingThatComponent) {
