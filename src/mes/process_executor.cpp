@@ -34,6 +34,21 @@ constexpr int kMaxInstancesPerStep = 8;
 constexpr std::chrono::milliseconds kFactRetry{250};
 using Clock = std::chrono::steady_clock;
 
+// Adds `part` to a journal note, whose parts are joined by "; ".
+void appendNote(std::string& note, std::string_view part) {
+    if (!note.empty()) note += "; ";
+    note += part;
+}
+
+// "waited N ms for WHAT ON" added to a journal note, when the wait took a millisecond or more.
+void appendWait(std::string& note, Clock::duration time, std::string_view what,
+                std::string_view on) {
+    const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(time).count();
+    if (ms <= 0) return;
+    appendNote(note, "waited " + std::to_string(ms) + " ms for " + std::string(what) + " " +
+                         std::string(on));
+}
+
 // How many of the components that other orders hold a choice's reason names (the rest it
 // counts).
 constexpr std::size_t kNamedHolders = 5;
@@ -906,10 +921,8 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
         }
     } waiting{*this, order->id};
     std::string shown;
-    Clock::duration waitedForSkill{};
-    std::string lacked;
-    Clock::duration waitedForHolders{};
-    std::string heldBy;
+    Wait waitedForSkill;
+    Wait waitedForHolders;
     for (;;) {
         // Shared, not copied: each step of every order looks through all of them.
         const auto live = detector_->snapshot();
@@ -985,12 +998,8 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                 free.why = rankByExpectedDuration(free.skills, durations);
                 if (!c.chosen.empty()) free.why += "; " + c.chosen;
                 if (!holders.empty()) free.why += "; not free: " + holders;
-                free.waitedForSkill =
-                    std::chrono::duration_cast<std::chrono::milliseconds>(waitedForSkill);
-                free.lacked = std::move(lacked);
-                free.waitedForHolders =
-                    std::chrono::duration_cast<std::chrono::milliseconds>(waitedForHolders);
-                free.holders = std::move(heldBy);
+                free.forSkill = std::move(waitedForSkill);
+                free.forHolders = std::move(waitedForHolders);
                 co_return free;
             }
             if (auto chain = claims_.wait(order->rank(), wanted)) {
@@ -1017,10 +1026,10 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
             auto timer =
                 std::make_shared<asio::steady_timer>(detector_->executor(), *claimDeadline);
             claimWaits_.push_back(timer);
-            heldBy = holders.empty() ? "orders of higher priority" : holders;
+            waitedForHolders.on = holders.empty() ? "orders of higher priority" : holders;
             const auto asleep = Clock::now();
             co_await sleep(*order, timer);
-            waitedForHolders += Clock::now() - asleep;
+            waitedForHolders.time += Clock::now() - asleep;
             continue;
         }
         if (!deadline) deadline = Clock::now() + order->skillWait;
@@ -1028,14 +1037,13 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
         p.state = "waiting";
         p.component.clear();
         p.skill.clear();
+        waitedForSkill.on = shortName(step.skillTypeIri) + (c.unmet.empty() ? "" : ": " + c.unmet);
         p.message = "waiting up to " + std::to_string(order->skillWait.count()) +
-                    " ms for a suitable " + shortName(step.skillTypeIri) +
-                    (c.unmet.empty() ? "" : ": " + c.unmet);
+                    " ms for a suitable " + waitedForSkill.on;
         if (p.message != shown) {
             shown = p.message;
             report(*order, p);
         }
-        lacked = shortName(step.skillTypeIri) + (c.unmet.empty() ? "" : ": " + c.unmet);
         const auto asleep = Clock::now();
         const auto wake = askAgain ? std::min(*deadline, Clock::now() + kFactRetry) : *deadline;
         auto timer = std::make_shared<asio::steady_timer>(detector_->executor(), wake);
@@ -1053,7 +1061,7 @@ asio::awaitable<ProcessExecutor::Choice> ProcessExecutor::choose(std::shared_ptr
                 if (wanted) timer->cancel();
             });
         co_await sleep(*order, timer);
-        waitedForSkill += Clock::now() - asleep;
+        waitedForSkill.time += Clock::now() - asleep;
         detector_->unsubscribe(id);
         if (order->halted) co_return Choice{};
     }
@@ -1294,7 +1302,7 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
             const std::string what =
                 retried > 0 ? "the skill was reset"
                             : "the skill was Halted (an earlier fault left it so) and was reset";
-            note += (note.empty() ? "" : "; ") + what;
+            appendNote(note, what);
             spdlog::warn("mes: {}: {}, before {} (attempt {})", where(skill), what, step.label(),
                          attempt);
         }
@@ -1310,18 +1318,10 @@ asio::awaitable<ProcessExecutor::StepResult> ProcessExecutor::runStep(std::share
         r.transitionTimeBefore = held.before.ticks;
         r.startedMs = unixMillis();
         r.note = note;
-        // This attempt's own wait: a step that started late tells whether it waited for a
+        // This attempt's own waits: a step that started late tells whether it waited for a
         // skill of its own (a gripper a tool change powers) or for others to end.
-        if (found.waitedForSkill.count() > 0) {
-            r.note += (r.note.empty() ? "" : "; ") + std::string("waited ") +
-                      std::to_string(found.waitedForSkill.count()) + " ms for a suitable " +
-                      found.lacked;
-        }
-        if (found.waitedForHolders.count() > 0) {
-            r.note += (r.note.empty() ? "" : "; ") + std::string("waited ") +
-                      std::to_string(found.waitedForHolders.count()) +
-                      " ms for components others held: " + found.holders;
-        }
+        appendWait(r.note, found.forSkill.time, "a suitable", found.forSkill.on);
+        appendWait(r.note, found.forHolders.time, "components others held:", found.forHolders.on);
         r.choice = found.why;
         r.held.assign(busy.components.begin(), busy.components.end());
         // Halting the order halts this skill (SkillClient::cancel).

@@ -210,6 +210,11 @@ private:
     /// What became of an attempt the journal shows as Starting (after a crash).
     asio::awaitable<std::pair<Settled, std::string>> settle(std::shared_ptr<Order> order,
                                                             const StepRecord& record);
+    /// Time a step spent asleep for one reason, and what it waited on when it last slept.
+    struct Wait {
+        std::chrono::steady_clock::duration time{};
+        std::string on;
+    };
     struct Choice {
         std::vector<skills::SkillInstance> skills;  // suitable and available, best first
         std::string unmet;  // when there are none: the requirements not met, and why
@@ -232,12 +237,10 @@ private:
         /// How long the step waited for a suitable skill to be there (not for other orders
         /// or steps to free one), and what it lacked last: journaled in the attempt's note, so
         /// that a step that started late says whether it waited for its own skill.
-        std::chrono::milliseconds waitedForSkill{0};
-        std::string lacked;
+        Wait forSkill;
         /// How long it waited for other orders, or other steps of its own, to free a suitable
         /// component, and which held them last (journaled likewise).
-        std::chrono::milliseconds waitedForHolders{0};
-        std::string holders;
+        Wait forHolders;
     };
     /// Why the cell cannot run `process` (empty: it can), after waiting up to skillWait for
     /// the skills it lacks to appear (or for the KB to record their facts).
